@@ -1,0 +1,17 @@
+// Limits every scene import enforces before anything is allocated on the
+// GPU. gistreamd exposes each one as a flag.
+#pragma once
+
+#include <cstdint>
+
+namespace gistream {
+
+struct ImportLimits {
+  uint64_t max_scene_bytes = 256ull << 20;     // glb/gltf bytes, buffers included
+  uint64_t max_triangles = 4'000'000;          // over all mesh instances
+  uint64_t max_image_pixels = 8192ull * 8192;  // per image, width*height
+  uint32_t max_image_dimension = 16384;        // per side
+  uint32_t max_nodes = 100'000;
+};
+
+}  // namespace gistream

@@ -1,0 +1,236 @@
+// The render engine's domain API: scenes, sessions, updates, frames. No
+// gRPC here; server/service/grpc_service.* translates protobuf to and from
+// these types. All methods are thread-safe and never touch GL on the
+// calling thread: GL work is posted to the render thread, which owns the
+// context.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include "scene/import_limits.h"
+#include "scene/scene.h"
+#include "scene/updates.h"
+#include "solvers/solver_params.h"
+#include "util/status.h"
+
+namespace gistream {
+
+using SceneId = std::string;
+using SessionId = std::string;
+
+enum class ImageFormat { kJpeg, kPng, kExr };
+
+struct EncodingOptions {
+  ImageFormat format = ImageFormat::kJpeg;
+  int quality = 90;       // JPEG 1..100
+  float exposure = 0.0f;  // EV stops before tone mapping (8-bit formats)
+};
+
+struct StageTiming {
+  std::string name;
+  double cpu_ms = 0.0;
+  double gpu_ms = 0.0;
+  bool skipped = false;
+  bool cpu_stage = false;
+};
+
+struct EncodedFrame {
+  uint64_t frame_number = 0;
+  uint32_t width = 0;
+  uint32_t height = 0;
+  ImageFormat format = ImageFormat::kJpeg;
+  std::string image;  // encoded bytes
+  uint64_t scene_version = 0;
+  uint64_t last_update_seq = 0;
+  std::vector<StageTiming> timings;
+  std::vector<std::pair<std::string, double>> stats;
+  std::string solver;
+  double total_ms = 0.0;
+  uint32_t dropped_frames = 0;  // filled in by the sink that dropped them
+};
+
+// ---------------------------------------------------------------- scenes
+
+struct SceneSource {
+  std::string name;   // scene in the scene directory, or
+  std::string bytes;  // a glb / self-contained gltf
+  std::string environment_name;   // optional, inside the scene directory, or
+  std::string environment_bytes;  // optional HDR/EXR bytes
+  float environment_intensity = 1.0f;
+};
+
+struct NodeSummary {
+  uint32_t id = 0;
+  std::string name;
+  int parent = -1;
+  int mesh = -1;
+  glm::vec3 translation{0.0f};
+  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
+  glm::vec3 scale{1.0f};
+};
+
+struct LightSummary {
+  uint32_t id = 0;
+  std::string name;
+  LightType type = LightType::kPoint;
+  uint32_t node = 0;
+  glm::vec3 color{1.0f};
+  float intensity = 1.0f;
+  glm::vec3 position{0.0f};
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};
+  float inner_cone_angle = 0.0f;
+  float outer_cone_angle = 0.0f;
+};
+
+struct CameraSummary {
+  uint32_t id = 0;
+  std::string name;
+  uint32_t node = 0;
+  float yfov = 0.0f;
+  glm::vec3 position{0.0f};
+  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};
+};
+
+struct MaterialSummary {
+  uint32_t id = 0;
+  std::string name;
+  glm::vec4 base_color{1.0f};
+  glm::vec3 emissive{0.0f};  // factor x strength
+};
+
+struct SceneInfo {
+  SceneId id;
+  std::vector<NodeSummary> nodes;
+  std::vector<LightSummary> lights;
+  std::vector<CameraSummary> cameras;
+  std::vector<MaterialSummary> materials;
+  Bounds bounds;
+  uint64_t triangle_count = 0;
+  uint64_t vertex_count = 0;
+  uint32_t emissive_triangle_count = 0;
+  bool has_environment = false;
+  uint64_t version = 0;
+};
+
+// ---------------------------------------------------------------- sessions
+
+enum class Pacing { kContinuous, kOnRequest };
+
+struct SessionConfig {
+  SceneId scene;
+  std::string solver = "direct";
+  std::map<std::string, std::string> params;
+  uint32_t width = 640;
+  uint32_t height = 480;
+  EncodingOptions encoding;
+  Pacing pacing = Pacing::kContinuous;
+  float max_fps = 0.0f;  // 0: the engine's default cap
+  std::optional<CameraUpdate> camera;
+};
+
+struct SessionOpenInfo {
+  SessionId id;
+  SceneId scene;
+  std::string solver;
+  std::map<std::string, std::string> params;  // defaults filled in
+};
+
+// Receives a session's output. Called on the render thread: must not block
+// and must not call back into the Engine. It may still be called briefly
+// after CloseSession returns, so an implementation that outlives its
+// consumer must detach itself (e.g. a mutex-guarded pointer).
+class FrameSink {
+ public:
+  virtual ~FrameSink() = default;
+  virtual void OnFrame(std::shared_ptr<const EncodedFrame> frame) = 0;
+  virtual void OnUpdateRejected(uint64_t seq, const absl::Status& status) = 0;
+  // The session cannot go on (e.g. a GPU reset); no frames follow.
+  virtual void OnSessionFailed(const absl::Status& status) = 0;
+};
+
+// ---------------------------------------------------------------- render
+
+struct RenderRequest {
+  SceneId scene;
+  std::string solver = "direct";
+  std::map<std::string, std::string> params;
+  uint32_t width = 640;
+  uint32_t height = 480;
+  EncodingOptions encoding;
+  std::optional<CameraUpdate> camera;
+  std::vector<Update> updates;  // camera updates here change only this frame
+};
+
+// ---------------------------------------------------------------- engine
+
+struct EngineOptions {
+  int egl_device = -1;  // -1: first hardware device, else Mesa's software one
+  std::filesystem::path scene_dir = "scenes";
+  ImportLimits import_limits;
+  uint32_t max_sessions = 32;
+  uint32_t max_scenes = 16;
+  uint32_t max_width = 4096;
+  uint32_t max_height = 4096;
+  float default_max_fps = 30.0f;
+  float max_fps = 240.0f;
+};
+
+struct DeviceInfo {
+  std::string vendor;
+  std::string renderer;
+  std::string version;
+  std::string egl_device;  // which EGL device was picked and why
+};
+
+struct EngineStats {
+  uint32_t sessions = 0;
+  uint32_t scenes = 0;
+  uint64_t frames_rendered = 0;
+  std::vector<SceneId> scene_ids;
+};
+
+class Engine {
+ public:
+  // Creates the EGL context on a new render thread. FAILED_PRECONDITION
+  // when no usable EGL device / GL 4.5 context exists.
+  static absl::StatusOr<std::unique_ptr<Engine>> Create(const EngineOptions& options);
+  virtual ~Engine() = default;
+
+  virtual DeviceInfo device_info() const = 0;
+  virtual EngineStats stats() const = 0;
+  virtual std::vector<SolverDescription> ListSolvers() const = 0;
+
+  // Blocking (parses on the caller's thread, uploads on the render thread).
+  virtual absl::StatusOr<SceneInfo> LoadScene(const SceneSource& source) = 0;
+  virtual absl::Status UnloadScene(const SceneId& id) = 0;
+
+  // Validates the config (scene id, solver, params, resolution, encoding).
+  virtual absl::StatusOr<SessionOpenInfo> OpenSession(const SessionConfig& config,
+                                                      std::shared_ptr<FrameSink> sink) = 0;
+  // Validates the update now (ids, NaN/Inf, ranges) and queues it; it is
+  // applied in order on the render thread before the session's next frame.
+  virtual absl::Status PushUpdate(const SessionId& id, Update update) = 0;
+  // On-request pacing: render `count` more frames.
+  virtual absl::Status RequestFrames(const SessionId& id, uint32_t count) = 0;
+  // Frees the session; its sink receives nothing more once the render
+  // thread has seen the close (see FrameSink).
+  virtual void CloseSession(const SessionId& id) = 0;
+
+  // Blocking: one frame for one set of updates.
+  virtual absl::StatusOr<EncodedFrame> Render(const RenderRequest& request) = 0;
+
+  // Stops accepting work, finishes the frames in flight, frees GPU memory.
+  virtual void Shutdown() = 0;
+};
+
+}  // namespace gistream
