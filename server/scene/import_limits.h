@@ -12,6 +12,9 @@ struct ImportLimits {
   uint64_t max_image_pixels = 8192ull * 8192;  // per image, width*height
   uint32_t max_image_dimension = 16384;        // per side
   uint32_t max_nodes = 100'000;
+  // All decoded images of a scene together: a small PNG can decode to the
+  // per-image maximum, so the encoded size alone does not bound memory.
+  uint64_t max_total_image_pixels = 4 * 8192ull * 8192;
 };
 
 }  // namespace gistream

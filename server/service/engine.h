@@ -21,6 +21,7 @@
 #include "scene/scene.h"
 #include "scene/updates.h"
 #include "solvers/solver_params.h"
+#include "util/stage_timing.h"
 #include "util/status.h"
 
 namespace gistream {
@@ -34,14 +35,6 @@ struct EncodingOptions {
   ImageFormat format = ImageFormat::kJpeg;
   int quality = 90;       // JPEG 1..100
   float exposure = 0.0f;  // EV stops before tone mapping (8-bit formats)
-};
-
-struct StageTiming {
-  std::string name;
-  double cpu_ms = 0.0;
-  double gpu_ms = 0.0;
-  bool skipped = false;
-  bool cpu_stage = false;
 };
 
 struct EncodedFrame {

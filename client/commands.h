@@ -1,0 +1,21 @@
+// One function per subcommand. Results go to stdout, warnings to stderr;
+// errors come back as a Status (main prints them and picks the exit code).
+#pragma once
+
+#include "options.h"
+#include "util/status.h"
+
+namespace gistream::client {
+
+absl::Status RunSolvers(const ConnectionOptions& connection, const SolversOptions& options);
+absl::Status RunStatus(const ConnectionOptions& connection, const StatusOptions& options);
+absl::Status RunRender(const ConnectionOptions& connection, const RenderOptions& options);
+absl::Status RunStream(const ConnectionOptions& connection, const StreamOptions& options);
+absl::Status RunScript(const ConnectionOptions& connection, const ScriptOptions& options);
+
+// What RunStream/RunScript return when a second interrupt cancelled the
+// session (main exits 130).
+absl::Status InterruptedError();
+bool IsInterrupted(const absl::Status& status);
+
+}  // namespace gistream::client

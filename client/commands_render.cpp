@@ -1,0 +1,40 @@
+// gistream render: LoadScene, one unary Render, write the image.
+#include <absl/strings/str_cat.h>
+
+#include <iostream>
+
+#include "commands.h"
+#include "connection.h"
+#include "file_io.h"
+#include "frame_report.h"
+#include "scene_loader.h"
+
+namespace gistream::client {
+
+absl::Status RunRender(const ConnectionOptions& connection_options, const RenderOptions& options) {
+  GS_ASSIGN_OR_RETURN(v1::LoadSceneRequest load, BuildLoadSceneRequest(options.scene));
+  Connection connection(connection_options);
+  GS_ASSIGN_OR_RETURN(std::unique_ptr<LoadedScene> scene,
+                      LoadedScene::Load(connection, load, options.scene.keep_scene));
+
+  v1::RenderRequest request;
+  request.set_scene_id(scene->id());
+  request.set_solver(options.solver.solver);
+  request.mutable_params()->insert(options.solver.params.begin(), options.solver.params.end());
+  request.set_width(options.view.width);
+  request.set_height(options.view.height);
+  *request.mutable_encoding() = options.view.encoding;
+  if (options.view.camera.ByteSizeLong() > 0) *request.mutable_camera() = options.view.camera;
+
+  v1::Frame frame;
+  GS_RETURN_IF_ERROR(connection.Call(&v1::Gistream::Stub::Render, request, &frame));
+  if (frame.image().empty()) {
+    return absl::InternalError(
+        absl::StrCat("frame ", frame.frame_number(), " arrived without image bytes"));
+  }
+  GS_RETURN_IF_ERROR(WriteFile(options.out, frame.image()));
+  std::cout << FormatFrameReport(frame, options.out.string());
+  return absl::OkStatus();
+}
+
+}  // namespace gistream::client

@@ -1,0 +1,87 @@
+// gistream stream: a continuous session; every frame is saved and timed.
+#include <absl/strings/str_cat.h>
+
+#include <atomic>
+#include <iostream>
+
+#include "commands.h"
+#include "connection.h"
+#include "frame_report.h"
+#include "frame_writer.h"
+#include "interrupt.h"
+#include "scene_loader.h"
+#include "session_common.h"
+#include "session_stream.h"
+#include "stats_table.h"
+#include "util/log.h"
+
+namespace gistream::client {
+
+absl::Status RunStream(const ConnectionOptions& connection_options, const StreamOptions& options) {
+  GS_ASSIGN_OR_RETURN(v1::LoadSceneRequest load, BuildLoadSceneRequest(options.scene));
+  GS_ASSIGN_OR_RETURN(FrameWriter writer,
+                      FrameWriter::Create(options.out_dir, options.view.encoding.format()));
+  Connection connection(connection_options);
+  GS_ASSIGN_OR_RETURN(std::unique_ptr<LoadedScene> scene,
+                      LoadedScene::Load(connection, load, options.scene.keep_scene));
+  std::cout << DescribeScene(options.scene.scene, scene->info()) << std::endl;
+
+  v1::SessionConfig config;
+  config.set_scene_id(scene->id());
+  config.set_solver(options.solver.solver);
+  config.mutable_params()->insert(options.solver.params.begin(), options.solver.params.end());
+  config.set_width(options.view.width);
+  config.set_height(options.view.height);
+  *config.mutable_encoding() = options.view.encoding;
+  config.mutable_continuous()->set_max_fps(options.fps);
+  if (options.view.camera.ByteSizeLong() > 0) *config.mutable_camera() = options.view.camera;
+
+  GS_ASSIGN_OR_RETURN(std::unique_ptr<SessionStream> stream,
+                      SessionStream::Open(connection.stub(), config, connection.server()));
+  std::cout << FormatSessionOpened(stream->opened()) << std::endl;
+
+  // Declared after `stream`, so it is gone before the stream is.
+  std::atomic<bool> closing{false};
+  std::atomic<bool> interrupted{false};
+  ScopedInterruptHandler on_interrupt([&](int count) {
+    if (count == 1) {
+      std::cerr << "\ninterrupt: closing the session (Ctrl-C again to cancel it)" << std::endl;
+      interrupted = true;
+      closing = true;
+      stream->CloseWrites();
+    } else {
+      stream->Cancel();
+    }
+  });
+
+  StatsCollector stats;
+  uint64_t saved = 0;
+  v1::SessionEvent event;
+  while (stream->Next(&event)) {
+    if (event.has_rejected()) {
+      Log(LogLevel::kWarning, absl::StrCat("update seq ", event.rejected().seq(),
+                                           " rejected: ", event.rejected().message()));
+      continue;
+    }
+    if (!event.has_frame() || closing) continue;  // frames after the half-close are not kept
+    const v1::Frame& frame = event.frame();
+    stats.Add(frame, StatsCollector::Clock::now());
+    GS_RETURN_IF_ERROR(writer.Write(saved, frame));
+    ++saved;
+    if (options.frames != 0 && saved >= options.frames) {
+      closing = true;
+      stream->CloseWrites();
+    }
+  }
+  const absl::Status ended = EndSession(*stream);
+
+  std::cout << FormatStatsTable(stats.Summarize())
+            << FormatWrittenFrames(writer, saved, options.view.encoding.format()) << std::endl;
+  if (ended.ok() && !interrupted && options.frames != 0 && saved < options.frames) {
+    return absl::AbortedError(absl::StrCat("the server ended the session after ", saved, " of ",
+                                           options.frames, " frames"));
+  }
+  return ended;
+}
+
+}  // namespace gistream::client

@@ -1,0 +1,364 @@
+#include "options.h"
+
+#include <absl/strings/numbers.h>
+#include <absl/strings/str_cat.h>
+#include <absl/strings/str_split.h>
+#include <absl/strings/strip.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "cli_args.h"
+#include "image_format.h"
+
+namespace gistream::client {
+namespace {
+
+constexpr uint32_t kMaxImageSide = 16384;
+
+absl::Status Usage(absl::string_view message) {
+  return absl::InvalidArgumentError(std::string(message));
+}
+
+absl::StatusOr<int64_t> ParseInt(absl::string_view flag, absl::string_view text, int64_t min,
+                                 int64_t max) {
+  int64_t value = 0;
+  if (!absl::SimpleAtoi(text, &value)) {
+    return Usage(absl::StrCat(flag, ": \"", text, "\" is not an integer"));
+  }
+  if (value < min || value > max) {
+    return Usage(absl::StrCat(flag, ": ", value, " is out of range [", min, ", ", max, "]"));
+  }
+  return value;
+}
+
+absl::StatusOr<float> ParseFloat(absl::string_view flag, absl::string_view text) {
+  float value = 0.0f;
+  if (!absl::SimpleAtof(text, &value) || !std::isfinite(value)) {
+    return Usage(absl::StrCat(flag, ": \"", text, "\" is not a finite number"));
+  }
+  return value;
+}
+
+std::optional<Command> CommandFromName(absl::string_view name) {
+  if (name == "solvers") return Command::kSolvers;
+  if (name == "render") return Command::kRender;
+  if (name == "stream") return Command::kStream;
+  if (name == "script") return Command::kScript;
+  if (name == "status") return Command::kStatus;
+  return std::nullopt;
+}
+
+// Flags every command accepts, so `--server` may come after the command too.
+const std::vector<FlagSpec> kConnectionFlags = {{"server"}, {"timeout"}};
+const std::vector<FlagSpec> kSceneFlags = {
+    {"scene"}, {"environment"}, {"environment-intensity"}, {"keep-scene", false}};
+const std::vector<FlagSpec> kSolverFlags = {{"solver"}, {"param", true, true}};
+const std::vector<FlagSpec> kViewFlags = {
+    {"size"}, {"format"}, {"quality"}, {"exposure"}, {"camera-eye"}, {"camera-target"}, {"yfov"}};
+
+std::vector<FlagSpec> Concat(std::initializer_list<const std::vector<FlagSpec>*> groups) {
+  std::vector<FlagSpec> all;
+  for (const auto* group : groups) all.insert(all.end(), group->begin(), group->end());
+  return all;
+}
+
+absl::Status ApplyConnection(const ParsedFlags& flags, ConnectionOptions& connection) {
+  if (auto server = flags.Get("server")) {
+    if (server->empty()) return Usage("--server: empty address");
+    connection.server = *server;
+  }
+  if (auto timeout = flags.Get("timeout")) {
+    GS_ASSIGN_OR_RETURN(float seconds, ParseFloat("--timeout", *timeout));
+    if (seconds <= 0.0f) return Usage("--timeout: must be positive seconds");
+    connection.timeout_seconds = seconds;
+  }
+  return absl::OkStatus();
+}
+
+absl::Status ApplyScene(const ParsedFlags& flags, SceneOptions& scene) {
+  if (auto value = flags.Get("scene")) scene.scene = *value;
+  if (auto value = flags.Get("environment")) scene.environment = *value;
+  if (auto value = flags.Get("environment-intensity")) {
+    GS_ASSIGN_OR_RETURN(scene.environment_intensity, ParseFloat("--environment-intensity", *value));
+    if (scene.environment_intensity < 0.0f) return Usage("--environment-intensity: negative");
+  }
+  scene.keep_scene = flags.Has("keep-scene");
+  return absl::OkStatus();
+}
+
+absl::Status ApplySolver(const ParsedFlags& flags, SolverOptions& solver) {
+  if (auto value = flags.Get("solver")) solver.solver = *value;
+  for (const std::string& text : flags.GetAll("param")) {
+    GS_ASSIGN_OR_RETURN(auto param, ParseParam(text));
+    if (!solver.params.emplace(param).second) {
+      return Usage(absl::StrCat("--param ", param.first, " given twice"));
+    }
+  }
+  return absl::OkStatus();
+}
+
+absl::Status ApplyView(const ParsedFlags& flags, ViewOptions& view) {
+  if (auto value = flags.Get("size")) {
+    GS_ASSIGN_OR_RETURN(auto size, ParseSize("--size", *value));
+    view.width = size.first;
+    view.height = size.second;
+  }
+  if (auto value = flags.Get("format")) {
+    auto format = ParseImageFormat(*value);
+    if (!format.ok()) return Usage(absl::StrCat("--format: ", format.status().message()));
+    view.encoding.set_format(*format);
+  }
+  if (auto value = flags.Get("quality")) {
+    GS_ASSIGN_OR_RETURN(int64_t quality, ParseInt("--quality", *value, 1, 100));
+    view.encoding.set_quality(static_cast<uint32_t>(quality));
+  }
+  if (auto value = flags.Get("exposure")) {
+    GS_ASSIGN_OR_RETURN(float exposure, ParseFloat("--exposure", *value));
+    view.encoding.set_exposure(exposure);
+  }
+  const auto eye = flags.Get("camera-eye");
+  const auto target = flags.Get("camera-target");
+  if (eye.has_value() != target.has_value()) {
+    return Usage("--camera-eye and --camera-target go together");
+  }
+  if (eye) {
+    v1::LookAt* look_at = view.camera.mutable_look_at();
+    GS_ASSIGN_OR_RETURN(*look_at->mutable_eye(), ParseVec3("--camera-eye", *eye));
+    GS_ASSIGN_OR_RETURN(*look_at->mutable_target(), ParseVec3("--camera-target", *target));
+    look_at->mutable_up()->set_y(1.0f);
+  }
+  if (auto value = flags.Get("yfov")) {
+    GS_ASSIGN_OR_RETURN(float yfov, ParseFloat("--yfov", *value));
+    if (yfov <= 0.0f || yfov >= 180.0f) {
+      return Usage(absl::StrCat("--yfov: ", *value, " degrees is out of range (0, 180)"));
+    }
+    view.camera.set_yfov_degrees(yfov);
+  }
+  return absl::OkStatus();
+}
+
+absl::Status NoPositional(const ParsedFlags& flags) {
+  if (!flags.positional().empty()) {
+    return Usage(absl::StrCat("unexpected argument \"", flags.positional().front(), "\""));
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<RenderOptions> ParseRender(const ParsedFlags& flags) {
+  RenderOptions options;
+  GS_RETURN_IF_ERROR(NoPositional(flags));
+  GS_RETURN_IF_ERROR(ApplyScene(flags, options.scene));
+  GS_RETURN_IF_ERROR(ApplySolver(flags, options.solver));
+  GS_RETURN_IF_ERROR(ApplyView(flags, options.view));
+  if (options.scene.scene.empty()) return Usage("--scene is required");
+  auto out = flags.Get("out");
+  if (!out || out->empty()) return Usage("--out FILE is required");
+  options.out = *out;
+  if (!flags.Has("format")) {
+    // No --format: the output file's extension decides, else JPEG.
+    options.view.encoding.set_format(
+        ImageFormatFromPath(options.out).value_or(v1::IMAGE_FORMAT_JPEG));
+  }
+  return options;
+}
+
+absl::StatusOr<StreamOptions> ParseStream(const ParsedFlags& flags) {
+  StreamOptions options;
+  options.scene.scene = "cornell_box";
+  options.view.encoding.set_format(v1::IMAGE_FORMAT_JPEG);
+  GS_RETURN_IF_ERROR(NoPositional(flags));
+  GS_RETURN_IF_ERROR(ApplyScene(flags, options.scene));
+  GS_RETURN_IF_ERROR(ApplySolver(flags, options.solver));
+  GS_RETURN_IF_ERROR(ApplyView(flags, options.view));
+  if (auto value = flags.Get("frames")) {
+    GS_ASSIGN_OR_RETURN(int64_t frames,
+                        ParseInt("--frames", *value, 0, std::numeric_limits<int64_t>::max()));
+    options.frames = static_cast<uint64_t>(frames);
+  }
+  if (auto value = flags.Get("fps")) {
+    GS_ASSIGN_OR_RETURN(options.fps, ParseFloat("--fps", *value));
+    if (options.fps < 0.0f) return Usage("--fps: negative");
+  }
+  if (auto value = flags.Get("out")) {
+    if (value->empty()) return Usage("--out: empty directory name");
+    options.out_dir = *value;
+  }
+  return options;
+}
+
+absl::StatusOr<ScriptOptions> ParseScript(const ParsedFlags& flags) {
+  ScriptOptions options;
+  if (flags.positional().size() != 1) {
+    return Usage(flags.positional().empty() ? "script FILE is required"
+                                            : "script takes exactly one FILE");
+  }
+  options.file = flags.positional().front();
+  if (auto value = flags.Get("out")) {
+    if (value->empty()) return Usage("--out: empty directory name");
+    options.out_dir = *value;
+  }
+  options.keep_scene = flags.Has("keep-scene");
+  return options;
+}
+
+// Leading options before the command word: --server, --timeout, --help.
+absl::StatusOr<size_t> ParseGlobalOptions(std::span<const std::string> args, CommandLine& line) {
+  size_t i = 0;
+  while (i < args.size() && args[i].size() > 1 && args[i][0] == '-') {
+    const std::string& arg = args[i];
+    if (arg == "--help" || arg == "-h") {
+      line.help = true;
+      ++i;
+      continue;
+    }
+    if (arg.rfind("--", 0) != 0) return Usage(absl::StrCat("unknown option ", arg));
+    // Hand the flag (and its value) to the common scanner.
+    const bool joined = arg.find('=') != std::string::npos;
+    const size_t count = joined ? 1 : 2;
+    GS_ASSIGN_OR_RETURN(
+        ParsedFlags flags,
+        ParseFlags(args.subspan(i, std::min(count, args.size() - i)), kConnectionFlags));
+    GS_RETURN_IF_ERROR(ApplyConnection(flags, line.connection));
+    i += count;
+  }
+  return i;
+}
+
+bool WantsHelp(std::span<const std::string> args) {
+  for (const std::string& arg : args) {
+    if (arg == "--") return false;
+    if (arg == "--help" || arg == "-h") return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+absl::string_view CommandName(Command command) {
+  switch (command) {
+    case Command::kSolvers: return "solvers";
+    case Command::kRender: return "render";
+    case Command::kStream: return "stream";
+    case Command::kScript: return "script";
+    case Command::kStatus: return "status";
+  }
+  return "?";
+}
+
+absl::StatusOr<std::pair<uint32_t, uint32_t>> ParseSize(absl::string_view flag,
+                                                        absl::string_view text) {
+  std::vector<absl::string_view> parts = absl::StrSplit(text, absl::ByAnyChar("xX"));
+  uint32_t width = 0;
+  uint32_t height = 0;
+  if (parts.size() != 2 || !absl::SimpleAtoi(parts[0], &width) ||
+      !absl::SimpleAtoi(parts[1], &height)) {
+    return Usage(absl::StrCat(flag, ": \"", text, "\" is not WIDTHxHEIGHT (e.g. 320x240)"));
+  }
+  if (width == 0 || height == 0 || width > kMaxImageSide || height > kMaxImageSide) {
+    return Usage(absl::StrCat(flag, ": ", width, "x", height, " is out of range [1, ",
+                              kMaxImageSide, "] per side"));
+  }
+  return std::make_pair(width, height);
+}
+
+absl::StatusOr<v1::Vec3> ParseVec3(absl::string_view flag, absl::string_view text) {
+  std::vector<absl::string_view> parts = absl::StrSplit(text, ',');
+  float xyz[3];
+  bool ok = parts.size() == 3;
+  for (size_t i = 0; ok && i < 3; ++i) {
+    ok = absl::SimpleAtof(absl::StripAsciiWhitespace(parts[i]), &xyz[i]) && std::isfinite(xyz[i]);
+  }
+  if (!ok) return Usage(absl::StrCat(flag, ": \"", text, "\" is not three numbers x,y,z"));
+  v1::Vec3 v;
+  v.set_x(xyz[0]);
+  v.set_y(xyz[1]);
+  v.set_z(xyz[2]);
+  return v;
+}
+
+absl::StatusOr<std::pair<std::string, std::string>> ParseParam(absl::string_view text) {
+  const size_t eq = text.find('=');
+  if (eq == absl::string_view::npos || eq == 0) {
+    return Usage(absl::StrCat("--param: \"", text, "\" is not key=value"));
+  }
+  return std::make_pair(std::string(text.substr(0, eq)), std::string(text.substr(eq + 1)));
+}
+
+absl::StatusOr<CommandLine> ParseCommandLine(std::span<const std::string> args,
+                                             absl::string_view default_server) {
+  CommandLine line;
+  line.connection.server = std::string(default_server);
+  GS_ASSIGN_OR_RETURN(size_t i, ParseGlobalOptions(args, line));
+  if (i == args.size()) {
+    if (line.help) return line;
+    return Usage("no command given");
+  }
+
+  absl::string_view word = args[i++];
+  if (word == "help") {
+    line.help = true;
+    if (i == args.size()) return line;
+    word = args[i++];
+    if (i != args.size()) return Usage("help takes at most one COMMAND");
+  }
+  line.command = CommandFromName(word);
+  if (!line.command) return Usage(absl::StrCat("unknown command \"", word, "\""));
+  const std::span<const std::string> rest = args.subspan(i);
+  if (line.help || WantsHelp(rest)) {
+    line.help = true;
+    return line;
+  }
+
+  std::vector<FlagSpec> specs;
+  switch (*line.command) {
+    case Command::kSolvers:
+      specs = Concat({&kConnectionFlags});
+      specs.push_back({"json", false});
+      break;
+    case Command::kStatus: specs = Concat({&kConnectionFlags}); break;
+    case Command::kRender:
+      specs = Concat({&kConnectionFlags, &kSceneFlags, &kSolverFlags, &kViewFlags});
+      specs.push_back({"out"});
+      break;
+    case Command::kStream:
+      specs = Concat({&kConnectionFlags, &kSceneFlags, &kSolverFlags, &kViewFlags});
+      specs.insert(specs.end(), {{"frames"}, {"fps"}, {"out"}});
+      break;
+    case Command::kScript:
+      specs = Concat({&kConnectionFlags});
+      specs.insert(specs.end(), {{"out"}, {"keep-scene", false}});
+      break;
+  }
+  GS_ASSIGN_OR_RETURN(ParsedFlags flags, ParseFlags(rest, specs));
+  GS_RETURN_IF_ERROR(ApplyConnection(flags, line.connection));
+
+  switch (*line.command) {
+    case Command::kSolvers: {
+      GS_RETURN_IF_ERROR(NoPositional(flags));
+      line.options = SolversOptions{.json = flags.Has("json")};
+      break;
+    }
+    case Command::kStatus: {
+      GS_RETURN_IF_ERROR(NoPositional(flags));
+      line.options = StatusOptions{};
+      break;
+    }
+    case Command::kRender: {
+      GS_ASSIGN_OR_RETURN(line.options, ParseRender(flags));
+      break;
+    }
+    case Command::kStream: {
+      GS_ASSIGN_OR_RETURN(line.options, ParseStream(flags));
+      break;
+    }
+    case Command::kScript: {
+      GS_ASSIGN_OR_RETURN(line.options, ParseScript(flags));
+      break;
+    }
+  }
+  return line;
+}
+
+}  // namespace gistream::client

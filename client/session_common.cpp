@@ -1,0 +1,66 @@
+#include "session_common.h"
+
+#include <absl/strings/cord.h>
+#include <absl/strings/str_cat.h>
+
+#include "commands.h"
+#include "util/log.h"
+
+namespace gistream::client {
+namespace {
+constexpr absl::string_view kInterruptedPayload = "gistream.client/interrupted";
+}  // namespace
+
+absl::Status InterruptedError() {
+  absl::Status status = absl::CancelledError("interrupted: the session was cancelled");
+  status.SetPayload(kInterruptedPayload, absl::Cord("1"));
+  return status;
+}
+
+bool IsInterrupted(const absl::Status& status) {
+  return status.GetPayload(kInterruptedPayload).has_value();
+}
+
+absl::Status EndSession(SessionStream& stream) {
+  stream.CloseWrites();
+  v1::SessionEvent event;
+  while (stream.Next(&event)) {
+    if (event.has_rejected()) {
+      Log(LogLevel::kWarning, absl::StrCat("update seq ", event.rejected().seq(),
+                                           " rejected: ", event.rejected().message()));
+    }
+  }
+  const absl::Status status = stream.Finish();
+  if (status.ok() || !stream.cancelled_by_client() || !absl::IsCancelled(status)) return status;
+  if (stream.grace_expired()) {
+    Log(LogLevel::kWarning,
+        "the server did not end the session after the client's half-close; cancelled it");
+    return absl::OkStatus();
+  }
+  return InterruptedError();
+}
+
+std::string FormatWrittenFrames(const FrameWriter& writer, uint64_t count, v1::ImageFormat format) {
+  if (count == 0) return absl::StrCat("wrote no frames to ", writer.dir().string());
+  return absl::StrCat(
+      "wrote ", count, count == 1 ? " frame" : " frames", " to ", writer.dir().string(), " (",
+      writer.PathFor(0, format).filename().string(),
+      count > 1 ? absl::StrCat(" .. ", writer.PathFor(count - 1, format).filename().string()) : "",
+      ")");
+}
+
+std::string DescribeUpdate(const v1::Update& update) {
+  switch (update.change_case()) {
+    case v1::Update::kNodeTransform:
+      return absl::StrCat("node_transform (node ", update.node_transform().node(), ")");
+    case v1::Update::kLight: return absl::StrCat("light (light ", update.light().light(), ")");
+    case v1::Update::kCamera: return "camera";
+    case v1::Update::kMaterial:
+      return absl::StrCat("material (material ", update.material().material(), ")");
+    case v1::Update::kEnvironment: return "environment";
+    case v1::Update::CHANGE_NOT_SET: break;
+  }
+  return "empty update";
+}
+
+}  // namespace gistream::client

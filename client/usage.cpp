@@ -1,0 +1,129 @@
+#include "usage.h"
+
+namespace gistream::client {
+namespace {
+
+constexpr absl::string_view kOverview =
+    R"(usage: gistream [--server ADDR] [--timeout SEC] COMMAND [OPTIONS]
+
+Thin client of gistreamd, the remote global-illumination render server.
+
+commands:
+  solvers   list the solvers, their stages and parameters
+  render    render one frame and write it to a file
+  stream    open a session and save the frames it streams
+  script    play a JSON timeline of updates, one saved frame per step
+  status    show the server's device, sessions, scenes and frame count
+
+global options (also accepted after the command):
+  --server ADDR   server address (default $GISTREAM_SERVER, else 127.0.0.1:50051)
+  --timeout SEC   deadline of each single request (default 300)
+  -h, --help      show help; `gistream COMMAND --help` for a command
+
+exit status: 0 on success, 1 on an error (printed as "error: CODE: message"),
+2 on a usage error, 130 when interrupted twice.
+)";
+
+constexpr absl::string_view kSolvers = R"(usage: gistream [--server ADDR] solvers [--json]
+
+Lists the server's GI solvers: description, stages (in the order they run)
+and the parameter schema (name, type, default, range or choices, meaning).
+
+  --json   print the ListSolvers response as protobuf JSON
+)";
+
+constexpr absl::string_view kRender =
+    R"(usage: gistream [--server ADDR] render --scene NAME_OR_FILE --out FILE
+                 [--solver NAME] [--param KEY=VALUE]... [--size WxH]
+                 [--format jpeg|png|exr] [--quality Q] [--exposure EV]
+                 [--camera-eye X,Y,Z --camera-target X,Y,Z] [--yfov DEG]
+                 [--environment NAME_OR_FILE] [--environment-intensity X]
+                 [--keep-scene]
+
+Loads a scene, renders one frame, writes the image bytes to FILE, and prints
+a one-line summary and the per-stage timings.
+
+  --scene NAME_OR_FILE   an existing local .glb/.gltf file is uploaded (a
+                         .gltf's external buffers and images are inlined);
+                         anything else is a scene name on the server
+  --solver NAME          GI solver (default direct; see `gistream solvers`)
+  --param KEY=VALUE      solver parameter; repeatable
+  --size WxH             image size (default 320x240)
+  --format F             jpeg, png or exr (linear HDR); default: from the
+                         --out extension, else jpeg
+  --quality Q            JPEG quality 1..100 (server default 90)
+  --exposure EV          stops added before tone mapping (jpeg, png)
+  --camera-eye X,Y,Z     camera position; needs --camera-target
+  --camera-target X,Y,Z  point the camera looks at (up is +Y)
+  --yfov DEG             vertical field of view in degrees
+  --environment N_OR_F   equirectangular HDR/EXR environment: a local file
+                         is uploaded, else a file name on the server
+  --environment-intensity X  environment scale (default 1)
+  --keep-scene           leave the scene loaded on the server afterwards
+  --out FILE             where to write the image
+)";
+
+constexpr absl::string_view kStream =
+    R"(usage: gistream [--server ADDR] stream [--scene NAME_OR_FILE] [--solver NAME]
+                 [--param KEY=VALUE]... [--size WxH] [--format jpeg|png|exr]
+                 [--frames N] [--fps F] [--out DIR] [view and scene options]
+
+Opens an interactive session with continuous pacing and saves every frame it
+receives as DIR/frame_00000.jpg, frame_00001.jpg, ... (extension by format).
+At the end prints a per-stage timing table (runs, skipped, CPU and GPU
+median/p95 in ms), the frame time median/p95, the achieved frame rate and the
+frames the server dropped. Ctrl-C ends the session cleanly and prints the
+table; a second Ctrl-C cancels it.
+
+  --scene NAME_OR_FILE   default cornell_box (file or name, as for render)
+  --solver NAME          default direct
+  --param KEY=VALUE      solver parameter; repeatable
+  --size WxH             default 320x240
+  --format F             jpeg (default), png or exr
+  --frames N             frames to save (default 30; 0: until Ctrl-C)
+  --fps F                frame-rate cap asked of the server (default 30;
+                         0: the server's default cap)
+  --out DIR              output directory (default out/)
+  also: --quality, --exposure, --camera-eye, --camera-target, --yfov,
+        --environment, --environment-intensity, --keep-scene (see render)
+)";
+
+constexpr absl::string_view kScript =
+    R"(usage: gistream [--server ADDR] script FILE [--out DIR] [--keep-scene]
+
+Plays the JSON timeline FILE in a session paced on request: for each frame
+it sends that frame's updates (increasing seq numbers), asks for one frame,
+waits for the frame that includes the last update, and saves it as
+DIR/frame_00000.jpg, ... Frames must echo the update seq numbers in order.
+At the end prints the same timing table as `stream`.
+
+  --out DIR      output directory (default out/)
+  --keep-scene   leave the scene loaded on the server afterwards
+
+The script format is described in README.md (see scenes/cornell_orbit.json):
+scene, solver, params, size, format, frames, tracks (camera_orbit,
+camera_path, node_path, node_spin, light, material, environment) and events
+(protobuf-JSON Update messages at given frames).
+)";
+
+constexpr absl::string_view kStatus = R"(usage: gistream [--server ADDR] status
+
+Prints the server's GL vendor, renderer and version, the number of sessions
+and scenes (with their ids) and the number of frames rendered.
+)";
+
+}  // namespace
+
+absl::string_view HelpText(std::optional<Command> command) {
+  if (!command) return kOverview;
+  switch (*command) {
+    case Command::kSolvers: return kSolvers;
+    case Command::kRender: return kRender;
+    case Command::kStream: return kStream;
+    case Command::kScript: return kScript;
+    case Command::kStatus: return kStatus;
+  }
+  return kOverview;
+}
+
+}  // namespace gistream::client

@@ -1,0 +1,15 @@
+// Argument checks shared by the encoders.
+#pragma once
+
+#include <cstddef>
+#include <absl/strings/string_view.h>
+
+#include "util/status.h"
+
+namespace gistream {
+
+// width, height > 0 and `elements` == width * height * channels.
+absl::Status CheckImageArgs(size_t elements, int width, int height, int channels,
+                            absl::string_view what);
+
+}  // namespace gistream

@@ -1,0 +1,292 @@
+// gistreamd: the render server. Parses flags, creates the Engine (EGL device,
+// render thread), serves gistream.v1 over gRPC, prints `listening on ADDR`
+// once serving, and shuts down gracefully on SIGTERM/SIGINT.
+#include <pthread.h>
+#include <signal.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <chrono>
+#include <climits>
+#include <condition_variable>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <string>
+#include <string_view>
+#include <thread>
+
+#include "service/engine.h"
+#include "service/grpc/server.h"
+#include "util/log.h"
+#include "util/status.h"
+
+namespace gistream {
+namespace {
+
+constexpr int kExitUsage = 2;
+
+// Debian's Abseil keeps its own string_view type; StrCat needs it.
+absl::string_view AV(std::string_view s) { return absl::string_view(s.data(), s.size()); }
+
+struct Flags {
+  std::string listen = "127.0.0.1:50051";
+  EngineOptions engine;
+  uint64_t max_message_bytes = 0;  // 0: max_scene_bytes + 16 MiB
+  double shutdown_deadline_s = 10.0;
+  LogLevel log_level = LogLevel::kInfo;
+};
+
+constexpr const char* kUsage = R"(usage: gistreamd [flags]
+
+  --listen ADDR              host:port to serve on (default 127.0.0.1:50051;
+                             port 0 picks a free one)
+  --scenes DIR               scene directory for LoadScene by name (default scenes)
+  --egl-device N             EGL device index; -1 picks the first hardware
+                             device, else Mesa's software one (default -1)
+  --max-sessions N           concurrent sessions (default 32)
+  --max-scenes N             scenes held at once (default 16)
+  --max-width N              largest frame width (default 4096)
+  --max-height N             largest frame height (default 4096)
+  --max-scene-bytes N        largest glb/gltf, buffers included (default 268435456)
+  --max-triangles N          triangles over all mesh instances (default 4000000)
+  --max-image-pixels N       pixels per texture/environment image (default 67108864)
+  --max-message-bytes N      largest gRPC message (default max-scene-bytes + 16 MiB)
+  --default-fps F            frame cap for continuous sessions that give none (default 30)
+  --shutdown-deadline-s F    on SIGTERM/SIGINT, seconds running calls get before
+                             they are cancelled (default 10)
+  --log-level L              debug | info | warning | error (default info)
+  --help                     this text
+Flags take their value as the next argument or after '=' (--listen=:50051).
+)";
+
+[[noreturn]] void UsageError(std::string_view message) {
+  std::fprintf(stderr, "gistreamd: %.*s\n(see gistreamd --help)\n",
+               static_cast<int>(message.size()), message.data());
+  std::exit(kExitUsage);
+}
+
+template <typename T>
+T ParseUnsigned(std::string_view flag, std::string_view value, T min, T max) {
+  uint64_t v = 0;
+  const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+  if (ec != std::errc() || end != value.data() + value.size() || v < min || v > max) {
+    UsageError(absl::StrCat(AV(flag), ": expected an integer in ", min, "..", max, ", got '",
+                            AV(value), "'"));
+  }
+  return static_cast<T>(v);
+}
+
+int ParseInt(std::string_view flag, std::string_view value, int min, int max) {
+  int v = 0;
+  const auto [end, ec] = std::from_chars(value.data(), value.data() + value.size(), v);
+  if (ec != std::errc() || end != value.data() + value.size() || v < min || v > max) {
+    UsageError(absl::StrCat(AV(flag), ": expected an integer in ", min, "..", max, ", got '",
+                            AV(value), "'"));
+  }
+  return v;
+}
+
+double ParseDouble(std::string_view flag, std::string_view value, double min, double max) {
+  // std::from_chars for double is in libstdc++ 11+; strtod keeps this portable.
+  const std::string s(value);
+  char* end = nullptr;
+  errno = 0;
+  const double v = std::strtod(s.c_str(), &end);
+  if (s.empty() || end != s.c_str() + s.size() || errno != 0 || !std::isfinite(v) || v < min ||
+      v > max) {
+    UsageError(absl::StrCat(AV(flag), ": expected a number in ", min, "..", max, ", got '",
+                            AV(value), "'"));
+  }
+  return v;
+}
+
+LogLevel ParseLogLevel(std::string_view flag, std::string_view value) {
+  if (value == "debug") return LogLevel::kDebug;
+  if (value == "info") return LogLevel::kInfo;
+  if (value == "warning") return LogLevel::kWarning;
+  if (value == "error") return LogLevel::kError;
+  UsageError(absl::StrCat(AV(flag), ": expected debug, info, warning or error, got '", AV(value),
+                          "'"));
+}
+
+Flags ParseFlags(int argc, char** argv) {
+  Flags f;
+  using Setter = std::function<void(std::string_view flag, std::string_view value)>;
+  const std::map<std::string_view, Setter> setters = {
+      {"--listen",
+       [&](auto flag, auto v) {
+         if (v.empty()) UsageError(absl::StrCat(AV(flag), ": empty address"));
+         f.listen = std::string(v);
+       }},
+      {"--scenes", [&](auto, auto v) { f.engine.scene_dir = std::string(v); }},
+      {"--egl-device", [&](auto flag, auto v) { f.engine.egl_device = ParseInt(flag, v, -1, 1024); }},
+      {"--max-sessions",
+       [&](auto flag, auto v) { f.engine.max_sessions = ParseUnsigned<uint32_t>(flag, v, 1, 100'000); }},
+      {"--max-scenes",
+       [&](auto flag, auto v) { f.engine.max_scenes = ParseUnsigned<uint32_t>(flag, v, 1, 100'000); }},
+      {"--max-width",
+       [&](auto flag, auto v) { f.engine.max_width = ParseUnsigned<uint32_t>(flag, v, 1, 65'536); }},
+      {"--max-height",
+       [&](auto flag, auto v) { f.engine.max_height = ParseUnsigned<uint32_t>(flag, v, 1, 65'536); }},
+      {"--max-scene-bytes",
+       [&](auto flag, auto v) {
+         f.engine.import_limits.max_scene_bytes =
+             ParseUnsigned<uint64_t>(flag, v, 1024, uint64_t{2} << 30);
+       }},
+      {"--max-triangles",
+       [&](auto flag, auto v) {
+         f.engine.import_limits.max_triangles = ParseUnsigned<uint64_t>(flag, v, 1, uint64_t{1} << 32);
+       }},
+      {"--max-image-pixels",
+       [&](auto flag, auto v) {
+         f.engine.import_limits.max_image_pixels =
+             ParseUnsigned<uint64_t>(flag, v, 1, uint64_t{1} << 32);
+       }},
+      {"--max-message-bytes",
+       [&](auto flag, auto v) {
+         f.max_message_bytes = ParseUnsigned<uint64_t>(flag, v, 1024, INT_MAX);
+       }},
+      {"--default-fps",
+       [&](auto flag, auto v) {
+         f.engine.default_max_fps = static_cast<float>(ParseDouble(flag, v, 0.1, f.engine.max_fps));
+       }},
+      {"--shutdown-deadline-s",
+       [&](auto flag, auto v) { f.shutdown_deadline_s = ParseDouble(flag, v, 0.0, 3600.0); }},
+      {"--log-level", [&](auto flag, auto v) { f.log_level = ParseLogLevel(flag, v); }},
+  };
+
+  for (int i = 1; i < argc; ++i) {
+    std::string_view arg = argv[i];
+    if (arg == "--help" || arg == "-h") {
+      std::fputs(kUsage, stdout);
+      std::exit(0);
+    }
+    std::string_view name = arg;
+    std::string_view value;
+    bool has_value = false;
+    if (const size_t eq = arg.find('='); arg.starts_with("--") && eq != std::string_view::npos) {
+      name = arg.substr(0, eq);
+      value = arg.substr(eq + 1);
+      has_value = true;
+    }
+    const auto it = setters.find(name);
+    if (it == setters.end()) {
+      UsageError(arg.starts_with("-") ? absl::StrCat("unknown flag ", AV(name))
+                                      : absl::StrCat("unexpected argument '", AV(arg), "'"));
+    }
+    if (!has_value) {
+      if (i + 1 >= argc) UsageError(absl::StrCat(AV(name), ": missing value"));
+      value = argv[++i];
+    }
+    it->second(name, value);
+  }
+  if (f.max_message_bytes == 0) {
+    f.max_message_bytes = std::min<uint64_t>(f.engine.import_limits.max_scene_bytes + (16u << 20),
+                                             INT_MAX);
+  }
+  return f;
+}
+
+// Blocks SIGINT/SIGTERM in the calling thread (and so in every thread it
+// starts afterwards: gRPC's, the render thread) so that only SignalWaiter's
+// sigwait sees them.
+sigset_t BlockShutdownSignals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);
+  return set;
+}
+
+// A dedicated thread waiting for SIGINT/SIGTERM. The first one calls
+// `on_first`; a second one while shutdown runs exits at once.
+class SignalWaiter {
+ public:
+  SignalWaiter(sigset_t set, std::function<void(int)> on_first)
+      : thread_([set, on_first = std::move(on_first)](std::stop_token stop) {
+          bool first = true;
+          while (!stop.stop_requested()) {
+            timespec timeout{0, 200'000'000};  // wake to see stop requests
+            const int sig = sigtimedwait(&set, nullptr, &timeout);
+            if (sig < 0) continue;  // EAGAIN (timeout) or EINTR
+            if (first) {
+              first = false;
+              on_first(sig);
+            } else {
+              Log(LogLevel::kWarning, "second signal during shutdown: exiting now");
+              std::_Exit(1);
+            }
+          }
+        }) {}
+
+ private:
+  std::jthread thread_;  // stop requested and joined on destruction
+};
+
+int Main(int argc, char** argv) {
+  const Flags flags = ParseFlags(argc, argv);
+  SetLogLevel(flags.log_level);
+  const sigset_t signals = BlockShutdownSignals();
+
+  absl::StatusOr<std::unique_ptr<Engine>> engine = Engine::Create(flags.engine);
+  if (!engine.ok()) {
+    std::fprintf(stderr, "gistreamd: cannot start the engine: %s\n",
+                 engine.status().ToString().c_str());
+    return 1;
+  }
+  const DeviceInfo device = (*engine)->device_info();
+  Log(LogLevel::kInfo, absl::StrCat("GL: ", device.vendor, " / ", device.renderer, " / ",
+                                    device.version));
+  Log(LogLevel::kInfo, absl::StrCat("EGL device: ", device.egl_device));
+
+  service::ServerOptions options;
+  options.listen = flags.listen;
+  options.max_receive_message_bytes = static_cast<int>(flags.max_message_bytes);
+  options.max_send_message_bytes = static_cast<int>(flags.max_message_bytes);
+  absl::StatusOr<std::unique_ptr<service::GistreamServer>> server =
+      service::GistreamServer::Start(**engine, options);
+  if (!server.ok()) {
+    std::fprintf(stderr, "gistreamd: %s\n", server.status().ToString().c_str());
+    (*engine)->Shutdown();
+    return 1;
+  }
+
+  std::mutex mutex;
+  std::condition_variable cv;
+  int signal_received = 0;
+  SignalWaiter waiter(signals, [&](int sig) {
+    {
+      std::lock_guard lock(mutex);
+      signal_received = sig;
+    }
+    cv.notify_all();
+  });
+
+  std::printf("listening on %s\n", (*server)->address().c_str());
+  std::fflush(stdout);
+
+  {
+    std::unique_lock lock(mutex);
+    cv.wait(lock, [&] { return signal_received != 0; });
+  }
+  Log(LogLevel::kInfo, absl::StrCat("received ", strsignal(signal_received)));
+  const auto deadline = std::chrono::duration_cast<std::chrono::milliseconds>(
+      std::chrono::duration<double>(flags.shutdown_deadline_s));
+  (*server)->Shutdown(deadline);  // health NOT_SERVING, drain calls, Engine::Shutdown
+  server->reset();
+  engine->reset();
+  return 0;
+}
+
+}  // namespace
+}  // namespace gistream
+
+int main(int argc, char** argv) { return gistream::Main(argc, argv); }

@@ -1,0 +1,107 @@
+#include "render/direct_lighting.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gistream {
+namespace {
+
+// std430 mirrors of shaders/render/direct_light.glsl.
+struct GpuPunctual {
+  glm::vec4 position_type;
+  glm::vec4 direction;
+  glm::vec4 intensity;
+  glm::vec4 cone_shadow;
+};
+struct GpuAreaSample {
+  glm::vec4 position_area;
+  glm::vec4 normal_shadow;
+  glm::vec4 radiance_far;
+};
+
+template <typename T>
+void Upload(gl::Buffer& buffer, const std::vector<T>& data) {
+  buffer = gl::Buffer::Create();
+  const T zero{};
+  glNamedBufferStorage(buffer.id(), GLsizeiptr(std::max<size_t>(data.size(), 1) * sizeof(T)),
+                       data.empty() ? &zero : data.data(), 0);
+}
+
+}  // namespace
+
+absl::StatusOr<DirectLighting> DirectLighting::Create() {
+  DirectLighting lighting;
+  GS_ASSIGN_OR_RETURN(lighting.shadows_, ShadowMaps::Create());
+  return lighting;
+}
+
+void DirectLighting::Update(const SceneState& state, const GpuScene& gpu,
+                            const DirectLightingSettings& settings) {
+  emitters_ = CollectEmitters(state);
+  samples_ = SampleEmitters(emitters_, settings.area_samples);
+
+  int cube_count = 0, dir_count = 0;
+  for (const LightInstance& l : state.lights()) {
+    (l.light.type == LightType::kDirectional ? dir_count : cube_count)++;
+  }
+  cube_count += int(samples_.size());
+  shadows_.Allocate(cube_count, dir_count, settings.shadow_resolution);
+  shadow_resolution_ = settings.shadow_resolution;
+
+  std::vector<GpuPunctual> punctual;
+  std::vector<glm::mat4> dir_matrices;
+  int cube = 0;
+  const Bounds& bounds = state.scene().bounds;
+  for (const LightInstance& l : state.lights()) {
+    GpuPunctual g{};
+    const float type = l.light.type == LightType::kPoint ? 0.0f
+                       : l.light.type == LightType::kSpot ? 1.0f : 2.0f;
+    g.position_type = glm::vec4(l.position, type);
+    g.direction = glm::vec4(l.direction, 0.0f);
+    g.intensity = glm::vec4(l.light.color * l.light.intensity, 0.0f);
+    // KHR_lights_punctual: scale = 1 / max(0.001, cos(inner) - cos(outer)),
+    // offset = -cos(outer) * scale.
+    const float cos_outer = std::cos(l.light.outer_cone_angle);
+    const float scale = 1.0f / std::max(0.001f, std::cos(l.light.inner_cone_angle) - cos_outer);
+    if (l.light.type == LightType::kDirectional) {
+      const int index = int(dir_matrices.size());
+      dir_matrices.push_back(shadows_.RenderDirectional(gpu, state, index, l.direction));
+      g.cone_shadow = glm::vec4(0.0f, 0.0f, float(index), 0.0f);
+    } else {
+      const float far = ShadowFar(bounds, l.position);
+      shadows_.RenderCube(gpu, state, cube, l.position, far);
+      g.cone_shadow = glm::vec4(scale, -cos_outer * scale, float(cube), far);
+      ++cube;
+    }
+    punctual.push_back(g);
+  }
+  std::vector<GpuAreaSample> samples;
+  samples.reserve(samples_.size());
+  for (const EmitterSample& s : samples_) {
+    // Start the shadow rays a hair in front of the emitter so the emitter
+    // does not shadow itself.
+    const float far = ShadowFar(bounds, s.position);
+    const glm::vec3 origin = s.position + s.normal * (far * 1e-5f);
+    shadows_.RenderCube(gpu, state, cube, origin, far);
+    samples.push_back({glm::vec4(origin, s.area), glm::vec4(s.normal, float(cube)),
+                       glm::vec4(s.radiance, far)});
+    ++cube;
+  }
+  punctual_count_ = int(punctual.size());
+  Upload(punctual_, punctual);
+  Upload(samples_buffer_, samples);
+  Upload(dir_matrices_, dir_matrices);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void DirectLighting::Bind(gl::Program& program) const {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, punctual_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, samples_buffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, dir_matrices_.id());
+  shadows_.Bind(kCubeShadowUnit, kDirShadowUnit);
+  program.Set("uPunctualCount", punctual_count_);
+  program.Set("uAreaSampleCount", int(samples_.size()));
+  program.Set("uShadowTexel", 2.0f / float(std::max(shadow_resolution_, 1)));
+}
+
+}  // namespace gistream

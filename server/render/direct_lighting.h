@@ -1,0 +1,53 @@
+// Direct light for every solver: punctual lights and stratified area-light
+// samples as GPU buffers, each with its shadow map. shaders/render/
+// direct_light.glsl evaluates it. Later solvers reuse this for their direct
+// light and first bounce.
+#pragma once
+
+#include <vector>
+
+#include "gl/handle.h"
+#include "gl/program.h"
+#include "render/area_lights.h"
+#include "render/shadow_maps.h"
+#include "scene/gpu_scene.h"
+
+namespace gistream {
+
+struct DirectLightingSettings {
+  int area_samples = 64;  // stratified points over all emissive surfaces
+  int shadow_resolution = 256;
+};
+
+class DirectLighting {
+ public:
+  static absl::StatusOr<DirectLighting> Create();
+
+  // Rebuilds light buffers and redraws shadow maps. Call when geometry,
+  // lights or emission changed, or the settings did.
+  void Update(const SceneState& state, const GpuScene& gpu, const DirectLightingSettings& settings);
+
+  // Binds buffers (SSBO 1..3), shadow maps (units 4, 5) and sets uniforms
+  // of a program that includes render/direct_light.glsl.
+  void Bind(gl::Program& program) const;
+
+  int punctual_count() const { return punctual_count_; }
+  const std::vector<EmitterSample>& area_samples() const { return samples_; }
+  const std::vector<EmitterTriangle>& emitters() const { return emitters_; }
+  uint64_t gpu_bytes() const { return shadows_.gpu_bytes(); }
+
+  static constexpr GLuint kCubeShadowUnit = 4;
+  static constexpr GLuint kDirShadowUnit = 5;
+
+ private:
+  ShadowMaps shadows_;
+  gl::Buffer punctual_;
+  gl::Buffer samples_buffer_;
+  gl::Buffer dir_matrices_;
+  std::vector<EmitterTriangle> emitters_;
+  std::vector<EmitterSample> samples_;
+  int punctual_count_ = 0;
+  int shadow_resolution_ = 0;
+};
+
+}  // namespace gistream

@@ -1,0 +1,59 @@
+#include "render/gbuffer.h"
+
+#include "util/status.h"
+
+namespace gistream {
+namespace {
+gl::Texture Target(GLenum format, uint32_t w, uint32_t h) {
+  gl::Texture t = gl::Texture::Create(GL_TEXTURE_2D);
+  glTextureStorage2D(t.id(), 1, format, GLsizei(w), GLsizei(h));
+  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return t;
+}
+}  // namespace
+
+void GBuffer::Resize(uint32_t width, uint32_t height) {
+  if (width == width_ && height == height_ && fbo_) return;
+  width_ = width;
+  height_ = height;
+  position_ = Target(GL_RGBA32F, width, height);
+  normal_ = Target(GL_RGBA16F, width, height);
+  albedo_ = Target(GL_RGBA8, width, height);
+  emission_ = Target(GL_RGBA32F, width, height);
+  depth_ = Target(GL_DEPTH_COMPONENT32F, width, height);
+  hdr_ = Target(GL_RGBA32F, width, height);
+  glTextureParameteri(hdr_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(hdr_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  ldr_ = Target(GL_RGBA8, width, height);
+
+  fbo_ = gl::Framebuffer::Create();
+  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT0, position_.id(), 0);
+  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT1, normal_.id(), 0);
+  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT2, albedo_.id(), 0);
+  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT3, emission_.id(), 0);
+  glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
+  const GLenum draw[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                          GL_COLOR_ATTACHMENT3};
+  glNamedFramebufferDrawBuffers(fbo_.id(), 4, draw);
+  GS_CHECK(glCheckNamedFramebufferStatus(fbo_.id(), GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE);
+
+  hdr_fbo_ = gl::Framebuffer::Create();
+  glNamedFramebufferTexture(hdr_fbo_.id(), GL_COLOR_ATTACHMENT0, hdr_.id(), 0);
+  GS_CHECK(glCheckNamedFramebufferStatus(hdr_fbo_.id(), GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE);
+
+  ldr_fbo_ = gl::Framebuffer::Create();
+  glNamedFramebufferTexture(ldr_fbo_.id(), GL_COLOR_ATTACHMENT0, ldr_.id(), 0);
+  GS_CHECK(glCheckNamedFramebufferStatus(ldr_fbo_.id(), GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE);
+}
+
+void GBuffer::BindTextures(GLuint first_unit) const {
+  glBindTextureUnit(first_unit + 0, position_.id());
+  glBindTextureUnit(first_unit + 1, normal_.id());
+  glBindTextureUnit(first_unit + 2, albedo_.id());
+  glBindTextureUnit(first_unit + 3, emission_.id());
+}
+
+}  // namespace gistream

@@ -1,0 +1,38 @@
+// Per-view G-buffer: world position (w = 1 on geometry), normal, albedo,
+// emission, depth; plus the HDR radiance target the solvers shade into and
+// the 8-bit target tone mapping writes.
+#pragma once
+
+#include <cstdint>
+
+#include "gl/handle.h"
+
+namespace gistream {
+
+class GBuffer {
+ public:
+  void Resize(uint32_t width, uint32_t height);
+  uint32_t width() const { return width_; }
+  uint32_t height() const { return height_; }
+
+  GLuint fbo() const { return fbo_.id(); }          // the four G-buffer targets + depth
+  GLuint hdr_fbo() const { return hdr_fbo_.id(); }  // the radiance target
+  GLuint position() const { return position_.id(); }
+  GLuint normal() const { return normal_.id(); }
+  GLuint albedo() const { return albedo_.id(); }
+  GLuint emission() const { return emission_.id(); }
+  GLuint depth() const { return depth_.id(); }
+  GLuint hdr() const { return hdr_.id(); }
+  GLuint ldr_fbo() const { return ldr_fbo_.id(); }  // tone-mapped RGBA8
+  GLuint ldr() const { return ldr_.id(); }
+
+  // Binds position/normal/albedo/emission to texture units first..first+3.
+  void BindTextures(GLuint first_unit) const;
+
+ private:
+  uint32_t width_ = 0, height_ = 0;
+  gl::Texture position_, normal_, albedo_, emission_, depth_, hdr_, ldr_;
+  gl::Framebuffer fbo_, hdr_fbo_, ldr_fbo_;
+};
+
+}  // namespace gistream

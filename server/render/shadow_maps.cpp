@@ -1,0 +1,125 @@
+#include "render/shadow_maps.h"
+
+#include <algorithm>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+namespace gistream {
+namespace {
+
+gl::Texture DepthArray(GLenum target, int size, int layers) {
+  gl::Texture t = gl::Texture::Create(target);
+  glTextureStorage3D(t.id(), 1, GL_DEPTH_COMPONENT32F, size, size, std::max(layers, 1));
+  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  glTextureParameteri(t.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+  return t;
+}
+
+}  // namespace
+
+float ShadowFar(const Bounds& bounds, const glm::vec3& p) {
+  if (bounds.empty()) return 1.0f;
+  float far = 0.0f;
+  for (int i = 0; i < 8; ++i) {
+    const glm::vec3 c((i & 1) ? bounds.max.x : bounds.min.x, (i & 2) ? bounds.max.y : bounds.min.y,
+                      (i & 4) ? bounds.max.z : bounds.min.z);
+    far = std::max(far, glm::length(c - p));
+  }
+  return std::max(far * 1.01f, 1e-6f);
+}
+
+absl::StatusOr<ShadowMaps> ShadowMaps::Create() {
+  ShadowMaps maps;
+  GS_ASSIGN_OR_RETURN(maps.cube_program_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "render/shadow_cube.vert.glsl"},
+                                          {GL_GEOMETRY_SHADER, "render/shadow_cube.geom.glsl"},
+                                          {GL_FRAGMENT_SHADER, "render/shadow_cube.frag.glsl"}}));
+  GS_ASSIGN_OR_RETURN(maps.dir_program_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "render/shadow_dir.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "render/shadow_dir.frag.glsl"}}));
+  maps.fbo_ = gl::Framebuffer::Create();
+  return maps;
+}
+
+void ShadowMaps::Allocate(int cube_count, int directional_count, int resolution) {
+  if (cube_count != cube_count_ || resolution != resolution_) {
+    cubes_ = DepthArray(GL_TEXTURE_CUBE_MAP_ARRAY, resolution, 6 * std::max(cube_count, 1));
+  }
+  if (directional_count != dir_count_ || resolution != resolution_) {
+    directional_ = DepthArray(GL_TEXTURE_2D_ARRAY, resolution, std::max(directional_count, 1));
+  }
+  cube_count_ = cube_count;
+  dir_count_ = directional_count;
+  resolution_ = resolution;
+}
+
+uint64_t ShadowMaps::gpu_bytes() const {
+  const uint64_t face = uint64_t(resolution_) * uint64_t(resolution_) * 4;
+  return face * (6 * uint64_t(std::max(cube_count_, 1)) + uint64_t(std::max(dir_count_, 1)));
+}
+
+void ShadowMaps::RenderCube(const GpuScene& gpu, const SceneState& state, int index,
+                            const glm::vec3& position, float far) {
+  // GL cube-map face orientations (+X, -X, +Y, -Y, +Z, -Z).
+  static const glm::vec3 kDir[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  static const glm::vec3 kUp[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+  const glm::mat4 proj = glm::perspective(glm::half_pi<float>(), 1.0f, far * 1e-5f, far);
+  glm::mat4 view_proj[6];
+  for (int f = 0; f < 6; ++f) {
+    view_proj[f] = proj * glm::lookAt(position, position + kDir[f], kUp[f]);
+  }
+  glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, cubes_.id(), 0);
+  glNamedFramebufferDrawBuffer(fbo_.id(), GL_NONE);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+  glViewport(0, 0, resolution_, resolution_);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);
+  cube_program_.Use();
+  glProgramUniformMatrix4fv(cube_program_.id(), cube_program_.Location("uFaceViewProj"), 6, GL_FALSE,
+                            &view_proj[0][0][0]);
+  cube_program_.Set("uCube", index);
+  cube_program_.Set("uLightPos", position);
+  cube_program_.Set("uFar", far);
+  // Clear only this cube's six layers.
+  const float one = 1.0f;
+  glClearTexSubImage(cubes_.id(), 0, 0, 0, 6 * index, resolution_, resolution_, 6,
+                     GL_DEPTH_COMPONENT, GL_FLOAT, &one);
+  gpu.Draw(cube_program_, state, false);
+}
+
+glm::mat4 ShadowMaps::RenderDirectional(const GpuScene& gpu, const SceneState& state, int index,
+                                        const glm::vec3& direction) {
+  const Bounds& b = state.scene().bounds;
+  const glm::vec3 center = b.empty() ? glm::vec3(0.0f) : b.center();
+  const float radius = b.empty() ? 1.0f : std::max(0.5f * glm::length(b.extent()), 1e-6f);
+  const glm::vec3 dir = glm::normalize(direction);
+  const glm::vec3 up = std::abs(dir.y) < 0.99f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+  const glm::mat4 view = glm::lookAt(center - dir * (2.0f * radius), center, up);
+  const glm::mat4 proj = glm::ortho(-radius, radius, -radius, radius, 0.0f, 4.0f * radius);
+  const glm::mat4 view_proj = proj * view;
+
+  glNamedFramebufferTextureLayer(fbo_.id(), GL_DEPTH_ATTACHMENT, directional_.id(), 0, index);
+  glNamedFramebufferDrawBuffer(fbo_.id(), GL_NONE);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+  glViewport(0, 0, resolution_, resolution_);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  dir_program_.Set("uViewProj", view_proj);
+  dir_program_.Use();
+  gpu.Draw(dir_program_, state, false);
+  return view_proj;
+}
+
+void ShadowMaps::Bind(GLuint cube_unit, GLuint dir_unit) const {
+  glBindTextureUnit(cube_unit, cubes_.id());
+  glBindTextureUnit(dir_unit, directional_.id());
+}
+
+}  // namespace gistream

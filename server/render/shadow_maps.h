@@ -1,0 +1,46 @@
+// Shadow maps shared by every solver: a cube-map array for point-like
+// casters (point and spot lights, area-light samples, later VPLs), each
+// drawn in one layered pass, and a 2D array for directional lights.
+#pragma once
+
+#include <vector>
+
+#include "gl/handle.h"
+#include "gl/program.h"
+#include "scene/gpu_scene.h"
+
+namespace gistream {
+
+class ShadowMaps {
+ public:
+  static absl::StatusOr<ShadowMaps> Create();
+
+  // (Re)allocates storage when the counts or the resolution change.
+  void Allocate(int cube_count, int directional_count, int resolution);
+
+  // Renders cube `index` around `position`; depth = distance / far.
+  void RenderCube(const GpuScene& gpu, const SceneState& state, int index,
+                  const glm::vec3& position, float far);
+  // Renders directional map `index`; returns its view-projection matrix.
+  glm::mat4 RenderDirectional(const GpuScene& gpu, const SceneState& state, int index,
+                              const glm::vec3& direction);
+
+  // Binds the cube array to `cube_unit` and the 2D array to `dir_unit`.
+  void Bind(GLuint cube_unit, GLuint dir_unit) const;
+
+  int resolution() const { return resolution_; }
+  uint64_t gpu_bytes() const;
+
+ private:
+  gl::Program cube_program_;
+  gl::Program dir_program_;
+  gl::Texture cubes_;
+  gl::Texture directional_;
+  gl::Framebuffer fbo_;
+  int cube_count_ = -1, dir_count_ = -1, resolution_ = 0;
+};
+
+// Farthest distance from `p` to the scene bounds, the far plane of a caster.
+float ShadowFar(const Bounds& bounds, const glm::vec3& p);
+
+}  // namespace gistream

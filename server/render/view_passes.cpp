@@ -1,0 +1,78 @@
+#include "render/view_passes.h"
+
+#include <cmath>
+#include <cstring>
+
+namespace gistream {
+namespace {
+
+template <typename T>
+std::vector<T> ReadTexture(GLuint texture, uint32_t width, uint32_t height, GLenum type) {
+  const size_t row = size_t(width) * 4;
+  std::vector<T> pixels(row * height);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glGetTextureImage(texture, 0, GL_RGBA, type, GLsizei(pixels.size() * sizeof(T)), pixels.data());
+  // Flip to top-row-first.
+  std::vector<T> tmp(row);
+  for (uint32_t y = 0; y < height / 2; ++y) {
+    T* a = pixels.data() + y * row;
+    T* b = pixels.data() + (height - 1 - y) * row;
+    std::memcpy(tmp.data(), a, row * sizeof(T));
+    std::memcpy(a, b, row * sizeof(T));
+    std::memcpy(b, tmp.data(), row * sizeof(T));
+  }
+  return pixels;
+}
+
+}  // namespace
+
+absl::StatusOr<ViewPasses> ViewPasses::Create() {
+  ViewPasses passes;
+  GS_ASSIGN_OR_RETURN(passes.gbuffer_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "render/gbuffer.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "render/gbuffer.frag.glsl"}}));
+  GS_ASSIGN_OR_RETURN(passes.tonemap_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "render/tonemap.frag.glsl"}}));
+  passes.empty_vao_ = gl::VertexArray::Create();
+  return passes;
+}
+
+void ViewPasses::DrawGBuffer(const SceneState& state, const GpuScene& gpu,
+                             const ViewCamera& camera, GBuffer& gbuffer) {
+  gbuffer.Resize(camera.width, camera.height);
+  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.fbo());
+  glViewport(0, 0, GLsizei(camera.width), GLsizei(camera.height));
+  const float zero[4] = {0, 0, 0, 0};
+  for (GLint i = 0; i < 4; ++i) glClearBufferfv(GL_COLOR, i, zero);
+  const float one = 1.0f;
+  glClearBufferfv(GL_DEPTH, 0, &one);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);
+  gbuffer_.Set("uViewProj", camera.Projection() * camera.View());
+  gbuffer_.Use();
+  gpu.Draw(gbuffer_, state, true);
+}
+
+void ViewPasses::Tonemap(const GBuffer& gbuffer, float exposure_ev) {
+  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.ldr_fbo());
+  glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
+  glDisable(GL_DEPTH_TEST);
+  glBindTextureUnit(0, gbuffer.hdr());
+  tonemap_.Set("uExposureScale", std::exp2(exposure_ev));
+  tonemap_.Use();
+  glBindVertexArray(empty_vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+}
+
+std::vector<float> ViewPasses::ReadHdr(const GBuffer& gbuffer) const {
+  return ReadTexture<float>(gbuffer.hdr(), gbuffer.width(), gbuffer.height(), GL_FLOAT);
+}
+
+std::vector<uint8_t> ViewPasses::ReadLdr(const GBuffer& gbuffer) const {
+  return ReadTexture<uint8_t>(gbuffer.ldr(), gbuffer.width(), gbuffer.height(), GL_UNSIGNED_BYTE);
+}
+
+}  // namespace gistream

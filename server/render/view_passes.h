@@ -1,0 +1,33 @@
+// The view-dependent passes every frame shares, whatever the solver:
+// G-buffer rasterization, tone mapping, readback.
+#pragma once
+
+#include <vector>
+
+#include "gl/program.h"
+#include "render/camera.h"
+#include "render/gbuffer.h"
+#include "scene/gpu_scene.h"
+
+namespace gistream {
+
+class ViewPasses {
+ public:
+  static absl::StatusOr<ViewPasses> Create();
+
+  void DrawGBuffer(const SceneState& state, const GpuScene& gpu, const ViewCamera& camera,
+                   GBuffer& gbuffer);
+  // HDR radiance -> gbuffer.ldr(): exposure 2^ev, filmic curve, sRGB.
+  void Tonemap(const GBuffer& gbuffer, float exposure_ev);
+
+  // Readbacks, rows top first (GL stores them bottom first).
+  std::vector<float> ReadHdr(const GBuffer& gbuffer) const;    // RGBA float
+  std::vector<uint8_t> ReadLdr(const GBuffer& gbuffer) const;  // RGBA8
+
+ private:
+  gl::Program gbuffer_;
+  gl::Program tonemap_;
+  gl::VertexArray empty_vao_;
+};
+
+}  // namespace gistream

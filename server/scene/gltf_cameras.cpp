@@ -1,0 +1,50 @@
+#include <numbers>
+#include <string>
+
+#include "scene/gltf_stages.h"
+#include "scene/gltf_util.h"
+#include "util/log.h"
+
+namespace gistream::gltf {
+
+absl::StatusOr<std::vector<Camera>> ImportCameras(const tinygltf::Model& model,
+                                                  std::vector<int>* camera_map) {
+  std::vector<Camera> cameras;
+  camera_map->assign(model.cameras.size(), -1);
+  for (size_t i = 0; i < model.cameras.size(); ++i) {
+    const tinygltf::Camera& in = model.cameras[i];
+    const std::string field = Item("cameras", i);
+    if (in.type == "orthographic") {
+      LogOnce(LogLevel::kWarning, "gltf-orthographic-camera",
+              absl::StrCat(field, ": orthographic cameras are not supported; skipped"));
+      continue;
+    }
+    if (in.type != "perspective") {
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ".type: '", in.type, "' is not perspective or orthographic"));
+    }
+    const tinygltf::PerspectiveCamera& p = in.perspective;
+    if (!(p.yfov > 0.0 && p.yfov < std::numbers::pi)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ".perspective.yfov: ", p.yfov, " is not in (0, pi) radians"));
+    }
+    if (!(p.znear > 0.0 && p.znear < kMaxFloat)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ".perspective.znear: ", p.znear, " must be positive and finite"));
+    }
+    if (!(p.zfar == 0.0 || (p.zfar > p.znear && p.zfar < kMaxFloat))) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          field, ".perspective.zfar: ", p.zfar, " must be finite and beyond znear ", p.znear));
+    }
+    Camera camera;
+    camera.name = in.name;
+    camera.yfov = static_cast<float>(p.yfov);
+    camera.znear = static_cast<float>(p.znear);
+    camera.zfar = static_cast<float>(p.zfar);
+    (*camera_map)[i] = static_cast<int>(cameras.size());
+    cameras.push_back(std::move(camera));
+  }
+  return cameras;
+}
+
+}  // namespace gistream::gltf

@@ -1,0 +1,47 @@
+// The stages of ImportGltf after parsing, each validating the part of the
+// model it converts. Run in the order declared here: later stages rely on
+// the checks of earlier ones (buffer views before accessors, nodes before
+// the geometry budget).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "scene/gltf_import.h"
+#include "scene/scene.h"
+#include "scene/tinygltf.h"
+#include "util/status.h"
+
+namespace gistream::gltf {
+
+// gltf_lights.cpp: KHR_lights_punctual lights.
+absl::StatusOr<std::vector<Light>> ImportLights(const tinygltf::Model& model);
+
+// gltf_cameras.cpp: perspective cameras. `camera_map` maps each glTF camera
+// to its index in the result, or -1 for a skipped orthographic camera.
+absl::StatusOr<std::vector<Camera>> ImportCameras(const tinygltf::Model& model,
+                                                  std::vector<int>* camera_map);
+
+// gltf_nodes.cpp: the node forest, local transforms, and the default scene.
+struct NodeGraph {
+  std::vector<Node> nodes;
+  std::vector<int> roots;      // the default scene's root nodes
+  std::vector<int> instances;  // nodes reachable from `roots`, parents first
+};
+absl::StatusOr<NodeGraph> ImportNodes(const tinygltf::Model& model,
+                                      const std::vector<int>& camera_map,
+                                      const ImportLimits& limits);
+
+// gltf_meshes.cpp: triangle and vertex budgets from accessor counts, checked
+// before any geometry is read; then the meshes themselves.
+absl::Status CheckGeometryBudget(const tinygltf::Model& model, const NodeGraph& graph,
+                                 const ImportLimits& limits);
+absl::StatusOr<std::vector<Mesh>> ImportMeshes(const tinygltf::Model& model,
+                                               size_t material_count);
+
+// gltf_materials.cpp: materials, and the images their textures use
+// (decoded, within the limits). `budget` as in ParseModel.
+absl::Status ImportMaterials(const tinygltf::Model& model, const ImportOptions& options,
+                             uint64_t* budget, Scene* scene);
+
+}  // namespace gistream::gltf

@@ -1,0 +1,153 @@
+#include "scene/gpu_scene.h"
+
+#include <glm/gtc/matrix_inverse.hpp>
+
+namespace gistream {
+namespace {
+
+struct Vertex {
+  glm::vec3 position;
+  glm::vec3 normal;
+  glm::vec2 uv;
+};
+static_assert(sizeof(Vertex) == 32);
+
+GpuMaterial ToGpu(const Material& m) {
+  GpuMaterial g;
+  g.base_color = m.base_color_factor;
+  g.emission = glm::vec4(m.emission(), 0.0f);
+  g.textures = glm::ivec4(m.base_color_texture, m.emissive_texture, m.double_sided ? 1 : 0, 0);
+  return g;
+}
+
+gl::Texture UploadImage(const Image& image) {
+  gl::Texture tex = gl::Texture::Create(GL_TEXTURE_2D);
+  const int levels = 1 + int(std::floor(std::log2(float(std::max(image.width, image.height)))));
+  if (image.is_float) {
+    glTextureStorage2D(tex.id(), levels, GL_RGBA32F, image.width, image.height);
+    glTextureSubImage2D(tex.id(), 0, 0, 0, image.width, image.height, GL_RGBA, GL_FLOAT,
+                        image.pixelsf.data());
+  } else {
+    glTextureStorage2D(tex.id(), levels, image.srgb ? GL_SRGB8_ALPHA8 : GL_RGBA8, image.width,
+                       image.height);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(tex.id(), 0, 0, 0, image.width, image.height, GL_RGBA, GL_UNSIGNED_BYTE,
+                        image.pixels8.data());
+  }
+  glGenerateTextureMipmap(tex.id());
+  glTextureParameteri(tex.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTextureParameteri(tex.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(tex.id(), GL_TEXTURE_WRAP_S, GL_REPEAT);
+  glTextureParameteri(tex.id(), GL_TEXTURE_WRAP_T, GL_REPEAT);
+  return tex;
+}
+
+}  // namespace
+
+absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& state) {
+  const Scene& scene = state.scene();
+  auto gpu = std::make_unique<GpuScene>();
+
+  // Geometry: one vertex/index range per primitive, shared by its instances.
+  std::vector<Vertex> vertices;
+  std::vector<uint32_t> indices;
+  struct Range {
+    uint32_t first_index, index_count;
+    int32_t base_vertex;
+  };
+  std::vector<std::vector<Range>> ranges(scene.meshes.size());
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    for (const Primitive& p : scene.meshes[m].primitives) {
+      Range r{uint32_t(indices.size()), uint32_t(p.indices.size()), int32_t(vertices.size())};
+      for (size_t v = 0; v < p.positions.size(); ++v) {
+        vertices.push_back({p.positions[v], p.normals[v],
+                            p.uvs.empty() ? glm::vec2(0.0f) : p.uvs[v]});
+      }
+      indices.insert(indices.end(), p.indices.begin(), p.indices.end());
+      ranges[m].push_back(r);
+    }
+  }
+  for (size_t n = 0; n < scene.nodes.size(); ++n) {
+    const int mesh = scene.nodes[n].mesh;
+    if (mesh < 0) continue;
+    for (size_t p = 0; p < ranges[size_t(mesh)].size(); ++p) {
+      const Range& r = ranges[size_t(mesh)][p];
+      gpu->draws_.push_back({r.first_index, r.index_count, r.base_vertex,
+                             scene.meshes[size_t(mesh)].primitives[p].material, int(n), mesh,
+                             int(p)});
+    }
+  }
+
+  gpu->vertices_ = gl::Buffer::Create();
+  gpu->indices_ = gl::Buffer::Create();
+  glNamedBufferStorage(gpu->vertices_.id(), GLsizeiptr(std::max<size_t>(1, vertices.size()) * sizeof(Vertex)),
+                       vertices.empty() ? nullptr : vertices.data(), 0);
+  glNamedBufferStorage(gpu->indices_.id(), GLsizeiptr(std::max<size_t>(1, indices.size()) * sizeof(uint32_t)),
+                       indices.empty() ? nullptr : indices.data(), 0);
+  gpu->gpu_bytes_ += vertices.size() * sizeof(Vertex) + indices.size() * sizeof(uint32_t);
+
+  gpu->vao_ = gl::VertexArray::Create();
+  const GLuint vao = gpu->vao_.id();
+  glVertexArrayVertexBuffer(vao, 0, gpu->vertices_.id(), 0, sizeof(Vertex));
+  glVertexArrayElementBuffer(vao, gpu->indices_.id());
+  const GLuint offsets[3] = {offsetof(Vertex, position), offsetof(Vertex, normal), offsetof(Vertex, uv)};
+  const GLint sizes[3] = {3, 3, 2};
+  for (GLuint a = 0; a < 3; ++a) {
+    glEnableVertexArrayAttrib(vao, a);
+    glVertexArrayAttribFormat(vao, a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
+    glVertexArrayAttribBinding(vao, a, 0);
+  }
+
+  for (const Image& image : scene.images) {
+    gpu->textures_.push_back(UploadImage(image));
+    gpu->gpu_bytes_ += uint64_t(image.width) * uint64_t(image.height) * (image.is_float ? 16 : 4) * 4 / 3;
+  }
+  Image white;
+  white.width = white.height = 1;
+  white.pixels8 = {255, 255, 255, 255};
+  gpu->white_ = UploadImage(white);
+
+  gpu->materials_ = gl::Buffer::Create();
+  glNamedBufferStorage(gpu->materials_.id(),
+                       GLsizeiptr((scene.materials.size() + 1) * sizeof(GpuMaterial)), nullptr,
+                       GL_DYNAMIC_STORAGE_BIT);
+  gpu->UpdateMaterials(state);
+  return gpu;
+}
+
+void GpuScene::UpdateMaterials(const SceneState& state) {
+  std::vector<GpuMaterial> table;
+  table.reserve(state.materials().size() + 1);
+  for (const Material& m : state.materials()) table.push_back(ToGpu(m));
+  table.push_back(ToGpu(Material{}));  // the default material, last
+  glNamedBufferSubData(materials_.id(), 0, GLsizeiptr(table.size() * sizeof(GpuMaterial)),
+                       table.data());
+}
+
+void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_textures) const {
+  glBindVertexArray(vao_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMaterialBinding, materials_.id());
+  const int default_material = int(state.materials().size());
+  for (const DrawItem& d : draws_) {
+    const glm::mat4& model = state.world()[size_t(d.node)];
+    program.Set("uModel", model);
+    program.Set("uNormalMatrix", glm::inverseTranspose(glm::mat3(model)));
+    const int material = d.material >= 0 ? d.material : default_material;
+    program.Set("uMaterial", material);
+    if (bind_textures) {
+      const Material* m = d.material >= 0 ? &state.materials()[size_t(d.material)] : nullptr;
+      const GLuint base = m && m->base_color_texture >= 0
+                              ? textures_[size_t(m->base_color_texture)].id() : white_.id();
+      const GLuint emissive = m && m->emissive_texture >= 0
+                                  ? textures_[size_t(m->emissive_texture)].id() : white_.id();
+      glBindTextureUnit(kBaseColorUnit, base);
+      glBindTextureUnit(kEmissiveUnit, emissive);
+    }
+    glDrawElementsBaseVertex(GL_TRIANGLES, GLsizei(d.index_count), GL_UNSIGNED_INT,
+                             reinterpret_cast<const void*>(uintptr_t(d.first_index) * sizeof(uint32_t)),
+                             d.base_vertex);
+  }
+  glBindVertexArray(0);
+}
+
+}  // namespace gistream

@@ -1,0 +1,65 @@
+// The GPU copy of a scene: one vertex and one index buffer for every
+// primitive, a material table (SSBO), textures, and the draw list (one item
+// per node instance of a primitive). Geometry is uploaded once; transforms
+// and materials are refreshed from SceneState when they change. Lives on
+// the render thread.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "gl/handle.h"
+#include "gl/program.h"
+#include "scene/scene_state.h"
+#include "util/status.h"
+
+namespace gistream {
+
+// std430 layout of shaders/common/scene.glsl's Material.
+struct GpuMaterial {
+  glm::vec4 base_color;      // linear RGBA
+  glm::vec4 emission;        // rgb: emitted radiance (nits), a: unused
+  glm::ivec4 textures;       // x: base colour unit or -1, y: emissive unit or -1
+};
+
+struct DrawItem {
+  uint32_t first_index = 0;
+  uint32_t index_count = 0;
+  int32_t base_vertex = 0;
+  int material = -1;  // -1: default material
+  int node = 0;
+  int mesh = 0;
+  int primitive = 0;
+};
+
+class GpuScene {
+ public:
+  static absl::StatusOr<std::unique_ptr<GpuScene>> Upload(const SceneState& state);
+
+  // Refreshes materials from the state (cheap; call after material changes).
+  void UpdateMaterials(const SceneState& state);
+
+  // Issues every draw with `program`: sets uModel, uNormalMatrix, uMaterial,
+  // binds the material textures (units kBaseColorUnit, kEmissiveUnit) when
+  // `bind_textures`. Materials are bound as SSBO binding kMaterialBinding.
+  void Draw(gl::Program& program, const SceneState& state, bool bind_textures) const;
+
+  const std::vector<DrawItem>& draws() const { return draws_; }
+  uint64_t gpu_bytes() const { return gpu_bytes_; }
+
+  static constexpr GLuint kMaterialBinding = 0;
+  static constexpr GLuint kBaseColorUnit = 0;
+  static constexpr GLuint kEmissiveUnit = 1;
+
+ private:
+  gl::VertexArray vao_;
+  gl::Buffer vertices_;
+  gl::Buffer indices_;
+  gl::Buffer materials_;
+  std::vector<gl::Texture> textures_;  // per scene image
+  gl::Texture white_;                  // 1x1 fallback
+  std::vector<DrawItem> draws_;
+  uint64_t gpu_bytes_ = 0;
+};
+
+}  // namespace gistream

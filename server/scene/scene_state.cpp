@@ -1,0 +1,138 @@
+#include "scene/scene_state.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtx/matrix_decompose.hpp>
+#include <glm/gtx/quaternion.hpp>
+
+namespace gistream {
+namespace {
+constexpr size_t kLogLength = 256;
+
+// Rotation that turns -Z into `dir` (unit).
+glm::quat RotationTowards(const glm::vec3& dir) {
+  const glm::vec3 from(0.0f, 0.0f, -1.0f);
+  const float d = glm::dot(from, dir);
+  if (d < -0.999999f) return glm::angleAxis(glm::pi<float>(), glm::vec3(0.0f, 1.0f, 0.0f));
+  return glm::rotation(from, dir);
+}
+}  // namespace
+
+SceneState::SceneState(std::shared_ptr<const Scene> scene)
+    : scene_(std::move(scene)),
+      nodes_(scene_->nodes),
+      light_nodes_(LightInstanceNodes(*scene_)),
+      materials_(scene_->materials) {
+  if (scene_->environment) {
+    env_intensity_ = scene_->environment->intensity;
+    env_rotation_ = scene_->environment->rotation;
+  }
+  lights_.resize(light_nodes_.size());
+  for (size_t i = 0; i < light_nodes_.size(); ++i) {
+    lights_[i].node = light_nodes_[i];
+    lights_[i].light = scene_->lights[size_t(nodes_[size_t(light_nodes_[i])].light)];
+  }
+  Recompute();
+}
+
+void SceneState::Recompute() {
+  world_ = WorldMatrices(*scene_, nodes_);
+  for (LightInstance& l : lights_) {
+    const glm::mat4& m = world_[size_t(l.node)];
+    l.position = glm::vec3(m[3]);
+    const glm::vec3 dir = -glm::vec3(m[2]);
+    const float len = glm::length(dir);
+    l.direction = len > 0.0f ? dir / len : glm::vec3(0.0f, 0.0f, -1.0f);
+  }
+}
+
+ChangeMask SceneState::SubtreeKinds(int node) const {
+  ChangeMask mask = kChangeNone;
+  std::vector<int> stack{node};
+  while (!stack.empty()) {
+    const Node& n = nodes_[size_t(stack.back())];
+    stack.pop_back();
+    if (n.mesh >= 0) mask |= kChangeGeometry;
+    if (n.light >= 0) mask |= kChangeLights;
+    for (int c : n.children) stack.push_back(c);
+  }
+  return mask;
+}
+
+void SceneState::Record(ChangeMask mask) {
+  if (mask == kChangeNone) return;
+  ++version_;
+  log_.emplace_back(version_, mask);
+  if (log_.size() > kLogLength) log_.pop_front();
+}
+
+ChangeMask SceneState::ChangesSince(uint64_t version) const {
+  if (version >= version_) return kChangeNone;
+  if (log_.empty() || log_.front().first > version + 1) return kChangeAll;
+  ChangeMask mask = kChangeNone;
+  for (const auto& [v, m] : log_) {
+    if (v > version) mask |= m;
+  }
+  return mask;
+}
+
+ChangeMask SceneState::Apply(const Change& change) {
+  ChangeMask mask = kChangeNone;
+  if (const auto* t = std::get_if<NodeTransformUpdate>(&change)) {
+    Node& node = nodes_[t->node];
+    if (t->matrix) {
+      glm::vec3 skew;
+      glm::vec4 perspective;
+      glm::decompose(*t->matrix, node.scale, node.rotation, node.translation, skew, perspective);
+    } else {
+      node.translation = t->translation;
+      node.rotation = glm::normalize(t->rotation);
+      node.scale = t->scale;
+    }
+    mask = SubtreeKinds(int(t->node));
+    Recompute();
+  } else if (const auto* l = std::get_if<LightUpdate>(&change)) {
+    LightInstance& inst = lights_[l->light];
+    if (l->color) inst.light.color = *l->color;
+    if (l->intensity) inst.light.intensity = *l->intensity;
+    if (l->inner_cone_angle) inst.light.inner_cone_angle = *l->inner_cone_angle;
+    if (l->outer_cone_angle) inst.light.outer_cone_angle = *l->outer_cone_angle;
+    if (l->position || l->direction) {
+      // Position and direction are world space: write them into the light
+      // node's local transform so the scene graph stays the one truth.
+      Node& node = nodes_[size_t(inst.node)];
+      const glm::mat4 parent =
+          node.parent >= 0 ? world_[size_t(node.parent)] : glm::mat4(1.0f);
+      const glm::mat4 inv_parent = glm::inverse(parent);
+      if (l->position) node.translation = glm::vec3(inv_parent * glm::vec4(*l->position, 1.0f));
+      if (l->direction) {
+        glm::vec3 local_dir = glm::mat3(inv_parent) * glm::normalize(*l->direction);
+        node.rotation = RotationTowards(glm::normalize(local_dir));
+      }
+      mask |= SubtreeKinds(inst.node);
+      Recompute();
+    }
+    mask |= kChangeLights;
+  } else if (const auto* m = std::get_if<MaterialUpdate>(&change)) {
+    Material& mat = materials_[m->material];
+    if (m->base_color) {
+      mat.base_color_factor = *m->base_color;
+      mask |= kChangeMaterials;
+    }
+    if (m->emissive) {
+      mat.emissive_factor = *m->emissive;
+      mask |= kChangeEmission;
+    }
+    if (m->emissive_strength) {
+      mat.emissive_strength = *m->emissive_strength;
+      mask |= kChangeEmission;
+    }
+  } else if (const auto* e = std::get_if<EnvironmentUpdate>(&change)) {
+    if (e->intensity) env_intensity_ = *e->intensity;
+    if (e->rotation) env_rotation_ = *e->rotation;
+    if (scene_->environment) mask |= kChangeEnvironment;
+  }
+  Record(mask);
+  return mask;
+}
+
+}  // namespace gistream

@@ -1,0 +1,65 @@
+// The mutable, versioned state of a loaded scene: node transforms, light
+// instances, materials, environment. Owned by the render thread. Every
+// applied update bumps the version and records what kind of thing changed,
+// so a solver that last saw version v asks ChangesSince(v) and runs only the
+// stages that change needs.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "scene/scene.h"
+#include "scene/updates.h"
+
+namespace gistream {
+
+struct LightInstance {
+  int node = -1;
+  Light light;  // current parameters
+  glm::vec3 position{0.0f};
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};  // world, the way it shines
+};
+
+class SceneState {
+ public:
+  explicit SceneState(std::shared_ptr<const Scene> scene);
+
+  const Scene& scene() const { return *scene_; }
+  uint64_t version() const { return version_; }
+
+  const std::vector<Node>& nodes() const { return nodes_; }
+  const std::vector<glm::mat4>& world() const { return world_; }
+  const std::vector<LightInstance>& lights() const { return lights_; }
+  const std::vector<Material>& materials() const { return materials_; }
+  float environment_intensity() const { return env_intensity_; }
+  float environment_rotation() const { return env_rotation_; }
+
+  // Applies a validated scene update (not camera updates) and returns what
+  // changed; bumps the version unless nothing changed.
+  ChangeMask Apply(const Change& change);
+
+  // Union of the changes after `version`; kChangeAll when the log no longer
+  // reaches back that far.
+  ChangeMask ChangesSince(uint64_t version) const;
+
+ private:
+  void Recompute();
+  ChangeMask SubtreeKinds(int node) const;
+  void Record(ChangeMask mask);
+
+  std::shared_ptr<const Scene> scene_;
+  std::vector<Node> nodes_;
+  std::vector<glm::mat4> world_;
+  std::vector<int> light_nodes_;
+  std::vector<LightInstance> lights_;
+  std::vector<Material> materials_;
+  float env_intensity_ = 1.0f;
+  float env_rotation_ = 0.0f;
+  uint64_t version_ = 1;
+  std::deque<std::pair<uint64_t, ChangeMask>> log_;  // (version, what changed)
+};
+
+}  // namespace gistream

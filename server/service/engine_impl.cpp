@@ -1,0 +1,559 @@
+#include "service/engine_impl.h"
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+
+#include "encode/encode.h"
+#include "scene/gltf_import.h"
+#include "scene/image_decode.h"
+#include "scene/validate_update.h"
+#include "service/scene_info.h"
+#include "solvers/registry.h"
+#include "util/log.h"
+
+namespace gistream {
+namespace {
+
+using Clock = RenderThread::Clock;
+
+absl::Status Unavailable() { return absl::UnavailableError("server is shutting down"); }
+
+std::string GlString(GLenum name) {
+  const GLubyte* s = glGetString(name);
+  return s ? reinterpret_cast<const char*>(s) : "";
+}
+
+absl::StatusOr<std::string> ReadFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return absl::NotFoundError(absl::StrCat("cannot read ", path.string()));
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+std::span<const uint8_t> Bytes(const std::string& s) {
+  return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
+}
+
+// Sink that hands the first frame of a Render() call to a promise.
+class PromiseSink final : public FrameSink {
+ public:
+  std::future<absl::StatusOr<EncodedFrame>> future() { return promise_.get_future(); }
+  void OnFrame(std::shared_ptr<const EncodedFrame> frame) override { Set(*frame); }
+  void OnUpdateRejected(uint64_t /*seq*/, const absl::Status& status) override { Set(status); }
+  void OnSessionFailed(const absl::Status& status) override { Set(status); }
+
+ private:
+  void Set(absl::StatusOr<EncodedFrame> value) {
+    std::lock_guard lock(mutex_);
+    if (done_) return;
+    done_ = true;
+    promise_.set_value(std::move(value));
+  }
+  std::mutex mutex_;
+  bool done_ = false;
+  std::promise<absl::StatusOr<EncodedFrame>> promise_;
+};
+
+}  // namespace
+
+absl::StatusOr<std::unique_ptr<Engine>> Engine::Create(const EngineOptions& options) {
+  auto engine = std::make_unique<EngineImpl>(options);
+  GS_RETURN_IF_ERROR(engine->Start());
+  return engine;
+}
+
+absl::Status EngineImpl::Start() {
+  GS_ASSIGN_OR_RETURN(render_thread_,
+                      RenderThread::Start(options_.egl_device, [this] { return Tick(); }));
+  return render_thread_->Call<absl::Status>([this]() -> absl::Status {
+    device_.vendor = GlString(GL_VENDOR);
+    device_.renderer = GlString(GL_RENDERER);
+    device_.version = GlString(GL_VERSION);
+    device_.egl_device = render_thread_->context().description();
+    GLint major = 0, minor = 0;
+    glGetIntegerv(GL_MAJOR_VERSION, &major);
+    glGetIntegerv(GL_MINOR_VERSION, &minor);
+    if (major * 10 + minor < 45) {
+      return absl::FailedPreconditionError(
+          absl::StrCat("OpenGL 4.5 is required, the context offers ", major, ".", minor));
+    }
+    GS_ASSIGN_OR_RETURN(ViewPasses passes, ViewPasses::Create());
+    passes_ = std::make_unique<ViewPasses>(std::move(passes));
+    return absl::OkStatus();
+  });
+}
+
+EngineImpl::~EngineImpl() { Shutdown(); }
+
+void EngineImpl::Shutdown() {
+  std::vector<std::shared_ptr<SessionRecord>> sessions;
+  {
+    std::lock_guard lock(mutex_);
+    if (shut_down_) return;
+    shut_down_ = true;
+    for (auto& [id, s] : sessions_) sessions.push_back(s);
+  }
+  if (!render_thread_) return;
+  // Free every GL object on the thread that owns the context.
+  render_thread_->Stop([this] {
+    views_.clear();
+    gpu_scenes_.clear();
+    passes_.reset();
+    timer_ = gl::StageTimer();
+    glFinish();
+  });
+  for (auto& s : sessions) s->sink->OnSessionFailed(Unavailable());
+  std::lock_guard lock(mutex_);
+  sessions_.clear();
+  scenes_.clear();
+}
+
+EngineStats EngineImpl::stats() const {
+  std::lock_guard lock(mutex_);
+  EngineStats out;
+  for (const auto& [id, s] : sessions_) out.sessions += s->transient ? 0 : 1;
+  out.scenes = uint32_t(scenes_.size());
+  out.frames_rendered = frames_rendered_.load();
+  for (const auto& [id, s] : scenes_) out.scene_ids.push_back(id);
+  return out;
+}
+
+std::vector<SolverDescription> EngineImpl::ListSolvers() const { return AllSolverDescriptions(); }
+
+// ---------------------------------------------------------------- scenes
+
+absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
+  if (source.name.empty() == source.bytes.empty()) {
+    return absl::InvalidArgumentError("source: give exactly one of name or gltf bytes");
+  }
+  if (source.bytes.size() > options_.import_limits.max_scene_bytes) {
+    return absl::ResourceExhaustedError(absl::StrCat("gltf: ", source.bytes.size(),
+                                                     " bytes exceed the limit of ",
+                                                     options_.import_limits.max_scene_bytes));
+  }
+  if (!std::isfinite(source.environment_intensity) || source.environment_intensity < 0.0f) {
+    return absl::InvalidArgumentError(absl::StrCat("environment_intensity: ",
+                                                   source.environment_intensity,
+                                                   " must be finite and >= 0"));
+  }
+  const bool has_env = !source.environment_name.empty() || !source.environment_bytes.empty();
+  // A named scene loaded twice is the same scene: its state is shared.
+  if (!source.name.empty() && !has_env) {
+    std::shared_ptr<SceneRecord> existing;
+    {
+      std::lock_guard lock(mutex_);
+      if (shut_down_) return Unavailable();
+      for (auto& [id, record] : scenes_) {
+        if (record->source_name == source.name) existing = record;
+      }
+    }
+    if (existing) {
+      return render_thread_->Call<SceneInfo>([this, existing] {
+        return DescribeScene(existing->id, *gpu_scenes_.at(existing->id).state);
+      });
+    }
+  }
+
+  // Parse and validate on this thread: nothing reaches the GPU before this
+  // has passed.
+  Scene scene;
+  if (!source.name.empty()) {
+    GS_ASSIGN_OR_RETURN(scene,
+                        ImportSceneByName(options_.scene_dir, source.name, options_.import_limits));
+  } else {
+    ImportOptions import;
+    import.limits = options_.import_limits;
+    import.name = "upload";
+    GS_ASSIGN_OR_RETURN(scene, ImportGltf(Bytes(source.bytes), import));
+  }
+  if (has_env) {
+    std::string env_bytes = source.environment_bytes;
+    if (!source.environment_name.empty()) {
+      GS_ASSIGN_OR_RETURN(std::filesystem::path path,
+                          ResolveSceneUri(options_.scene_dir, source.environment_name,
+                                          "environment_name"));
+      GS_ASSIGN_OR_RETURN(env_bytes, ReadFile(path));
+    }
+    Environment env;
+    GS_ASSIGN_OR_RETURN(env.image, DecodeImage(Bytes(env_bytes), ImageKind::kEnvironment,
+                                               options_.import_limits, "environment"));
+    env.intensity = source.environment_intensity > 0.0f ? source.environment_intensity : 1.0f;
+    scene.environment = std::move(env);
+  }
+
+  auto record = std::make_shared<SceneRecord>();
+  record->source_name = has_env ? "" : source.name;
+  record->scene = std::make_shared<const Scene>(std::move(scene));
+  record->light_instances = uint32_t(LightInstanceNodes(*record->scene).size());
+  {
+    std::lock_guard lock(mutex_);
+    if (shut_down_) return Unavailable();
+    if (scenes_.size() >= options_.max_scenes) {
+      return absl::ResourceExhaustedError(absl::StrCat(
+          "scenes: the server holds ", scenes_.size(), " scenes, the limit (--max-scenes)"));
+    }
+    record->id = absl::StrCat(source.name.empty() ? "upload" : source.name, "-", next_id_++);
+    scenes_[record->id] = record;
+  }
+  auto info = render_thread_->Call<absl::StatusOr<SceneInfo>>(
+      [this, record]() -> absl::StatusOr<SceneInfo> {
+        GpuSceneRecord gpu;
+        gpu.state = std::make_unique<SceneState>(record->scene);
+        GS_ASSIGN_OR_RETURN(gpu.gpu, GpuScene::Upload(*gpu.state));
+        SceneInfo described = DescribeScene(record->id, *gpu.state);
+        gpu_scenes_[record->id] = std::move(gpu);
+        return described;
+      });
+  if (!info.ok()) {
+    std::lock_guard lock(mutex_);
+    scenes_.erase(record->id);
+  }
+  return info;
+}
+
+absl::Status EngineImpl::UnloadScene(const SceneId& id) {
+  {
+    std::lock_guard lock(mutex_);
+    if (shut_down_) return Unavailable();
+    auto it = scenes_.find(id);
+    if (it == scenes_.end()) {
+      return absl::NotFoundError(absl::StrCat("scene_id: no scene '", id, "'"));
+    }
+    if (it->second->sessions > 0) {
+      return absl::FailedPreconditionError(absl::StrCat(
+          "scene_id: scene '", id, "' is used by ", it->second->sessions, " session(s)"));
+    }
+    scenes_.erase(it);
+  }
+  render_thread_->Post([this, id] { gpu_scenes_.erase(id); });
+  return absl::OkStatus();
+}
+
+// ---------------------------------------------------------------- sessions
+
+absl::Status EngineImpl::ValidateConfig(const SessionConfig& c) const {
+  if (c.width == 0 || c.height == 0) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(c.width == 0 ? "width" : "height", ": must be at least 1, got 0"));
+  }
+  if (c.width > options_.max_width || c.height > options_.max_height) {
+    return absl::ResourceExhaustedError(absl::StrCat("width x height: ", c.width, "x", c.height,
+                                                     " exceeds the limit of ", options_.max_width,
+                                                     "x", options_.max_height));
+  }
+  if (c.encoding.quality < 1 || c.encoding.quality > 100) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("encoding.quality: ", c.encoding.quality, " is out of range [1, 100]"));
+  }
+  if (!std::isfinite(c.encoding.exposure) || std::abs(c.encoding.exposure) > 30.0f) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("encoding.exposure: ", c.encoding.exposure, " is out of range [-30, 30]"));
+  }
+  if (!std::isfinite(c.max_fps) || c.max_fps < 0.0f || c.max_fps > options_.max_fps) {
+    return absl::InvalidArgumentError(absl::StrCat("max_fps: ", c.max_fps,
+                                                   " is out of range [0, ", options_.max_fps, "]"));
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<std::shared_ptr<EngineImpl::SessionRecord>> EngineImpl::CreateSession(
+    const SessionConfig& config, std::shared_ptr<FrameSink> sink, bool transient) {
+  GS_RETURN_IF_ERROR(ValidateConfig(config));
+  GS_ASSIGN_OR_RETURN(const SolverDescription* solver, FindSolver(config.solver));
+  GS_ASSIGN_OR_RETURN(ParamSet params, ValidateParams(*solver, config.params));
+
+  auto session = std::make_shared<SessionRecord>();
+  session->config = config;
+  session->params = params;
+  session->solver_key = absl::StrCat(config.solver, "?", params.Key());
+  session->sink = std::move(sink);
+  session->transient = transient;
+
+  std::lock_guard lock(mutex_);
+  if (shut_down_) return Unavailable();
+  auto scene = scenes_.find(config.scene);
+  if (scene == scenes_.end()) {
+    return absl::NotFoundError(absl::StrCat("scene_id: no scene '", config.scene, "'"));
+  }
+  session->scene = scene->second;
+  if (config.camera) {
+    GS_RETURN_IF_ERROR(ValidateUpdate(*session->scene->scene, Update{0, *config.camera},
+                                      options_.max_width, options_.max_height));
+  }
+  if (!transient) {
+    uint32_t open = 0;
+    for (const auto& [id, s] : sessions_) open += s->transient ? 0 : 1;
+    if (open >= options_.max_sessions) {
+      return absl::ResourceExhaustedError(absl::StrCat(
+          "sessions: ", open, " sessions are open, the limit (--max-sessions)"));
+    }
+  }
+  session->id = absl::StrCat(transient ? "render-" : "session-", next_id_++);
+  session->scene->sessions += 1;
+  sessions_[session->id] = session;
+  return session;
+}
+
+absl::StatusOr<SessionOpenInfo> EngineImpl::OpenSession(const SessionConfig& config,
+                                                        std::shared_ptr<FrameSink> sink) {
+  GS_ASSIGN_OR_RETURN(std::shared_ptr<SessionRecord> session,
+                      CreateSession(config, std::move(sink), /*transient=*/false));
+  render_thread_->Wake();
+  Log(LogLevel::kInfo, absl::StrCat("session ", session->id, " opened on ", config.scene, " (",
+                                    config.solver, ", ", config.width, "x", config.height, ")"));
+  return SessionOpenInfo{session->id, config.scene, config.solver, session->params.values()};
+}
+
+absl::Status EngineImpl::PushUpdate(const SessionId& id, Update update) {
+  std::lock_guard lock(mutex_);
+  if (shut_down_) return Unavailable();
+  auto it = sessions_.find(id);
+  if (it == sessions_.end()) return absl::NotFoundError(absl::StrCat("session: no session '", id, "'"));
+  SessionRecord& session = *it->second;
+  GS_RETURN_IF_ERROR(ValidateUpdate(*session.scene->scene, update, options_.max_width,
+                                    options_.max_height));
+  session.pending.push_back(std::move(update));
+  // Continuous sessions pick updates up at their next frame; on-request
+  // sessions when a frame is requested.
+  return absl::OkStatus();
+}
+
+absl::Status EngineImpl::RequestFrames(const SessionId& id, uint32_t count) {
+  {
+    std::lock_guard lock(mutex_);
+    if (shut_down_) return Unavailable();
+    auto it = sessions_.find(id);
+    if (it == sessions_.end()) {
+      return absl::NotFoundError(absl::StrCat("session: no session '", id, "'"));
+    }
+    it->second->requested += std::max<uint32_t>(count, 1);
+  }
+  render_thread_->Wake();
+  return absl::OkStatus();
+}
+
+void EngineImpl::CloseSession(const SessionId& id) {
+  {
+    std::lock_guard lock(mutex_);
+    auto it = sessions_.find(id);
+    if (it == sessions_.end()) return;
+    it->second->closed = true;
+    it->second->scene->sessions -= 1;
+    sessions_.erase(it);
+    if (shut_down_) return;
+  }
+  render_thread_->Post([this, id] { ReleaseSessionGpu(id); });
+}
+
+void EngineImpl::ReleaseSessionGpu(const SessionId& id) { views_.erase(id); }
+
+absl::StatusOr<EncodedFrame> EngineImpl::Render(const RenderRequest& request) {
+  SessionConfig config;
+  config.scene = request.scene;
+  config.solver = request.solver;
+  config.params = request.params;
+  config.width = request.width;
+  config.height = request.height;
+  config.encoding = request.encoding;
+  config.pacing = Pacing::kOnRequest;
+  config.camera = request.camera;
+  auto sink = std::make_shared<PromiseSink>();
+  auto result = sink->future();
+  GS_ASSIGN_OR_RETURN(std::shared_ptr<SessionRecord> session,
+                      CreateSession(config, sink, /*transient=*/true));
+  absl::Status status;
+  for (const Update& u : request.updates) {
+    status = PushUpdate(session->id, u);
+    if (!status.ok()) break;
+  }
+  if (status.ok()) status = RequestFrames(session->id, 1);
+  if (!status.ok()) {
+    CloseSession(session->id);
+    return status;
+  }
+  absl::StatusOr<EncodedFrame> frame = result.get();
+  CloseSession(session->id);
+  return frame;
+}
+
+// ---------------------------------------------------------------- render thread
+
+Clock::time_point EngineImpl::Tick() {
+  if (gpu_lost_) return Clock::time_point::max();
+  // Snapshot the sessions, ordered so the one after the last served comes
+  // first: every due session gets one frame per round.
+  std::vector<std::shared_ptr<SessionRecord>> order;
+  {
+    std::lock_guard lock(mutex_);
+    auto start = sessions_.upper_bound(last_served_);
+    for (auto it = start; it != sessions_.end(); ++it) order.push_back(it->second);
+    for (auto it = sessions_.begin(); it != start; ++it) order.push_back(it->second);
+  }
+  Clock::time_point next = Clock::time_point::max();
+  for (const auto& session : order) {
+    ViewRecord& view = views_[session->id];
+    bool due = false;
+    {
+      std::lock_guard lock(mutex_);
+      if (session->closed) continue;
+      if (session->config.pacing == Pacing::kOnRequest) {
+        due = session->requested > 0;
+        if (due) session->requested -= 1;
+      } else {
+        due = Clock::now() >= view.next_due;
+      }
+    }
+    if (!due) {
+      if (session->config.pacing == Pacing::kContinuous) next = std::min(next, view.next_due);
+      continue;
+    }
+    const float fps = session->config.max_fps > 0.0f ? session->config.max_fps
+                                                     : options_.default_max_fps;
+    const auto start = Clock::now();
+    RenderFrame(*session, view);
+    last_served_ = session->id;
+    if (session->config.pacing == Pacing::kContinuous) {
+      view.next_due = start + std::chrono::duration_cast<Clock::duration>(
+                                  std::chrono::duration<double>(1.0 / double(fps)));
+      next = std::min(next, view.next_due);
+    } else {
+      std::lock_guard lock(mutex_);
+      if (session->requested > 0) next = Clock::time_point::min();
+    }
+    if (gpu_lost_) break;
+  }
+  return next;
+}
+
+void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
+  std::deque<Update> updates;
+  {
+    std::lock_guard lock(mutex_);
+    updates.swap(session.pending);
+  }
+  absl::StatusOr<std::shared_ptr<EncodedFrame>> frame =
+      ProduceFrame(session, view, std::move(updates));
+  CheckGpuReset();
+  if (gpu_lost_) return;
+  if (!frame.ok()) {
+    Log(LogLevel::kError, absl::StrCat("session ", session.id, ": ", frame.status().ToString()));
+    session.sink->OnSessionFailed(frame.status());
+    std::lock_guard lock(mutex_);
+    session.closed = true;
+    return;
+  }
+  frames_rendered_.fetch_add(1);
+  session.sink->OnFrame(*std::move(frame));
+}
+
+absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRecord& session,
+                                                                      ViewRecord& view,
+                                                                      std::deque<Update> updates) {
+  auto scene_it = gpu_scenes_.find(session.scene->id);
+  if (scene_it == gpu_scenes_.end()) {
+    return absl::InternalError(absl::StrCat("scene '", session.scene->id, "' has no GPU data"));
+  }
+  GpuSceneRecord& scene = scene_it->second;
+  SceneState& state = *scene.state;
+  const auto frame_start = Clock::now();
+  timer_.Reset();
+
+  const bool first_frame = view.frame_number == 0;
+  if (first_frame) {
+    view.camera = DefaultCamera(state, session.config.width, session.config.height);
+    if (session.config.camera) ApplyCameraUpdate(state, *session.config.camera, view.camera);
+  }
+  {
+    gl::StageTimer::Scope stage(timer_, "apply_updates", /*cpu_stage=*/true);
+    ChangeMask materials = kChangeNone;
+    for (const Update& u : updates) {
+      if (const auto* camera = std::get_if<CameraUpdate>(&u.change)) {
+        ApplyCameraUpdate(state, *camera, view.camera);
+        view.camera_changed = true;
+      } else {
+        materials |= state.Apply(u.change) & (kChangeMaterials | kChangeEmission);
+      }
+      view.last_seq = std::max(view.last_seq, u.seq);
+    }
+    if (materials) scene.gpu->UpdateMaterials(state);
+  }
+
+  SolverEntry& entry = scene.solvers[session.solver_key];
+  if (!entry.solver) {
+    GS_ASSIGN_OR_RETURN(entry.solver, CreateSolver(session.config.solver, session.params));
+  }
+  const ChangeMask changes = entry.fresh ? kChangeAll : state.ChangesSince(entry.version);
+  SolverContext ctx{state, *scene.gpu, timer_};
+  GS_RETURN_IF_ERROR(entry.solver->Update(ctx, changes));
+  entry.version = state.version();
+  entry.fresh = false;
+
+  {
+    gl::StageTimer::Scope stage(timer_, "gbuffer");
+    passes_->DrawGBuffer(state, *scene.gpu, view.camera, view.gbuffer);
+  }
+  GS_RETURN_IF_ERROR(entry.solver->Shade(ctx, view.camera, view.gbuffer));
+
+  auto frame = std::make_shared<EncodedFrame>();
+  const EncodingOptions& enc = session.config.encoding;
+  std::vector<float> hdr;
+  std::vector<uint8_t> ldr;
+  if (enc.format == ImageFormat::kExr) {
+    timer_.Skip("tonemap");
+    gl::StageTimer::Scope stage(timer_, "readback");
+    hdr = passes_->ReadHdr(view.gbuffer);
+  } else {
+    {
+      gl::StageTimer::Scope stage(timer_, "tonemap");
+      passes_->Tonemap(view.gbuffer, enc.exposure);
+    }
+    gl::StageTimer::Scope stage(timer_, "readback");
+    ldr = passes_->ReadLdr(view.gbuffer);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  {
+    gl::StageTimer::Scope stage(timer_, "encode", /*cpu_stage=*/true);
+    const int w = int(view.gbuffer.width()), h = int(view.gbuffer.height());
+    absl::StatusOr<std::string> bytes =
+        enc.format == ImageFormat::kExr   ? EncodeExr(hdr, w, h)
+        : enc.format == ImageFormat::kPng ? EncodePng(ldr, w, h)
+                                          : EncodeJpeg(ldr, w, h, enc.quality);
+    if (!bytes.ok()) return bytes.status();
+    frame->image = *std::move(bytes);
+  }
+  frame->timings = timer_.Finish();
+  frame->frame_number = ++view.frame_number;
+  frame->width = view.gbuffer.width();
+  frame->height = view.gbuffer.height();
+  frame->format = enc.format;
+  frame->scene_version = state.version();
+  frame->last_update_seq = view.last_seq;
+  frame->solver = session.config.solver;
+  frame->stats = entry.solver->Stats();
+  frame->stats.emplace_back("camera_changed", view.camera_changed ? 1.0 : 0.0);
+  frame->stats.emplace_back("scene_gpu_bytes", double(scene.gpu->gpu_bytes()));
+  view.camera_changed = false;
+  frame->total_ms =
+      std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
+  return frame;
+}
+
+void EngineImpl::CheckGpuReset() {
+  if (!render_thread_->context().robust()) return;
+  const GLenum reset = glGetGraphicsResetStatus();
+  if (reset == GL_NO_ERROR) return;
+  // The context is gone with every object in it: every session on this
+  // GPU is affected. Fail them with UNAVAILABLE so clients reconnect.
+  gpu_lost_ = true;
+  Log(LogLevel::kError, absl::StrCat("GPU reset (0x", absl::Hex(reset), "): failing all sessions"));
+  std::vector<std::shared_ptr<SessionRecord>> sessions;
+  {
+    std::lock_guard lock(mutex_);
+    for (auto& [id, s] : sessions_) sessions.push_back(s);
+  }
+  for (auto& s : sessions) {
+    s->sink->OnSessionFailed(absl::UnavailableError("GPU reset: the render context was lost"));
+  }
+}
+
+}  // namespace gistream

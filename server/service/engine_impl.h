@@ -1,0 +1,121 @@
+// Engine implementation: bookkeeping of scenes and sessions on the calling
+// threads (under one mutex), every GL object on the render thread.
+#pragma once
+
+#include <atomic>
+#include <deque>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <unordered_map>
+
+#include "gl/stage_timer.h"
+#include "render/camera.h"
+#include "render/gbuffer.h"
+#include "render/view_passes.h"
+#include "scene/gpu_scene.h"
+#include "scene/scene_state.h"
+#include "service/engine.h"
+#include "service/render_thread.h"
+#include "solvers/solver.h"
+
+namespace gistream {
+
+class EngineImpl final : public Engine {
+ public:
+  explicit EngineImpl(const EngineOptions& options) : options_(options) {}
+  ~EngineImpl() override;
+  absl::Status Start();
+
+  DeviceInfo device_info() const override { return device_; }
+  EngineStats stats() const override;
+  std::vector<SolverDescription> ListSolvers() const override;
+  absl::StatusOr<SceneInfo> LoadScene(const SceneSource& source) override;
+  absl::Status UnloadScene(const SceneId& id) override;
+  absl::StatusOr<SessionOpenInfo> OpenSession(const SessionConfig& config,
+                                              std::shared_ptr<FrameSink> sink) override;
+  absl::Status PushUpdate(const SessionId& id, Update update) override;
+  absl::Status RequestFrames(const SessionId& id, uint32_t count) override;
+  void CloseSession(const SessionId& id) override;
+  absl::StatusOr<EncodedFrame> Render(const RenderRequest& request) override;
+  void Shutdown() override;
+
+ private:
+  // Shared between threads; fields after `mutex-guarded` need mutex_.
+  struct SceneRecord {
+    SceneId id;
+    std::string source_name;  // scene-directory name, "" when uploaded
+    std::shared_ptr<const Scene> scene;
+    uint32_t light_instances = 0;
+    int sessions = 0;  // mutex-guarded
+  };
+  struct SessionRecord {
+    SessionId id;
+    SessionConfig config;
+    ParamSet params;
+    std::string solver_key;
+    std::shared_ptr<SceneRecord> scene;
+    std::shared_ptr<FrameSink> sink;
+    bool transient = false;  // a Render() call, not a client session
+    // mutex-guarded:
+    std::deque<Update> pending;
+    uint32_t requested = 0;
+    bool closed = false;
+  };
+
+  // Render-thread-only state.
+  struct SolverEntry {
+    std::unique_ptr<Solver> solver;
+    uint64_t version = 0;
+    bool fresh = true;
+  };
+  struct GpuSceneRecord {
+    std::unique_ptr<SceneState> state;
+    std::unique_ptr<GpuScene> gpu;
+    std::map<std::string, SolverEntry> solvers;  // by solver_key
+  };
+  struct ViewRecord {
+    ViewCamera camera;
+    GBuffer gbuffer;
+    uint64_t frame_number = 0;
+    uint64_t last_seq = 0;
+    bool camera_changed = true;
+    RenderThread::Clock::time_point next_due{};
+  };
+
+  absl::StatusOr<std::shared_ptr<SessionRecord>> CreateSession(const SessionConfig& config,
+                                                               std::shared_ptr<FrameSink> sink,
+                                                               bool transient);
+  absl::Status ValidateConfig(const SessionConfig& config) const;
+
+  // Render thread.
+  RenderThread::Clock::time_point Tick();
+  void RenderFrame(SessionRecord& session, ViewRecord& view);
+  absl::StatusOr<std::shared_ptr<EncodedFrame>> ProduceFrame(SessionRecord& session,
+                                                             ViewRecord& view,
+                                                             std::deque<Update> updates);
+  void ReleaseSessionGpu(const SessionId& id);
+  void CheckGpuReset();
+
+  EngineOptions options_;
+  DeviceInfo device_;
+  std::unique_ptr<RenderThread> render_thread_;
+
+  mutable std::mutex mutex_;
+  std::map<SceneId, std::shared_ptr<SceneRecord>> scenes_;
+  std::map<SessionId, std::shared_ptr<SessionRecord>> sessions_;
+  uint64_t next_id_ = 1;
+  bool shut_down_ = false;
+  std::atomic<uint64_t> frames_rendered_{0};
+  std::atomic<bool> gpu_lost_{false};
+
+  // Render thread only.
+  std::unordered_map<SceneId, GpuSceneRecord> gpu_scenes_;
+  std::unordered_map<SessionId, ViewRecord> views_;
+  std::unique_ptr<ViewPasses> passes_;
+  gl::StageTimer timer_;
+  SessionId last_served_;
+};
+
+}  // namespace gistream

@@ -1,0 +1,103 @@
+#include "service/grpc/gistream_service.h"
+
+#include <utility>
+
+#include "service/grpc/translate.h"
+#include "util/log.h"
+
+namespace gistream::service {
+
+namespace pb = ::gistream::v1;
+
+GistreamService::GistreamService(Engine& engine, const Options& options)
+    : engine_(engine), options_(options), pool_(options.workers) {}
+
+GistreamService::~GistreamService() { StopWorkers(); }
+
+void GistreamService::StopWorkers() { pool_.Stop(); }
+
+template <typename Work>
+grpc::ServerUnaryReactor* GistreamService::RunOnPool(grpc::CallbackServerContext* context,
+                                                     const char* method, Work work) {
+  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
+  absl::Status submitted = pool_.Submit([reactor, context, method, work]() {
+    grpc::Status status;
+    if (context->IsCancelled()) {
+      status = grpc::Status(grpc::StatusCode::CANCELLED, "cancelled before it ran");
+    } else {
+      status = work();
+    }
+    if (!status.ok()) {
+      Log(LogLevel::kDebug, absl::StrCat(method, " from ", context->peer(), ": ",
+                                         static_cast<int>(status.error_code()), " ",
+                                         status.error_message()));
+    }
+    reactor->Finish(status);  // the last use of context/request/response
+  });
+  if (!submitted.ok()) reactor->Finish(ToGrpcStatus(submitted));
+  return reactor;
+}
+
+grpc::ServerUnaryReactor* GistreamService::LoadScene(grpc::CallbackServerContext* context,
+                                                     const pb::LoadSceneRequest* request,
+                                                     pb::LoadSceneResponse* response) {
+  return RunOnPool(context, "LoadScene", [this, request, response] {
+    absl::StatusOr<SceneSource> source = SceneSourceFromProto(*request);
+    if (!source.ok()) return ToGrpcStatus(source.status());
+    absl::StatusOr<SceneInfo> info = engine_.LoadScene(*source);
+    if (!info.ok()) return ToGrpcStatus(info.status());
+    Log(LogLevel::kInfo, absl::StrCat("loaded scene ", info->id, ": ", info->triangle_count,
+                                      " triangles, ", info->lights.size(), " lights"));
+    SceneInfoToProto(*info, response);
+    return grpc::Status::OK;
+  });
+}
+
+grpc::ServerUnaryReactor* GistreamService::UnloadScene(grpc::CallbackServerContext* context,
+                                                       const pb::UnloadSceneRequest* request,
+                                                       pb::UnloadSceneResponse* /*response*/) {
+  return RunOnPool(context, "UnloadScene", [this, request] {
+    if (request->scene_id().empty()) {
+      return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "scene_id: empty");
+    }
+    return ToGrpcStatus(engine_.UnloadScene(request->scene_id()));
+  });
+}
+
+grpc::ServerUnaryReactor* GistreamService::ListSolvers(grpc::CallbackServerContext* context,
+                                                       const pb::ListSolversRequest* /*request*/,
+                                                       pb::ListSolversResponse* response) {
+  return RunOnPool(context, "ListSolvers", [this, response] {
+    SolversToProto(engine_.ListSolvers(), response);
+    return grpc::Status::OK;
+  });
+}
+
+grpc::ServerUnaryReactor* GistreamService::Render(grpc::CallbackServerContext* context,
+                                                  const pb::RenderRequest* request,
+                                                  pb::Frame* response) {
+  return RunOnPool(context, "Render", [this, request, response] {
+    absl::StatusOr<RenderRequest> render = RenderRequestFromProto(*request);
+    if (!render.ok()) return ToGrpcStatus(render.status());
+    absl::StatusOr<EncodedFrame> frame = engine_.Render(*render);
+    if (!frame.ok()) return ToGrpcStatus(frame.status());
+    FrameToProto(*frame, response);
+    return grpc::Status::OK;
+  });
+}
+
+grpc::ServerBidiReactor<pb::SessionRequest, pb::SessionEvent>* GistreamService::Session(
+    grpc::CallbackServerContext* context) {
+  return new SessionReactor(engine_, pool_, context, options_.session);
+}
+
+grpc::ServerUnaryReactor* GistreamService::GetServerStatus(
+    grpc::CallbackServerContext* context, const pb::GetServerStatusRequest* /*request*/,
+    pb::ServerStatus* response) {
+  return RunOnPool(context, "GetServerStatus", [this, response] {
+    ServerStatusToProto(engine_.device_info(), engine_.stats(), response);
+    return grpc::Status::OK;
+  });
+}
+
+}  // namespace gistream::service

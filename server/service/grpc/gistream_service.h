@@ -1,0 +1,64 @@
+// gistream.v1.Gistream on gRPC's callback API. A thin layer: translate the
+// request (translate.h), call the Engine, translate the answer. Unary calls
+// run their Engine call on a small bounded worker pool so gRPC's callback
+// threads never block on scene loads or renders; a full pool answers
+// RESOURCE_EXHAUSTED. Sessions are SessionReactors.
+#pragma once
+
+#include <grpcpp/grpcpp.h>
+
+#include "gistream/v1/gistream.grpc.pb.h"
+#include "service/engine.h"
+#include "service/grpc/session_reactor.h"
+#include "service/grpc/worker_pool.h"
+
+namespace gistream::service {
+
+class GistreamService final : public ::gistream::v1::Gistream::CallbackService {
+ public:
+  struct Options {
+    WorkerPool::Options workers;
+    SessionReactor::Options session;
+  };
+
+  GistreamService(Engine& engine, const Options& options);
+  ~GistreamService() override;
+
+  // Runs what the pool holds and joins it. Call after grpc::Server::Shutdown
+  // returned (no call can submit work then) and before Engine::Shutdown.
+  void StopWorkers();
+
+  grpc::ServerUnaryReactor* LoadScene(grpc::CallbackServerContext* context,
+                                      const ::gistream::v1::LoadSceneRequest* request,
+                                      ::gistream::v1::LoadSceneResponse* response) override;
+  grpc::ServerUnaryReactor* UnloadScene(grpc::CallbackServerContext* context,
+                                        const ::gistream::v1::UnloadSceneRequest* request,
+                                        ::gistream::v1::UnloadSceneResponse* response) override;
+  grpc::ServerUnaryReactor* ListSolvers(grpc::CallbackServerContext* context,
+                                        const ::gistream::v1::ListSolversRequest* request,
+                                        ::gistream::v1::ListSolversResponse* response) override;
+  grpc::ServerUnaryReactor* Render(grpc::CallbackServerContext* context,
+                                   const ::gistream::v1::RenderRequest* request,
+                                   ::gistream::v1::Frame* response) override;
+  grpc::ServerBidiReactor<::gistream::v1::SessionRequest, ::gistream::v1::SessionEvent>* Session(
+      grpc::CallbackServerContext* context) override;
+  grpc::ServerUnaryReactor* GetServerStatus(grpc::CallbackServerContext* context,
+                                            const ::gistream::v1::GetServerStatusRequest* request,
+                                            ::gistream::v1::ServerStatus* response) override;
+
+ private:
+  // Runs `work` (returning grpc::Status) on the pool and finishes the call
+  // with its result.
+  template <typename Work>
+  grpc::ServerUnaryReactor* RunOnPool(grpc::CallbackServerContext* context, const char* method,
+                                      Work work);
+
+  // Configuration
+  Engine& engine_;
+  const Options options_;
+
+  // Runtime data
+  WorkerPool pool_;
+};
+
+}  // namespace gistream::service

@@ -1,0 +1,105 @@
+#include "service/grpc/server.h"
+
+#include <grpc/grpc.h>
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/health_check_service_interface.h>
+
+#include "util/log.h"
+
+namespace gistream::service {
+
+namespace {
+constexpr const char* kServiceName = "gistream.v1.Gistream";
+
+int Millis(std::chrono::milliseconds ms) { return static_cast<int>(ms.count()); }
+
+// "host:0" -> "host:PORT"; IPv6 "[::]:0" keeps its brackets.
+std::string WithPort(const std::string& listen, int port) {
+  const size_t colon = listen.rfind(':');
+  if (colon == std::string::npos) return absl::StrCat(listen, ":", port);
+  return absl::StrCat(listen.substr(0, colon), ":", port);
+}
+}  // namespace
+
+GistreamServer::GistreamServer(Engine& engine, const ServerOptions& options)
+    : engine_(engine), service_(std::make_unique<GistreamService>(engine, options.service)) {}
+
+absl::StatusOr<std::unique_ptr<GistreamServer>> GistreamServer::Start(
+    Engine& engine, const ServerOptions& options) {
+  // Both are process-wide switches that apply to servers built afterwards.
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+
+  std::unique_ptr<GistreamServer> self(new GistreamServer(engine, options));
+  grpc::ServerBuilder builder;
+  builder.AddListeningPort(options.listen, grpc::InsecureServerCredentials(), &self->port_);
+  builder.RegisterService(self->service_.get());
+  // gRPC sets SO_REUSEPORT by default: a second gistreamd on the same port
+  // would silently share its traffic instead of failing to start.
+  builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
+  builder.SetMaxReceiveMessageSize(options.max_receive_message_bytes);
+  builder.SetMaxSendMessageSize(options.max_send_message_bytes);
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, Millis(options.keepalive_time));
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, Millis(options.keepalive_timeout));
+  builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 1);
+  builder.AddChannelArgument(GRPC_ARG_HTTP2_MAX_PINGS_WITHOUT_DATA, 0);
+  builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_RECV_PING_INTERVAL_WITHOUT_DATA_MS,
+                             Millis(options.min_client_ping_interval));
+  builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_SENT_PING_INTERVAL_WITHOUT_DATA_MS,
+                             Millis(options.keepalive_time));
+
+  self->server_ = builder.BuildAndStart();
+  if (self->server_ == nullptr || self->port_ == 0) {
+    self->server_.reset();
+    return absl::UnavailableError(
+        absl::StrCat("cannot listen on ", options.listen,
+                     " (address in use, not local, or malformed)"));
+  }
+  self->address_ = WithPort(options.listen, self->port_);
+
+  grpc::HealthCheckServiceInterface* health = self->server_->GetHealthCheckService();
+  if (health != nullptr) {
+    health->SetServingStatus("", true);
+    health->SetServingStatus(kServiceName, true);
+  }
+  return self;
+}
+
+GistreamServer::~GistreamServer() { Shutdown(std::chrono::milliseconds(0)); }
+
+void GistreamServer::SetNotServing() {
+  if (server_ == nullptr) return;
+  if (grpc::HealthCheckServiceInterface* health = server_->GetHealthCheckService()) {
+    health->SetServingStatus(false);  // every service, "" included
+  }
+}
+
+void GistreamServer::Shutdown(std::chrono::milliseconds deadline) {
+  std::lock_guard lock(shutdown_mutex_);
+  {
+    std::lock_guard done_lock(done_mutex_);
+    if (done_) return;
+  }
+  if (server_ != nullptr) {
+    SetNotServing();
+    Log(LogLevel::kInfo, absl::StrCat("shutting down: calls have ", deadline.count(),
+                                      " ms to finish"));
+    server_->Shutdown(std::chrono::system_clock::now() + deadline);
+    server_->Wait();
+  }
+  service_->StopWorkers();  // drains: jobs that finish calls or close sessions
+  engine_.Shutdown();
+  Log(LogLevel::kInfo, "shut down");
+  {
+    std::lock_guard done_lock(done_mutex_);
+    done_ = true;
+  }
+  done_cv_.notify_all();
+}
+
+void GistreamServer::Wait() {
+  std::unique_lock lock(done_mutex_);
+  done_cv_.wait(lock, [this] { return done_; });
+}
+
+}  // namespace gistream::service

@@ -1,0 +1,351 @@
+#include "service/grpc/session_reactor.h"
+
+#include <utility>
+
+#include "service/grpc/translate.h"
+#include "util/log.h"
+
+namespace gistream::service {
+
+namespace pb = ::gistream::v1;
+
+// ---------------------------------------------------------------- sink
+
+void SessionSink::Detach() {
+  std::lock_guard lock(mutex_);
+  reactor_ = nullptr;
+}
+
+void SessionSink::OnFrame(std::shared_ptr<const EncodedFrame> frame) {
+  std::lock_guard lock(mutex_);
+  if (reactor_ != nullptr) reactor_->DeliverFrame(std::move(frame));
+}
+
+void SessionSink::OnUpdateRejected(uint64_t seq, const absl::Status& status) {
+  std::lock_guard lock(mutex_);
+  if (reactor_ != nullptr) reactor_->DeliverRejected(seq, status);
+}
+
+void SessionSink::OnSessionFailed(const absl::Status& status) {
+  std::lock_guard lock(mutex_);
+  if (reactor_ != nullptr) reactor_->DeliverFailure(status);
+}
+
+// ---------------------------------------------------------------- reactor
+//
+// Locking: SessionSink::mutex_ may be held while taking mutex_ (render
+// thread), never the other way round, and no Engine method is called with
+// mutex_ held (the engine may wait for its render thread, which may be
+// waiting for mutex_ inside a sink call). StartRead/StartWrite/Finish are
+// called with mutex_ held: gRPC runs our reactions on its own threads, never
+// inline, so this cannot re-enter.
+
+SessionReactor::SessionReactor(Engine& engine, WorkerPool& pool,
+                               grpc::CallbackServerContext* context, const Options& options)
+    : engine_(engine),
+      pool_(pool),
+      context_(context),
+      options_(options),
+      sink_(std::make_shared<SessionSink>(this)) {
+  read_in_flight_ = true;
+  StartRead(&request_);
+}
+
+void SessionReactor::OnReadDone(bool ok) {
+  // gRPC does not run OnDone while a reaction runs, so `this` stays valid
+  // here even after unlocking.
+  std::unique_lock lock(mutex_);
+  // read_in_flight_ stays true while request_ is being handled, so no other
+  // thread's PumpLocked starts the next read into it.
+  if (!ok) {
+    read_in_flight_ = false;
+    reads_done_ = true;
+    if (state_ == State::kAwaitConfig) {
+      state_ = State::kClosed;
+      RequestFinishLocked(
+          cancelled_ ? grpc::Status::CANCELLED
+                     : grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                                    "config: the stream ended before the first SessionRequest "
+                                    "(which must be a config)"),
+          /*flush=*/false);
+    }
+    PumpLocked();
+    return;
+  }
+  if (cancelled_ || finish_status_.has_value()) {
+    read_in_flight_ = false;
+    PumpLocked();
+    return;
+  }
+  const State state = state_;
+  const SessionId id = session_id_;
+  lock.unlock();
+
+  if (state == State::kAwaitConfig) {
+    if (request_.kind_case() != pb::SessionRequest::kConfig) {
+      lock.lock();
+      read_in_flight_ = false;
+      state_ = State::kClosed;
+      RequestFinishLocked(
+          grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                       request_.kind_case() == pb::SessionRequest::kUpdate
+                           ? "config: the first SessionRequest must be a config, got an update"
+                           : "config: the first SessionRequest must be a config"),
+          /*flush=*/false);
+      PumpLocked();
+      return;
+    }
+    HandleConfig(request_.config());
+    return;
+  }
+
+  // An open session: the engine validates and queues; errors become events.
+  uint64_t rejected_seq = 0;
+  absl::Status status;
+  uint32_t frames_requested = 0;
+  switch (request_.kind_case()) {
+    case pb::SessionRequest::kUpdate: {
+      rejected_seq = request_.update().seq();
+      absl::StatusOr<Update> update = UpdateFromProto(request_.update(), "update");
+      status = update.ok() ? engine_.PushUpdate(id, *std::move(update)) : update.status();
+      break;
+    }
+    case pb::SessionRequest::kRequestFrame: {
+      const uint32_t count = request_.request_frame().count() == 0 ? 1 : request_.request_frame().count();
+      status = engine_.RequestFrames(id, count);
+      if (status.ok()) frames_requested = count;
+      break;
+    }
+    case pb::SessionRequest::kConfig:
+      status = absl::InvalidArgumentError(
+          "config: the session is already configured; change it with updates");
+      break;
+    case pb::SessionRequest::KIND_NOT_SET:
+    default: status = absl::InvalidArgumentError("kind: empty SessionRequest"); break;
+  }
+
+  lock.lock();
+  read_in_flight_ = false;
+  if (pacing_ == Pacing::kOnRequest) frames_owed_ += frames_requested;
+  if (!status.ok() && !finish_status_.has_value()) {
+    Log(LogLevel::kDebug, absl::StrCat("session ", id, ": rejected seq ", rejected_seq, ": ",
+                                       status.ToString()));
+    pb::SessionEvent event;
+    UpdateRejectedToProto(rejected_seq, status, event.mutable_rejected());
+    events_.push_back(std::move(event));
+  }
+  PumpLocked();
+}
+
+void SessionReactor::HandleConfig(const pb::SessionConfig& proto) {
+  absl::StatusOr<SessionConfig> config = SessionConfigFromProto(proto);
+  std::unique_lock lock(mutex_);
+  read_in_flight_ = false;  // the next read starts once the session is open
+  if (cancelled_ || finish_status_.has_value()) {  // OnCancel ran meanwhile
+    state_ = State::kClosed;
+    PumpLocked();
+    return;
+  }
+  if (!config.ok()) {
+    state_ = State::kClosed;
+    RequestFinishLocked(ToGrpcStatus(config.status()), /*flush=*/false);
+    PumpLocked();
+    return;
+  }
+  pacing_ = config->pacing;
+  state_ = State::kOpening;  // from here until the worker is done, nothing finishes the call
+  lock.unlock();
+
+  absl::Status submitted =
+      pool_.Submit([this, cfg = *std::move(config)]() mutable { OpenOnWorker(std::move(cfg)); });
+  if (!submitted.ok()) {
+    lock.lock();
+    state_ = State::kClosed;
+    RequestFinishLocked(ToGrpcStatus(submitted), /*flush=*/false);
+    PumpLocked();
+  }
+}
+
+void SessionReactor::OpenOnWorker(SessionConfig config) {
+  absl::StatusOr<SessionOpenInfo> opened = engine_.OpenSession(config, sink_);
+
+  Engine& engine = engine_;
+  WorkerPool& pool = pool_;
+  SessionId to_close;
+  std::unique_lock lock(mutex_);
+  if (!opened.ok()) {
+    state_ = State::kClosed;
+    Log(LogLevel::kDebug, absl::StrCat("session config from ", context_->peer(),
+                                       " refused: ", opened.status().ToString()));
+    RequestFinishLocked(ToGrpcStatus(opened.status()), /*flush=*/false);
+  } else {
+    state_ = State::kOpen;
+    session_id_ = opened->id;
+    Log(LogLevel::kInfo, absl::StrCat("session ", opened->id, " opened by ", context_->peer(),
+                                      ": scene ", opened->scene, ", solver ", opened->solver,
+                                      ", ", config.width, "x", config.height));
+    if (cancelled_) {
+      to_close = TakeSessionToCloseLocked();
+      RequestFinishLocked(grpc::Status::CANCELLED, /*flush=*/false);
+    } else {
+      pb::SessionEvent event;
+      SessionOpenedToProto(*opened, event.mutable_opened());
+      events_.push_front(std::move(event));  // before any frame that arrived meanwhile
+    }
+  }
+  PumpLocked();
+  lock.unlock();
+  // `this` may be gone from here on.
+  CloseSessionAsync(engine, pool, to_close);
+}
+
+void SessionReactor::OnWriteDone(bool ok) {
+  SessionId to_close;
+  {
+    std::lock_guard lock(mutex_);
+    write_in_flight_ = false;
+    if (!ok) {
+      // The stream is broken (client gone or call cancelled).
+      to_close = TakeSessionToCloseLocked();
+      RequestFinishLocked(grpc::Status(grpc::StatusCode::UNAVAILABLE, "write failed"),
+                          /*flush=*/false);
+    }
+    PumpLocked();
+  }
+  CloseSessionAsync(engine_, pool_, to_close);  // safe: inside a reaction
+}
+
+void SessionReactor::OnCancel() {
+  SessionId to_close;
+  {
+    std::lock_guard lock(mutex_);
+    cancelled_ = true;
+    // While opening, the worker sees cancelled_ and finishes the call.
+    if (state_ != State::kOpening) {
+      to_close = TakeSessionToCloseLocked();
+      RequestFinishLocked(grpc::Status::CANCELLED, /*flush=*/false);
+      PumpLocked();
+    }
+  }
+  if (!to_close.empty()) {
+    Log(LogLevel::kInfo, absl::StrCat("session ", to_close, " cancelled"));
+  }
+  CloseSessionAsync(engine_, pool_, to_close);
+}
+
+void SessionReactor::OnDone() {
+  sink_->Detach();  // no sink call is inside this reactor now, and none will be
+  SessionId to_close;
+  {
+    // Also waits for a thread that called Finish to leave its critical section.
+    std::lock_guard lock(mutex_);
+    to_close = TakeSessionToCloseLocked();
+  }
+  if (!to_close.empty()) Log(LogLevel::kInfo, absl::StrCat("session ", to_close, " closed"));
+  CloseSessionAsync(engine_, pool_, to_close);
+  delete this;
+}
+
+// ---------------------------------------------------------------- from the sink
+
+void SessionReactor::DeliverFrame(std::shared_ptr<const EncodedFrame> frame) {
+  std::lock_guard lock(mutex_);
+  if (cancelled_ || finish_status_.has_value() ||
+      (state_ != State::kOpen && state_ != State::kOpening)) {
+    return;
+  }
+  if (pacing_ == Pacing::kOnRequest) --frames_owed_;
+  if (pending_frame_ != nullptr) ++dropped_;
+  pending_frame_ = std::move(frame);
+  PumpLocked();
+}
+
+void SessionReactor::DeliverRejected(uint64_t seq, const absl::Status& status) {
+  std::lock_guard lock(mutex_);
+  if (cancelled_ || finish_status_.has_value()) return;
+  pb::SessionEvent event;
+  UpdateRejectedToProto(seq, status, event.mutable_rejected());
+  events_.push_back(std::move(event));
+  PumpLocked();
+}
+
+void SessionReactor::DeliverFailure(const absl::Status& status) {
+  std::lock_guard lock(mutex_);
+  Log(LogLevel::kWarning, absl::StrCat("session ", session_id_, " failed: ", status.ToString()));
+  RequestFinishLocked(ToGrpcStatus(status.ok() ? absl::InternalError("session failed") : status),
+                      /*flush=*/true);
+  PumpLocked();
+}
+
+// ---------------------------------------------------------------- helpers
+
+void SessionReactor::RequestFinishLocked(grpc::Status status, bool flush) {
+  if (finish_status_.has_value()) {
+    if (!flush) flush_before_finish_ = false;  // a later hard stop still cuts the flush short
+    return;
+  }
+  finish_status_ = std::move(status);
+  flush_before_finish_ = flush;
+}
+
+void SessionReactor::PumpLocked() {
+  if (finish_called_ || state_ == State::kOpening) return;
+
+  // Half-closed by the client: end once on-request frames asked for arrived.
+  if (reads_done_ && !finish_status_.has_value() && state_ == State::kOpen &&
+      (pacing_ == Pacing::kContinuous || frames_owed_ <= 0)) {
+    RequestFinishLocked(grpc::Status::OK, /*flush=*/true);
+  }
+  if (finish_status_.has_value() && !flush_before_finish_) {
+    events_.clear();
+    pending_frame_.reset();
+  }
+
+  if (!write_in_flight_) {
+    if (!events_.empty()) {
+      response_ = std::move(events_.front());
+      events_.pop_front();
+      write_in_flight_ = true;
+      StartWrite(&response_);
+    } else if (pending_frame_ != nullptr) {
+      response_.Clear();
+      pb::Frame* frame = response_.mutable_frame();
+      FrameToProto(*pending_frame_, frame);
+      frame->set_dropped_frames(pending_frame_->dropped_frames + dropped_);
+      dropped_ = 0;
+      pending_frame_.reset();
+      write_in_flight_ = true;
+      StartWrite(&response_);
+    }
+  }
+
+  if (finish_status_.has_value()) {
+    if (!write_in_flight_) {
+      finish_called_ = true;
+      Finish(*finish_status_);  // OnDone may follow on another thread; it waits for mutex_
+    }
+    return;
+  }
+
+  if (state_ == State::kOpen && !read_in_flight_ && !reads_done_ && !cancelled_ &&
+      events_.size() < options_.max_queued_events) {
+    read_in_flight_ = true;
+    StartRead(&request_);
+  }
+}
+
+SessionId SessionReactor::TakeSessionToCloseLocked() {
+  if (state_ != State::kOpen || session_closed_) return {};
+  session_closed_ = true;
+  return session_id_;
+}
+
+void SessionReactor::CloseSessionAsync(Engine& engine, WorkerPool& pool, const SessionId& id) {
+  if (id.empty()) return;
+  // CloseSession may wait for the render thread: keep it off gRPC's threads
+  // when the pool has room, else close inline (never leak the session).
+  std::function<void()> close = [&engine, id] { engine.CloseSession(id); };
+  if (!pool.Submit(close).ok()) close();
+}
+
+}  // namespace gistream::service

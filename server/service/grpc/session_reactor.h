@@ -1,0 +1,130 @@
+// One interactive session: the server side of the bidirectional Session
+// stream. The first read must be a config (-> Engine::OpenSession, answered
+// with `opened`); later reads carry updates (-> Engine::PushUpdate; an error
+// becomes an UpdateRejected event and the session goes on) and frame
+// requests (-> Engine::RequestFrames).
+//
+// Writes: at most one in flight. Control events (opened, rejected) wait in a
+// small queue and are never dropped: while it is full the reactor stops
+// reading, so a client that floods bad updates without reading is slowed,
+// not buffered. Frames are never queued: the newest unsent frame replaces an
+// older one and the count of replaced frames rides on the next frame sent
+// (Frame.dropped_frames).
+//
+// The client half-closing the stream ends the session once what is queued
+// is written (on-request sessions also wait for the frames they asked for);
+// the status is then OK. A cancelled call (client gone, deadline, server
+// shutdown) closes the engine session at once.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+
+#include <grpcpp/grpcpp.h>
+
+#include "gistream/v1/gistream.grpc.pb.h"
+#include "service/engine.h"
+#include "service/grpc/worker_pool.h"
+
+namespace gistream::service {
+
+class SessionReactor;
+
+// The FrameSink the Engine holds (shared_ptr). Forwards to the reactor until
+// Detach(); afterwards calls are dropped, so the engine may call it briefly
+// after CloseSession and after the reactor is gone.
+class SessionSink final : public FrameSink {
+ public:
+  explicit SessionSink(SessionReactor* reactor) : reactor_(reactor) {}
+  // Returns once no call into the reactor is in progress; none follow.
+  void Detach();
+
+  void OnFrame(std::shared_ptr<const EncodedFrame> frame) override;
+  void OnUpdateRejected(uint64_t seq, const absl::Status& status) override;
+  void OnSessionFailed(const absl::Status& status) override;
+
+ private:
+  std::mutex mutex_;
+  SessionReactor* reactor_;  // null once detached
+};
+
+class SessionReactor final
+    : public grpc::ServerBidiReactor<::gistream::v1::SessionRequest, ::gistream::v1::SessionEvent> {
+ public:
+  struct Options {
+    /// Control events (opened, rejected) waiting to be written before the
+    /// reactor stops reading from the client.
+    size_t max_queued_events = 32;
+  };
+
+  // Deletes itself in OnDone.
+  SessionReactor(Engine& engine, WorkerPool& pool, grpc::CallbackServerContext* context,
+                 const Options& options);
+
+  void OnReadDone(bool ok) override;
+  void OnWriteDone(bool ok) override;
+  void OnCancel() override;
+  void OnDone() override;
+
+ private:
+  friend class SessionSink;
+  enum class State {
+    kAwaitConfig,  // first read outstanding
+    kOpening,      // OpenSession running on the worker pool; no read outstanding
+    kOpen,         // engine session exists
+    kClosed,       // no engine session (config failed or it was closed)
+  };
+
+  ~SessionReactor() override = default;
+
+  // Called through SessionSink (render thread).
+  void DeliverFrame(std::shared_ptr<const EncodedFrame> frame);
+  void DeliverRejected(uint64_t seq, const absl::Status& status);
+  void DeliverFailure(const absl::Status& status);
+
+  void HandleConfig(const ::gistream::v1::SessionConfig& config);
+  void OpenOnWorker(SessionConfig config);
+  // Requests the end of the call; with `flush` the queued event and frame
+  // are written first. The first request wins.
+  void RequestFinishLocked(grpc::Status status, bool flush);
+  // Moves the call along: starts the next write, the next read, or Finish.
+  // Must be the last thing a caller does with `this` before unlocking, as
+  // Finish may lead to OnDone on another thread (which waits for mutex_).
+  void PumpLocked();
+  // Takes the session id for CloseSession exactly once ("" when none).
+  SessionId TakeSessionToCloseLocked();
+  static void CloseSessionAsync(Engine& engine, WorkerPool& pool, const SessionId& id);
+
+  // Configuration
+  Engine& engine_;
+  WorkerPool& pool_;
+  grpc::CallbackServerContext* const context_;
+  const Options options_;
+  const std::shared_ptr<SessionSink> sink_;
+
+  // Runtime data. request_ belongs to whoever holds the outstanding read,
+  // response_ to the outstanding write; everything else is under mutex_.
+  ::gistream::v1::SessionRequest request_;
+  ::gistream::v1::SessionEvent response_;
+  std::mutex mutex_;
+  State state_ = State::kAwaitConfig;
+  SessionId session_id_;
+  bool session_closed_ = false;
+  Pacing pacing_ = Pacing::kContinuous;
+  int64_t frames_owed_ = 0;  // on-request frames asked for and not yet delivered
+  bool read_in_flight_ = false;
+  bool reads_done_ = false;  // client half-closed (or the read failed)
+  bool cancelled_ = false;
+  bool write_in_flight_ = false;
+  std::deque<::gistream::v1::SessionEvent> events_;
+  std::shared_ptr<const EncodedFrame> pending_frame_;
+  uint32_t dropped_ = 0;  // frames replaced since the last frame written
+  std::optional<grpc::Status> finish_status_;
+  bool flush_before_finish_ = false;
+  bool finish_called_ = false;
+};
+
+}  // namespace gistream::service

@@ -1,0 +1,63 @@
+// The thread that owns the GL context. Other threads post jobs to it; it
+// runs them in order, and between jobs calls the tick function (the frame
+// scheduler), sleeping until the time the tick asks for or the next job.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <future>
+#include <mutex>
+#include <thread>
+
+#include "gl/egl_context.h"
+#include "util/status.h"
+
+namespace gistream {
+
+class RenderThread {
+ public:
+  using Clock = std::chrono::steady_clock;
+  // Returns when the tick wants to run next (Clock::time_point::max(): only
+  // when a job arrives).
+  using Tick = std::function<Clock::time_point()>;
+
+  // Creates the context on the new thread; fails if it cannot.
+  static absl::StatusOr<std::unique_ptr<RenderThread>> Start(int egl_device, Tick tick);
+  ~RenderThread();  // Stop()
+
+  // Runs `job` on the render thread.
+  void Post(std::function<void()> job);
+  // Runs `job` on the render thread and waits for its result.
+  template <typename T>
+  T Call(std::function<T()> job) {
+    auto task = std::make_shared<std::packaged_task<T()>>(std::move(job));
+    std::future<T> result = task->get_future();
+    Post([task] { (*task)(); });
+    return result.get();
+  }
+  // Wakes the scheduler (a session became due).
+  void Wake();
+  // Runs `last` on the render thread (with the context still current),
+  // then ends the thread. Idempotent.
+  void Stop(std::function<void()> last = {});
+
+  const gl::EglContext& context() const { return *context_; }
+  bool on_render_thread() const { return std::this_thread::get_id() == thread_.get_id(); }
+
+ private:
+  RenderThread() = default;
+  void Loop();
+
+  Tick tick_;
+  std::unique_ptr<gl::EglContext> context_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::deque<std::function<void()>> jobs_;
+  bool wake_ = false;
+  bool stopping_ = false;
+  std::thread thread_;
+};
+
+}  // namespace gistream

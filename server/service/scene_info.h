@@ -1,0 +1,11 @@
+// What LoadScene reports about a scene in its current state.
+#pragma once
+
+#include "scene/scene_state.h"
+#include "service/engine.h"
+
+namespace gistream {
+
+SceneInfo DescribeScene(const SceneId& id, const SceneState& state);
+
+}  // namespace gistream

@@ -1,0 +1,78 @@
+#include "solvers/direct/direct_solver.h"
+
+namespace gistream {
+
+SolverDescription DirectSolver::Describe() {
+  SolverDescription d;
+  d.name = "direct";
+  d.description = "Direct light only: shadow-mapped punctual lights and area lights";
+  d.stages = {"shadow_maps", "gbuffer", "shade"};
+  d.params = {
+      {"area_samples", ParamType::kInt, "64", 1, 1024, {},
+       "Stratified sample points over all emissive surfaces, each with a shadow map"},
+      {"shadow_res", ParamType::kInt, "256", 16, 4096, {},
+       "Shadow map resolution per cube face / directional map"},
+  };
+  return d;
+}
+
+const SolverDescription& DirectSolver::description() const {
+  static const SolverDescription kDescription = Describe();
+  return kDescription;
+}
+
+absl::StatusOr<std::unique_ptr<Solver>> DirectSolver::Create(const ParamSet& params) {
+  auto solver = std::unique_ptr<DirectSolver>(new DirectSolver());
+  solver->settings_.area_samples = params.GetInt("area_samples");
+  solver->settings_.shadow_resolution = params.GetInt("shadow_res");
+  GS_ASSIGN_OR_RETURN(solver->lighting_, DirectLighting::Create());
+  GS_ASSIGN_OR_RETURN(solver->shade_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "direct/shade.frag.glsl"}}));
+  solver->empty_vao_ = gl::VertexArray::Create();
+  return solver;
+}
+
+std::vector<std::string> DirectSolver::Plan(ChangeMask changes) const {
+  // Shadow maps depend on geometry, lights and emission; base colour and
+  // camera changes only need the view-dependent stages.
+  if (changes & (kChangeGeometry | kChangeLights | kChangeEmission)) {
+    return {"shadow_maps", "gbuffer", "shade"};
+  }
+  return {"gbuffer", "shade"};
+}
+
+absl::Status DirectSolver::Update(SolverContext& ctx, ChangeMask changes) {
+  if (!(changes & (kChangeGeometry | kChangeLights | kChangeEmission))) {
+    ctx.timer.Skip("shadow_maps");
+    return absl::OkStatus();
+  }
+  gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
+  lighting_.Update(ctx.state, ctx.gpu, settings_);
+  return absl::OkStatus();
+}
+
+absl::Status DirectSolver::Shade(SolverContext& ctx, const ViewCamera& /*camera*/,
+                                 const GBuffer& gbuffer) {
+  gl::StageTimer::Scope stage(ctx.timer, "shade");
+  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
+  glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
+  glDisable(GL_DEPTH_TEST);
+  gbuffer.BindTextures(8);
+  lighting_.Bind(shade_);
+  shade_.Set("uBackground", glm::vec3(0.0f));
+  shade_.Use();
+  glBindVertexArray(empty_vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  return absl::OkStatus();
+}
+
+SolverStats DirectSolver::Stats() const {
+  return {{"punctual_lights", double(lighting_.punctual_count())},
+          {"area_samples", double(lighting_.area_samples().size())},
+          {"emitter_triangles", double(lighting_.emitters().size())},
+          {"shadow_map_bytes", double(lighting_.gpu_bytes())}};
+}
+
+}  // namespace gistream

@@ -1,0 +1,33 @@
+// `direct`: direct light only. Shadow-mapped punctual lights and emissive
+// surfaces sampled at stratified points, each with its own shadow map.
+#pragma once
+
+#include "render/direct_lighting.h"
+#include "solvers/solver.h"
+
+namespace gistream {
+
+class DirectSolver final : public Solver {
+ public:
+  static SolverDescription Describe();
+  static absl::StatusOr<std::unique_ptr<Solver>> Create(const ParamSet& params);
+
+  const SolverDescription& description() const override;
+  std::vector<std::string> Plan(ChangeMask changes) const override;
+  absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
+  absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
+  SolverStats Stats() const override;
+
+ private:
+  DirectSolver() = default;
+
+  // Configuration
+  DirectLightingSettings settings_;
+
+  // Runtime data
+  DirectLighting lighting_;
+  gl::Program shade_;
+  gl::VertexArray empty_vao_;
+};
+
+}  // namespace gistream

@@ -1,0 +1,28 @@
+#include "solvers/registry.h"
+
+#include "solvers/direct/direct_solver.h"
+
+namespace gistream {
+
+const std::vector<SolverDescription>& AllSolverDescriptions() {
+  static const std::vector<SolverDescription> kAll = {DirectSolver::Describe()};
+  return kAll;
+}
+
+absl::StatusOr<const SolverDescription*> FindSolver(const std::string& name) {
+  std::string known;
+  for (const SolverDescription& d : AllSolverDescriptions()) {
+    if (d.name == name) return &d;
+    absl::StrAppend(&known, known.empty() ? "" : ", ", d.name);
+  }
+  return absl::InvalidArgumentError(
+      absl::StrCat("solver: unknown solver '", name, "' (known: ", known, ")"));
+}
+
+absl::StatusOr<std::unique_ptr<Solver>> CreateSolver(const std::string& name,
+                                                     const ParamSet& params) {
+  if (name == "direct") return DirectSolver::Create(params);
+  return FindSolver(name).status();
+}
+
+}  // namespace gistream

@@ -1,0 +1,45 @@
+// The solver contract. A solver brings its view-independent GI state up to
+// the scene's current version (Update, running only the stages the change
+// set needs and reporting the others as skipped), then shades a view from
+// the G-buffer into linear HDR radiance (Shade). One solver instance is
+// shared by every session on the same scene with the same parameters.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "gl/stage_timer.h"
+#include "render/camera.h"
+#include "render/gbuffer.h"
+#include "scene/gpu_scene.h"
+#include "scene/scene_state.h"
+#include "solvers/solver_params.h"
+
+namespace gistream {
+
+struct SolverContext {
+  const SceneState& state;
+  GpuScene& gpu;
+  gl::StageTimer& timer;
+};
+
+using SolverStats = std::vector<std::pair<std::string, double>>;
+
+class Solver {
+ public:
+  virtual ~Solver() = default;
+
+  virtual const SolverDescription& description() const = 0;
+  // The stages of description().stages that `changes` requires.
+  virtual std::vector<std::string> Plan(ChangeMask changes) const = 0;
+  // View-independent work for the current scene version.
+  virtual absl::Status Update(SolverContext& ctx, ChangeMask changes) = 0;
+  // View-dependent: writes radiance into gbuffer.hdr() (bound hdr_fbo).
+  virtual absl::Status Shade(SolverContext& ctx, const ViewCamera& camera,
+                             const GBuffer& gbuffer) = 0;
+  virtual SolverStats Stats() const = 0;
+};
+
+}  // namespace gistream

@@ -1,0 +1,158 @@
+// Command-line parsing (client/options.h): the contract scripts and
+// benchmarks depend on.
+#include "options.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+namespace gistream::client {
+namespace {
+
+absl::StatusOr<CommandLine> Parse(std::vector<std::string> args) {
+  return ParseCommandLine(args, kDefaultServer);
+}
+
+std::string UsageError(std::vector<std::string> args) {
+  auto line = Parse(std::move(args));
+  EXPECT_FALSE(line.ok());
+  return line.ok() ? "" : std::string(line.status().message());
+}
+
+TEST(CommandLine, RenderWithEverything) {
+  auto line = Parse({"--server",        "10.0.0.1:1234",
+                     "render",          "--scene",
+                     "cornell_box",     "--solver",
+                     "sh_probes",       "--param",
+                     "probes=8",        "--param=order=3",
+                     "--size",          "64x48",
+                     "--format",        "exr",
+                     "--out",           "x.bin",
+                     "--exposure",      "-1",
+                     "--quality",       "95",
+                     "--camera-eye",    "0,1,2",
+                     "--camera-target", "0.5, 0.5, 0.5",
+                     "--yfov",          "40"});
+  ASSERT_TRUE(line.ok()) << line.status();
+  EXPECT_EQ(line->connection.server, "10.0.0.1:1234");
+  ASSERT_EQ(line->command, Command::kRender);
+  const auto& render = std::get<RenderOptions>(line->options);
+  EXPECT_EQ(render.scene.scene, "cornell_box");
+  EXPECT_EQ(render.solver.solver, "sh_probes");
+  EXPECT_EQ(render.solver.params.at("probes"), "8");
+  EXPECT_EQ(render.solver.params.at("order"), "3");
+  EXPECT_EQ(render.view.width, 64u);
+  EXPECT_EQ(render.view.height, 48u);
+  EXPECT_EQ(render.view.encoding.format(), v1::IMAGE_FORMAT_EXR);
+  EXPECT_FLOAT_EQ(render.view.encoding.exposure(), -1.0f);
+  EXPECT_EQ(render.view.encoding.quality(), 95u);
+  EXPECT_EQ(render.out, "x.bin");
+  ASSERT_TRUE(render.view.camera.has_look_at());
+  EXPECT_FLOAT_EQ(render.view.camera.look_at().eye().z(), 2.0f);
+  EXPECT_FLOAT_EQ(render.view.camera.look_at().target().x(), 0.5f);
+  EXPECT_FLOAT_EQ(render.view.camera.look_at().up().y(), 1.0f);
+  EXPECT_FLOAT_EQ(render.view.camera.yfov_degrees(), 40.0f);
+}
+
+TEST(CommandLine, RenderFormatFromOutputExtension) {
+  auto line = Parse({"render", "--scene", "a.glb", "--out", "shot.PNG"});
+  ASSERT_TRUE(line.ok()) << line.status();
+  const auto& render = std::get<RenderOptions>(line->options);
+  EXPECT_EQ(render.view.encoding.format(), v1::IMAGE_FORMAT_PNG);
+  EXPECT_EQ(render.solver.solver, "direct");
+  EXPECT_FALSE(render.view.camera.has_look_at());
+  EXPECT_EQ(line->connection.server, kDefaultServer);
+}
+
+TEST(CommandLine, StreamDefaults) {
+  auto line = ParseCommandLine(std::vector<std::string>{"stream"}, "from-env:1");
+  ASSERT_TRUE(line.ok()) << line.status();
+  EXPECT_EQ(line->connection.server, "from-env:1");
+  const auto& stream = std::get<StreamOptions>(line->options);
+  EXPECT_EQ(stream.scene.scene, "cornell_box");
+  EXPECT_EQ(stream.solver.solver, "direct");
+  EXPECT_EQ(stream.view.width, 320u);
+  EXPECT_EQ(stream.view.height, 240u);
+  EXPECT_EQ(stream.view.encoding.format(), v1::IMAGE_FORMAT_JPEG);
+  EXPECT_EQ(stream.frames, 30u);
+  EXPECT_FLOAT_EQ(stream.fps, 30.0f);
+  EXPECT_EQ(stream.out_dir, "out");
+}
+
+TEST(CommandLine, ServerAfterTheCommandWins) {
+  auto line =
+      Parse({"--server", "a:1", "script", "timeline.json", "--server", "b:2", "--out", "frames"});
+  ASSERT_TRUE(line.ok()) << line.status();
+  EXPECT_EQ(line->connection.server, "b:2");
+  const auto& script = std::get<ScriptOptions>(line->options);
+  EXPECT_EQ(script.file, "timeline.json");
+  EXPECT_EQ(script.out_dir, "frames");
+}
+
+TEST(CommandLine, StreamFramesZeroMeansUntilInterrupted) {
+  auto line = Parse({"stream", "--frames", "0", "--fps", "60"});
+  ASSERT_TRUE(line.ok()) << line.status();
+  EXPECT_EQ(std::get<StreamOptions>(line->options).frames, 0u);
+  EXPECT_FLOAT_EQ(std::get<StreamOptions>(line->options).fps, 60.0f);
+}
+
+TEST(CommandLine, Help) {
+  for (auto args : std::vector<std::vector<std::string>>{{"--help"},
+                                                         {"-h"},
+                                                         {"help"},
+                                                         {"render", "--help"},
+                                                         {"help", "render"},
+                                                         {"render", "--scene", "x", "-h"}}) {
+    auto line = Parse(args);
+    ASSERT_TRUE(line.ok()) << line.status();
+    EXPECT_TRUE(line->help);
+  }
+  EXPECT_EQ(Parse({"render", "--help"})->command, Command::kRender);
+  EXPECT_FALSE(Parse({"--help"})->command.has_value());
+}
+
+TEST(CommandLine, UsageErrors) {
+  EXPECT_EQ(UsageError({}), "no command given");
+  EXPECT_EQ(UsageError({"draw"}), "unknown command \"draw\"");
+  EXPECT_EQ(UsageError({"-x", "solvers"}), "unknown option -x");
+  EXPECT_EQ(UsageError({"render", "--out", "a.jpg"}), "--scene is required");
+  EXPECT_EQ(UsageError({"render", "--scene", "a"}), "--out FILE is required");
+  EXPECT_EQ(UsageError({"render", "--scene", "a", "--out", "b", "--sise", "1x1"}),
+            "unknown option --sise");
+  EXPECT_EQ(UsageError({"render", "--scene", "a", "--scene", "b", "--out", "c"}),
+            "--scene given twice");
+  EXPECT_EQ(UsageError({"render", "--scene", "a", "--out", "b", "--size", "320"}),
+            "--size: \"320\" is not WIDTHxHEIGHT (e.g. 320x240)");
+  EXPECT_EQ(UsageError({"render", "--scene", "a", "--out", "b", "--size", "0x10"}),
+            "--size: 0x10 is out of range [1, 16384] per side");
+  EXPECT_EQ(UsageError({"render", "--scene", "a", "--out", "b", "--format", "gif"}),
+            "--format: unknown image format \"gif\" (expected jpeg, png or exr)");
+  EXPECT_EQ(UsageError({"render", "--scene", "a", "--out", "b", "--param", "noequals"}),
+            "--param: \"noequals\" is not key=value");
+  EXPECT_EQ(
+      UsageError({"render", "--scene", "a", "--out", "b", "--param", "k=1", "--param", "k=2"}),
+      "--param k given twice");
+  EXPECT_EQ(UsageError({"render", "--scene", "a", "--out", "b", "--camera-eye", "1,2,3"}),
+            "--camera-eye and --camera-target go together");
+  EXPECT_EQ(UsageError({"render", "--scene", "a", "--out", "b", "--camera-eye", "1,2",
+                        "--camera-target", "0,0,0"}),
+            "--camera-eye: \"1,2\" is not three numbers x,y,z");
+  EXPECT_EQ(UsageError({"render", "--scene", "a", "--out", "b", "--quality", "0"}),
+            "--quality: 0 is out of range [1, 100]");
+  EXPECT_EQ(UsageError({"render", "--scene", "a", "--out", "b", "--exposure", "nan"}),
+            "--exposure: \"nan\" is not a finite number");
+  EXPECT_EQ(UsageError({"render", "--scene", "a", "--out", "b", "--yfov", "180"}),
+            "--yfov: 180 degrees is out of range (0, 180)");
+  EXPECT_EQ(UsageError({"stream", "--frames", "-1"}),
+            "--frames: -1 is out of range [0, 9223372036854775807]");
+  EXPECT_EQ(UsageError({"stream", "--fps"}), "--fps needs a value");
+  EXPECT_EQ(UsageError({"script"}), "script FILE is required");
+  EXPECT_EQ(UsageError({"script", "a.json", "b.json"}), "script takes exactly one FILE");
+  EXPECT_EQ(UsageError({"solvers", "extra"}), "unexpected argument \"extra\"");
+  EXPECT_EQ(UsageError({"solvers", "--json=yes"}), "--json takes no value");
+  EXPECT_EQ(UsageError({"status", "--timeout", "0"}), "--timeout: must be positive seconds");
+}
+
+}  // namespace
+}  // namespace gistream::client

@@ -1,0 +1,111 @@
+// Scene arguments: local file (uploaded, .gltf resources inlined) or a
+// name on the server (client/scene_loader.h). No network.
+#include "scene_loader.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+namespace gistream::client {
+namespace {
+
+namespace fs = std::filesystem;
+
+class SceneLoaderTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("gistream_scene_loader_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_ / "textures");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  void Write(const fs::path& relative, const std::string& bytes) {
+    std::ofstream(dir_ / relative, std::ios::binary) << bytes;
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(SceneLoaderTest, NameWhenNoSuchFile) {
+  auto request = BuildLoadSceneRequest({.scene = "cornell_box",
+                                        .environment = "sky.hdr",
+                                        .environment_intensity = 2.0f,
+                                        .keep_scene = false});
+  ASSERT_TRUE(request.ok()) << request.status();
+  EXPECT_EQ(request->name(), "cornell_box");
+  EXPECT_EQ(request->environment_name(), "sky.hdr");
+  EXPECT_FLOAT_EQ(request->environment_intensity(), 2.0f);
+}
+
+TEST_F(SceneLoaderTest, GlbFileIsUploadedAsIs) {
+  Write("box.glb", std::string("glTF\x02\0\0\0", 8));
+  SceneOptions scene;
+  scene.scene = (dir_ / "box.glb").string();
+  auto request = BuildLoadSceneRequest(scene);
+  ASSERT_TRUE(request.ok()) << request.status();
+  EXPECT_EQ(request->gltf(), std::string("glTF\x02\0\0\0", 8));
+  EXPECT_EQ(request->environment_case(), v1::LoadSceneRequest::ENVIRONMENT_NOT_SET);
+}
+
+TEST_F(SceneLoaderTest, RelativeToBaseDir) {
+  Write("env.hdr", "#?RADIANCE");
+  Write("scene.glb", "glTF");
+  SceneOptions scene;
+  scene.scene = "scene.glb";
+  scene.environment = "env.hdr";
+  auto request = BuildLoadSceneRequest(scene, dir_);
+  ASSERT_TRUE(request.ok()) << request.status();
+  EXPECT_EQ(request->gltf(), "glTF");
+  EXPECT_EQ(request->environment_image(), "#?RADIANCE");
+}
+
+TEST_F(SceneLoaderTest, GltfExternalResourcesAreInlined) {
+  Write("mesh.bin", "abc");
+  Write("textures/my tex.png", "PNG!");
+  Write("scene.gltf", R"({"asset": {"version": "2.0"},
+      "buffers": [{"uri": "mesh.bin", "byteLength": 3},
+                  {"uri": "data:application/octet-stream;base64,AAAA", "byteLength": 3}],
+      "images": [{"uri": "textures/my%20tex.png"}]})");
+  SceneOptions scene;
+  scene.scene = (dir_ / "scene.gltf").string();
+  auto request = BuildLoadSceneRequest(scene);
+  ASSERT_TRUE(request.ok()) << request.status();
+  const auto gltf = nlohmann::json::parse(request->gltf());
+  EXPECT_EQ(gltf["buffers"][0]["uri"], "data:application/octet-stream;base64,YWJj");
+  EXPECT_EQ(gltf["buffers"][1]["uri"], "data:application/octet-stream;base64,AAAA");
+  EXPECT_EQ(gltf["images"][0]["uri"], "data:image/png;base64,UE5HIQ==");
+  EXPECT_EQ(gltf["asset"]["version"], "2.0");
+}
+
+TEST_F(SceneLoaderTest, SelfContainedGltfIsUnchanged) {
+  const std::string text = R"({"buffers": [{"uri": "data:application/octet-stream;base64,AA"}]})";
+  auto inlined = InlineGltfResources(text, dir_, "x.gltf");
+  ASSERT_TRUE(inlined.ok()) << inlined.status();
+  EXPECT_EQ(*inlined, text);
+}
+
+TEST_F(SceneLoaderTest, InlineErrorsNameTheUri) {
+  auto missing = InlineGltfResources(R"({"buffers": [{"uri": "gone.bin"}]})", dir_, "x.gltf");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(std::string(missing.status().message()).find("x.gltf: buffers[0].uri \"gone.bin\""),
+            std::string::npos);
+  auto remote =
+      InlineGltfResources(R"({"images": [{"uri": "https://example.com/a.png"}]})", dir_, "x.gltf");
+  ASSERT_FALSE(remote.ok());
+  EXPECT_EQ(remote.status().message(),
+            "x.gltf: images[0].uri \"https://example.com/a.png\": only files relative to the "
+            "glTF can be inlined");
+  auto not_json = InlineGltfResources("glTF binary?", dir_, "x.gltf");
+  ASSERT_FALSE(not_json.ok());
+  EXPECT_EQ(not_json.status().message(), "x.gltf: not a glTF JSON document");
+}
+
+}  // namespace
+}  // namespace gistream::client

@@ -1,0 +1,45 @@
+// Builds small self-contained glTF scenes in tests: quads, point lights,
+// cameras; buffers are embedded as base64 data URIs.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace gistream::testing {
+
+class GltfBuilder {
+ public:
+  using Vec3 = std::array<float, 3>;
+
+  // Returns the material index.
+  int AddMaterial(const std::string& name, Vec3 base_color, Vec3 emissive = {0, 0, 0},
+                  float emissive_strength = 1.0f);
+  // A rectangle centred at `center` spanned by half-vectors u and v, facing
+  // along normalize(cross(u, v)), tessellated n x n. Returns the node index.
+  int AddQuad(const std::string& name, Vec3 center, Vec3 u, Vec3 v, int material, int n = 1);
+  int AddPointLight(const std::string& name, Vec3 position, Vec3 color, float intensity);
+  // Camera at `position` looking along `forward` (unit) with `up`.
+  int AddCamera(const std::string& name, Vec3 position, Vec3 forward, Vec3 up, float yfov);
+
+  std::string ToJson() const;
+
+ private:
+  int AddNode(nlohmann::json node);
+  int AddAccessor(const std::vector<float>& data, int components, bool with_bounds);
+  int AddIndices(const std::vector<uint32_t>& data);
+
+  std::vector<uint8_t> buffer_;
+  nlohmann::json nodes_ = nlohmann::json::array();
+  nlohmann::json meshes_ = nlohmann::json::array();
+  nlohmann::json materials_ = nlohmann::json::array();
+  nlohmann::json accessors_ = nlohmann::json::array();
+  nlohmann::json views_ = nlohmann::json::array();
+  nlohmann::json lights_ = nlohmann::json::array();
+  nlohmann::json cameras_ = nlohmann::json::array();
+};
+
+}  // namespace gistream::testing

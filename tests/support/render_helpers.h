@@ -1,0 +1,56 @@
+// Helpers for tests that render through a real Engine on EGL (llvmpipe
+// when there is no GPU): one engine per test binary, float frames decoded,
+// world points projected to pixels.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "encode/encode.h"
+#include "render/camera.h"
+#include "service/engine.h"
+
+namespace gistream::testing {
+
+// The process-wide engine (created on first use; scene dir = scenes/).
+Engine& SharedEngine();
+
+struct FloatImage {
+  int width = 0;
+  int height = 0;
+  std::vector<float> rgba;  // rows top first
+  glm::vec3 at(int x, int y) const {
+    const size_t i = (size_t(y) * size_t(width) + size_t(x)) * 4;
+    return {rgba[i], rgba[i + 1], rgba[i + 2]};
+  }
+  // Mean over a (2r+1)^2 window.
+  glm::vec3 mean(int x, int y, int r) const;
+  size_t non_finite() const;
+};
+
+FloatImage DecodeExr(const EncodedFrame& frame);
+
+inline SceneSource SceneByName(const std::string& name) {
+  SceneSource s;
+  s.name = name;
+  return s;
+}
+inline SceneSource SceneFromBytes(std::string bytes) {
+  SceneSource s;
+  s.bytes = std::move(bytes);
+  return s;
+}
+
+// Pixel (x right, y down) where world point p lands for `camera`.
+glm::ivec2 Project(const ViewCamera& camera, const glm::vec3& p);
+
+// Renders EXR through Engine::Render; fails the test on error.
+FloatImage RenderExr(Engine& engine, const std::string& scene_id, const std::string& solver,
+                     uint32_t width, uint32_t height,
+                     const std::map<std::string, std::string>& params = {},
+                     std::optional<CameraUpdate> camera = std::nullopt,
+                     EncodedFrame* frame_out = nullptr);
+
+}  // namespace gistream::testing
