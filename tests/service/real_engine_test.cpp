@@ -88,7 +88,9 @@ TEST_F(RealEngineTest, TwoSessionsOnOneSceneEchoSeqWithTimings) {
     for (uint64_t seq = first_seq; seq <= last; ++seq) {
       ASSERT_TRUE(stream->Write(CameraUpdate(seq, 3.0f + 0.1f * static_cast<float>(seq))));
     }
-    if (on_request) ASSERT_TRUE(stream->Write(FrameRequest(1)));
+    if (on_request) {
+      ASSERT_TRUE(stream->Write(FrameRequest(1)));
+    }
     uint64_t seen = 0;
     int frames = 0;
     while (seen < last && stream->Read(&event)) {
@@ -102,7 +104,9 @@ TEST_F(RealEngineTest, TwoSessionsOnOneSceneEchoSeqWithTimings) {
       EXPECT_GE(f.last_update_seq(), seen);
       seen = f.last_update_seq();
       ++frames;
-      if (on_request && seen < last) ASSERT_TRUE(stream->Write(FrameRequest(1)));
+      if (on_request && seen < last) {
+        ASSERT_TRUE(stream->Write(FrameRequest(1)));
+      }
     }
     EXPECT_EQ(seen, last);
     EXPECT_GT(frames, 0);

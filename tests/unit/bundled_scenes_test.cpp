@@ -1,0 +1,80 @@
+// Every bundled scene imports by name and has what its README promises.
+// A missing scene file fails (never skips).
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "scene/gltf_import.h"
+
+namespace gistream {
+namespace {
+
+const std::string kSceneDir = std::string(GISTREAM_SOURCE_DIR) + "/scenes";
+
+std::set<std::string> NodeNames(const Scene& s) {
+  std::set<std::string> names;
+  for (const Node& n : s.nodes) names.insert(n.name);
+  return names;
+}
+
+class BundledScene : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(BundledScene, Imports) {
+  auto scene = ImportSceneByName(kSceneDir, GetParam(), {});
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  EXPECT_GT(scene->triangle_count, 0u);
+  EXPECT_GT(scene->vertex_count, 0u);
+  EXPECT_FALSE(scene->bounds.empty());
+  EXPECT_EQ(CameraInstanceNodes(*scene).size(), 1u) << "every bundled scene has a camera";
+  for (const Mesh& m : scene->meshes) {
+    for (const Primitive& p : m.primitives) {
+      ASSERT_EQ(p.normals.size(), p.positions.size());
+      for (const glm::vec3& n : p.normals) EXPECT_NEAR(glm::length(n), 1.0f, 1e-3f);
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(All, BundledScene,
+                         ::testing::Values("cornell_box", "indirect_room", "furnace",
+                                           "dynamic_block"));
+
+TEST(BundledScenes, CornellBoxIsLitByItsCeilingQuadOnly) {
+  auto scene = ImportSceneByName(kSceneDir, "cornell_box", {});
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  const std::set<std::string> names = NodeNames(*scene);
+  for (const char* n : {"light", "tall_block", "short_block", "left_wall", "right_wall", "camera"}) {
+    EXPECT_TRUE(names.count(n)) << n;
+  }
+  EXPECT_TRUE(scene->lights.empty());
+  int emissive = 0;
+  for (const Material& m : scene->materials) emissive += m.emissive() ? 1 : 0;
+  EXPECT_EQ(emissive, 1);
+  // Walls tessellated for vertex-based solvers: a few thousand vertices.
+  EXPECT_GT(scene->vertex_count, 2000u);
+  EXPECT_LT(scene->vertex_count, 20000u);
+}
+
+TEST(BundledScenes, FurnaceIsUniform) {
+  auto scene = ImportSceneByName(kSceneDir, "furnace", {});
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  ASSERT_EQ(scene->materials.size(), 1u);
+  EXPECT_NEAR(scene->materials[0].base_color_factor.r, 0.5f, 1e-6f);
+  EXPECT_NEAR(scene->materials[0].emission().r, 1.0f, 1e-6f);
+}
+
+TEST(BundledScenes, DynamicBlockHasAMovableBlock) {
+  auto scene = ImportSceneByName(kSceneDir, "dynamic_block", {});
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  EXPECT_TRUE(NodeNames(*scene).count("block"));
+  EXPECT_EQ(LightInstanceNodes(*scene).size(), 2u);
+}
+
+TEST(BundledScenes, UnknownAndPathLikeNamesAreRefused) {
+  EXPECT_EQ(ImportSceneByName(kSceneDir, "no_such_scene", {}).status().code(),
+            absl::StatusCode::kNotFound);
+  EXPECT_EQ(ImportSceneByName(kSceneDir, "../CMakeLists", {}).status().code(),
+            absl::StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace gistream
