@@ -1,5 +1,5 @@
 // The render engine's domain API: scenes, sessions, updates, frames. No
-// gRPC here; server/service/grpc_service.* translates protobuf to and from
+// gRPC here; server/service/grpc/ translates protobuf to and from
 // these types. All methods are thread-safe and never touch GL on the
 // calling thread: GL work is posted to the render thread, which owns the
 // context.
