@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# End-to-end smoke test of the two binaries' command-line contract:
+# gistreamd prints "listening on ADDR", gistream's subcommands work against
+# it, errors exit non-zero with the server's message, SIGTERM stops cleanly.
+set -euo pipefail
+BIN=${1:?build dir}
+SCENES=${2:?scene dir}
+TMP=$(mktemp -d)
+trap 'kill -9 $PID 2>/dev/null || true; rm -rf "$TMP"' EXIT
+
+"$BIN/gistreamd" --listen 127.0.0.1:0 --scenes "$SCENES" >"$TMP/out.log" 2>"$TMP/err.log" &
+PID=$!
+for _ in $(seq 1 300); do
+  grep -q "^listening on" "$TMP/out.log" && break
+  sleep 0.1
+done
+ADDR=$(sed -n 's/^listening on //p' "$TMP/out.log")
+[ -n "$ADDR" ] || { cat "$TMP/err.log"; echo "FAIL: no 'listening on' line"; exit 1; }
+[ "$(wc -l <"$TMP/out.log")" -eq 1 ] || { echo "FAIL: stdout has more than one line"; exit 1; }
+
+C="$BIN/gistream --server $ADDR"
+$C status | grep -qi "renderer" || { echo "FAIL: status"; exit 1; }
+$C solvers | grep -q "direct" || { echo "FAIL: solvers"; exit 1; }
+$C render --scene cornell_box --solver direct --param area_samples=8 --size 64x48 \
+  --format png --out "$TMP/box.png" >/dev/null
+[ "$(head -c 8 "$TMP/box.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] ||
+  { echo "FAIL: render did not write a PNG"; exit 1; }
+$C render --scene "$SCENES/furnace.gltf" --size 32x32 --format exr --out "$TMP/f.exr" >/dev/null
+[ "$(head -c 4 "$TMP/f.exr" | od -An -tx1 | tr -d ' \n')" = "762f3101" ] ||
+  { echo "FAIL: render of an uploaded file did not write an EXR"; exit 1; }
+$C stream --frames 3 --size 48x32 --param area_samples=4 --out "$TMP/frames" >"$TMP/stream.log"
+[ "$(ls "$TMP/frames" | wc -l)" -eq 3 ] || { echo "FAIL: stream wrote $(ls "$TMP/frames" | wc -l) frames"; exit 1; }
+grep -q "shadow_maps" "$TMP/stream.log" || { echo "FAIL: stream printed no stage table"; exit 1; }
+
+# Errors: non-zero exit with the server's code and the field it names.
+set +e
+$C render --scene cornell_box --solver direct --param area_samples=0 --size 8x8 \
+  --out "$TMP/x.jpg" 2>"$TMP/e1.log"
+rc1=$?
+$C render --scene no_such_scene --size 8x8 --out "$TMP/x.jpg" 2>"$TMP/e2.log"
+rc2=$?
+set -e
+[ $rc1 -ne 0 ] && grep -q "INVALID_ARGUMENT" "$TMP/e1.log" && grep -q "area_samples" "$TMP/e1.log" ||
+  { cat "$TMP/e1.log"; echo "FAIL: bad parameter"; exit 1; }
+[ $rc2 -ne 0 ] && grep -q "NOT_FOUND" "$TMP/e2.log" || { cat "$TMP/e2.log"; echo "FAIL: unknown scene"; exit 1; }
+$C status >/dev/null || { echo "FAIL: server stopped serving after bad input"; exit 1; }
+
+kill -TERM $PID
+for _ in $(seq 1 100); do kill -0 $PID 2>/dev/null || break; sleep 0.1; done
+if kill -0 $PID 2>/dev/null; then echo "FAIL: gistreamd ignored SIGTERM"; exit 1; fi
+wait $PID && rc=0 || rc=$?
+[ $rc -eq 0 ] || { cat "$TMP/err.log"; echo "FAIL: gistreamd exited $rc on SIGTERM"; exit 1; }
+echo "smoke test passed"
