@@ -8,6 +8,7 @@
 
 #include "encode/encode.h"
 #include "encode/image_format.h"
+#include "encode/image_reader.h"
 
 namespace gistream {
 namespace {
@@ -23,21 +24,9 @@ absl::StatusOr<DecodedImage> DecodeImageBytes(std::span<const uint8_t> bytes) {
     return absl::InvalidArgumentError(
         absl::StrCat("image: unknown format (starts with ", HexPrefix(bytes), ")"));
   }
-  OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
-  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::create(format);
-  if (!in) {
-    return absl::InternalError(absl::StrCat("image: no ", format, " reader: ", OIIO::geterror()));
-  }
-  OIIO::ImageSpec config;
-  OIIO::Filesystem::IOProxy* proxy_ptr = &proxy;
-  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy_ptr);
-  // PNG alpha is straight (unassociated); keep it so, as glTF expects.
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  OIIO::ImageSpec spec;
-  if (!in->open("memory." + format, spec, config)) {
-    return absl::InvalidArgumentError(
-        absl::StrCat("image: corrupt ", format, " data: ", in->geterror()));
-  }
+  GS_ASSIGN_OR_RETURN(MemoryImageReader reader, OpenImageFromMemory(bytes, format, "image"));
+  const OIIO::ImageSpec& spec = reader.spec;
+  OIIO::ImageInput* in = reader.input.get();
   const uint64_t pixels = static_cast<uint64_t>(spec.width) * static_cast<uint64_t>(spec.height);
   if (spec.width <= 0 || spec.height <= 0 || spec.depth != 1 || spec.nchannels <= 0 ||
       pixels > kMaxDecodePixels) {

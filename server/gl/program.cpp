@@ -1,5 +1,6 @@
 #include "gl/program.h"
 
+#include <algorithm>
 #include <regex>
 
 #include "gl/shader_library.h"
@@ -29,20 +30,20 @@ std::string Annotate(const std::string& log, const std::vector<std::string>& fil
   return out;
 }
 
-std::string ShaderLog(GLuint shader) {
+// The info log of a shader or program (glGetShaderiv/glGetShaderInfoLog or
+// the program pair).
+template <typename GetIv, typename GetLog>
+std::string InfoLog(GLuint object, GetIv get_iv, GetLog get_log) {
   GLint length = 0;
-  glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+  get_iv(object, GL_INFO_LOG_LENGTH, &length);
   std::string log(size_t(std::max(length, 1)), '\0');
-  glGetShaderInfoLog(shader, length, nullptr, log.data());
+  get_log(object, length, nullptr, log.data());
   return log;
 }
 
+std::string ShaderLog(GLuint shader) { return InfoLog(shader, glGetShaderiv, glGetShaderInfoLog); }
 std::string ProgramLog(GLuint program) {
-  GLint length = 0;
-  glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-  std::string log(size_t(std::max(length, 1)), '\0');
-  glGetProgramInfoLog(program, length, nullptr, log.data());
-  return log;
+  return InfoLog(program, glGetProgramiv, glGetProgramInfoLog);
 }
 
 }  // namespace

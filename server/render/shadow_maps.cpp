@@ -19,6 +19,16 @@ gl::Texture DepthArray(GLenum target, int size, int layers) {
   return t;
 }
 
+// Binds `fbo` for a depth-only pass over a square `resolution` target.
+void BeginDepthPass(GLuint fbo, int resolution) {
+  glNamedFramebufferDrawBuffer(fbo, GL_NONE);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glViewport(0, 0, resolution, resolution);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);
+}
+
 }  // namespace
 
 float ShadowFar(const Bounds& bounds, const glm::vec3& p) {
@@ -73,12 +83,7 @@ void ShadowMaps::RenderCube(const GpuScene& gpu, const SceneState& state, int in
     view_proj[f] = proj * glm::lookAt(position, position + kDir[f], kUp[f]);
   }
   glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, cubes_.id(), 0);
-  glNamedFramebufferDrawBuffer(fbo_.id(), GL_NONE);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-  glViewport(0, 0, resolution_, resolution_);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDisable(GL_CULL_FACE);
+  BeginDepthPass(fbo_.id(), resolution_);
   cube_program_.Use();
   glProgramUniformMatrix4fv(cube_program_.id(), cube_program_.Location("uFaceViewProj"), 6, GL_FALSE,
                             &view_proj[0][0][0]);
@@ -104,12 +109,7 @@ glm::mat4 ShadowMaps::RenderDirectional(const GpuScene& gpu, const SceneState& s
   const glm::mat4 view_proj = proj * view;
 
   glNamedFramebufferTextureLayer(fbo_.id(), GL_DEPTH_ATTACHMENT, directional_.id(), 0, index);
-  glNamedFramebufferDrawBuffer(fbo_.id(), GL_NONE);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-  glViewport(0, 0, resolution_, resolution_);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDisable(GL_CULL_FACE);
+  BeginDepthPass(fbo_.id(), resolution_);
   glClear(GL_DEPTH_BUFFER_BIT);
   dir_program_.Set("uViewProj", view_proj);
   dir_program_.Use();

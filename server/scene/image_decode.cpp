@@ -8,6 +8,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include "encode/image_format.h"
+#include "encode/image_reader.h"
 
 namespace gistream {
 namespace {
@@ -84,21 +85,9 @@ absl::StatusOr<Image> DecodeImage(std::span<const uint8_t> bytes, ImageKind kind
 
   // Only the reader for the detected format is created, and it reads from
   // memory: no file system, no other plugin sees the bytes.
-  OIIO::Filesystem::IOMemReader proxy(bytes.data(), bytes.size());
-  std::unique_ptr<OIIO::ImageInput> in = OIIO::ImageInput::create(format);
-  if (!in) {
-    return absl::InternalError(absl::StrCat(field, ": no ", format, " reader: ", OIIO::geterror()));
-  }
-  OIIO::ImageSpec config;
-  OIIO::Filesystem::IOProxy* proxy_ptr = &proxy;
-  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy_ptr);
-  // PNG alpha is straight (unassociated); keep it so, as glTF expects.
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  OIIO::ImageSpec spec;
-  if (!in->open("memory." + format, spec, config)) {
-    return absl::InvalidArgumentError(
-        absl::StrCat(field, ": corrupt ", format, " image: ", in->geterror()));
-  }
+  GS_ASSIGN_OR_RETURN(MemoryImageReader reader, OpenImageFromMemory(bytes, format, field));
+  const OIIO::ImageSpec& spec = reader.spec;
+  OIIO::ImageInput* in = reader.input.get();
   GS_RETURN_IF_ERROR(CheckSpec(spec, limits, field));
 
   const size_t pixels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);

@@ -1,0 +1,30 @@
+// Opens an in-memory image with exactly one OpenImageIO reader (the one for
+// `format`): no file system, no other plugin sees the bytes. Only the
+// header is read; the caller checks the spec before reading pixels.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+
+#include "util/status.h"
+
+namespace gistream {
+
+struct MemoryImageReader {
+  // The proxy must outlive the reader that reads through it.
+  std::unique_ptr<OIIO::Filesystem::IOMemReader> proxy;
+  std::unique_ptr<OIIO::ImageInput> input;
+  OIIO::ImageSpec spec;
+};
+
+// `field` names the source in errors ("images[2]", "image").
+absl::StatusOr<MemoryImageReader> OpenImageFromMemory(std::span<const uint8_t> bytes,
+                                                      const std::string& format,
+                                                      const std::string& field);
+
+}  // namespace gistream
