@@ -1,11 +1,13 @@
 #include "solvers/registry.h"
 
 #include "solvers/direct/direct_solver.h"
+#include "solvers/pathtrace/pathtrace_solver.h"
 
 namespace gistream {
 
 const std::vector<SolverDescription>& AllSolverDescriptions() {
-  static const std::vector<SolverDescription> kAll = {DirectSolver::Describe()};
+  static const std::vector<SolverDescription> kAll = {DirectSolver::Describe(),
+                                                      PathtraceSolver::Describe()};
   return kAll;
 }
 
@@ -22,6 +24,7 @@ absl::StatusOr<const SolverDescription*> FindSolver(const std::string& name) {
 absl::StatusOr<std::unique_ptr<Solver>> CreateSolver(const std::string& name,
                                                      const ParamSet& params) {
   if (name == "direct") return DirectSolver::Create(params);
+  if (name == "pathtrace") return PathtraceSolver::Create(params);
   return FindSolver(name).status();
 }
 

@@ -40,6 +40,8 @@ class Solver {
   virtual absl::Status Shade(SolverContext& ctx, const ViewCamera& camera,
                              const GBuffer& gbuffer) = 0;
   virtual SolverStats Stats() const = 0;
+  // False when Shade does not read the G-buffer (the engine then skips it).
+  virtual bool NeedsGBuffer() const { return true; }
 };
 
 }  // namespace gistream

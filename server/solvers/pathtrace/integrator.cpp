@@ -1,0 +1,196 @@
+#include "solvers/pathtrace/integrator.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace gistream::pathtrace {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+float SrgbToLinear(uint8_t v) {
+  const float c = float(v) / 255.0f;
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+// Bilinear lookup of an 8-bit sRGB texture with wrap-around addressing.
+glm::vec3 SampleTexture(const Image& image, glm::vec2 uv) {
+  if (image.width <= 0 || image.height <= 0 || image.pixels8.empty()) return glm::vec3(1.0f);
+  const float x = (uv.x - std::floor(uv.x)) * float(image.width) - 0.5f;
+  const float y = (uv.y - std::floor(uv.y)) * float(image.height) - 0.5f;
+  const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+  const float fx = x - float(x0), fy = y - float(y0);
+  auto texel = [&](int tx, int ty) {
+    tx = ((tx % image.width) + image.width) % image.width;
+    ty = ((ty % image.height) + image.height) % image.height;
+    const uint8_t* p = &image.pixels8[(size_t(ty) * size_t(image.width) + size_t(tx)) * 4];
+    return image.srgb ? glm::vec3(SrgbToLinear(p[0]), SrgbToLinear(p[1]), SrgbToLinear(p[2]))
+                      : glm::vec3(p[0], p[1], p[2]) / 255.0f;
+  };
+  return glm::mix(glm::mix(texel(x0, y0), texel(x0 + 1, y0), fx),
+                  glm::mix(texel(x0, y0 + 1), texel(x0 + 1, y0 + 1), fx), fy);
+}
+
+}  // namespace
+
+Integrator::Surface Integrator::Shade(const Hit& hit, const glm::vec3& dir) const {
+  const Triangle& t = bvh_.triangles()[hit.triangle];
+  const float w = 1.0f - hit.u - hit.v;
+  Surface s;
+  s.position = t.p0 + hit.u * t.e1 + hit.v * t.e2;
+  glm::vec3 n = w * t.n0 + hit.u * t.n1 + hit.v * t.n2;
+  const float len = glm::length(n);
+  n = len > 0.0f ? n / len : t.normal;
+  const bool front = glm::dot(t.normal, dir) < 0.0f;
+  s.geometric = front ? t.normal : -t.normal;
+  s.normal = glm::dot(n, s.geometric) < 0.0f ? -n : n;
+  const Material* m = t.material >= 0 ? &state_.materials()[size_t(t.material)] : nullptr;
+  s.albedo = m ? glm::vec3(m->base_color_factor) : glm::vec3(1.0f);
+  if (m && m->base_color_texture >= 0) {
+    const glm::vec2 uv = w * t.uv0 + hit.u * t.uv1 + hit.v * t.uv2;
+    s.albedo *= SampleTexture(state_.scene().images[size_t(m->base_color_texture)], uv);
+  }
+  s.albedo = glm::clamp(s.albedo, 0.0f, 1.0f);
+  // Emitters emit on the side their authored normals face.
+  s.emission = (m && front) ? m->emission() : glm::vec3(0.0f);
+  return s;
+}
+
+glm::vec3 Integrator::Environment(const glm::vec3& dir) const {
+  const auto& env = state_.scene().environment;
+  if (!env || env->image.width <= 0) return glm::vec3(0.0f);
+  const Image& img = env->image;
+  // Equirectangular, +Y up, rotated about +Y by the state's rotation.
+  const float phi = std::atan2(dir.x, -dir.z) - state_.environment_rotation();
+  const float theta = std::acos(std::clamp(dir.y, -1.0f, 1.0f));
+  float u = phi / (2.0f * kPi);
+  u -= std::floor(u);
+  const int x = std::min(int(u * float(img.width)), img.width - 1);
+  const int y = std::min(int(theta / kPi * float(img.height)), img.height - 1);
+  const float* p = &img.pixelsf[(size_t(y) * size_t(img.width) + size_t(x)) * 4];
+  return glm::vec3(p[0], p[1], p[2]) * state_.environment_intensity();
+}
+
+glm::vec3 Integrator::Offset(const Surface& s, const glm::vec3& towards) const {
+  // Relative epsilon: scale-invariant from millimetres to kilometres.
+  const float eps = 1e-5f * bvh_.scene_scale() + 1e-6f * glm::length(s.position);
+  return s.position + (glm::dot(towards, s.geometric) >= 0.0f ? eps : -eps) * s.geometric;
+}
+
+float Integrator::AreaLightPdf(const Triangle& t, float distance, float cos_y) const {
+  if (cos_y <= 0.0f || bvh_.emitter_total() <= 0.0) return 0.0f;
+  const Material& m = state_.materials()[size_t(t.material)];
+  // pdf per area = lum(L_e) / sum(lum(L_e) A); to solid angle: * d^2 / cos.
+  const float pdf_area = float(double(Luminance(m.emission())) / bvh_.emitter_total());
+  return pdf_area * distance * distance / cos_y;
+}
+
+glm::vec3 Integrator::SampleAreaLights(const Surface& s, Rng& rng, PathStats& stats) const {
+  const auto& cdf = bvh_.emitter_cdf();
+  if (bvh_.emitters().empty()) return glm::vec3(0.0f);
+  const double u = double(rng.Uniform()) * bvh_.emitter_total();
+  const size_t k = std::min(size_t(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin()) - 1,
+                            bvh_.emitters().size() - 1);
+  const Triangle& t = bvh_.triangles()[bvh_.emitters()[k]];
+  float a = rng.Uniform(), b = rng.Uniform();
+  if (a + b > 1.0f) a = 1.0f - a, b = 1.0f - b;
+  const glm::vec3 y = t.p0 + a * t.e1 + b * t.e2;
+  glm::vec3 d = y - s.position;
+  const float dist = glm::length(d);
+  if (!(dist > 0.0f)) return glm::vec3(0.0f);
+  d /= dist;
+  const float cos_x = glm::dot(s.normal, d);
+  const float cos_y = -glm::dot(t.normal, d);
+  if (cos_x <= 0.0f || cos_y <= 0.0f) return glm::vec3(0.0f);
+  const float pdf_light = AreaLightPdf(t, dist, cos_y);
+  if (!(pdf_light > 0.0f) || !std::isfinite(pdf_light)) return glm::vec3(0.0f);
+  const glm::vec3 origin = Offset(s, d);
+  ++stats.rays;
+  if (bvh_.Occluded(origin, d, glm::length(y - origin) * (1.0f - 1e-4f))) return glm::vec3(0.0f);
+  const float pdf_bsdf = cos_x / kPi;
+  const glm::vec3 le = state_.materials()[size_t(t.material)].emission();
+  // f L cos / p, f = albedo / pi, weighted by the power heuristic.
+  return s.albedo / kPi * le * (cos_x / pdf_light * PowerHeuristic(pdf_light, pdf_bsdf));
+}
+
+glm::vec3 Integrator::SamplePunctualLights(const Surface& s, PathStats& stats) const {
+  glm::vec3 sum(0.0f);
+  for (const LightInstance& l : state_.lights()) {
+    const glm::vec3 intensity = l.light.color * l.light.intensity;
+    if (l.light.type == LightType::kDirectional) {
+      const glm::vec3 wi = -l.direction;
+      const float c = glm::dot(s.normal, wi);
+      if (c <= 0.0f) continue;
+      ++stats.rays;
+      if (bvh_.Occluded(Offset(s, wi), wi, kInfinity)) continue;
+      sum += intensity * c;  // illuminance (lux) x cos
+      continue;
+    }
+    glm::vec3 d = l.position - s.position;
+    const float r2 = glm::dot(d, d);
+    if (!(r2 > 0.0f)) continue;
+    const float r = std::sqrt(r2);
+    d /= r;
+    const float c = glm::dot(s.normal, d);
+    if (c <= 0.0f) continue;
+    float cone = 1.0f;
+    if (l.light.type == LightType::kSpot) {
+      const float cos_outer = std::cos(l.light.outer_cone_angle);
+      const float scale =
+          1.0f / std::max(0.001f, std::cos(l.light.inner_cone_angle) - cos_outer);
+      cone = std::clamp(glm::dot(l.direction, -d) * scale - cos_outer * scale, 0.0f, 1.0f);
+      cone *= cone;
+      if (cone <= 0.0f) continue;
+    }
+    const glm::vec3 origin = Offset(s, d);
+    ++stats.rays;
+    if (bvh_.Occluded(origin, d, glm::length(l.position - origin))) continue;
+    sum += intensity * (cone * c / r2);  // E = I cos / r^2
+  }
+  return s.albedo / kPi * sum;
+}
+
+glm::vec3 Integrator::Li(glm::vec3 origin, glm::vec3 dir, Rng& rng, PathStats& stats) const {
+  glm::vec3 radiance(0.0f), beta(1.0f);
+  float pdf_bsdf = 0.0f;  // solid-angle pdf of the direction that led here; 0: camera ray
+  for (int depth = 0;; ++depth) {
+    ++stats.rays;
+    const Hit hit = bvh_.Intersect(origin, dir, kInfinity);
+    if (!hit.hit) {
+      radiance += beta * Environment(dir);
+      break;
+    }
+    const Surface s = Shade(hit, dir);
+    if (s.emission != glm::vec3(0.0f)) {
+      if (pdf_bsdf == 0.0f) {
+        radiance += beta * s.emission;
+      } else {
+        // Reached by BSDF sampling: weigh against area-light sampling.
+        const Triangle& t = bvh_.triangles()[hit.triangle];
+        const float pdf_light = AreaLightPdf(t, hit.t, -glm::dot(t.normal, dir));
+        radiance += beta * s.emission * PowerHeuristic(pdf_bsdf, pdf_light);
+      }
+    }
+    if (depth >= settings_.max_depth) break;
+    radiance += beta * (SampleAreaLights(s, rng, stats) + SamplePunctualLights(s, stats));
+
+    // Cosine sampling of the Lambertian BSDF: f cos / p = albedo.
+    const glm::vec3 next = SampleCosine(s.normal, rng.Uniform(), rng.Uniform());
+    const float cos_next = glm::dot(next, s.normal);
+    if (cos_next <= 0.0f || glm::dot(next, s.geometric) <= 0.0f) break;
+    beta *= s.albedo;
+    pdf_bsdf = cos_next / kPi;
+    if (depth >= 3) {
+      const float q = std::min(std::max({beta.r, beta.g, beta.b}), 0.95f);
+      if (!(q > 0.0f) || rng.Uniform() >= q) break;
+      beta /= q;
+    }
+    origin = Offset(s, next);
+    dir = next;
+  }
+  return radiance;
+}
+
+}  // namespace gistream::pathtrace

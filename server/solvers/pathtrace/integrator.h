@@ -1,0 +1,56 @@
+// Radiance along one camera ray: unidirectional path tracing with
+// next-event estimation. Area lights (emissive triangles) are sampled by
+// power and combined with BSDF sampling by multiple importance sampling;
+// punctual lights are sampled directly (they cannot be hit); the
+// environment is gathered by BSDF sampling when a path escapes. Lambertian
+// surfaces, lit on the side the ray arrives from. Russian roulette after
+// three bounces.
+#pragma once
+
+#include <glm/glm.hpp>
+
+#include "scene/scene_state.h"
+#include "solvers/pathtrace/sampling.h"
+#include "solvers/pathtrace/scene_bvh.h"
+
+namespace gistream::pathtrace {
+
+struct IntegratorSettings {
+  int max_depth = 64;  // bounces at most
+};
+
+struct PathStats {
+  uint64_t rays = 0;
+};
+
+class Integrator {
+ public:
+  Integrator(const SceneState& state, const SceneBvh& bvh, const IntegratorSettings& settings)
+      : state_(state), bvh_(bvh), settings_(settings) {}
+
+  glm::vec3 Li(glm::vec3 origin, glm::vec3 dir, Rng& rng, PathStats& stats) const;
+
+ private:
+  struct Surface {
+    glm::vec3 position;
+    glm::vec3 normal;  // shading normal, facing the incoming ray
+    glm::vec3 geometric;  // geometric normal, facing the incoming ray
+    glm::vec3 albedo;
+    glm::vec3 emission;  // emitted towards the incoming ray (one-sided)
+  };
+  Surface Shade(const Hit& hit, const glm::vec3& dir) const;
+  glm::vec3 Environment(const glm::vec3& dir) const;
+  // Next-event estimation at `s`; `wo` is the direction back to the viewer.
+  glm::vec3 SampleAreaLights(const Surface& s, Rng& rng, PathStats& stats) const;
+  glm::vec3 SamplePunctualLights(const Surface& s, PathStats& stats) const;
+  // Solid-angle pdf of hitting emitter triangle `t` at distance d with
+  // cosine cos_y through area-light sampling.
+  float AreaLightPdf(const Triangle& t, float distance, float cos_y) const;
+  glm::vec3 Offset(const Surface& s, const glm::vec3& towards) const;
+
+  const SceneState& state_;
+  const SceneBvh& bvh_;
+  IntegratorSettings settings_;
+};
+
+}  // namespace gistream::pathtrace
