@@ -12,6 +12,7 @@ absl::Status RunStatus(const ConnectionOptions& connection, const StatusOptions&
 absl::Status RunRender(const ConnectionOptions& connection, const RenderOptions& options);
 absl::Status RunStream(const ConnectionOptions& connection, const StreamOptions& options);
 absl::Status RunScript(const ConnectionOptions& connection, const ScriptOptions& options);
+absl::Status RunEval(const ConnectionOptions& connection, const EvalOptions& options);
 
 // What RunStream/RunScript return when a second interrupt cancelled the
 // session (main exits 130).

@@ -30,6 +30,7 @@ absl::Status Dispatch(const CommandLine& line) {
     case Command::kRender: return RunRender(connection, std::get<RenderOptions>(line.options));
     case Command::kStream: return RunStream(connection, std::get<StreamOptions>(line.options));
     case Command::kScript: return RunScript(connection, std::get<ScriptOptions>(line.options));
+    case Command::kEval: return RunEval(connection, std::get<EvalOptions>(line.options));
   }
   return absl::InternalError("unknown command");
 }

@@ -47,6 +47,7 @@ std::optional<Command> CommandFromName(absl::string_view name) {
   if (name == "stream") return Command::kStream;
   if (name == "script") return Command::kScript;
   if (name == "status") return Command::kStatus;
+  if (name == "eval") return Command::kEval;
   return std::nullopt;
 }
 
@@ -203,6 +204,24 @@ absl::StatusOr<ScriptOptions> ParseScript(const ParsedFlags& flags) {
   return options;
 }
 
+absl::StatusOr<EvalOptions> ParseEval(const ParsedFlags& flags) {
+  EvalOptions options;
+  if (flags.positional().size() != 1) {
+    return Usage(flags.positional().empty() ? "eval SPEC is required"
+                                            : "eval takes exactly one SPEC");
+  }
+  options.file = flags.positional().front();
+  if (auto value = flags.Get("out")) {
+    if (value->empty()) return Usage("--out: empty directory name");
+    options.out_dir = *value;
+  }
+  if (auto value = flags.Get("cache")) {
+    if (value->empty()) return Usage("--cache: empty directory name");
+    options.cache_dir = *value;
+  }
+  return options;
+}
+
 // Leading options before the command word: --server, --timeout, --help.
 absl::StatusOr<size_t> ParseGlobalOptions(std::span<const std::string> args, CommandLine& line) {
   size_t i = 0;
@@ -243,6 +262,7 @@ absl::string_view CommandName(Command command) {
     case Command::kStream: return "stream";
     case Command::kScript: return "script";
     case Command::kStatus: return "status";
+    case Command::kEval: return "eval";
   }
   return "?";
 }
@@ -330,6 +350,10 @@ absl::StatusOr<CommandLine> ParseCommandLine(std::span<const std::string> args,
       specs = Concat({&kConnectionFlags});
       specs.insert(specs.end(), {{"out"}, {"keep-scene", false}});
       break;
+    case Command::kEval:
+      specs = Concat({&kConnectionFlags});
+      specs.insert(specs.end(), {{"out"}, {"cache"}});
+      break;
   }
   GS_ASSIGN_OR_RETURN(ParsedFlags flags, ParseFlags(rest, specs));
   GS_RETURN_IF_ERROR(ApplyConnection(flags, line.connection));
@@ -355,6 +379,10 @@ absl::StatusOr<CommandLine> ParseCommandLine(std::span<const std::string> args,
     }
     case Command::kScript: {
       GS_ASSIGN_OR_RETURN(line.options, ParseScript(flags));
+      break;
+    }
+    case Command::kEval: {
+      GS_ASSIGN_OR_RETURN(line.options, ParseEval(flags));
       break;
     }
   }

@@ -19,7 +19,7 @@ namespace gistream::client {
 
 inline constexpr absl::string_view kDefaultServer = "127.0.0.1:50051";
 
-enum class Command { kSolvers, kRender, kStream, kScript, kStatus };
+enum class Command { kSolvers, kRender, kStream, kScript, kStatus, kEval };
 
 struct ConnectionOptions {
   std::string server{kDefaultServer};
@@ -74,6 +74,12 @@ struct ScriptOptions {
 
 struct StatusOptions {};
 
+struct EvalOptions {
+  std::filesystem::path file;
+  std::filesystem::path out_dir = "out/eval";
+  std::filesystem::path cache_dir = ".cache/reference";
+};
+
 struct CommandLine {
   ConnectionOptions connection;
   // --help / -h / `help [COMMAND]`: print the help of `command` (or the
@@ -81,7 +87,7 @@ struct CommandLine {
   bool help = false;
   std::optional<Command> command;
   std::variant<std::monostate, SolversOptions, RenderOptions, StreamOptions, ScriptOptions,
-               StatusOptions>
+               StatusOptions, EvalOptions>
       options;
 };
 

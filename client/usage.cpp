@@ -13,6 +13,7 @@ commands:
   render    render one frame and write it to a file
   stream    open a session and save the frames it streams
   script    play a JSON timeline of updates, one saved frame per step
+  eval      error against a path-traced reference and run time, per solver
   status    show the server's device, sessions, scenes and frame count
 
 global options (also accepted after the command):
@@ -106,6 +107,24 @@ camera_path, node_path, node_spin, light, material, environment) and events
 (protobuf-JSON Update messages at given frames).
 )";
 
+constexpr absl::string_view kEval =
+    R"(usage: gistream [--server ADDR] eval SPEC [--out DIR] [--cache DIR]
+
+Measures solvers through the running server: for every scene, view, solver
+and parameter setting in the JSON SPEC, the error of its float image against
+a path-traced reference (relMSE, RMSE, SSIM of tone-mapped luminance, the
+fraction of NaN/Inf pixels) and the median/p95 frame time of a full update,
+a light-only and a camera-only change; plus the path tracer's own error at
+equal time budgets. Writes results.csv, results.json, results.md and
+error_vs_time.png (log-log) into DIR and prints the markdown table.
+
+  --out DIR     output directory (default out/eval)
+  --cache DIR   reference images, keyed by scene content, view, size and
+                sample count, computed once (default .cache/reference)
+
+See scenes/eval_default.json and README.md for the spec format.
+)";
+
 constexpr absl::string_view kStatus = R"(usage: gistream [--server ADDR] status
 
 Prints the server's GL vendor, renderer and version, the number of sessions
@@ -122,6 +141,7 @@ absl::string_view HelpText(std::optional<Command> command) {
     case Command::kStream: return kStream;
     case Command::kScript: return kScript;
     case Command::kStatus: return kStatus;
+    case Command::kEval: return kEval;
   }
   return kOverview;
 }

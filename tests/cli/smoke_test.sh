@@ -32,6 +32,23 @@ $C stream --frames 3 --size 48x32 --param area_samples=4 --out "$TMP/frames" >"$
 [ "$(ls "$TMP/frames" | wc -l)" -eq 3 ] || { echo "FAIL: stream wrote $(ls "$TMP/frames" | wc -l) frames"; exit 1; }
 grep -q "shadow_maps" "$TMP/stream.log" || { echo "FAIL: stream printed no stage table"; exit 1; }
 
+# eval end to end on a tiny spec: outputs written, every row finite.
+cat >"$TMP/spec.json" <<'JSON'
+{"size": [16, 16], "reference": {"spp": 16}, "timed_frames": 1, "pathtrace_budgets_ms": [10],
+ "scenes": [{"name": "cornell_box",
+   "geometry_change": [{"node_transform": {"node": 6, "translation": {"x": 0.01}}}, {"node_transform": {"node": 6}}],
+   "light_change": [{"material": {"material": 3, "emissive_strength": 12}}, {"material": {"material": 3, "emissive_strength": 17}}]}],
+ "solvers": [{"name": "direct", "grid": {"area_samples": ["4", "8"]}}]}
+JSON
+$C eval "$TMP/spec.json" --out "$TMP/eval" --cache "$TMP/cache" >"$TMP/eval.log" 2>&1 ||
+  { cat "$TMP/eval.log"; echo "FAIL: eval"; exit 1; }
+for f in results.csv results.json results.md error_vs_time.png; do
+  [ -s "$TMP/eval/$f" ] || { echo "FAIL: eval did not write $f"; exit 1; }
+done
+[ "$(grep -c '^cornell_box,' "$TMP/eval/results.csv")" -eq 3 ] || { echo "FAIL: eval rows"; exit 1; }
+ls "$TMP/cache"/*.exr >/dev/null || { echo "FAIL: no cached reference"; exit 1; }
+if grep -qiE 'nan|inf' "$TMP/eval/results.csv"; then echo "FAIL: non-finite metric"; exit 1; fi
+
 # Errors: non-zero exit with the server's code and the field it names.
 set +e
 $C render --scene cornell_box --solver direct --param area_samples=0 --size 8x8 \

@@ -1,0 +1,379 @@
+// `gistream eval`: error against a path-traced reference and run time, per
+// scene, view, solver and parameter setting (see eval_spec.h, README.md).
+#include <algorithm>
+#include <chrono>
+#include <ctime>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <iterator>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "connection.h"
+#include "encode/encode.h"
+#include "eval_spec.h"
+#include "metrics.h"
+#include "plot.h"
+#include "scene_loader.h"
+#include "session_stream.h"
+
+namespace gistream::client {
+namespace {
+
+struct Timing {
+  double median = 0.0, p95 = 0.0;
+};
+
+Timing Summarize(std::vector<double> v) {
+  if (v.empty()) return {};
+  std::sort(v.begin(), v.end());
+  const auto pick = [&](double q) { return v[size_t(std::ceil(q * double(v.size())) - 1)]; };
+  return {v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]),
+          pick(0.95)};
+}
+
+struct EvalRow {
+  std::string scene, view, solver, params;
+  double first_ms = 0.0;
+  Timing full, light, camera;
+  ImageError error;
+  double spp = 0.0;  // pathtrace rows
+  bool equal_time = false;
+};
+
+absl::StatusOr<std::string> ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return absl::NotFoundError(absl::StrCat("cannot read ", path.string()));
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+absl::StatusOr<RgbaImage> DecodeFrame(const v1::Frame& frame) {
+  const std::string& bytes = frame.image();
+  GS_ASSIGN_OR_RETURN(DecodedImage d, DecodeImageBytes({reinterpret_cast<const uint8_t*>(bytes.data()),
+                                                        bytes.size()}));
+  return RgbaImage{d.width, d.height, std::move(d.rgba)};
+}
+
+double StatOf(const v1::Frame& frame, const std::string& name) {
+  auto it = frame.stats().find(name);
+  return it == frame.stats().end() ? 0.0 : it->second;
+}
+
+std::string ParamsText(const std::map<std::string, std::string>& params) {
+  std::string out;
+  for (const auto& [k, v] : params) absl::StrAppend(&out, out.empty() ? "" : " ", k, "=", v);
+  return out.empty() ? "(defaults)" : out;
+}
+
+v1::CameraChange ViewCamera(const EvalView& view) {
+  v1::CameraChange c;
+  if (view.look_at) *c.mutable_look_at() = *view.look_at;
+  if (view.yfov_degrees) c.set_yfov_degrees(*view.yfov_degrees);
+  return c;
+}
+
+class Evaluator {
+ public:
+  Evaluator(Connection& connection, const EvalSpec& spec) : conn_(connection), spec_(spec) {}
+
+  absl::StatusOr<v1::Frame> RenderOnce(const std::string& scene, const std::string& solver,
+                                       const std::map<std::string, std::string>& params,
+                                       const v1::CameraChange& camera) {
+    v1::RenderRequest request;
+    request.set_scene_id(scene);
+    request.set_solver(solver);
+    for (const auto& [k, v] : params) (*request.mutable_params())[k] = v;
+    request.set_width(spec_.width);
+    request.set_height(spec_.height);
+    request.mutable_encoding()->set_format(v1::IMAGE_FORMAT_EXR);
+    *request.mutable_camera() = camera;
+    v1::Frame frame;
+    GS_RETURN_IF_ERROR(conn_.Call(&v1::Gistream::Stub::Render, request, &frame));
+    return frame;
+  }
+
+  // The reference for one view: cached as EXR under `cache` by content key.
+  absl::StatusOr<RgbaImage> Reference(const std::string& scene_id, const std::string& content_key,
+                                      const EvalView& view, const std::filesystem::path& cache) {
+    std::ostringstream key;
+    key << content_key << '|' << view.name << '|'
+        << (view.look_at ? view.look_at->ShortDebugString() : "scene camera") << '|'
+        << (view.yfov_degrees ? *view.yfov_degrees : 0.0f) << '|' << spec_.width << 'x'
+        << spec_.height << '|' << spec_.reference_spp;
+    std::ostringstream name;
+    name << std::hex << std::setw(16) << std::setfill('0') << Fnv1a(key.str()) << ".exr";
+    const std::filesystem::path file = cache / name.str();
+    if (auto cached = ReadText(file); cached.ok()) {
+      std::cerr << "reference " << file.string() << " (cached)\n";
+      GS_ASSIGN_OR_RETURN(DecodedImage d, DecodeImageBytes({reinterpret_cast<const uint8_t*>(cached->data()),
+                                                            cached->size()}));
+      return RgbaImage{d.width, d.height, std::move(d.rgba)};
+    }
+    // Progressive: same solver settings and view, so each call adds samples.
+    const int chunk = std::min(spec_.reference_spp, 64);
+    const std::map<std::string, std::string> params = {{"spp", std::to_string(chunk)},
+                                                       {"seed", "1"}};
+    v1::Frame frame;
+    const auto start = std::chrono::steady_clock::now();
+    do {
+      GS_ASSIGN_OR_RETURN(frame, RenderOnce(scene_id, "pathtrace", params, ViewCamera(view)));
+    } while (StatOf(frame, "spp_total") < spec_.reference_spp);
+    std::filesystem::create_directories(cache);
+    std::ofstream(file, std::ios::binary) << frame.image();
+    std::cerr << "reference " << file.string() << ": " << StatOf(frame, "spp_total") << " spp in "
+              << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
+              << " s\n";
+    return DecodeFrame(frame);
+  }
+
+  absl::StatusOr<EvalRow> Measure(const std::string& scene_id, const EvalScene& scene,
+                                  const EvalView& view, const std::string& solver,
+                                  const std::map<std::string, std::string>& params,
+                                  const RgbaImage& reference, float base_yfov) {
+    v1::SessionConfig config;
+    config.set_scene_id(scene_id);
+    config.set_solver(solver);
+    for (const auto& [k, v] : params) (*config.mutable_params())[k] = v;
+    config.set_width(spec_.width);
+    config.set_height(spec_.height);
+    config.mutable_encoding()->set_format(v1::IMAGE_FORMAT_EXR);
+    config.mutable_on_request();
+    *config.mutable_camera() = ViewCamera(view);
+    GS_ASSIGN_OR_RETURN(std::unique_ptr<SessionStream> stream,
+                        SessionStream::Open(conn_.stub(), config, conn_.server()));
+    EvalRow row;
+    row.scene = scene.name;
+    row.view = view.name;
+    row.solver = solver;
+    row.params = ParamsText(params);
+    uint64_t seq = 0;
+    auto frame_after = [&](const v1::Update* update) -> absl::StatusOr<v1::Frame> {
+      if (update) {
+        v1::Update u = *update;
+        u.set_seq(++seq);
+        if (!stream->SendUpdate(u)) return absl::UnavailableError("session ended");
+      }
+      if (!stream->RequestFrame(1)) return absl::UnavailableError("session ended");
+      v1::SessionEvent event;
+      while (stream->Next(&event)) {
+        if (event.has_rejected()) {
+          return absl::InvalidArgumentError(
+              absl::StrCat("update rejected: ", event.rejected().message()));
+        }
+        if (event.has_frame() && event.frame().last_update_seq() >= seq) return event.frame();
+      }
+      GS_RETURN_IF_ERROR(stream->Finish());
+      return absl::UnavailableError("session ended before the frame");
+    };
+    GS_ASSIGN_OR_RETURN(v1::Frame first, frame_after(nullptr));
+    row.first_ms = first.total_ms();
+    row.spp = StatOf(first, "spp_total");
+    GS_ASSIGN_OR_RETURN(RgbaImage image, DecodeFrame(first));
+    GS_ASSIGN_OR_RETURN(row.error, CompareImages(image, reference));
+
+    auto timed = [&](const std::vector<v1::Update>& pair) -> absl::StatusOr<Timing> {
+      std::vector<double> ms;
+      for (int k = 0; k < 2 * spec_.timed_frames; ++k) {  // even: ends restored
+        GS_ASSIGN_OR_RETURN(v1::Frame f, frame_after(&pair[size_t(k % 2)]));
+        ms.push_back(f.total_ms());
+      }
+      return Summarize(ms);
+    };
+    GS_ASSIGN_OR_RETURN(row.full, timed(scene.geometry_change));
+    GS_ASSIGN_OR_RETURN(row.light, timed(scene.light_change));
+    std::vector<v1::Update> camera_pair(2);
+    camera_pair[0].mutable_camera()->set_yfov_degrees(base_yfov + 1.0f);
+    camera_pair[1].mutable_camera()->set_yfov_degrees(base_yfov);
+    GS_ASSIGN_OR_RETURN(row.camera, timed(camera_pair));
+    stream->CloseWrites();
+    v1::SessionEvent drain;
+    while (stream->Next(&drain)) {
+    }
+    (void)stream->Finish();
+    return row;
+  }
+
+ private:
+  Connection& conn_;
+  const EvalSpec& spec_;
+};
+
+std::string Fixed(double v, int digits = 3) {
+  std::ostringstream o;
+  o << std::setprecision(digits) << std::fixed << v;
+  return o.str();
+}
+std::string Sci(double v) {
+  std::ostringstream o;
+  o << std::setprecision(3) << std::scientific << v;
+  return o.str();
+}
+
+std::string Markdown(const std::vector<EvalRow>& rows) {
+  std::ostringstream md;
+  md << "| scene | view | solver | params | full median/p95 ms | light-only median ms | "
+        "camera-only median ms | relMSE | RMSE | SSIM | NaN/Inf |\n"
+     << "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  for (const EvalRow& r : rows) {
+    md << "| " << r.scene << " | " << r.view << " | " << r.solver
+       << (r.equal_time ? " (equal time)" : "") << " | " << r.params;
+    if (r.spp > 0) md << " (" << r.spp << " spp)";
+    if (r.equal_time) {
+      md << " | " << Fixed(r.full.median, 1) << " | - | - | ";
+    } else {
+      md << " | " << Fixed(r.full.median, 1) << " / " << Fixed(r.full.p95, 1) << " | "
+         << Fixed(r.light.median, 1) << " | " << Fixed(r.camera.median, 1) << " | ";
+    }
+    md << Sci(r.error.rel_mse) << " | " << Sci(r.error.rmse) << " | " << Fixed(r.error.ssim)
+       << " | " << r.error.nonfinite_fraction << " |\n";
+  }
+  return md.str();
+}
+
+absl::Status WriteOutputs(const std::filesystem::path& dir, const std::vector<EvalRow>& rows,
+                          const nlohmann::json& meta) {
+  std::filesystem::create_directories(dir);
+  std::ofstream csv(dir / "results.csv");
+  csv << "scene,view,solver,equal_time,params,spp,first_ms,full_median_ms,full_p95_ms,"
+         "light_median_ms,light_p95_ms,camera_median_ms,camera_p95_ms,rel_mse,rmse,ssim,"
+         "nonfinite_fraction\n";
+  nlohmann::json results = nlohmann::json::array();
+  for (const EvalRow& r : rows) {
+    csv << r.scene << ',' << r.view << ',' << r.solver << ',' << (r.equal_time ? 1 : 0) << ",\""
+        << r.params << "\"," << r.spp << ',' << r.first_ms << ',' << r.full.median << ','
+        << r.full.p95 << ',' << r.light.median << ',' << r.light.p95 << ',' << r.camera.median
+        << ',' << r.camera.p95 << ',' << r.error.rel_mse << ',' << r.error.rmse << ','
+        << r.error.ssim << ',' << r.error.nonfinite_fraction << '\n';
+    results.push_back({{"scene", r.scene}, {"view", r.view}, {"solver", r.solver},
+                       {"equal_time", r.equal_time}, {"params", r.params}, {"spp", r.spp},
+                       {"first_ms", r.first_ms},
+                       {"full_ms", {{"median", r.full.median}, {"p95", r.full.p95}}},
+                       {"light_ms", {{"median", r.light.median}, {"p95", r.light.p95}}},
+                       {"camera_ms", {{"median", r.camera.median}, {"p95", r.camera.p95}}},
+                       {"rel_mse", r.error.rel_mse}, {"rmse", r.error.rmse},
+                       {"ssim", r.error.ssim}, {"nonfinite_fraction", r.error.nonfinite_fraction}});
+  }
+  nlohmann::json doc = meta;
+  doc["results"] = results;
+  std::ofstream(dir / "results.json") << doc.dump(2) << '\n';
+
+  // Error against time: one series per solver (and scene), log-log.
+  std::vector<PlotSeries> series;
+  auto series_for = [&](const std::string& name) -> PlotSeries& {
+    for (PlotSeries& s : series) {
+      if (s.name == name) return s;
+    }
+    series.push_back({name, {}});
+    return series.back();
+  };
+  for (const EvalRow& r : rows) {
+    const std::string name =
+        absl::StrCat(r.scene, "/", r.view, ": ", r.solver, r.equal_time ? " (equal time)" : "");
+    series_for(name).points.emplace_back(r.full.median, r.error.rel_mse);
+  }
+  const Raster plot = PlotLogLog(series, 720, 480);
+  GS_ASSIGN_OR_RETURN(std::string png, EncodePng(plot.rgba, plot.width, plot.height));
+  std::ofstream(dir / "error_vs_time.png", std::ios::binary) << png;
+
+  std::ofstream md(dir / "results.md");
+  md << "Measured " << meta.value("date", "") << " on " << meta.value("gl_renderer", "")
+     << " with `" << meta.value("command", "") << "`.\n\n"
+     << Markdown(rows) << "\nPlot `error_vs_time.png`: relMSE (y) against the median "
+     << "full-update frame time in ms (x), log-log; tick labels are powers of ten. Colours:\n\n";
+  for (size_t i = 0; i < series.size(); ++i) {
+    md << "- " << SeriesColorName(i) << ": " << series[i].name << "\n";
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOptions& options) {
+  GS_ASSIGN_OR_RETURN(const std::string text, ReadText(options.file));
+  GS_ASSIGN_OR_RETURN(const EvalSpec spec, ParseEvalSpec(text));
+  Connection connection(connection_options);
+  v1::ServerStatus status;
+  GS_RETURN_IF_ERROR(connection.Call(&v1::Gistream::Stub::GetServerStatus,
+                                     v1::GetServerStatusRequest(), &status));
+  Evaluator evaluator(connection, spec);
+  std::vector<EvalRow> rows;
+  for (const EvalScene& scene : spec.scenes) {
+    v1::LoadSceneRequest load;
+    load.set_name(scene.name);
+    GS_ASSIGN_OR_RETURN(std::unique_ptr<LoadedScene> loaded,
+                        LoadedScene::Load(connection, load, /*keep=*/false));
+    // Content key: the scene file when it is readable here, else what the
+    // server reports about the scene (counts, bounds, materials, lights).
+    std::string content;
+    for (const char* ext : {".gltf", ".glb"}) {
+      if (auto file = ReadText(std::filesystem::path("scenes") / (scene.name + ext)); file.ok()) {
+        content = *file;
+      }
+    }
+    if (content.empty()) {
+      v1::LoadSceneResponse info = loaded->info();
+      info.clear_scene_id();
+      info.clear_version();
+      content = info.SerializeAsString();
+    }
+    const std::string content_key = std::to_string(Fnv1a(content));
+    const float base_yfov =
+        loaded->info().cameras_size() > 0 ? loaded->info().cameras(0).yfov() * 57.29578f : 45.0f;
+    for (const EvalView& view : scene.views) {
+      GS_ASSIGN_OR_RETURN(RgbaImage reference,
+                          evaluator.Reference(loaded->id(), content_key, view, options.cache_dir));
+      const float yfov = view.yfov_degrees.value_or(base_yfov);
+      for (const EvalSolver& solver : spec.solvers) {
+        for (const auto& params : solver.Settings()) {
+          GS_ASSIGN_OR_RETURN(EvalRow row, evaluator.Measure(loaded->id(), scene, view, solver.name,
+                                                             params, reference, yfov));
+          std::cerr << scene.name << "/" << view.name << " " << solver.name << " " << row.params
+                    << ": relMSE " << row.error.rel_mse << ", full " << row.full.median << " ms\n";
+          rows.push_back(std::move(row));
+        }
+      }
+      // The path tracer as the peer curve: its error at equal time budgets.
+      for (size_t i = 0; i < spec.pathtrace_budgets_ms.size(); ++i) {
+        const double budget = spec.pathtrace_budgets_ms[i];
+        std::ostringstream b;
+        b << budget;
+        GS_ASSIGN_OR_RETURN(v1::Frame frame,
+                            evaluator.RenderOnce(loaded->id(), "pathtrace",
+                                                 {{"time_budget_ms", b.str()},
+                                                  {"seed", std::to_string(1000 + i)}},
+                                                 ViewCamera(view)));
+        GS_ASSIGN_OR_RETURN(RgbaImage image, DecodeFrame(frame));
+        EvalRow row;
+        row.scene = scene.name;
+        row.view = view.name;
+        row.solver = "pathtrace";
+        row.equal_time = true;
+        row.params = absl::StrCat("time_budget_ms=", b.str());
+        row.spp = StatOf(frame, "spp_total");
+        row.full.median = row.full.p95 = frame.total_ms();
+        GS_ASSIGN_OR_RETURN(row.error, CompareImages(image, reference));
+        rows.push_back(std::move(row));
+      }
+    }
+  }
+  const std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof(date), "%Y-%m-%d", std::gmtime(&now));
+  const nlohmann::json meta = {
+      {"date", date},
+      {"gl_renderer", status.gl_renderer()},
+      {"gl_version", status.gl_version()},
+      {"command", absl::StrCat("gistream eval ", options.file.string())},
+      {"size", {spec.width, spec.height}},
+      {"reference_spp", spec.reference_spp}};
+  GS_RETURN_IF_ERROR(WriteOutputs(options.out_dir, rows, meta));
+  std::cout << "Measured " << date << " on " << status.gl_renderer() << "\n\n"
+            << Markdown(rows) << "\nwrote " << (options.out_dir / "results.{csv,json,md}").string()
+            << " and " << (options.out_dir / "error_vs_time.png").string() << "\n";
+  return absl::OkStatus();
+}
+
+}  // namespace gistream::client

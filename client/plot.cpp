@@ -1,0 +1,153 @@
+#include "plot.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+
+namespace gistream::client {
+namespace {
+
+constexpr std::array<std::array<uint8_t, 3>, 8> kPalette = {{{31, 119, 180},
+                                                             {214, 39, 40},
+                                                             {44, 160, 44},
+                                                             {255, 127, 14},
+                                                             {148, 103, 189},
+                                                             {140, 86, 75},
+                                                             {227, 119, 194},
+                                                             {127, 127, 127}}};
+constexpr const char* kPaletteNames[] = {"blue", "red",    "green", "orange",
+                                         "purple", "brown", "pink",  "grey"};
+
+// 3x5 glyphs for tick labels: digits and '-' (one row per byte, 3 bits).
+uint8_t GlyphRow(char c, int row) {
+  static const uint8_t kDigits[10][5] = {
+      {7, 5, 5, 5, 7}, {2, 6, 2, 2, 7}, {7, 1, 7, 4, 7}, {7, 1, 7, 1, 7}, {5, 5, 7, 1, 1},
+      {7, 4, 7, 1, 7}, {7, 4, 7, 5, 7}, {7, 1, 1, 1, 1}, {7, 5, 7, 5, 7}, {7, 5, 7, 1, 7}};
+  if (c >= '0' && c <= '9') return kDigits[c - '0'][row];
+  if (c == '-') return row == 2 ? 7 : 0;
+  return 0;
+}
+
+void Put(Raster& r, int x, int y, std::array<uint8_t, 3> c) {
+  if (x < 0 || y < 0 || x >= r.width || y >= r.height) return;
+  uint8_t* p = &r.rgba[(size_t(y) * size_t(r.width) + size_t(x)) * 4];
+  p[0] = c[0];
+  p[1] = c[1];
+  p[2] = c[2];
+  p[3] = 255;
+}
+
+void Line(Raster& r, int x0, int y0, int x1, int y1, std::array<uint8_t, 3> c, int thickness) {
+  const int dx = std::abs(x1 - x0), dy = -std::abs(y1 - y0);
+  const int sx = x0 < x1 ? 1 : -1, sy = y0 < y1 ? 1 : -1;
+  int err = dx + dy;
+  for (;;) {
+    for (int ty = 0; ty < thickness; ++ty) {
+      for (int tx = 0; tx < thickness; ++tx) Put(r, x0 + tx - thickness / 2, y0 + ty - thickness / 2, c);
+    }
+    if (x0 == x1 && y0 == y1) break;
+    const int e2 = 2 * err;
+    if (e2 >= dy) err += dy, x0 += sx;
+    if (e2 <= dx) err += dx, y0 += sy;
+  }
+}
+
+void Box(Raster& r, int x, int y, int half, std::array<uint8_t, 3> c) {
+  for (int dy = -half; dy <= half; ++dy) {
+    for (int dx = -half; dx <= half; ++dx) Put(r, x + dx, y + dy, c);
+  }
+}
+
+void Text(Raster& r, int x, int y, const std::string& s, std::array<uint8_t, 3> c) {
+  for (char ch : s) {
+    for (int row = 0; row < 5; ++row) {
+      const uint8_t bits = GlyphRow(ch, row);
+      for (int col = 0; col < 3; ++col) {
+        if (!(bits & (4 >> col))) continue;
+        // Each glyph bit is a 2x2 block.
+        for (int sy = 0; sy < 2; ++sy) {
+          for (int sx = 0; sx < 2; ++sx) Put(r, x + col * 2 + sx, y + row * 2 + sy, c);
+        }
+      }
+    }
+    x += 8;
+  }
+}
+
+bool Usable(double x, double y) { return std::isfinite(x) && std::isfinite(y) && x > 0 && y > 0; }
+
+}  // namespace
+
+std::array<uint8_t, 3> SeriesColor(size_t i) { return kPalette[i % kPalette.size()]; }
+const char* SeriesColorName(size_t i) { return kPaletteNames[i % kPalette.size()]; }
+
+int LogAxes::X(double x) const {
+  return left + int(std::lround((std::log10(x) - x0) / (x1 - x0) * double(right - left)));
+}
+int LogAxes::Y(double y) const {
+  return bottom - int(std::lround((std::log10(y) - y0) / (y1 - y0) * double(bottom - top)));
+}
+
+bool ComputeAxes(const std::vector<PlotSeries>& series, int width, int height, LogAxes& axes) {
+  double lx0 = 1e300, lx1 = -1e300, ly0 = 1e300, ly1 = -1e300;
+  for (const PlotSeries& s : series) {
+    for (const auto& [x, y] : s.points) {
+      if (!Usable(x, y)) continue;
+      lx0 = std::min(lx0, std::log10(x));
+      lx1 = std::max(lx1, std::log10(x));
+      ly0 = std::min(ly0, std::log10(y));
+      ly1 = std::max(ly1, std::log10(y));
+    }
+  }
+  if (lx0 > lx1) return false;
+  axes.x0 = std::floor(lx0);
+  axes.x1 = std::max(std::ceil(lx1), axes.x0 + 1);
+  axes.y0 = std::floor(ly0);
+  axes.y1 = std::max(std::ceil(ly1), axes.y0 + 1);
+  axes.left = 60;
+  axes.right = width - 20;
+  axes.top = 20;
+  axes.bottom = height - 40;
+  return axes.right > axes.left && axes.bottom > axes.top;
+}
+
+Raster PlotLogLog(const std::vector<PlotSeries>& series, int width, int height) {
+  Raster r;
+  r.width = width;
+  r.height = height;
+  r.rgba.assign(size_t(width) * size_t(height) * 4, 255);
+  LogAxes axes;
+  if (!ComputeAxes(series, width, height, axes)) return r;
+  const std::array<uint8_t, 3> grid{225, 225, 225}, black{0, 0, 0};
+  // Decade grid and labels (the exponent k of 10^k).
+  for (double k = axes.x0; k <= axes.x1; k += 1) {
+    const int x = axes.X(std::pow(10.0, k));
+    Line(r, x, axes.top, x, axes.bottom, grid, 1);
+    Text(r, x - 4, axes.bottom + 8, std::to_string(int(k)), black);
+  }
+  for (double k = axes.y0; k <= axes.y1; k += 1) {
+    const int y = axes.Y(std::pow(10.0, k));
+    Line(r, axes.left, y, axes.right, y, grid, 1);
+    Text(r, axes.left - 30, y - 5, std::to_string(int(k)), black);
+  }
+  Line(r, axes.left, axes.bottom, axes.right, axes.bottom, black, 1);
+  Line(r, axes.left, axes.top, axes.left, axes.bottom, black, 1);
+  for (size_t i = 0; i < series.size(); ++i) {
+    const auto color = SeriesColor(i);
+    std::vector<std::pair<double, double>> pts;
+    for (const auto& p : series[i].points) {
+      if (Usable(p.first, p.second)) pts.push_back(p);
+    }
+    std::sort(pts.begin(), pts.end());
+    for (size_t k = 0; k + 1 < pts.size(); ++k) {
+      Line(r, axes.X(pts[k].first), axes.Y(pts[k].second), axes.X(pts[k + 1].first),
+           axes.Y(pts[k + 1].second), color, 2);
+    }
+    for (const auto& p : pts) Box(r, axes.X(p.first), axes.Y(p.second), 3, color);
+    // Legend: a swatch per series, top right (names are in results.md).
+    Box(r, axes.right - 12, axes.top + 8 + int(i) * 14, 5, color);
+  }
+  return r;
+}
+
+}  // namespace gistream::client
