@@ -154,6 +154,21 @@ int GltfBuilder::AddPointLight(const std::string& name, Vec3 position, Vec3 colo
                   {"extensions", {{"KHR_lights_punctual", {{"light", lights_.size() - 1}}}}}});
 }
 
+int GltfBuilder::AddSpotLightDown(const std::string& name, Vec3 position, Vec3 color,
+                                  float intensity, float inner_cone, float outer_cone) {
+  lights_.push_back({{"name", name},
+                     {"type", "spot"},
+                     {"color", color},
+                     {"intensity", intensity},
+                     {"spot", {{"innerConeAngle", inner_cone}, {"outerConeAngle", outer_cone}}}});
+  // Spot lights shine along local -Z; -90 degrees about X turns -Z to -Y.
+  const float h = 0.70710678f;
+  return AddNode({{"name", name},
+                  {"translation", position},
+                  {"rotation", {-h, 0.0f, 0.0f, h}},
+                  {"extensions", {{"KHR_lights_punctual", {{"light", lights_.size() - 1}}}}}});
+}
+
 int GltfBuilder::AddCamera(const std::string& name, Vec3 position, Vec3 forward, Vec3 up,
                            float yfov) {
   const Vec3 back = Normalize({-forward[0], -forward[1], -forward[2]});

@@ -22,6 +22,9 @@ class GltfBuilder {
   // along normalize(cross(u, v)), tessellated n x n. Returns the node index.
   int AddQuad(const std::string& name, Vec3 center, Vec3 u, Vec3 v, int material, int n = 1);
   int AddPointLight(const std::string& name, Vec3 position, Vec3 color, float intensity);
+  // A spot light shining straight down (-Y); cone angles in radians.
+  int AddSpotLightDown(const std::string& name, Vec3 position, Vec3 color, float intensity,
+                       float inner_cone, float outer_cone);
   // Camera at `position` looking along `forward` (unit) with `up`.
   int AddCamera(const std::string& name, Vec3 position, Vec3 forward, Vec3 up, float yfov);
 

@@ -54,23 +54,23 @@ Integrator::Surface Integrator::Shade(const Hit& hit, const glm::vec3& dir) cons
   }
   s.albedo = glm::clamp(s.albedo, 0.0f, 1.0f);
   // Emitters emit on the side their authored normals face.
-  s.emission = (m && front) ? m->emission() : glm::vec3(0.0f);
+  s.emission = (m && front && t.emitter >= 0) ? Emission(t, hit.u, hit.v) : glm::vec3(0.0f);
   return s;
 }
 
+glm::vec3 Integrator::Emission(const Triangle& t, float u, float v) const {
+  const Material& m = state_.materials()[size_t(t.material)];
+  glm::vec3 e = m.emission();
+  if (m.emissive_texture >= 0) {
+    const glm::vec2 uv = (1.0f - u - v) * t.uv0 + u * t.uv1 + v * t.uv2;
+    e *= SampleTexture(state_.scene().images[size_t(m.emissive_texture)], uv);
+  }
+  return e;
+}
+
 glm::vec3 Integrator::Environment(const glm::vec3& dir) const {
-  const auto& env = state_.scene().environment;
-  if (!env || env->image.width <= 0) return glm::vec3(0.0f);
-  const Image& img = env->image;
-  // Equirectangular, +Y up, rotated about +Y by the state's rotation.
-  const float phi = std::atan2(dir.x, -dir.z) - state_.environment_rotation();
-  const float theta = std::acos(std::clamp(dir.y, -1.0f, 1.0f));
-  float u = phi / (2.0f * kPi);
-  u -= std::floor(u);
-  const int x = std::min(int(u * float(img.width)), img.width - 1);
-  const int y = std::min(int(theta / kPi * float(img.height)), img.height - 1);
-  const float* p = &img.pixelsf[(size_t(y) * size_t(img.width) + size_t(x)) * 4];
-  return glm::vec3(p[0], p[1], p[2]) * state_.environment_intensity();
+  if (!env_) return glm::vec3(0.0f);
+  return env_->Radiance(dir, state_.environment_rotation()) * state_.environment_intensity();
 }
 
 glm::vec3 Integrator::Offset(const Surface& s, const glm::vec3& towards) const {
@@ -103,14 +103,15 @@ glm::vec3 Integrator::SampleAreaLights(const Surface& s, Rng& rng, PathStats& st
   d /= dist;
   const float cos_x = glm::dot(s.normal, d);
   const float cos_y = -glm::dot(t.normal, d);
-  if (cos_x <= 0.0f || cos_y <= 0.0f) return glm::vec3(0.0f);
+  // Below the geometric surface the BSDF sampler cannot go either.
+  if (cos_x <= 0.0f || cos_y <= 0.0f || glm::dot(s.geometric, d) <= 0.0f) return glm::vec3(0.0f);
   const float pdf_light = AreaLightPdf(t, dist, cos_y);
   if (!(pdf_light > 0.0f) || !std::isfinite(pdf_light)) return glm::vec3(0.0f);
   const glm::vec3 origin = Offset(s, d);
   ++stats.rays;
   if (bvh_.Occluded(origin, d, glm::length(y - origin) * (1.0f - 1e-4f))) return glm::vec3(0.0f);
   const float pdf_bsdf = cos_x / kPi;
-  const glm::vec3 le = state_.materials()[size_t(t.material)].emission();
+  const glm::vec3 le = Emission(t, a, b);
   // f L cos / p, f = albedo / pi, weighted by the power heuristic.
   return s.albedo / kPi * le * (cos_x / pdf_light * PowerHeuristic(pdf_light, pdf_bsdf));
 }
@@ -122,7 +123,7 @@ glm::vec3 Integrator::SamplePunctualLights(const Surface& s, PathStats& stats) c
     if (l.light.type == LightType::kDirectional) {
       const glm::vec3 wi = -l.direction;
       const float c = glm::dot(s.normal, wi);
-      if (c <= 0.0f) continue;
+      if (c <= 0.0f || glm::dot(s.geometric, wi) <= 0.0f) continue;
       ++stats.rays;
       if (bvh_.Occluded(Offset(s, wi), wi, kInfinity)) continue;
       sum += intensity * c;  // illuminance (lux) x cos
@@ -134,7 +135,7 @@ glm::vec3 Integrator::SamplePunctualLights(const Surface& s, PathStats& stats) c
     const float r = std::sqrt(r2);
     d /= r;
     const float c = glm::dot(s.normal, d);
-    if (c <= 0.0f) continue;
+    if (c <= 0.0f || glm::dot(s.geometric, d) <= 0.0f) continue;
     float cone = 1.0f;
     if (l.light.type == LightType::kSpot) {
       const float cos_outer = std::cos(l.light.outer_cone_angle);
@@ -152,6 +153,26 @@ glm::vec3 Integrator::SamplePunctualLights(const Surface& s, PathStats& stats) c
   return s.albedo / kPi * sum;
 }
 
+glm::vec3 Integrator::SampleEnvironment(const Surface& s, Rng& rng, PathStats& stats) const {
+  if (!env_ || env_->empty() || !(state_.environment_intensity() > 0.0f)) return glm::vec3(0.0f);
+  const float rotation = state_.environment_rotation();
+  float pdf_sampled = 0.0f;
+  const float u1 = rng.Uniform(), u2 = rng.Uniform();
+  const glm::vec3 d = env_->Sample(u1, u2, rotation, pdf_sampled);
+  if (!(pdf_sampled > 0.0f)) return glm::vec3(0.0f);
+  // The pdf of the texel the direction lands in (the one Radiance reads):
+  // the same function weighs escaping BSDF paths below.
+  const float pdf_env = env_->Pdf(d, rotation);
+  const float cos_x = glm::dot(s.normal, d);
+  if (!(pdf_env > 0.0f) || cos_x <= 0.0f || glm::dot(s.geometric, d) <= 0.0f) {
+    return glm::vec3(0.0f);
+  }
+  ++stats.rays;
+  if (bvh_.Occluded(Offset(s, d), d, kInfinity)) return glm::vec3(0.0f);
+  const float pdf_bsdf = cos_x / kPi;
+  return s.albedo / kPi * Environment(d) * (cos_x / pdf_env * PowerHeuristic(pdf_env, pdf_bsdf));
+}
+
 glm::vec3 Integrator::Li(glm::vec3 origin, glm::vec3 dir, Rng& rng, PathStats& stats) const {
   glm::vec3 radiance(0.0f), beta(1.0f);
   float pdf_bsdf = 0.0f;  // solid-angle pdf of the direction that led here; 0: camera ray
@@ -159,7 +180,14 @@ glm::vec3 Integrator::Li(glm::vec3 origin, glm::vec3 dir, Rng& rng, PathStats& s
     ++stats.rays;
     const Hit hit = bvh_.Intersect(origin, dir, kInfinity);
     if (!hit.hit) {
-      radiance += beta * Environment(dir);
+      if (pdf_bsdf == 0.0f || !env_) {
+        radiance += beta * Environment(dir);
+      } else {
+        // Reached by BSDF sampling: weigh against environment sampling.
+        const float pdf_env =
+            env_->empty() ? 0.0f : env_->Pdf(dir, state_.environment_rotation());
+        radiance += beta * Environment(dir) * PowerHeuristic(pdf_bsdf, pdf_env);
+      }
       break;
     }
     const Surface s = Shade(hit, dir);
@@ -174,7 +202,8 @@ glm::vec3 Integrator::Li(glm::vec3 origin, glm::vec3 dir, Rng& rng, PathStats& s
       }
     }
     if (depth >= settings_.max_depth) break;
-    radiance += beta * (SampleAreaLights(s, rng, stats) + SamplePunctualLights(s, stats));
+    radiance += beta * (SampleAreaLights(s, rng, stats) + SamplePunctualLights(s, stats) +
+                        SampleEnvironment(s, rng, stats));
 
     // Cosine sampling of the Lambertian BSDF: f cos / p = albedo.
     const glm::vec3 next = SampleCosine(s.normal, rng.Uniform(), rng.Uniform());

@@ -2,14 +2,15 @@
 // next-event estimation. Area lights (emissive triangles) are sampled by
 // power and combined with BSDF sampling by multiple importance sampling;
 // punctual lights are sampled directly (they cannot be hit); the
-// environment is gathered by BSDF sampling when a path escapes. Lambertian
-// surfaces, lit on the side the ray arrives from. Russian roulette after
-// three bounces.
+// environment is importance-sampled by luminance and combined with the
+// BSDF-sampled paths that escape, also by MIS. Lambertian surfaces, lit on
+// the side the ray arrives from. Russian roulette after three bounces.
 #pragma once
 
 #include <glm/glm.hpp>
 
 #include "scene/scene_state.h"
+#include "solvers/pathtrace/env_light.h"
 #include "solvers/pathtrace/sampling.h"
 #include "solvers/pathtrace/scene_bvh.h"
 
@@ -25,8 +26,10 @@ struct PathStats {
 
 class Integrator {
  public:
-  Integrator(const SceneState& state, const SceneBvh& bvh, const IntegratorSettings& settings)
-      : state_(state), bvh_(bvh), settings_(settings) {}
+  // `env` may be null (no environment map).
+  Integrator(const SceneState& state, const SceneBvh& bvh, const EnvironmentLight* env,
+             const IntegratorSettings& settings)
+      : state_(state), bvh_(bvh), env_(env), settings_(settings) {}
 
   glm::vec3 Li(glm::vec3 origin, glm::vec3 dir, Rng& rng, PathStats& stats) const;
 
@@ -38,11 +41,14 @@ class Integrator {
     glm::vec3 albedo;
     glm::vec3 emission;  // emitted towards the incoming ray (one-sided)
   };
+  // Emitted radiance of emitter triangle `t` at barycentrics (u, v), front side.
+  glm::vec3 Emission(const Triangle& t, float u, float v) const;
   Surface Shade(const Hit& hit, const glm::vec3& dir) const;
   glm::vec3 Environment(const glm::vec3& dir) const;
   // Next-event estimation at `s`; `wo` is the direction back to the viewer.
   glm::vec3 SampleAreaLights(const Surface& s, Rng& rng, PathStats& stats) const;
   glm::vec3 SamplePunctualLights(const Surface& s, PathStats& stats) const;
+  glm::vec3 SampleEnvironment(const Surface& s, Rng& rng, PathStats& stats) const;
   // Solid-angle pdf of hitting emitter triangle `t` at distance d with
   // cosine cos_y through area-light sampling.
   float AreaLightPdf(const Triangle& t, float distance, float cos_y) const;
@@ -50,6 +56,7 @@ class Integrator {
 
   const SceneState& state_;
   const SceneBvh& bvh_;
+  const EnvironmentLight* env_;  // null or empty: no environment
   IntegratorSettings settings_;
 };
 

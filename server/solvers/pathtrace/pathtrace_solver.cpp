@@ -48,12 +48,19 @@ std::vector<std::string> PathtraceSolver::Plan(ChangeMask changes) const {
 }
 
 absl::Status PathtraceSolver::Update(SolverContext& ctx, ChangeMask changes) {
-  // Emission is part of the BVH's light distribution, so it rebuilds too.
-  if (!bvh_ || (changes & (kChangeGeometry | kChangeEmission))) {
+  if (!bvh_ || (changes & kChangeGeometry)) {
     gl::StageTimer::Scope stage(ctx.timer, "build_bvh", /*cpu_stage=*/true);
     GS_ASSIGN_OR_RETURN(bvh_, pathtrace::SceneBvh::Build(ctx.state));
+    // The environment map never changes after load (only its rotation and
+    // intensity do), so its sampling distribution is built once.
+    if (!env_ && ctx.state.scene().environment) {
+      env_ = std::make_unique<pathtrace::EnvironmentLight>(ctx.state.scene().environment->image);
+    }
   } else {
     ctx.timer.Skip("build_bvh");
+    // Which triangles emit, and how much, is the light distribution: a
+    // cheap pass over the triangles, no BVH rebuild.
+    if (changes & kChangeEmission) bvh_->UpdateEmitters(ctx.state);
   }
   if (changes != kChangeNone) spp_total_ = 0;  // any scene change restarts
   return absl::OkStatus();
@@ -67,7 +74,7 @@ bool PathtraceSolver::SameView(const ViewCamera& c) const {
 void PathtraceSolver::TraceRound(const SceneState& state, const ViewCamera& camera, int spp) {
   const int w = int(camera.width), h = int(camera.height);
   const glm::mat4 inv = glm::inverse(camera.Projection() * camera.View());
-  const Integrator integrator(state, *bvh_, settings_);
+  const Integrator integrator(state, *bvh_, env_.get(), settings_);
   const int first_sample = spp_total_;
   std::atomic<int> next_row{0};
   std::atomic<uint64_t> rays{0}, nonfinite{0};
@@ -127,6 +134,7 @@ absl::Status PathtraceSolver::Shade(SolverContext& ctx, const ViewCamera& camera
     gl::StageTimer::Scope stage(ctx.timer, "trace", /*cpu_stage=*/true);
     const auto start = std::chrono::steady_clock::now();
     const int before = spp_total_;
+    const uint64_t rays_before = rays_;
     auto elapsed_ms = [&] {
       return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
           .count();
@@ -140,6 +148,7 @@ absl::Status PathtraceSolver::Shade(SolverContext& ctx, const ViewCamera& camera
     }
     last_trace_ms_ = elapsed_ms();
     last_spp_ = spp_total_ - before;
+    last_rays_ = rays_ - rays_before;
   }
   gl::StageTimer::Scope stage(ctx.timer, "accumulate");
   image_.resize(pixels * 4);
@@ -160,8 +169,9 @@ SolverStats PathtraceSolver::Stats() const {
   return {{"spp_total", double(spp_total_)},
           {"spp_frame", double(last_spp_)},
           {"trace_ms", last_trace_ms_},
+          {"rays", double(last_rays_)},
           {"rays_total", double(rays_)},
-          {"mrays_per_s", seconds > 0.0 ? double(rays_) * 1e-6 / std::max(seconds, 1e-9) : 0.0},
+          {"mrays_per_s", seconds > 0.0 ? double(last_rays_) * 1e-6 / seconds : 0.0},
           {"nonfinite_samples", double(nonfinite_)},
           {"triangles", bvh_ ? double(bvh_->triangles().size()) : 0.0},
           {"emitter_triangles", bvh_ ? double(bvh_->emitters().size()) : 0.0},

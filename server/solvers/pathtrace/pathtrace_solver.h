@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "solvers/pathtrace/env_light.h"
 #include "solvers/pathtrace/integrator.h"
 #include "solvers/pathtrace/scene_bvh.h"
 #include "solvers/solver.h"
@@ -39,6 +40,7 @@ class PathtraceSolver final : public Solver {
 
   // Runtime data
   std::unique_ptr<pathtrace::SceneBvh> bvh_;
+  std::unique_ptr<pathtrace::EnvironmentLight> env_;  // null: the scene has none
   // The accumulation belongs to one view; the solver instance is shared by
   // every session with these parameters, so a different view restarts it.
   bool has_view_ = false;
@@ -46,7 +48,8 @@ class PathtraceSolver final : public Solver {
   std::vector<double> accum_;  // RGB sums, rows bottom first (GL order)
   std::vector<float> image_;   // RGBA averages for upload
   int spp_total_ = 0;
-  uint64_t rays_ = 0;
+  uint64_t rays_ = 0;       // since the accumulation restarted
+  uint64_t last_rays_ = 0;  // traced by the last frame
   uint64_t nonfinite_ = 0;
   double last_trace_ms_ = 0.0;
   int last_spp_ = 0;

@@ -61,19 +61,7 @@ absl::StatusOr<std::unique_ptr<SceneBvh>> SceneBvh::Build(const SceneState& stat
   }
   bvh->scale_ = bounds.empty() ? 1.0f : std::max(glm::length(bounds.extent()), 1e-12f);
 
-  // Emitters by luminous power; emission is read from the current state.
-  bvh->emitter_cdf_.push_back(0.0);
-  for (size_t i = 0; i < bvh->triangles_.size(); ++i) {
-    Triangle& t = bvh->triangles_[i];
-    if (t.material < 0) continue;
-    const Material& mat = state.materials()[size_t(t.material)];
-    const float lum = Luminance(mat.emission());
-    if (!(lum > 0.0f)) continue;
-    t.emitter = int(bvh->emitters_.size());
-    bvh->emitters_.push_back(uint32_t(i));
-    bvh->emitter_total_ += double(lum) * double(t.area);
-    bvh->emitter_cdf_.push_back(bvh->emitter_total_);
-  }
+  bvh->UpdateEmitters(state);
 
   bvh->scene_ = rtcNewScene(bvh->device_);
   rtcSetSceneBuildQuality(bvh->scene_, RTC_BUILD_QUALITY_HIGH);
@@ -99,6 +87,24 @@ absl::StatusOr<std::unique_ptr<SceneBvh>> SceneBvh::Build(const SceneState& stat
   }
   rtcCommitScene(bvh->scene_);
   return bvh;
+}
+
+void SceneBvh::UpdateEmitters(const SceneState& state) {
+  // Emitters by luminous power; emission is read from the current state.
+  emitters_.clear();
+  emitter_cdf_.assign(1, 0.0);
+  emitter_total_ = 0.0;
+  for (size_t i = 0; i < triangles_.size(); ++i) {
+    Triangle& t = triangles_[i];
+    t.emitter = -1;
+    if (t.material < 0) continue;
+    const float lum = Luminance(state.materials()[size_t(t.material)].emission());
+    if (!(lum > 0.0f) || !std::isfinite(lum)) continue;
+    t.emitter = int(emitters_.size());
+    emitters_.push_back(uint32_t(i));
+    emitter_total_ += double(lum) * double(t.area);
+    emitter_cdf_.push_back(emitter_total_);
+  }
 }
 
 SceneBvh::~SceneBvh() {

@@ -40,6 +40,9 @@ class SceneBvh {
   SceneBvh(const SceneBvh&) = delete;
   SceneBvh& operator=(const SceneBvh&) = delete;
 
+  // Rebuilds the emitter table after an emission change (no BVH rebuild).
+  void UpdateEmitters(const SceneState& state);
+
   Hit Intersect(const glm::vec3& origin, const glm::vec3& dir, float tmax) const;
   bool Occluded(const glm::vec3& origin, const glm::vec3& dir, float tmax) const;
 
