@@ -1,8 +1,8 @@
 // gistream status
+#include <iostream>
+
 #include <absl/strings/str_cat.h>
 #include <absl/strings/str_join.h>
-
-#include <iostream>
 
 #include "commands.h"
 #include "connection.h"
@@ -18,6 +18,8 @@ absl::Status RunStatus(const ConnectionOptions& connection_options, const Status
             << "GL vendor        " << status.gl_vendor() << "\n"
             << "GL renderer      " << status.gl_renderer() << "\n"
             << "GL version       " << status.gl_version() << "\n"
+            << "CPU              " << status.cpu_model() << " (" << status.cpu_threads()
+            << " threads)\n"
             << "sessions         " << status.sessions() << "\n"
             << "scenes           " << status.scenes()
             << (status.scene_ids().empty()

@@ -7,7 +7,7 @@ PACKAGES=(
   build-essential cmake pkg-config ninja-build
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc libabsl-dev
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
-  libglm-dev libopenimageio-dev libopenexr-dev libtinygltf-dev nlohmann-json3-dev
+  libglm-dev libopenimageio-dev openimageio-tools libopenexr-dev libtinygltf-dev nlohmann-json3-dev
   libjpeg62-turbo-dev libpng-dev libembree-dev
   libgtest-dev libgmock-dev
 )

@@ -183,6 +183,8 @@ struct DeviceInfo {
   std::string renderer;
   std::string version;
   std::string egl_device;  // which EGL device was picked and why
+  std::string cpu_model;   // from /proc/cpuinfo, for benchmark reports
+  uint32_t cpu_threads = 0;
 };
 
 struct EngineStats {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <thread>
 
 #include "encode/encode.h"
 #include "scene/gltf_import.h"
@@ -18,6 +19,18 @@ namespace {
 using Clock = RenderThread::Clock;
 
 absl::Status Unavailable() { return absl::UnavailableError("server is shutting down"); }
+
+std::string CpuModel() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("model name", 0) == 0) {
+      const size_t colon = line.find(':');
+      if (colon != std::string::npos) return line.substr(line.find_first_not_of(' ', colon + 1));
+    }
+  }
+  return "unknown";
+}
 
 std::string GlString(GLenum name) {
   const GLubyte* s = glGetString(name);
@@ -70,6 +83,8 @@ absl::Status EngineImpl::Start() {
     device_.renderer = GlString(GL_RENDERER);
     device_.version = GlString(GL_VERSION);
     device_.egl_device = render_thread_->context().description();
+    device_.cpu_model = CpuModel();
+    device_.cpu_threads = std::thread::hardware_concurrency();
     GLint major = 0, minor = 0;
     glGetIntegerv(GL_MAJOR_VERSION, &major);
     glGetIntegerv(GL_MINOR_VERSION, &minor);

@@ -47,7 +47,7 @@ FakeEngine::FakeEngine(const EngineOptions& options)
 FakeEngine::~FakeEngine() { Shutdown(); }
 
 DeviceInfo FakeEngine::device_info() const {
-  return {"gistream", "fake engine (CPU)", "0.0", "none: fake engine"};
+  return {"gistream", "fake engine (CPU)", "0.0", "none: fake engine", "fake CPU", 1};
 }
 
 EngineStats FakeEngine::stats() const {

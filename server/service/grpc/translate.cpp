@@ -453,6 +453,8 @@ void ServerStatusToProto(const DeviceInfo& device, const EngineStats& stats,
   out->set_gl_vendor(device.vendor);
   out->set_gl_renderer(device.renderer);
   out->set_gl_version(device.version);
+  out->set_cpu_model(device.cpu_model);
+  out->set_cpu_threads(device.cpu_threads);
   out->set_sessions(stats.sessions);
   out->set_scenes(stats.scenes);
   out->set_frames_rendered(stats.frames_rendered);
