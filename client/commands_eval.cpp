@@ -19,6 +19,7 @@
 #include "plot.h"
 #include "scene_loader.h"
 #include "session_stream.h"
+#include "stats_table.h"
 
 namespace gistream::client {
 namespace {
@@ -40,6 +41,8 @@ struct EvalRow {
   double first_ms = 0.0;
   Timing full, light, camera;
   ImageError error;
+  // Per-stage timings of the timed frames of each kind of change.
+  std::vector<StageSummary> full_stages, light_stages, camera_stages;
   double spp = 0.0;  // pathtrace rows
   bool equal_time = false;
 };
@@ -52,8 +55,9 @@ absl::StatusOr<std::string> ReadText(const std::filesystem::path& path) {
 
 absl::StatusOr<RgbaImage> DecodeFrame(const v1::Frame& frame) {
   const std::string& bytes = frame.image();
-  GS_ASSIGN_OR_RETURN(DecodedImage d, DecodeImageBytes({reinterpret_cast<const uint8_t*>(bytes.data()),
-                                                        bytes.size()}));
+  GS_ASSIGN_OR_RETURN(
+      DecodedImage d,
+      DecodeImageBytes({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}));
   return RgbaImage{d.width, d.height, std::move(d.rgba)};
 }
 
@@ -108,8 +112,9 @@ class Evaluator {
     const std::filesystem::path file = cache / name.str();
     if (auto cached = ReadText(file); cached.ok()) {
       std::cerr << "reference " << file.string() << " (cached)\n";
-      GS_ASSIGN_OR_RETURN(DecodedImage d, DecodeImageBytes({reinterpret_cast<const uint8_t*>(cached->data()),
-                                                            cached->size()}));
+      GS_ASSIGN_OR_RETURN(
+          DecodedImage d,
+          DecodeImageBytes({reinterpret_cast<const uint8_t*>(cached->data()), cached->size()}));
       return RgbaImage{d.width, d.height, std::move(d.rgba)};
     }
     // Progressive: same solver settings and view, so each call adds samples.
@@ -118,9 +123,20 @@ class Evaluator {
                                                        {"seed", "1"}};
     v1::Frame frame;
     const auto start = std::chrono::steady_clock::now();
-    do {
+    double spp = 0.0;
+    for (;;) {
       GS_ASSIGN_OR_RETURN(frame, RenderOnce(scene_id, "pathtrace", params, ViewCamera(view)));
-    } while (StatOf(frame, "spp_total") < spec_.reference_spp);
+      const double now = StatOf(frame, "spp_total");
+      if (now >= spec_.reference_spp) break;
+      // The server keeps the solver between Render calls with the same
+      // settings; if it did not accumulate, looping would never end.
+      if (now <= spp) {
+        return absl::FailedPreconditionError(
+            absl::StrCat("reference: pathtrace reported spp_total ", now, " after ", spp,
+                         "; the server did not accumulate samples across Render calls"));
+      }
+      spp = now;
+    }
     std::filesystem::create_directories(cache);
     std::ofstream(file, std::ios::binary) << frame.image();
     std::cerr << "reference " << file.string() << ": " << StatOf(frame, "spp_total") << " spp in "
@@ -174,20 +190,24 @@ class Evaluator {
     GS_ASSIGN_OR_RETURN(RgbaImage image, DecodeFrame(first));
     GS_ASSIGN_OR_RETURN(row.error, CompareImages(image, reference));
 
-    auto timed = [&](const std::vector<v1::Update>& pair) -> absl::StatusOr<Timing> {
+    auto timed = [&](const std::vector<v1::Update>& pair,
+                     std::vector<StageSummary>& stages) -> absl::StatusOr<Timing> {
       std::vector<double> ms;
+      StatsCollector collector;
       for (int k = 0; k < 2 * spec_.timed_frames; ++k) {  // even: ends restored
         GS_ASSIGN_OR_RETURN(v1::Frame f, frame_after(&pair[size_t(k % 2)]));
         ms.push_back(f.total_ms());
+        collector.Add(f, StatsCollector::Clock::now());
       }
+      stages = collector.Summarize().stages;
       return Summarize(ms);
     };
-    GS_ASSIGN_OR_RETURN(row.full, timed(scene.geometry_change));
-    GS_ASSIGN_OR_RETURN(row.light, timed(scene.light_change));
+    GS_ASSIGN_OR_RETURN(row.full, timed(scene.geometry_change, row.full_stages));
+    GS_ASSIGN_OR_RETURN(row.light, timed(scene.light_change, row.light_stages));
     std::vector<v1::Update> camera_pair(2);
     camera_pair[0].mutable_camera()->set_yfov_degrees(base_yfov + 1.0f);
     camera_pair[1].mutable_camera()->set_yfov_degrees(base_yfov);
-    GS_ASSIGN_OR_RETURN(row.camera, timed(camera_pair));
+    GS_ASSIGN_OR_RETURN(row.camera, timed(camera_pair, row.camera_stages));
     stream->CloseWrites();
     v1::SessionEvent drain;
     while (stream->Next(&drain)) {
@@ -233,6 +253,24 @@ std::string Markdown(const std::vector<EvalRow>& rows) {
   return md.str();
 }
 
+nlohmann::json StagesJson(const std::vector<StageSummary>& stages) {
+  nlohmann::json out = nlohmann::json::array();
+  auto number = [](const std::optional<double>& v) {
+    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+  };
+  for (const StageSummary& s : stages) {
+    out.push_back({{"name", s.name},
+                   {"runs", s.runs},
+                   {"skipped", s.skipped},
+                   {"cpu_stage", s.cpu_stage},
+                   {"cpu_median_ms", number(s.cpu_median)},
+                   {"cpu_p95_ms", number(s.cpu_p95)},
+                   {"gpu_median_ms", number(s.gpu_median)},
+                   {"gpu_p95_ms", number(s.gpu_p95)}});
+  }
+  return out;
+}
+
 absl::Status WriteOutputs(const std::filesystem::path& dir, const std::vector<EvalRow>& rows,
                           const nlohmann::json& meta) {
   std::filesystem::create_directories(dir);
@@ -247,14 +285,24 @@ absl::Status WriteOutputs(const std::filesystem::path& dir, const std::vector<Ev
         << r.full.p95 << ',' << r.light.median << ',' << r.light.p95 << ',' << r.camera.median
         << ',' << r.camera.p95 << ',' << r.error.rel_mse << ',' << r.error.rmse << ','
         << r.error.ssim << ',' << r.error.nonfinite_fraction << '\n';
-    results.push_back({{"scene", r.scene}, {"view", r.view}, {"solver", r.solver},
-                       {"equal_time", r.equal_time}, {"params", r.params}, {"spp", r.spp},
+    results.push_back({{"scene", r.scene},
+                       {"view", r.view},
+                       {"solver", r.solver},
+                       {"equal_time", r.equal_time},
+                       {"params", r.params},
+                       {"spp", r.spp},
                        {"first_ms", r.first_ms},
                        {"full_ms", {{"median", r.full.median}, {"p95", r.full.p95}}},
                        {"light_ms", {{"median", r.light.median}, {"p95", r.light.p95}}},
                        {"camera_ms", {{"median", r.camera.median}, {"p95", r.camera.p95}}},
-                       {"rel_mse", r.error.rel_mse}, {"rmse", r.error.rmse},
-                       {"ssim", r.error.ssim}, {"nonfinite_fraction", r.error.nonfinite_fraction}});
+                       {"rel_mse", r.error.rel_mse},
+                       {"rmse", r.error.rmse},
+                       {"ssim", r.error.ssim},
+                       {"nonfinite_fraction", r.error.nonfinite_fraction},
+                       {"stages",
+                        {{"full", StagesJson(r.full_stages)},
+                         {"light", StagesJson(r.light_stages)},
+                         {"camera", StagesJson(r.camera_stages)}}}});
   }
   nlohmann::json doc = meta;
   doc["results"] = results;
@@ -279,7 +327,8 @@ absl::Status WriteOutputs(const std::filesystem::path& dir, const std::vector<Ev
   std::ofstream(dir / "error_vs_time.png", std::ios::binary) << png;
 
   std::ofstream md(dir / "results.md");
-  md << "Measured " << meta.value("date", "") << " on " << meta.value("gl_renderer", "")
+  md << "Measured " << meta.value("date", "") << " on " << meta.value("gl_renderer", "") << " (CPU "
+     << meta.value("cpu", "") << ")"
      << " with `" << meta.value("command", "") << "`.\n\n"
      << Markdown(rows) << "\nPlot `error_vs_time.png`: relMSE (y) against the median "
      << "full-update frame time in ms (x), log-log; tick labels are powers of ten. Colours:\n\n";
@@ -296,8 +345,8 @@ absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOpti
   GS_ASSIGN_OR_RETURN(const EvalSpec spec, ParseEvalSpec(text));
   Connection connection(connection_options);
   v1::ServerStatus status;
-  GS_RETURN_IF_ERROR(connection.Call(&v1::Gistream::Stub::GetServerStatus,
-                                     v1::GetServerStatusRequest(), &status));
+  GS_RETURN_IF_ERROR(
+      connection.Call(&v1::Gistream::Stub::GetServerStatus, v1::GetServerStatusRequest(), &status));
   Evaluator evaluator(connection, spec);
   std::vector<EvalRow> rows;
   for (const EvalScene& scene : spec.scenes) {
@@ -340,11 +389,11 @@ absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOpti
         const double budget = spec.pathtrace_budgets_ms[i];
         std::ostringstream b;
         b << budget;
-        GS_ASSIGN_OR_RETURN(v1::Frame frame,
-                            evaluator.RenderOnce(loaded->id(), "pathtrace",
-                                                 {{"time_budget_ms", b.str()},
-                                                  {"seed", std::to_string(1000 + i)}},
-                                                 ViewCamera(view)));
+        GS_ASSIGN_OR_RETURN(
+            v1::Frame frame,
+            evaluator.RenderOnce(loaded->id(), "pathtrace",
+                                 {{"time_budget_ms", b.str()}, {"seed", std::to_string(1000 + i)}},
+                                 ViewCamera(view)));
         GS_ASSIGN_OR_RETURN(RgbaImage image, DecodeFrame(frame));
         EvalRow row;
         row.scene = scene.name;
@@ -354,6 +403,9 @@ absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOpti
         row.params = absl::StrCat("time_budget_ms=", b.str());
         row.spp = StatOf(frame, "spp_total");
         row.full.median = row.full.p95 = frame.total_ms();
+        StatsCollector stages;
+        stages.Add(frame, StatsCollector::Clock::now());
+        row.full_stages = stages.Summarize().stages;
         GS_ASSIGN_OR_RETURN(row.error, CompareImages(image, reference));
         rows.push_back(std::move(row));
       }
@@ -366,11 +418,13 @@ absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOpti
       {"date", date},
       {"gl_renderer", status.gl_renderer()},
       {"gl_version", status.gl_version()},
+      {"cpu", absl::StrCat(status.cpu_model(), ", ", status.cpu_threads(), " threads")},
       {"command", absl::StrCat("gistream eval ", options.file.string())},
       {"size", {spec.width, spec.height}},
       {"reference_spp", spec.reference_spp}};
   GS_RETURN_IF_ERROR(WriteOutputs(options.out_dir, rows, meta));
-  std::cout << "Measured " << date << " on " << status.gl_renderer() << "\n\n"
+  std::cout << "Measured " << date << " on " << status.gl_renderer() << " (CPU "
+            << status.cpu_model() << ", " << status.cpu_threads() << " threads)\n\n"
             << Markdown(rows) << "\nwrote " << (options.out_dir / "results.{csv,json,md}").string()
             << " and " << (options.out_dir / "error_vs_time.png").string() << "\n";
   return absl::OkStatus();

@@ -18,15 +18,40 @@ constexpr std::array<std::array<uint8_t, 3>, 8> kPalette = {{{31, 119, 180},
 constexpr const char* kPaletteNames[] = {"blue", "red",    "green", "orange",
                                          "purple", "brown", "pink",  "grey"};
 
-// 3x5 glyphs for tick labels: digits and '-' (one row per byte, 3 bits).
+// 3x5 glyphs for tick labels and the legend: digits, letters (drawn upper
+// case) and a few symbols (one row per byte, 3 bits, the high bit left).
 uint8_t GlyphRow(char c, int row) {
   static const uint8_t kDigits[10][5] = {
       {7, 5, 5, 5, 7}, {2, 6, 2, 2, 7}, {7, 1, 7, 4, 7}, {7, 1, 7, 1, 7}, {5, 5, 7, 1, 1},
       {7, 4, 7, 1, 7}, {7, 4, 7, 5, 7}, {7, 1, 1, 1, 1}, {7, 5, 7, 5, 7}, {7, 5, 7, 1, 7}};
+  static const uint8_t kLetters[26][5] = {
+      {2, 5, 7, 5, 5}, {6, 5, 6, 5, 6}, {3, 4, 4, 4, 3}, {6, 5, 5, 5, 6}, {7, 4, 6, 4, 7},
+      {7, 4, 6, 4, 4}, {3, 4, 5, 5, 3}, {5, 5, 7, 5, 5}, {7, 2, 2, 2, 7}, {1, 1, 1, 5, 2},
+      {5, 5, 6, 5, 5}, {4, 4, 4, 4, 7}, {5, 7, 7, 5, 5}, {6, 5, 5, 5, 5}, {2, 5, 5, 5, 2},
+      {6, 5, 6, 4, 4}, {2, 5, 5, 6, 3}, {6, 5, 6, 5, 5}, {3, 4, 2, 1, 6}, {7, 2, 2, 2, 2},
+      {5, 5, 5, 5, 7}, {5, 5, 5, 5, 2}, {5, 5, 7, 7, 5}, {5, 5, 2, 5, 5}, {5, 5, 2, 2, 2},
+      {7, 1, 2, 4, 7}};
   if (c >= '0' && c <= '9') return kDigits[c - '0'][row];
-  if (c == '-') return row == 2 ? 7 : 0;
-  return 0;
+  if (c >= 'a' && c <= 'z') c = char(c - 'a' + 'A');
+  if (c >= 'A' && c <= 'Z') return kLetters[c - 'A'][row];
+  static const uint8_t kSlash[5] = {1, 1, 2, 4, 4}, kColon[5] = {0, 2, 0, 2, 0},
+                       kOpen[5] = {1, 2, 2, 2, 1}, kClose[5] = {4, 2, 2, 2, 4},
+                       kEquals[5] = {0, 7, 0, 7, 0};
+  switch (c) {
+    case '-': return row == 2 ? 7 : 0;
+    case '_': return row == 4 ? 7 : 0;
+    case '.': return row == 4 ? 2 : 0;
+    case '/': return kSlash[row];
+    case ':': return kColon[row];
+    case '(': return kOpen[row];
+    case ')': return kClose[row];
+    case '=': return kEquals[row];
+    default: return 0;
+  }
 }
+
+constexpr int kGlyphAdvance = 8;  // 3x5 glyph bits as 2x2 blocks, 2 px apart
+constexpr int kLegendRow = 14;
 
 void Put(Raster& r, int x, int y, std::array<uint8_t, 3> c) {
   if (x < 0 || y < 0 || x >= r.width || y >= r.height) return;
@@ -43,7 +68,8 @@ void Line(Raster& r, int x0, int y0, int x1, int y1, std::array<uint8_t, 3> c, i
   int err = dx + dy;
   for (;;) {
     for (int ty = 0; ty < thickness; ++ty) {
-      for (int tx = 0; tx < thickness; ++tx) Put(r, x0 + tx - thickness / 2, y0 + ty - thickness / 2, c);
+      for (int tx = 0; tx < thickness; ++tx)
+        Put(r, x0 + tx - thickness / 2, y0 + ty - thickness / 2, c);
     }
     if (x0 == x1 && y0 == y1) break;
     const int e2 = 2 * err;
@@ -58,20 +84,33 @@ void Box(Raster& r, int x, int y, int half, std::array<uint8_t, 3> c) {
   }
 }
 
-void Text(Raster& r, int x, int y, const std::string& s, std::array<uint8_t, 3> c) {
+// Each glyph bit is a scale x scale block; returns the x after the text.
+int Text(Raster& r, int x, int y, const std::string& s, std::array<uint8_t, 3> c,
+         int scale = 2) {
   for (char ch : s) {
     for (int row = 0; row < 5; ++row) {
       const uint8_t bits = GlyphRow(ch, row);
       for (int col = 0; col < 3; ++col) {
         if (!(bits & (4 >> col))) continue;
-        // Each glyph bit is a 2x2 block.
-        for (int sy = 0; sy < 2; ++sy) {
-          for (int sx = 0; sx < 2; ++sx) Put(r, x + col * 2 + sx, y + row * 2 + sy, c);
+        for (int sy = 0; sy < scale; ++sy) {
+          for (int sx = 0; sx < scale; ++sx) {
+            Put(r, x + col * scale + sx, y + row * scale + sy, c);
+          }
         }
       }
     }
-    x += 8;
+    x += kGlyphAdvance * scale / 2;
   }
+  return x;
+}
+
+// "10" with the exponent k raised and smaller; returns the x after it.
+int DecadeLabel(Raster& r, int x, int y, int k, std::array<uint8_t, 3> c) {
+  x = Text(r, x, y, "10", c);
+  return Text(r, x, y - 4, std::to_string(k), c, 1);
+}
+int DecadeLabelWidth(int k) {
+  return 2 * kGlyphAdvance + int(std::to_string(k).size()) * kGlyphAdvance / 2;
 }
 
 bool Usable(double x, double y) { return std::isfinite(x) && std::isfinite(y) && x > 0 && y > 0; }
@@ -80,6 +119,10 @@ bool Usable(double x, double y) { return std::isfinite(x) && std::isfinite(y) &&
 
 std::array<uint8_t, 3> SeriesColor(size_t i) { return kPalette[i % kPalette.size()]; }
 const char* SeriesColorName(size_t i) { return kPaletteNames[i % kPalette.size()]; }
+
+int LegendRowY(const LogAxes& axes, size_t i) {
+  return axes.bottom + 48 + int(i) * kLegendRow;
+}
 
 int LogAxes::X(double x) const {
   return left + int(std::lround((std::log10(x) - x0) / (x1 - x0) * double(right - left)));
@@ -106,8 +149,10 @@ bool ComputeAxes(const std::vector<PlotSeries>& series, int width, int height, L
   axes.y1 = std::max(std::ceil(ly1), axes.y0 + 1);
   axes.left = 60;
   axes.right = width - 20;
-  axes.top = 20;
-  axes.bottom = height - 40;
+  axes.top = 24;
+  // Below the x axis: tick labels, the axis title, then a legend row per
+  // series (the legend never hides data).
+  axes.bottom = height - 48 - kLegendRow * int(series.size());
   return axes.right > axes.left && axes.bottom > axes.top;
 }
 
@@ -123,13 +168,15 @@ Raster PlotLogLog(const std::vector<PlotSeries>& series, int width, int height) 
   for (double k = axes.x0; k <= axes.x1; k += 1) {
     const int x = axes.X(std::pow(10.0, k));
     Line(r, x, axes.top, x, axes.bottom, grid, 1);
-    Text(r, x - 4, axes.bottom + 8, std::to_string(int(k)), black);
+    DecadeLabel(r, x - DecadeLabelWidth(int(k)) / 2, axes.bottom + 8, int(k), black);
   }
   for (double k = axes.y0; k <= axes.y1; k += 1) {
     const int y = axes.Y(std::pow(10.0, k));
     Line(r, axes.left, y, axes.right, y, grid, 1);
-    Text(r, axes.left - 30, y - 5, std::to_string(int(k)), black);
+    DecadeLabel(r, axes.left - 6 - DecadeLabelWidth(int(k)), y - 5, int(k), black);
   }
+  Text(r, axes.right - 15 * kGlyphAdvance, axes.bottom + 24, "full update ms", black);
+  Text(r, 4, 4, "relMSE", black);
   Line(r, axes.left, axes.bottom, axes.right, axes.bottom, black, 1);
   Line(r, axes.left, axes.top, axes.left, axes.bottom, black, 1);
   for (size_t i = 0; i < series.size(); ++i) {
@@ -144,8 +191,12 @@ Raster PlotLogLog(const std::vector<PlotSeries>& series, int width, int height) 
            axes.Y(pts[k + 1].second), color, 2);
     }
     for (const auto& p : pts) Box(r, axes.X(p.first), axes.Y(p.second), 3, color);
-    // Legend: a swatch per series, top right (names are in results.md).
-    Box(r, axes.right - 12, axes.top + 8 + int(i) * 14, 5, color);
+  }
+  // Legend under the plot: a swatch and the name per series.
+  for (size_t i = 0; i < series.size(); ++i) {
+    const int y = LegendRowY(axes, i);
+    Box(r, axes.left + 4, y, 4, SeriesColor(i));
+    Text(r, axes.left + 16, y - 5, series[i].name, black);
   }
   return r;
 }

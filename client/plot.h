@@ -42,4 +42,8 @@ struct LogAxes {
 };
 bool ComputeAxes(const std::vector<PlotSeries>& series, int width, int height, LogAxes& axes);
 
+// The centre row of series i's legend entry (below the plot area): a swatch
+// at x = left + 4, the name from x = left + 16.
+int LegendRowY(const LogAxes& axes, size_t i);
+
 }  // namespace gistream::client

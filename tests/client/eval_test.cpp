@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "encode/encode.h"
 #include "eval_spec.h"
 #include "metrics.h"
 #include "plot.h"
@@ -55,6 +56,32 @@ TEST(Metrics, SsimDropsForNoise) {
   ASSERT_TRUE(e.ok());
   EXPECT_LT(e->ssim, 0.95);
   EXPECT_GT(e->rel_mse, 0.0);
+}
+
+TEST(Metrics, SsimDropsForAShiftedCopy) {
+  const RgbaImage a = Checker(16, 16);
+  RgbaImage b = Constant(16, 16, 0.0f);
+  for (int y = 0; y < 16; ++y) {
+    for (int x = 0; x < 16; ++x) {
+      const int sx = (x + 1) % 16;  // one pixel to the left, wrapping
+      for (int c = 0; c < 4; ++c) {
+        b.rgba[size_t((y * 16 + x) * 4 + c)] = a.rgba[size_t((y * 16 + sx) * 4 + c)];
+      }
+    }
+  }
+  auto e = CompareImages(b, a);
+  ASSERT_TRUE(e.ok());
+  EXPECT_LT(e->ssim, 0.9);
+  EXPECT_GT(e->ssim, -1.0);
+}
+
+TEST(Metrics, ToneMapMatchesTheServersDisplayTransform) {
+  EXPECT_EQ(ToneMappedLuminance(0, 0, 0), 0.0f);
+  // ACES fit at 1: 2.54 / 3.16 = 0.80380; sRGB OETF: 0.90823. Grey keeps it
+  // (the Rec. 709 weights sum to 1).
+  EXPECT_NEAR(ToneMappedLuminance(1, 1, 1), 0.90823f, 1e-4f);
+  EXPECT_NEAR(ToneMappedLuminance(1e6f, 1e6f, 1e6f), 1.0f, 1e-5f);  // clamped
+  EXPECT_NEAR(ToneMappedLuminance(0, 1e6f, 0), 0.7152f, 1e-5f);
 }
 
 TEST(Metrics, NonFinitePixelsAreCounted) {
@@ -110,8 +137,7 @@ TEST(EvalSpec, ErrorsNameTheJsonPath) {
   pair.replace(pair.find("\"light_change\""), 14, "\"light_change\": [], \"x\"");
   spec = ParseEvalSpec(pair);
   ASSERT_FALSE(spec.ok());
-  EXPECT_NE(std::string(spec.status().message()).find("scenes[0].light_change"),
-            std::string::npos)
+  EXPECT_NE(std::string(spec.status().message()).find("scenes[0].light_change"), std::string::npos)
       << spec.status();
   EXPECT_FALSE(ParseEvalSpec("{\"scenes\": []}").ok());
   EXPECT_FALSE(ParseEvalSpec("{\"bogus\": 1}").ok());
@@ -138,6 +164,42 @@ TEST(Plot, DrawsTheSeriesWhereTheAxesPutThem) {
   EXPECT_EQ(r.at(axes.X(1.0), axes.Y(1.0)), color);  // a marker
   // A point far from the line stays background.
   EXPECT_EQ(r.at(axes.X(3.0), axes.Y(0.02)), (std::array<uint8_t, 3>{255, 255, 255}));
+}
+
+TEST(Plot, LegendNamesEachSeriesAndThePngHasTheRequestedSize) {
+  const std::vector<PlotSeries> series = {{"direct", {{20.0, 0.5}, {80.0, 0.2}}},
+                                          {"pathtrace (equal time)", {{10.0, 1.0}, {1000.0, 0.002}}}};
+  const Raster r = PlotLogLog(series, 400, 300);
+  LogAxes axes;
+  ASSERT_TRUE(ComputeAxes(series, 400, 300, axes));
+  // Each legend row, under the plot: a swatch in the series colour and
+  // black glyph pixels to its right.
+  for (size_t i = 0; i < series.size(); ++i) {
+    const int y = LegendRowY(axes, i);
+    ASSERT_LT(y + 5, r.height);
+    EXPECT_EQ(r.at(axes.left + 4, y), SeriesColor(i));
+    int black = 0;
+    for (int yy = y - 5; yy < y + 5; ++yy) {
+      for (int x = axes.left + 16; x < axes.left + 16 + int(series[i].name.size()) * 8; ++x) {
+        black += r.at(x, yy) == std::array<uint8_t, 3>{0, 0, 0};
+      }
+    }
+    EXPECT_GT(black, 20) << series[i].name;
+  }
+  // Written as PNG, it decodes back at the requested size.
+  auto png = EncodePng(r.rgba, r.width, r.height);
+  ASSERT_TRUE(png.ok()) << png.status();
+  auto decoded = DecodeImageBytes(
+      {reinterpret_cast<const uint8_t*>(png->data()), png->size()});
+  ASSERT_TRUE(decoded.ok()) << decoded.status();
+  EXPECT_EQ(decoded->width, 400);
+  EXPECT_EQ(decoded->height, 300);
+}
+
+TEST(Plot, NoUsablePointsGiveABlankCanvas) {
+  const Raster r = PlotLogLog({{"a", {{0.0, 1.0}, {1.0, -1.0}}}}, 64, 48);
+  ASSERT_EQ(r.rgba.size(), size_t(64 * 48 * 4));
+  for (uint8_t v : r.rgba) ASSERT_EQ(v, 255);
 }
 
 }  // namespace
