@@ -1,8 +1,9 @@
 // Argument checks shared by the encoders.
 #pragma once
 
-#include <cstddef>
 #include <absl/strings/string_view.h>
+
+#include <cstddef>
 
 #include "util/status.h"
 

@@ -1,8 +1,8 @@
 // OpenEXR through OpenImageIO, written to memory via an IOProxy.
-#include <vector>
-
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+
+#include <vector>
 
 #include "encode/encode.h"
 #include "encode/encode_checks.h"

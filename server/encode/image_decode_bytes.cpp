@@ -1,10 +1,10 @@
 // DecodeImageBytes: client- and test-side decoding of what the encoders
 // produce (and of PNG/JPEG/EXR/HDR in general), from memory.
-#include <algorithm>
-#include <vector>
-
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <vector>
 
 #include "encode/encode.h"
 #include "encode/image_format.h"

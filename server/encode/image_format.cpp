@@ -1,11 +1,11 @@
 #include "encode/image_format.h"
 
+#include <OpenImageIO/imageio.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <mutex>
-
-#include <OpenImageIO/imageio.h>
 
 namespace gistream {
 namespace {

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <vector>
 
+// jpeglib.h uses size_t and FILE without including their headers.
 #include <jpeglib.h>
 
 #include "encode/encode.h"

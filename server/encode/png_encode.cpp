@@ -1,10 +1,10 @@
 // PNG through libpng. Like libjpeg, libpng reports errors with longjmp, so
 // the function that can be jumped out of holds only C state.
+#include <png.h>
+
 #include <csetjmp>
 #include <cstring>
 #include <new>
-
-#include <png.h>
 
 #include "encode/encode.h"
 #include "encode/encode_checks.h"

@@ -53,8 +53,7 @@ float Component(const AccessorData& d, uint64_t i, int j) {
       std::memcpy(&v, p + 4 * j, 4);
       return v;
     }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-      return static_cast<float>(p[j]) / 255.0f;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return static_cast<float>(p[j]) / 255.0f;
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
       uint16_t v;
       std::memcpy(&v, p + 2 * j, 2);
@@ -71,8 +70,8 @@ absl::StatusOr<std::vector<float>> ReadFloats(const AccessorData& d, int n) {
     for (int j = 0; j < n; ++j) {
       const float v = Component(d, i, j);
       if (!std::isfinite(v)) {
-        return absl::InvalidArgumentError(absl::StrCat(Item("accessors", d.index), ": element ",
-                                                       i, " component ", j, " is ", v,
+        return absl::InvalidArgumentError(absl::StrCat(Item("accessors", d.index), ": element ", i,
+                                                       " component ", j, " is ", v,
                                                        ", not a finite number"));
       }
       out[i * static_cast<uint64_t>(n) + static_cast<uint64_t>(j)] = v;
@@ -87,8 +86,7 @@ absl::Status ValidateBufferViews(const tinygltf::Model& model) {
   for (size_t i = 0; i < model.bufferViews.size(); ++i) {
     const tinygltf::BufferView& view = model.bufferViews[i];
     const std::string field = Item("bufferViews", i);
-    GS_RETURN_IF_ERROR(
-        CheckIndex(field + ".buffer", view.buffer, model.buffers.size(), "buffers"));
+    GS_RETURN_IF_ERROR(CheckIndex(field + ".buffer", view.buffer, model.buffers.size(), "buffers"));
     if (view.byteLength == 0) {
       return absl::InvalidArgumentError(field + ".byteLength: 0 (must be at least 1)");
     }
@@ -115,10 +113,9 @@ absl::StatusOr<AccessorData> ValidateAccessor(const tinygltf::Model& model, int 
   bool allowed = false;
   for (int t : spec.component_types) allowed = allowed || t == a.componentType;
   if (!allowed) {
-    return absl::InvalidArgumentError(
-        absl::StrCat(field, ".componentType: ", a.componentType, " (",
-                     ComponentName(a.componentType), ") but ", user, " needs ",
-                     AllowedComponents(spec.component_types)));
+    return absl::InvalidArgumentError(absl::StrCat(
+        field, ".componentType: ", a.componentType, " (", ComponentName(a.componentType), ") but ",
+        user, " needs ", AllowedComponents(spec.component_types)));
   }
   if (spec.integers_normalized && a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT &&
       !a.normalized) {
@@ -132,8 +129,8 @@ absl::StatusOr<AccessorData> ValidateAccessor(const tinygltf::Model& model, int 
     return absl::InvalidArgumentError(
         field + ".bufferView: missing (accessors without data are not supported)");
   }
-  GS_RETURN_IF_ERROR(CheckIndex(field + ".bufferView", a.bufferView, model.bufferViews.size(),
-                                "bufferViews"));
+  GS_RETURN_IF_ERROR(
+      CheckIndex(field + ".bufferView", a.bufferView, model.bufferViews.size(), "bufferViews"));
   if (a.count == 0) return absl::InvalidArgumentError(field + ".count: 0 (must be at least 1)");
 
   const tinygltf::BufferView& view = model.bufferViews[size_t(a.bufferView)];
@@ -145,9 +142,9 @@ absl::StatusOr<AccessorData> ValidateAccessor(const tinygltf::Model& model, int 
   const uint64_t stride = view.byteStride != 0 ? view.byteStride : element_size;
   const std::string view_field = Item("bufferViews", a.bufferView);
   if (stride < element_size || stride % component_size != 0) {
-    return absl::InvalidArgumentError(
-        absl::StrCat(view_field, ".byteStride: ", stride, " does not fit the ", element_size,
-                     "-byte elements of ", field));
+    return absl::InvalidArgumentError(absl::StrCat(view_field, ".byteStride: ", stride,
+                                                   " does not fit the ", element_size,
+                                                   "-byte elements of ", field));
   }
   if (a.byteOffset >= view.byteLength) {
     return absl::InvalidArgumentError(absl::StrCat(field, ".byteOffset: ", a.byteOffset,
@@ -155,12 +152,12 @@ absl::StatusOr<AccessorData> ValidateAccessor(const tinygltf::Model& model, int 
                                                    " (byteLength ", view.byteLength, ")"));
   }
   uint64_t end = 0;
-  if (!MulAdd(stride, a.count - 1, element_size, &end) ||
-      !MulAdd(1, end, a.byteOffset, &end) || end > view.byteLength) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        field, ".count: ", a.count, " elements of ", element_size, " bytes (stride ", stride,
-        ") from byteOffset ", a.byteOffset, " overrun ", view_field, " (byteLength ",
-        view.byteLength, ")"));
+  if (!MulAdd(stride, a.count - 1, element_size, &end) || !MulAdd(1, end, a.byteOffset, &end) ||
+      end > view.byteLength) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(field, ".count: ", a.count, " elements of ", element_size, " bytes (stride ",
+                     stride, ") from byteOffset ", a.byteOffset, " overrun ", view_field,
+                     " (byteLength ", view.byteLength, ")"));
   }
   // ValidateBufferViews has checked the view against its buffer.
   const std::vector<unsigned char>& buffer = model.buffers[size_t(view.buffer)].data;
@@ -208,10 +205,9 @@ absl::StatusOr<std::vector<uint32_t>> ReadIndices(const AccessorData& d, uint64_
       default: CheckFailed(__FILE__, __LINE__, "index type not admitted by ValidateAccessor");
     }
     if (v >= vertex_count) {
-      return absl::InvalidArgumentError(absl::StrCat(user, " (", Item("accessors", d.index),
-                                                     "): index ", v, " at position ", i,
-                                                     " is out of range (", vertex_count,
-                                                     " vertices)"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(user, " (", Item("accessors", d.index), "): index ", v, " at position ", i,
+                       " is out of range (", vertex_count, " vertices)"));
     }
     out[i] = v;
   }

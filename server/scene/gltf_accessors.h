@@ -3,11 +3,11 @@
 // overflow-safe arithmetic.
 #pragma once
 
-#include <cstdint>
 #include <absl/strings/string_view.h>
-#include <vector>
 
+#include <cstdint>
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "scene/tinygltf.h"
 #include "util/status.h"
@@ -19,9 +19,9 @@ absl::Status ValidateBufferViews(const tinygltf::Model& model);
 
 // What one use of an accessor requires.
 struct AccessorSpec {
-  int type = TINYGLTF_TYPE_SCALAR;     // TINYGLTF_TYPE_*
-  std::vector<int> component_types;    // allowed TINYGLTF_COMPONENT_TYPE_*
-  bool integers_normalized = false;    // integer components must be normalized
+  int type = TINYGLTF_TYPE_SCALAR;   // TINYGLTF_TYPE_*
+  std::vector<int> component_types;  // allowed TINYGLTF_COMPONENT_TYPE_*
+  bool integers_normalized = false;  // integer components must be normalized
 };
 
 // A validated accessor: `count` elements, `stride` bytes apart, starting at

@@ -33,8 +33,8 @@ absl::StatusOr<std::vector<Camera>> ImportCameras(const tinygltf::Model& model,
           absl::StrCat(field, ".perspective.znear: ", p.znear, " must be positive and finite"));
     }
     if (!(p.zfar == 0.0 || (p.zfar > p.znear && p.zfar < kMaxFloat))) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          field, ".perspective.zfar: ", p.zfar, " must be finite and beyond znear ", p.znear));
+      return absl::InvalidArgumentError(absl::StrCat(field, ".perspective.zfar: ", p.zfar,
+                                                     " must be finite and beyond znear ", p.znear));
     }
     Camera camera;
     camera.name = in.name;

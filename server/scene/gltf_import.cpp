@@ -1,9 +1,9 @@
 #include "scene/gltf_import.h"
 
+#include <absl/strings/str_join.h>
+
 #include <algorithm>
 #include <string>
-
-#include <absl/strings/str_join.h>
 
 #include "scene/gltf_accessors.h"
 #include "scene/gltf_parse.h"
@@ -46,7 +46,8 @@ bool IsSceneName(const std::string& name) {
 }
 
 bool EndsWith(const std::string& s, std::string_view suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+  return s.size() >= suffix.size() &&
+         s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
 
 }  // namespace
@@ -105,8 +106,8 @@ absl::StatusOr<Scene> ImportSceneByName(const std::filesystem::path& scene_dir,
     options.name = std::filesystem::path(file).stem().string();
     return ImportGltf(*bytes, options);
   }
-  return absl::NotFoundError(absl::StrCat("name: no scene '", name, "' (tried ",
-                                          absl::StrJoin(candidates, ", "), ")"));
+  return absl::NotFoundError(
+      absl::StrCat("name: no scene '", name, "' (tried ", absl::StrJoin(candidates, ", "), ")"));
 }
 
 }  // namespace gistream

@@ -20,8 +20,8 @@ absl::StatusOr<std::vector<Light>> ImportLights(const tinygltf::Model& model) {
     } else if (in.type == "directional") {
       light.type = LightType::kDirectional;
     } else {
-      return absl::InvalidArgumentError(absl::StrCat(
-          field, ".type: '", in.type, "' is not point, spot or directional"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ".type: '", in.type, "' is not point, spot or directional"));
     }
     if (!in.color.empty()) {
       if (in.color.size() != 3) {

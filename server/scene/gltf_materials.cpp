@@ -23,8 +23,8 @@ class ImageLoader {
     GS_RETURN_IF_ERROR(
         CheckIndex(field + ".index", info.index, model_.textures.size(), "textures"));
     if (info.texCoord != 0) {
-      return absl::InvalidArgumentError(absl::StrCat(field, ".texCoord: ", info.texCoord,
-                                                     " is not supported (only TEXCOORD_0)"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ".texCoord: ", info.texCoord, " is not supported (only TEXCOORD_0)"));
     }
     if (info.extensions.count("KHR_texture_transform") != 0) {
       LogOnce(LogLevel::kWarning, "gltf-texture-transform",
@@ -47,8 +47,8 @@ class ImageLoader {
     std::vector<uint8_t> file;
     std::span<const uint8_t> bytes;
     if (in.bufferView >= 0) {
-      GS_RETURN_IF_ERROR(CheckIndex(field + ".bufferView", in.bufferView,
-                                    model_.bufferViews.size(), "bufferViews"));
+      GS_RETURN_IF_ERROR(CheckIndex(field + ".bufferView", in.bufferView, model_.bufferViews.size(),
+                                    "bufferViews"));
       // ValidateBufferViews has checked the view against its buffer.
       const tinygltf::BufferView& view = model_.bufferViews[size_t(in.bufferView)];
       bytes = std::span<const uint8_t>(model_.buffers[size_t(view.buffer)].data)
@@ -67,9 +67,9 @@ class ImageLoader {
     image.name = in.name;
     const uint64_t pixels = uint64_t(image.width) * uint64_t(image.height);
     if (pixels > options_.limits.max_total_image_pixels - total_pixels_) {
-      return absl::ResourceExhaustedError(absl::StrCat(
-          field, ": decoded images exceed the limit of ", options_.limits.max_total_image_pixels,
-          " pixels per scene"));
+      return absl::ResourceExhaustedError(
+          absl::StrCat(field, ": decoded images exceed the limit of ",
+                       options_.limits.max_total_image_pixels, " pixels per scene"));
     }
     total_pixels_ += pixels;
     return image;

@@ -18,8 +18,7 @@ using tinygltf::Primitive;
 absl::StatusOr<bool> IsTriangleList(const Primitive& p, const std::string& field) {
   switch (p.mode) {
     case -1:  // tinygltf: not given, which means TRIANGLES
-    case TINYGLTF_MODE_TRIANGLES:
-      return true;
+    case TINYGLTF_MODE_TRIANGLES: return true;
     case TINYGLTF_MODE_POINTS:
     case TINYGLTF_MODE_LINE:
     case TINYGLTF_MODE_LINE_LOOP:
@@ -46,8 +45,8 @@ absl::StatusOr<int> PositionAccessor(const tinygltf::Model& model, const Primiti
   if (it == p.attributes.end()) {
     return absl::InvalidArgumentError(field + ".attributes.POSITION: missing");
   }
-  GS_RETURN_IF_ERROR(CheckIndex(field + ".attributes.POSITION", it->second,
-                                model.accessors.size(), "accessors"));
+  GS_RETURN_IF_ERROR(
+      CheckIndex(field + ".attributes.POSITION", it->second, model.accessors.size(), "accessors"));
   return it->second;
 }
 
@@ -56,11 +55,11 @@ const AccessorSpec kTexcoord{TINYGLTF_TYPE_VEC2,
                              {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
                               TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
                              true};
-const AccessorSpec kIndices{TINYGLTF_TYPE_SCALAR,
-                            {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
-                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
-                             TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT},
-                            false};
+const AccessorSpec kIndices{
+    TINYGLTF_TYPE_SCALAR,
+    {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+     TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT},
+    false};
 
 // Normalizes file normals; false when one cannot be normalized.
 bool NormalizeAll(std::vector<glm::vec3>* normals) {
@@ -72,18 +71,17 @@ bool NormalizeAll(std::vector<glm::vec3>* normals) {
   return true;
 }
 
-absl::StatusOr<gistream::Primitive> ReadPrimitive(const tinygltf::Model& model,
-                                                  const Primitive& in, const std::string& field,
-                                                  size_t material_count) {
+absl::StatusOr<gistream::Primitive> ReadPrimitive(const tinygltf::Model& model, const Primitive& in,
+                                                  const std::string& field, size_t material_count) {
   gistream::Primitive out;
   if (in.material != -1) {
     GS_RETURN_IF_ERROR(CheckIndex(field + ".material", in.material, material_count, "materials"));
     out.material = in.material;
   }
   GS_ASSIGN_OR_RETURN(const int position_index, PositionAccessor(model, in, field));
-  GS_ASSIGN_OR_RETURN(const AccessorData positions,
-                      ValidateAccessor(model, position_index, kVec3Float,
-                                       field + ".attributes.POSITION"));
+  GS_ASSIGN_OR_RETURN(
+      const AccessorData positions,
+      ValidateAccessor(model, position_index, kVec3Float, field + ".attributes.POSITION"));
   GS_ASSIGN_OR_RETURN(out.positions, ReadVec3(positions));
   const uint64_t vertices = positions.count;
 
@@ -93,8 +91,8 @@ absl::StatusOr<gistream::Primitive> ReadPrimitive(const tinygltf::Model& model,
     GS_ASSIGN_OR_RETURN(const AccessorData normals,
                         ValidateAccessor(model, it->second, kVec3Float, normal_field));
     if (normals.count != vertices) {
-      return absl::InvalidArgumentError(absl::StrCat(normal_field, ": ", normals.count,
-                                                     " elements but POSITION has ", vertices));
+      return absl::InvalidArgumentError(
+          absl::StrCat(normal_field, ": ", normals.count, " elements but POSITION has ", vertices));
     }
     GS_ASSIGN_OR_RETURN(out.normals, ReadVec3(normals));
     has_normals = NormalizeAll(&out.normals);
@@ -108,8 +106,8 @@ absl::StatusOr<gistream::Primitive> ReadPrimitive(const tinygltf::Model& model,
     GS_ASSIGN_OR_RETURN(const AccessorData uvs,
                         ValidateAccessor(model, it->second, kTexcoord, uv_field));
     if (uvs.count != vertices) {
-      return absl::InvalidArgumentError(absl::StrCat(uv_field, ": ", uvs.count,
-                                                     " elements but POSITION has ", vertices));
+      return absl::InvalidArgumentError(
+          absl::StrCat(uv_field, ": ", uvs.count, " elements but POSITION has ", vertices));
     }
     GS_ASSIGN_OR_RETURN(out.uvs, ReadVec2(uvs));
   }
@@ -119,8 +117,8 @@ absl::StatusOr<gistream::Primitive> ReadPrimitive(const tinygltf::Model& model,
     GS_ASSIGN_OR_RETURN(const AccessorData indices,
                         ValidateAccessor(model, in.indices, kIndices, index_field));
     if (indices.count % 3 != 0) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          index_field, ": ", indices.count, " indices do not form whole triangles"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(index_field, ": ", indices.count, " indices do not form whole triangles"));
     }
     GS_ASSIGN_OR_RETURN(out.indices, ReadIndices(indices, vertices, index_field));
   } else {
@@ -179,8 +177,8 @@ absl::Status CheckGeometryBudget(const tinygltf::Model& model, const NodeGraph& 
   const uint64_t max_vertices = 3 * limits.max_triangles;
   if (vertices > max_vertices) {
     return absl::ResourceExhaustedError(absl::StrCat("meshes: ", vertices,
-                                                     " vertices exceed the limit of ",
-                                                     max_vertices, " (3 per allowed triangle)"));
+                                                     " vertices exceed the limit of ", max_vertices,
+                                                     " (3 per allowed triangle)"));
   }
   return absl::OkStatus();
 }

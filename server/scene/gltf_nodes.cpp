@@ -1,7 +1,6 @@
 #include <cmath>
-#include <string>
-
 #include <glm/gtc/quaternion.hpp>
+#include <string>
 
 #include "scene/gltf_stages.h"
 #include "scene/gltf_util.h"
@@ -32,12 +31,10 @@ absl::Status CheckScale(const std::string& field, const glm::dvec3& s) {
 // non-zero scale followed by a translation; shear has no TRS form.
 absl::Status DecomposeMatrix(const std::vector<double>& m, const std::string& field, Node* node) {
   GS_RETURN_IF_ERROR(CheckFinite(field, m));
-  GS_RETURN_IF_ERROR(CheckRange(field, std::vector<double>(m.begin(), m.end()), -kMaxFloat,
-                                kMaxFloat));
+  GS_RETURN_IF_ERROR(CheckRange(field, m, -kMaxFloat, kMaxFloat));
   if (m[3] != 0.0 || m[7] != 0.0 || m[11] != 0.0 || m[15] != 1.0) {
-    return absl::InvalidArgumentError(absl::StrCat(field, ": bottom row (", m[3], ", ", m[7],
-                                                   ", ", m[11], ", ", m[15],
-                                                   ") is not (0, 0, 0, 1)"));
+    return absl::InvalidArgumentError(absl::StrCat(field, ": bottom row (", m[3], ", ", m[7], ", ",
+                                                   m[11], ", ", m[15], ") is not (0, 0, 0, 1)"));
   }
   glm::dvec3 axis[3];
   glm::dvec3 scale;
@@ -134,8 +131,8 @@ absl::Status LinkChildren(const tinygltf::Model& model, std::vector<Node>* nodes
       GS_RETURN_IF_ERROR(CheckIndex(field, child, nodes->size(), "nodes"));
       Node& c = (*nodes)[size_t(child)];
       if (size_t(child) == i) {
-        return absl::InvalidArgumentError(absl::StrCat(field, ": node ", child,
-                                                       " is its own child (a cycle)"));
+        return absl::InvalidArgumentError(
+            absl::StrCat(field, ": node ", child, " is its own child (a cycle)"));
       }
       if (c.parent >= 0) {
         return absl::InvalidArgumentError(absl::StrCat(field, ": node ", child,
@@ -186,8 +183,8 @@ absl::Status CheckAcyclic(const std::vector<Node>& nodes) {
     }
     absl::StrAppend(&chain, " -> ", Item("nodes", n));
     return absl::InvalidArgumentError(absl::StrCat(Item("nodes", nodes[size_t(n)].parent),
-                                                   ".children: the node graph has a cycle (",
-                                                   chain, ")"));
+                                                   ".children: the node graph has a cycle (", chain,
+                                                   ")"));
   }
   return absl::OkStatus();
 }
@@ -211,9 +208,8 @@ absl::StatusOr<std::vector<int>> DefaultSceneRoots(const tinygltf::Model& model,
     const int n = listed[k];
     GS_RETURN_IF_ERROR(CheckIndex(field, n, nodes.size(), "nodes"));
     if (nodes[size_t(n)].parent >= 0) {
-      return absl::InvalidArgumentError(absl::StrCat(field, ": node ", n,
-                                                     " is not a root (child of nodes[",
-                                                     nodes[size_t(n)].parent, "])"));
+      return absl::InvalidArgumentError(absl::StrCat(
+          field, ": node ", n, " is not a root (child of nodes[", nodes[size_t(n)].parent, "])"));
     }
     if (used[size_t(n)]) {
       return absl::InvalidArgumentError(absl::StrCat(field, ": node ", n, " is listed twice"));

@@ -66,8 +66,8 @@ bool KeepEncodedImage(tinygltf::Image* image, int, std::string*, std::string*, i
 }  // namespace
 
 absl::StatusOr<tinygltf::Model> ParseModel(std::span<const uint8_t> bytes,
-                                           const Container& container,
-                                           const ImportOptions& options, uint64_t* budget) {
+                                           const Container& container, const ImportOptions& options,
+                                           uint64_t* budget) {
   FsContext ctx{options.base_dir, budget, absl::OkStatus()};
   tinygltf::TinyGLTF loader;
   loader.SetFsCallbacks({&FileExists, &ExpandFilePath, &ReadWholeFile, &RefuseWrite, &ctx});

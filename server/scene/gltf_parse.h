@@ -17,7 +17,7 @@ namespace gistream::gltf {
 // `budget` is the number of bytes external files may still add; it is
 // reduced by what is read.
 absl::StatusOr<tinygltf::Model> ParseModel(std::span<const uint8_t> bytes,
-                                           const Container& container,
-                                           const ImportOptions& options, uint64_t* budget);
+                                           const Container& container, const ImportOptions& options,
+                                           uint64_t* budget);
 
 }  // namespace gistream::gltf

@@ -1,11 +1,10 @@
 #include "scene/gltf_preflight.h"
 
 #include <cstring>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
 #include <string>
-
-#include <nlohmann/json.hpp>
 
 #include "encode/image_format.h"
 #include "scene/gltf_util.h"
@@ -16,7 +15,7 @@ namespace {
 
 using json = nlohmann::json;
 
-constexpr uint32_t kGlbMagic = 0x46546c67;  // "glTF"
+constexpr uint32_t kGlbMagic = 0x46546c67;   // "glTF"
 constexpr uint32_t kChunkJson = 0x4e4f534a;  // "JSON"
 constexpr uint32_t kChunkBin = 0x004e4942;   // "BIN\0"
 // Bounds on the JSON document, which is parsed into a DOM twice (here and in
@@ -218,6 +217,28 @@ absl::StatusOr<std::vector<uint64_t>> CheckBuffers(const json& doc, const Contai
   return sizes;
 }
 
+// tinygltf 2.7 silently drops a primitive without attributes, which would
+// shift the indices our messages use.
+absl::Status CheckPrimitives(const json& doc) {
+  const json* meshes = Array(doc, "meshes");
+  if (meshes == nullptr) return absl::OkStatus();
+  for (size_t m = 0; m < meshes->size(); ++m) {
+    const json& mesh = (*meshes)[m];
+    if (!mesh.is_object()) return absl::InvalidArgumentError(Item("meshes", m) + ": not an object");
+    const json* primitives = Array(mesh, "primitives");
+    if (primitives == nullptr) continue;
+    for (size_t p = 0; p < primitives->size(); ++p) {
+      const json& primitive = (*primitives)[p];
+      if (!primitive.is_object() || !primitive.contains("attributes") ||
+          !primitive.at("attributes").is_object()) {
+        return absl::InvalidArgumentError(
+            absl::StrCat(Item("meshes", m), ".", Item("primitives", p), ".attributes: missing"));
+      }
+    }
+  }
+  return absl::OkStatus();
+}
+
 // tinygltf 2.7 hands &buffer.data[view.byteOffset] with view.byteLength to
 // the image loader without checking either, so image views are checked here.
 absl::Status CheckImageViews(const json& doc, const std::vector<uint64_t>& buffer_sizes) {
@@ -236,7 +257,8 @@ absl::Status CheckImageViews(const json& doc, const std::vector<uint64_t>& buffe
     const std::string view_field = Item("bufferViews", *view_index);
     const json& view = (*views)[*view_index];
     if (!view.is_object()) return absl::InvalidArgumentError(view_field + ": not an object");
-    GS_ASSIGN_OR_RETURN(const std::optional<uint64_t> buffer, GetUnsigned(view, "buffer", view_field));
+    GS_ASSIGN_OR_RETURN(const std::optional<uint64_t> buffer,
+                        GetUnsigned(view, "buffer", view_field));
     GS_ASSIGN_OR_RETURN(const std::optional<uint64_t> offset,
                         GetUnsigned(view, "byteOffset", view_field));
     GS_ASSIGN_OR_RETURN(const std::optional<uint64_t> length,
@@ -267,9 +289,9 @@ absl::StatusOr<Container> SplitContainer(std::span<const uint8_t> bytes) {
     if (bytes.size() >= 3 && std::memcmp(bytes.data(), "\xef\xbb\xbf", 3) == 0) i = 3;
     while (i < bytes.size() && std::strchr(" \t\r\n", bytes[i]) != nullptr && bytes[i] != 0) ++i;
     if (i == bytes.size() || bytes[i] != '{') {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "scene: neither a glb (magic \"glTF\") nor glTF JSON (data starts with ",
-          HexPrefix(bytes), ")"));
+      return absl::InvalidArgumentError(
+          absl::StrCat("scene: neither a glb (magic \"glTF\") nor glTF JSON (data starts with ",
+                       HexPrefix(bytes), ")"));
     }
     c.json = bytes;
     return c;
@@ -304,8 +326,8 @@ absl::StatusOr<Container> SplitContainer(std::span<const uint8_t> bytes) {
   const uint64_t rest = length - 20 - json_length;
   if (rest == 0) return c;
   if (rest < 12) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "glb.chunks[1]: ", rest, " trailing bytes are too few for a chunk"));
+    return absl::InvalidArgumentError(
+        absl::StrCat("glb.chunks[1]: ", rest, " trailing bytes are too few for a chunk"));
   }
   const uint64_t bin_offset = 20 + json_length;
   const uint64_t bin_length = ReadU32(bytes, bin_offset);
@@ -313,9 +335,9 @@ absl::StatusOr<Container> SplitContainer(std::span<const uint8_t> bytes) {
     return absl::InvalidArgumentError("glb.chunks[1].type: the second chunk is not BIN");
   }
   if (bin_length < 4 || bin_length % 4 != 0 || bin_length > rest - 8) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "glb.chunks[1].length: ", bin_length, " is not a multiple of 4 that fits in the ",
-        rest - 8, " bytes left"));
+    return absl::InvalidArgumentError(absl::StrCat("glb.chunks[1].length: ", bin_length,
+                                                   " is not a multiple of 4 that fits in the ",
+                                                   rest - 8, " bytes left"));
   }
   c.bin_size = bin_length;
   return c;
@@ -333,6 +355,7 @@ absl::Status PreflightJson(const Container& container, const ImportOptions& opti
     return absl::ResourceExhaustedError(absl::StrCat(
         "nodes: ", nodes->size(), " nodes exceed the limit of ", options.limits.max_nodes));
   }
+  GS_RETURN_IF_ERROR(CheckPrimitives(doc));
   GS_ASSIGN_OR_RETURN(const std::vector<uint64_t> buffer_sizes,
                       CheckBuffers(doc, container, options));
   return CheckImageViews(doc, buffer_sizes);

@@ -13,9 +13,9 @@
 namespace gistream::gltf {
 
 struct Container {
-  bool binary = false;                // .glb
-  std::span<const uint8_t> json;      // the JSON text (the JSON chunk of a .glb)
-  uint64_t bin_size = 0;              // the BIN chunk's payload, 0 if none
+  bool binary = false;            // .glb
+  std::span<const uint8_t> json;  // the JSON text (the JSON chunk of a .glb)
+  uint64_t bin_size = 0;          // the BIN chunk's payload, 0 if none
 };
 
 // Tells a .glb from a .gltf and validates the GLB header and chunks.

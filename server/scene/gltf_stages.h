@@ -36,8 +36,7 @@ absl::StatusOr<NodeGraph> ImportNodes(const tinygltf::Model& model,
 // before any geometry is read; then the meshes themselves.
 absl::Status CheckGeometryBudget(const tinygltf::Model& model, const NodeGraph& graph,
                                  const ImportLimits& limits);
-absl::StatusOr<std::vector<Mesh>> ImportMeshes(const tinygltf::Model& model,
-                                               size_t material_count);
+absl::StatusOr<std::vector<Mesh>> ImportMeshes(const tinygltf::Model& model, size_t material_count);
 
 // gltf_materials.cpp: materials, and the images their textures use
 // (decoded, within the limits). `budget` as in ParseModel.

@@ -2,11 +2,12 @@
 // JSON-pointer-ish form our messages use, and overflow-checked arithmetic.
 #pragma once
 
+#include <absl/strings/string_view.h>
+
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <string>
-#include <absl/strings/string_view.h>
 
 #include "util/status.h"
 

@@ -1,11 +1,11 @@
 #include "scene/image_decode.h"
 
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
+
 #include <algorithm>
 #include <cmath>
 #include <vector>
-
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 
 #include "encode/image_format.h"
 #include "encode/image_reader.h"
@@ -74,9 +74,8 @@ absl::StatusOr<Image> DecodeImage(std::span<const uint8_t> bytes, ImageKind kind
   ConfigureOpenImageIO();
   const std::string format = DetectImageFormat(bytes);
   if (format.empty()) {
-    return absl::InvalidArgumentError(absl::StrCat(field, ": not a ", KindFormats(kind),
-                                                   " image (data starts with ", HexPrefix(bytes),
-                                                   ")"));
+    return absl::InvalidArgumentError(absl::StrCat(
+        field, ": not a ", KindFormats(kind), " image (data starts with ", HexPrefix(bytes), ")"));
   }
   if (!KindAccepts(kind, format)) {
     return absl::InvalidArgumentError(absl::StrCat(field, ": ", format, " data where a ",

@@ -55,9 +55,9 @@ absl::StatusOr<std::string> PercentDecode(const std::string& uri, const std::str
 absl::StatusOr<fs::path> ResolveScenePath(const fs::path& base_dir, const std::string& path,
                                           const std::string& field) {
   if (base_dir.empty()) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        field, ": external file '", path,
-        "' refused: a scene sent as bytes may only use data: URIs (or use a .glb)"));
+    return absl::InvalidArgumentError(
+        absl::StrCat(field, ": external file '", path,
+                     "' refused: a scene sent as bytes may only use data: URIs (or use a .glb)"));
   }
   if (path.empty()) return absl::InvalidArgumentError(absl::StrCat(field, ": empty URI"));
   if (path.find('\0') != std::string::npos || path.find('\\') != std::string::npos) {
@@ -71,9 +71,9 @@ absl::StatusOr<fs::path> ResolveScenePath(const fs::path& base_dir, const std::s
   }
   const size_t colon = path.find(':');
   if (colon != std::string::npos && path.find('/') > colon) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        field, ": URI scheme '", path.substr(0, colon), "' is not supported (only data: URIs"
-        " and relative paths)"));
+    return absl::InvalidArgumentError(absl::StrCat(field, ": URI scheme '", path.substr(0, colon),
+                                                   "' is not supported (only data: URIs"
+                                                   " and relative paths)"));
   }
   for (const fs::path& part : relative) {
     if (part == "..") {
@@ -108,7 +108,8 @@ absl::StatusOr<std::vector<uint8_t>> ReadFileLimited(const fs::path& path, uint6
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
   if (ec || !fs::exists(status)) {
-    return absl::NotFoundError(absl::StrCat(field, ": '", path.filename().string(), "' does not exist"));
+    return absl::NotFoundError(
+        absl::StrCat(field, ": '", path.filename().string(), "' does not exist"));
   }
   if (!fs::is_regular_file(status)) {
     return absl::InvalidArgumentError(
@@ -120,9 +121,9 @@ absl::StatusOr<std::vector<uint8_t>> ReadFileLimited(const fs::path& path, uint6
         absl::StrCat(field, ": cannot stat '", path.string(), "': ", ec.message()));
   }
   if (size > max_bytes) {
-    return absl::ResourceExhaustedError(absl::StrCat(field, ": '", path.filename().string(), "' has ", size,
-                                                     " bytes, over the remaining scene budget of ",
-                                                     max_bytes, " bytes"));
+    return absl::ResourceExhaustedError(
+        absl::StrCat(field, ": '", path.filename().string(), "' has ", size,
+                     " bytes, over the remaining scene budget of ", max_bytes, " bytes"));
   }
   std::ifstream in(path, std::ios::binary);
   std::vector<uint8_t> bytes(size);

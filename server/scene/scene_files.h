@@ -23,7 +23,6 @@ absl::StatusOr<std::filesystem::path> ResolveScenePath(const std::filesystem::pa
 // Reads a regular file of at most `max_bytes` bytes. NOT_FOUND when it does
 // not exist, RESOURCE_EXHAUSTED when it is larger.
 absl::StatusOr<std::vector<uint8_t>> ReadFileLimited(const std::filesystem::path& path,
-                                                     uint64_t max_bytes,
-                                                     const std::string& field);
+                                                     uint64_t max_bytes, const std::string& field);
 
 }  // namespace gistream

@@ -1,9 +1,10 @@
 #include "scene/validate_update.h"
 
+#include <absl/strings/string_view.h>
+
 #include <cmath>
 #include <numbers>
 #include <string>
-#include <absl/strings/string_view.h>
 
 namespace gistream {
 namespace {
@@ -14,8 +15,8 @@ absl::Status Invalid(absl::string_view field, absl::string_view what) {
 
 absl::Status CheckId(absl::string_view field, uint64_t id, size_t count, absl::string_view things) {
   if (id >= count) {
-    return Invalid(field, absl::StrCat(id, " is out of range (the scene has ", count, " ", things,
-                                       ")"));
+    return Invalid(field,
+                   absl::StrCat(id, " is out of range (the scene has ", count, " ", things, ")"));
   }
   return absl::OkStatus();
 }
@@ -103,9 +104,9 @@ absl::Status Check(const Scene& scene, const LightUpdate& u) {
   // With only one angle given the other is the light's current one, which
   // the render thread holds; it orders the pair when it applies the update.
   if (u.inner_cone_angle && u.outer_cone_angle && *u.inner_cone_angle > *u.outer_cone_angle) {
-    return Invalid("light.inner_cone_angle",
-                   absl::StrCat(*u.inner_cone_angle, " exceeds outer_cone_angle ",
-                                *u.outer_cone_angle));
+    return Invalid(
+        "light.inner_cone_angle",
+        absl::StrCat(*u.inner_cone_angle, " exceeds outer_cone_angle ", *u.outer_cone_angle));
   }
   return absl::OkStatus();
 }
@@ -145,7 +146,8 @@ absl::Status Check(const Scene& scene, const CameraUpdate& u, uint32_t max_width
   }
   if (u.width) {
     if (*u.width < 1 || *u.width > max_width) {
-      return Invalid("camera.width", absl::StrCat(*u.width, " is out of range [1, ", max_width, "]"));
+      return Invalid("camera.width",
+                     absl::StrCat(*u.width, " is out of range [1, ", max_width, "]"));
     }
     if (*u.height < 1 || *u.height > max_height) {
       return Invalid("camera.height",
@@ -156,8 +158,7 @@ absl::Status Check(const Scene& scene, const CameraUpdate& u, uint32_t max_width
 }
 
 absl::Status Check(const Scene& scene, const MaterialUpdate& u) {
-  GS_RETURN_IF_ERROR(
-      CheckId("material.material", u.material, scene.materials.size(), "materials"));
+  GS_RETURN_IF_ERROR(CheckId("material.material", u.material, scene.materials.size(), "materials"));
   if (u.base_color) {
     GS_RETURN_IF_ERROR(CheckVec<4>("material.base_color", *u.base_color, "rgba", 0.0f));
     for (int i = 0; i < 4; ++i) {

@@ -21,7 +21,10 @@ class BundledScene : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(BundledScene, Imports) {
   auto scene = ImportSceneByName(kSceneDir, GetParam(), {});
-  ASSERT_TRUE(scene.ok()) << scene.status();
+  ASSERT_TRUE(scene.ok()) << GetParam() << ": " << scene.status();
+  EXPECT_EQ(scene->name, GetParam());
+  EXPECT_FALSE(scene->roots.empty());
+  EXPECT_FALSE(scene->materials.empty());
   EXPECT_GT(scene->triangle_count, 0u);
   EXPECT_GT(scene->vertex_count, 0u);
   EXPECT_FALSE(scene->bounds.empty());
@@ -49,6 +52,15 @@ TEST(BundledScenes, CornellBoxIsLitByItsCeilingQuadOnly) {
   int emissive = 0;
   for (const Material& m : scene->materials) emissive += m.emissive() ? 1 : 0;
   EXPECT_EQ(emissive, 1);
+  // The emissive material is the one on the node named "light".
+  for (const Node& n : scene->nodes) {
+    if (n.name != "light") continue;
+    ASSERT_GE(n.mesh, 0);
+    for (const Primitive& p : scene->meshes[size_t(n.mesh)].primitives) {
+      ASSERT_GE(p.material, 0);
+      EXPECT_TRUE(scene->materials[size_t(p.material)].emissive());
+    }
+  }
   // Walls tessellated for vertex-based solvers: a few thousand vertices.
   EXPECT_GT(scene->vertex_count, 2000u);
   EXPECT_LT(scene->vertex_count, 20000u);

@@ -13,12 +13,13 @@ using testing::TestGltf;
 
 TEST(BadGraph, NodeCycle) {
   TestGltf g;
-  g.AddRoot({});                            // 0: a root, fine
-  g.AddNode({{"children", {2}}});           // 1 -> 2
-  g.AddNode({{"children", {3}}});           // 2 -> 3
-  g.AddNode({{"children", {1}}});           // 3 -> 1
+  g.AddRoot({});                   // 0: a root, fine
+  g.AddNode({{"children", {2}}});  // 1 -> 2
+  g.AddNode({{"children", {3}}});  // 2 -> 3
+  g.AddNode({{"children", {1}}});  // 3 -> 1
   EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "the node graph has a cycle");
-  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "nodes[1] -> nodes[2] -> nodes[3] -> nodes[1]");
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
+               "nodes[1] -> nodes[2] -> nodes[3] -> nodes[1]");
 }
 
 TEST(BadGraph, NodeIsItsOwnChild) {
@@ -39,7 +40,8 @@ TEST(BadGraph, NodeWithTwoParents) {
   TestGltf h;
   const int c = h.AddNode({});
   h.AddRoot({{"children", {c, c}}});
-  EXPECT_ERROR(Import(h.ToGltf()), kInvalidArgument, "nodes[1].children[1]: node 0 already has parent");
+  EXPECT_ERROR(Import(h.ToGltf()), kInvalidArgument,
+               "nodes[1].children[1]: node 0 already has parent");
 }
 
 TEST(BadGraph, ChildOutOfRange) {
@@ -126,14 +128,14 @@ TestGltf WithLight(nlohmann::json light) {
 TEST(BadGraph, LightValues) {
   EXPECT_ERROR(Import(WithLight({{"type", "area"}}).ToGltf()), kInvalidArgument,
                "extensions.KHR_lights_punctual.lights[0].type: 'area'");
-  EXPECT_ERROR(Import(WithLight({{"type", "point"}, {"intensity", -1}}).ToGltf()),
-               kInvalidArgument, "extensions.KHR_lights_punctual.lights[0].intensity: -1");
-  EXPECT_ERROR(Import(WithLight({{"type", "point"}, {"color", {1, 1}}}).ToGltf()),
-               kInvalidArgument, "lights[0].color: 2 values");
-  EXPECT_ERROR(
-      Import(WithLight({{"type", "spot"}, {"spot", {{"innerConeAngle", 0.6}, {"outerConeAngle", 0.5}}}})
-                 .ToGltf()),
-      kInvalidArgument, "lights[0].spot.innerConeAngle: 0.6 is out of range [0, 0.5]");
+  EXPECT_ERROR(Import(WithLight({{"type", "point"}, {"intensity", -1}}).ToGltf()), kInvalidArgument,
+               "extensions.KHR_lights_punctual.lights[0].intensity: -1");
+  EXPECT_ERROR(Import(WithLight({{"type", "point"}, {"color", {1, 1}}}).ToGltf()), kInvalidArgument,
+               "lights[0].color: 2 values");
+  EXPECT_ERROR(Import(WithLight({{"type", "spot"},
+                                 {"spot", {{"innerConeAngle", 0.6}, {"outerConeAngle", 0.5}}}})
+                          .ToGltf()),
+               kInvalidArgument, "lights[0].spot.innerConeAngle: 0.6 is out of range [0, 0.5]");
   EXPECT_ERROR(Import(WithLight({{"type", "spot"}, {"spot", {{"outerConeAngle", 2}}}}).ToGltf()),
                kInvalidArgument, "lights[0].spot.outerConeAngle: 2");
 }

@@ -121,7 +121,8 @@ TEST(BadInput, NonFiniteNumberNamesItsField) {
 TEST(BadInput, NumberBeyondFloatInNodeTranslation) {
   TestGltf g = Quad();
   g.doc["nodes"][0]["translation"] = {0, 1e300, 0};
-  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "nodes[0].translation[1]: 1e+300 is out of range");
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
+               "nodes[0].translation[1]: 1e+300 is out of range");
 }
 
 // ----------------------------------------------------- buffers and views
@@ -182,7 +183,8 @@ TEST(BadInput, MissingBuffer) {
 TEST(BadInput, BadDataUri) {
   TestGltf g = Quad();
   nlohmann::json d = g.doc;
-  d["buffers"] = {{{"byteLength", g.bin.size()}, {"uri", "data:application/octet-stream;base64,AAAA"}}};
+  d["buffers"] = {
+      {{"byteLength", g.bin.size()}, {"uri", "data:application/octet-stream;base64,AAAA"}}};
   EXPECT_ERROR(Import(Bytes(d.dump())), kInvalidArgument, "scene: malformed glTF");
 }
 
@@ -214,11 +216,24 @@ TEST(BadInput, AccessorIndexOutOfRange) {
 TEST(BadInput, WrongAccessorTypes) {
   TestGltf g = Quad();
   g.doc["accessors"][0]["type"] = "VEC2";
-  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
-               "accessors[0].type: VEC2 but meshes[0].primitives[0].attributes.POSITION needs VEC3");
+  EXPECT_ERROR(
+      Import(g.ToGltf()), kInvalidArgument,
+      "accessors[0].type: VEC2 but meshes[0].primitives[0].attributes.POSITION needs VEC3");
   g = Quad();
   g.doc["accessors"][2]["componentType"] = 5126;  // float indices
   EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "accessors[2].componentType: 5126 (FLOAT)");
+}
+
+TEST(BadInput, PrimitiveWithoutAttributes) {
+  TestGltf g = Quad();
+  g.doc["meshes"][0]["primitives"].push_back({{"indices", 2}});
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "meshes[0].primitives[1].attributes: missing");
+}
+
+TEST(BadInput, EmptyDataUriImage) {
+  TestGltf g = Quad();
+  g.doc["images"] = {{{"uri", "data:image/png;base64,"}}};
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "scene: malformed glTF");
 }
 
 TEST(BadInput, MissingPosition) {
@@ -237,10 +252,9 @@ TEST(BadInput, NormalCountMismatch) {
 
 TEST(BadInput, SparseAccessor) {
   TestGltf g = Quad();
-  g.doc["accessors"][0]["sparse"] = {
-      {"count", 1},
-      {"indices", {{"bufferView", 2}, {"componentType", 5123}}},
-      {"values", {{"bufferView", 0}}}};
+  g.doc["accessors"][0]["sparse"] = {{"count", 1},
+                                     {"indices", {{"bufferView", 2}, {"componentType", 5123}}},
+                                     {"values", {{"bufferView", 0}}}};
   EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "accessors[0].sparse: sparse accessors");
 }
 
@@ -369,7 +383,8 @@ TEST(BadInput, TooManyNodes) {
 TEST(BadInput, SceneTooLarge) {
   ImportOptions options;
   options.limits.max_scene_bytes = 100;
-  EXPECT_ERROR(Import(Quad().ToGltf(), options), kResourceExhausted, "bytes exceed the limit of 100");
+  EXPECT_ERROR(Import(Quad().ToGltf(), options), kResourceExhausted,
+               "bytes exceed the limit of 100");
 }
 
 TEST(BadInput, TooManyImagePixelsPerScene) {

@@ -54,10 +54,8 @@ int TestGltf::AddView(const void* data, size_t bytes, size_t stride) {
 
 int TestGltf::AddAccessor(int view, int component_type, size_t count, const std::string& type,
                           size_t byte_offset) {
-  nlohmann::json a = {{"bufferView", view},
-                      {"componentType", component_type},
-                      {"count", count},
-                      {"type", type}};
+  nlohmann::json a = {
+      {"bufferView", view}, {"componentType", component_type}, {"count", count}, {"type", type}};
   if (byte_offset != 0) a["byteOffset"] = byte_offset;
   doc["accessors"].push_back(a);
   return int(doc["accessors"].size()) - 1;
@@ -110,9 +108,9 @@ int TestGltf::AddMaterial(nlohmann::json material) {
 std::vector<uint8_t> TestGltf::ToGltf() const {
   nlohmann::json d = doc;
   if (!bin.empty()) {
-    d["buffers"] = nlohmann::json::array(
-        {{{"byteLength", bin.size()},
-          {"uri", "data:application/octet-stream;base64," + Base64(bin)}}});
+    d["buffers"] =
+        nlohmann::json::array({{{"byteLength", bin.size()},
+                                {"uri", "data:application/octet-stream;base64," + Base64(bin)}}});
   }
   return Bytes(d.dump());
 }
@@ -169,7 +167,9 @@ std::vector<uint8_t> PackGlb(const std::string& json, const std::vector<uint8_t>
   return out;
 }
 
-std::vector<uint8_t> Bytes(const std::string& s) { return std::vector<uint8_t>(s.begin(), s.end()); }
+std::vector<uint8_t> Bytes(const std::string& s) {
+  return std::vector<uint8_t>(s.begin(), s.end());
+}
 
 absl::StatusOr<Scene> Import(const std::vector<uint8_t>& bytes, const ImportOptions& options) {
   return ImportGltf(bytes, options);

@@ -2,12 +2,12 @@
 // as a base64 data: URI or packed into a .glb) and status matchers.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "scene/gltf_import.h"
 
@@ -17,7 +17,7 @@ class TestGltf {
  public:
   TestGltf();
 
-  nlohmann::json doc;      // edit freely; "buffers" is written by ToGltf/ToGlb
+  nlohmann::json doc;  // edit freely; "buffers" is written by ToGltf/ToGlb
   std::vector<uint8_t> bin;
 
   // Appends bytes (4-byte aligned) and a bufferView over them.
@@ -55,12 +55,12 @@ std::vector<uint8_t> PngHeaderOnly(uint32_t width, uint32_t height);
 
 // Expects `status_or_status` to fail with `code` and a message containing
 // `text`.
-#define EXPECT_ERROR(expr, expected_code, text)                                         \
-  do {                                                                                  \
-    const absl::Status _s = ::gistream::testing::StatusOf(expr);                        \
-    EXPECT_EQ(_s.code(), absl::StatusCode::expected_code) << _s;                        \
-    EXPECT_NE(std::string(_s.message()).find(text), std::string::npos)                  \
-        << "message: " << _s.message() << "\nexpected to contain: " << (text);          \
+#define EXPECT_ERROR(expr, expected_code, text)                                \
+  do {                                                                         \
+    const absl::Status _s = ::gistream::testing::StatusOf(expr);               \
+    EXPECT_EQ(_s.code(), absl::StatusCode::expected_code) << _s;               \
+    EXPECT_NE(std::string(_s.message()).find(text), std::string::npos)         \
+        << "message: " << _s.message() << "\nexpected to contain: " << (text); \
   } while (0)
 
 namespace gistream::testing {

@@ -1,9 +1,9 @@
 // Import of well-formed glTF: counts, hierarchy, transforms, materials,
 // lights, cameras.
-#include <cmath>
-
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "encode/encode.h"
 #include "gltf_test_util.h"
@@ -236,7 +236,9 @@ TEST(SceneImport, Materials) {
   const int mat = g.AddMaterial(
       {{"name", "lamp"},
        {"pbrMetallicRoughness",
-        {{"baseColorFactor", {0.5, 0.25, 0.125, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 0.5}}},
+        {{"baseColorFactor", {0.5, 0.25, 0.125, 1}},
+         {"metallicFactor", 0},
+         {"roughnessFactor", 0.5}}},
        {"emissiveFactor", {1, 0.5, 0}},
        {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 20}}}}},
        {"doubleSided", true}});
@@ -288,8 +290,8 @@ TEST(SceneImport, DataUriImage) {
   const std::vector<uint8_t> rgba(4 * 4 * 4, 200);
   const absl::StatusOr<std::string> png = EncodePng(rgba, 4, 4);
   ASSERT_TRUE(png.ok());
-  g.doc["images"] = {{{"uri", "data:image/png;base64," +
-                                  testing::Base64(std::vector<uint8_t>(png->begin(), png->end()))}}};
+  g.doc["images"] = {{{"uri", "data:image/png;base64," + testing::Base64(std::vector<uint8_t>(
+                                                             png->begin(), png->end()))}}};
   g.doc["textures"] = {{{"source", 0}}};
   const int mat = g.AddMaterial({{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}}}}}});
   g.AddRoot({{"mesh", AddQuadMesh(&g, true, mat)}});
@@ -304,7 +306,9 @@ TEST(SceneImport, PunctualLights) {
   g.doc["extensionsUsed"] = {"KHR_lights_punctual"};
   g.doc["extensions"]["KHR_lights_punctual"]["lights"] = {
       {{"type", "point"}, {"color", {1, 0.5, 0.25}}, {"intensity", 100}, {"name", "bulb"}},
-      {{"type", "spot"}, {"spot", {{"innerConeAngle", 0.1}, {"outerConeAngle", 0.5}}}, {"range", 20}},
+      {{"type", "spot"},
+       {"spot", {{"innerConeAngle", 0.1}, {"outerConeAngle", 0.5}}},
+       {"range", 20}},
       {{"type", "directional"}, {"intensity", 3}}};
   g.AddRoot({{"name", "sun"}, {"extensions", {{"KHR_lights_punctual", {{"light", 2}}}}}});
   g.AddRoot({{"name", "bulb"},
@@ -330,9 +334,11 @@ TEST(SceneImport, PunctualLights) {
 
 TEST(SceneImport, PerspectiveCamerasAndSkippedOrthographic) {
   TestGltf g;
-  g.doc["cameras"] = {
-      {{"type", "orthographic"}, {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}},
-      {{"type", "perspective"}, {"name", "main"}, {"perspective", {{"yfov", 0.7}, {"znear", 0.05}, {"zfar", 100}}}}};
+  g.doc["cameras"] = {{{"type", "orthographic"},
+                       {"orthographic", {{"xmag", 1}, {"ymag", 1}, {"znear", 0.1}, {"zfar", 10}}}},
+                      {{"type", "perspective"},
+                       {"name", "main"},
+                       {"perspective", {{"yfov", 0.7}, {"znear", 0.05}, {"zfar", 100}}}}};
   g.AddRoot({{"name", "ortho"}, {"camera", 0}});
   g.AddRoot({{"name", "camera"}, {"camera", 1}, {"translation", {0, 1, 5}}});
   const absl::StatusOr<Scene> scene = Import(g.ToGltf());

@@ -1,0 +1,124 @@
+// DecodeImage: magic-byte detection, one reader per format, limits checked
+// on the header before pixels are decoded.
+#include "scene/image_decode.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "encode/encode.h"
+#include "gltf_test_util.h"
+
+namespace gistream {
+namespace {
+
+std::vector<uint8_t> Bytes(const std::string& s) { return {s.begin(), s.end()}; }
+
+std::vector<uint8_t> Png(const std::vector<uint8_t>& rgba, int w, int h) {
+  return Bytes(*EncodePng(rgba, w, h));
+}
+
+// A 2x1 Radiance HDR file, flat (uncompressed) scanlines.
+std::vector<uint8_t> TinyHdr() {
+  std::vector<uint8_t> hdr = Bytes("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 1 +X 2\n");
+  // RGBE with exponent 129: value = mantissa / 128.
+  hdr.insert(hdr.end(), {128, 64, 32, 129, 0, 0, 128, 131});
+  return hdr;
+}
+
+TEST(ImageDecode, DetectsFormatsByMagic) {
+  EXPECT_EQ(DetectImageFormat(Png({1, 2, 3, 4}, 1, 1)), "png");
+  EXPECT_EQ(DetectImageFormat(Bytes(*EncodeJpeg(std::vector<uint8_t>(64, 9), 4, 4, 90))), "jpeg");
+  EXPECT_EQ(DetectImageFormat(TinyHdr()), "hdr");
+  EXPECT_EQ(DetectImageFormat(Bytes(*EncodeExr(std::vector<float>(4, 1.0f), 1, 1))), "exr");
+  EXPECT_EQ(DetectImageFormat(Bytes("BM6\x01\x00")), "");
+  EXPECT_EQ(DetectImageFormat({}), "");
+}
+
+TEST(ImageDecode, PngTextureKeepsExactPixels) {
+  std::vector<uint8_t> rgba(5 * 3 * 4);
+  for (size_t i = 0; i < rgba.size(); ++i) rgba[i] = uint8_t(i * 7);
+  const absl::StatusOr<Image> image =
+      DecodeImage(Png(rgba, 5, 3), ImageKind::kTexture, {}, "images[0]");
+  ASSERT_TRUE(image.ok()) << image.status();
+  EXPECT_EQ(image->width, 5);
+  EXPECT_EQ(image->height, 3);
+  EXPECT_EQ(image->channels, 4);
+  EXPECT_TRUE(image->srgb);
+  EXPECT_FALSE(image->is_float);
+  EXPECT_EQ(image->pixels8, rgba);
+}
+
+TEST(ImageDecode, JpegTextureIsOpaqueRgba) {
+  const std::vector<uint8_t> rgba(8 * 8 * 4, 128);
+  const absl::StatusOr<Image> image =
+      DecodeImage(Bytes(*EncodeJpeg(rgba, 8, 8, 95)), ImageKind::kTexture, {}, "images[0]");
+  ASSERT_TRUE(image.ok()) << image.status();
+  ASSERT_EQ(image->pixels8.size(), 8u * 8 * 4);
+  for (size_t i = 0; i < image->pixels8.size(); i += 4) {
+    EXPECT_NEAR(image->pixels8[i], 128, 2);
+    EXPECT_EQ(image->pixels8[i + 3], 255);
+  }
+}
+
+TEST(ImageDecode, HdrEnvironmentIsLinearFloat) {
+  const absl::StatusOr<Image> image = DecodeImage(TinyHdr(), ImageKind::kEnvironment, {}, "env");
+  ASSERT_TRUE(image.ok()) << image.status();
+  EXPECT_TRUE(image->is_float);
+  EXPECT_FALSE(image->srgb);
+  ASSERT_EQ(image->pixelsf.size(), 8u);
+  const float expected[] = {1.0f, 0.5f, 0.25f, 1.0f, 0.0f, 0.0f, 4.0f, 1.0f};
+  for (int i = 0; i < 8; ++i) EXPECT_NEAR(image->pixelsf[size_t(i)], expected[i], 1e-6f) << i;
+}
+
+TEST(ImageDecode, ExrEnvironmentKeepsFloats) {
+  const std::vector<float> rgba = {1e-3f, 1e5f, 0.5f, 1.0f, 2.0f, 3.0f, 4.0f, 1.0f};
+  const absl::StatusOr<Image> image =
+      DecodeImage(Bytes(*EncodeExr(rgba, 2, 1)), ImageKind::kEnvironment, {}, "env");
+  ASSERT_TRUE(image.ok()) << image.status();
+  EXPECT_EQ(image->pixelsf, rgba);
+}
+
+TEST(ImageDecode, EnvironmentRefusesNonFiniteRadiance) {
+  const std::vector<float> rgba = {1, std::numeric_limits<float>::quiet_NaN(), 1, 1};
+  EXPECT_ERROR(DecodeImage(Bytes(*EncodeExr(rgba, 1, 1)), ImageKind::kEnvironment, {}, "env"),
+               kInvalidArgument, "env: pixel 0 channel 1 is nan");
+}
+
+TEST(ImageDecode, EachKindAcceptsOnlyItsFormats) {
+  EXPECT_ERROR(DecodeImage(TinyHdr(), ImageKind::kTexture, {}, "images[1]"), kInvalidArgument,
+               "images[1]: hdr data where a PNG or JPEG image is expected");
+  EXPECT_ERROR(DecodeImage(Png({1, 2, 3, 4}, 1, 1), ImageKind::kEnvironment, {}, "env"),
+               kInvalidArgument, "env: png data where a Radiance HDR or OpenEXR image is expected");
+  EXPECT_ERROR(DecodeImage(Bytes("GIF89a......"), ImageKind::kTexture, {}, "images[2]"),
+               kInvalidArgument, "images[2]: not a PNG or JPEG image (data starts with 47 49 46");
+}
+
+TEST(ImageDecode, LimitsAreCheckedOnTheHeader) {
+  // Only a header: decoding pixels would fail, so RESOURCE_EXHAUSTED proves
+  // the limit was applied first.
+  EXPECT_ERROR(DecodeImage(testing::PngHeaderOnly(100000, 100000), ImageKind::kTexture, {}, "img"),
+               kResourceExhausted, "img: 100000x100000 pixels exceed the limit of 16384 per side");
+  ImportLimits limits;
+  limits.max_image_pixels = 100;
+  EXPECT_ERROR(DecodeImage(testing::PngHeaderOnly(11, 10), ImageKind::kTexture, limits, "img"),
+               kResourceExhausted, "img: 11x10 pixels exceed the limit of 100 pixels");
+  limits.max_image_dimension = 8;
+  EXPECT_ERROR(DecodeImage(testing::PngHeaderOnly(9, 1), ImageKind::kTexture, limits, "img"),
+               kResourceExhausted, "limit of 8 per side");
+}
+
+TEST(ImageDecode, CorruptDataIsInvalid) {
+  std::vector<uint8_t> png = Png(std::vector<uint8_t>(16 * 16 * 4, 3), 16, 16);
+  png.resize(png.size() / 2);
+  EXPECT_ERROR(DecodeImage(png, ImageKind::kTexture, {}, "images[0]"), kInvalidArgument,
+               "images[0]: corrupt png image");
+  EXPECT_ERROR(DecodeImage(Bytes("\x89PNG\r\n\x1a\n"), ImageKind::kTexture, {}, "images[0]"),
+               kInvalidArgument, "images[0]: corrupt png image");
+  EXPECT_ERROR(DecodeImage(Bytes("\xff\xd8\xff garbage"), ImageKind::kTexture, {}, "images[0]"),
+               kInvalidArgument, "images[0]: corrupt jpeg image");
+}
+
+}  // namespace
+}  // namespace gistream
