@@ -1,8 +1,8 @@
 #include "cli_args.h"
 
-#include <absl/strings/str_cat.h>
-
 #include <algorithm>
+
+#include <absl/strings/str_cat.h>
 
 namespace gistream::client {
 

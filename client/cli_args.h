@@ -3,13 +3,13 @@
 // It knows nothing about gistream's commands (options.h does).
 #pragma once
 
-#include <absl/strings/string_view.h>
-
 #include <map>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
+
+#include <absl/strings/string_view.h>
 
 #include "util/status.h"
 

@@ -1,7 +1,7 @@
 // gistream render: LoadScene, one unary Render, write the image.
-#include <absl/strings/str_cat.h>
-
 #include <iostream>
+
+#include <absl/strings/str_cat.h>
 
 #include "commands.h"
 #include "connection.h"

@@ -1,12 +1,12 @@
 // gistream script: a timeline played in a session paced on request, one
 // saved frame per timeline step, with the update seq echo checked.
-#include <absl/strings/str_cat.h>
-
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <iostream>
 #include <map>
+
+#include <absl/strings/str_cat.h>
 
 #include "commands.h"
 #include "connection.h"
@@ -148,8 +148,9 @@ absl::Status RunScript(const ConnectionOptions& connection_options, const Script
       if (!got_frame) {
         // A frame rendered before our updates. Wait for the one we asked
         // for; when none is pending, ask again, a few times.
-        Log(LogLevel::kWarning, absl::StrCat("frame ", i, ": got a frame with update seq ",
-                                             frame.last_update_seq(), ", waiting for ", seq));
+        LogOnce(LogLevel::kWarning, "script-stale-frame",
+                absl::StrCat("frame ", i, ": got a frame with update seq ", frame.last_update_seq(),
+                             ", waiting for ", seq));
         if (outstanding > 0) continue;
         if (++stale > kMaxStaleFrames) {
           return absl::DataLossError(absl::StrCat(

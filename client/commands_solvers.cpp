@@ -1,7 +1,7 @@
 // gistream solvers
-#include <google/protobuf/util/json_util.h>
-
 #include <iostream>
+
+#include <google/protobuf/util/json_util.h>
 
 #include "commands.h"
 #include "connection.h"

@@ -1,8 +1,8 @@
 // gistream stream: a continuous session; every frame is saved and timed.
-#include <absl/strings/str_cat.h>
-
 #include <atomic>
 #include <iostream>
+
+#include <absl/strings/str_cat.h>
 
 #include "commands.h"
 #include "connection.h"

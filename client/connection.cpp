@@ -1,9 +1,9 @@
 #include "connection.h"
 
+#include <chrono>
+
 #include <absl/strings/cord.h>
 #include <absl/strings/str_cat.h>
-
-#include <chrono>
 
 namespace gistream::client {
 namespace {

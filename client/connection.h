@@ -2,11 +2,11 @@
 // absl::Status, so the rest of the client speaks one error type.
 #pragma once
 
-#include <absl/strings/string_view.h>
-#include <grpcpp/grpcpp.h>
-
 #include <memory>
 #include <string>
+
+#include <absl/strings/string_view.h>
+#include <grpcpp/grpcpp.h>
 
 #include "gistream/v1/gistream.grpc.pb.h"
 #include "options.h"

@@ -1,12 +1,12 @@
 #include "file_io.h"
 
-#include <absl/strings/str_cat.h>
-
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <sstream>
 #include <system_error>
+
+#include <absl/strings/str_cat.h>
 
 namespace gistream::client {
 

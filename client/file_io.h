@@ -1,10 +1,10 @@
 // Whole-file reads and writes with errors that name the path.
 #pragma once
 
-#include <absl/strings/string_view.h>
-
 #include <filesystem>
 #include <string>
+
+#include <absl/strings/string_view.h>
 
 #include "util/status.h"
 

@@ -1,9 +1,9 @@
 #include "frame_report.h"
 
+#include <map>
+
 #include <absl/strings/str_cat.h>
 #include <absl/strings/str_join.h>
-
-#include <map>
 
 #include "image_format.h"
 #include "text_table.h"

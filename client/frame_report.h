@@ -7,9 +7,9 @@
 //     ...
 #pragma once
 
-#include <absl/strings/string_view.h>
-
 #include <string>
+
+#include <absl/strings/string_view.h>
 
 #include "gistream/v1/gistream.pb.h"
 

@@ -1,9 +1,9 @@
 #include "frame_writer.h"
 
-#include <absl/strings/str_cat.h>
-
 #include <cstdio>
 #include <system_error>
+
+#include <absl/strings/str_cat.h>
 
 #include "file_io.h"
 #include "image_format.h"

@@ -1,10 +1,10 @@
 // Names and file extensions of the image formats frames can carry.
 #pragma once
 
-#include <absl/strings/string_view.h>
-
 #include <filesystem>
 #include <optional>
+
+#include <absl/strings/string_view.h>
 
 #include "gistream/v1/gistream.pb.h"
 #include "util/status.h"

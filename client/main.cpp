@@ -1,12 +1,12 @@
 // gistream: the thin command-line client of gistreamd. Parses the command
 // line, dispatches to one command, and turns its outcome into an exit code:
 // 0 success, 1 error, 2 usage error, 130 interrupted.
-#include <absl/status/status.h>
-
 #include <cstdlib>
 #include <iostream>
 #include <string>
 #include <vector>
+
+#include <absl/status/status.h>
 
 #include "commands.h"
 #include "connection.h"

@@ -1,13 +1,13 @@
 #include "options.h"
 
+#include <cmath>
+#include <limits>
+#include <vector>
+
 #include <absl/strings/numbers.h>
 #include <absl/strings/str_cat.h>
 #include <absl/strings/str_split.h>
 #include <absl/strings/strip.h>
-
-#include <cmath>
-#include <limits>
-#include <vector>
 
 #include "cli_args.h"
 #include "image_format.h"

@@ -2,8 +2,6 @@
 // error here is a usage error (main exits 2); nothing touches the network.
 #pragma once
 
-#include <absl/strings/string_view.h>
-
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -11,6 +9,8 @@
 #include <span>
 #include <string>
 #include <variant>
+
+#include <absl/strings/string_view.h>
 
 #include "gistream/v1/gistream.pb.h"
 #include "util/status.h"

@@ -1,12 +1,12 @@
 #include "scene_loader.h"
 
+#include <system_error>
+
 #include <absl/strings/ascii.h>
 #include <absl/strings/escaping.h>
 #include <absl/strings/match.h>
 #include <absl/strings/str_cat.h>
-
 #include <nlohmann/json.hpp>
-#include <system_error>
 
 #include "file_io.h"
 #include "util/log.h"

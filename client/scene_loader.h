@@ -3,12 +3,12 @@
 // directory. The loaded scene is unloaded again when the command is done.
 #pragma once
 
-#include <absl/strings/string_view.h>
-
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
+
+#include <absl/strings/string_view.h>
 
 #include "connection.h"
 #include "gistream/v1/gistream.pb.h"

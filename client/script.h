@@ -4,18 +4,18 @@
 // names of nodes, lights and materials are resolved later (timeline.h).
 #pragma once
 
-#include <absl/strings/string_view.h>
-
 #include <cstdint>
 #include <filesystem>
-#include <glm/glm.hpp>
-#include <glm/gtc/quaternion.hpp>
 #include <map>
 #include <optional>
 #include <string>
 #include <utility>
 #include <variant>
 #include <vector>
+
+#include <absl/strings/string_view.h>
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 #include "gistream/v1/gistream.pb.h"
 #include "util/status.h"

@@ -4,15 +4,15 @@
 // always cancels, drains and finishes the call.
 #pragma once
 
-#include <absl/strings/string_view.h>
-#include <grpcpp/grpcpp.h>
-
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
 #include <thread>
+
+#include <absl/strings/string_view.h>
+#include <grpcpp/grpcpp.h>
 
 #include "gistream/v1/gistream.grpc.pb.h"
 #include "util/status.h"

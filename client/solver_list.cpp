@@ -38,7 +38,8 @@ std::string FormatSolverList(const v1::ListSolversResponse& solvers) {
     if (!out.empty()) out += "\n";
     absl::StrAppend(&out, solver.name(), solver.description().empty() ? "" : " - ",
                     solver.description(), "\n");
-    absl::StrAppend(&out, "  stages: ", absl::StrJoin(solver.stages(), ", "), "\n");
+    absl::StrAppend(&out, "  stages: ",
+                    solver.stages().empty() ? "none" : absl::StrJoin(solver.stages(), ", "), "\n");
     if (solver.params().empty()) {
       out += "  parameters: none\n";
       continue;

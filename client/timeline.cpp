@@ -1,13 +1,13 @@
 #include "timeline.h"
 
-#include <absl/strings/str_cat.h>
-#include <absl/strings/str_join.h>
-#include <google/protobuf/util/message_differencer.h>
-
 #include <algorithm>
 #include <map>
 #include <memory>
 #include <string>
+
+#include <absl/strings/str_cat.h>
+#include <absl/strings/str_join.h>
+#include <google/protobuf/util/message_differencer.h>
 
 namespace gistream::client {
 namespace {

@@ -35,11 +35,11 @@ and the parameter schema (name, type, default, range or choices, meaning).
 
 constexpr absl::string_view kRender =
     R"(usage: gistream [--server ADDR] render --scene NAME_OR_FILE --out FILE
-                 [--solver NAME] [--param KEY=VALUE]... [--size WxH]
-                 [--format jpeg|png|exr] [--quality Q] [--exposure EV]
-                 [--camera-eye X,Y,Z --camera-target X,Y,Z] [--yfov DEG]
-                 [--environment NAME_OR_FILE] [--environment-intensity X]
-                 [--keep-scene]
+                [--solver NAME] [--param KEY=VALUE]... [--size WxH]
+                [--format jpeg|png|exr] [--quality Q] [--exposure EV]
+                [--camera-eye X,Y,Z --camera-target X,Y,Z] [--yfov DEG]
+                [--environment NAME_OR_FILE] [--environment-intensity X]
+                [--keep-scene]
 
 Loads a scene, renders one frame, writes the image bytes to FILE, and prints
 a one-line summary and the per-stage timings.
@@ -66,8 +66,8 @@ a one-line summary and the per-stage timings.
 
 constexpr absl::string_view kStream =
     R"(usage: gistream [--server ADDR] stream [--scene NAME_OR_FILE] [--solver NAME]
-                 [--param KEY=VALUE]... [--size WxH] [--format jpeg|png|exr]
-                 [--frames N] [--fps F] [--out DIR] [view and scene options]
+                [--param KEY=VALUE]... [--size WxH] [--format jpeg|png|exr]
+                [--frames N] [--fps F] [--out DIR] [view and scene options]
 
 Opens an interactive session with continuous pacing and saves every frame it
 receives as DIR/frame_00000.jpg, frame_00001.jpg, ... (extension by format).

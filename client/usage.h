@@ -1,9 +1,9 @@
 // Help texts for `gistream --help` and `gistream COMMAND --help`.
 #pragma once
 
-#include <absl/strings/string_view.h>
-
 #include <optional>
+
+#include <absl/strings/string_view.h>
 
 #include "options.h"
 

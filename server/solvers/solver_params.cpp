@@ -1,10 +1,10 @@
 #include "solvers/solver_params.h"
 
+#include <absl/strings/str_join.h>
+
 #include <charconv>
 #include <cmath>
 #include <limits>
-
-#include <absl/strings/str_join.h>
 
 namespace gistream {
 namespace {
@@ -23,7 +23,6 @@ std::string FormatDouble(double v) {
   return std::string(buf, ptr);
 }
 
-
 // Returns the canonical spelling of `value`, or an error naming the field.
 absl::StatusOr<std::string> Canonical(const ParamSpec& spec, const std::string& value,
                                       const std::string& field) {
@@ -31,8 +30,7 @@ absl::StatusOr<std::string> Canonical(const ParamSpec& spec, const std::string& 
     case ParamType::kInt: {
       long long v = 0;
       if (!ParseWhole(value, &v)) {
-        return absl::InvalidArgumentError(
-            absl::StrCat(field, ": '", value, "' is not an integer"));
+        return absl::InvalidArgumentError(absl::StrCat(field, ": '", value, "' is not an integer"));
       }
       if (double(v) < spec.min || double(v) > spec.max || v < std::numeric_limits<int>::min() ||
           v > std::numeric_limits<int>::max()) {
@@ -66,8 +64,8 @@ absl::StatusOr<std::string> Canonical(const ParamSpec& spec, const std::string& 
       for (const std::string& choice : spec.choices) {
         if (value == choice) return value;
       }
-      return absl::InvalidArgumentError(absl::StrCat(field, ": '", value, "' is not one of ",
-                                                     absl::StrJoin(spec.choices, ", ")));
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ": '", value, "' is not one of ", absl::StrJoin(spec.choices, ", ")));
   }
   return absl::InternalError(absl::StrCat(field, ": unknown parameter type"));
 }
@@ -98,8 +96,7 @@ absl::StatusOr<ParamSet> ValidateParams(const SolverDescription& solver,
   for (const ParamSpec& spec : solver.params) {
     const auto it = given.find(spec.name);
     const bool is_default = it == given.end();
-    const std::string field =
-        absl::StrCat("params.", spec.name, is_default ? " (default)" : "");
+    const std::string field = absl::StrCat("params.", spec.name, is_default ? " (default)" : "");
     GS_ASSIGN_OR_RETURN(set.values_[spec.name],
                         Canonical(spec, is_default ? spec.default_value : it->second, field));
   }

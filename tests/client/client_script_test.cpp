@@ -1,9 +1,9 @@
 // Script parsing and per-frame update generation (client/script.h,
 // client/timeline.h), against a hand-made LoadSceneResponse.
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <string>
+
+#include <gtest/gtest.h>
 
 #include "script.h"
 #include "timeline.h"

@@ -1,8 +1,6 @@
 // The network paths of render, stream and script against an in-process fake
 // gistreamd on loopback: files written, seq numbers sent in order, echo
 // checked, half-close, unload, and server errors passed through.
-#include <grpcpp/grpcpp.h>
-#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <atomic>
@@ -13,6 +11,9 @@
 #include <string>
 #include <thread>
 #include <vector>
+
+#include <grpcpp/grpcpp.h>
+#include <gtest/gtest.h>
 
 #include "commands.h"
 #include "connection.h"

@@ -1,11 +1,11 @@
 // Command-line parsing (client/options.h): the contract scripts and
 // benchmarks depend on.
-#include "options.h"
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
-#include <string>
-#include <vector>
+#include "options.h"
 
 namespace gistream::client {
 namespace {

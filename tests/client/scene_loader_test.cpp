@@ -1,15 +1,16 @@
 // Scene arguments: local file (uploaded, .gltf resources inlined) or a
 // name on the server (client/scene_loader.h). No network.
-#include "scene_loader.h"
-
-#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "scene_loader.h"
 
 namespace gistream::client {
 namespace {

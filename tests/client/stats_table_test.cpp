@@ -1,11 +1,11 @@
 // Per-stage statistics and the table `stream` and `script` print
 // (client/stats_table.h).
-#include "stats_table.h"
+#include <chrono>
+#include <string>
 
 #include <gtest/gtest.h>
 
-#include <chrono>
-#include <string>
+#include "stats_table.h"
 
 namespace gistream::client {
 namespace {
