@@ -39,6 +39,9 @@ class Program {
     glProgramUniform4f(id(), Location(name), v.x, v.y, v.z, v.w);
   }
   void Set(const char* name, const glm::ivec2& v) { glProgramUniform2i(id(), Location(name), v.x, v.y); }
+  void Set(const char* name, const glm::ivec3& v) {
+    glProgramUniform3i(id(), Location(name), v.x, v.y, v.z);
+  }
   void Set(const char* name, const glm::mat3& m) {
     glProgramUniformMatrix3fv(id(), Location(name), 1, GL_FALSE, &m[0][0]);
   }

@@ -1,5 +1,7 @@
 #include "gl/stage_timer.h"
 
+#include <algorithm>
+
 #include "util/status.h"
 
 namespace gistream::gl {
@@ -63,7 +65,19 @@ std::vector<StageTiming> StageTimer::Finish() {
       glGetQueryObjectui64v(queries_[size_t(entry.query_end)].id(), GL_QUERY_RESULT, &t1);
       entry.timing.gpu_ms = t1 > t0 ? double(t1 - t0) * 1e-6 : 0.0;
     }
-    out.push_back(entry.timing);
+    // A stage that ran several times (one per bounce of an iterative
+    // solver) is reported once, with its times summed; it counts as
+    // skipped only when every occurrence was.
+    auto same = std::find_if(out.begin(), out.end(),
+                             [&](const StageTiming& t) { return t.name == entry.timing.name; });
+    if (same == out.end()) {
+      out.push_back(entry.timing);
+    } else if (same->skipped) {
+      *same = entry.timing;
+    } else if (!entry.timing.skipped) {
+      same->cpu_ms += entry.timing.cpu_ms;
+      same->gpu_ms += entry.timing.gpu_ms;
+    }
   }
   return out;
 }

@@ -35,23 +35,39 @@ absl::StatusOr<DirectLighting> DirectLighting::Create() {
   return lighting;
 }
 
-void DirectLighting::Update(const SceneState& state, const GpuScene& gpu,
-                            const DirectLightingSettings& settings) {
-  emitters_ = CollectEmitters(state);
-  samples_ = SampleEmitters(emitters_, settings.area_samples);
+absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu,
+                                    const DirectLightingSettings& settings) {
+  std::vector<EmitterTriangle> emitters = CollectEmitters(state);
+  std::vector<EmitterSample> emitter_samples = SampleEmitters(emitters, settings.area_samples);
 
   int cube_count = 0, dir_count = 0;
   for (const LightInstance& l : state.lights()) {
     (l.light.type == LightType::kDirectional ? dir_count : cube_count)++;
   }
-  cube_count += int(samples_.size());
+  cube_count += int(emitter_samples.size());
+  // One cube per point/spot light and area sample, in one cube-map array:
+  // refuse what the GL or memory cannot hold rather than render unshadowed.
+  GLint max_layers = 0;
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+  const uint64_t bytes = uint64_t(settings.shadow_resolution) * uint64_t(settings.shadow_resolution) *
+                         4 * (6 * uint64_t(cube_count) + uint64_t(dir_count));
+  if (6 * int64_t(cube_count) > int64_t(max_layers) || bytes > kMaxShadowBytes) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "params.area_samples/params.shadow_res: ", cube_count, " shadow cubes (",
+        emitter_samples.size(), " area samples + point/spot lights) at ", settings.shadow_resolution,
+        "^2 need ", 6 * cube_count, " layers and ", bytes >> 20,
+        " MiB; this GL allows ", max_layers / 6, " cubes and the limit is ",
+        kMaxShadowBytes >> 20, " MiB"));
+  }
+  emitters_ = std::move(emitters);
+  samples_ = std::move(emitter_samples);
   shadows_.Allocate(cube_count, dir_count, settings.shadow_resolution);
   shadow_resolution_ = settings.shadow_resolution;
 
   std::vector<GpuPunctual> punctual;
   std::vector<glm::mat4> dir_matrices;
   int cube = 0;
-  const Bounds& bounds = state.scene().bounds;
+  const Bounds bounds = gpu.WorldBounds(state);  // follows moved nodes
   for (const LightInstance& l : state.lights()) {
     GpuPunctual g{};
     const float type = l.light.type == LightType::kPoint ? 0.0f
@@ -92,6 +108,7 @@ void DirectLighting::Update(const SceneState& state, const GpuScene& gpu,
   Upload(samples_buffer_, samples);
   Upload(dir_matrices_, dir_matrices);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return absl::OkStatus();
 }
 
 void DirectLighting::Bind(gl::Program& program) const {

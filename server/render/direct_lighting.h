@@ -24,8 +24,11 @@ class DirectLighting {
   static absl::StatusOr<DirectLighting> Create();
 
   // Rebuilds light buffers and redraws shadow maps. Call when geometry,
-  // lights or emission changed, or the settings did.
-  void Update(const SceneState& state, const GpuScene& gpu, const DirectLightingSettings& settings);
+  // lights or emission changed, or the settings did. INVALID_ARGUMENT
+  // naming params.area_samples/params.shadow_res when the shadow cubes
+  // exceed the GL's array layers or kMaxShadowBytes (nothing is changed).
+  absl::Status Update(const SceneState& state, const GpuScene& gpu,
+                      const DirectLightingSettings& settings);
 
   // Binds buffers (SSBO 1..3), shadow maps (units 4, 5) and sets uniforms
   // of a program that includes render/direct_light.glsl.
@@ -37,6 +40,7 @@ class DirectLighting {
   uint64_t gpu_bytes() const { return shadows_.gpu_bytes(); }
 
   static constexpr GLuint kCubeShadowUnit = 4;
+  static constexpr uint64_t kMaxShadowBytes = uint64_t(2) << 30;
   static constexpr GLuint kDirShadowUnit = 5;
 
  private:

@@ -99,7 +99,7 @@ void ShadowMaps::RenderCube(const GpuScene& gpu, const SceneState& state, int in
 
 glm::mat4 ShadowMaps::RenderDirectional(const GpuScene& gpu, const SceneState& state, int index,
                                         const glm::vec3& direction) {
-  const Bounds& b = state.scene().bounds;
+  const Bounds b = gpu.WorldBounds(state);
   const glm::vec3 center = b.empty() ? glm::vec3(0.0f) : b.center();
   const float radius = b.empty() ? 1.0f : std::max(0.5f * glm::length(b.extent()), 1e-6f);
   const glm::vec3 dir = glm::normalize(direction);

@@ -124,7 +124,8 @@ void GpuScene::UpdateMaterials(const SceneState& state) {
                        table.data());
 }
 
-void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_textures) const {
+void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_textures,
+                    int instances) const {
   glBindVertexArray(vao_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMaterialBinding, materials_.id());
   const int default_material = int(state.materials().size());
@@ -143,11 +144,28 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
       glBindTextureUnit(kBaseColorUnit, base);
       glBindTextureUnit(kEmissiveUnit, emissive);
     }
-    glDrawElementsBaseVertex(GL_TRIANGLES, GLsizei(d.index_count), GL_UNSIGNED_INT,
-                             reinterpret_cast<const void*>(uintptr_t(d.first_index) * sizeof(uint32_t)),
-                             d.base_vertex);
+    glDrawElementsInstancedBaseVertex(
+        GL_TRIANGLES, GLsizei(d.index_count), GL_UNSIGNED_INT,
+        reinterpret_cast<const void*>(uintptr_t(d.first_index) * sizeof(uint32_t)), instances,
+        d.base_vertex);
   }
   glBindVertexArray(0);
+}
+
+Bounds GpuScene::WorldBounds(const SceneState& state) const {
+  Bounds bounds;
+  for (const DrawItem& d : draws_) {
+    const Bounds& local = state.scene().meshes[size_t(d.mesh)].primitives[size_t(d.primitive)].bounds;
+    if (local.empty()) continue;
+    const glm::mat4& m = state.world()[size_t(d.node)];
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::vec3 p((corner & 1) ? local.max.x : local.min.x,
+                        (corner & 2) ? local.max.y : local.min.y,
+                        (corner & 4) ? local.max.z : local.min.z);
+      bounds.Extend(glm::vec3(m * glm::vec4(p, 1.0f)));
+    }
+  }
+  return bounds;
 }
 
 }  // namespace gistream

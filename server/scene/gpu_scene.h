@@ -42,9 +42,15 @@ class GpuScene {
   // Issues every draw with `program`: sets uModel, uNormalMatrix, uMaterial,
   // binds the material textures (units kBaseColorUnit, kEmissiveUnit) when
   // `bind_textures`. Materials are bound as SSBO binding kMaterialBinding.
-  void Draw(gl::Program& program, const SceneState& state, bool bind_textures) const;
+  // `instances` > 1 draws each item that many times (gl_InstanceID).
+  void Draw(gl::Program& program, const SceneState& state, bool bind_textures,
+            int instances = 1) const;
 
   const std::vector<DrawItem>& draws() const { return draws_; }
+  // Bounds of what Draw draws under the current transforms (the 8 corners
+  // of each primitive's box: never smaller than the truth). Unlike
+  // Scene::bounds, follows moved nodes.
+  Bounds WorldBounds(const SceneState& state) const;
   uint64_t gpu_bytes() const { return gpu_bytes_; }
 
   static constexpr GLuint kMaterialBinding = 0;

@@ -2,12 +2,14 @@
 
 #include "solvers/direct/direct_solver.h"
 #include "solvers/pathtrace/pathtrace_solver.h"
+#include "solvers/sh_probes/sh_probes_solver.h"
 
 namespace gistream {
 
 const std::vector<SolverDescription>& AllSolverDescriptions() {
   static const std::vector<SolverDescription> kAll = {DirectSolver::Describe(),
-                                                      PathtraceSolver::Describe()};
+                                                      PathtraceSolver::Describe(),
+                                                      ShProbesSolver::Describe()};
   return kAll;
 }
 
@@ -25,6 +27,7 @@ absl::StatusOr<std::unique_ptr<Solver>> CreateSolver(const std::string& name,
                                                      const ParamSet& params) {
   if (name == "direct") return DirectSolver::Create(params);
   if (name == "pathtrace") return PathtraceSolver::Create(params);
+  if (name == "sh_probes") return ShProbesSolver::Create(params);
   return FindSolver(name).status();
 }
 

@@ -97,5 +97,20 @@ TEST(DirectAnalytic, SquareEmitterIrradiance) {
   EXPECT_NEAR(got, expected, 0.03f * expected) << "F = " << F;
 }
 
+TEST(DirectLimits, MoreShadowCubesThanTheGlHoldsIsAnErrorNotAnUnshadowedImage) {
+  // 1024 area samples need 6144 cube layers; GL 4.5 guarantees 2048 and
+  // llvmpipe and NVIDIA give exactly that.
+  const testing::BundledCopy scene("furnace.gltf");
+  RenderRequest request;
+  request.scene = scene.id();
+  request.params = {{"area_samples", "1024"}};
+  request.width = request.height = 8;
+  auto frame = testing::SharedEngine().Render(request);
+  ASSERT_FALSE(frame.ok());
+  EXPECT_EQ(frame.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(frame.status().message().find("params.area_samples"), std::string::npos)
+      << frame.status();
+}
+
 }  // namespace
 }  // namespace gistream

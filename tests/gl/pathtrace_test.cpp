@@ -20,34 +20,11 @@ using testing::FloatImage;
 
 constexpr float kPi = 3.14159265358979f;
 
-std::string ReadScene(const std::string& name) {
-  std::ifstream in(std::string(GISTREAM_SOURCE_DIR) + "/scenes/" + name, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using testing::BundledCopy;
+using testing::FrameStage;
 
-// A private copy of a bundled scene (uploaded as bytes), so material
-// changes do not leak into other tests.
-std::string LoadCopy(const std::string& file) {
-  auto info = testing::SharedEngine().LoadScene(testing::SceneFromBytes(ReadScene(file)));
-  EXPECT_TRUE(info.ok()) << info.status();
-  return info.ok() ? info->id : "";
-}
-
-double Stat(const EncodedFrame& frame, const std::string& name) {
-  for (const auto& [k, v] : frame.stats) {
-    if (k == name) return v;
-  }
-  ADD_FAILURE() << "no stat " << name;
-  return -1.0;
-}
-
-glm::dvec3 Mean(const FloatImage& image) {
-  glm::dvec3 sum(0.0);
-  for (int y = 0; y < image.height; ++y) {
-    for (int x = 0; x < image.width; ++x) sum += glm::dvec3(image.at(x, y));
-  }
-  return sum / double(image.width * image.height);
-}
+double Stat(const EncodedFrame& frame, const std::string& name) { return testing::FrameStat(frame, name); }
+glm::dvec3 Mean(const FloatImage& image) { return testing::ImageMean(image); }
 
 // The view of a scene camera made by GltfBuilder::AddCamera looking down
 // (-Y) with up = -Z.
@@ -90,7 +67,8 @@ FloatImage Render(const std::string& scene, std::map<std::string, std::string> p
 
 TEST(Pathtrace, WhiteFurnaceHalfAlbedo) {
   // Closed box, albedo 0.5, emission 1: L = E / (1 - rho) = 2 everywhere.
-  const std::string id = LoadCopy("furnace.gltf");
+  const BundledCopy scene("furnace.gltf");
+  const std::string& id = scene.id();
   EncodedFrame frame;
   const FloatImage image = Render(id, {{"spp", "64"}}, 16, {}, &frame);
   ASSERT_EQ(image.width, 16);
@@ -105,7 +83,8 @@ TEST(Pathtrace, WhiteFurnaceHalfAlbedo) {
 
 TEST(Pathtrace, WhiteFurnaceStiffAlbedo) {
   // rho = 0.9: L = 10. Paths are long (about 10 bounces on average).
-  const std::string id = LoadCopy("furnace.gltf");
+  const BundledCopy scene("furnace.gltf");
+  const std::string& id = scene.id();
   MaterialUpdate albedo;
   albedo.material = 0;
   albedo.base_color = glm::vec4(0.9f, 0.9f, 0.9f, 1.0f);
@@ -115,22 +94,16 @@ TEST(Pathtrace, WhiteFurnaceStiffAlbedo) {
   EXPECT_NEAR(Mean(image).g, 10.0, 0.2);
 }
 
-const StageTiming* FindStage(const EncodedFrame& frame, const std::string& name) {
-  for (const StageTiming& t : frame.timings) {
-    if (t.name == name) return &t;
-  }
-  ADD_FAILURE() << "no stage " << name;
-  return nullptr;
-}
 
 TEST(Pathtrace, EmissionChangeKeepsTheBvh) {
   // Doubling the emission doubles L (4 at rho = 0.5): the emitter table is
   // rebuilt, the BVH is not (build_bvh reported skipped).
-  const std::string id = LoadCopy("furnace.gltf");
+  const BundledCopy scene("furnace.gltf");
+  const std::string& id = scene.id();
   EncodedFrame first, changed;
   // Same parameters both times: they select the (shared) solver instance.
   Render(id, {{"spp", "64"}}, 16, {}, &first);
-  const StageTiming* build = FindStage(first, "build_bvh");
+  const StageTiming* build = FrameStage(first, "build_bvh");
   ASSERT_NE(build, nullptr);
   EXPECT_FALSE(build->skipped);
   EXPECT_TRUE(build->cpu_stage);
@@ -139,13 +112,13 @@ TEST(Pathtrace, EmissionChangeKeepsTheBvh) {
   brighter.emissive_strength = 2.0f;
   const FloatImage image = Render(id, {{"spp", "64"}}, 16, {{1, brighter}}, &changed);
   ASSERT_EQ(image.width, 16);
-  build = FindStage(changed, "build_bvh");
+  build = FrameStage(changed, "build_bvh");
   ASSERT_NE(build, nullptr);
   EXPECT_TRUE(build->skipped);
-  const StageTiming* trace = FindStage(changed, "trace");
+  const StageTiming* trace = FrameStage(changed, "trace");
   ASSERT_NE(trace, nullptr);
   EXPECT_TRUE(trace->cpu_stage);
-  EXPECT_FALSE(FindStage(changed, "accumulate")->skipped);
+  EXPECT_FALSE(FrameStage(changed, "accumulate")->skipped);
   EXPECT_EQ(Stat(changed, "spp_total"), 64.0);
   // As in WhiteFurnaceHalfAlbedo, twice the value: 1 % is over two
   // standard errors.
@@ -311,7 +284,8 @@ TEST(Pathtrace, EnvironmentSeenDirectly) {
 class PathtraceCornell : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    const std::string id = LoadCopy("cornell_box.gltf");
+    const BundledCopy copy("cornell_box.gltf");
+    const std::string& id = copy.id();
     auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR) + "/scenes", "cornell_box", {});
     ASSERT_TRUE(scene.ok()) << scene.status();
     state_ = std::make_unique<SceneState>(std::make_shared<const Scene>(*std::move(scene)));
@@ -381,7 +355,8 @@ TEST_F(PathtraceCornell, IndirectOnlyRegionsAreBrighterInTheReference) {
 TEST(Pathtrace, TimeBudgetTracesUntilSpent) {
   // 1-spp rounds until the budget is spent: at least one, and the trace
   // time reaches the budget.
-  const std::string id = LoadCopy("furnace.gltf");
+  const BundledCopy scene("furnace.gltf");
+  const std::string& id = scene.id();
   EncodedFrame frame;
   Render(id, {{"time_budget_ms", "40"}}, 8, {}, &frame);
   EXPECT_GE(Stat(frame, "spp_frame"), 1.0);
@@ -391,8 +366,8 @@ TEST(Pathtrace, TimeBudgetTracesUntilSpent) {
 }
 
 TEST(Pathtrace, DeterministicForASeedAndProgressive) {
-  const std::string a = LoadCopy("cornell_box.gltf");
-  const std::string b = LoadCopy("cornell_box.gltf");
+  const BundledCopy copy_a("cornell_box.gltf"), copy_b("cornell_box.gltf");
+  const std::string &a = copy_a.id(), &b = copy_b.id();
   EncodedFrame fa, fb, fa2;
   Render(a, {{"spp", "2"}, {"seed", "7"}}, 16, {}, &fa);
   Render(b, {{"spp", "2"}, {"seed", "7"}}, 16, {}, &fb);

@@ -1,6 +1,8 @@
 #include "support/render_helpers.h"
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 
 #include <gtest/gtest.h>
 
@@ -73,6 +75,70 @@ FloatImage RenderExr(Engine& engine, const std::string& scene_id, const std::str
   request.encoding.format = ImageFormat::kExr;
   request.camera = camera;
   auto frame = engine.Render(request);
+  EXPECT_TRUE(frame.ok()) << frame.status();
+  if (!frame.ok()) return {};
+  if (frame_out) *frame_out = *frame;
+  return DecodeExr(*frame);
+}
+
+BundledCopy::BundledCopy(const std::string& file) {
+  std::ifstream in(std::string(GISTREAM_SOURCE_DIR) + "/scenes/" + file, std::ios::binary);
+  std::string bytes(std::istreambuf_iterator<char>(in), {});
+  EXPECT_FALSE(bytes.empty()) << file;
+  auto info = SharedEngine().LoadScene(SceneFromBytes(std::move(bytes)));
+  EXPECT_TRUE(info.ok()) << info.status();
+  if (info.ok()) id_ = info->id;
+}
+
+BundledCopy::~BundledCopy() {
+  if (id_.empty()) return;
+  const absl::Status status = SharedEngine().UnloadScene(id_);
+  EXPECT_TRUE(status.ok()) << status;
+}
+
+double FrameStat(const EncodedFrame& frame, const std::string& name) {
+  for (const auto& [k, v] : frame.stats) {
+    if (k == name) return v;
+  }
+  ADD_FAILURE() << "no stat " << name;
+  return -1.0;
+}
+
+const StageTiming* FrameStage(const EncodedFrame& frame, const std::string& name) {
+  for (const StageTiming& t : frame.timings) {
+    if (t.name == name) return &t;
+  }
+  ADD_FAILURE() << "no stage " << name;
+  return nullptr;
+}
+
+glm::dvec3 ImageMean(const FloatImage& image) {
+  glm::dvec3 sum(0.0);
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) sum += glm::dvec3(image.at(x, y));
+  }
+  return image.width > 0 ? sum / double(image.width * image.height) : sum;
+}
+
+double RelMse(const FloatImage& image, const FloatImage& reference) {
+  EXPECT_EQ(image.width, reference.width);
+  EXPECT_EQ(image.height, reference.height);
+  if (image.rgba.size() != reference.rgba.size() || image.rgba.empty()) return 1e30;
+  double sum = 0.0;
+  size_t n = 0;
+  for (size_t i = 0; i < image.rgba.size(); i += 4) {
+    for (size_t c = 0; c < 3; ++c) {
+      const double x = image.rgba[i + c], r = reference.rgba[i + c];
+      sum += (x - r) * (x - r) / (r * r + 0.01);
+      ++n;
+    }
+  }
+  return sum / double(n);
+}
+
+FloatImage RenderRequestExr(RenderRequest request, EncodedFrame* frame_out) {
+  request.encoding.format = ImageFormat::kExr;
+  auto frame = SharedEngine().Render(request);
   EXPECT_TRUE(frame.ok()) << frame.status();
   if (!frame.ok()) return {};
   if (frame_out) *frame_out = *frame;

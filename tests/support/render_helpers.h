@@ -46,6 +46,36 @@ inline SceneSource SceneFromBytes(std::string bytes) {
 // Pixel (x right, y down) where world point p lands for `camera`.
 glm::ivec2 Project(const ViewCamera& camera, const glm::vec3& p);
 
+// A private copy of a bundled scene (scenes/FILE uploaded as bytes), so
+// updates do not leak into other tests; unloaded when it goes out of scope
+// (the engine holds at most --max-scenes). id() is "" (and the test has
+// failed) when loading did.
+class BundledCopy {
+ public:
+  explicit BundledCopy(const std::string& file);
+  ~BundledCopy();
+  BundledCopy(const BundledCopy&) = delete;
+  BundledCopy& operator=(const BundledCopy&) = delete;
+  const std::string& id() const { return id_; }
+
+ private:
+  std::string id_;
+};
+
+// A frame's stat / stage by name; a test failure (and -1 / nullptr) when
+// the frame has none.
+double FrameStat(const EncodedFrame& frame, const std::string& name);
+const StageTiming* FrameStage(const EncodedFrame& frame, const std::string& name);
+
+glm::dvec3 ImageMean(const FloatImage& image);
+// gistream eval's relMSE: mean over pixels and channels of
+// (x - r)^2 / (r^2 + 0.01).
+double RelMse(const FloatImage& image, const FloatImage& reference);
+
+// Renders an EXR frame of `request` (format forced to EXR); fails the test
+// on error.
+FloatImage RenderRequestExr(RenderRequest request, EncodedFrame* frame_out = nullptr);
+
 // Renders EXR through Engine::Render; fails the test on error.
 FloatImage RenderExr(Engine& engine, const std::string& scene_id, const std::string& solver,
                      uint32_t width, uint32_t height,

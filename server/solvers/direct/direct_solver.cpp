@@ -48,8 +48,7 @@ absl::Status DirectSolver::Update(SolverContext& ctx, ChangeMask changes) {
     return absl::OkStatus();
   }
   gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
-  lighting_.Update(ctx.state, ctx.gpu, settings_);
-  return absl::OkStatus();
+  return lighting_.Update(ctx.state, ctx.gpu, settings_);
 }
 
 absl::Status DirectSolver::Shade(SolverContext& ctx, const ViewCamera& /*camera*/,

@@ -1,0 +1,95 @@
+#include "solvers/sh_probes/probe_grid.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gistream {
+namespace {
+
+gl::Texture LayeredTexture(GLenum format, int width, int height) {
+  gl::Texture t = gl::Texture::Create(GL_TEXTURE_2D_ARRAY);
+  glTextureStorage3D(t.id(), 1, format, width, height, 6);
+  // Read with texelFetch only; NEAREST keeps the single level complete.
+  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  return t;
+}
+
+}  // namespace
+
+absl::StatusOr<ProbeLayout> FitProbeGrid(const Bounds& bounds, const ProbeGridSettings& settings) {
+  ProbeLayout layout;
+  layout.face_size = settings.face_size;
+  glm::vec3 lo = bounds.empty() ? glm::vec3(-1.0f) : bounds.min;
+  glm::vec3 hi = bounds.empty() ? glm::vec3(1.0f) : bounds.max;
+  const float largest = std::max({hi.x - lo.x, hi.y - lo.y, hi.z - lo.z, 1e-6f});
+  for (int a = 0; a < 3; ++a) {
+    if (hi[a] - lo[a] < 1e-3f * largest) {
+      const float mid = 0.5f * (lo[a] + hi[a]);
+      lo[a] = mid - 0.05f * largest;
+      hi[a] = mid + 0.05f * largest;
+    }
+  }
+  const glm::vec3 extent = hi - lo;
+  for (int a = 0; a < 3; ++a) {
+    if (settings.spacing > 0.0f) {
+      const double n = std::ceil(double(extent[a]) / double(settings.spacing));
+      if (!(n <= 256.0)) {
+        return absl::InvalidArgumentError(
+            absl::StrCat("params.spacing: ", settings.spacing, " m gives more than 256 probes along ",
+                         std::string(1, "xyz"[a]), " (scene extent ", extent[a], " m)"));
+      }
+      layout.dims[a] = std::max(1, int(n));
+    } else {
+      layout.dims[a] = settings.grid;
+    }
+  }
+  layout.origin = lo;
+  layout.spacing = extent / glm::vec3(layout.dims);
+  const int probes = layout.probes();
+  layout.tiles_x = int(std::ceil(std::sqrt(double(probes))));
+  layout.tiles_y = (probes + layout.tiles_x - 1) / layout.tiles_x;
+  if (layout.texels() > kMaxProbeTexels) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "params.grid/params.face_size: ", layout.dims.x, "x", layout.dims.y, "x", layout.dims.z,
+        " probes with ", layout.face_size, "x", layout.face_size, " faces need ", layout.texels(),
+        " cube-map texels, over the limit of ", kMaxProbeTexels));
+  }
+  return layout;
+}
+
+void ProbeAtlas::Allocate(const ProbeLayout& layout) {
+  if (layout.width() == width_ && layout.height() == height_ && fbo_) return;
+  width_ = layout.width();
+  height_ = layout.height();
+  distance_ = LayeredTexture(GL_R32F, width_, height_);
+  normal_ = LayeredTexture(GL_RGBA8_SNORM, width_, height_);
+  albedo_ = LayeredTexture(GL_RGBA8, width_, height_);
+  depth_ = LayeredTexture(GL_DEPTH_COMPONENT32F, width_, height_);
+  direct_ = LayeredTexture(GL_RGBA32F, width_, height_);
+  indirect_ = LayeredTexture(GL_RGBA32F, width_, height_);
+  radiance_ = LayeredTexture(GL_RGBA32F, width_, height_);
+  fbo_ = gl::Framebuffer::Create();
+  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT0, distance_.id(), 0);
+  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT1, normal_.id(), 0);
+  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT2, albedo_.id(), 0);
+  glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
+  const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
+  glNamedFramebufferDrawBuffers(fbo_.id(), 3, buffers);
+  bytes_ = layout.texels() * (4 + 4 + 4 + 4 + 16 * 3);
+}
+
+void SetProbeGridUniforms(gl::Program& program, const ProbeLayout& layout, int coefficients,
+                          bool indirect_shadows) {
+  program.Set("uGridOrigin", layout.origin);
+  program.Set("uGridSpacing", layout.spacing);
+  program.Set("uGridDims", layout.dims);
+  program.Set("uFaceSize", layout.face_size);
+  program.Set("uAtlasTiles", layout.tiles_x);
+  program.Set("uAtlasTileCount", glm::ivec2(layout.tiles_x, layout.tiles_y));
+  program.Set("uProbeCount", layout.probes());
+  program.Set("uCoefficients", coefficients);
+  program.Set("uIndirectShadows", indirect_shadows ? 1 : 0);
+}
+
+}  // namespace gistream

@@ -1,0 +1,307 @@
+#include "solvers/sh_probes/sh_probes_solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "solvers/sh_probes/spherical_harmonics.h"
+
+namespace gistream {
+namespace {
+
+constexpr GLbitfield kComputeBarrier = GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
+                                       GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
+                                       GL_BUFFER_UPDATE_BARRIER_BIT;
+constexpr GLuint kCoefficientBinding = 6, kValidBinding = 7, kPreviousBinding = 8;
+constexpr GLuint kDistanceUnit = 12, kNormalUnit = 13, kAlbedoUnit = 14;
+
+GLuint Groups(int n, int size) { return GLuint((n + size - 1) / size); }
+
+float Luminance(const glm::vec4& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
+}  // namespace
+
+SolverDescription ShProbesSolver::Describe() {
+  SolverDescription d;
+  d.name = "sh_probes";
+  d.description =
+      "Nijasure et al. 2005: cube-map probe grid projected to spherical harmonics, multi-bounce";
+  d.stages = {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate", "final"};
+  d.params = {
+      {"grid", ParamType::kInt, "8", 1, 32, {}, "Probes along each axis of the scene bounds"},
+      {"spacing", ParamType::kFloat, "0", 0, 1e9, {},
+       "Metres between probes; > 0 overrides grid (each axis gets ceil(extent / spacing))"},
+      {"face_size", ParamType::kInt, "16", 2, 64, {}, "Cube-map face resolution per probe"},
+      {"bands", ParamType::kInt, "3", 1, 3, {}, "SH bands l < bands (1, 4 or 9 coefficients)"},
+      {"bounces", ParamType::kInt, "4", 1, 64, {}, "Most indirect bounces per update"},
+      {"tolerance", ParamType::kFloat, "0.01", 0, 1, {},
+       "Stop when a bounce changes the probes' L_00 by less than this fraction (0: never)"},
+      {"tail_estimate", ParamType::kBool, "false", 0, 0, {},
+       "Add the geometric tail r / (1 - r) x last increment of the bounces not run"},
+      {"indirect_shadows", ParamType::kBool, "true", 0, 0, {},
+       "Weight each probe by its depth-cube visibility of the point (paper Section 6)"},
+      {"area_samples", ParamType::kInt, "64", 1, 1024, {},
+       "Direct light: stratified emitter samples, each with a shadow map"},
+      {"shadow_res", ParamType::kInt, "256", 16, 4096, {}, "Direct light: shadow map resolution"},
+  };
+  return d;
+}
+
+const SolverDescription& ShProbesSolver::description() const {
+  static const SolverDescription kDescription = Describe();
+  return kDescription;
+}
+
+absl::StatusOr<std::unique_ptr<Solver>> ShProbesSolver::Create(const ParamSet& params) {
+  auto solver = std::unique_ptr<ShProbesSolver>(new ShProbesSolver());
+  ShProbeSettings& s = solver->settings_;
+  s.grid.grid = params.GetInt("grid");
+  s.grid.spacing = float(params.GetFloat("spacing"));
+  s.grid.face_size = params.GetInt("face_size");
+  s.bands = params.GetInt("bands");
+  s.bounces = params.GetInt("bounces");
+  s.tolerance = params.GetFloat("tolerance");
+  s.tail_estimate = params.GetBool("tail_estimate");
+  s.indirect_shadows = params.GetBool("indirect_shadows");
+  s.direct.area_samples = params.GetInt("area_samples");
+  s.direct.shadow_resolution = params.GetInt("shadow_res");
+  // The grid size alone (spacing needs the scene) is checked here.
+  if (s.grid.spacing <= 0.0f) {
+    GS_RETURN_IF_ERROR(FitProbeGrid(Bounds{glm::vec3(0.0f), glm::vec3(1.0f)}, s.grid).status());
+  }
+  GS_ASSIGN_OR_RETURN(solver->lighting_, DirectLighting::Create());
+  GS_ASSIGN_OR_RETURN(solver->rasterize_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize.vert.glsl"},
+                                          {GL_GEOMETRY_SHADER, "sh_probes/rasterize.geom.glsl"},
+                                          {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}}));
+  GS_ASSIGN_OR_RETURN(solver->render_,
+                      gl::Program::Build({{GL_COMPUTE_SHADER, "sh_probes/render_cubemaps.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(solver->project_,
+                      gl::Program::Build({{GL_COMPUTE_SHADER, "sh_probes/sh_project.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(solver->interpolate_,
+                      gl::Program::Build({{GL_COMPUTE_SHADER, "sh_probes/interpolate.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(solver->tail_,
+                      gl::Program::Build({{GL_COMPUTE_SHADER, "sh_probes/tail.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(solver->final_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "sh_probes/final.frag.glsl"}}));
+  solver->empty_vao_ = gl::VertexArray::Create();
+  return solver;
+}
+
+std::vector<std::string> ShProbesSolver::Plan(ChangeMask changes) const {
+  // Albedo is baked into the probes' G-buffer, so a base colour change
+  // re-rasterizes like a geometry change; lights and emission only re-shade.
+  if (changes & (kChangeGeometry | kChangeMaterials)) {
+    return {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate", "final"};
+  }
+  if (changes & (kChangeLights | kChangeEmission)) {
+    return {"render_cubemaps", "sh_project", "interpolate", "final"};
+  }
+  return {"final"};
+}
+
+absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
+  const bool geometry = changes & (kChangeGeometry | kChangeMaterials);
+  const bool lights = changes & (kChangeGeometry | kChangeLights | kChangeEmission);
+  if (!geometry && !lights) {
+    for (const char* stage : {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate"}) {
+      ctx.timer.Skip(stage);
+    }
+    return absl::OkStatus();
+  }
+  if (geometry) {
+    GS_ASSIGN_OR_RETURN(ProbeLayout layout, FitProbeGrid(ctx.gpu.WorldBounds(ctx.state), settings_.grid));
+    gl::StageTimer::Scope stage(ctx.timer, "rasterize_cubemaps");
+    if (layout.probes() != layout_.probes() || !coefficients_) {
+      const GLsizeiptr coefficient_bytes = GLsizeiptr(sh::kMaxCoefficients) * layout.probes() * 16;
+      coefficients_ = gl::Buffer::Create();
+      previous_coefficients_ = gl::Buffer::Create();
+      probe_valid_ = gl::Buffer::Create();
+      glNamedBufferStorage(coefficients_.id(), coefficient_bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
+      glNamedBufferStorage(previous_coefficients_.id(), coefficient_bytes, nullptr,
+                           GL_DYNAMIC_STORAGE_BIT);
+      glNamedBufferStorage(probe_valid_.id(), GLsizeiptr(layout.probes()) * 4, nullptr,
+                           GL_DYNAMIC_STORAGE_BIT);
+    }
+    layout_ = layout;
+    atlas_.Allocate(layout_);
+    RasterizeCubemaps(ctx);
+  } else {
+    ctx.timer.Skip("rasterize_cubemaps");
+  }
+
+  // Section 3: start from L_indirect = 0 and bounce until the change is
+  // insignificant or the budget of bounces is spent.
+  dc_luminance_.assign(size_t(layout_.probes()), 0.0f);
+  double last_delta = 0.0, previous_delta = 0.0;
+  bounces_run_ = 0;
+  tail_applied_ = false;
+  tail_ratio_ = 0.0;
+  for (int bounce = 1; bounce <= settings_.bounces; ++bounce) {
+    if (bounce > 1) {
+      gl::StageTimer::Scope stage(ctx.timer, "interpolate");
+      Interpolate();
+    }
+    {
+      gl::StageTimer::Scope stage(ctx.timer, "render_cubemaps");
+      if (bounce == 1 && lights) {
+        GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct));
+      }
+      RenderCubemaps(/*compute_direct=*/bounce == 1, /*use_indirect=*/bounce > 1);
+    }
+    gl::StageTimer::Scope stage(ctx.timer, "sh_project");
+    if (settings_.tail_estimate) {
+      glCopyNamedBufferSubData(coefficients_.id(), previous_coefficients_.id(), 0, 0,
+                               GLsizeiptr(sh::kMaxCoefficients) * layout_.probes() * 16);
+    }
+    double sum = 0.0;
+    const double change = ProjectToSh(&sum);
+    bounces_run_ = bounce;
+    previous_delta = last_delta;
+    last_delta = change;
+    bounce_change_ = sum > 0.0 ? change / sum : 0.0;
+    if (bounce >= 2 && bounce_change_ < settings_.tolerance) break;
+  }
+  if (bounces_run_ == 1) ctx.timer.Skip("interpolate");
+
+  if (settings_.tail_estimate && bounces_run_ >= 2 && previous_delta > 0.0) {
+    // Geometric tail: increments shrink by r per bounce, so the bounces not
+    // run add sum_{j>=1} r^j = r / (1 - r) times the last one.
+    tail_ratio_ = last_delta / previous_delta;
+    if (tail_ratio_ > 0.0 && tail_ratio_ < 1.0) {
+      gl::StageTimer::Scope stage(ctx.timer, "sh_project");
+      ApplyTail(tail_ratio_ / (1.0 - tail_ratio_));
+      tail_applied_ = true;
+    }
+  }
+  return absl::OkStatus();
+}
+
+void ShProbesSolver::BindProbeData(gl::Program& program) const {
+  SetProbeGridUniforms(program, layout_, sh::CoefficientCount(settings_.bands),
+                       settings_.indirect_shadows);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCoefficientBinding, coefficients_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kValidBinding, probe_valid_.id());
+  glBindTextureUnit(kDistanceUnit, atlas_.distance());
+  glBindTextureUnit(kNormalUnit, atlas_.normal());
+  glBindTextureUnit(kAlbedoUnit, atlas_.albedo());
+}
+
+void ShProbesSolver::RasterizeCubemaps(const SolverContext& ctx) {
+  const GLuint fbo = atlas_.fbo();
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glViewport(0, 0, layout_.width(), layout_.height());
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  for (int i = 0; i < 4; ++i) glEnable(GLenum(GL_CLIP_DISTANCE0 + i));
+  const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  const float one = 1.0f;
+  for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo, GL_COLOR, i, zero);
+  glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
+  // Near and far planes that bracket the whole grid from any probe.
+  const float far = std::max(1.01f * glm::length(glm::vec3(layout_.dims) * layout_.spacing), 1e-6f);
+  SetProbeGridUniforms(rasterize_, layout_, 0, false);
+  rasterize_.Set("uNear", far * 1e-5f);
+  rasterize_.Set("uFar", far);
+  rasterize_.Use();
+  ctx.gpu.Draw(rasterize_, ctx.state, /*bind_textures=*/true, layout_.probes());
+  for (int i = 0; i < 4; ++i) glDisable(GLenum(GL_CLIP_DISTANCE0 + i));
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void ShProbesSolver::RenderCubemaps(bool compute_direct, bool use_indirect) {
+  BindProbeData(render_);
+  lighting_.Bind(render_);
+  render_.Set("uComputeDirect", compute_direct ? 1 : 0);
+  render_.Set("uUseIndirect", use_indirect ? 1 : 0);
+  glBindImageTexture(0, atlas_.direct(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(1, atlas_.indirect(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
+  glBindImageTexture(2, atlas_.radiance(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  render_.Use();
+  glDispatchCompute(Groups(layout_.width(), 8), Groups(layout_.height(), 8), 6);
+  glMemoryBarrier(kComputeBarrier);
+}
+
+double ShProbesSolver::ProjectToSh(double* total) {
+  BindProbeData(project_);
+  glBindImageTexture(2, atlas_.radiance(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
+  project_.Use();
+  glDispatchCompute(GLuint(layout_.probes()), 1, 1);
+  glMemoryBarrier(kComputeBarrier);
+
+  // L_00 of every probe (the first probes() entries) and the valid flags.
+  const size_t probes = size_t(layout_.probes());
+  std::vector<glm::vec4> dc(probes);
+  std::vector<float> valid(probes);
+  glGetNamedBufferSubData(coefficients_.id(), 0, GLsizeiptr(probes * sizeof(glm::vec4)), dc.data());
+  glGetNamedBufferSubData(probe_valid_.id(), 0, GLsizeiptr(probes * sizeof(float)), valid.data());
+  double change = 0.0, sum = 0.0;
+  invalid_probes_ = 0;
+  for (size_t p = 0; p < probes; ++p) {
+    if (valid[p] < 0.5f) {
+      ++invalid_probes_;
+      continue;
+    }
+    const float lum = Luminance(dc[p]);
+    change += std::abs(double(lum) - double(dc_luminance_[p]));
+    sum += std::abs(double(lum));
+    dc_luminance_[p] = lum;
+  }
+  *total = sum;
+  return change;
+}
+
+void ShProbesSolver::Interpolate() {
+  BindProbeData(interpolate_);
+  glBindImageTexture(1, atlas_.indirect(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  interpolate_.Use();
+  glDispatchCompute(Groups(layout_.width(), 8), Groups(layout_.height(), 8), 6);
+  glMemoryBarrier(kComputeBarrier);
+}
+
+void ShProbesSolver::ApplyTail(double scale) {
+  const int count = sh::kMaxCoefficients * layout_.probes();
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCoefficientBinding, coefficients_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPreviousBinding, previous_coefficients_.id());
+  tail_.Set("uCount", count);
+  tail_.Set("uScale", float(scale));
+  tail_.Use();
+  glDispatchCompute(Groups(count, 64), 1, 1);
+  glMemoryBarrier(kComputeBarrier);
+}
+
+absl::Status ShProbesSolver::Shade(SolverContext& ctx, const ViewCamera& /*camera*/,
+                                   const GBuffer& gbuffer) {
+  gl::StageTimer::Scope stage(ctx.timer, "final");
+  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
+  glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
+  glDisable(GL_DEPTH_TEST);
+  gbuffer.BindTextures(8);
+  lighting_.Bind(final_);
+  BindProbeData(final_);
+  final_.Use();
+  glBindVertexArray(empty_vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  return absl::OkStatus();
+}
+
+SolverStats ShProbesSolver::Stats() const {
+  return {{"probes", double(layout_.probes())},
+          {"probes_invalid", double(invalid_probes_)},
+          {"face_size", double(layout_.face_size)},
+          {"atlas_texels", double(layout_.texels())},
+          {"bounces_run", double(bounces_run_)},
+          {"bounce_change", bounce_change_},
+          {"tail_ratio", tail_ratio_},
+          {"tail_applied", tail_applied_ ? 1.0 : 0.0},
+          {"probe_gpu_bytes", double(atlas_.gpu_bytes())},
+          {"area_samples", double(lighting_.area_samples().size())},
+          {"shadow_map_bytes", double(lighting_.gpu_bytes())}};
+}
+
+}  // namespace gistream

@@ -1,0 +1,31 @@
+// A texel of the probe atlas: which probe and direction it belongs to, and
+// the surface point it saw (shared by render_cubemaps and interpolate).
+#include "sh_probes/probe_grid.glsl"
+layout(binding = 13) uniform sampler2DArray uProbeNormal;  // w: 1 = back face
+layout(binding = 14) uniform sampler2DArray uProbeAlbedo;
+
+struct ProbeTexel {
+  bool hit;
+  vec3 position;
+  vec3 normal;
+  vec3 albedo;
+};
+
+// False for texels past the last probe's tile.
+bool LoadProbeTexel(ivec3 atlas, out ProbeTexel t) {
+  ivec2 tile = atlas.xy / uFaceSize;
+  int probe = tile.y * uAtlasTiles + tile.x;
+  t.hit = false;
+  t.position = t.normal = t.albedo = vec3(0.0);
+  if (tile.x >= uAtlasTiles || probe >= ProbeCount()) return false;
+  float dist = texelFetch(uProbeDistance, atlas, 0).r;
+  if (dist <= 0.0) return true;
+  ivec3 c = ivec3(probe % uGridDims.x, (probe / uGridDims.x) % uGridDims.y,
+                  probe / (uGridDims.x * uGridDims.y));
+  vec3 dir = TexelDirection(atlas.z, atlas.xy - tile * uFaceSize, uFaceSize);
+  t.hit = true;
+  t.position = ProbePosition(c) + dir * dist;
+  t.normal = texelFetch(uProbeNormal, atlas, 0).xyz;
+  t.albedo = texelFetch(uProbeAlbedo, atlas, 0).rgb;
+  return true;
+}

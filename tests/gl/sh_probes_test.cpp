@@ -1,0 +1,220 @@
+// `sh_probes` (Nijasure et al. 2005) end to end on llvmpipe: energy in the
+// white furnace, the geometric tail on a stiff furnace, extreme scales and
+// intensities, error against the path-traced reference on the Cornell box
+// and the indirect-only room, and which stages each kind of change runs.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "support/render_helpers.h"
+
+namespace gistream {
+namespace {
+
+using testing::FloatImage;
+using testing::FrameStage;
+using testing::FrameStat;
+using testing::ImageMean;
+using testing::BundledCopy;
+using testing::RelMse;
+using testing::RenderRequestExr;
+
+RenderRequest Request(const std::string& scene, const std::string& solver,
+                      std::map<std::string, std::string> params, uint32_t size,
+                      std::vector<Update> updates = {}) {
+  RenderRequest r;
+  r.scene = scene;
+  r.solver = solver;
+  r.params = std::move(params);
+  r.width = r.height = size;
+  r.updates = std::move(updates);
+  return r;
+}
+
+MaterialUpdate Albedo(float rho) {
+  MaterialUpdate m;
+  m.material = 0;
+  m.base_color = glm::vec4(rho, rho, rho, 1.0f);
+  return m;
+}
+
+TEST(ShProbes, WhiteFurnaceConservesEnergy) {
+  // Albedo 0.5, emission 1: L = E / (1 - rho) = 2 in every pixel.
+  const BundledCopy scene("furnace.gltf");
+  const std::string& id = scene.id();
+  EncodedFrame frame;
+  const FloatImage image = RenderRequestExr(
+      Request(id, "sh_probes", {{"grid", "4"}, {"bounces", "12"}, {"tolerance", "0"}}, 32), &frame);
+  ASSERT_EQ(image.width, 32);
+  EXPECT_EQ(image.non_finite(), 0u);
+  // 3 %: the direct term's area-light samples and the SH band limit.
+  EXPECT_NEAR(ImageMean(image).g, 2.0, 0.06);
+  EXPECT_EQ(FrameStat(frame, "bounces_run"), 12.0);
+  EXPECT_EQ(FrameStat(frame, "probes_invalid"), 0.0);
+}
+
+TEST(ShProbes, ToleranceStopsBouncingAndReportsTheChange) {
+  const BundledCopy scene("furnace.gltf");
+  const std::string& id = scene.id();
+  EncodedFrame frame;
+  RenderRequestExr(Request(id, "sh_probes", {{"grid", "4"}, {"bounces", "64"}, {"tolerance", "0.02"}}, 16),
+                   &frame);
+  // Bounce k adds about rho^k of the total (rho = 0.5): the change falls
+  // under 2 % after a handful of bounces, far before 64.
+  const double bounces = FrameStat(frame, "bounces_run");
+  EXPECT_GE(bounces, 3.0);
+  EXPECT_LE(bounces, 10.0);
+  EXPECT_LT(FrameStat(frame, "bounce_change"), 0.02);
+}
+
+TEST(ShProbes, GeometricTailOnAStiffFurnace) {
+  // rho = 0.9 converges only geometrically: four bounces miss
+  // 0.9^5 / (1 - 0.9) = 5.9 of the indirect light's fixed point. The tail
+  // estimate r / (1 - r) x the last increment recovers it. Judged against
+  // the solver's own fixed point (64 bounces), so that only the tail is
+  // measured, not the direct term's estimate of the walls' irradiance.
+  const BundledCopy scene("furnace.gltf");
+  const std::string& id = scene.id();
+  const std::map<std::string, std::string> four = {{"grid", "4"}, {"bounces", "4"}, {"tolerance", "0"}};
+  EncodedFrame plain_frame, tail_frame;
+  const FloatImage plain =
+      RenderRequestExr(Request(id, "sh_probes", four, 16, {{1, Albedo(0.9f)}}), &plain_frame);
+  auto with_tail = four;
+  with_tail["tail_estimate"] = "true";
+  const FloatImage tail = RenderRequestExr(Request(id, "sh_probes", with_tail, 16), &tail_frame);
+  auto converged_params = four;
+  converged_params["bounces"] = "64";
+  const FloatImage converged = RenderRequestExr(Request(id, "sh_probes", converged_params, 16));
+  const double fixed_point = ImageMean(converged).g;
+  EXPECT_NEAR(fixed_point, 10.0, 1.0);  // L = E / (1 - rho), within the direct term's 10 %
+  const double plain_error = std::abs(ImageMean(plain).g - fixed_point);
+  const double tail_error = std::abs(ImageMean(tail).g - fixed_point);
+  EXPECT_GT(plain_error, 0.3 * fixed_point);
+  EXPECT_LT(tail_error, 0.03 * fixed_point) << "without the tail " << plain_error;
+  EXPECT_EQ(FrameStat(plain_frame, "tail_applied"), 0.0);
+  EXPECT_EQ(FrameStat(tail_frame, "tail_applied"), 1.0);
+  EXPECT_NEAR(FrameStat(tail_frame, "tail_ratio"), 0.9, 0.05);
+  EXPECT_EQ(tail.non_finite(), 0u);
+}
+
+TEST(ShProbes, ExtremeScalesAndIntensitiesStayFiniteAndConserveEnergy) {
+  struct Case {
+    float scale, strength;
+  };
+  for (const Case c : {Case{1e-3f, 1.0f}, Case{1e3f, 1.0f}, Case{1.0f, 1e6f}, Case{1.0f, 1e-3f}}) {
+    const BundledCopy scene("furnace.gltf");
+  const std::string& id = scene.id();
+    NodeTransformUpdate scale;
+    scale.node = 0;
+    scale.scale = glm::vec3(c.scale);
+    MaterialUpdate emission;
+    emission.material = 0;
+    emission.emissive_strength = c.strength;
+    const FloatImage image = RenderRequestExr(
+        Request(id, "sh_probes", {{"grid", "4"}, {"bounces", "12"}, {"tolerance", "0"}}, 16,
+                {{1, scale}, {2, emission}}));
+    ASSERT_EQ(image.width, 16);
+    EXPECT_EQ(image.non_finite(), 0u) << c.scale << " " << c.strength;
+    EXPECT_NEAR(ImageMean(image).g / c.strength, 2.0, 0.1) << c.scale << " " << c.strength;
+  }
+}
+
+// relMSE of `solver` against a path-traced reference, 64 x 64.
+class ShProbesAccuracy : public ::testing::Test {
+ protected:
+  void Reference(const std::string& file, int spp) {
+    copy_ = std::make_unique<BundledCopy>(file);
+    scene_ = copy_->id();
+    reference_ = RenderRequestExr(Request(scene_, "pathtrace", {{"spp", std::to_string(spp)}}, kSize));
+  }
+  double ErrorOf(const std::string& solver, std::map<std::string, std::string> params = {}) {
+    const FloatImage image = RenderRequestExr(Request(scene_, solver, std::move(params), kSize));
+    EXPECT_EQ(image.non_finite(), 0u) << solver;
+    return RelMse(image, reference_);
+  }
+  static constexpr uint32_t kSize = 64;
+  std::unique_ptr<BundledCopy> copy_;
+  std::string scene_;
+  FloatImage reference_;
+};
+
+TEST_F(ShProbesAccuracy, CornellBoxBeatsDirect) {
+  Reference("cornell_box.gltf", 512);
+  const double direct = ErrorOf("direct");
+  const double probes = ErrorOf("sh_probes");
+  EXPECT_LT(probes, 0.5 * direct) << "direct " << direct << " sh_probes " << probes;
+}
+
+TEST_F(ShProbesAccuracy, IndirectRoomMuchBetterThanDirect) {
+  // Direct renders the room black; the probes carry the light through the
+  // doorway.
+  Reference("indirect_room.gltf", 1024);
+  const double direct = ErrorOf("direct");
+  const double probes = ErrorOf("sh_probes");
+  EXPECT_LT(probes, 0.25 * direct) << "direct " << direct << " sh_probes " << probes;
+}
+
+TEST(ShProbes, InvalidProbesInsideTheBlocks) {
+  // The Cornell box's two blocks are closed on five sides: probes inside
+  // see back faces and are marked invalid; the image stays finite.
+  const BundledCopy scene("cornell_box.gltf");
+  EncodedFrame frame;
+  const FloatImage image = RenderRequestExr(Request(scene.id(), "sh_probes", {{"grid", "8"}}, 32), &frame);
+  EXPECT_EQ(image.non_finite(), 0u);
+  EXPECT_GT(FrameStat(frame, "probes_invalid"), 0.0);
+  EXPECT_LT(FrameStat(frame, "probes_invalid"), 0.25 * FrameStat(frame, "probes"));
+}
+
+bool Skipped(const EncodedFrame& frame, const std::string& stage) {
+  const StageTiming* t = FrameStage(frame, stage);
+  return t != nullptr && t->skipped;
+}
+
+TEST(ShProbes, StagePlanFollowsTheChange) {
+  const BundledCopy scene("dynamic_block.gltf");
+  const std::string& id = scene.id();
+  const std::map<std::string, std::string> params = {{"grid", "4"}, {"face_size", "8"}};
+  const std::vector<std::string> gi = {"rasterize_cubemaps", "render_cubemaps", "sh_project",
+                                       "interpolate"};
+  EncodedFrame frame;
+  RenderRequestExr(Request(id, "sh_probes", params, 16), &frame);
+  for (const std::string& s : gi) EXPECT_FALSE(Skipped(frame, s)) << "first frame " << s;
+
+  // Light only: the rasterized cube maps are reused.
+  LightUpdate dim;
+  dim.light = 0;
+  dim.intensity = 10.0f;
+  RenderRequestExr(Request(id, "sh_probes", params, 16, {{1, dim}}), &frame);
+  EXPECT_TRUE(Skipped(frame, "rasterize_cubemaps"));
+  for (const char* s : {"render_cubemaps", "sh_project", "interpolate", "final"}) {
+    EXPECT_FALSE(Skipped(frame, s)) << "light-only " << s;
+  }
+
+  // Camera only: every GI stage skipped, only final runs.
+  RenderRequest camera_only = Request(id, "sh_probes", params, 16);
+  CameraUpdate cam;
+  cam.look_at = LookAt{{1.0f, 2.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+  camera_only.camera = cam;
+  RenderRequestExr(camera_only, &frame);
+  for (const std::string& s : gi) EXPECT_TRUE(Skipped(frame, s)) << "camera-only " << s;
+  EXPECT_FALSE(Skipped(frame, "final"));
+
+  // Geometry: everything again.
+  NodeTransformUpdate move;
+  move.node = 2;  // block
+  move.translation = {0.5f, 0.25f, 0.3f};
+  RenderRequestExr(Request(id, "sh_probes", params, 16, {{2, move}}), &frame);
+  for (const std::string& s : gi) EXPECT_FALSE(Skipped(frame, s)) << "geometry " << s;
+}
+
+TEST(ShProbes, GridTooLargeIsRejectedNamingTheParameters) {
+  const BundledCopy scene("cornell_box.gltf");
+  RenderRequest r = Request(scene.id(), "sh_probes", {{"grid", "32"}, {"face_size", "64"}}, 8);
+  auto frame = testing::SharedEngine().Render(r);
+  ASSERT_FALSE(frame.ok());
+  EXPECT_EQ(frame.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(frame.status().message().find("params.grid"), std::string::npos) << frame.status();
+}
+
+}  // namespace
+}  // namespace gistream
