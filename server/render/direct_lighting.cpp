@@ -29,6 +29,20 @@ void Upload(gl::Buffer& buffer, const std::vector<T>& data) {
 
 }  // namespace
 
+std::vector<ParamSpec> DirectLightingParams() {
+  return {{"area_samples", ParamType::kInt, "64", 1, 1024, {},
+           "Stratified sample points over all emissive surfaces, each with a shadow map"},
+          {"shadow_res", ParamType::kInt, "256", 16, 4096, {},
+           "Shadow map resolution per cube face / directional map"}};
+}
+
+DirectLightingSettings DirectLightingFromParams(const ParamSet& params) {
+  DirectLightingSettings settings;
+  settings.area_samples = params.GetInt("area_samples");
+  settings.shadow_resolution = params.GetInt("shadow_res");
+  return settings;
+}
+
 absl::StatusOr<DirectLighting> DirectLighting::Create() {
   DirectLighting lighting;
   GS_ASSIGN_OR_RETURN(lighting.shadows_, ShadowMaps::Create());

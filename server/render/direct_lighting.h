@@ -11,6 +11,7 @@
 #include "render/area_lights.h"
 #include "render/shadow_maps.h"
 #include "scene/gpu_scene.h"
+#include "solvers/solver_params.h"
 
 namespace gistream {
 
@@ -18,6 +19,11 @@ struct DirectLightingSettings {
   int area_samples = 64;  // stratified points over all emissive surfaces
   int shadow_resolution = 256;
 };
+
+// The parameters every solver that uses DirectLighting offers
+// (`area_samples`, `shadow_res`), and the settings they give.
+std::vector<ParamSpec> DirectLightingParams();
+DirectLightingSettings DirectLightingFromParams(const ParamSet& params);
 
 class DirectLighting {
  public:

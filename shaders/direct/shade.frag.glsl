@@ -2,10 +2,7 @@
 // `direct` solver, shade stage: outgoing radiance of a Lambertian surface,
 // L = albedo / pi * E_direct + L_emitted.
 #include "render/direct_light.glsl"
-layout(binding = 8) uniform sampler2D uGPosition;
-layout(binding = 9) uniform sampler2D uGNormal;
-layout(binding = 10) uniform sampler2D uGAlbedo;
-layout(binding = 11) uniform sampler2D uGEmission;
+#include "render/gbuffer_read.glsl"
 uniform vec3 uBackground;
 in vec2 vUv;
 out vec4 oRadiance;

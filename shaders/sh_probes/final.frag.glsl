@@ -3,10 +3,7 @@
 // interpolated from the probe grid (Section 3, step 6).
 #include "render/direct_light.glsl"
 #include "sh_probes/probe_grid.glsl"
-layout(binding = 8) uniform sampler2D uGPosition;
-layout(binding = 9) uniform sampler2D uGNormal;
-layout(binding = 10) uniform sampler2D uGAlbedo;
-layout(binding = 11) uniform sampler2D uGEmission;
+#include "render/gbuffer_read.glsl"
 in vec2 vUv;
 out vec4 oRadiance;
 void main() {

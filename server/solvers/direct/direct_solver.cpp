@@ -7,12 +7,7 @@ SolverDescription DirectSolver::Describe() {
   d.name = "direct";
   d.description = "Direct light only: shadow-mapped punctual lights and area lights";
   d.stages = {"shadow_maps", "gbuffer", "shade"};
-  d.params = {
-      {"area_samples", ParamType::kInt, "64", 1, 1024, {},
-       "Stratified sample points over all emissive surfaces, each with a shadow map"},
-      {"shadow_res", ParamType::kInt, "256", 16, 4096, {},
-       "Shadow map resolution per cube face / directional map"},
-  };
+  d.params = DirectLightingParams();
   return d;
 }
 
@@ -23,8 +18,7 @@ const SolverDescription& DirectSolver::description() const {
 
 absl::StatusOr<std::unique_ptr<Solver>> DirectSolver::Create(const ParamSet& params) {
   auto solver = std::unique_ptr<DirectSolver>(new DirectSolver());
-  solver->settings_.area_samples = params.GetInt("area_samples");
-  solver->settings_.shadow_resolution = params.GetInt("shadow_res");
+  solver->settings_ = DirectLightingFromParams(params);
   GS_ASSIGN_OR_RETURN(solver->lighting_, DirectLighting::Create());
   GS_ASSIGN_OR_RETURN(solver->shade_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},

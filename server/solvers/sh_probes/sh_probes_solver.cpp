@@ -40,10 +40,8 @@ SolverDescription ShProbesSolver::Describe() {
        "Add the geometric tail r / (1 - r) x last increment of the bounces not run"},
       {"indirect_shadows", ParamType::kBool, "true", 0, 0, {},
        "Weight each probe by its depth-cube visibility of the point (paper Section 6)"},
-      {"area_samples", ParamType::kInt, "64", 1, 1024, {},
-       "Direct light: stratified emitter samples, each with a shadow map"},
-      {"shadow_res", ParamType::kInt, "256", 16, 4096, {}, "Direct light: shadow map resolution"},
   };
+  for (ParamSpec& spec : DirectLightingParams()) d.params.push_back(std::move(spec));
   return d;
 }
 
@@ -63,8 +61,7 @@ absl::StatusOr<std::unique_ptr<Solver>> ShProbesSolver::Create(const ParamSet& p
   s.tolerance = params.GetFloat("tolerance");
   s.tail_estimate = params.GetBool("tail_estimate");
   s.indirect_shadows = params.GetBool("indirect_shadows");
-  s.direct.area_samples = params.GetInt("area_samples");
-  s.direct.shadow_resolution = params.GetInt("shadow_res");
+  s.direct = DirectLightingFromParams(params);
   // The grid size alone (spacing needs the scene) is checked here.
   if (s.grid.spacing <= 0.0f) {
     GS_RETURN_IF_ERROR(FitProbeGrid(Bounds{glm::vec3(0.0f), glm::vec3(1.0f)}, s.grid).status());
