@@ -177,7 +177,8 @@ TEST(ShProbes, StagePlanFollowsTheChange) {
   const std::vector<std::string> gi = {"rasterize_cubemaps", "render_cubemaps", "sh_project",
                                        "interpolate"};
   EncodedFrame frame;
-  RenderRequestExr(Request(id, "sh_probes", params, 16), &frame);
+  // An open scene: many probe texels see only the background.
+  EXPECT_EQ(RenderRequestExr(Request(id, "sh_probes", params, 16), &frame).non_finite(), 0u);
   for (const std::string& s : gi) EXPECT_FALSE(Skipped(frame, s)) << "first frame " << s;
 
   // Light only: the rasterized cube maps are reused.
