@@ -1,5 +1,7 @@
 #include "scene/gpu_scene.h"
 
+#include <algorithm>
+
 #include <glm/gtc/matrix_inverse.hpp>
 
 namespace gistream {
@@ -124,7 +126,8 @@ void GpuScene::UpdateMaterials(const SceneState& state) {
                        table.data());
 }
 
-void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_textures) const {
+void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_textures,
+                    int instances) const {
   glBindVertexArray(vao_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMaterialBinding, materials_.id());
   const int default_material = int(state.materials().size());
@@ -143,9 +146,10 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
       glBindTextureUnit(kBaseColorUnit, base);
       glBindTextureUnit(kEmissiveUnit, emissive);
     }
-    glDrawElementsBaseVertex(GL_TRIANGLES, GLsizei(d.index_count), GL_UNSIGNED_INT,
-                             reinterpret_cast<const void*>(uintptr_t(d.first_index) * sizeof(uint32_t)),
-                             d.base_vertex);
+    glDrawElementsInstancedBaseVertex(
+        GL_TRIANGLES, GLsizei(d.index_count), GL_UNSIGNED_INT,
+        reinterpret_cast<const void*>(uintptr_t(d.first_index) * sizeof(uint32_t)),
+        std::max(instances, 1), d.base_vertex);
   }
   glBindVertexArray(0);
 }

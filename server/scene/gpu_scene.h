@@ -42,7 +42,9 @@ class GpuScene {
   // Issues every draw with `program`: sets uModel, uNormalMatrix, uMaterial,
   // binds the material textures (units kBaseColorUnit, kEmissiveUnit) when
   // `bind_textures`. Materials are bound as SSBO binding kMaterialBinding.
-  void Draw(gl::Program& program, const SceneState& state, bool bind_textures) const;
+  // `instances` > 1 draws every item that many times (gl_InstanceID).
+  void Draw(gl::Program& program, const SceneState& state, bool bind_textures,
+            int instances = 1) const;
 
   const std::vector<DrawItem>& draws() const { return draws_; }
   uint64_t gpu_bytes() const { return gpu_bytes_; }

@@ -1,13 +1,14 @@
 #include "solvers/registry.h"
 
+#include "solvers/avg/avg_solver.h"
 #include "solvers/direct/direct_solver.h"
 #include "solvers/pathtrace/pathtrace_solver.h"
 
 namespace gistream {
 
 const std::vector<SolverDescription>& AllSolverDescriptions() {
-  static const std::vector<SolverDescription> kAll = {DirectSolver::Describe(),
-                                                      PathtraceSolver::Describe()};
+  static const std::vector<SolverDescription> kAll = {
+      DirectSolver::Describe(), PathtraceSolver::Describe(), AvgSolver::Describe()};
   return kAll;
 }
 
@@ -25,6 +26,7 @@ absl::StatusOr<std::unique_ptr<Solver>> CreateSolver(const std::string& name,
                                                      const ParamSet& params) {
   if (name == "direct") return DirectSolver::Create(params);
   if (name == "pathtrace") return PathtraceSolver::Create(params);
+  if (name == "avg") return AvgSolver::Create(params);
   return FindSolver(name).status();
 }
 
