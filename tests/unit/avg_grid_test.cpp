@@ -65,7 +65,8 @@ std::shared_ptr<const Scene> QuadScene(const std::vector<QuadSpec>& quads,
   return scene;
 }
 
-// A closed cube [-1, 1]^3 with inward faces, one material.
+// A closed cube [-1, 1]^3, one material (face orientation does not matter:
+// surfaces are two-sided for VPL tracing).
 std::vector<QuadSpec> ClosedCube() {
   return {{{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}}, {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}},
           {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}}, {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}},
