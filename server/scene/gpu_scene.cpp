@@ -1,5 +1,7 @@
 #include "scene/gpu_scene.h"
 
+#include <algorithm>
+
 #include <glm/gtc/matrix_inverse.hpp>
 
 namespace gistream {
@@ -146,8 +148,8 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
     }
     glDrawElementsInstancedBaseVertex(
         GL_TRIANGLES, GLsizei(d.index_count), GL_UNSIGNED_INT,
-        reinterpret_cast<const void*>(uintptr_t(d.first_index) * sizeof(uint32_t)), instances,
-        d.base_vertex);
+        reinterpret_cast<const void*>(uintptr_t(d.first_index) * sizeof(uint32_t)),
+        std::max(instances, 1), d.base_vertex);
   }
   glBindVertexArray(0);
 }

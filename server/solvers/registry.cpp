@@ -1,5 +1,6 @@
 #include "solvers/registry.h"
 
+#include "solvers/avg/avg_solver.h"
 #include "solvers/direct/direct_solver.h"
 #include "solvers/pathtrace/pathtrace_solver.h"
 #include "solvers/sh_probes/sh_probes_solver.h"
@@ -7,9 +8,9 @@
 namespace gistream {
 
 const std::vector<SolverDescription>& AllSolverDescriptions() {
-  static const std::vector<SolverDescription> kAll = {DirectSolver::Describe(),
-                                                      PathtraceSolver::Describe(),
-                                                      ShProbesSolver::Describe()};
+  static const std::vector<SolverDescription> kAll = {
+      DirectSolver::Describe(), PathtraceSolver::Describe(), ShProbesSolver::Describe(),
+      AvgSolver::Describe()};
   return kAll;
 }
 
@@ -28,6 +29,7 @@ absl::StatusOr<std::unique_ptr<Solver>> CreateSolver(const std::string& name,
   if (name == "direct") return DirectSolver::Create(params);
   if (name == "pathtrace") return PathtraceSolver::Create(params);
   if (name == "sh_probes") return ShProbesSolver::Create(params);
+  if (name == "avg") return AvgSolver::Create(params);
   return FindSolver(name).status();
 }
 

@@ -19,8 +19,13 @@ ADDR=$(sed -n 's/^listening on //p' "$TMP/out.log")
 [ "$(wc -l <"$TMP/out.log")" -eq 1 ] || { echo "FAIL: stdout has more than one line"; exit 1; }
 
 C="$BIN/gistream --server $ADDR"
-$C status | grep -qi "renderer" || { echo "FAIL: status"; exit 1; }
-$C solvers | grep -q "direct" || { echo "FAIL: solvers"; exit 1; }
+# Into files first: `grep -q` stops reading early, and with pipefail the
+# client's SIGPIPE would fail the step.
+$C status >"$TMP/status.txt" && grep -qi "renderer" "$TMP/status.txt" || { echo "FAIL: status"; exit 1; }
+$C solvers >"$TMP/solvers.txt" || { echo "FAIL: solvers"; exit 1; }
+for s in direct pathtrace sh_probes avg; do
+  grep -q "^$s - " "$TMP/solvers.txt" || { echo "FAIL: solvers lacks $s"; exit 1; }
+done
 $C render --scene cornell_box --solver direct --param area_samples=8 --size 64x48 \
   --format png --out "$TMP/box.png" >/dev/null
 [ "$(head -c 8 "$TMP/box.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] ||

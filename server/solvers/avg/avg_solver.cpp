@@ -1,0 +1,208 @@
+#include "solvers/avg/avg_solver.h"
+
+#include <cmath>
+
+#include <glm/gtc/constants.hpp>
+
+namespace gistream {
+namespace {
+
+float Luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
+// One VPL map layer may not exceed this (GL_MAX_ARRAY_TEXTURE_LAYERS is at
+// least 2048 on GL 4.5; the vpls range keeps within it) nor the atlas 1 GiB.
+constexpr double kMaxAtlasBytes = 1024.0 * 1024.0 * 1024.0;
+
+}  // namespace
+
+SolverDescription AvgSolver::Describe() {
+  SolverDescription d;
+  d.name = "avg";
+  d.description =
+      "Instant radiosity: VPLs traced through an approximate visibility grid (Bashford-Rogers "
+      "et al.), paraboloid VPL shadow maps, interleaved sampling with a geometry-aware filter";
+  d.stages = {"voxelize", "trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
+  d.params = {
+      {"vpls", ParamType::kInt, "1024", 16, 2048, {},
+       "Virtual point lights placed per solution (16 subsets of vpls/16 for interleaved shading)"},
+      {"grid", ParamType::kInt, "64", 8, 256, {},
+       "Voxels per axis of the approximate visibility grid (fitted to the scene bounds)"},
+      {"bounces", ParamType::kInt, "3", 1, avg::VplTraceSettings::kMaxBounces, {},
+       "VPL generations per light path (indirect bounces)"},
+      {"roulette", ParamType::kBool, "true", 0, 0, {},
+       "Russian roulette after each VPL (continue with probability max albedo)"},
+      {"shadow_res", ParamType::kInt, "64", 8, 512, {},
+       "Resolution of each VPL's paraboloid shadow map"},
+      {"visibility", ParamType::kBool, "true", 0, 0, {},
+       "Shadow-test VPL light (false: no VPL shadow maps, the paper's FPS(NV))"},
+      {"clamp", ParamType::kFloat, "0.02", 0.0, 1.0, {},
+       "Geometry-term bias d as a fraction of the scene diagonal: G = cos cos / (r^2 + d^2)"},
+      {"area_samples", ParamType::kInt, "32", 1, 1024, {},
+       "Direct light: stratified samples over emissive surfaces, each with a shadow map"},
+      {"direct_shadow_res", ParamType::kInt, "256", 16, 4096, {},
+       "Direct light: shadow map resolution per cube face / directional map"},
+  };
+  return d;
+}
+
+const SolverDescription& AvgSolver::description() const {
+  static const SolverDescription kDescription = Describe();
+  return kDescription;
+}
+
+absl::StatusOr<std::unique_ptr<Solver>> AvgSolver::Create(const ParamSet& params) {
+  auto solver = std::unique_ptr<AvgSolver>(new AvgSolver());
+  solver->grid_resolution_ = params.GetInt("grid");
+  solver->trace_settings_.vpls = params.GetInt("vpls");
+  solver->trace_settings_.bounces = params.GetInt("bounces");
+  solver->trace_settings_.roulette = params.GetBool("roulette");
+  solver->shadow_resolution_ = params.GetInt("shadow_res");
+  solver->visibility_ = params.GetBool("visibility");
+  solver->clamp_ = float(params.GetFloat("clamp"));
+  solver->direct_settings_.area_samples = params.GetInt("area_samples");
+  solver->direct_settings_.shadow_resolution = params.GetInt("direct_shadow_res");
+  const double atlas = double(solver->trace_settings_.vpls) * solver->shadow_resolution_ *
+                       solver->shadow_resolution_ * 4.0;
+  if (atlas > kMaxAtlasBytes) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "params.shadow_res: ", solver->trace_settings_.vpls, " VPL maps of ",
+        solver->shadow_resolution_, "^2 need ", int64_t(atlas / 1048576.0),
+        " MiB, more than the 1024 MiB atlas limit; lower shadow_res or vpls"));
+  }
+  GLint max_layers = 0;
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
+  if (solver->trace_settings_.vpls > max_layers) {
+    return absl::InvalidArgumentError(absl::StrCat("params.vpls: ", solver->trace_settings_.vpls,
+                                                   " exceeds this GPU's ", max_layers,
+                                                   " shadow-map array layers"));
+  }
+  GS_ASSIGN_OR_RETURN(solver->shadow_maps_, avg::VplShadowMaps::Create());
+  GS_ASSIGN_OR_RETURN(solver->direct_, DirectLighting::Create());
+  GS_ASSIGN_OR_RETURN(solver->illuminate_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "avg/illuminate.frag.glsl"}}));
+  GS_ASSIGN_OR_RETURN(solver->filter_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "avg/filter.frag.glsl"}}));
+  solver->empty_vao_ = gl::VertexArray::Create();
+  return solver;
+}
+
+bool AvgSolver::NeedsVoxelize(ChangeMask changes) {
+  // The grid holds geometry and albedo.
+  return (changes & (kChangeGeometry | kChangeMaterials)) != 0;
+}
+
+bool AvgSolver::NeedsTrace(ChangeMask changes) {
+  return NeedsVoxelize(changes) || (changes & (kChangeLights | kChangeEmission)) != 0;
+}
+
+std::vector<std::string> AvgSolver::Plan(ChangeMask changes) const {
+  if (NeedsVoxelize(changes)) {
+    return {"voxelize", "trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
+  }
+  if (NeedsTrace(changes)) return {"trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
+  // Camera (or environment, which avg does not use): VPLs and shadow maps
+  // are view-independent.
+  return {"gbuffer", "illuminate", "filter"};
+}
+
+absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
+  const bool voxelize = NeedsVoxelize(changes) || !grid_;
+  const bool trace = voxelize || NeedsTrace(changes);
+  if (voxelize) {
+    gl::StageTimer::Scope stage(ctx.timer, "voxelize", /*cpu_stage=*/true);
+    grid_ = avg::VoxelGrid::Build(ctx.state, grid_resolution_);
+  } else {
+    ctx.timer.Skip("voxelize");
+  }
+  if (!trace) {
+    ctx.timer.Skip("trace_vpls");
+    ctx.timer.Skip("vpl_shadow_maps");
+    return absl::OkStatus();
+  }
+  const Bounds& scene_bounds = ctx.state.scene().bounds;
+  clamp_distance_ = clamp_ * (scene_bounds.empty() ? 0.0f : glm::length(scene_bounds.extent()));
+  Bounds grid_bounds;
+  grid_bounds.Extend(grid_->origin());
+  grid_bounds.Extend(grid_->origin() + grid_->extent());
+  {
+    gl::StageTimer::Scope stage(ctx.timer, "trace_vpls", /*cpu_stage=*/true);
+    const std::vector<avg::VplLight> lights = avg::CollectVplLights(
+        ctx.state, grid_bounds.center(), 0.5f * glm::length(grid_bounds.extent()));
+    trace_ = avg::TraceVpls(*grid_, lights, trace_settings_);
+  }
+  {
+    // The direct lights' shadow maps are drawn here too: they are the
+    // shadow maps of the path's first vertices, and change when VPLs do.
+    gl::StageTimer::Scope stage(ctx.timer, "vpl_shadow_maps");
+    GS_RETURN_IF_ERROR(direct_.Update(ctx.state, ctx.gpu, direct_settings_));
+    shadow_maps_.Upload(trace_.vpls, grid_bounds);
+    if (visibility_) shadow_maps_.Render(ctx.gpu, ctx.state, shadow_resolution_);
+  }
+  return absl::OkStatus();
+}
+
+absl::Status AvgSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
+                              const GBuffer& gbuffer) {
+  const glm::ivec2 size(int(gbuffer.width()), int(gbuffer.height()));
+  split_.Resize(gbuffer.width(), gbuffer.height());
+  {
+    gl::StageTimer::Scope stage(ctx.timer, "illuminate");
+    const glm::ivec2 split = split_.split_size();
+    glBindFramebuffer(GL_FRAMEBUFFER, split_.fbo());
+    glViewport(0, 0, split.x, split.y);
+    glDisable(GL_DEPTH_TEST);
+    gbuffer.BindTextures(8);
+    direct_.Bind(illuminate_);
+    shadow_maps_.Bind();
+    illuminate_.Set("uImageSize", size);
+    illuminate_.Set("uTileSize", split_.tile());
+    illuminate_.Set("uVplCount", shadow_maps_.count());
+    illuminate_.Set("uClamp2", clamp_distance_ * clamp_distance_);
+    illuminate_.Set("uVisibility", visibility_ ? 1 : 0);
+    illuminate_.Set("uVplTexel", 2.0f / float(shadow_resolution_));
+    illuminate_.Use();
+    glBindVertexArray(empty_vao_.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  }
+  {
+    gl::StageTimer::Scope stage(ctx.timer, "filter");
+    glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
+    glViewport(0, 0, size.x, size.y);
+    gbuffer.BindTextures(8);
+    glBindTextureUnit(12, split_.indirect());
+    glBindTextureUnit(13, split_.direct());
+    filter_.Set("uImageSize", size);
+    filter_.Set("uTileSize", split_.tile());
+    filter_.Set("uCameraPos", camera.position);
+    filter_.Set("uPixelAngle",
+                2.0f * std::tan(0.5f * camera.yfov) / float(std::max(size.y, 1)));
+    filter_.Set("uNormalCos", 0.9f);
+    filter_.Set("uBackground", glm::vec3(0.0f));
+    filter_.Use();
+    glBindVertexArray(empty_vao_.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+  }
+  return absl::OkStatus();
+}
+
+SolverStats AvgSolver::Stats() const {
+  glm::vec3 flux(0.0f);
+  for (const avg::Vpl& v : trace_.vpls) flux += v.flux;
+  return {{"vpls", double(trace_.vpls.size())},
+          {"vpl_paths", double(trace_.paths)},
+          {"vpl_paths_escaped", double(trace_.escaped)},
+          {"light_power", double(Luminance(trace_.light_power))},
+          {"vpl_flux", double(Luminance(flux))},
+          {"grid", double(grid_ ? grid_->resolution() : 0)},
+          {"voxels_filled", double(grid_ ? grid_->filled() : 0)},
+          {"voxel_bytes", double(grid_ ? grid_->bytes() : 0)},
+          {"vpl_shadow_bytes", double(shadow_maps_.gpu_bytes())},
+          {"direct_area_samples", double(direct_.area_samples().size())},
+          {"direct_shadow_bytes", double(direct_.gpu_bytes())},
+          {"split_bytes", double(split_.gpu_bytes())}};
+}
+
+}  // namespace gistream

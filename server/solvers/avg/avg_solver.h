@@ -1,0 +1,61 @@
+// `avg`: instant radiosity with VPLs traced through an approximate
+// visibility grid (Bashford-Rogers et al., "Approximate Visibility Grids
+// for Interactive Indirect Illumination"). Stages: voxelize (CPU),
+// trace_vpls (CPU), vpl_shadow_maps, gbuffer (the engine's), illuminate,
+// filter. Direct light comes from the shared DirectLighting (shadow-mapped
+// punctual lights and area-light samples); VPLs carry the indirect bounces.
+#pragma once
+
+#include <optional>
+
+#include "render/direct_lighting.h"
+#include "solvers/avg/interleaved_buffer.h"
+#include "solvers/avg/voxel_grid.h"
+#include "solvers/avg/vpl_shadow_maps.h"
+#include "solvers/avg/vpl_tracer.h"
+#include "solvers/solver.h"
+
+namespace gistream {
+
+class AvgSolver final : public Solver {
+ public:
+  static SolverDescription Describe();
+  static absl::StatusOr<std::unique_ptr<Solver>> Create(const ParamSet& params);
+
+  const SolverDescription& description() const override;
+  std::vector<std::string> Plan(ChangeMask changes) const override;
+  absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
+  absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
+  SolverStats Stats() const override;
+
+  // For tests: the current grid and VPLs.
+  const avg::VoxelGrid* grid() const { return grid_ ? &*grid_ : nullptr; }
+  const avg::VplTraceResult& vpls() const { return trace_; }
+
+ private:
+  AvgSolver() = default;
+  // What a change set needs, as flags.
+  static bool NeedsVoxelize(ChangeMask changes);
+  static bool NeedsTrace(ChangeMask changes);
+
+  // Configuration
+  int grid_resolution_ = 64;            ///< voxels per axis
+  avg::VplTraceSettings trace_settings_;  ///< vpls, bounces, roulette
+  int shadow_resolution_ = 64;          ///< VPL paraboloid map size
+  bool visibility_ = true;              ///< false: VPLs unshadowed
+  float clamp_ = 0.0f;                  ///< geometry-term bias, fraction of the scene diagonal
+  DirectLightingSettings direct_settings_;
+
+  // Runtime data
+  std::optional<avg::VoxelGrid> grid_;
+  avg::VplTraceResult trace_;
+  avg::VplShadowMaps shadow_maps_;
+  DirectLighting direct_;
+  avg::InterleavedBuffer split_;
+  gl::Program illuminate_;
+  gl::Program filter_;
+  gl::VertexArray empty_vao_;
+  float clamp_distance_ = 0.0f;  // world units
+};
+
+}  // namespace gistream

@@ -1,0 +1,241 @@
+#include "solvers/avg/voxel_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "solvers/avg/tri_box_overlap.h"
+
+namespace gistream::avg {
+namespace {
+
+float SrgbToLinear(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+// Closest point to p on triangle (a, b, c): Ericson, Real-Time Collision
+// Detection, Sec. 5.1.5.
+glm::vec3 ClosestPointOnTriangle(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b,
+                                 const glm::vec3& c) {
+  const glm::vec3 ab = b - a, ac = c - a, ap = p - a;
+  const float d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
+  if (d1 <= 0.0f && d2 <= 0.0f) return a;
+  const glm::vec3 bp = p - b;
+  const float d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
+  if (d3 >= 0.0f && d4 <= d3) return b;
+  const float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return a + ab * (d1 / (d1 - d3));
+  const glm::vec3 cp = p - c;
+  const float d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
+  if (d6 >= 0.0f && d5 <= d6) return c;
+  const float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return a + ac * (d2 / (d2 - d6));
+  const float va = d3 * d6 - d5 * d4;
+  if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) {
+    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  }
+  const float denom = 1.0f / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+}  // namespace
+
+glm::vec3 MeanTextureColor(const Scene& scene, int image) {
+  if (image < 0 || size_t(image) >= scene.images.size()) return glm::vec3(1.0f);
+  const Image& img = scene.images[size_t(image)];
+  const size_t texels = size_t(img.width) * size_t(img.height);
+  if (texels == 0) return glm::vec3(1.0f);
+  glm::dvec3 sum(0.0);
+  for (size_t i = 0; i < texels; ++i) {
+    glm::vec3 c;
+    if (img.is_float) {
+      c = {img.pixelsf[4 * i], img.pixelsf[4 * i + 1], img.pixelsf[4 * i + 2]};
+    } else {
+      c = glm::vec3(img.pixels8[4 * i], img.pixels8[4 * i + 1], img.pixels8[4 * i + 2]) / 255.0f;
+      if (img.srgb) c = {SrgbToLinear(c.r), SrgbToLinear(c.g), SrgbToLinear(c.b)};
+    }
+    sum += glm::dvec3(c);
+  }
+  return glm::clamp(glm::vec3(sum / double(texels)), 0.0f, 1.0f);
+}
+
+VoxelGrid VoxelGrid::Build(const SceneState& state, int resolution) {
+  VoxelGrid grid;
+  grid.n_ = std::clamp(resolution, 4, 1024);
+  const Scene& scene = state.scene();
+
+  // Bounds of the current (moved) geometry.
+  Bounds bounds;
+  for (size_t n = 0; n < scene.nodes.size(); ++n) {
+    if (scene.nodes[n].mesh < 0) continue;
+    const glm::mat4& m = state.world()[n];
+    for (const Primitive& p : scene.meshes[size_t(scene.nodes[n].mesh)].primitives) {
+      for (const glm::vec3& v : p.positions) bounds.Extend(glm::vec3(m * glm::vec4(v, 1.0f)));
+    }
+  }
+  if (bounds.empty()) bounds.Extend(glm::vec3(-1.0f)), bounds.Extend(glm::vec3(1.0f));
+  // One voxel of padding on each side, so a surface on the bounds lies
+  // inside the grid; flat axes get a minimum thickness.
+  const glm::vec3 ext = bounds.extent();
+  const float largest = std::max({ext.x, ext.y, ext.z, 1e-20f});
+  const glm::vec3 padded = glm::max(ext, glm::vec3(largest / float(grid.n_)));
+  grid.size_ = padded / float(grid.n_ - 2);
+  grid.origin_ = bounds.center() - 0.5f * padded - grid.size_;
+  grid.voxels_.assign(size_t(grid.n_) * size_t(grid.n_) * size_t(grid.n_), Voxel{});
+
+  std::vector<glm::vec3> texture_means(scene.images.size(), glm::vec3(-1.0f));
+  for (size_t n = 0; n < scene.nodes.size(); ++n) {
+    const int mesh = scene.nodes[n].mesh;
+    if (mesh < 0) continue;
+    const glm::mat4& m = state.world()[n];
+    for (const Primitive& p : scene.meshes[size_t(mesh)].primitives) {
+      glm::vec3 albedo(1.0f);
+      if (p.material >= 0) {
+        const Material& mat = state.materials()[size_t(p.material)];
+        albedo = glm::vec3(mat.base_color_factor);
+        if (mat.base_color_texture >= 0) {
+          glm::vec3& mean = texture_means[size_t(mat.base_color_texture)];
+          if (mean.x < 0.0f) mean = MeanTextureColor(scene, mat.base_color_texture);
+          albedo *= mean;
+        }
+      }
+      albedo = glm::clamp(albedo, 0.0f, 1.0f);  // as the G-buffer stores it
+      for (size_t i = 0; i + 2 < p.indices.size(); i += 3) {
+        grid.Add(glm::vec3(m * glm::vec4(p.positions[p.indices[i]], 1.0f)),
+                 glm::vec3(m * glm::vec4(p.positions[p.indices[i + 1]], 1.0f)),
+                 glm::vec3(m * glm::vec4(p.positions[p.indices[i + 2]], 1.0f)), albedo);
+      }
+    }
+  }
+  for (const Voxel& v : grid.voxels_) grid.filled_ += v.count > 0 ? 1 : 0;
+  return grid;
+}
+
+void VoxelGrid::Add(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
+                    const glm::vec3& albedo) {
+  const glm::vec3 cross = glm::cross(b - a, c - a);
+  const float len = glm::length(cross);
+  if (!(len > 0.0f) || !std::isfinite(len)) return;  // degenerate: no surface, no normal
+  const glm::vec3 normal = cross / len;
+  const glm::ivec3 lo = glm::clamp(VoxelOf(glm::min(a, glm::min(b, c))), glm::ivec3(0),
+                                   glm::ivec3(n_ - 1));
+  const glm::ivec3 hi = glm::clamp(VoxelOf(glm::max(a, glm::max(b, c))), glm::ivec3(0),
+                                   glm::ivec3(n_ - 1));
+  // A hair more than half a voxel, so a triangle on a voxel face marks the
+  // voxels on both sides (conservative, never a gap from rounding).
+  const glm::vec3 half = 0.5f * size_ * 1.0001f;
+  glm::ivec3 v;
+  for (v.z = lo.z; v.z <= hi.z; ++v.z) {
+    for (v.y = lo.y; v.y <= hi.y; ++v.y) {
+      for (v.x = lo.x; v.x <= hi.x; ++v.x) {
+        const glm::vec3 center = Center(v);
+        if (!TriangleBoxOverlap(center, half, a, b, c)) continue;
+        Voxel& voxel = voxels_[Index(v)];
+        voxel.normal_sum += normal;
+        voxel.albedo_sum += albedo;
+        voxel.point_sum += ClosestPointOnTriangle(center, a, b, c);
+        ++voxel.count;
+      }
+    }
+  }
+}
+
+glm::ivec3 VoxelGrid::VoxelOf(const glm::vec3& p) const {
+  const glm::vec3 f = glm::floor((p - origin_) / size_);
+  // Clamp in float first so far-away points cannot overflow the int cast.
+  return glm::ivec3(glm::clamp(f, glm::vec3(-1.0f), glm::vec3(float(n_))));
+}
+
+glm::vec3 VoxelGrid::Normal(const glm::ivec3& v) const {
+  const Voxel& voxel = at(v);
+  const float len = glm::length(voxel.normal_sum);
+  // Opposite sheets in one voxel (both faces of a thin wall) cancel: no
+  // reliable normal.
+  return len > 0.25f * float(voxel.count) ? voxel.normal_sum / len : glm::vec3(0.0f);
+}
+
+glm::vec3 VoxelGrid::Albedo(const glm::ivec3& v) const {
+  const Voxel& voxel = at(v);
+  return voxel.count > 0 ? voxel.albedo_sum / float(voxel.count) : glm::vec3(0.0f);
+}
+
+glm::vec3 VoxelGrid::SurfacePoint(const glm::vec3& fallback, const glm::ivec3& v) const {
+  const Voxel& voxel = at(v);
+  return voxel.count > 0 ? voxel.point_sum / float(voxel.count) : fallback;
+}
+
+std::optional<GridHit> VoxelGrid::March(const glm::vec3& o, const glm::vec3& d,
+                                        const glm::vec3& start_normal,
+                                        bool starts_on_surface) const {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  // Clip the ray to the grid box (slab test).
+  const glm::vec3 box_max = origin_ + extent();
+  float t0 = 0.0f, t1 = kInf;
+  for (int i = 0; i < 3; ++i) {
+    if (std::abs(d[i]) < 1e-30f) {
+      if (o[i] < origin_[i] || o[i] > box_max[i]) return std::nullopt;
+      continue;
+    }
+    float a = (origin_[i] - o[i]) / d[i], b = (box_max[i] - o[i]) / d[i];
+    if (a > b) std::swap(a, b);
+    t0 = std::max(t0, a);
+    t1 = std::min(t1, b);
+  }
+  if (!(t0 <= t1)) return std::nullopt;
+
+  // 3D DDA (Amanatides & Woo 1987).
+  glm::ivec3 v = glm::clamp(VoxelOf(o + d * t0), glm::ivec3(0), glm::ivec3(n_ - 1));
+  glm::ivec3 step;
+  glm::vec3 t_max, t_delta;
+  for (int i = 0; i < 3; ++i) {
+    if (d[i] > 0.0f) {
+      step[i] = 1;
+      t_max[i] = (origin_[i] + float(v[i] + 1) * size_[i] - o[i]) / d[i];
+      t_delta[i] = size_[i] / d[i];
+    } else if (d[i] < 0.0f) {
+      step[i] = -1;
+      t_max[i] = (origin_[i] + float(v[i]) * size_[i] - o[i]) / d[i];
+      t_delta[i] = -size_[i] / d[i];
+    } else {
+      step[i] = 0;
+      t_max[i] = kInf;
+      t_delta[i] = kInf;
+    }
+  }
+  // Self-intersection: a ray leaving a surface starts inside that surface's
+  // voxels. Skip the start voxel, and further filled voxels of the same
+  // sheet (normal within 60 degrees, or no normal) until the ray has seen
+  // an empty voxel or gone one voxel diagonal; a wall met in a corner (a
+  // different normal) still stops it.
+  const float skip_distance = glm::length(size_);
+  bool skipping = starts_on_surface;
+  const glm::ivec3 start = v;
+  float t_enter = t0;
+  while (Inside(v)) {
+    const float t_exit = std::min({t_max.x, t_max.y, t_max.z});
+    const Voxel& voxel = at(v);
+    if (voxel.count > 0) {
+      bool skip = false;
+      if (skipping) {
+        if (v == start) {
+          skip = true;
+        } else if (t_enter < skip_distance) {
+          const glm::vec3 n = Normal(v);
+          skip = n == glm::vec3(0.0f) || std::abs(glm::dot(n, start_normal)) > 0.5f;
+        }
+      }
+      if (!skip) return GridHit{v, t_enter, std::max(t_exit, t_enter)};
+    } else {
+      skipping = false;
+    }
+    // Step to the next voxel along the axis whose boundary comes first.
+    const int axis = t_max.x < t_max.y ? (t_max.x < t_max.z ? 0 : 2) : (t_max.y < t_max.z ? 1 : 2);
+    t_enter = t_max[axis];
+    v[axis] += step[axis];
+    t_max[axis] += t_delta[axis];
+    if (t_enter > t1) break;
+  }
+  return std::nullopt;
+}
+
+}  // namespace gistream::avg

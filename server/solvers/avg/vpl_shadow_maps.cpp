@@ -1,0 +1,91 @@
+#include "solvers/avg/vpl_shadow_maps.h"
+
+#include <algorithm>
+
+#include "render/shadow_maps.h"
+
+namespace gistream::avg {
+namespace {
+
+// std430 mirror of shaders/avg/vpl.glsl's Vpl.
+struct GpuVpl {
+  glm::vec4 position_far;
+  glm::vec4 normal_layer;
+  glm::vec4 flux;
+};
+
+}  // namespace
+
+absl::StatusOr<VplShadowMaps> VplShadowMaps::Create() {
+  VplShadowMaps maps;
+  GS_ASSIGN_OR_RETURN(maps.program_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "avg/vpl_shadow.vert.glsl"},
+                                          {GL_GEOMETRY_SHADER, "avg/vpl_shadow.geom.glsl"},
+                                          {GL_FRAGMENT_SHADER, "avg/vpl_shadow.frag.glsl"}}));
+  maps.fbo_ = gl::Framebuffer::Create();
+  return maps;
+}
+
+void VplShadowMaps::Upload(const std::vector<Vpl>& vpls, const Bounds& bounds) {
+  std::vector<GpuVpl> data;
+  data.reserve(vpls.size());
+  for (size_t i = 0; i < vpls.size(); ++i) {
+    const Vpl& v = vpls[i];
+    data.push_back({glm::vec4(v.position, ShadowFar(bounds, v.position)),
+                    glm::vec4(v.normal, float(i)), glm::vec4(v.flux, 0.0f)});
+  }
+  count_ = int(data.size());
+  vpls_ = gl::Buffer::Create();
+  const GpuVpl zero{};
+  glNamedBufferStorage(vpls_.id(), GLsizeiptr(std::max<size_t>(data.size(), 1) * sizeof(GpuVpl)),
+                       data.empty() ? &zero : data.data(), 0);
+}
+
+void VplShadowMaps::Allocate(int layers, int resolution) {
+  if (maps_ && layers == layers_ && resolution == resolution_) return;
+  maps_ = gl::Texture::Create(GL_TEXTURE_2D_ARRAY);
+  glTextureStorage3D(maps_.id(), 1, GL_DEPTH_COMPONENT32F, resolution, resolution, layers);
+  glTextureParameteri(maps_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(maps_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(maps_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(maps_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(maps_.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+  glTextureParameteri(maps_.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+  layers_ = layers;
+  resolution_ = resolution;
+}
+
+void VplShadowMaps::Render(const GpuScene& gpu, const SceneState& state, int resolution) {
+  Allocate(std::max(count_, 1), resolution);
+  // Layered attachment: the geometry shader picks the layer (the VPL).
+  glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, maps_.id(), 0);
+  glNamedFramebufferDrawBuffer(fbo_.id(), GL_NONE);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+  glViewport(0, 0, resolution, resolution);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);
+  const float one = 1.0f;
+  glClearBufferfv(GL_DEPTH, 0, &one);  // every layer
+  if (count_ > 0) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVplBinding, vpls_.id());
+    program_.Use();
+    gpu.Draw(program_, state, false, count_);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void VplShadowMaps::Bind() {
+  // Without visibility no map is drawn; a 1-texel stand-in keeps the
+  // sampler complete.
+  if (!maps_) Allocate(1, 1);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVplBinding, vpls_.id());
+  glBindTextureUnit(kShadowUnit, maps_.id());
+}
+
+uint64_t VplShadowMaps::gpu_bytes() const {
+  return uint64_t(layers_) * uint64_t(resolution_) * uint64_t(resolution_) * 4 +
+         uint64_t(count_) * sizeof(GpuVpl);
+}
+
+}  // namespace gistream::avg

@@ -1,0 +1,44 @@
+// The VPLs on the GPU (an SSBO) and their low-resolution shadow maps (paper
+// Sec. III-C): one paraboloid (hemisphere) map per VPL, all in one 2D
+// array texture (the atlas, one layer per VPL), drawn with instancing --
+// one instanced draw per scene draw item covers every VPL.
+#pragma once
+
+#include <vector>
+
+#include "gl/handle.h"
+#include "gl/program.h"
+#include "scene/gpu_scene.h"
+#include "solvers/avg/vpl_tracer.h"
+
+namespace gistream::avg {
+
+class VplShadowMaps {
+ public:
+  static absl::StatusOr<VplShadowMaps> Create();
+
+  // Uploads the VPLs (SSBO binding kVplBinding); far planes from `bounds`.
+  void Upload(const std::vector<Vpl>& vpls, const Bounds& bounds);
+  // Draws every VPL's map at `resolution`^2 (needs Upload first).
+  void Render(const GpuScene& gpu, const SceneState& state, int resolution);
+  // Binds the VPL buffer, and the maps to kShadowUnit.
+  void Bind();
+
+  int count() const { return count_; }
+  uint64_t gpu_bytes() const;
+
+  static constexpr GLuint kVplBinding = 6;
+  static constexpr GLuint kShadowUnit = 7;
+
+ private:
+  void Allocate(int layers, int resolution);
+
+  gl::Program program_;
+  gl::Buffer vpls_;
+  gl::Texture maps_;
+  gl::Framebuffer fbo_;
+  int count_ = 0;
+  int layers_ = 0, resolution_ = 0;
+};
+
+}  // namespace gistream::avg

@@ -1,0 +1,240 @@
+#include "solvers/avg/vpl_tracer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+
+#include <glm/gtc/constants.hpp>
+
+#include "solvers/avg/quasi_random.h"
+
+namespace gistream::avg {
+namespace {
+
+float Luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
+// Orthonormal basis around unit n (Duff et al. 2017).
+void Basis(const glm::vec3& n, glm::vec3& t, glm::vec3& b) {
+  const float sign = std::copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float c = n.x * n.y * a;
+  t = glm::vec3(1.0f + sign * n.x * n.x * a, sign * c, -sign * n.x);
+  b = glm::vec3(c, sign + n.y * n.y * a, -n.y);
+}
+
+// Quasi-random dimensions of one path: 0 light, 1-2 point, 3-4 direction,
+// then 3 per bounce (2 direction, 1 roulette).
+constexpr int kDimLight = 0, kDimPoint = 1, kDimDir = 3, kDimBounce = 5, kDimsPerBounce = 3;
+static_assert(kDimBounce + kDimsPerBounce * VplTraceSettings::kMaxBounces <=
+              ScrambledHalton::kMaxDimensions);
+
+struct LightTable {
+  std::vector<double> cdf;  // by luminous power
+  double total = 0.0;
+};
+
+struct PathStart {
+  glm::vec3 origin, dir, normal, flux;  // flux: power / (light pdf), still to divide by N
+  bool on_surface = false;
+};
+
+PathStart StartPath(const VplLight& l, double pdf, uint64_t i) {
+  const ScrambledHalton& h = ScrambledHalton::Instance();
+  const float u1 = h.Get(i, kDimPoint), u2 = h.Get(i, kDimPoint + 1);
+  const float v1 = h.Get(i, kDimDir), v2 = h.Get(i, kDimDir + 1);
+  PathStart s{};
+  const float inv_pdf = float(1.0 / pdf);
+  switch (l.kind) {
+    case VplLightKind::kArea: {
+      // Uniform point on the triangle, cosine-distributed direction: each
+      // ray then carries power pi L A (the cosine and the pdf cancel).
+      const float su = std::sqrt(u1);
+      s.origin = (1.0f - su) * l.p0 + su * (1.0f - u2) * l.p1 + su * u2 * l.p2;
+      s.normal = l.normal;
+      s.dir = SampleCosine(l.normal, v1, v2);
+      s.flux = l.power * inv_pdf;
+      s.on_surface = true;
+      break;
+    }
+    case VplLightKind::kPoint: {
+      // Uniform direction on the sphere: power 4 pi I per ray.
+      const float z = 1.0f - 2.0f * v1, r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+      const float phi = 2.0f * glm::pi<float>() * v2;
+      s.origin = l.position;
+      s.dir = glm::vec3(r * std::cos(phi), r * std::sin(phi), z);
+      s.normal = s.dir;
+      s.flux = l.power * inv_pdf;
+      break;
+    }
+    case VplLightKind::kSpot: {
+      // Uniform direction inside the outer cone (solid angle
+      // 2 pi (1 - cos_outer)), weighted by the falloff: I f(theta) Omega.
+      const float c = 1.0f - v1 * (1.0f - l.cos_outer);
+      const float r = std::sqrt(std::max(0.0f, 1.0f - c * c));
+      const float phi = 2.0f * glm::pi<float>() * v2;
+      glm::vec3 t, b;
+      Basis(l.normal, t, b);
+      s.origin = l.position;
+      s.dir = glm::normalize(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + l.normal * c);
+      s.normal = s.dir;
+      const float f = std::clamp(c * l.cone_scale + l.cone_offset, 0.0f, 1.0f);
+      const float omega = 2.0f * glm::pi<float>() * (1.0f - l.cos_outer);
+      s.flux = l.radiance * (f * f * omega) * inv_pdf;
+      break;
+    }
+    case VplLightKind::kDirectional: {
+      // Parallel rays through a uniform point of the disc covering the
+      // grid: power E pi R^2 per ray.
+      glm::vec3 t, b;
+      Basis(l.normal, t, b);
+      const float r = l.disc_radius * std::sqrt(u1), phi = 2.0f * glm::pi<float>() * u2;
+      s.origin = l.position - l.normal * (2.0f * l.disc_radius) + t * (r * std::cos(phi)) +
+                 b * (r * std::sin(phi));
+      s.dir = l.normal;
+      s.normal = l.normal;
+      s.flux = l.power * inv_pdf;
+      break;
+    }
+  }
+  return s;
+}
+
+struct PathResult {
+  std::vector<Vpl> vpls;
+  bool escaped = false;
+};
+
+PathResult TracePath(const VoxelGrid& grid, const std::vector<VplLight>& lights,
+                     const LightTable& table, const VplTraceSettings& settings, uint64_t i) {
+  const ScrambledHalton& h = ScrambledHalton::Instance();
+  PathResult result;
+  // Pick a light by power (dimension 0 is van der Corput, so any prefix of
+  // paths splits between the lights in proportion to their power).
+  const double u = double(h.Get(i, kDimLight)) * table.total;
+  const size_t k = std::min(size_t(std::upper_bound(table.cdf.begin(), table.cdf.end(), u) -
+                                   table.cdf.begin()) - 1,
+                            lights.size() - 1);
+  const double pdf = (table.cdf[k + 1] - table.cdf[k]) / table.total;
+  if (!(pdf > 0.0)) return result;
+  PathStart s = StartPath(lights[k], pdf, i);
+  glm::vec3 origin = s.origin, dir = s.dir, normal = s.normal, flux = s.flux;
+  bool on_surface = s.on_surface;
+  const float nudge = 0.05f * glm::length(grid.voxel_size());
+  for (int bounce = 0; bounce < settings.bounces; ++bounce) {
+    const std::optional<GridHit> hit = grid.March(origin, dir, normal, on_surface);
+    if (!hit) {
+      result.escaped = bounce == 0;
+      break;
+    }
+    // The hit surface: the voxel's mean normal facing the ray (none when
+    // opposite sheets cancel: face the ray), its albedo, and its mean
+    // plane, on which the VPL is placed (see ARCHITECTURE.md: the paper
+    // pushes VPLs a random depth into the voxel instead).
+    glm::vec3 n = grid.Normal(hit->voxel);
+    if (n == glm::vec3(0.0f)) n = -dir;
+    if (glm::dot(n, dir) > 0.0f) n = -n;
+    const glm::vec3 albedo = grid.Albedo(hit->voxel);
+    const glm::vec3 plane_point = grid.SurfacePoint(origin + dir * hit->t_enter, hit->voxel);
+    const float denom = glm::dot(dir, n);
+    float t = hit->t_enter;
+    if (denom < -1e-6f) t = glm::dot(plane_point - origin, n) / denom;
+    t = std::clamp(t, hit->t_enter, hit->t_exit);
+    const glm::vec3 p = origin + dir * t;
+
+    Vpl vpl;
+    vpl.position = p + n * nudge;
+    vpl.normal = n;
+    vpl.flux = flux * albedo;
+    vpl.bounce = bounce + 1;
+    result.vpls.push_back(vpl);
+    if (bounce + 1 >= settings.bounces) break;
+
+    const int dim = kDimBounce + kDimsPerBounce * bounce;
+    glm::vec3 next = vpl.flux;
+    if (settings.roulette) {
+      // Continue with probability max(albedo); the survivors carry 1/q more.
+      const float q = std::min(1.0f, std::max({albedo.r, albedo.g, albedo.b}));
+      if (!(q > 0.0f) || h.Get(i, dim + 2) >= q) break;
+      next /= q;
+    }
+    if (!(std::max({next.r, next.g, next.b}) > 0.0f)) break;
+    flux = next;
+    origin = p;
+    normal = n;
+    dir = SampleCosine(n, h.Get(i, dim), h.Get(i, dim + 1));
+    on_surface = true;
+  }
+  return result;
+}
+
+}  // namespace
+
+glm::vec3 SampleCosine(const glm::vec3& n, float u1, float u2) {
+  // Malley's method: a uniform disc point lifted to the hemisphere,
+  // cos(theta) = sqrt(1 - u1), phi = 2 pi u2 (the paper's Sec. III-B map).
+  const float r = std::sqrt(u1), phi = 2.0f * glm::pi<float>() * u2;
+  const float z = std::sqrt(std::max(0.0f, 1.0f - u1));
+  glm::vec3 t, b;
+  Basis(n, t, b);
+  return glm::normalize(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * z);
+}
+
+VplTraceResult TraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& lights,
+                         const VplTraceSettings& settings) {
+  VplTraceResult result;
+  LightTable table;
+  table.cdf.push_back(0.0);
+  for (const VplLight& l : lights) {
+    result.light_power += l.power;
+    table.cdf.push_back(table.cdf.back() + double(std::max(Luminance(l.power), 0.0f)));
+  }
+  table.total = table.cdf.back();
+  const size_t target = size_t(std::max(settings.vpls, 0));
+  if (lights.empty() || !(table.total > 0.0) || target == 0) return result;
+
+  const int threads = settings.threads > 0
+                          ? settings.threads
+                          : std::max(1, int(std::thread::hardware_concurrency()));
+  // Paths are traced in batches (in parallel) and appended whole, in index
+  // order, while their VPLs fit into `vpls`; the first path that does not
+  // fit ends the walk (it is not counted in N). The result does not depend
+  // on the thread count and never exceeds `vpls` VPLs (shadow-map layers).
+  const uint64_t max_paths = uint64_t(target) * 16;  // open scenes: most paths escape
+  double vpls_per_path = 1.0;
+  uint64_t next = 0;
+  bool done = false;
+  while (!done && next < max_paths) {
+    const uint64_t want = uint64_t(double(target - result.vpls.size()) / vpls_per_path) + 8;
+    const uint64_t batch = std::min(want, max_paths - next);
+    std::vector<PathResult> paths(batch);
+    const int used = batch < 64 ? 1 : threads;  // threads do not pay for a few paths
+    auto work = [&](int t) {
+      for (uint64_t j = uint64_t(t); j < batch; j += uint64_t(used)) {
+        paths[j] = TracePath(grid, lights, table, settings, next + j);
+      }
+    };
+    std::vector<std::thread> pool;
+    for (int t = 1; t < used; ++t) pool.emplace_back(work, t);
+    work(0);
+    for (std::thread& th : pool) th.join();
+    for (PathResult& p : paths) {
+      if (result.vpls.size() + p.vpls.size() > target) {
+        done = true;
+        break;
+      }
+      ++result.paths;
+      result.escaped += p.escaped ? 1 : 0;
+      result.vpls.insert(result.vpls.end(), p.vpls.begin(), p.vpls.end());
+    }
+    next += batch;
+    if (result.vpls.size() == target) done = true;
+    vpls_per_path = std::max(
+        0.05, double(result.vpls.size()) / double(std::max<uint64_t>(result.paths, 1)));
+  }
+  // Each path carried power / pdf; the estimator averages over N paths.
+  const float inv_n = result.paths > 0 ? 1.0f / float(result.paths) : 0.0f;
+  for (Vpl& v : result.vpls) v.flux *= inv_n;
+  return result;
+}
+
+}  // namespace gistream::avg

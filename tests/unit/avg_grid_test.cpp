@@ -1,0 +1,310 @@
+// CPU parts of the `avg` solver: the triangle/box test, the approximate
+// visibility grid (watertight shell, ray marching), and VPL tracing
+// (energy of the first bounce, determinism).
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include <glm/gtc/constants.hpp>
+
+#include "scene/gltf_import.h"
+#include "solvers/avg/quasi_random.h"
+#include "solvers/avg/tri_box_overlap.h"
+#include "solvers/avg/voxel_grid.h"
+#include "solvers/avg/vpl_lights.h"
+#include "solvers/avg/vpl_tracer.h"
+
+namespace gistream {
+namespace {
+
+using avg::VoxelGrid;
+
+std::unique_ptr<SceneState> LoadBundled(const std::string& name) {
+  auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR) + "/scenes", name, {});
+  EXPECT_TRUE(scene.ok()) << scene.status();
+  if (!scene.ok()) return nullptr;
+  return std::make_unique<SceneState>(std::make_shared<const Scene>(*std::move(scene)));
+}
+
+// A scene of quads (each two triangles) in one mesh, plus optional lights.
+struct QuadSpec {
+  glm::vec3 center, u, v;  // half-vectors; faces along cross(u, v)
+  int material = 0;
+};
+std::shared_ptr<const Scene> QuadScene(const std::vector<QuadSpec>& quads,
+                                       std::vector<Material> materials,
+                                       std::vector<std::pair<Light, glm::vec3>> lights = {}) {
+  auto scene = std::make_shared<Scene>();
+  Mesh mesh;
+  for (const QuadSpec& q : quads) {
+    Primitive p;
+    const glm::vec3 n = glm::normalize(glm::cross(q.u, q.v));
+    p.positions = {q.center - q.u - q.v, q.center + q.u - q.v, q.center + q.u + q.v,
+                   q.center - q.u + q.v};
+    p.normals = {n, n, n, n};
+    p.indices = {0, 1, 2, 0, 2, 3};
+    p.material = q.material;
+    for (const glm::vec3& x : p.positions) p.bounds.Extend(x);
+    scene->bounds.Extend(p.bounds);
+    mesh.primitives.push_back(p);
+  }
+  scene->meshes.push_back(mesh);
+  scene->materials = std::move(materials);
+  Node node;
+  node.mesh = 0;
+  scene->nodes.push_back(node);
+  scene->roots.push_back(0);
+  for (const auto& [light, position] : lights) {
+    Node ln;
+    ln.light = int(scene->lights.size());
+    ln.translation = position;
+    scene->lights.push_back(light);
+    scene->roots.push_back(int(scene->nodes.size()));
+    scene->nodes.push_back(ln);
+  }
+  return scene;
+}
+
+// A closed cube [-1, 1]^3, one material (face orientation does not matter:
+// surfaces are two-sided for VPL tracing).
+std::vector<QuadSpec> ClosedCube() {
+  return {{{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}}, {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}},
+          {{0, -1, 0}, {1, 0, 0}, {0, 0, 1}}, {{0, 1, 0}, {0, 0, 1}, {1, 0, 0}},
+          {{0, 0, -1}, {0, 1, 0}, {1, 0, 0}}, {{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}};
+}
+
+// Unit directions spread over the sphere (Fibonacci lattice).
+std::vector<glm::vec3> SphereDirections(int n) {
+  std::vector<glm::vec3> out;
+  const float golden = glm::pi<float>() * (3.0f - std::sqrt(5.0f));
+  for (int i = 0; i < n; ++i) {
+    const float z = 1.0f - 2.0f * (float(i) + 0.5f) / float(n);
+    const float r = std::sqrt(1.0f - z * z);
+    out.emplace_back(r * std::cos(golden * float(i)), r * std::sin(golden * float(i)), z);
+  }
+  return out;
+}
+
+TEST(AvgTriangleBox, HandExamples) {
+  const glm::vec3 c(0.0f), h(0.5f);
+  // Lies in the box's mid-plane, larger than the box.
+  EXPECT_TRUE(avg::TriangleBoxOverlap(c, h, {-5, -5, 0}, {5, -5, 0}, {0, 5, 0}));
+  // Parallel to a face (z = 0.5 exactly touches, 0.51 misses).
+  EXPECT_TRUE(avg::TriangleBoxOverlap(c, h, {-5, -5, 0.5f}, {5, -5, 0.5f}, {0, 5, 0.5f}));
+  EXPECT_FALSE(avg::TriangleBoxOverlap(c, h, {-5, -5, 0.51f}, {5, -5, 0.51f}, {0, 5, 0.51f}));
+  // Bounding boxes overlap, the plane misses the box: x + y + z = 2 (the
+  // box corner reaches 1.5).
+  EXPECT_FALSE(avg::TriangleBoxOverlap(c, h, {2, 0, 0}, {0, 2, 0}, {0, 0, 2}));
+  // x + y + z = 1.4 cuts the corner.
+  EXPECT_TRUE(avg::TriangleBoxOverlap(c, h, {1.4f, 0, 0}, {0, 1.4f, 0}, {0, 0, 1.4f}));
+  // Beside an edge: the bounding boxes overlap and the plane cuts the box,
+  // but the triangle stops short of it; only an edge x box-axis separates.
+  // (In the plane z = 0, the corner x + y >= 1.8 of the square 0.3..1.5.)
+  EXPECT_FALSE(avg::TriangleBoxOverlap(c, h, {0.3f, 1.5f, 0}, {1.5f, 0.3f, 0}, {1.5f, 1.5f, 0}));
+  EXPECT_TRUE(avg::TriangleBoxOverlap(c, h, {0.3f, 0.5f, 0}, {1.5f, 0.3f, 0}, {1.5f, 1.5f, 0}));
+}
+
+TEST(AvgGrid, FurnaceShellIsClosed) {
+  // Rays from inside the closed furnace cube never escape the voxel shell
+  // (the voxelization is watertight), at several grid sizes.
+  auto state = LoadBundled("furnace");
+  ASSERT_TRUE(state);
+  const std::vector<glm::vec3> dirs = SphereDirections(2000);
+  for (int n : {16, 32, 64, 128}) {
+    const VoxelGrid grid = VoxelGrid::Build(*state, n);
+    int escaped = 0;
+    for (const glm::vec3 o : {glm::vec3(0.0f), glm::vec3(0.9f, 0.9f, 0.9f),
+                              glm::vec3(-0.95f, 0.3f, 0.97f), glm::vec3(0.5f, -0.99f, -0.2f)}) {
+      for (const glm::vec3& d : dirs) {
+        if (!grid.March(o, d, glm::vec3(0.0f), false)) ++escaped;
+      }
+    }
+    EXPECT_EQ(escaped, 0) << "grid " << n;
+  }
+}
+
+TEST(AvgGrid, ThinSheetsNearlyParallelToAnAxisAreWatertight) {
+  // A zero-thickness sheet tilted 0.5 degrees off the y-z plane (nearly
+  // parallel to the x projection axis that a rasterizer would miss) and one
+  // lying exactly on a voxel boundary: no ray crosses either.
+  const float tilt = glm::radians(0.5f);
+  const glm::vec3 u(std::sin(tilt), std::cos(tilt), 0.0f);
+  const auto scene = QuadScene({{{0.0f, 0.0f, 0.0f}, u * 2.0f, {0, 0, 2}},
+                                {{0.5f, 0.0f, 0.0f}, {0, 2, 0}, {0, 0, 2}}},
+                               {Material{}});
+  const SceneState state(scene);
+  const VoxelGrid grid = VoxelGrid::Build(state, 32);
+  int crossed = 0;
+  int tested = 0;
+  for (const glm::vec3& d : SphereDirections(4000)) {
+    // Rays from the left (x = -0.5) that cross x = 0 within the sheets'
+    // extent (|y|, |z| < 2): d.x > 0.5 keeps the lateral drift under 0.9.
+    if (d.x < 0.5f) continue;
+    ++tested;
+    const glm::vec3 o(-0.5f, 0.4f * d.y, 0.4f * d.z);
+    const auto hit = grid.March(o, d, glm::vec3(0.0f), false);
+    if (!hit) {
+      ++crossed;
+      continue;
+    }
+    // The first hit is the tilted sheet's voxel: x within a voxel of it.
+    const glm::vec3 p = grid.Center(hit->voxel);
+    if (std::abs(p.x) > 2.0f * grid.voxel_size().x) ++crossed;
+  }
+  EXPECT_GT(tested, 900);
+  EXPECT_EQ(crossed, 0);
+}
+
+TEST(AvgGrid, MarchHitsTheKnownWallVoxel) {
+  auto state = LoadBundled("furnace");
+  ASSERT_TRUE(state);
+  const VoxelGrid grid = VoxelGrid::Build(*state, 64);
+  // The wall x = +1: the first filled voxel along +x from the centre is the
+  // one whose x-range contains 1 (conservative: the voxel on the near side
+  // when 1 lies on a boundary).
+  const auto hit = grid.March(glm::vec3(0.0f, 0.1f, -0.2f), glm::vec3(1, 0, 0), glm::vec3(0.0f),
+                              false);
+  ASSERT_TRUE(hit);
+  const float x0 = grid.origin().x + float(hit->voxel.x) * grid.voxel_size().x;
+  EXPECT_LE(x0, 1.0f + 1e-5f);
+  EXPECT_GE(x0 + grid.voxel_size().x, 1.0f - 1e-5f);
+  EXPECT_EQ(hit->voxel.y, grid.VoxelOf({0.0f, 0.1f, -0.2f}).y);
+  EXPECT_NEAR(hit->t_enter, x0, 1e-4f);
+  // Its data: the inward normal (-x) and albedo 0.5.
+  EXPECT_NEAR(grid.Normal(hit->voxel).x, -1.0f, 1e-4f);
+  EXPECT_NEAR(grid.Albedo(hit->voxel).g, 0.5f, 1e-6f);
+  // The floor y = -1 straight down from (0.3, 0.5, 0.3).
+  const auto down = grid.March({0.3f, 0.5f, 0.3f}, {0, -1, 0}, glm::vec3(0.0f), false);
+  ASSERT_TRUE(down);
+  const float y0 = grid.origin().y + float(down->voxel.y) * grid.voxel_size().y;
+  EXPECT_LE(y0, -1.0f + 1e-5f);
+  EXPECT_GE(y0 + grid.voxel_size().y, -1.0f - 1e-5f);
+}
+
+double Sum(const std::vector<avg::Vpl>& vpls, int bounce, int channel) {
+  double s = 0.0;
+  for (const avg::Vpl& v : vpls) {
+    if (v.bounce == bounce) s += double(v.flux[channel]);
+  }
+  return s;
+}
+
+void ExpectSaneVpls(const std::vector<avg::Vpl>& vpls) {
+  for (const avg::Vpl& v : vpls) {
+    for (int c = 0; c < 3; ++c) {
+      ASSERT_TRUE(std::isfinite(v.flux[c]) && v.flux[c] >= 0.0f);
+      ASSERT_TRUE(std::isfinite(v.position[c]));
+    }
+    ASSERT_NEAR(glm::length(v.normal), 1.0f, 1e-4f);
+  }
+}
+
+TEST(AvgVpls, FirstBounceFluxIsLightPowerTimesAlbedoInTheFurnace) {
+  // Every surface of the furnace emits L = 1 (power pi L A = 24 pi W) and
+  // has albedo 0.5; nothing escapes the closed box, so the first VPLs carry
+  // exactly 0.5 x 24 pi in total (up to paths lost at the box's edges).
+  auto state = LoadBundled("furnace");
+  ASSERT_TRUE(state);
+  const VoxelGrid grid = VoxelGrid::Build(*state, 64);
+  const auto lights = avg::CollectVplLights(*state, glm::vec3(0.0f), 2.0f);
+  avg::VplTraceSettings settings;
+  settings.vpls = 1024;
+  settings.bounces = 1;
+  const avg::VplTraceResult r = avg::TraceVpls(grid, lights, settings);
+  const double power = 24.0 * glm::pi<double>();
+  EXPECT_NEAR(r.light_power.g, power, 1e-3 * power);
+  EXPECT_EQ(r.vpls.size(), 1024u);
+  ExpectSaneVpls(r.vpls);
+  EXPECT_LE(r.escaped, r.paths / 200) << "paths lost through the shell";
+  // 1 %: only the escaped paths are missing (each carries the same flux).
+  EXPECT_NEAR(Sum(r.vpls, 1, 1), 0.5 * power, 0.01 * 0.5 * power);
+
+  // Coloured albedo: each channel carries power x its albedo.
+  MaterialUpdate colour;
+  colour.material = 0;
+  colour.base_color = glm::vec4(0.8f, 0.4f, 0.2f, 1.0f);
+  state->Apply(colour);
+  const VoxelGrid coloured = VoxelGrid::Build(*state, 64);
+  const avg::VplTraceResult c = avg::TraceVpls(coloured, lights, settings);
+  ExpectSaneVpls(c.vpls);
+  for (int ch = 0; ch < 3; ++ch) {
+    const double albedo = ch == 0 ? 0.8 : ch == 1 ? 0.4 : 0.2;
+    EXPECT_NEAR(Sum(c.vpls, 1, ch), albedo * power, 0.01 * albedo * power) << "channel " << ch;
+  }
+}
+
+TEST(AvgVpls, PointLightInAClosedBox) {
+  // A 10 cd point light inside a closed albedo-0.6 cube: 4 pi 10 W leave
+  // the light, 0.6 of it is in the first VPLs; later bounces carry
+  // 0.6^k of it on average (roulette keeps them unbiased), within
+  // Monte-Carlo tolerance.
+  Material grey;
+  grey.base_color_factor = glm::vec4(0.6f, 0.6f, 0.6f, 1.0f);
+  Light point;
+  point.type = LightType::kPoint;
+  point.intensity = 10.0f;
+  const SceneState state(QuadScene(ClosedCube(), {grey}, {{point, {0.2f, 0.3f, -0.1f}}}));
+  const VoxelGrid grid = VoxelGrid::Build(state, 48);
+  const auto lights = avg::CollectVplLights(state, glm::vec3(0.0f), 2.0f);
+  ASSERT_EQ(lights.size(), 1u);
+  avg::VplTraceSettings settings;
+  settings.vpls = 2048;
+  settings.bounces = 3;
+  const avg::VplTraceResult r = avg::TraceVpls(grid, lights, settings);
+  ExpectSaneVpls(r.vpls);
+  const double power = 4.0 * glm::pi<double>() * 10.0;
+  EXPECT_EQ(r.escaped, 0u);
+  EXPECT_NEAR(Sum(r.vpls, 1, 0), 0.6 * power, 1e-3 * power);  // every path hits once
+  // Roulette: bounce 2 is a random-length estimate; several standard errors.
+  EXPECT_NEAR(Sum(r.vpls, 2, 0), 0.36 * power, 0.05 * 0.36 * power);
+  EXPECT_NEAR(Sum(r.vpls, 3, 0), 0.216 * power, 0.08 * 0.216 * power);
+}
+
+TEST(AvgVpls, SpotSolidAngleOfAHardCone) {
+  // Inner = outer: falloff 1 inside the cone, so Omega ~ 2 pi (1 - cos).
+  const float cos_outer = std::cos(0.5f);
+  const float scale = 1.0f / 0.001f;  // KHR: 1 / max(0.001, cos_inner - cos_outer)
+  const float omega = avg::SpotSolidAngle(scale, -cos_outer * scale, cos_outer);
+  // The falloff still ramps over the last 0.001 of cos(theta): f^2 there
+  // integrates to 0.001 / 3.
+  EXPECT_NEAR(omega, 2.0f * glm::pi<float>() * (1.0f - cos_outer - 0.001f + 0.001f / 3.0f), 1e-4f);
+}
+
+TEST(AvgVpls, SameVplsEveryFrameAndForAnyThreadCount) {
+  auto state = LoadBundled("cornell_box");
+  ASSERT_TRUE(state);
+  const VoxelGrid grid = VoxelGrid::Build(*state, 64);
+  const auto lights = avg::CollectVplLights(*state, glm::vec3(0.3f), 1.0f);
+  avg::VplTraceSettings one;
+  one.vpls = 512;
+  one.threads = 1;
+  avg::VplTraceSettings two = one;
+  two.threads = 2;
+  const avg::VplTraceResult a = avg::TraceVpls(grid, lights, one);
+  const avg::VplTraceResult b = avg::TraceVpls(grid, lights, two);
+  ASSERT_EQ(a.vpls.size(), b.vpls.size());
+  EXPECT_EQ(a.paths, b.paths);
+  for (size_t i = 0; i < a.vpls.size(); ++i) {
+    ASSERT_EQ(a.vpls[i].position, b.vpls[i].position) << i;
+    ASSERT_EQ(a.vpls[i].flux, b.vpls[i].flux) << i;
+  }
+  ExpectSaneVpls(a.vpls);
+}
+
+TEST(AvgVpls, ScrambledHaltonIsInUnitIntervalAndWellSpread) {
+  const avg::ScrambledHalton& h = avg::ScrambledHalton::Instance();
+  for (int d = 0; d < avg::ScrambledHalton::kMaxDimensions; ++d) {
+    double mean = 0.0;
+    for (uint64_t i = 0; i < 1024; ++i) {
+      const float u = h.Get(i, d);
+      ASSERT_GE(u, 0.0f);
+      ASSERT_LT(u, 1.0f);
+      mean += u;
+    }
+    // A low-discrepancy sequence's mean converges much faster than 1/sqrt(N).
+    EXPECT_NEAR(mean / 1024.0, 0.5, 0.01) << "dimension " << d;
+  }
+}
+
+}  // namespace
+}  // namespace gistream
