@@ -1,6 +1,7 @@
 #include "solvers/registry.h"
 
 #include "solvers/direct/direct_solver.h"
+#include "solvers/implicit_visibility/implicit_visibility_solver.h"
 #include "solvers/pathtrace/pathtrace_solver.h"
 #include "solvers/sh_probes/sh_probes_solver.h"
 
@@ -9,7 +10,8 @@ namespace gistream {
 const std::vector<SolverDescription>& AllSolverDescriptions() {
   static const std::vector<SolverDescription> kAll = {DirectSolver::Describe(),
                                                       PathtraceSolver::Describe(),
-                                                      ShProbesSolver::Describe()};
+                                                      ShProbesSolver::Describe(),
+                                                      ImplicitVisibilitySolver::Describe()};
   return kAll;
 }
 
@@ -28,6 +30,7 @@ absl::StatusOr<std::unique_ptr<Solver>> CreateSolver(const std::string& name,
   if (name == "direct") return DirectSolver::Create(params);
   if (name == "pathtrace") return PathtraceSolver::Create(params);
   if (name == "sh_probes") return ShProbesSolver::Create(params);
+  if (name == "implicit_visibility") return ImplicitVisibilitySolver::Create(params);
   return FindSolver(name).status();
 }
 
