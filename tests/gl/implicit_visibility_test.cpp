@@ -82,9 +82,9 @@ TEST(ImplicitVisibility, StiffFurnaceStaysFiniteAndMonotone) {
 }
 
 TEST(ImplicitVisibility, HierarchicalMatchesBruteForce) {
-  // The paper's Fig. 10 b/c on the furnace room lit by a point... here the
-  // Cornell box at 48 px: relMSE between the two linkings below 0.005
-  // (the images differ where coarse nodes stand in for their leaves).
+  // The paper's Fig. 10 b/c on the Cornell box at 48 px: relMSE between
+  // the two linkings below 0.005 (measured 1.4e-4; the images differ where
+  // coarse nodes stand in for their leaves).
   const BundledCopy scene("cornell_box.gltf");
   EncodedFrame hier_frame, brute_frame;
   const FloatImage hier =
@@ -118,20 +118,26 @@ class ImplicitVisibilityAccuracy : public ::testing::Test {
 };
 
 TEST_F(ImplicitVisibilityAccuracy, CornellBoxBeatsDirect) {
+  // Measured: direct 0.086, implicit_visibility 0.011 (N = 8, 2 bounces).
   Reference("cornell_box.gltf", 512);
   const double direct = ErrorOf("direct");
   const double iv = ErrorOf("implicit_visibility", {{"bins_per_face", "8"}});
   std::cout << "cornell direct " << direct << " implicit_visibility " << iv << "\n";
-  EXPECT_LT(iv, 0.5 * direct) << "direct " << direct << " implicit_visibility " << iv;
+  EXPECT_LT(iv, 0.35 * direct) << "direct " << direct << " implicit_visibility " << iv;
 }
 
 TEST_F(ImplicitVisibilityAccuracy, IndirectRoomMuchBetterThanDirect) {
-  // Direct renders room B black; the links carry the light through the door.
+  // Direct renders room B black; the links carry the light through the
+  // door. Room B is lit only after two or more bounces at albedo 0.7, so 8
+  // bounces; the remaining error is mostly the bins' energy shortfall
+  // compounding over the bounces (room B about 20 % dark) and the
+  // discretization blotches. Measured: direct 0.145, implicit_visibility
+  // 0.034.
   Reference("indirect_room.gltf", 1024);
   const double direct = ErrorOf("direct");
-  const double iv = ErrorOf("implicit_visibility", {{"bins_per_face", "8"}, {"bounces", "3"}});
+  const double iv = ErrorOf("implicit_visibility", {{"bins_per_face", "8"}, {"bounces", "8"}});
   std::cout << "indirect_room direct " << direct << " implicit_visibility " << iv << "\n";
-  EXPECT_LT(iv, 0.25 * direct) << "direct " << direct << " implicit_visibility " << iv;
+  EXPECT_LT(iv, 0.35 * direct) << "direct " << direct << " implicit_visibility " << iv;
 }
 
 bool Skipped(const EncodedFrame& frame, const std::string& stage) {
@@ -147,7 +153,7 @@ TEST(ImplicitVisibility, StagePlanFollowsTheChange) {
   EncodedFrame frame;
   RenderRequestExr(Request(id, params, 16), &frame);
   for (const char* s : {"create_surfels", "create_hierarchy", "update_elements", "create_links",
-                        "refine_push", "illumination", "display"}) {
+                        "refine_push", "shadow_maps", "illumination", "display"}) {
     EXPECT_FALSE(Skipped(frame, s)) << "first frame " << s;
     const StageTiming* t = FrameStage(frame, s);
     if (t) std::cout << "stage " << s << " " << t->cpu_ms << " ms\n";
@@ -161,8 +167,18 @@ TEST(ImplicitVisibility, StagePlanFollowsTheChange) {
   for (const std::string& s : relink) EXPECT_TRUE(Skipped(frame, s)) << "light-only " << s;
   EXPECT_TRUE(Skipped(frame, "create_surfels"));
   EXPECT_TRUE(Skipped(frame, "create_hierarchy"));
+  EXPECT_FALSE(Skipped(frame, "shadow_maps"));
   EXPECT_FALSE(Skipped(frame, "illumination"));
   EXPECT_FALSE(Skipped(frame, "display"));
+
+  // Albedo only: links and shadow maps reused.
+  MaterialUpdate paint;
+  paint.material = 0;
+  paint.base_color = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
+  RenderRequestExr(Request(id, params, 16, {{1, paint}}), &frame);
+  for (const std::string& s : relink) EXPECT_TRUE(Skipped(frame, s)) << "albedo-only " << s;
+  EXPECT_TRUE(Skipped(frame, "shadow_maps"));
+  EXPECT_FALSE(Skipped(frame, "illumination"));
 
   // Camera only: no GI stage runs.
   RenderRequest camera_only = Request(id, params, 16);
@@ -171,6 +187,7 @@ TEST(ImplicitVisibility, StagePlanFollowsTheChange) {
   camera_only.camera = cam;
   RenderRequestExr(camera_only, &frame);
   for (const std::string& s : relink) EXPECT_TRUE(Skipped(frame, s)) << "camera-only " << s;
+  EXPECT_TRUE(Skipped(frame, "shadow_maps"));
   EXPECT_TRUE(Skipped(frame, "illumination"));
   EXPECT_FALSE(Skipped(frame, "display"));
 

@@ -11,6 +11,10 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 constexpr float kParallel = 1e-6f;
+// Discs narrower than this fraction of a bin's width go into one bin.
+constexpr float kSplatBelow = 0.4f;
+// A bin covered at least this much counts as fully covered (RefinePush).
+constexpr float kSnapCoverage = 0.5f;
 
 // Solid angle of a sphere of radius r at distance d (a spherical cap).
 float SphereSolidAngle(float r, float d) {
@@ -130,6 +134,12 @@ class Linker {
     const glm::vec3 ns = e_.normal[size_t(s)];
     const float radius = std::sqrt(area / kPi);
     const float angular = std::atan2(radius, dist) / std::sqrt(bins_.MinSolidAngle());
+    if (angular < kSplatBelow) {
+      // Far smaller than a bin: it lands in one bin (the paper's case).
+      const int bin = bins_.Bin(ps - pr);
+      table_.Offer(r, bin, dist, s, projected / bins_.SolidAngle(bin));
+      return;
+    }
     const int m = std::clamp(int(std::ceil(2.0f * angular)) + 1, 2, 16);
     const glm::vec3 t = std::abs(ns.x) < 0.9f ? glm::normalize(glm::cross(ns, glm::vec3(1, 0, 0)))
                                              : glm::normalize(glm::cross(ns, glm::vec3(0, 1, 0)));
@@ -255,7 +265,13 @@ LeafLinks RefinePush(const Elements& elements, const CubeBins& bins, const BinTa
         best = std::min(best, table.Entry(chain[k], b));
         covered = std::min(covered + table.Coverage(chain[k], b), BinTable::kFullCoverage);
       }
-      const float cover = float(covered) / float(BinTable::kFullCoverage);
+      // Eq. 5 assumes the closest element covers its bin. We hold to it
+      // where the bin is mostly covered (the measured sum scatters around 1
+      // on a closed surface, and each bin's shortfall would be light lost),
+      // and weigh by the measured coverage where it is not (small or
+      // distant elements, silhouettes).
+      const float measured = float(covered) / float(BinTable::kFullCoverage);
+      const float cover = measured >= kSnapCoverage ? 1.0f : measured;
       const float quadrature = norm * c * bins.SolidAngle(b);
       if (best == BinTable::kEmpty) {
         ++row.empty;

@@ -14,7 +14,7 @@ SolverDescription ImplicitVisibilitySolver::Describe() {
       "Dong et al. 2007: hierarchical radiosity over vertex discs, cube-map bins keep the shortest "
       "link (implicit visibility), multi-bounce";
   d.stages = {"create_surfels", "create_hierarchy", "update_elements", "create_links",
-              "refine_push",    "illumination",     "display"};
+              "refine_push",    "shadow_maps",      "illumination",    "display"};
   d.params = {
       {"bins_per_face", ParamType::kInt, "12", 2, 32, {},
        "N: each element has 6 x N x N world-aligned cube-map bins (paper: 8, 12, 16)"},
@@ -50,9 +50,15 @@ std::vector<std::string> ImplicitVisibilitySolver::Plan(ChangeMask changes) cons
   if (!scene_.built()) plan = {"create_surfels", "create_hierarchy"};
   if (!scene_.built() || (changes & kChangeGeometry)) {
     // A moved node can hide or reveal any pair: every link is rebuilt.
-    for (const char* s : {"update_elements", "create_links", "refine_push", "illumination"}) plan.push_back(s);
-  } else if (changes & (kChangeLights | kChangeEmission | kChangeMaterials | kChangeEnvironment)) {
-    plan.push_back("illumination");  // links reused
+    for (const char* s : {"update_elements", "create_links", "refine_push", "shadow_maps", "illumination"}) {
+      plan.push_back(s);
+    }
+  } else {
+    // Links reused; the shadow maps only for lights and emission.
+    if (changes & (kChangeLights | kChangeEmission)) plan.push_back("shadow_maps");
+    if (changes & (kChangeLights | kChangeEmission | kChangeMaterials | kChangeEnvironment)) {
+      plan.push_back("illumination");
+    }
   }
   plan.push_back("display");
   return plan;
@@ -128,6 +134,14 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
   } else {
     for (const char* s : {"update_elements", "create_links", "refine_push"}) ctx.timer.Skip(s);
   }
+  if (lights) {
+    // The shared shadow maps, as `direct` draws them: the first bounce's
+    // source at the leaves and the per-pixel direct light.
+    gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
+    GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct));
+  } else {
+    ctx.timer.Skip("shadow_maps");
+  }
   if (!geometry && !materials && !lights && !environment) {
     ctx.timer.Skip("illumination");
     return absl::OkStatus();
@@ -137,7 +151,6 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
     scene_.UpdateAlbedo(ctx.state);
     illumination_.UploadElements(scene_.elements(), scene_.albedo());
   }
-  if (lights) GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct));
   if (environment) UpdateEnvironment(ctx.state);
   result_ = illumination_.Run(lighting_, settings_.bounces);
   return absl::OkStatus();

@@ -8,6 +8,7 @@
 //   update_elements   world discs bottom-up after transforms (CPU)
 //   create_links      top-level pairs, subdivided by bin solid angle (CPU, threads)
 //   refine_push       shortest link per bin down each leaf's chain (CPU, threads)
+//   shadow_maps       the shared direct-light shadow maps (lights, emission, geometry)
 //   illumination      direct at leaves, gather + pull per bounce (GL compute)
 //   display           vertex irradiance raster + per-pixel direct light
 #pragma once
