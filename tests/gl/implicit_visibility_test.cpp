@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include "support/gltf_builder.h"
 #include "support/render_helpers.h"
 
 namespace gistream {
@@ -209,6 +210,33 @@ TEST(ImplicitVisibility, TooManyBinsAreRejectedNamingTheParameter) {
   ASSERT_FALSE(frame.ok());
   EXPECT_EQ(frame.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_NE(frame.status().message().find("params.bins_per_face"), std::string::npos) << frame.status();
+}
+
+TEST(ImplicitVisibility, EnvironmentThroughEmptyBins) {
+  // Section 4.4: a plane under a uniform environment (radiance 1,
+  // intensity 2) gathers it through its empty bins: E = 2 pi, so
+  // L = rho / pi * E = 2 rho, exactly up to the bins' quadrature (which is
+  // normalized to integrate the cosine exactly).
+  const float albedo = 0.5f;
+  testing::GltfBuilder b;
+  const int mat = b.AddMaterial("plane", {albedo, albedo, albedo});
+  b.AddQuad("plane", {0, 0, 0}, {0, 0, 100}, {100, 0, 0}, mat);
+  b.AddCamera("camera", {0.0f, 1.0f, 0.0f}, {0, -1, 0}, {0, 0, -1}, 1.0f);
+  std::vector<float> rgba;
+  for (int i = 0; i < 16 * 8; ++i) rgba.insert(rgba.end(), {1.0f, 1.0f, 1.0f, 1.0f});
+  auto exr = EncodeExr(rgba, 16, 8);
+  ASSERT_TRUE(exr.ok()) << exr.status();
+  SceneSource source = testing::SceneFromBytes(b.ToJson());
+  source.environment_bytes = *exr;
+  source.environment_intensity = 2.0f;
+  auto info = testing::SharedEngine().LoadScene(source);
+  ASSERT_TRUE(info.ok()) << info.status();
+  EncodedFrame frame;
+  const FloatImage image = RenderRequestExr(Request(info->id, {{"bins_per_face", "8"}}, 16), &frame);
+  EXPECT_EQ(image.non_finite(), 0u);
+  EXPECT_NEAR(ImageMean(image).g, 2.0 * albedo, 0.01);
+  EXPECT_GT(FrameStat(frame, "empty_bins"), 0.0);
+  EXPECT_TRUE(testing::SharedEngine().UnloadScene(info->id).ok());
 }
 
 }  // namespace
