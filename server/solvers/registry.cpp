@@ -2,6 +2,7 @@
 
 #include "solvers/avg/avg_solver.h"
 #include "solvers/direct/direct_solver.h"
+#include "solvers/implicit_visibility/implicit_visibility_solver.h"
 #include "solvers/pathtrace/pathtrace_solver.h"
 #include "solvers/sh_probes/sh_probes_solver.h"
 
@@ -10,7 +11,7 @@ namespace gistream {
 const std::vector<SolverDescription>& AllSolverDescriptions() {
   static const std::vector<SolverDescription> kAll = {
       DirectSolver::Describe(), PathtraceSolver::Describe(), ShProbesSolver::Describe(),
-      AvgSolver::Describe()};
+      AvgSolver::Describe(), ImplicitVisibilitySolver::Describe()};
   return kAll;
 }
 
@@ -30,6 +31,7 @@ absl::StatusOr<std::unique_ptr<Solver>> CreateSolver(const std::string& name,
   if (name == "pathtrace") return PathtraceSolver::Create(params);
   if (name == "sh_probes") return ShProbesSolver::Create(params);
   if (name == "avg") return AvgSolver::Create(params);
+  if (name == "implicit_visibility") return ImplicitVisibilitySolver::Create(params);
   return FindSolver(name).status();
 }
 
