@@ -1,0 +1,122 @@
+#include "solvers/antiradiance/links.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <mutex>
+
+#include "solvers/antiradiance/parallel.h"
+
+namespace gistream::antiradiance {
+namespace {
+
+class Linker {
+ public:
+  Linker(const Patches& p, const DirectionalBins& b, std::vector<Link>& out)
+      : p_(p), bins_(b), out_(out), bin_radius_(std::sqrt(b.omega_bin() / 3.14159265f)) {}
+
+  void Refine(int recv, int send) {
+    ++pairs_;
+    if (recv == send) {
+      // Self-links are always subdivided (Section 3.2).
+      if (p_.is_leaf(recv)) return;
+      const auto& c = p_.children[size_t(recv)];
+      for (int a : c) {
+        for (int b : c) Refine(a, b);
+      }
+      return;
+    }
+    const glm::vec3 d = p_.position[size_t(send)] - p_.position[size_t(recv)];
+    const float r = glm::length(d);
+    const float rs = p_.radius[size_t(send)], rr = p_.radius[size_t(recv)];
+    // A leaf receiver gathers over its positive hemisphere only (Fig. 7).
+    if (p_.is_leaf(recv) && !SenderInFront(recv, send)) return;
+    // Half-angles of sender and receiver seen from each other's centre.
+    auto half_angle = [&](float rad) { return rad >= r ? 1.5707963f : std::asin(rad / r); };
+    const float ts = half_angle(rs), tr = half_angle(rr);
+    const bool split_send = !p_.is_leaf(send) && ts > bin_radius_;
+    const bool split_recv = !p_.is_leaf(recv) && tr > bin_radius_;
+    if (split_send || split_recv) {
+      // Subdivide the larger one.
+      if (split_send && (!split_recv || rs >= rr)) {
+        for (int c : p_.children[size_t(send)]) Refine(recv, c);
+      } else {
+        for (int c : p_.children[size_t(recv)]) Refine(c, send);
+      }
+      return;
+    }
+    if (p_.is_leaf(recv) && glm::dot(p_.normal[size_t(recv)], d) <= 0.0f) return;
+    if (r <= 0.0f) return;
+    const glm::vec3 w = d / r;  // from receiver towards sender
+    Link l;
+    l.sender = uint32_t(send);
+    l.receiver = uint32_t(recv);
+    l.sender_bin = uint16_t(bins_.Find(-w));
+    l.receiver_bin = uint16_t(bins_.Find(w));
+    l.cone = uint16_t(bins_.ConeLevel(ts));
+    // Eq. 17, with the sender as a disc of its area: r^2 + a_k / pi keeps the
+    // exchange finite (point-to-disc form factor) where leaves almost touch.
+    l.form_factor = 1.0f / ((r * r + p_.area[size_t(send)] / 3.14159265f) * bins_.omega_bin());
+    if (l.cone > 0) {
+      ++spread_;
+      // A leaf gathers only over its positive hemisphere: scale the link so
+      // that the part of the spread that lands there carries all the flux.
+      if (p_.is_leaf(recv)) {
+        float front = 0.0f;
+        const auto [begin, end] = bins_.Row(l.cone, l.receiver_bin);
+        for (auto* t = begin; t != end; ++t) {
+          if (glm::dot(p_.normal[size_t(recv)], bins_.direction(t->bin)) > 0.0f) front += t->weight;
+        }
+        if (front <= 0.0f) return;
+        l.form_factor /= front;
+      }
+    }
+    out_.push_back(l);
+  }
+
+  uint64_t pairs_ = 0, spread_ = 0;
+
+ private:
+  // Whether any part of sender's bounding sphere is in front of leaf recv.
+  bool SenderInFront(int recv, int send) const {
+    const float h = glm::dot(p_.normal[size_t(recv)], p_.position[size_t(send)] - p_.position[size_t(recv)]);
+    return h + p_.radius[size_t(send)] > 0.0f;
+  }
+
+  const Patches& p_;
+  const DirectionalBins& bins_;
+  std::vector<Link>& out_;
+  float bin_radius_;
+};
+
+}  // namespace
+
+std::vector<Link> CreateLinks(const Patches& patches, const DirectionalBins& bins, LinkStats* stats) {
+  const size_t roots = patches.roots.size();
+  std::vector<std::vector<Link>> per_pair(roots * roots);
+  std::atomic<uint64_t> pairs{0}, spread{0};
+  ParallelFor(roots * roots, 1, [&](size_t k) {
+    Linker linker(patches, bins, per_pair[k]);
+    linker.Refine(patches.roots[k / roots], patches.roots[k % roots]);
+    pairs += linker.pairs_;
+    spread += linker.spread_;
+  });
+  std::vector<Link> links;
+  size_t total = 0;
+  for (const auto& v : per_pair) total += v.size();
+  links.reserve(total);
+  for (auto& v : per_pair) {
+    links.insert(links.end(), v.begin(), v.end());
+    std::vector<Link>().swap(v);
+  }
+  std::sort(links.begin(), links.end(), [](const Link& a, const Link& b) {
+    return a.receiver != b.receiver ? a.receiver < b.receiver : a.sender < b.sender;
+  });
+  if (stats != nullptr) {
+    stats->node_pairs = pairs;
+    stats->spread = spread;
+  }
+  return links;
+}
+
+}  // namespace gistream::antiradiance
