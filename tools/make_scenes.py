@@ -228,9 +228,12 @@ CORNELL_LIGHT_T = (0.278, 0.5483, 0.2795)
 CORNELL_LIGHT_HALF = (0.065, 0.0525)
 
 
-def cornell_box(out):
-    """Cornell University Program of Computer Graphics "Cornell Box Data" (mm -> m)."""
-    g = Gltf("cornell_box")
+def cornell_box(out, walls_n=24, blocks_n=6, scene_name="cornell_box"):
+    """Cornell University Program of Computer Graphics "Cornell Box Data" (mm -> m).
+
+    walls_n / blocks_n: quads per wall / block face edge (tools/make_tessellations.py
+    writes other tessellations of the same box under other names)."""
+    g = Gltf(scene_name)
     white = g.material("white", (0.725, 0.71, 0.68))
     red = g.material("red", (0.63, 0.065, 0.05))
     green = g.material("green", (0.14, 0.45, 0.091))
@@ -245,7 +248,7 @@ def cornell_box(out):
         ("right_wall", green, [(0, 0, 559.2), (0, 0, 0), (0, 548.8, 0), (0, 548.8, 559.2)]),
     ]
     for name, mat, q in walls:
-        g.node(name, Mesh().quad(*[mm(*p) for p in q], 24, 24, toward=inside), mat)
+        g.node(name, Mesh().quad(*[mm(*p) for p in q], walls_n, walls_n, toward=inside), mat)
 
     blocks = [  # measured faces: top, then the four sides
         ("short_block", [
@@ -261,21 +264,21 @@ def cornell_box(out):
             [(314, 0, 456), (314, 330, 456), (265, 330, 296), (265, 0, 296)],
             [(265, 0, 296), (265, 330, 296), (423, 330, 247), (423, 0, 247)]]),
     ]
-    for name, faces in blocks:
+    for block, faces in blocks:
         top = [mm(*p) for p in faces[0]]
         cx, cy, cz = mul(tuple(map(sum, zip(*top))), 0.25)
         centre = (cx, cy * 0.5, cz)                            # middle of the block
         m = Mesh()
         for q in faces:
-            m.quad(*[mm(*p) for p in q], 6, 6, away=centre)
-        g.node(name, m, white)
+            m.quad(*[mm(*p) for p in q], blocks_n, blocks_n, away=centre)
+        g.node(block, m, white)
 
     hx, hz = CORNELL_LIGHT_HALF   # local coordinates around the node origin, facing down
     g.node("light", Mesh().quad((-hx, 0, -hz), (hx, 0, -hz), (hx, 0, hz), (-hx, 0, hz), 2, 2,
                                 toward=(0, -1, 0)), lamp, translation=CORNELL_LIGHT_T)
     # Published camera: (278, 273, -800) mm looking along +Z, 35 mm lens, 25 mm film.
     g.camera("camera", (0.278, 0.273, -0.800), (0.0, 1.0, 0.0, 0.0), math.radians(39.3), 0.01)
-    g.write(os.path.join(out, "cornell_box.gltf"))
+    g.write(os.path.join(out, scene_name + ".gltf"))
 
 
 def indirect_room(out):

@@ -1,0 +1,87 @@
+#include "solvers/implicit_visibility/display.h"
+
+#include <algorithm>
+
+namespace gistream {
+
+absl::StatusOr<Display> Display::Create() {
+  Display d;
+  GS_ASSIGN_OR_RETURN(d.vertex_irradiance_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "implicit_visibility/vertex_irradiance.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "implicit_visibility/vertex_irradiance.frag.glsl"}}));
+  GS_ASSIGN_OR_RETURN(d.final_, gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                                    {GL_FRAGMENT_SHADER, "implicit_visibility/final.frag.glsl"}}));
+  d.vao_ = gl::VertexArray::Create();
+  d.empty_vao_ = gl::VertexArray::Create();
+  return d;
+}
+
+void Display::UploadTriangles(const std::vector<uint32_t>& triangles) {
+  indices_ = gl::Buffer::Create();
+  const uint32_t zero = 0;
+  glNamedBufferStorage(indices_.id(), GLsizeiptr(std::max<size_t>(triangles.size(), 1) * sizeof(uint32_t)),
+                       triangles.empty() ? &zero : triangles.data(), 0);
+  index_count_ = GLsizei(triangles.size());
+  glVertexArrayElementBuffer(vao_.id(), indices_.id());
+}
+
+void Display::UploadVertices(const std::vector<glm::vec3>& world) {
+  positions_ = gl::Buffer::Create();
+  const glm::vec3 zero(0.0f);
+  glNamedBufferStorage(positions_.id(), GLsizeiptr(std::max<size_t>(world.size(), 1) * sizeof(glm::vec3)),
+                       world.empty() ? &zero : world.data(), 0);
+  glVertexArrayVertexBuffer(vao_.id(), 0, positions_.id(), 0, sizeof(glm::vec3));
+  glEnableVertexArrayAttrib(vao_.id(), 0);
+  glVertexArrayAttribFormat(vao_.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(vao_.id(), 0, 0);
+}
+
+void Display::Resize(uint32_t width, uint32_t height) {
+  if (width == width_ && height == height_ && fbo_) return;
+  width_ = width;
+  height_ = height;
+  irradiance_ = gl::Texture::Create(GL_TEXTURE_2D);
+  glTextureStorage2D(irradiance_.id(), 1, GL_RGBA32F, GLsizei(width), GLsizei(height));
+  depth_ = gl::Texture::Create(GL_TEXTURE_2D);
+  glTextureStorage2D(depth_.id(), 1, GL_DEPTH_COMPONENT32F, GLsizei(width), GLsizei(height));
+  fbo_ = gl::Framebuffer::Create();
+  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT0, irradiance_.id(), 0);
+  glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
+}
+
+void Display::Draw(const ViewCamera& camera, const GBuffer& gbuffer, GLuint indirect_buffer,
+                   const DirectLighting& lighting) {
+  Resize(gbuffer.width(), gbuffer.height());
+  // Indirect irradiance at the vertices, interpolated, nearest surface.
+  const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  const float one = 1.0f;
+  glClearNamedFramebufferfv(fbo_.id(), GL_COLOR, 0, zero);
+  glClearNamedFramebufferfv(fbo_.id(), GL_DEPTH, 0, &one);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+  glViewport(0, 0, GLsizei(width_), GLsizei(height_));
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  vertex_irradiance_.Set("uViewProj", camera.Projection() * camera.View());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, indirect_buffer);
+  vertex_irradiance_.Use();
+  glBindVertexArray(vao_.id());
+  if (index_count_ > 0) glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
+  glBindVertexArray(0);
+
+  // Direct per pixel + indirect + emission.
+  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
+  glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
+  glDisable(GL_DEPTH_TEST);
+  gbuffer.BindTextures(8);
+  glBindTextureUnit(13, irradiance_.id());
+  lighting.Bind(final_);
+  final_.Use();
+  glBindVertexArray(empty_vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+}
+
+}  // namespace gistream

@@ -1,0 +1,171 @@
+#include "solvers/implicit_visibility/illumination.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace gistream {
+namespace {
+
+constexpr GLbitfield kBarrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT;
+
+// std430 mirror of shaders/implicit_visibility/leaves.glsl.
+struct GpuLeaf {
+  glm::vec4 position, normal, albedo;
+};
+
+template <typename T>
+gl::Buffer Upload(const std::vector<T>& data, GLbitfield flags = 0) {
+  gl::Buffer buffer = gl::Buffer::Create();
+  const T zero{};
+  glNamedBufferStorage(buffer.id(), GLsizeiptr(std::max<size_t>(data.size(), 1) * sizeof(T)),
+                       data.empty() ? &zero : data.data(), flags);
+  return buffer;
+}
+
+gl::Buffer Zeroed(size_t bytes) {
+  gl::Buffer buffer = gl::Buffer::Create();
+  glNamedBufferStorage(buffer.id(), GLsizeiptr(std::max<size_t>(bytes, 16)), nullptr,
+                       GL_DYNAMIC_STORAGE_BIT);
+  const float zero = 0.0f;
+  glClearNamedBufferData(buffer.id(), GL_R32F, GL_RED, GL_FLOAT, &zero);
+  return buffer;
+}
+
+GLuint Groups(int n) { return GLuint(std::max(1, (n + 63) / 64)); }
+
+}  // namespace
+
+absl::StatusOr<Illumination> Illumination::Create() {
+  Illumination il;
+  GS_ASSIGN_OR_RETURN(il.direct_,
+                      gl::Program::Build({{GL_COMPUTE_SHADER, "implicit_visibility/leaf_direct.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(il.gather_,
+                      gl::Program::Build({{GL_COMPUTE_SHADER, "implicit_visibility/gather.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(il.pull_,
+                      gl::Program::Build({{GL_COMPUTE_SHADER, "implicit_visibility/pull.comp.glsl"}}));
+  return il;
+}
+
+void Illumination::UploadElements(const hierarchy::Elements& e, const std::vector<glm::vec3>& albedo) {
+  leaf_count_ = e.leaf_count();
+  node_count_ = e.node_count();
+  level_begin_ = e.level_begin();
+  std::vector<GpuLeaf> leaves(static_cast<size_t>(leaf_count_));
+  for (size_t i = 0; i < leaves.size(); ++i) {
+    leaves[i] = {glm::vec4(e.position[i], 0.0f), glm::vec4(e.normal[i], 0.0f),
+                 glm::vec4(i < albedo.size() ? albedo[i] : glm::vec3(0.0f), 0.0f)};
+  }
+  std::vector<glm::ivec4> children(static_cast<size_t>(node_count_));
+  for (size_t i = 0; i < children.size(); ++i) {
+    children[i] = {e.children[i][0], e.children[i][1], e.children[i][2], e.children[i][3]};
+  }
+  leaves_ = Upload(leaves);
+  children_ = Upload(children);
+  areas_ = Upload(e.area);
+  const size_t leaf_vec4 = size_t(leaf_count_) * sizeof(glm::vec4);
+  if (!e_direct_ || !e_env_) {
+    e_direct_ = Zeroed(leaf_vec4);
+    e_indirect_ = Zeroed(leaf_vec4);
+    e_env_ = Zeroed(leaf_vec4);
+    for (gl::Buffer& r : radiance_) r = Zeroed(size_t(node_count_) * sizeof(glm::vec4));
+  }
+  element_bytes_ = leaves.size() * sizeof(GpuLeaf) + children.size() * 20 + 3 * leaf_vec4 +
+                   2 * size_t(node_count_) * sizeof(glm::vec4);
+  gpu_bytes_ = element_bytes_ + link_bytes_;
+}
+
+void Illumination::UploadLinks(const hierarchy::LeafLinks& links) {
+  std::vector<glm::uvec2> packed(links.source.size());
+  for (size_t k = 0; k < packed.size(); ++k) {
+    uint32_t bits;
+    std::memcpy(&bits, &links.weight[k], sizeof(bits));
+    packed[k] = {links.source[k], bits};
+  }
+  offsets_ = Upload(links.offset);
+  links_ = Upload(packed);
+  link_bytes_ = packed.size() * sizeof(glm::uvec2) + links.offset.size() * sizeof(uint32_t);
+  gpu_bytes_ = element_bytes_ + link_bytes_;
+}
+
+void Illumination::UploadEnvironment(const std::vector<glm::vec3>& e_env) {
+  std::vector<glm::vec4> data(size_t(leaf_count_), glm::vec4(0.0f));
+  for (size_t i = 0; i < std::min(data.size(), e_env.size()); ++i) data[i] = glm::vec4(e_env[i], 0.0f);
+  glNamedBufferSubData(e_env_.id(), 0, GLsizeiptr(data.size() * sizeof(glm::vec4)), data.data());
+}
+
+void Illumination::Pull(GLuint radiance) {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, children_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, areas_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, radiance);
+  pull_.Use();
+  for (size_t h = 1; h < level_begin_.size(); ++h) {
+    const int begin = level_begin_[h - 1], end = level_begin_[h];
+    if (end <= begin) continue;
+    pull_.Set("uBegin", begin);
+    pull_.Set("uEnd", end);
+    glDispatchCompute(Groups(end - begin), 1, 1);
+    glMemoryBarrier(kBarrier);
+  }
+}
+
+std::vector<float> Illumination::ReadIndirectLuminance() const {
+  std::vector<glm::vec4> e(static_cast<size_t>(leaf_count_));
+  if (!e.empty()) {
+    glGetNamedBufferSubData(e_indirect_.id(), 0, GLsizeiptr(e.size() * sizeof(glm::vec4)), e.data());
+  }
+  std::vector<float> lum(e.size());
+  for (size_t i = 0; i < e.size(); ++i) lum[i] = 0.2126f * e[i].r + 0.7152f * e[i].g + 0.0722f * e[i].b;
+  return lum;
+}
+
+Illumination::Result Illumination::Run(const DirectLighting& lighting, int bounces) {
+  Result result;
+  if (leaf_count_ == 0) return result;
+  // The first bounce's source: direct light (and environment) at the leaves.
+  lighting.Bind(direct_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, leaves_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, e_direct_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, e_env_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, radiance_[0].id());
+  direct_.Set("uLeafCount", leaf_count_);
+  direct_.Use();
+  glDispatchCompute(Groups(leaf_count_), 1, 1);
+  glMemoryBarrier(kBarrier);
+  Pull(radiance_[0].id());
+
+  const float zero = 0.0f;
+  glClearNamedBufferData(e_indirect_.id(), GL_R32F, GL_RED, GL_FLOAT, &zero);
+  std::vector<float> previous(size_t(leaf_count_), 0.0f);
+  int in = 0;
+  for (int bounce = 1; bounce <= bounces; ++bounce) {
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, leaves_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, e_direct_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, e_env_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, offsets_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, links_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, radiance_[in].id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, radiance_[1 - in].id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, e_indirect_.id());
+    gather_.Set("uLeafCount", leaf_count_);
+    gather_.Use();
+    glDispatchCompute(Groups(leaf_count_), 1, 1);
+    glMemoryBarrier(kBarrier);
+    in = 1 - in;
+    Pull(radiance_[in].id());
+    // Residual of this bounce (the change it made), for stats.
+    const std::vector<float> current = ReadIndirectLuminance();
+    double change = 0.0, total = 0.0;
+    for (size_t i = 0; i < current.size(); ++i) {
+      change += std::abs(double(current[i]) - double(previous[i]));
+      total += std::abs(double(current[i]));
+      if (current[i] < previous[i] * (1.0f - 1e-4f) - 1e-30f) result.monotone = false;
+    }
+    result.residual = total > 0.0 ? change / total : 0.0;
+    result.bounces = bounce;
+    previous = current;
+  }
+  return result;
+}
+
+}  // namespace gistream

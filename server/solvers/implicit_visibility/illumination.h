@@ -1,0 +1,53 @@
+// The illumination stage on the GPU (Dong et al. 2007, Section 4.3.1):
+// leaves, pushed-down links and the node tree as shader storage buffers;
+// direct light at the leaves from the shared shadow maps, then per bounce
+// a gather at the leaves and a pull-up by height level, in GL compute.
+#pragma once
+
+#include <vector>
+
+#include "gl/handle.h"
+#include "gl/program.h"
+#include "render/direct_lighting.h"
+#include "solvers/hierarchy/elements.h"
+#include "solvers/hierarchy/links.h"
+
+namespace gistream {
+
+class Illumination {
+ public:
+  static absl::StatusOr<Illumination> Create();
+
+  // Uploads the tree (children, areas) and the leaves' discs; after
+  // update_elements.
+  void UploadElements(const hierarchy::Elements& elements, const std::vector<glm::vec3>& albedo);
+  // Uploads the leaves' links; after refine_push.
+  void UploadLinks(const hierarchy::LeafLinks& links);
+  // Environment irradiance through each leaf's open bins (zero: none).
+  void UploadEnvironment(const std::vector<glm::vec3>& e_env);
+
+  struct Result {
+    int bounces = 0;
+    double residual = 0.0;   // sum |dE| / sum |E| of the last bounce (luminance)
+    bool monotone = true;    // no leaf's indirect luminance fell between bounces
+  };
+  // Direct light at the leaves, then `bounces` gathers with pull-ups.
+  // Leaves the indirect irradiance per leaf in indirect().
+  Result Run(const DirectLighting& lighting, int bounces);
+
+  GLuint indirect() const { return e_indirect_.id(); }
+  uint64_t gpu_bytes() const { return gpu_bytes_; }
+
+ private:
+  void Pull(GLuint radiance);
+  std::vector<float> ReadIndirectLuminance() const;
+
+  gl::Program direct_, gather_, pull_;
+  gl::Buffer leaves_, children_, areas_, e_direct_, e_env_, offsets_, links_, e_indirect_;
+  gl::Buffer radiance_[2];
+  std::vector<int> level_begin_;
+  int leaf_count_ = 0, node_count_ = 0;
+  uint64_t element_bytes_ = 0, link_bytes_ = 0, gpu_bytes_ = 0;
+};
+
+}  // namespace gistream

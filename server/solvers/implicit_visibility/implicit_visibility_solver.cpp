@@ -1,0 +1,188 @@
+#include "solvers/implicit_visibility/implicit_visibility_solver.h"
+
+#include <utility>
+
+#include "solvers/hierarchy/parallel.h"
+#include "solvers/pathtrace/env_light.h"
+
+namespace gistream {
+
+SolverDescription ImplicitVisibilitySolver::Describe() {
+  SolverDescription d;
+  d.name = "implicit_visibility";
+  d.description =
+      "Dong et al. 2007: hierarchical radiosity over vertex discs, cube-map bins keep the shortest "
+      "link (implicit visibility), multi-bounce";
+  d.stages = {"create_surfels", "create_hierarchy", "update_elements", "create_links",
+              "refine_push",    "shadow_maps",      "illumination",    "display"};
+  d.params = {
+      {"bins_per_face", ParamType::kInt, "12", 2, 32, {},
+       "N: each element has 6 x N x N world-aligned cube-map bins (paper: 8, 12, 16)"},
+      {"bounces", ParamType::kInt, "2", 1, 64, {}, "Indirect bounces (gather + pull per bounce)"},
+      {"linking", ParamType::kEnum, "hierarchical", 0, 0, {"hierarchical", "brute_force"},
+       "hierarchical (Section 4.2) or every pair of leaves (Section 3.1, for comparison)"},
+  };
+  for (ParamSpec& spec : DirectLightingParams()) d.params.push_back(std::move(spec));
+  return d;
+}
+
+const SolverDescription& ImplicitVisibilitySolver::description() const {
+  static const SolverDescription kDescription = Describe();
+  return kDescription;
+}
+
+absl::StatusOr<std::unique_ptr<Solver>> ImplicitVisibilitySolver::Create(const ParamSet& params) {
+  ImplicitVisibilitySettings s;
+  s.bins_per_face = params.GetInt("bins_per_face");
+  s.bounces = params.GetInt("bounces");
+  s.linking = params.GetString("linking") == "brute_force" ? hierarchy::Linking::kBruteForce
+                                                            : hierarchy::Linking::kHierarchical;
+  s.direct = DirectLightingFromParams(params);
+  auto solver = std::unique_ptr<ImplicitVisibilitySolver>(new ImplicitVisibilitySolver(s));
+  GS_ASSIGN_OR_RETURN(solver->lighting_, DirectLighting::Create());
+  GS_ASSIGN_OR_RETURN(solver->illumination_, Illumination::Create());
+  GS_ASSIGN_OR_RETURN(solver->display_, Display::Create());
+  return solver;
+}
+
+std::vector<std::string> ImplicitVisibilitySolver::Plan(ChangeMask changes) const {
+  std::vector<std::string> plan;
+  if (!scene_.built()) plan = {"create_surfels", "create_hierarchy"};
+  if (!scene_.built() || (changes & kChangeGeometry)) {
+    // A moved node can hide or reveal any pair: every link is rebuilt.
+    for (const char* s : {"update_elements", "create_links", "refine_push", "shadow_maps", "illumination"}) {
+      plan.push_back(s);
+    }
+  } else {
+    // Links reused; the shadow maps only for lights and emission.
+    if (changes & (kChangeLights | kChangeEmission)) plan.push_back("shadow_maps");
+    if (changes & (kChangeLights | kChangeEmission | kChangeMaterials | kChangeEnvironment)) {
+      plan.push_back("illumination");
+    }
+  }
+  plan.push_back("display");
+  return plan;
+}
+
+absl::Status ImplicitVisibilitySolver::Relink(SolverContext& ctx) {
+  const hierarchy::Elements& e = scene_.elements();
+  const uint64_t bin_bytes = uint64_t(e.node_count()) * uint64_t(bins_.count()) * 12;
+  if (bin_bytes > kMaxBinBytes) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "params.bins_per_face: ", bins_.n(), " gives ", bins_.count(), " bins for each of ",
+        e.node_count(), " elements, ", bin_bytes >> 20, " MiB; the limit is ", kMaxBinBytes >> 20,
+        " MiB (use fewer bins or a coarser mesh)"));
+  }
+  {
+    gl::StageTimer::Scope stage(ctx.timer, "create_links", /*cpu_stage=*/true);
+    link_stats_ = hierarchy::CreateLinks(e, bins_, settings_.linking, table_);
+  }
+  {
+    gl::StageTimer::Scope stage(ctx.timer, "refine_push", /*cpu_stage=*/true);
+    const bool environment = ctx.state.scene().environment.has_value();
+    leaf_links_ = hierarchy::RefinePush(e, bins_, table_, environment, &refine_stats_);
+    illumination_.UploadLinks(leaf_links_);
+  }
+  return absl::OkStatus();
+}
+
+void ImplicitVisibilitySolver::UpdateEnvironment(const SceneState& state) {
+  const hierarchy::Elements& e = scene_.elements();
+  std::vector<glm::vec3> e_env(size_t(e.leaf_count()), glm::vec3(0.0f));
+  const Scene& scene = state.scene();
+  if (scene.environment && !leaf_links_.env_offset.empty() && state.environment_intensity() > 0.0f) {
+    const pathtrace::EnvironmentLight env(scene.environment->image);
+    // Radiance per bin direction once, then each leaf's open bins (4.4).
+    std::vector<glm::vec3> bin_radiance(size_t(bins_.count()));
+    for (int b = 0; b < bins_.count(); ++b) {
+      bin_radiance[size_t(b)] =
+          env.Radiance(bins_.Direction(b), state.environment_rotation()) * state.environment_intensity();
+    }
+    hierarchy::ParallelFor(e_env.size(), 64, [&](size_t i) {
+      glm::vec3 sum(0.0f);
+      for (uint32_t k = leaf_links_.env_offset[i]; k < leaf_links_.env_offset[i + 1]; ++k) {
+        sum += leaf_links_.env_weight[k] * bin_radiance[leaf_links_.env_bin[k]];
+      }
+      e_env[i] = sum;
+    });
+  }
+  illumination_.UploadEnvironment(e_env);
+}
+
+absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask changes) {
+  const bool first = !scene_.built();
+  const bool geometry = first || (changes & kChangeGeometry);
+  const bool materials = first || (changes & kChangeMaterials);
+  const bool lights = geometry || (changes & (kChangeLights | kChangeEmission));
+  const bool environment = geometry || (changes & kChangeEnvironment);
+  if (first) {
+    scene_.Build(ctx.state, ctx.gpu, ctx.timer);
+    display_.UploadTriangles(scene_.triangles());
+  } else {
+    ctx.timer.Skip("create_surfels");
+    ctx.timer.Skip("create_hierarchy");
+  }
+  if (geometry) {
+    {
+      gl::StageTimer::Scope stage(ctx.timer, "update_elements", /*cpu_stage=*/true);
+      scene_.UpdateGeometry(ctx.state);
+      if (materials) scene_.UpdateAlbedo(ctx.state);
+      illumination_.UploadElements(scene_.elements(), scene_.albedo());
+      display_.UploadVertices(scene_.vertex_world());
+    }
+    GS_RETURN_IF_ERROR(Relink(ctx));
+  } else {
+    for (const char* s : {"update_elements", "create_links", "refine_push"}) ctx.timer.Skip(s);
+  }
+  if (lights) {
+    // The shared shadow maps, as `direct` draws them: the first bounce's
+    // source at the leaves and the per-pixel direct light.
+    gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
+    GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct));
+  } else {
+    ctx.timer.Skip("shadow_maps");
+  }
+  if (!geometry && !materials && !lights && !environment) {
+    ctx.timer.Skip("illumination");
+    return absl::OkStatus();
+  }
+  gl::StageTimer::Scope stage(ctx.timer, "illumination");
+  if (materials && !geometry) {
+    scene_.UpdateAlbedo(ctx.state);
+    illumination_.UploadElements(scene_.elements(), scene_.albedo());
+  }
+  if (environment) UpdateEnvironment(ctx.state);
+  result_ = illumination_.Run(lighting_, settings_.bounces);
+  return absl::OkStatus();
+}
+
+absl::Status ImplicitVisibilitySolver::Shade(SolverContext& ctx, const ViewCamera& camera,
+                                             const GBuffer& gbuffer) {
+  gl::StageTimer::Scope stage(ctx.timer, "display");
+  display_.Draw(camera, gbuffer, illumination_.indirect(), lighting_);
+  return absl::OkStatus();
+}
+
+SolverStats ImplicitVisibilitySolver::Stats() const {
+  const hierarchy::Elements& e = scene_.elements();
+  return {{"elements", double(e.node_count())},
+          {"leaves", double(e.leaf_count())},
+          {"top_level_nodes", double(e.roots().size())},
+          {"bins_per_element", double(bins_.count())},
+          {"node_pairs", double(link_stats_.node_pairs)},
+          {"links_offered", double(link_stats_.offered)},
+          {"links_stored", double(link_stats_.stored)},
+          {"splats", double(link_stats_.splats)},
+          {"leaf_links", double(refine_stats_.leaf_links)},
+          {"empty_bins", double(refine_stats_.empty_bins)},
+          {"blocked_bins", double(refine_stats_.blocked_bins)},
+          {"bin_bytes", double(table_.bytes())},
+          {"link_gpu_bytes", double(illumination_.gpu_bytes())},
+          {"bounces_run", double(result_.bounces)},
+          {"residual", result_.residual},
+          {"monotone", result_.monotone ? 1.0 : 0.0},
+          {"area_samples", double(lighting_.area_samples().size())},
+          {"shadow_map_bytes", double(lighting_.gpu_bytes())}};
+}
+
+}  // namespace gistream

@@ -1,0 +1,105 @@
+#include "solvers/implicit_visibility/scene_elements.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "solvers/hierarchy/parallel.h"
+
+namespace gistream {
+namespace {
+
+float SrgbToLinear(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
+
+// Nearest texel of an 8-bit or float image at uv (repeat), linear RGB.
+glm::vec3 Texel(const Image& image, glm::vec2 uv) {
+  if (image.width <= 0 || image.height <= 0) return glm::vec3(1.0f);
+  uv -= glm::floor(uv);
+  const int x = std::clamp(int(uv.x * float(image.width)), 0, image.width - 1);
+  const int y = std::clamp(int(uv.y * float(image.height)), 0, image.height - 1);
+  const size_t i = (size_t(y) * size_t(image.width) + size_t(x)) * 4;
+  if (image.is_float) return {image.pixelsf[i], image.pixelsf[i + 1], image.pixelsf[i + 2]};
+  glm::vec3 c(image.pixels8[i], image.pixels8[i + 1], image.pixels8[i + 2]);
+  c /= 255.0f;
+  if (image.srgb) c = {SrgbToLinear(c.x), SrgbToLinear(c.y), SrgbToLinear(c.z)};
+  return c;
+}
+
+}  // namespace
+
+void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::StageTimer& timer) {
+  const Scene& scene = state.scene();
+  std::vector<std::pair<int, int>> keys;  // (mesh, primitive) in first-use order
+  for (const DrawItem& d : gpu.draws()) {
+    sources_.push_back({d.node, d.mesh, d.primitive});
+    if (std::find(keys.begin(), keys.end(), std::make_pair(d.mesh, d.primitive)) == keys.end()) {
+      keys.emplace_back(d.mesh, d.primitive);
+    }
+  }
+  std::vector<std::shared_ptr<hierarchy::ElementMesh>> meshes(keys.size());
+  {
+    gl::StageTimer::Scope stage(timer, "create_surfels", /*cpu_stage=*/true);
+    hierarchy::ParallelFor(keys.size(), 1, [&](size_t k) {
+      meshes[k] = std::make_shared<hierarchy::ElementMesh>();
+      meshes[k]->surfels = hierarchy::CreateSurfels(
+          scene.meshes[size_t(keys[k].first)].primitives[size_t(keys[k].second)]);
+    });
+  }
+  {
+    gl::StageTimer::Scope stage(timer, "create_hierarchy", /*cpu_stage=*/true);
+    hierarchy::ParallelFor(keys.size(), 1, [&](size_t k) {
+      meshes[k]->tree = hierarchy::CreateHierarchy(meshes[k]->surfels);
+    });
+  }
+  std::vector<hierarchy::ElementInstance> instances;
+  for (const InstanceSource& s : sources_) {
+    const size_t k = size_t(std::find(keys.begin(), keys.end(), std::make_pair(s.mesh, s.primitive)) -
+                            keys.begin());
+    instances.push_back({meshes[k], 0, {}});
+  }
+  elements_ = hierarchy::Elements(std::move(instances));
+  // Display triangles over the leaves (one leaf per mesh vertex).
+  triangles_.clear();
+  for (size_t i = 0; i < sources_.size(); ++i) {
+    const Primitive& p = scene.meshes[size_t(sources_[i].mesh)].primitives[size_t(sources_[i].primitive)];
+    const uint32_t offset = uint32_t(elements_.instances()[i].leaf_offset);
+    for (uint32_t index : p.indices) triangles_.push_back(offset + index);
+  }
+  vertex_world_.assign(size_t(elements_.leaf_count()), glm::vec3(0.0f));
+  built_ = true;
+}
+
+void SceneElements::UpdateGeometry(const SceneState& state) {
+  std::vector<glm::mat4> world;
+  world.reserve(sources_.size());
+  for (const InstanceSource& s : sources_) world.push_back(state.world()[size_t(s.node)]);
+  elements_.Update(world);
+  const Scene& scene = state.scene();
+  hierarchy::ParallelFor(sources_.size(), 1, [&](size_t i) {
+    const Primitive& p = scene.meshes[size_t(sources_[i].mesh)].primitives[size_t(sources_[i].primitive)];
+    const size_t offset = size_t(elements_.instances()[i].leaf_offset);
+    for (size_t v = 0; v < p.positions.size(); ++v) {
+      vertex_world_[offset + v] = glm::vec3(world[i] * glm::vec4(p.positions[v], 1.0f));
+    }
+  });
+}
+
+void SceneElements::UpdateAlbedo(const SceneState& state) {
+  const Scene& scene = state.scene();
+  albedo_.assign(size_t(elements_.leaf_count()), glm::vec3(1.0f));
+  for (size_t i = 0; i < sources_.size(); ++i) {
+    const Primitive& p = scene.meshes[size_t(sources_[i].mesh)].primitives[size_t(sources_[i].primitive)];
+    const Material* m = p.material >= 0 ? &state.materials()[size_t(p.material)] : nullptr;
+    const glm::vec3 factor = m ? glm::vec3(m->base_color_factor) : glm::vec3(1.0f);
+    const Image* texture = m && m->base_color_texture >= 0 ? &scene.images[size_t(m->base_color_texture)] : nullptr;
+    const size_t offset = size_t(elements_.instances()[i].leaf_offset);
+    for (size_t v = 0; v < p.positions.size(); ++v) {
+      glm::vec3 a = factor;
+      if (texture && v < p.uvs.size()) a *= Texel(*texture, p.uvs[v]);
+      albedo_[offset + v] = glm::clamp(a, 0.0f, 1.0f);  // as the G-buffer and the path tracer
+    }
+  }
+}
+
+}  // namespace gistream

@@ -1,0 +1,48 @@
+// The scene side of the element hierarchy: builds hierarchy::Elements from
+// a SceneState's draw list, with the per-mesh preprocessing cached
+// (create_surfels and create_hierarchy run once per mesh primitive), and
+// keeps what the display and the illumination need per leaf: the mesh
+// vertex in world space, the triangle indices, the diffuse albedo.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "gl/stage_timer.h"
+#include "scene/gpu_scene.h"
+#include "solvers/hierarchy/elements.h"
+
+namespace gistream {
+
+class SceneElements {
+ public:
+  bool built() const { return built_; }
+
+  // create_surfels + create_hierarchy (timed as two stages, CPU), then
+  // the forest layout. Once per solver: the draw list never changes.
+  void Build(const SceneState& state, const GpuScene& gpu, gl::StageTimer& timer);
+  // update_elements: world transforms of every instance (Section 4.2.1).
+  void UpdateGeometry(const SceneState& state);
+  // Per-leaf albedo (base colour x texture at the vertex uv), linear.
+  void UpdateAlbedo(const SceneState& state);
+
+  const hierarchy::Elements& elements() const { return elements_; }
+  const std::vector<glm::vec3>& vertex_world() const { return vertex_world_; }
+  const std::vector<uint32_t>& triangles() const { return triangles_; }
+  const std::vector<glm::vec3>& albedo() const { return albedo_; }
+
+ private:
+  struct InstanceSource {
+    int node = 0, mesh = 0, primitive = 0;
+  };
+  bool built_ = false;
+  std::vector<InstanceSource> sources_;
+  hierarchy::Elements elements_;
+  std::vector<glm::vec3> vertex_world_;  // per leaf
+  std::vector<uint32_t> triangles_;      // leaf ids, 3 per triangle
+  std::vector<glm::vec3> albedo_;        // per leaf
+};
+
+}  // namespace gistream

@@ -1,0 +1,30 @@
+#version 450 core
+// illumination, one bounce (Section 4.3): every leaf gathers the radiance
+// of the nodes its pushed-down links point to, E = E_env + sum w L (Eq. 5
+// summed over the bins), and turns it into outgoing radiance with its
+// albedo, L' = albedo / pi * (E_direct + E). Reads one radiance buffer,
+// writes the other (Jacobi), so the order of the leaves does not matter.
+#include "common/math.glsl"
+#include "implicit_visibility/leaves.glsl"
+layout(local_size_x = 64) in;
+layout(std430, binding = 1) readonly buffer Leaves { Leaf leaves[]; };
+layout(std430, binding = 2) readonly buffer DirectE { vec4 e_direct[]; };
+layout(std430, binding = 3) readonly buffer EnvE { vec4 e_env[]; };
+layout(std430, binding = 4) readonly buffer Offsets { uint offsets[]; };
+layout(std430, binding = 5) readonly buffer Links { uvec2 links[]; };  // source, weight bits
+layout(std430, binding = 6) readonly buffer RadianceIn { vec4 radiance_in[]; };
+layout(std430, binding = 7) writeonly buffer RadianceOut { vec4 radiance_out[]; };
+layout(std430, binding = 8) writeonly buffer IndirectE { vec4 e_indirect[]; };
+uniform int uLeafCount;
+void main() {
+  int i = int(gl_GlobalInvocationID.x);
+  if (i >= uLeafCount) return;
+  vec3 e = e_env[i].rgb;
+  for (uint k = offsets[i]; k < offsets[i + 1]; ++k) {
+    uvec2 link = links[k];
+    e += uintBitsToFloat(link.y) * radiance_in[link.x].rgb;
+  }
+  e = FiniteOrZero(e);
+  e_indirect[i] = vec4(e, 0.0);
+  radiance_out[i] = vec4(FiniteOrZero(leaves[i].albedo.rgb * INV_PI * (e_direct[i].rgb + e)), 0.0);
+}

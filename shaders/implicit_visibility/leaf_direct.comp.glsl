@@ -1,0 +1,21 @@
+#version 450 core
+// illumination, first step: the direct irradiance at every leaf from the
+// shadow-mapped lights (the same DirectIrradiance as `direct`), plus the
+// environment through the leaf's open bins (Section 4.4); the leaves'
+// first outgoing radiance L = albedo / pi * E (the first bounce's source).
+#include "render/direct_light.glsl"
+#include "implicit_visibility/leaves.glsl"
+layout(local_size_x = 64) in;
+layout(std430, binding = 4) readonly buffer Leaves { Leaf leaves[]; };
+layout(std430, binding = 5) writeonly buffer DirectE { vec4 e_direct[]; };
+layout(std430, binding = 6) readonly buffer EnvE { vec4 e_env[]; };
+layout(std430, binding = 7) writeonly buffer Radiance { vec4 radiance[]; };
+uniform int uLeafCount;
+void main() {
+  int i = int(gl_GlobalInvocationID.x);
+  if (i >= uLeafCount) return;
+  Leaf l = leaves[i];
+  vec3 e = FiniteOrZero(DirectIrradiance(l.position.xyz, l.normal.xyz));
+  e_direct[i] = vec4(e, 0.0);
+  radiance[i] = vec4(FiniteOrZero(l.albedo.rgb * INV_PI * (e + e_env[i].rgb)), 0.0);
+}

@@ -1,0 +1,7 @@
+// Leaf and node buffers of the implicit-visibility illumination (std430
+// mirrors of server/solvers/implicit_visibility/illumination.cpp).
+struct Leaf {
+  vec4 position;  // xyz world (the disc's centre)
+  vec4 normal;    // xyz unit
+  vec4 albedo;    // rgb linear diffuse albedo
+};
