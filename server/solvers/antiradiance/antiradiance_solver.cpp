@@ -8,6 +8,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "solvers/antiradiance/scene_patches.h"
+#include "solvers/antiradiance/shared_elements.h"
 
 namespace gistream {
 namespace {
@@ -49,8 +50,10 @@ SolverDescription AntiradianceSolver::Describe() {
        "Iteration scheme (Section 2.2); symmetric falls back to asymmetric when it diverges"},
       {"antiradiance_steps", ParamType::kInt, "16", 1, 64, {},
        "Asymmetric: most antiradiance steps (Eq. 14) per radiance step; stop earlier once converged"},
+      {"elements", ParamType::kEnum, "surfels", 0, 0, {"surfels", "triangles"},
+       "Leaf elements: the shared hierarchy's vertex discs, or scene triangles split to patch_size"},
       {"patch_size", ParamType::kFloat, "0", 0, 1e9, {},
-       "Longest leaf edge in metres; larger triangles are split (0: scene diagonal / 24)"},
+       "elements=triangles: longest leaf edge in metres, larger triangles are split (0: diagonal / 24)"},
   };
   for (ParamSpec& spec : DirectLightingParams()) d.params.push_back(std::move(spec));
   return d;
@@ -66,6 +69,7 @@ absl::StatusOr<std::unique_ptr<Solver>> AntiradianceSolver::Create(const ParamSe
   AntiradianceSettings& s = solver->settings_;
   s.bins = params.GetInt("bins");
   s.patch_size = float(params.GetFloat("patch_size"));
+  s.surfels = params.GetString("elements") == "surfels";
   s.transport.iterations = params.GetInt("iterations");
   s.transport.scheme = params.GetString("scheme") == "asymmetric" ? Scheme::kAsymmetric : Scheme::kSymmetric;
   s.transport.antiradiance_steps = params.GetInt("antiradiance_steps");
@@ -96,7 +100,8 @@ void AntiradianceSolver::Link(const SolverContext& ctx) {
   const Bounds bounds = ctx.gpu.WorldBounds(ctx.state);
   const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
   const float max_edge = settings_.patch_size > 0.0f ? settings_.patch_size : diagonal / 24.0f;
-  patches_ = antiradiance::BuildPatches(antiradiance::SceneTriangles(ctx.state), max_edge);
+  patches_ = settings_.surfels ? antiradiance::SurfelPatches(ctx.state, ctx.gpu)
+                               : antiradiance::BuildPatches(antiradiance::SceneTriangles(ctx.state), max_edge);
   transport_ = std::make_unique<antiradiance::Transport>(
       patches_, bins_, antiradiance::CreateLinks(patches_, bins_, &link_stats_));
   leaves_ = patches_.Leaves();

@@ -22,7 +22,9 @@ class Linker {
       if (p_.is_leaf(recv)) return;
       const auto& c = p_.children[size_t(recv)];
       for (int a : c) {
-        for (int b : c) Refine(a, b);
+        for (int b : c) {
+          if (a >= 0 && b >= 0) Refine(a, b);
+        }
       }
       return;
     }
@@ -39,9 +41,13 @@ class Linker {
     if (split_send || split_recv) {
       // Subdivide the larger one.
       if (split_send && (!split_recv || rs >= rr)) {
-        for (int c : p_.children[size_t(send)]) Refine(recv, c);
+        for (int c : p_.children[size_t(send)]) {
+          if (c >= 0) Refine(recv, c);
+        }
       } else {
-        for (int c : p_.children[size_t(recv)]) Refine(c, send);
+        for (int c : p_.children[size_t(recv)]) {
+          if (c >= 0) Refine(c, send);
+        }
       }
       return;
     }

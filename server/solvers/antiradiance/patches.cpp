@@ -47,7 +47,7 @@ class Builder {
     out_.radius.push_back(0.0f);
     out_.albedo.emplace_back(0.0f);
     out_.tag.push_back(-1);
-    out_.children.push_back({-1, -1});
+    out_.children.push_back({-1, -1, -1, -1});
     if (end - begin == 1) {
       const Leaf& l = leaves_[size_t(idx[begin])];
       out_.position[size_t(node)] = l.centre;
@@ -80,7 +80,7 @@ class Builder {
                      [&](int a, int b) { return key(a, axis) < key(b, axis); });
     const int c0 = Build(idx, begin, mid);
     const int c1 = Build(idx, mid, end);
-    out_.children[size_t(node)] = {c0, c1};
+    out_.children[size_t(node)] = {c0, c1, -1, -1};
     const float a0 = out_.area[size_t(c0)], a1 = out_.area[size_t(c1)];
     const float a = a0 + a1;
     const glm::vec3 p = (a0 * out_.position[size_t(c0)] + a1 * out_.position[size_t(c1)]) / a;

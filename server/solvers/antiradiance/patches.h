@@ -24,7 +24,7 @@ struct Patches {
   std::vector<float> radius;        // bounding sphere about position
   std::vector<glm::vec3> albedo;    // leaves: diffuse reflectance rho
   std::vector<int> tag;             // leaves: the source triangle's tag (e.g. its material)
-  std::vector<std::array<int, 2>> children;  // -1 for leaves
+  std::vector<std::array<int, 4>> children;  // up to four; -1 unused (all -1 for leaves)
   std::vector<int> roots;           // one per mesh instance
 
   int size() const { return int(position.size()); }

@@ -91,6 +91,7 @@ void Transport::Push() {
     for (int i = ranges[r].first; i < ranges[r].second; ++i) {
       if (patches_.is_leaf(i)) continue;
       for (int c : patches_.children[size_t(i)]) {
+        if (c < 0) continue;
         for (int j = 0; j < m_; ++j) l_in_[Index(c, j)] += l_in_[Index(i, j)];
       }
     }
@@ -103,8 +104,13 @@ void Transport::Pull() {
   ParallelFor(ranges.size(), 1, [&](size_t r) {
     for (int i = ranges[r].second - 1; i >= ranges[r].first; --i) {
       if (patches_.is_leaf(i)) continue;
-      const auto& c = patches_.children[size_t(i)];
-      for (int j = 0; j < m_; ++j) i_ex_[Index(i, j)] = i_ex_[Index(c[0], j)] + i_ex_[Index(c[1], j)];
+      glm::vec3* dst = &i_ex_[Index(i, 0)];
+      std::fill(dst, dst + m_, glm::vec3(0.0f));
+      for (int c : patches_.children[size_t(i)]) {
+        if (c < 0) continue;
+        const glm::vec3* src = &i_ex_[Index(c, 0)];
+        for (int j = 0; j < m_; ++j) dst[j] += src[j];
+      }
     }
   });
 }
