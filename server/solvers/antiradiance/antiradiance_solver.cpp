@@ -17,7 +17,7 @@ using antiradiance::Scheme;
 
 constexpr GLuint kElementBinding = 6, kGridBinding = 7;
 constexpr int kMaxGridDim = 64;
-constexpr size_t kMaxResidualStats = 16;
+constexpr size_t kMaxResidualStats = 32;
 
 struct ElementGpu {
   glm::vec4 position_radius;
