@@ -155,6 +155,32 @@ TEST(Antiradiance, StagePlanFollowsTheChange) {
   for (const std::string& s : gi) EXPECT_FALSE(Skipped(frame, s)) << "geometry " << s;
 }
 
+TEST(Antiradiance, MovingAnObjectRelinksOnlyItsPairsAndMatchesAFullLink) {
+  // Section 3.3: only links to and from the moved block are recomputed;
+  // the result equals linking the moved scene from scratch.
+  NodeTransformUpdate move;
+  move.node = 2;  // block
+  move.translation = {0.5f, 0.25f, 0.3f};
+  const std::map<std::string, std::string> params = {{"bins", "64"}};
+  EncodedFrame frame;
+  const BundledCopy scene("dynamic_block.gltf");
+  RenderRequestExr(Request(scene.id(), "antiradiance", params, 32), &frame);
+  const double pairs = FrameStat(frame, "root_pairs");
+  EXPECT_EQ(FrameStat(frame, "relinked_root_pairs"), pairs);
+  const FloatImage moved = RenderRequestExr(Request(scene.id(), "antiradiance", params, 32, {{1, move}}), &frame);
+  EXPECT_GT(FrameStat(frame, "relinked_root_pairs"), 0.0);
+  // The block is six of the eight charts (roots): the pairs among the
+  // floor's charts are kept.
+  EXPECT_LT(FrameStat(frame, "relinked_root_pairs"), pairs);
+  const double links = FrameStat(frame, "links");
+
+  const BundledCopy fresh("dynamic_block.gltf");
+  const FloatImage full = RenderRequestExr(Request(fresh.id(), "antiradiance", params, 32, {{1, move}}), &frame);
+  EXPECT_EQ(FrameStat(frame, "relinked_root_pairs"), pairs);
+  EXPECT_EQ(FrameStat(frame, "links"), links);
+  EXPECT_NEAR(ImageMean(moved).g, ImageMean(full).g, 1e-5 * ImageMean(full).g);
+}
+
 TEST(Antiradiance, OddBinCountIsRejectedNamingTheParameter) {
   const BundledCopy scene("furnace.gltf");
   auto frame = testing::SharedEngine().Render(Request(scene.id(), "antiradiance", {{"bins", "33"}}, 8));

@@ -100,10 +100,33 @@ void AntiradianceSolver::Link(const SolverContext& ctx) {
   const Bounds bounds = ctx.gpu.WorldBounds(ctx.state);
   const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
   const float max_edge = settings_.patch_size > 0.0f ? settings_.patch_size : diagonal / 24.0f;
-  patches_ = settings_.surfels ? antiradiance::SurfelPatches(ctx.state, ctx.gpu)
-                               : antiradiance::BuildPatches(antiradiance::SceneTriangles(ctx.state), max_edge);
-  transport_ = std::make_unique<antiradiance::Transport>(
-      patches_, bins_, antiradiance::CreateLinks(patches_, bins_, &link_stats_));
+  antiradiance::Patches patches = settings_.surfels
+                                       ? antiradiance::SurfelPatches(ctx.state, ctx.gpu, surfel_cache_)
+                                       : antiradiance::BuildPatches(antiradiance::SceneTriangles(ctx.state), max_edge);
+  // Section 3.3: relink only the pairs of roots (charts / mesh instances)
+  // that touch a moved one; the layout is the same as long as the scene's
+  // meshes are (only transforms change), which same_layout checks.
+  const bool same_layout = transport_ && patches.roots == patches_.roots && patches.size() == patches_.size();
+  std::vector<bool> moved(patches.roots.size(), true);
+  if (same_layout) {
+    for (size_t r = 0; r < patches.roots.size(); ++r) {
+      const int end = r + 1 < patches.roots.size() ? patches.roots[r + 1] : patches.size();
+      moved[r] = false;
+      for (int i = patches.roots[r]; i < end && !moved[r]; ++i) {
+        moved[r] = patches.position[size_t(i)] != patches_.position[size_t(i)] ||
+                   patches.normal[size_t(i)] != patches_.normal[size_t(i)] ||
+                   patches.area[size_t(i)] != patches_.area[size_t(i)];
+      }
+    }
+  }
+  patches_ = std::move(patches);
+  if (same_layout) {
+    link_set_.Relink(patches_, bins_, moved);
+  } else {
+    link_set_.Build(patches_, bins_);
+  }
+  link_stats_ = link_set_.stats();
+  transport_ = std::make_unique<antiradiance::Transport>(patches_, bins_, link_set_.Sorted());
   leaves_ = patches_.Leaves();
 
   // Display data: the leaves as splats (radius 1.5 x the leaf's bounding
@@ -245,6 +268,8 @@ SolverStats AntiradianceSolver::Stats() const {
       {"links", double(links)},
       {"links_spread", double(link_stats_.spread)},
       {"link_node_pairs", double(link_stats_.node_pairs)},
+      {"root_pairs", double(link_stats_.root_pairs)},
+      {"relinked_root_pairs", double(link_stats_.relinked_root_pairs)},
       {"link_bytes", transport_ ? double(transport_->link_bytes()) : 0.0},
       {"table_bytes", transport_ ? double(transport_->table_bytes()) : 0.0},
       {"spreading_table_bytes", double(bins_.table_bytes())},

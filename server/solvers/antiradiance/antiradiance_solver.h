@@ -17,6 +17,7 @@
 #include "solvers/antiradiance/directional_bins.h"
 #include "solvers/antiradiance/links.h"
 #include "solvers/antiradiance/patches.h"
+#include "solvers/antiradiance/shared_elements.h"
 #include "solvers/antiradiance/transport.h"
 #include "solvers/solver.h"
 
@@ -55,6 +56,8 @@ class AntiradianceSolver final : public Solver {
   // Runtime data
   antiradiance::DirectionalBins bins_;
   antiradiance::Patches patches_;
+  antiradiance::SurfelCache surfel_cache_;
+  antiradiance::LinkSet link_set_;
   std::unique_ptr<antiradiance::Transport> transport_;
   std::vector<int> leaves_;
   DirectLighting lighting_;

@@ -1,9 +1,7 @@
 #include "solvers/antiradiance/links.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <mutex>
 
 #include "solvers/antiradiance/parallel.h"
 
@@ -97,32 +95,66 @@ class Linker {
 
 }  // namespace
 
-std::vector<Link> CreateLinks(const Patches& patches, const DirectionalBins& bins, LinkStats* stats) {
-  const size_t roots = patches.roots.size();
-  std::vector<std::vector<Link>> per_pair(roots * roots);
-  std::atomic<uint64_t> pairs{0}, spread{0};
-  ParallelFor(roots * roots, 1, [&](size_t k) {
-    Linker linker(patches, bins, per_pair[k]);
-    linker.Refine(patches.roots[k / roots], patches.roots[k % roots]);
-    pairs += linker.pairs_;
-    spread += linker.spread_;
+void LinkSet::LinkPairs(const Patches& patches, const DirectionalBins& bins, const std::vector<size_t>& pairs) {
+  ParallelFor(pairs.size(), 1, [&](size_t k) {
+    const size_t pair = pairs[k];
+    std::vector<Link>& out = per_pair_[pair];
+    out.clear();
+    Linker linker(patches, bins, out);
+    linker.Refine(patches.roots[pair / roots_], patches.roots[pair % roots_]);
+    pair_node_pairs_[pair] = linker.pairs_;
+    pair_spread_[pair] = linker.spread_;
   });
-  std::vector<Link> links;
-  size_t total = 0;
-  for (const auto& v : per_pair) total += v.size();
-  links.reserve(total);
-  for (auto& v : per_pair) {
-    links.insert(links.end(), v.begin(), v.end());
-    std::vector<Link>().swap(v);
+  stats_ = {};
+  for (size_t p = 0; p < per_pair_.size(); ++p) {
+    stats_.node_pairs += pair_node_pairs_[p];
+    stats_.spread += pair_spread_[p];
   }
+  stats_.root_pairs = per_pair_.size();
+  stats_.relinked_root_pairs = pairs.size();
+}
+
+void LinkSet::Build(const Patches& patches, const DirectionalBins& bins) {
+  roots_ = patches.roots.size();
+  per_pair_.assign(roots_ * roots_, {});
+  pair_node_pairs_.assign(per_pair_.size(), 0);
+  pair_spread_.assign(per_pair_.size(), 0);
+  std::vector<size_t> all(per_pair_.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = i;
+  LinkPairs(patches, bins, all);
+}
+
+void LinkSet::Relink(const Patches& patches, const DirectionalBins& bins, const std::vector<bool>& moved) {
+  if (patches.roots.size() != roots_ || moved.size() != roots_) {
+    Build(patches, bins);
+    return;
+  }
+  std::vector<size_t> pairs;
+  for (size_t r = 0; r < roots_; ++r) {
+    for (size_t s = 0; s < roots_; ++s) {
+      if (moved[r] || moved[s]) pairs.push_back(r * roots_ + s);
+    }
+  }
+  LinkPairs(patches, bins, pairs);
+}
+
+std::vector<Link> LinkSet::Sorted() const {
+  size_t total = 0;
+  for (const auto& v : per_pair_) total += v.size();
+  std::vector<Link> links;
+  links.reserve(total);
+  for (const auto& v : per_pair_) links.insert(links.end(), v.begin(), v.end());
   std::sort(links.begin(), links.end(), [](const Link& a, const Link& b) {
     return a.receiver != b.receiver ? a.receiver < b.receiver : a.sender < b.sender;
   });
-  if (stats != nullptr) {
-    stats->node_pairs = pairs;
-    stats->spread = spread;
-  }
   return links;
+}
+
+std::vector<Link> CreateLinks(const Patches& patches, const DirectionalBins& bins, LinkStats* stats) {
+  LinkSet set;
+  set.Build(patches, bins);
+  if (stats != nullptr) *stats = set.stats();
+  return set.Sorted();
 }
 
 }  // namespace gistream::antiradiance

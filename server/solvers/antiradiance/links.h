@@ -30,9 +30,34 @@ struct Link {
 struct LinkStats {
   uint64_t node_pairs = 0;  // oracle calls
   uint64_t spread = 0;      // links with cone level > 0
+  uint64_t root_pairs = 0;  // (receiver root, sender root) pairs
+  uint64_t relinked_root_pairs = 0;  // of those, linked by the last call
 };
 
 // Sorted by receiver. Multi-threaded over pairs of roots.
 std::vector<Link> CreateLinks(const Patches& patches, const DirectionalBins& bins, LinkStats* stats);
+
+// The links kept per pair of roots, so that moving objects relink only the
+// pairs that touch a moved root (Section 3.3: "we only have to update
+// links to and from moving objects"). The hierarchy's layout must stay the
+// same between calls (same roots, same node ids), only positions change.
+class LinkSet {
+ public:
+  // Links every pair.
+  void Build(const Patches& patches, const DirectionalBins& bins);
+  // Relinks the pairs whose receiver or sender root has moved[root index].
+  void Relink(const Patches& patches, const DirectionalBins& bins, const std::vector<bool>& moved);
+  // All links, sorted by receiver then sender.
+  std::vector<Link> Sorted() const;
+  const LinkStats& stats() const { return stats_; }
+
+ private:
+  void LinkPairs(const Patches& patches, const DirectionalBins& bins, const std::vector<size_t>& pairs);
+
+  size_t roots_ = 0;
+  std::vector<std::vector<Link>> per_pair_;  // receiver root x roots + sender root
+  std::vector<uint64_t> pair_node_pairs_, pair_spread_;
+  LinkStats stats_;
+};
 
 }  // namespace gistream::antiradiance

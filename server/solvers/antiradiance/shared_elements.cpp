@@ -44,9 +44,8 @@ Patches PatchesFromElements(const hierarchy::Elements& elements, const std::vect
   return out;
 }
 
-Patches SurfelPatches(const SceneState& state, const GpuScene& gpu) {
+Patches SurfelPatches(const SceneState& state, const GpuScene& gpu, SurfelCache& meshes) {
   const Scene& scene = state.scene();
-  std::map<std::pair<int, int>, std::shared_ptr<hierarchy::ElementMesh>> meshes;
   std::vector<hierarchy::ElementInstance> instances;
   std::vector<glm::mat4> world;
   std::vector<int> materials;

@@ -4,6 +4,9 @@
 // (Section 4.1) so push walks forward and pull backward.
 #pragma once
 
+#include <map>
+#include <memory>
+#include <utility>
 #include <vector>
 
 #include "scene/gpu_scene.h"
@@ -17,8 +20,13 @@ namespace gistream::antiradiance {
 Patches PatchesFromElements(const hierarchy::Elements& elements, const std::vector<glm::vec3>& leaf_albedo,
                             const std::vector<int>& leaf_tag);
 
-// create_surfels + create_hierarchy (shared) for every draw of the scene,
-// placed by the current transforms; tags are material ids.
-Patches SurfelPatches(const SceneState& state, const GpuScene& gpu);
+// Per-mesh preprocessing kept between calls (meshes never change, only
+// their placement).
+using SurfelCache = std::map<std::pair<int, int>, std::shared_ptr<hierarchy::ElementMesh>>;
+
+// create_surfels + create_hierarchy (shared, once per mesh primitive via
+// `cache`) for every draw of the scene, placed by the current transforms;
+// tags are material ids.
+Patches SurfelPatches(const SceneState& state, const GpuScene& gpu, SurfelCache& cache);
 
 }  // namespace gistream::antiradiance
