@@ -12,6 +12,7 @@
 #include "solvers/hierarchy/cube_bins.h"
 #include "solvers/hierarchy/gather.h"
 #include "solvers/hierarchy/links.h"
+#include "solvers/hierarchy/refine_push.h"
 
 namespace gistream::hierarchy {
 namespace {

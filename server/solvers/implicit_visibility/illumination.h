@@ -11,6 +11,7 @@
 #include "render/direct_lighting.h"
 #include "solvers/hierarchy/elements.h"
 #include "solvers/hierarchy/links.h"
+#include "solvers/hierarchy/refine_push.h"
 
 namespace gistream {
 

@@ -20,6 +20,7 @@
 #include "solvers/hierarchy/bin_table.h"
 #include "solvers/hierarchy/cube_bins.h"
 #include "solvers/hierarchy/links.h"
+#include "solvers/hierarchy/refine_push.h"
 #include "solvers/implicit_visibility/display.h"
 #include "solvers/implicit_visibility/illumination.h"
 #include "solvers/implicit_visibility/scene_elements.h"
