@@ -264,7 +264,9 @@ TEST(AntiradianceStability, DeepSlabStackNeedsManyAntiradianceSteps) {
                 int(r.scheme_used), int(r.fallback), r.global_passes, r.residual.back(), lo / hi);
     EXPECT_EQ(r.scheme_used, Scheme::kAsymmetric);
     EXPECT_EQ(r.fallback, scheme == Scheme::kSymmetric);  // the symmetric residual grew twice in a row
-    if (r.fallback) EXPECT_FALSE(r.symmetric_residual.empty());
+    if (r.fallback) {
+      EXPECT_FALSE(r.symmetric_residual.empty());
+    }
     // Total intensity dips below zero where antiradiance over-cancels
     // (see the blocker): stated tolerance 20 % of the brightest leaf.
     EXPECT_GE(lo, -0.2 * hi) << int(scheme);
