@@ -18,6 +18,10 @@ using antiradiance::Scheme;
 constexpr GLuint kElementBinding = 6, kGridBinding = 7;
 constexpr int kMaxGridDim = 64;
 constexpr size_t kMaxResidualStats = 32;
+// Memory limits per solver instance (the paper's Table 2 scenes need
+// < 140 MB in all).
+constexpr uint64_t kMaxTableBytes = uint64_t(1) << 30;
+constexpr uint64_t kMaxLinkBytes = uint64_t(1) << 30;
 
 struct ElementGpu {
   glm::vec4 position_radius;
@@ -96,7 +100,7 @@ std::vector<std::string> AntiradianceSolver::Plan(ChangeMask changes) const {
   return {"display"};
 }
 
-void AntiradianceSolver::Link(const SolverContext& ctx) {
+absl::Status AntiradianceSolver::Link(const SolverContext& ctx) {
   const Bounds bounds = ctx.gpu.WorldBounds(ctx.state);
   const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
   const float max_edge = settings_.patch_size > 0.0f ? settings_.patch_size : diagonal / 24.0f;
@@ -119,6 +123,14 @@ void AntiradianceSolver::Link(const SolverContext& ctx) {
       }
     }
   }
+  // I_ex and L_in: elements x bins x 2 x RGB floats.
+  const uint64_t table_bytes = uint64_t(patches.size()) * uint64_t(bins_.count()) * 2 * sizeof(glm::vec3);
+  if (table_bytes > kMaxTableBytes) {
+    transport_.reset();
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "params.bins: ", bins_.count(), " bins x ", patches.size(), " elements need ", table_bytes >> 20,
+        " MiB of I_ex/L_in tables (limit ", kMaxTableBytes >> 20, " MiB); use fewer bins"));
+  }
   patches_ = std::move(patches);
   if (same_layout) {
     link_set_.Relink(patches_, bins_, moved);
@@ -126,6 +138,14 @@ void AntiradianceSolver::Link(const SolverContext& ctx) {
     link_set_.Build(patches_, bins_);
   }
   link_stats_ = link_set_.stats();
+  const uint64_t links = link_set_.size();
+  if (links * sizeof(antiradiance::Link) > kMaxLinkBytes) {
+    transport_.reset();
+    link_set_ = {};
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "params.bins: ", links, " links (", (links * sizeof(antiradiance::Link)) >> 20, " MiB, limit ",
+        kMaxLinkBytes >> 20, " MiB); use fewer bins"));
+  }
   transport_ = std::make_unique<antiradiance::Transport>(patches_, bins_, link_set_.Sorted());
   leaves_ = patches_.Leaves();
 
@@ -169,6 +189,7 @@ void AntiradianceSolver::Link(const SolverContext& ctx) {
   std::memcpy(element_data_.data(), elements.data(), elements.size() * sizeof(ElementGpu));
   grid_ = MakeBuffer(GLsizeiptr(grid.size() * sizeof(uint32_t)), grid.data());
   direct_ = MakeBuffer(GLsizeiptr(leaves_.size() * sizeof(glm::vec4)), nullptr);
+  return absl::OkStatus();
 }
 
 std::vector<glm::vec3> AntiradianceSolver::DirectAtLeaves() {
@@ -212,7 +233,7 @@ absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) 
   }
   if (geometry) {
     gl::StageTimer::Scope stage(ctx.timer, "link", /*cpu_stage=*/true);
-    Link(ctx);
+    GS_RETURN_IF_ERROR(Link(ctx));
   } else {
     ctx.timer.Skip("link");
     if (changes & kChangeMaterials) {

@@ -45,7 +45,8 @@ class AntiradianceSolver final : public Solver {
  private:
   AntiradianceSolver() = default;
 
-  void Link(const SolverContext& ctx);
+  // Fails (naming the parameter) when the tables or links would exceed the limits.
+  absl::Status Link(const SolverContext& ctx);
   // Direct irradiance at every leaf's centre (Section 3.3), per node.
   std::vector<glm::vec3> DirectAtLeaves();
   void UploadIrradiance();

@@ -138,6 +138,12 @@ void LinkSet::Relink(const Patches& patches, const DirectionalBins& bins, const 
   LinkPairs(patches, bins, pairs);
 }
 
+uint64_t LinkSet::size() const {
+  uint64_t total = 0;
+  for (const auto& v : per_pair_) total += v.size();
+  return total;
+}
+
 std::vector<Link> LinkSet::Sorted() const {
   size_t total = 0;
   for (const auto& v : per_pair_) total += v.size();

@@ -50,6 +50,7 @@ class LinkSet {
   // All links, sorted by receiver then sender.
   std::vector<Link> Sorted() const;
   const LinkStats& stats() const { return stats_; }
+  uint64_t size() const;
 
  private:
   void LinkPairs(const Patches& patches, const DirectionalBins& bins, const std::vector<size_t>& pairs);
