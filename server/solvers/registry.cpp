@@ -1,5 +1,6 @@
 #include "solvers/registry.h"
 
+#include "solvers/antiradiance/antiradiance_solver.h"
 #include "solvers/avg/avg_solver.h"
 #include "solvers/direct/direct_solver.h"
 #include "solvers/implicit_visibility/implicit_visibility_solver.h"
@@ -10,8 +11,9 @@ namespace gistream {
 
 const std::vector<SolverDescription>& AllSolverDescriptions() {
   static const std::vector<SolverDescription> kAll = {
-      DirectSolver::Describe(), PathtraceSolver::Describe(), ShProbesSolver::Describe(),
-      AvgSolver::Describe(), ImplicitVisibilitySolver::Describe()};
+      DirectSolver::Describe(),   PathtraceSolver::Describe(),
+      ShProbesSolver::Describe(), AvgSolver::Describe(),
+      ImplicitVisibilitySolver::Describe(), AntiradianceSolver::Describe()};
   return kAll;
 }
 
@@ -32,6 +34,7 @@ absl::StatusOr<std::unique_ptr<Solver>> CreateSolver(const std::string& name,
   if (name == "sh_probes") return ShProbesSolver::Create(params);
   if (name == "avg") return AvgSolver::Create(params);
   if (name == "implicit_visibility") return ImplicitVisibilitySolver::Create(params);
+  if (name == "antiradiance") return AntiradianceSolver::Create(params);
   return FindSolver(name).status();
 }
 

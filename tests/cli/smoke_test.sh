@@ -23,7 +23,7 @@ C="$BIN/gistream --server $ADDR"
 # client's SIGPIPE would fail the step.
 $C status >"$TMP/status.txt" && grep -qi "renderer" "$TMP/status.txt" || { echo "FAIL: status"; exit 1; }
 $C solvers >"$TMP/solvers.txt" || { echo "FAIL: solvers"; exit 1; }
-for s in direct pathtrace sh_probes avg implicit_visibility; do
+for s in direct pathtrace sh_probes avg implicit_visibility antiradiance; do
   grep -q "^$s - " "$TMP/solvers.txt" || { echo "FAIL: solvers lacks $s"; exit 1; }
 done
 $C render --scene cornell_box --solver direct --param area_samples=8 --size 64x48 \

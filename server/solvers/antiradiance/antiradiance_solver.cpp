@@ -1,0 +1,314 @@
+#include "solvers/antiradiance/antiradiance_solver.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <string>
+#include <utility>
+
+#include "absl/strings/str_cat.h"
+#include "solvers/antiradiance/scene_patches.h"
+#include "solvers/antiradiance/shared_elements.h"
+
+namespace gistream {
+namespace {
+
+using antiradiance::Scheme;
+
+constexpr GLuint kElementBinding = 6, kGridBinding = 7;
+constexpr int kMaxGridDim = 64;
+constexpr size_t kMaxResidualStats = 32;
+// Memory limits per solver instance (the paper's Table 2 scenes need
+// < 140 MB in all).
+constexpr uint64_t kMaxTableBytes = uint64_t(1) << 30;
+constexpr uint64_t kMaxLinkBytes = uint64_t(1) << 30;
+
+struct ElementGpu {
+  glm::vec4 position_radius;
+  glm::vec4 normal;
+  glm::vec4 irradiance;
+};
+
+GLuint Groups(size_t n, int size) { return GLuint((n + size_t(size) - 1) / size_t(size)); }
+
+gl::Buffer MakeBuffer(GLsizeiptr bytes, const void* data) {
+  gl::Buffer b = gl::Buffer::Create();
+  glNamedBufferStorage(b.id(), std::max<GLsizeiptr>(bytes, 16), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  if (data != nullptr && bytes > 0) glNamedBufferSubData(b.id(), 0, bytes, data);
+  return b;
+}
+
+}  // namespace
+
+SolverDescription AntiradianceSolver::Describe() {
+  SolverDescription d;
+  d.name = "antiradiance";
+  d.description =
+      "Dachsbacher et al. 2007: implicit visibility through antiradiance, hierarchical links, directional bins";
+  d.stages = {"link", "global_pass", "local_pass", "push_pull", "display"};
+  d.params = {
+      {"bins", ParamType::kInt, "128", 32, 512, {}, "Directional bins per element (even)"},
+      {"iterations", ParamType::kInt, "4", 1, 64, {},
+       "Iterations per update (asymmetric: radiance steps, each after converged antiradiance)"},
+      {"scheme", ParamType::kEnum, "symmetric", 0, 0, {"symmetric", "asymmetric"},
+       "Iteration scheme (Section 2.2); symmetric falls back to asymmetric when it diverges"},
+      {"antiradiance_steps", ParamType::kInt, "16", 1, 64, {},
+       "Asymmetric: most antiradiance steps (Eq. 14) per radiance step; stop earlier once converged"},
+      {"elements", ParamType::kEnum, "surfels", 0, 0, {"surfels", "triangles"},
+       "Leaf elements: the shared hierarchy's vertex discs, or scene triangles split to patch_size"},
+      {"patch_size", ParamType::kFloat, "0", 0, 1e9, {},
+       "elements=triangles: longest leaf edge in metres, larger triangles are split (0: diagonal / 24)"},
+  };
+  for (ParamSpec& spec : DirectLightingParams()) d.params.push_back(std::move(spec));
+  return d;
+}
+
+const SolverDescription& AntiradianceSolver::description() const {
+  static const SolverDescription kDescription = Describe();
+  return kDescription;
+}
+
+absl::StatusOr<std::unique_ptr<Solver>> AntiradianceSolver::Create(const ParamSet& params) {
+  auto solver = std::unique_ptr<AntiradianceSolver>(new AntiradianceSolver());
+  AntiradianceSettings& s = solver->settings_;
+  s.bins = params.GetInt("bins");
+  s.patch_size = float(params.GetFloat("patch_size"));
+  s.surfels = params.GetString("elements") == "surfels";
+  s.transport.iterations = params.GetInt("iterations");
+  s.transport.scheme = params.GetString("scheme") == "asymmetric" ? Scheme::kAsymmetric : Scheme::kSymmetric;
+  s.transport.antiradiance_steps = params.GetInt("antiradiance_steps");
+  s.direct = DirectLightingFromParams(params);
+  GS_ASSIGN_OR_RETURN(solver->bins_, antiradiance::DirectionalBins::Create(s.bins));
+  GS_ASSIGN_OR_RETURN(solver->lighting_, DirectLighting::Create());
+  GS_ASSIGN_OR_RETURN(solver->direct_program_,
+                      gl::Program::Build({{GL_COMPUTE_SHADER, "antiradiance/element_direct.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(solver->display_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "antiradiance/display.frag.glsl"}}));
+  solver->empty_vao_ = gl::VertexArray::Create();
+  return solver;
+}
+
+std::vector<std::string> AntiradianceSolver::Plan(ChangeMask changes) const {
+  // Geometry relinks; anything that changes the light (lights, emission,
+  // albedo, environment) reuses the links (Section 3.3); the camera only
+  // redisplays.
+  if (changes & kChangeGeometry) return {"link", "global_pass", "local_pass", "push_pull", "display"};
+  if (changes & (kChangeLights | kChangeEmission | kChangeMaterials | kChangeEnvironment)) {
+    return {"global_pass", "local_pass", "push_pull", "display"};
+  }
+  return {"display"};
+}
+
+absl::Status AntiradianceSolver::Link(const SolverContext& ctx) {
+  const Bounds bounds = ctx.gpu.WorldBounds(ctx.state);
+  const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
+  const float max_edge = settings_.patch_size > 0.0f ? settings_.patch_size : diagonal / 24.0f;
+  antiradiance::Patches patches = settings_.surfels
+                                       ? antiradiance::SurfelPatches(ctx.state, ctx.gpu, surfel_cache_)
+                                       : antiradiance::BuildPatches(antiradiance::SceneTriangles(ctx.state), max_edge);
+  // Section 3.3: relink only the pairs of roots (charts / mesh instances)
+  // that touch a moved one; the layout is the same as long as the scene's
+  // meshes are (only transforms change), which same_layout checks.
+  const bool same_layout = transport_ && patches.roots == patches_.roots && patches.size() == patches_.size();
+  std::vector<bool> moved(patches.roots.size(), true);
+  if (same_layout) {
+    for (size_t r = 0; r < patches.roots.size(); ++r) {
+      const int end = r + 1 < patches.roots.size() ? patches.roots[r + 1] : patches.size();
+      moved[r] = false;
+      for (int i = patches.roots[r]; i < end && !moved[r]; ++i) {
+        moved[r] = patches.position[size_t(i)] != patches_.position[size_t(i)] ||
+                   patches.normal[size_t(i)] != patches_.normal[size_t(i)] ||
+                   patches.area[size_t(i)] != patches_.area[size_t(i)];
+      }
+    }
+  }
+  // I_ex and L_in: elements x bins x 2 x RGB floats.
+  const uint64_t table_bytes = uint64_t(patches.size()) * uint64_t(bins_.count()) * 2 * sizeof(glm::vec3);
+  if (table_bytes > kMaxTableBytes) {
+    transport_.reset();
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "params.bins: ", bins_.count(), " bins x ", patches.size(), " elements need ", table_bytes >> 20,
+        " MiB of I_ex/L_in tables (limit ", kMaxTableBytes >> 20, " MiB); use fewer bins"));
+  }
+  patches_ = std::move(patches);
+  if (same_layout) {
+    link_set_.Relink(patches_, bins_, moved);
+  } else {
+    link_set_.Build(patches_, bins_);
+  }
+  link_stats_ = link_set_.stats();
+  const uint64_t links = link_set_.size();
+  if (links * sizeof(antiradiance::Link) > kMaxLinkBytes) {
+    transport_.reset();
+    link_set_ = {};
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "params.bins: ", links, " links (", (links * sizeof(antiradiance::Link)) >> 20, " MiB, limit ",
+        kMaxLinkBytes >> 20, " MiB); use fewer bins"));
+  }
+  transport_ = std::make_unique<antiradiance::Transport>(patches_, bins_, link_set_.Sorted());
+  leaves_ = patches_.Leaves();
+
+  // Display data: the leaves as splats (radius 1.5 x the leaf's bounding
+  // radius, so neighbours overlap) in a uniform grid whose cell is at
+  // least the largest splat (a pixel looks at its cell and the 26 around).
+  std::vector<ElementGpu> elements(leaves_.size());
+  Bounds box;
+  float largest = 0.0f;
+  leaf_area_ = 0.0;
+  for (size_t k = 0; k < leaves_.size(); ++k) {
+    const size_t i = size_t(leaves_[k]);
+    const float r = 1.5f * patches_.radius[i];
+    elements[k].position_radius = glm::vec4(patches_.position[i], r);
+    elements[k].normal = glm::vec4(patches_.normal[i], 0.0f);
+    elements[k].irradiance = glm::vec4(0.0f);
+    box.Extend(patches_.position[i]);
+    largest = std::max(largest, r);
+    leaf_area_ += patches_.area[i];
+  }
+  if (box.empty()) box.Extend(glm::vec3(0.0f));
+  const glm::vec3 extent = box.extent();
+  const float widest = std::max({extent.x, extent.y, extent.z});
+  grid_cell_ = std::max({largest, widest / float(kMaxGridDim - 1), 1e-6f});
+  grid_min_ = box.min;
+  grid_dims_ = glm::clamp(glm::ivec3(glm::floor(extent / grid_cell_)) + 1, glm::ivec3(1), glm::ivec3(kMaxGridDim));
+  const size_t cells = size_t(grid_dims_.x) * size_t(grid_dims_.y) * size_t(grid_dims_.z);
+  std::vector<uint32_t> grid(cells + 1 + leaves_.size(), 0);
+  auto cell_of = [&](const glm::vec3& p) {
+    const glm::ivec3 c = glm::clamp(glm::ivec3((p - grid_min_) / grid_cell_), glm::ivec3(0), grid_dims_ - 1);
+    return size_t((c.z * grid_dims_.y + c.y) * grid_dims_.x + c.x);
+  };
+  for (const ElementGpu& e : elements) ++grid[cell_of(glm::vec3(e.position_radius)) + 1];
+  for (size_t c = 0; c < cells; ++c) grid[c + 1] += grid[c];
+  std::vector<uint32_t> fill(grid.begin(), grid.begin() + long(cells));
+  for (size_t k = 0; k < elements.size(); ++k) {
+    grid[cells + 1 + fill[cell_of(glm::vec3(elements[k].position_radius))]++] = uint32_t(k);
+  }
+  elements_ = MakeBuffer(GLsizeiptr(elements.size() * sizeof(ElementGpu)), elements.data());
+  element_data_.resize(elements.size() * 3);
+  std::memcpy(element_data_.data(), elements.data(), elements.size() * sizeof(ElementGpu));
+  grid_ = MakeBuffer(GLsizeiptr(grid.size() * sizeof(uint32_t)), grid.data());
+  direct_ = MakeBuffer(GLsizeiptr(leaves_.size() * sizeof(glm::vec4)), nullptr);
+  return absl::OkStatus();
+}
+
+std::vector<glm::vec3> AntiradianceSolver::DirectAtLeaves() {
+  std::vector<glm::vec3> direct(size_t(patches_.size()), glm::vec3(0.0f));
+  if (leaves_.empty()) return direct;
+  lighting_.Bind(direct_program_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kElementBinding, elements_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGridBinding, direct_.id());
+  direct_program_.Set("uCount", int(leaves_.size()));
+  direct_program_.Use();
+  glDispatchCompute(Groups(leaves_.size(), 64), 1, 1);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+  std::vector<glm::vec4> e(leaves_.size());
+  glGetNamedBufferSubData(direct_.id(), 0, GLsizeiptr(e.size() * sizeof(glm::vec4)), e.data());
+  for (size_t k = 0; k < leaves_.size(); ++k) direct[size_t(leaves_[k])] = glm::vec3(e[k]);
+  return direct;
+}
+
+void AntiradianceSolver::UploadIrradiance() {
+  // Negative irradiance (antiradiance over-cancelling, see ARCHITECTURE)
+  // is displayed as zero and its area reported in the stats.
+  negative_area_ = 0.0;
+  for (size_t k = 0; k < leaves_.size(); ++k) {
+    const glm::vec3 v = transport_->indirect_irradiance()[size_t(leaves_[k])];
+    if (v.r < 0.0f || v.g < 0.0f || v.b < 0.0f) negative_area_ += patches_.area[size_t(leaves_[k])];
+    element_data_[3 * k + 2] = glm::vec4(glm::max(v, glm::vec3(0.0f)), 0.0f);
+  }
+  if (!element_data_.empty()) {
+    glNamedBufferSubData(elements_.id(), 0, GLsizeiptr(element_data_.size() * sizeof(glm::vec4)),
+                         element_data_.data());
+  }
+}
+
+absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) {
+  const bool geometry = (changes & kChangeGeometry) || !transport_;
+  const bool light = geometry || (changes & (kChangeLights | kChangeEmission | kChangeMaterials |
+                                             kChangeEnvironment));
+  if (!light) {
+    for (const char* stage : {"link", "global_pass", "local_pass", "push_pull"}) ctx.timer.Skip(stage);
+    return absl::OkStatus();
+  }
+  if (geometry) {
+    gl::StageTimer::Scope stage(ctx.timer, "link", /*cpu_stage=*/true);
+    GS_RETURN_IF_ERROR(Link(ctx));
+  } else {
+    ctx.timer.Skip("link");
+    if (changes & kChangeMaterials) {
+      for (int i : leaves_) patches_.albedo[size_t(i)] = antiradiance::MaterialAlbedo(ctx.state, patches_.tag[size_t(i)]);
+    }
+  }
+  std::vector<glm::vec3> direct;
+  {
+    // Section 3.3: direct light initializes the elements through the
+    // shadow maps; it creates no antiradiance.
+    gl::StageTimer::Scope stage(ctx.timer, "local_pass", /*cpu_stage=*/true);
+    GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct));
+    direct = DirectAtLeaves();
+  }
+  // Emission is the direct term's (area-light samples), not transported again.
+  result_ = transport_->Solve(direct, {}, settings_.transport, [&](const char* stage, bool begin) {
+    if (begin) {
+      ctx.timer.Begin(stage, /*cpu_stage=*/true);
+    } else {
+      ctx.timer.End();
+    }
+  });
+  UploadIrradiance();
+  return absl::OkStatus();
+}
+
+absl::Status AntiradianceSolver::Shade(SolverContext& ctx, const ViewCamera& /*camera*/,
+                                       const GBuffer& gbuffer) {
+  gl::StageTimer::Scope stage(ctx.timer, "display");
+  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
+  glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
+  glDisable(GL_DEPTH_TEST);
+  gbuffer.BindTextures(8);
+  lighting_.Bind(display_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kElementBinding, elements_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGridBinding, grid_.id());
+  display_.Set("uGridMin", grid_min_);
+  display_.Set("uGridDims", grid_dims_);
+  display_.Set("uGridCell", grid_cell_);
+  display_.Use();
+  glBindVertexArray(empty_vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+  return absl::OkStatus();
+}
+
+SolverStats AntiradianceSolver::Stats() const {
+  const uint64_t links = transport_ ? transport_->links().size() : 0;
+  SolverStats s = {
+      {"bins", double(bins_.count())},
+      {"elements", double(patches_.size())},
+      {"leaves", double(leaves_.size())},
+      {"links", double(links)},
+      {"links_spread", double(link_stats_.spread)},
+      {"link_node_pairs", double(link_stats_.node_pairs)},
+      {"root_pairs", double(link_stats_.root_pairs)},
+      {"relinked_root_pairs", double(link_stats_.relinked_root_pairs)},
+      {"link_bytes", transport_ ? double(transport_->link_bytes()) : 0.0},
+      {"table_bytes", transport_ ? double(transport_->table_bytes()) : 0.0},
+      {"spreading_table_bytes", double(bins_.table_bytes())},
+      {"element_gpu_bytes", double(leaves_.size() * sizeof(ElementGpu))},
+      {"iterations", double(settings_.transport.iterations)},
+      {"global_passes", double(result_.global_passes)},
+      {"scheme_used", double(int(result_.scheme_used))},
+      {"fallback", result_.fallback ? 1.0 : 0.0},
+      {"non_finite", result_.non_finite ? 1.0 : 0.0},
+      {"residual", result_.residual.empty() ? 0.0 : result_.residual.back()},
+      {"negative_irradiance_area", leaf_area_ > 0.0 ? negative_area_ / leaf_area_ : 0.0},
+      {"area_samples", double(lighting_.area_samples().size())},
+      {"shadow_map_bytes", double(lighting_.gpu_bytes())},
+  };
+  for (size_t i = 0; i < result_.residual.size() && i < kMaxResidualStats; ++i) {
+    s.push_back({absl::StrCat("residual_", i + 1), result_.residual[i]});
+  }
+  return s;
+}
+
+}  // namespace gistream

@@ -1,0 +1,49 @@
+// The element hierarchy the antiradiance solver works on (Dachsbacher et
+// al. 2007, Sections 3.2 and 4.1): a forest of patches P_i with centre
+// x_i, normal n_i, area a_i and albedo, laid out in depth-first order so
+// that a parent precedes its children (push walks forward, pull backward).
+//
+// This is the small interface the solver needs from a hierarchy (position,
+// normal, area, albedo, children). It is built here from the scene's
+// triangles (BuildPatches); the shared hierarchy of `implicit_visibility`
+// (server/solvers/hierarchy/) can fill the same struct later.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace gistream::antiradiance {
+
+struct Patches {
+  // Per node (leaves and clusters).
+  std::vector<glm::vec3> position;  // centre x_i (area-weighted)
+  std::vector<glm::vec3> normal;    // unit for leaves; clusters: area-weighted average (unused by K/J)
+  std::vector<float> area;          // a_i, the sum of the leaves' areas for a cluster
+  std::vector<float> radius;        // bounding sphere about position
+  std::vector<glm::vec3> albedo;    // leaves: diffuse reflectance rho
+  std::vector<int> tag;             // leaves: the source triangle's tag (e.g. its material)
+  std::vector<std::array<int, 4>> children;  // up to four; -1 unused (all -1 for leaves)
+  std::vector<int> roots;           // one per mesh instance
+
+  int size() const { return int(position.size()); }
+  bool is_leaf(int i) const { return children[size_t(i)][0] < 0; }
+  std::vector<int> Leaves() const;
+};
+
+// One world-space triangle of the scene with its material's albedo.
+struct SourceTriangle {
+  std::array<glm::vec3, 3> p;
+  glm::vec3 normal;  // unit, the side that reflects
+  glm::vec3 albedo;
+  int tag = -1;
+};
+
+// Triangles longer than `max_edge` are split 1-to-4 until they are not;
+// each group (a mesh instance) becomes one binary tree, split at the median
+// along the widest extent of (centre, 0.3 x size x normal) so siblings are
+// adjacent and similarly oriented.
+Patches BuildPatches(const std::vector<std::vector<SourceTriangle>>& groups, float max_edge);
+
+}  // namespace gistream::antiradiance

@@ -1,0 +1,231 @@
+#include "solvers/antiradiance/transport.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "solvers/antiradiance/parallel.h"
+
+namespace gistream::antiradiance {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+double Luminance(const glm::vec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
+bool Finite(const glm::vec3& c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); }
+
+// Nodes of each root's subtree: [root, next root) in the depth-first layout.
+std::vector<std::pair<int, int>> RootRanges(const Patches& p) {
+  std::vector<std::pair<int, int>> r;
+  for (size_t i = 0; i < p.roots.size(); ++i) {
+    r.push_back({p.roots[i], i + 1 < p.roots.size() ? p.roots[i + 1] : p.size()});
+  }
+  return r;
+}
+
+}  // namespace
+
+Transport::Transport(const Patches& patches, const DirectionalBins& bins, std::vector<Link> links)
+    : patches_(patches), bins_(bins), links_(std::move(links)), m_(bins.count()) {
+  leaves_ = patches_.Leaves();
+  const size_t cells = size_t(patches_.size()) * size_t(m_);
+  i_ex_.assign(cells, glm::vec3(0.0f));
+  l_in_.assign(cells, glm::vec3(0.0f));
+  indirect_.assign(size_t(patches_.size()), glm::vec3(0.0f));
+  cosine_sum_.resize(leaves_.size());
+  for (size_t k = 0; k < leaves_.size(); ++k) {
+    const glm::vec3& n = patches_.normal[size_t(leaves_[k])];
+    double s = 0.0;
+    for (int j = 0; j < m_; ++j) s += std::max(0.0f, glm::dot(n, bins_.direction(j)));
+    cosine_sum_[k] = float(s * bins_.omega_bin());
+  }
+  // Links are sorted by receiver: one range per receiver for the parallel gather.
+  for (size_t i = 0; i < links_.size(); ++i) {
+    if (i == 0 || links_[i].receiver != links_[i - 1].receiver) receiver_begin_.push_back(uint32_t(i));
+  }
+  receiver_begin_.push_back(uint32_t(links_.size()));
+}
+
+void Transport::Initialize(const std::vector<glm::vec3>& direct, const std::vector<glm::vec3>& emitted) {
+  source_.assign(leaves_.size(), glm::vec3(0.0f));
+  for (size_t k = 0; k < leaves_.size(); ++k) {
+    const size_t i = size_t(leaves_[k]);
+    const glm::vec3 e_d = i < direct.size() ? direct[i] : glm::vec3(0.0f);
+    const glm::vec3 l_e = i < emitted.size() ? emitted[i] : glm::vec3(0.0f);
+    source_[k] = patches_.albedo[i] * e_d + kPi * l_e;
+  }
+  radiosity_ = source_;
+  std::fill(l_in_.begin(), l_in_.end(), glm::vec3(0.0f));
+  std::fill(indirect_.begin(), indirect_.end(), glm::vec3(0.0f));
+  std::fill(i_ex_.begin(), i_ex_.end(), glm::vec3(0.0f));
+  LocalPass(/*update_radiance=*/false);  // I_ex = I_L of the source, no antiradiance yet
+  Pull();
+  source_norm_ = 0.0;
+  for (int leaf : leaves_) {
+    for (int j = 0; j < m_; ++j) source_norm_ += std::abs(Luminance(i_ex_[Index(leaf, j)]));
+  }
+}
+
+void Transport::GlobalPass() {
+  // Operator U (Eq. 4) through the links: L_in(x_i, omega_j) += F I_ex(x_k, omega_l)
+  // (Eqs. 16-17), spread over the receiver's bins by the cone's table (Section 3.1).
+  std::fill(l_in_.begin(), l_in_.end(), glm::vec3(0.0f));
+  const size_t receivers = receiver_begin_.size() - 1;
+  ParallelFor(receivers, 64, [&](size_t r) {
+    for (uint32_t k = receiver_begin_[r]; k < receiver_begin_[r + 1]; ++k) {
+      const Link& l = links_[k];
+      const glm::vec3 flux = l.form_factor * i_ex_[Index(int(l.sender), l.sender_bin)];
+      glm::vec3* dst = &l_in_[Index(int(l.receiver), 0)];
+      const auto [begin, end] = bins_.Row(l.cone, l.receiver_bin);
+      for (const DirectionalBins::Tap* t = begin; t != end; ++t) dst[t->bin] += t->weight * flux;
+    }
+  });
+}
+
+void Transport::Push() {
+  // Section 3.2: light gathered at inner nodes goes down to the leaves
+  // (radiance, so each child receives its parent's). Parents precede
+  // children in the depth-first layout.
+  const auto ranges = RootRanges(patches_);
+  ParallelFor(ranges.size(), 1, [&](size_t r) {
+    for (int i = ranges[r].first; i < ranges[r].second; ++i) {
+      if (patches_.is_leaf(i)) continue;
+      for (int c : patches_.children[size_t(i)]) {
+        if (c < 0) continue;
+        for (int j = 0; j < m_; ++j) l_in_[Index(c, j)] += l_in_[Index(i, j)];
+      }
+    }
+  });
+}
+
+void Transport::Pull() {
+  // Section 3.2: an inner node's intensity is the sum of its children's.
+  const auto ranges = RootRanges(patches_);
+  ParallelFor(ranges.size(), 1, [&](size_t r) {
+    for (int i = ranges[r].second - 1; i >= ranges[r].first; --i) {
+      if (patches_.is_leaf(i)) continue;
+      glm::vec3* dst = &i_ex_[Index(i, 0)];
+      std::fill(dst, dst + m_, glm::vec3(0.0f));
+      for (int c : patches_.children[size_t(i)]) {
+        if (c < 0) continue;
+        const glm::vec3* src = &i_ex_[Index(c, 0)];
+        for (int j = 0; j < m_; ++j) dst[j] += src[j];
+      }
+    }
+  });
+}
+
+double Transport::LocalPass(bool update_radiance) {
+  std::vector<double> change(leaves_.size(), 0.0);
+  const float omega = bins_.omega_bin();
+  ParallelFor(leaves_.size(), 64, [&](size_t k) {
+    const int i = leaves_[k];
+    const glm::vec3& n = patches_.normal[size_t(i)];
+    const float a = patches_.area[size_t(i)];
+    const float s = cosine_sum_[k];
+    // Irradiance from the positive hemisphere (the cosine integral of Eq. 18).
+    glm::vec3 e(0.0f);
+    for (int j = 0; j < m_; ++j) {
+      const float c = glm::dot(n, bins_.direction(j));
+      if (c > 0.0f) e += (omega * c) * l_in_[Index(i, j)];
+    }
+    e *= kPi / s;
+    indirect_[size_t(i)] = e;
+    // K, Eq. 18 for a diffuse BRDF rho / pi: L = B / pi with B = rho (E_d + E).
+    if (update_radiance) radiosity_[k] = source_[k] + patches_.albedo[size_t(i)] * e;
+    const glm::vec3 b = radiosity_[k] * (a / s);
+    double d = 0.0;
+    bool finite = true;
+    for (int j = 0; j < m_; ++j) {
+      const float c = glm::dot(n, bins_.direction(j));
+      glm::vec3 v;
+      if (c > 0.0f) {
+        v = c * b;  // I_L(omega_j) = a <n|omega_j> L
+      } else {
+        // J, Eq. 19: light incident from -omega_j leaves towards omega_j as
+        // antiradiance, I_A = a <n|-omega_j> L_in, stored negated in I_ex.
+        v = (a * c) * l_in_[Index(i, bins_.opposite(j))];
+      }
+      glm::vec3& slot = i_ex_[Index(i, j)];
+      d += std::abs(Luminance(v - slot));
+      finite = finite && Finite(v);
+      slot = v;
+    }
+    change[k] = finite && Finite(e) ? d : std::nan("");
+  });
+  return std::accumulate(change.begin(), change.end(), 0.0);
+}
+
+double Transport::RunScheme(Scheme scheme, const TransportSettings& s, const StageHook& hook,
+                            TransportResult* result, bool watch_divergence) {
+  auto stage = [&](const char* name, bool begin) {
+    if (hook) hook(name, begin);
+  };
+  auto step = [&](bool radiance) {
+    stage("global_pass", true);
+    GlobalPass();
+    stage("global_pass", false);
+    stage("push_pull", true);
+    Push();
+    stage("push_pull", false);
+    stage("local_pass", true);
+    const double d = LocalPass(radiance);
+    stage("local_pass", false);
+    stage("push_pull", true);
+    Pull();
+    stage("push_pull", false);
+    ++result->global_passes;
+    const double r = source_norm_ > 0.0 ? d / source_norm_ : d;
+    result->residual.push_back(r);
+    return r;
+  };
+  for (int it = 0; it < s.iterations; ++it) {
+    if (scheme == Scheme::kAsymmetric) {
+      // Eq. 14 with L^(i) frozen, then one step of Eq. 13.
+      // The antiradiance steps run until A stops changing (at most
+      // antiradiance_steps, which must cover the scene's depth complexity).
+      for (int a = 0; a < s.antiradiance_steps; ++a) {
+        const double r = step(false);
+        if (!std::isfinite(r)) return std::nan("");
+        if (r < s.antiradiance_tolerance) break;
+      }
+      if (!std::isfinite(step(true))) return std::nan("");
+      continue;
+    }
+    // Symmetric: Eqs. 13 and 14 together.
+    const double r = step(true);
+    if (!std::isfinite(r)) return std::nan("");
+    const auto& h = result->residual;
+    if (watch_divergence && h.size() >= 3 && h[h.size() - 1] > h[h.size() - 2] &&
+        h[h.size() - 2] > h[h.size() - 3]) {
+      return std::nan("");  // grew two iterations in a row
+    }
+  }
+  return result->residual.empty() ? 0.0 : result->residual.back();
+}
+
+TransportResult Transport::Solve(const std::vector<glm::vec3>& direct_irradiance,
+                                 const std::vector<glm::vec3>& emitted, const TransportSettings& settings,
+                                 const StageHook& hook) {
+  TransportResult result;
+  result.scheme_used = settings.scheme;
+  Initialize(direct_irradiance, emitted);
+  double r = RunScheme(settings.scheme, settings, hook, &result,
+                       /*watch_divergence=*/settings.scheme == Scheme::kSymmetric);
+  if (!std::isfinite(r) && settings.scheme == Scheme::kSymmetric) {
+    // Stability fallback: the asymmetric scheme provably converges (Section 2.2).
+    result.fallback = true;
+    result.scheme_used = Scheme::kAsymmetric;
+    result.symmetric_residual = std::move(result.residual);
+    result.residual.clear();
+    Initialize(direct_irradiance, emitted);
+    r = RunScheme(Scheme::kAsymmetric, settings, hook, &result, false);
+  }
+  if (!std::isfinite(r)) {
+    result.non_finite = true;
+    std::fill(indirect_.begin(), indirect_.end(), glm::vec3(0.0f));
+  }
+  return result;
+}
+
+}  // namespace gistream::antiradiance

@@ -1,0 +1,96 @@
+// The iterative solution of Dachsbacher et al. 2007 on the element
+// hierarchy (Sections 2.2, 3.1, 3.2): per node and bin the exitant
+// intensity I_ex = I_L - I_A and the incident radiance L_in, and the four
+// operations of one iteration:
+//   global_pass  L_in = U I_ex along the links (Eqs. 16-17, spreading tables)
+//   push_pull    push L_in down to the leaves / pull I_ex up (sum of children)
+//   local_pass   K (Eq. 18, diffuse) and J (Eq. 19) at the leaves
+// in the symmetric scheme (alternate Eqs. 13 and 14) or the asymmetric one
+// (after each radiance step, antiradiance steps with L frozen). A residual
+// is tracked per iteration; a symmetric frame whose residual grows two
+// iterations in a row, or turns non-finite, is redone asymmetrically.
+//
+// Diffuse surfaces only, so a leaf's I_L is a_i <n_i|omega_j>_+ B_i / S(n_i)
+// with B_i its exitant radiosity and S(n) = sum_j omega_bin <n|omega_j>_+ the
+// discrete cosine integral (~pi): the bins then carry exactly a_i B_i of flux.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "solvers/antiradiance/directional_bins.h"
+#include "solvers/antiradiance/links.h"
+#include "solvers/antiradiance/patches.h"
+
+namespace gistream::antiradiance {
+
+enum class Scheme { kSymmetric = 0, kAsymmetric = 1 };
+
+struct TransportSettings {
+  int iterations = 4;          // symmetric: iterations; asymmetric: radiance steps
+  Scheme scheme = Scheme::kSymmetric;
+  int antiradiance_steps = 16;  // asymmetric: most Eq. 14 steps per radiance step
+  double antiradiance_tolerance = 1e-3;  // asymmetric: stop Eq. 14 below this residual
+};
+
+struct TransportResult {
+  Scheme scheme_used = Scheme::kSymmetric;
+  bool fallback = false;         // symmetric diverged; redone asymmetrically
+  bool non_finite = false;       // even the asymmetric scheme produced NaN/Inf (output zeroed)
+  int global_passes = 0;
+  std::vector<double> residual;  // per global pass of the scheme used: |dI_ex|_1 / |I_ex^(0)|_1
+  std::vector<double> symmetric_residual;  // the abandoned symmetric run, when fallback
+};
+
+// Stage hooks so the caller can time the passes (gl::StageTimer).
+using StageHook = std::function<void(const char* stage, bool begin)>;
+
+class Transport {
+ public:
+  Transport(const Patches& patches, const DirectionalBins& bins, std::vector<Link> links);
+
+  // Sources per node (leaves used): direct irradiance E_d (W/m^2, from the
+  // shadow maps, Section 3.3, no antiradiance) and emitted radiance L_e
+  // (nits) to transport (the solver leaves L_e to the direct term).
+  TransportResult Solve(const std::vector<glm::vec3>& direct_irradiance,
+                        const std::vector<glm::vec3>& emitted, const TransportSettings& settings,
+                        const StageHook& hook = {});
+
+  // After Solve, per node (leaves): indirect irradiance
+  // E = (pi / S(n)) sum_j omega_bin <n|omega_j>_+ L_in(j) of the last pass.
+  const std::vector<glm::vec3>& indirect_irradiance() const { return indirect_; }
+  const glm::vec3& L_in(int node, int bin) const { return l_in_[Index(node, bin)]; }
+  const glm::vec3& I_ex(int node, int bin) const { return i_ex_[Index(node, bin)]; }
+  const std::vector<Link>& links() const { return links_; }
+  uint64_t table_bytes() const { return (i_ex_.size() + l_in_.size()) * sizeof(glm::vec3); }
+  uint64_t link_bytes() const { return links_.size() * sizeof(Link) + receiver_begin_.size() * 4; }
+
+ private:
+  size_t Index(int node, int bin) const { return size_t(node) * size_t(m_) + size_t(bin); }
+  void Initialize(const std::vector<glm::vec3>& direct, const std::vector<glm::vec3>& emitted);
+  void GlobalPass();
+  void Push();
+  // K (when update_radiance) and J at the leaves; returns |dI_ex|_1 or NaN.
+  double LocalPass(bool update_radiance);
+  void Pull();
+  double RunScheme(Scheme scheme, const TransportSettings& s, const StageHook& hook,
+                   TransportResult* result, bool watch_divergence);
+
+  const Patches& patches_;
+  const DirectionalBins& bins_;
+  std::vector<Link> links_;
+  std::vector<uint32_t> receiver_begin_;  // link ranges with one receiver
+  int m_;
+  std::vector<int> leaves_;
+  std::vector<float> cosine_sum_;     // S(n) per leaf slot
+  std::vector<glm::vec3> source_;     // rho E_d + pi L_e per leaf slot (radiosity of the source)
+  std::vector<glm::vec3> radiosity_;  // B per leaf slot
+  std::vector<glm::vec3> indirect_;   // per node
+  std::vector<glm::vec3> i_ex_, l_in_;
+  double source_norm_ = 0.0;
+};
+
+}  // namespace gistream::antiradiance

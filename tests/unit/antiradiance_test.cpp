@@ -1,0 +1,298 @@
+// The antiradiance core (Dachsbacher et al. 2007) on hand-built scenes,
+// without GL: the form factor of Eq. 17 against the analytic one, a
+// blocker cancelled by antiradiance (Figs. 2 and 5), and the stability
+// cases of issue 7 (stiff furnace, deep slab stack, surfaces almost
+// touching).
+#include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "solvers/antiradiance/directional_bins.h"
+#include "solvers/antiradiance/links.h"
+#include "solvers/antiradiance/patches.h"
+#include "solvers/antiradiance/shared_elements.h"
+#include "solvers/hierarchy/element_tree.h"
+#include "solvers/hierarchy/surfels.h"
+#include "solvers/antiradiance/transport.h"
+
+namespace gistream::antiradiance {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+// A w x h rectangle centred at c spanned by unit u, v; it faces u x v.
+std::vector<SourceTriangle> Quad(glm::vec3 c, glm::vec3 u, glm::vec3 v, float w, float h, float rho) {
+  const glm::vec3 a = c - 0.5f * w * u - 0.5f * h * v, b = a + w * u, d = a + h * v, e = b + h * v;
+  const glm::vec3 n = glm::normalize(glm::cross(u, v));
+  return {{{a, b, e}, n, glm::vec3(rho)}, {{a, e, d}, n, glm::vec3(rho)}};
+}
+
+const glm::vec3 kX(1, 0, 0), kY(0, 1, 0), kZ(0, 0, 1);
+
+// Scene + its solution.
+struct Solved {
+  Solved(std::vector<std::vector<SourceTriangle>> groups, float max_edge, int m) {
+    patches = BuildPatches(groups, max_edge);
+    bins = *DirectionalBins::Create(m);
+    transport = std::make_unique<Transport>(patches, bins, CreateLinks(patches, bins, nullptr));
+  }
+  // Leaves under root r.
+  std::vector<int> LeavesOf(size_t r) const {
+    const int end = r + 1 < patches.roots.size() ? patches.roots[r + 1] : patches.size();
+    std::vector<int> out;
+    for (int i = patches.roots[r]; i < end; ++i) {
+      if (patches.is_leaf(i)) out.push_back(i);
+    }
+    return out;
+  }
+  // Area-weighted mean of indirect irradiance over root r's leaves (green).
+  double MeanIrradiance(size_t r) const {
+    double e = 0.0, a = 0.0;
+    for (int i : LeavesOf(r)) {
+      e += double(patches.area[size_t(i)]) * transport->indirect_irradiance()[size_t(i)].g;
+      a += patches.area[size_t(i)];
+    }
+    return e / a;
+  }
+  std::vector<glm::vec3> Emission(size_t root, float l) const {
+    std::vector<glm::vec3> e(size_t(patches.size()), glm::vec3(0.0f));
+    for (int i : LeavesOf(root)) e[size_t(i)] = glm::vec3(l);
+    return e;
+  }
+  Patches patches;
+  DirectionalBins bins;
+  std::unique_ptr<Transport> transport;
+};
+
+TEST(AntiradianceBins, AntipodalUniformAndLookup) {
+  const DirectionalBins b = *DirectionalBins::Create(128);
+  EXPECT_NEAR(b.omega_bin() * 128, 4 * kPi, 1e-4);
+  for (int j = 0; j < b.count(); ++j) {
+    EXPECT_NEAR(glm::length(b.direction(j) + b.direction(b.opposite(j))), 0.0f, 1e-6f);
+    EXPECT_EQ(b.Find(b.direction(j)), j);
+  }
+  // Spreading rows conserve energy.
+  for (int l = 0; l < b.cone_levels(); ++l) {
+    const auto [begin, end] = b.Row(l, 5);
+    double s = 0.0;
+    for (auto* t = begin; t != end; ++t) s += t->weight;
+    EXPECT_NEAR(s, 1.0, 1e-5) << l;
+  }
+  EXPECT_FALSE(DirectionalBins::Create(7).ok());
+  EXPECT_NE(DirectionalBins::Create(7).status().message().find("params.bins"), std::string::npos);
+}
+
+TEST(AntiradiancePatches, SharedHierarchyIsRelaidOutDepthFirst) {
+  // A 6 x 6 grid of quads through the shared create_surfels /
+  // create_hierarchy: same leaves and areas, parents before children.
+  Primitive grid;
+  const int n = 6;
+  for (int y = 0; y <= n; ++y) {
+    for (int x = 0; x <= n; ++x) {
+      grid.positions.push_back({float(x) / n, 0.0f, float(y) / n});
+      grid.normals.push_back({0, 1, 0});
+    }
+  }
+  for (int y = 0; y < n; ++y) {
+    for (int x = 0; x < n; ++x) {
+      const uint32_t a = uint32_t(y * (n + 1) + x), b = a + 1, c = a + uint32_t(n + 1), d = c + 1;
+      grid.indices.insert(grid.indices.end(), {a, c, b, b, c, d});
+    }
+  }
+  auto mesh = std::make_shared<hierarchy::ElementMesh>();
+  mesh->surfels = hierarchy::CreateSurfels(grid);
+  mesh->tree = hierarchy::CreateHierarchy(mesh->surfels);
+  hierarchy::Elements elements({{mesh, 0, {}}});
+  elements.Update({glm::mat4(1.0f)});
+  const std::vector<glm::vec3> albedo(size_t(elements.leaf_count()), glm::vec3(0.5f));
+  const std::vector<int> tag(size_t(elements.leaf_count()), 3);
+  const Patches p = PatchesFromElements(elements, albedo, tag);
+  EXPECT_EQ(p.size(), elements.node_count());
+  EXPECT_EQ(int(p.Leaves().size()), elements.leaf_count());
+  double leaf_area = 0.0, root_area = 0.0;
+  for (int i = 0; i < p.size(); ++i) {
+    if (p.is_leaf(i)) {
+      leaf_area += p.area[size_t(i)];
+      EXPECT_EQ(p.tag[size_t(i)], 3);
+      EXPECT_EQ(p.albedo[size_t(i)].g, 0.5f);
+      continue;
+    }
+    float children = 0.0f;
+    for (int c : p.children[size_t(i)]) {
+      if (c < 0) continue;
+      EXPECT_GT(c, i);  // depth-first: push walks forward
+      children += p.area[size_t(c)];
+    }
+    EXPECT_NEAR(children, p.area[size_t(i)], 1e-5f * p.area[size_t(i)]);
+  }
+  for (int r : p.roots) root_area += p.area[size_t(r)];
+  EXPECT_NEAR(leaf_area, 1.0, 1e-5);
+  EXPECT_NEAR(root_area, 1.0, 1e-5);
+}
+
+TEST(AntiradianceTransport, TwoPatchExchangeMatchesTheAnalyticFormFactor) {
+  // Two parallel unit squares one unit apart: F = 0.19982 (Howell's
+  // catalogue, C-11). A Lambertian sender of radiance 1 puts
+  // pi * L * A * F of flux on the receiver; one global pass carries it.
+  Solved s({Quad({0, 0, 0}, kX, kZ * -1.0f, 1, 1, 0), Quad({0, 1, 0}, kX, kZ, 1, 1, 0)}, 0.09f, 512);
+  // Both face each other: the first faces +y, the second -y.
+  ASSERT_GT(s.patches.normal[size_t(s.patches.roots[0])].y, 0.9f);
+  ASSERT_LT(s.patches.normal[size_t(s.patches.roots[1])].y, -0.9f);
+  TransportSettings settings;
+  settings.iterations = 1;
+  const TransportResult r = s.transport->Solve({}, s.Emission(0, 1.0f), settings);
+  EXPECT_FALSE(r.fallback);
+  const double flux = s.MeanIrradiance(1) * 1.0;  // receiver area 1
+  EXPECT_NEAR(flux / (kPi * 0.19982), 1.0, 0.02);
+}
+
+TEST(AntiradianceTransport, BlockerIsCancelledByAntiradiance) {
+  // Sender (emitting, below) -> two-sided black blocker -> receiver above.
+  // Iteration 1 lets the light through (no antiradiance yet); later
+  // iterations cancel it (the paper's Fig. 2).
+  auto scene = [](bool blocker) {
+    std::vector<std::vector<SourceTriangle>> g = {Quad({0, 0, 0}, kX, -kZ, 0.3f, 0.3f, 0),
+                                                  Quad({0, 1, 0}, kX, kZ, 0.3f, 0.3f, 0)};
+    if (blocker) {
+      g.push_back(Quad({0, 0.5f, 0}, kX, kZ, 1.2f, 1.2f, 0));    // faces the sender
+      g.push_back(Quad({0, 0.52f, 0}, kX, -kZ, 1.2f, 1.2f, 0));  // faces the receiver
+    }
+    return g;
+  };
+  // Fewer bins blur the antiradiance more. Within a bin the cancelled
+  // light is looked up along one direction (a parallel rather than a
+  // perspective projection of the sender), which over-cancels: the
+  // receiver ends slightly negative, less so with more bins (Fig. 13).
+  double final_behind[2] = {0.0, 0.0};
+  for (int m : {128, 512}) {
+    TransportSettings settings;
+    settings.iterations = 1;
+    Solved open(scene(false), 0.1f, m);
+    open.transport->Solve({}, open.Emission(0, 1.0f), settings);
+    const double unblocked = open.MeanIrradiance(1);
+    ASSERT_GT(unblocked, 0.0);
+    Solved blocked(scene(true), 0.1f, m);
+    std::vector<double> behind;
+    TransportResult r;
+    for (int it = 1; it <= 4; ++it) {
+      settings.iterations = it;
+      r = blocked.transport->Solve({}, blocked.Emission(0, 1.0f), settings);
+      behind.push_back(blocked.MeanIrradiance(1) / unblocked);
+    }
+    EXPECT_FALSE(r.fallback);
+    ASSERT_EQ(r.residual.size(), 4u);
+    std::printf("bins %d: E behind the blocker / unblocked per iteration:", m);
+    for (double x : behind) std::printf(" %.4f", x);
+    std::printf("; residual per iteration:");
+    for (double x : r.residual) std::printf(" %.3g", x);
+    std::printf("\n");
+    EXPECT_NEAR(behind[0], 1.0, 0.02) << m;  // no shadow after one iteration
+    final_behind[m == 512] = behind[3];
+    // Converged after two iterations (one layer of occlusion).
+    EXPECT_LT(r.residual[3], 1e-6) << m;
+  }
+  EXPECT_LT(std::abs(final_behind[0]), 0.35);  // measured -0.27
+  EXPECT_LT(std::abs(final_behind[1]), 0.15);  // measured -0.11
+  EXPECT_LT(std::abs(final_behind[1]), std::abs(final_behind[0]));
+}
+
+// A closed box of six inward-facing walls, all emitting L_e = 1 with
+// albedo rho: the exact solution is B = pi L_e / (1 - rho).
+std::vector<std::vector<SourceTriangle>> Box(float rho) {
+  return {Quad({0, -0.5f, 0}, kX, -kZ, 1, 1, rho), Quad({0, 0.5f, 0}, kX, kZ, 1, 1, rho),
+          Quad({-0.5f, 0, 0}, kY, kZ, 1, 1, rho),  Quad({0.5f, 0, 0}, kY, -kZ, 1, 1, rho),
+          Quad({0, 0, -0.5f}, kX, kY, 1, 1, rho),  Quad({0, 0, 0.5f}, kX, -kY, 1, 1, rho)};
+}
+
+TEST(AntiradianceStability, StiffFurnaceStaysFiniteAndBounded) {
+  for (float rho : {0.9f, 0.99f}) {
+    Solved s(Box(rho), 0.2f, 128);
+    std::vector<glm::vec3> emit(size_t(s.patches.size()), glm::vec3(1.0f));
+    TransportSettings settings;
+    settings.iterations = 48;
+    const TransportResult r = s.transport->Solve({}, emit, settings);
+    EXPECT_FALSE(r.non_finite);
+    // Indirect irradiance after n iterations: pi L_e (rho + ... + rho^n)
+    // at most; the fixed point pi L_e rho / (1 - rho) bounds every leaf.
+    const double bound = kPi * rho / (1.0 - rho);
+    const double truncated = kPi * (rho - std::pow(rho, 49)) / (1.0 - rho);
+    double lo = 1e30, hi = -1e30;
+    for (int i : s.patches.Leaves()) {
+      const glm::vec3 e = s.transport->indirect_irradiance()[size_t(i)];
+      ASSERT_TRUE(std::isfinite(e.g));
+      lo = std::min(lo, double(e.g)), hi = std::max(hi, double(e.g));
+    }
+    EXPECT_LE(hi, bound) << rho;
+    EXPECT_GE(lo, 0.0) << rho;
+    // 15 % at rho 0.9: leaf-centre collocation and the disc form factor
+    // lose ~1 % of the light per bounce near the box's edges (measured
+    // -10 %); at rho 0.99 the loss compounds over 48 bounces (-38 %), so
+    // only the bounds are checked there.
+    if (rho < 0.95f) {
+      EXPECT_NEAR(s.MeanIrradiance(0) / truncated, 1.0, 0.15) << rho << " scheme " << int(r.scheme_used);
+    }
+  }
+}
+
+TEST(AntiradianceStability, DeepSlabStackNeedsManyAntiradianceSteps) {
+  // Six closed slabs between an emitter and a receiver: every layer needs
+  // one more antiradiance step to be cancelled. The symmetric scheme
+  // diverges here (the discrete U creates energy between the close
+  // plates) and must fall back; the asymmetric one converges.
+  std::vector<std::vector<SourceTriangle>> g = {Quad({0, 0, 0}, kX, -kZ, 0.3f, 0.3f, 0.5f),
+                                                Quad({0, 1.6f, 0}, kX, kZ, 0.3f, 0.3f, 0.5f)};
+  for (int k = 0; k < 6; ++k) {
+    const float y = 0.3f + 0.2f * float(k);
+    g.push_back(Quad({0, y, 0}, kX, kZ, 0.7f, 0.7f, 0.5f));
+    g.push_back(Quad({0, y + 0.05f, 0}, kX, -kZ, 0.7f, 0.7f, 0.5f));
+  }
+  Solved s(g, 0.15f, 128);
+  for (Scheme scheme : {Scheme::kSymmetric, Scheme::kAsymmetric}) {
+    TransportSettings settings;
+    settings.iterations = 8;
+    settings.scheme = scheme;
+    const TransportResult r = s.transport->Solve({}, s.Emission(0, 1.0f), settings);
+    EXPECT_FALSE(r.non_finite);
+    double lo = 0.0, hi = 0.0;
+    for (int i : s.patches.Leaves()) {
+      const double e = s.transport->indirect_irradiance()[size_t(i)].g;
+      ASSERT_TRUE(std::isfinite(e));
+      lo = std::min(lo, e), hi = std::max(hi, e);
+    }
+    std::printf("slabs scheme %d used %d fallback %d passes %d residual %.3g min/max E %.3g\n", int(scheme),
+                int(r.scheme_used), int(r.fallback), r.global_passes, r.residual.back(), lo / hi);
+    EXPECT_EQ(r.scheme_used, Scheme::kAsymmetric);
+    EXPECT_EQ(r.fallback, scheme == Scheme::kSymmetric);  // the symmetric residual grew twice in a row
+    if (r.fallback) {
+      EXPECT_FALSE(r.symmetric_residual.empty());
+    }
+    // Total intensity dips below zero where antiradiance over-cancels
+    // (see the blocker): stated tolerance 20 % of the brightest leaf.
+    EXPECT_GE(lo, -0.2 * hi) << int(scheme);
+    // The receiver behind eight slabs is dark.
+    EXPECT_LT(std::abs(s.MeanIrradiance(1)), 0.1 * hi) << int(scheme);
+  }
+}
+
+TEST(AntiradianceStability, SurfacesAlmostTouching) {
+  // Two facing squares 0.1 mm apart (a paper on a table): the 1 / r^2 of
+  // Eq. 17 is huge, but the oracle subdivides to leaves and spreads them
+  // over a hemisphere; nothing may blow up or exceed the furnace bound.
+  const float rho = 0.9f;
+  Solved s({Quad({0, 0, 0}, kX, -kZ, 1, 1, rho), Quad({0, 1e-4f, 0}, kX, kZ, 1, 1, rho)}, 0.2f, 128);
+  std::vector<glm::vec3> emit(size_t(s.patches.size()), glm::vec3(1.0f));
+  TransportSettings settings;
+  settings.iterations = 8;
+  const TransportResult r = s.transport->Solve({}, emit, settings);
+  EXPECT_FALSE(r.non_finite);
+  for (int i : s.patches.Leaves()) {
+    const float e = s.transport->indirect_irradiance()[size_t(i)].g;
+    ASSERT_TRUE(std::isfinite(e));
+    EXPECT_GE(e, 0.0f);
+    EXPECT_LE(e, 1.05f * kPi * rho / (1.0f - rho));
+  }
+}
+
+}  // namespace
+}  // namespace gistream::antiradiance
