@@ -4,9 +4,8 @@
 // the leaf elements is interpolated like the paper's splatting (Section
 // 4.3): elements near the pixel with a similar normal, weighted by a
 // smooth fall-off, re-normalized by the total weight.
-#include "render/direct_light.glsl"
+#include "render/shade_surface.glsl"
 #include "antiradiance/elements.glsl"
-#include "render/gbuffer_read.glsl"
 layout(std430, binding = 7) readonly buffer Grid { uint grid[]; };  // cell starts (cells + 1), leaf ids
 uniform vec3 uGridMin;
 uniform ivec3 uGridDims;
@@ -40,16 +39,10 @@ vec3 IndirectIrradiance(vec3 p, vec3 n) {
 }
 
 void main() {
-  ivec2 px = ivec2(gl_FragCoord.xy);
-  vec4 pos = texelFetch(uGPosition, px, 0);
-  if (pos.w == 0.0) {
+  GSurface s;
+  if (!ReadGBuffer(ivec2(gl_FragCoord.xy), s)) {
     oRadiance = vec4(0.0, 0.0, 0.0, 1.0);
     return;
   }
-  vec3 n = texelFetch(uGNormal, px, 0).xyz;
-  vec3 albedo = texelFetch(uGAlbedo, px, 0).rgb;
-  vec3 emission = texelFetch(uGEmission, px, 0).rgb;
-  vec3 e_direct = FiniteOrZero(DirectIrradiance(pos.xyz, n));
-  vec3 e_indirect = FiniteOrZero(IndirectIrradiance(pos.xyz, n));
-  oRadiance = vec4(emission + albedo * INV_PI * (e_direct + e_indirect), 1.0);
+  oRadiance = vec4(ShadeSurface(s, IndirectIrradiance(s.position, s.normal)), 1.0);
 }

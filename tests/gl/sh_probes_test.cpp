@@ -17,26 +17,9 @@ using testing::FrameStat;
 using testing::ImageMean;
 using testing::BundledCopy;
 using testing::RelMse;
+using testing::GreyAlbedo;
 using testing::RenderRequestExr;
-
-RenderRequest Request(const std::string& scene, const std::string& solver,
-                      std::map<std::string, std::string> params, uint32_t size,
-                      std::vector<Update> updates = {}) {
-  RenderRequest r;
-  r.scene = scene;
-  r.solver = solver;
-  r.params = std::move(params);
-  r.width = r.height = size;
-  r.updates = std::move(updates);
-  return r;
-}
-
-MaterialUpdate Albedo(float rho) {
-  MaterialUpdate m;
-  m.material = 0;
-  m.base_color = glm::vec4(rho, rho, rho, 1.0f);
-  return m;
-}
+using testing::SolverRequest;
 
 TEST(ShProbes, WhiteFurnaceConservesEnergy) {
   // Albedo 0.5, emission 1: L = E / (1 - rho) = 2 in every pixel.
@@ -44,7 +27,7 @@ TEST(ShProbes, WhiteFurnaceConservesEnergy) {
   const std::string& id = scene.id();
   EncodedFrame frame;
   const FloatImage image = RenderRequestExr(
-      Request(id, "sh_probes", {{"grid", "4"}, {"bounces", "12"}, {"tolerance", "0"}}, 32), &frame);
+      SolverRequest(id, "sh_probes", {{"grid", "4"}, {"bounces", "12"}, {"tolerance", "0"}}, 32), &frame);
   ASSERT_EQ(image.width, 32);
   EXPECT_EQ(image.non_finite(), 0u);
   // 3 %: the direct term's area-light samples and the SH band limit.
@@ -57,7 +40,7 @@ TEST(ShProbes, ToleranceStopsBouncingAndReportsTheChange) {
   const BundledCopy scene("furnace.gltf");
   const std::string& id = scene.id();
   EncodedFrame frame;
-  RenderRequestExr(Request(id, "sh_probes", {{"grid", "4"}, {"bounces", "64"}, {"tolerance", "0.02"}}, 16),
+  RenderRequestExr(SolverRequest(id, "sh_probes", {{"grid", "4"}, {"bounces", "64"}, {"tolerance", "0.02"}}, 16),
                    &frame);
   // Bounce k adds about rho^k of the total (rho = 0.5): the change falls
   // under 2 % after a handful of bounces, far before 64.
@@ -78,13 +61,13 @@ TEST(ShProbes, GeometricTailOnAStiffFurnace) {
   const std::map<std::string, std::string> four = {{"grid", "4"}, {"bounces", "4"}, {"tolerance", "0"}};
   EncodedFrame plain_frame, tail_frame;
   const FloatImage plain =
-      RenderRequestExr(Request(id, "sh_probes", four, 16, {{1, Albedo(0.9f)}}), &plain_frame);
+      RenderRequestExr(SolverRequest(id, "sh_probes", four, 16, {{1, GreyAlbedo(0.9f)}}), &plain_frame);
   auto with_tail = four;
   with_tail["tail_estimate"] = "true";
-  const FloatImage tail = RenderRequestExr(Request(id, "sh_probes", with_tail, 16), &tail_frame);
+  const FloatImage tail = RenderRequestExr(SolverRequest(id, "sh_probes", with_tail, 16), &tail_frame);
   auto converged_params = four;
   converged_params["bounces"] = "64";
-  const FloatImage converged = RenderRequestExr(Request(id, "sh_probes", converged_params, 16));
+  const FloatImage converged = RenderRequestExr(SolverRequest(id, "sh_probes", converged_params, 16));
   const double fixed_point = ImageMean(converged).g;
   EXPECT_NEAR(fixed_point, 10.0, 1.0);  // L = E / (1 - rho), within the direct term's 10 %
   const double plain_error = std::abs(ImageMean(plain).g - fixed_point);
@@ -98,25 +81,8 @@ TEST(ShProbes, GeometricTailOnAStiffFurnace) {
 }
 
 TEST(ShProbes, ExtremeScalesAndIntensitiesStayFiniteAndConserveEnergy) {
-  struct Case {
-    float scale, strength;
-  };
-  for (const Case c : {Case{1e-3f, 1.0f}, Case{1e3f, 1.0f}, Case{1.0f, 1e6f}, Case{1.0f, 1e-3f}}) {
-    const BundledCopy scene("furnace.gltf");
-  const std::string& id = scene.id();
-    NodeTransformUpdate scale;
-    scale.node = 0;
-    scale.scale = glm::vec3(c.scale);
-    MaterialUpdate emission;
-    emission.material = 0;
-    emission.emissive_strength = c.strength;
-    const FloatImage image = RenderRequestExr(
-        Request(id, "sh_probes", {{"grid", "4"}, {"bounces", "12"}, {"tolerance", "0"}}, 16,
-                {{1, scale}, {2, emission}}));
-    ASSERT_EQ(image.width, 16);
-    EXPECT_EQ(image.non_finite(), 0u) << c.scale << " " << c.strength;
-    EXPECT_NEAR(ImageMean(image).g / c.strength, 2.0, 0.1) << c.scale << " " << c.strength;
-  }
+  testing::ExpectFurnaceScaleInvariant(
+      "sh_probes", {{"grid", "4"}, {"bounces", "12"}, {"tolerance", "0"}}, 0.1);
 }
 
 // relMSE of `solver` against a path-traced reference, 64 x 64.
@@ -125,10 +91,10 @@ class ShProbesAccuracy : public ::testing::Test {
   void Reference(const std::string& file, int spp) {
     copy_ = std::make_unique<BundledCopy>(file);
     scene_ = copy_->id();
-    reference_ = RenderRequestExr(Request(scene_, "pathtrace", {{"spp", std::to_string(spp)}}, kSize));
+    reference_ = RenderRequestExr(SolverRequest(scene_, "pathtrace", {{"spp", std::to_string(spp)}}, kSize));
   }
   double ErrorOf(const std::string& solver, std::map<std::string, std::string> params = {}) {
-    const FloatImage image = RenderRequestExr(Request(scene_, solver, std::move(params), kSize));
+    const FloatImage image = RenderRequestExr(SolverRequest(scene_, solver, std::move(params), kSize));
     EXPECT_EQ(image.non_finite(), 0u) << solver;
     return RelMse(image, reference_);
   }
@@ -159,7 +125,7 @@ TEST(ShProbes, InvalidProbesInsideTheBlocks) {
   // see back faces and are marked invalid; the image stays finite.
   const BundledCopy scene("cornell_box.gltf");
   EncodedFrame frame;
-  const FloatImage image = RenderRequestExr(Request(scene.id(), "sh_probes", {{"grid", "8"}}, 32), &frame);
+  const FloatImage image = RenderRequestExr(SolverRequest(scene.id(), "sh_probes", {{"grid", "8"}}, 32), &frame);
   EXPECT_EQ(image.non_finite(), 0u);
   EXPECT_GT(FrameStat(frame, "probes_invalid"), 0.0);
   EXPECT_LT(FrameStat(frame, "probes_invalid"), 0.25 * FrameStat(frame, "probes"));
@@ -178,21 +144,21 @@ TEST(ShProbes, StagePlanFollowsTheChange) {
                                        "interpolate"};
   EncodedFrame frame;
   // An open scene: many probe texels see only the background.
-  EXPECT_EQ(RenderRequestExr(Request(id, "sh_probes", params, 16), &frame).non_finite(), 0u);
+  EXPECT_EQ(RenderRequestExr(SolverRequest(id, "sh_probes", params, 16), &frame).non_finite(), 0u);
   for (const std::string& s : gi) EXPECT_FALSE(Skipped(frame, s)) << "first frame " << s;
 
   // Light only: the rasterized cube maps are reused.
   LightUpdate dim;
   dim.light = 0;
   dim.intensity = 10.0f;
-  RenderRequestExr(Request(id, "sh_probes", params, 16, {{1, dim}}), &frame);
+  RenderRequestExr(SolverRequest(id, "sh_probes", params, 16, {{1, dim}}), &frame);
   EXPECT_TRUE(Skipped(frame, "rasterize_cubemaps"));
   for (const char* s : {"render_cubemaps", "sh_project", "interpolate", "final"}) {
     EXPECT_FALSE(Skipped(frame, s)) << "light-only " << s;
   }
 
   // Camera only: every GI stage skipped, only final runs.
-  RenderRequest camera_only = Request(id, "sh_probes", params, 16);
+  RenderRequest camera_only = SolverRequest(id, "sh_probes", params, 16);
   CameraUpdate cam;
   cam.look_at = LookAt{{1.0f, 2.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
   camera_only.camera = cam;
@@ -204,13 +170,13 @@ TEST(ShProbes, StagePlanFollowsTheChange) {
   NodeTransformUpdate move;
   move.node = 2;  // block
   move.translation = {0.5f, 0.25f, 0.3f};
-  RenderRequestExr(Request(id, "sh_probes", params, 16, {{2, move}}), &frame);
+  RenderRequestExr(SolverRequest(id, "sh_probes", params, 16, {{2, move}}), &frame);
   for (const std::string& s : gi) EXPECT_FALSE(Skipped(frame, s)) << "geometry " << s;
 }
 
 TEST(ShProbes, GridTooLargeIsRejectedNamingTheParameters) {
   const BundledCopy scene("cornell_box.gltf");
-  RenderRequest r = Request(scene.id(), "sh_probes", {{"grid", "32"}, {"face_size", "64"}}, 8);
+  RenderRequest r = SolverRequest(scene.id(), "sh_probes", {{"grid", "32"}, {"face_size", "64"}}, 8);
   auto frame = testing::SharedEngine().Render(r);
   ASSERT_FALSE(frame.ok());
   EXPECT_EQ(frame.status().code(), absl::StatusCode::kInvalidArgument);

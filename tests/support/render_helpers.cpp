@@ -136,6 +136,25 @@ double RelMse(const FloatImage& image, const FloatImage& reference) {
   return sum / double(n);
 }
 
+RenderRequest SolverRequest(const std::string& scene, const std::string& solver,
+                            std::map<std::string, std::string> params, uint32_t size,
+                            std::vector<Update> updates) {
+  RenderRequest r;
+  r.scene = scene;
+  r.solver = solver;
+  r.params = std::move(params);
+  r.width = r.height = size;
+  r.updates = std::move(updates);
+  return r;
+}
+
+MaterialUpdate GreyAlbedo(float rho, uint32_t material) {
+  MaterialUpdate m;
+  m.material = material;
+  m.base_color = glm::vec4(rho, rho, rho, 1.0f);
+  return m;
+}
+
 FloatImage RenderRequestExr(RenderRequest request, EncodedFrame* frame_out) {
   request.encoding.format = ImageFormat::kExr;
   auto frame = SharedEngine().Render(request);
@@ -143,6 +162,32 @@ FloatImage RenderRequestExr(RenderRequest request, EncodedFrame* frame_out) {
   if (!frame.ok()) return {};
   if (frame_out) *frame_out = *frame;
   return DecodeExr(*frame);
+}
+
+void ExpectFurnaceScaleInvariant(const std::string& solver,
+                                 const std::map<std::string, std::string>& params,
+                                 double tolerance,
+                                 const std::function<void(const EncodedFrame&)>& check) {
+  struct Case {
+    float scale, strength;
+  };
+  for (const Case c : {Case{1e-3f, 1.0f}, Case{1e3f, 1.0f}, Case{1.0f, 1e6f}, Case{1.0f, 1e-3f}}) {
+    SCOPED_TRACE(::testing::Message() << solver << " scale " << c.scale << " emission " << c.strength);
+    const BundledCopy scene("furnace.gltf");
+    NodeTransformUpdate scale;
+    scale.node = 0;
+    scale.scale = glm::vec3(c.scale);
+    MaterialUpdate emission;
+    emission.material = 0;
+    emission.emissive_strength = c.strength;
+    EncodedFrame frame;
+    const FloatImage image =
+        RenderRequestExr(SolverRequest(scene.id(), solver, params, 16, {{1, scale}, {2, emission}}), &frame);
+    ASSERT_EQ(image.width, 16);
+    EXPECT_EQ(image.non_finite(), 0u);
+    EXPECT_NEAR(ImageMean(image).g / c.strength, 2.0, tolerance);
+    if (check) check(frame);
+  }
 }
 
 }  // namespace gistream::testing

@@ -3,6 +3,7 @@
 // world points projected to pixels.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -71,6 +72,22 @@ glm::dvec3 ImageMean(const FloatImage& image);
 // gistream eval's relMSE: mean over pixels and channels of
 // (x - r)^2 / (r^2 + 0.01).
 double RelMse(const FloatImage& image, const FloatImage& reference);
+
+// A Render request for `solver` on `scene` at size x size with `updates`.
+RenderRequest SolverRequest(const std::string& scene, const std::string& solver,
+                            std::map<std::string, std::string> params, uint32_t size,
+                            std::vector<Update> updates = {});
+// Sets material `material`'s base colour to grey `rho`.
+MaterialUpdate GreyAlbedo(float rho, uint32_t material = 0);
+
+// The white furnace (albedo 0.5: L = 2 x emission) scaled to millimetres
+// and kilometres and with emission 1e-3 and 1e6 nits: renders `solver`
+// at 16 x 16 for each case and expects a finite image whose mean over the
+// emission strength is 2 within `tolerance`; `check` sees every frame.
+void ExpectFurnaceScaleInvariant(const std::string& solver,
+                                 const std::map<std::string, std::string>& params,
+                                 double tolerance,
+                                 const std::function<void(const EncodedFrame&)>& check = {});
 
 // Renders an EXR frame of `request` (format forced to EXR); fails the test
 // on error.

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "solvers/antiradiance/parallel.h"
+#include "util/parallel_for.h"
 
 namespace gistream::antiradiance {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "solvers/antiradiance/parallel.h"
+#include "util/parallel_for.h"
 
 namespace gistream::antiradiance {
 namespace {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "solvers/hierarchy/parallel.h"
+#include "util/parallel_for.h"
 
 namespace gistream::hierarchy {
 

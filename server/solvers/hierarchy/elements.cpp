@@ -5,7 +5,7 @@
 
 #include <glm/gtc/matrix_inverse.hpp>
 
-#include "solvers/hierarchy/parallel.h"
+#include "util/parallel_for.h"
 
 namespace gistream::hierarchy {
 namespace {

@@ -1,6 +1,6 @@
 #include "solvers/hierarchy/gather.h"
 
-#include "solvers/hierarchy/parallel.h"
+#include "util/parallel_for.h"
 
 namespace gistream::hierarchy {
 

@@ -4,7 +4,7 @@
 #include <atomic>
 #include <cmath>
 
-#include "solvers/hierarchy/parallel.h"
+#include "util/parallel_for.h"
 
 namespace gistream::hierarchy {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "solvers/hierarchy/parallel.h"
+#include "util/parallel_for.h"
 
 namespace gistream::hierarchy {
 namespace {

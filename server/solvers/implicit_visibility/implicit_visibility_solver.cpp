@@ -2,7 +2,7 @@
 
 #include <utility>
 
-#include "solvers/hierarchy/parallel.h"
+#include "util/parallel_for.h"
 #include "solvers/pathtrace/env_light.h"
 
 namespace gistream {
@@ -98,7 +98,7 @@ void ImplicitVisibilitySolver::UpdateEnvironment(const SceneState& state) {
       bin_radiance[size_t(b)] =
           env.Radiance(bins_.Direction(b), state.environment_rotation()) * state.environment_intensity();
     }
-    hierarchy::ParallelFor(e_env.size(), 64, [&](size_t i) {
+    ParallelFor(e_env.size(), 64, [&](size_t i) {
       glm::vec3 sum(0.0f);
       for (uint32_t k = leaf_links_.env_offset[i]; k < leaf_links_.env_offset[i + 1]; ++k) {
         sum += leaf_links_.env_weight[k] * bin_radiance[leaf_links_.env_bin[k]];

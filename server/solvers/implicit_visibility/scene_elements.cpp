@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "solvers/hierarchy/parallel.h"
+#include "util/parallel_for.h"
 
 namespace gistream {
 namespace {
@@ -40,7 +40,7 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
   std::vector<std::shared_ptr<hierarchy::ElementMesh>> meshes(keys.size());
   {
     gl::StageTimer::Scope stage(timer, "create_surfels", /*cpu_stage=*/true);
-    hierarchy::ParallelFor(keys.size(), 1, [&](size_t k) {
+    ParallelFor(keys.size(), 1, [&](size_t k) {
       meshes[k] = std::make_shared<hierarchy::ElementMesh>();
       meshes[k]->surfels = hierarchy::CreateSurfels(
           scene.meshes[size_t(keys[k].first)].primitives[size_t(keys[k].second)]);
@@ -48,7 +48,7 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
   }
   {
     gl::StageTimer::Scope stage(timer, "create_hierarchy", /*cpu_stage=*/true);
-    hierarchy::ParallelFor(keys.size(), 1, [&](size_t k) {
+    ParallelFor(keys.size(), 1, [&](size_t k) {
       meshes[k]->tree = hierarchy::CreateHierarchy(meshes[k]->surfels);
     });
   }
@@ -76,7 +76,7 @@ void SceneElements::UpdateGeometry(const SceneState& state) {
   for (const InstanceSource& s : sources_) world.push_back(state.world()[size_t(s.node)]);
   elements_.Update(world);
   const Scene& scene = state.scene();
-  hierarchy::ParallelFor(sources_.size(), 1, [&](size_t i) {
+  ParallelFor(sources_.size(), 1, [&](size_t i) {
     const Primitive& p = scene.meshes[size_t(sources_[i].mesh)].primitives[size_t(sources_[i].primitive)];
     const size_t offset = size_t(elements_.instances()[i].leaf_offset);
     for (size_t v = 0; v < p.positions.size(); ++v) {

@@ -1,7 +1,7 @@
-// A minimal parallel-for for the antiradiance CPU stages: chunks of
-// indices handed out from an atomic counter, one std::thread per hardware
-// thread. (Same shape as implicit_visibility's hierarchy/parallel.h; to be
-// merged into it once that is on main.)
+// A minimal parallel-for for the solvers' CPU stages (hierarchy linking,
+// antiradiance transport, ...): indices handed out in chunks from an atomic counter (dynamic scheduling,
+// since link work per top-level pair varies by orders of magnitude), one
+// std::thread per hardware thread, joined before returning.
 #pragma once
 
 #include <algorithm>
@@ -10,10 +10,11 @@
 #include <thread>
 #include <vector>
 
-namespace gistream::antiradiance {
+namespace gistream {
 
 inline unsigned WorkerCount() { return std::max(1u, std::thread::hardware_concurrency()); }
 
+// Calls fn(i) for every i in [0, n), `chunk` consecutive indices at a time.
 template <typename Fn>
 void ParallelFor(size_t n, size_t chunk, Fn&& fn) {
   if (n == 0) return;
@@ -28,10 +29,15 @@ void ParallelFor(size_t n, size_t chunk, Fn&& fn) {
       for (size_t i = begin; i < end; ++i) fn(i);
     }
   };
+  if (workers <= 1) {
+    run();
+    return;
+  }
   std::vector<std::thread> pool;
+  pool.reserve(workers - 1);
   for (unsigned t = 1; t < workers; ++t) pool.emplace_back(run);
   run();
   for (std::thread& t : pool) t.join();
 }
 
-}  // namespace gistream::antiradiance
+}  // namespace gistream
