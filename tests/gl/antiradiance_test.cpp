@@ -107,46 +107,23 @@ TEST_F(AntiradianceAccuracy, TriangleElementsAlsoBeatDirect) {
   EXPECT_LT(ar, 0.3 * direct) << "direct " << direct << " antiradiance " << ar;
 }
 
-bool Skipped(const EncodedFrame& frame, const std::string& stage) {
-  const StageTiming* t = FrameStage(frame, stage);
-  return t != nullptr && t->skipped;
-}
-
 TEST(Antiradiance, StagePlanFollowsTheChange) {
-  const BundledCopy scene("dynamic_block.gltf");
-  const std::string& id = scene.id();
-  const std::map<std::string, std::string> params = {{"bins", "64"}};
+  using testing::StageSkipped;
+  const testing::ChangeKindFrames f = testing::RenderEachChangeKind("antiradiance", {{"bins", "64"}});
   const std::vector<std::string> gi = {"link", "global_pass", "local_pass", "push_pull"};
-  EncodedFrame frame;
-  EXPECT_EQ(RenderRequestExr(SolverRequest(id, "antiradiance", params, 16), &frame).non_finite(), 0u);
-  for (const std::string& s : gi) EXPECT_FALSE(Skipped(frame, s)) << "first frame " << s;
-  EXPECT_TRUE(FrameStage(frame, "link")->cpu_stage);
-
+  EXPECT_EQ(f.first_image.non_finite(), 0u);
+  for (const std::string& s : gi) EXPECT_FALSE(StageSkipped(f.first, s)) << "first frame " << s;
+  EXPECT_TRUE(FrameStage(f.first, "link")->cpu_stage);
   // Light only: links reused.
-  LightUpdate dim;
-  dim.light = 0;
-  dim.intensity = 10.0f;
-  RenderRequestExr(SolverRequest(id, "antiradiance", params, 16, {{1, dim}}), &frame);
-  EXPECT_TRUE(Skipped(frame, "link"));
+  EXPECT_TRUE(StageSkipped(f.light_only, "link"));
   for (const char* s : {"global_pass", "local_pass", "push_pull", "display"}) {
-    EXPECT_FALSE(Skipped(frame, s)) << "light-only " << s;
+    EXPECT_FALSE(StageSkipped(f.light_only, s)) << "light-only " << s;
   }
-
   // Camera only: only display runs.
-  RenderRequest camera_only = SolverRequest(id, "antiradiance", params, 16);
-  CameraUpdate cam;
-  cam.look_at = LookAt{{1.0f, 2.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
-  camera_only.camera = cam;
-  RenderRequestExr(camera_only, &frame);
-  for (const std::string& s : gi) EXPECT_TRUE(Skipped(frame, s)) << "camera-only " << s;
-  EXPECT_FALSE(Skipped(frame, "display"));
-
+  for (const std::string& s : gi) EXPECT_TRUE(StageSkipped(f.camera_only, s)) << "camera-only " << s;
+  EXPECT_FALSE(StageSkipped(f.camera_only, "display"));
   // Geometry: relink.
-  NodeTransformUpdate move;
-  move.node = 2;  // block
-  move.translation = {0.5f, 0.25f, 0.3f};
-  RenderRequestExr(SolverRequest(id, "antiradiance", params, 16, {{2, move}}), &frame);
-  for (const std::string& s : gi) EXPECT_FALSE(Skipped(frame, s)) << "geometry " << s;
+  for (const std::string& s : gi) EXPECT_FALSE(StageSkipped(f.geometry, s)) << "geometry " << s;
 }
 
 TEST(Antiradiance, MovingAnObjectRelinksOnlyItsPairsAndMatchesAFullLink) {

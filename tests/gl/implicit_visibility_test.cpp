@@ -138,10 +138,7 @@ TEST_F(ImplicitVisibilityAccuracy, IndirectRoomMuchBetterThanDirect) {
   EXPECT_LT(iv, 0.35 * direct) << "direct " << direct << " implicit_visibility " << iv;
 }
 
-bool Skipped(const EncodedFrame& frame, const std::string& stage) {
-  const StageTiming* t = FrameStage(frame, stage);
-  return t != nullptr && t->skipped;
-}
+using testing::StageSkipped;
 
 TEST(ImplicitVisibility, StagePlanFollowsTheChange) {
   const BundledCopy scene("dynamic_block.gltf");
@@ -152,7 +149,7 @@ TEST(ImplicitVisibility, StagePlanFollowsTheChange) {
   RenderRequestExr(Request(id, params, 16), &frame);
   for (const char* s : {"create_surfels", "create_hierarchy", "update_elements", "create_links",
                         "refine_push", "shadow_maps", "illumination", "display"}) {
-    EXPECT_FALSE(Skipped(frame, s)) << "first frame " << s;
+    EXPECT_FALSE(StageSkipped(frame, s)) << "first frame " << s;
     const StageTiming* t = FrameStage(frame, s);
     if (t) std::cout << "stage " << s << " " << t->cpu_ms << " ms\n";
   }
@@ -162,21 +159,21 @@ TEST(ImplicitVisibility, StagePlanFollowsTheChange) {
   dim.light = 0;
   dim.intensity = 10.0f;
   RenderRequestExr(Request(id, params, 16, {{1, dim}}), &frame);
-  for (const std::string& s : relink) EXPECT_TRUE(Skipped(frame, s)) << "light-only " << s;
-  EXPECT_TRUE(Skipped(frame, "create_surfels"));
-  EXPECT_TRUE(Skipped(frame, "create_hierarchy"));
-  EXPECT_FALSE(Skipped(frame, "shadow_maps"));
-  EXPECT_FALSE(Skipped(frame, "illumination"));
-  EXPECT_FALSE(Skipped(frame, "display"));
+  for (const std::string& s : relink) EXPECT_TRUE(StageSkipped(frame, s)) << "light-only " << s;
+  EXPECT_TRUE(StageSkipped(frame, "create_surfels"));
+  EXPECT_TRUE(StageSkipped(frame, "create_hierarchy"));
+  EXPECT_FALSE(StageSkipped(frame, "shadow_maps"));
+  EXPECT_FALSE(StageSkipped(frame, "illumination"));
+  EXPECT_FALSE(StageSkipped(frame, "display"));
 
   // Albedo only: links and shadow maps reused.
   MaterialUpdate paint;
   paint.material = 0;
   paint.base_color = glm::vec4(0.5f, 0.5f, 0.5f, 1.0f);
   RenderRequestExr(Request(id, params, 16, {{1, paint}}), &frame);
-  for (const std::string& s : relink) EXPECT_TRUE(Skipped(frame, s)) << "albedo-only " << s;
-  EXPECT_TRUE(Skipped(frame, "shadow_maps"));
-  EXPECT_FALSE(Skipped(frame, "illumination"));
+  for (const std::string& s : relink) EXPECT_TRUE(StageSkipped(frame, s)) << "albedo-only " << s;
+  EXPECT_TRUE(StageSkipped(frame, "shadow_maps"));
+  EXPECT_FALSE(StageSkipped(frame, "illumination"));
 
   // Camera only: no GI stage runs.
   RenderRequest camera_only = Request(id, params, 16);
@@ -184,19 +181,19 @@ TEST(ImplicitVisibility, StagePlanFollowsTheChange) {
   cam.look_at = LookAt{{1.0f, 2.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
   camera_only.camera = cam;
   RenderRequestExr(camera_only, &frame);
-  for (const std::string& s : relink) EXPECT_TRUE(Skipped(frame, s)) << "camera-only " << s;
-  EXPECT_TRUE(Skipped(frame, "shadow_maps"));
-  EXPECT_TRUE(Skipped(frame, "illumination"));
-  EXPECT_FALSE(Skipped(frame, "display"));
+  for (const std::string& s : relink) EXPECT_TRUE(StageSkipped(frame, s)) << "camera-only " << s;
+  EXPECT_TRUE(StageSkipped(frame, "shadow_maps"));
+  EXPECT_TRUE(StageSkipped(frame, "illumination"));
+  EXPECT_FALSE(StageSkipped(frame, "display"));
 
   // A moving node: update_elements and relinking, the hierarchy is kept.
   NodeTransformUpdate move;
   move.node = 2;  // block
   move.translation = {0.5f, 0.25f, 0.3f};
   RenderRequestExr(Request(id, params, 16, {{2, move}}), &frame);
-  for (const std::string& s : relink) EXPECT_FALSE(Skipped(frame, s)) << "geometry " << s;
-  EXPECT_FALSE(Skipped(frame, "illumination"));
-  EXPECT_TRUE(Skipped(frame, "create_hierarchy"));
+  for (const std::string& s : relink) EXPECT_FALSE(StageSkipped(frame, s)) << "geometry " << s;
+  EXPECT_FALSE(StageSkipped(frame, "illumination"));
+  EXPECT_TRUE(StageSkipped(frame, "create_hierarchy"));
 }
 
 TEST(ImplicitVisibility, TooManyBinsAreRejectedNamingTheParameter) {

@@ -131,47 +131,25 @@ TEST(ShProbes, InvalidProbesInsideTheBlocks) {
   EXPECT_LT(FrameStat(frame, "probes_invalid"), 0.25 * FrameStat(frame, "probes"));
 }
 
-bool Skipped(const EncodedFrame& frame, const std::string& stage) {
-  const StageTiming* t = FrameStage(frame, stage);
-  return t != nullptr && t->skipped;
-}
-
 TEST(ShProbes, StagePlanFollowsTheChange) {
-  const BundledCopy scene("dynamic_block.gltf");
-  const std::string& id = scene.id();
-  const std::map<std::string, std::string> params = {{"grid", "4"}, {"face_size", "8"}};
+  using testing::StageSkipped;
+  const testing::ChangeKindFrames f =
+      testing::RenderEachChangeKind("sh_probes", {{"grid", "4"}, {"face_size", "8"}});
   const std::vector<std::string> gi = {"rasterize_cubemaps", "render_cubemaps", "sh_project",
                                        "interpolate"};
-  EncodedFrame frame;
   // An open scene: many probe texels see only the background.
-  EXPECT_EQ(RenderRequestExr(SolverRequest(id, "sh_probes", params, 16), &frame).non_finite(), 0u);
-  for (const std::string& s : gi) EXPECT_FALSE(Skipped(frame, s)) << "first frame " << s;
-
+  EXPECT_EQ(f.first_image.non_finite(), 0u);
+  for (const std::string& s : gi) EXPECT_FALSE(StageSkipped(f.first, s)) << "first frame " << s;
   // Light only: the rasterized cube maps are reused.
-  LightUpdate dim;
-  dim.light = 0;
-  dim.intensity = 10.0f;
-  RenderRequestExr(SolverRequest(id, "sh_probes", params, 16, {{1, dim}}), &frame);
-  EXPECT_TRUE(Skipped(frame, "rasterize_cubemaps"));
+  EXPECT_TRUE(StageSkipped(f.light_only, "rasterize_cubemaps"));
   for (const char* s : {"render_cubemaps", "sh_project", "interpolate", "final"}) {
-    EXPECT_FALSE(Skipped(frame, s)) << "light-only " << s;
+    EXPECT_FALSE(StageSkipped(f.light_only, s)) << "light-only " << s;
   }
-
   // Camera only: every GI stage skipped, only final runs.
-  RenderRequest camera_only = SolverRequest(id, "sh_probes", params, 16);
-  CameraUpdate cam;
-  cam.look_at = LookAt{{1.0f, 2.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
-  camera_only.camera = cam;
-  RenderRequestExr(camera_only, &frame);
-  for (const std::string& s : gi) EXPECT_TRUE(Skipped(frame, s)) << "camera-only " << s;
-  EXPECT_FALSE(Skipped(frame, "final"));
-
+  for (const std::string& s : gi) EXPECT_TRUE(StageSkipped(f.camera_only, s)) << "camera-only " << s;
+  EXPECT_FALSE(StageSkipped(f.camera_only, "final"));
   // Geometry: everything again.
-  NodeTransformUpdate move;
-  move.node = 2;  // block
-  move.translation = {0.5f, 0.25f, 0.3f};
-  RenderRequestExr(SolverRequest(id, "sh_probes", params, 16, {{2, move}}), &frame);
-  for (const std::string& s : gi) EXPECT_FALSE(Skipped(frame, s)) << "geometry " << s;
+  for (const std::string& s : gi) EXPECT_FALSE(StageSkipped(f.geometry, s)) << "geometry " << s;
 }
 
 TEST(ShProbes, GridTooLargeIsRejectedNamingTheParameters) {

@@ -190,4 +190,31 @@ void ExpectFurnaceScaleInvariant(const std::string& solver,
   }
 }
 
+ChangeKindFrames RenderEachChangeKind(const std::string& solver,
+                                      const std::map<std::string, std::string>& params) {
+  const BundledCopy scene("dynamic_block.gltf");
+  const std::string& id = scene.id();
+  ChangeKindFrames out;
+  out.first_image = RenderRequestExr(SolverRequest(id, solver, params, 16), &out.first);
+  LightUpdate dim;
+  dim.light = 0;  // point_light
+  dim.intensity = 10.0f;
+  RenderRequestExr(SolverRequest(id, solver, params, 16, {{1, dim}}), &out.light_only);
+  RenderRequest camera_only = SolverRequest(id, solver, params, 16);
+  CameraUpdate camera;
+  camera.look_at = LookAt{{1.0f, 2.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+  camera_only.camera = camera;
+  RenderRequestExr(camera_only, &out.camera_only);
+  NodeTransformUpdate move;
+  move.node = 2;  // block
+  move.translation = {0.5f, 0.25f, 0.3f};
+  RenderRequestExr(SolverRequest(id, solver, params, 16, {{2, move}}), &out.geometry);
+  return out;
+}
+
+bool StageSkipped(const EncodedFrame& frame, const std::string& stage) {
+  const StageTiming* t = FrameStage(frame, stage);
+  return t != nullptr && t->skipped;
+}
+
 }  // namespace gistream::testing

@@ -89,6 +89,18 @@ void ExpectFurnaceScaleInvariant(const std::string& solver,
                                  double tolerance,
                                  const std::function<void(const EncodedFrame&)>& check = {});
 
+// One frame per kind of change, on a private copy of dynamic_block and in
+// this order: the first frame (everything runs), the point light dimmed
+// (light-only), a camera-only move, the block moved (geometry).
+struct ChangeKindFrames {
+  FloatImage first_image;
+  EncodedFrame first, light_only, camera_only, geometry;
+};
+ChangeKindFrames RenderEachChangeKind(const std::string& solver,
+                                      const std::map<std::string, std::string>& params);
+// True when `frame` reports `stage` as skipped (a test failure if absent).
+bool StageSkipped(const EncodedFrame& frame, const std::string& stage);
+
 // Renders an EXR frame of `request` (format forced to EXR); fails the test
 // on error.
 FloatImage RenderRequestExr(RenderRequest request, EncodedFrame* frame_out = nullptr);
