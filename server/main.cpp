@@ -52,6 +52,9 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
                              device, else Mesa's software one (default -1)
   --max-sessions N           concurrent sessions (default 32)
   --max-scenes N             scenes held at once (default 16)
+  --max-solvers-per-scene N  GI solutions cached per scene, one per solver and
+                             parameter set; the least recently used idle
+                             one is dropped beyond N (default 8)
   --max-width N              largest frame width (default 4096)
   --max-height N             largest frame height (default 4096)
   --max-scene-bytes N        largest glb/gltf, buffers included (default 268435456)
@@ -131,6 +134,10 @@ Flags ParseFlags(int argc, char** argv) {
        [&](auto flag, auto v) { f.engine.max_sessions = ParseUnsigned<uint32_t>(flag, v, 1, 100'000); }},
       {"--max-scenes",
        [&](auto flag, auto v) { f.engine.max_scenes = ParseUnsigned<uint32_t>(flag, v, 1, 100'000); }},
+      {"--max-solvers-per-scene",
+       [&](auto flag, auto v) {
+         f.engine.max_solvers_per_scene = ParseUnsigned<uint32_t>(flag, v, 1, 1'000);
+       }},
       {"--max-width",
        [&](auto flag, auto v) { f.engine.max_width = ParseUnsigned<uint32_t>(flag, v, 1, 65'536); }},
       {"--max-height",

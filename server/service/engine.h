@@ -172,6 +172,10 @@ struct EngineOptions {
   ImportLimits import_limits;
   uint32_t max_sessions = 32;
   uint32_t max_scenes = 16;
+  // GI solutions (solver instances) cached per scene, one per solver and
+  // parameter set; beyond this the least recently used one that no open
+  // session uses is dropped with its GPU memory.
+  uint32_t max_solvers_per_scene = 8;
   uint32_t max_width = 4096;
   uint32_t max_height = 4096;
   float default_max_fps = 30.0f;

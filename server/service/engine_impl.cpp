@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <thread>
 
 #include "encode/encode.h"
@@ -495,8 +496,10 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
 
   SolverEntry& entry = scene.solvers[session.solver_key];
   if (!entry.solver) {
+    EvictIdleSolvers(scene, session.scene.get(), session.solver_key);
     GS_ASSIGN_OR_RETURN(entry.solver, CreateSolver(session.config.solver, session.params));
   }
+  entry.last_used = ++solver_clock_;
   const ChangeMask changes = entry.fresh ? kChangeAll : state.ChangesSince(entry.version);
   SolverContext ctx{state, *scene.gpu, timer_};
   GS_RETURN_IF_ERROR(entry.solver->Update(ctx, changes));
@@ -550,10 +553,35 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   frame->stats = entry.solver->Stats();
   frame->stats.emplace_back("camera_changed", view.camera_changed ? 1.0 : 0.0);
   frame->stats.emplace_back("scene_gpu_bytes", double(scene.gpu->gpu_bytes()));
+  frame->stats.emplace_back("cached_solvers", double(scene.solvers.size()));
   view.camera_changed = false;
   frame->total_ms =
       std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
   return frame;
+}
+
+void EngineImpl::EvictIdleSolvers(GpuSceneRecord& scene, const SceneRecord* owner,
+                                  const std::string& keep) {
+  if (scene.solvers.size() <= options_.max_solvers_per_scene) return;
+  std::set<std::string> live{keep};
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& [id, s] : sessions_) {
+      if (s->scene.get() == owner) live.insert(s->solver_key);
+    }
+  }
+  while (scene.solvers.size() > options_.max_solvers_per_scene) {
+    auto victim = scene.solvers.end();
+    for (auto it = scene.solvers.begin(); it != scene.solvers.end(); ++it) {
+      if (live.count(it->first) == 0 &&
+          (victim == scene.solvers.end() || it->second.last_used < victim->second.last_used)) {
+        victim = it;
+      }
+    }
+    if (victim == scene.solvers.end()) return;  // every cached solver is in use
+    Log(LogLevel::kInfo, absl::StrCat("scene ", owner->id, ": dropping idle solver ", victim->first));
+    scene.solvers.erase(victim);
+  }
 }
 
 void EngineImpl::CheckGpuReset() {

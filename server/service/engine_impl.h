@@ -69,12 +69,18 @@ class EngineImpl final : public Engine {
     std::unique_ptr<Solver> solver;
     uint64_t version = 0;
     bool fresh = true;
+    uint64_t last_used = 0;  // solver_clock_ at its last frame
   };
   struct GpuSceneRecord {
     std::unique_ptr<SceneState> state;
     std::unique_ptr<GpuScene> gpu;
     std::map<std::string, SolverEntry> solvers;  // by solver_key
   };
+  // Drops least recently used solvers of `scene` beyond
+  // options_.max_solvers_per_scene, sparing `keep` and those of open
+  // sessions on `owner`. Render thread.
+  void EvictIdleSolvers(GpuSceneRecord& scene, const SceneRecord* owner, const std::string& keep);
+  uint64_t solver_clock_ = 0;  // render thread
   struct ViewRecord {
     ViewCamera camera;
     GBuffer gbuffer;

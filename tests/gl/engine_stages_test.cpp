@@ -145,5 +145,28 @@ TEST_F(EngineStagesTest, SessionsShareSceneUpdatesButNotCameras) {
   engine.CloseSession(b);
 }
 
+TEST(EngineSolverCache, IdleSolversBeyondTheCapAreDropped) {
+  // Twelve parameter sets on one scene, one Render each: every set is a GI
+  // solution of its own, but at most max_solvers_per_scene (8) stay cached.
+  const testing::BundledCopy scene("dynamic_block.gltf");
+  double cached = 0.0;
+  for (int samples = 1; samples <= 12; ++samples) {
+    EncodedFrame frame;
+    testing::RenderRequestExr(
+        testing::SolverRequest(scene.id(), "direct",
+                               {{"area_samples", std::to_string(samples)}, {"shadow_res", "16"}}, 8),
+        &frame);
+    cached = testing::FrameStat(frame, "cached_solvers");
+    EXPECT_LE(cached, 8.0) << samples;
+  }
+  EXPECT_EQ(cached, 8.0);
+  // The most recent one is still cached: rendering it again skips its shadow maps.
+  EncodedFrame again;
+  testing::RenderRequestExr(
+      testing::SolverRequest(scene.id(), "direct", {{"area_samples", "12"}, {"shadow_res", "16"}}, 8),
+      &again);
+  EXPECT_TRUE(testing::StageSkipped(again, "shadow_maps"));
+}
+
 }  // namespace
 }  // namespace gistream
