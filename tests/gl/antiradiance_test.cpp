@@ -66,23 +66,8 @@ TEST(Antiradiance, StatsReportLinksAndBytes) {
   EXPECT_GE(FrameStat(frame, "residual_1"), FrameStat(frame, "residual_4"));
 }
 
-class AntiradianceAccuracy : public ::testing::Test {
- protected:
-  void Reference(const std::string& file, int spp) {
-    copy_ = std::make_unique<BundledCopy>(file);
-    scene_ = copy_->id();
-    reference_ = RenderRequestExr(SolverRequest(scene_, "pathtrace", {{"spp", std::to_string(spp)}}, kSize));
-  }
-  double ErrorOf(const std::string& solver, std::map<std::string, std::string> params = {}) {
-    const FloatImage image = RenderRequestExr(SolverRequest(scene_, solver, std::move(params), kSize));
-    EXPECT_EQ(image.non_finite(), 0u) << solver;
-    return RelMse(image, reference_);
-  }
-  static constexpr uint32_t kSize = 64;
-  std::unique_ptr<BundledCopy> copy_;
-  std::string scene_;
-  FloatImage reference_;
-};
+// relMSE against a path-traced reference, 64 x 64.
+class AntiradianceAccuracy : public testing::ReferenceFixture {};
 
 TEST_F(AntiradianceAccuracy, IndirectRoomMuchBetterThanDirect) {
   // Direct renders room B black; antiradiance carries the light through

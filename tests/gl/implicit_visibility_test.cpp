@@ -99,21 +99,7 @@ TEST(ImplicitVisibility, HierarchicalMatchesBruteForce) {
 }
 
 // relMSE against a path-traced reference, 64 x 64.
-class ImplicitVisibilityAccuracy : public ::testing::Test {
- protected:
-  void Reference(const std::string& file, int spp) {
-    copy_ = std::make_unique<BundledCopy>(file);
-    reference_ = RenderRequestExr(Request(copy_->id(), {{"spp", std::to_string(spp)}}, kSize, {}, "pathtrace"));
-  }
-  double ErrorOf(const std::string& solver, std::map<std::string, std::string> params = {}) {
-    const FloatImage image = RenderRequestExr(Request(copy_->id(), std::move(params), kSize, {}, solver));
-    EXPECT_EQ(image.non_finite(), 0u) << solver;
-    return RelMse(image, reference_);
-  }
-  static constexpr uint32_t kSize = 64;
-  std::unique_ptr<BundledCopy> copy_;
-  FloatImage reference_;
-};
+class ImplicitVisibilityAccuracy : public testing::ReferenceFixture {};
 
 TEST_F(ImplicitVisibilityAccuracy, CornellBoxBeatsDirect) {
   // Measured: direct 0.086, implicit_visibility 0.011 (N = 8, 2 bounces).

@@ -85,24 +85,8 @@ TEST(ShProbes, ExtremeScalesAndIntensitiesStayFiniteAndConserveEnergy) {
       "sh_probes", {{"grid", "4"}, {"bounces", "12"}, {"tolerance", "0"}}, 0.1);
 }
 
-// relMSE of `solver` against a path-traced reference, 64 x 64.
-class ShProbesAccuracy : public ::testing::Test {
- protected:
-  void Reference(const std::string& file, int spp) {
-    copy_ = std::make_unique<BundledCopy>(file);
-    scene_ = copy_->id();
-    reference_ = RenderRequestExr(SolverRequest(scene_, "pathtrace", {{"spp", std::to_string(spp)}}, kSize));
-  }
-  double ErrorOf(const std::string& solver, std::map<std::string, std::string> params = {}) {
-    const FloatImage image = RenderRequestExr(SolverRequest(scene_, solver, std::move(params), kSize));
-    EXPECT_EQ(image.non_finite(), 0u) << solver;
-    return RelMse(image, reference_);
-  }
-  static constexpr uint32_t kSize = 64;
-  std::unique_ptr<BundledCopy> copy_;
-  std::string scene_;
-  FloatImage reference_;
-};
+// relMSE against a path-traced reference, 64 x 64.
+class ShProbesAccuracy : public testing::ReferenceFixture {};
 
 TEST_F(ShProbesAccuracy, CornellBoxBeatsDirect) {
   Reference("cornell_box.gltf", 512);

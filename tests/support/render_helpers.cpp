@@ -217,4 +217,18 @@ bool StageSkipped(const EncodedFrame& frame, const std::string& stage) {
   return t != nullptr && t->skipped;
 }
 
+void ReferenceFixture::Reference(const std::string& file, int spp) {
+  copy_ = std::make_unique<BundledCopy>(file);
+  scene_ = copy_->id();
+  reference_ =
+      RenderRequestExr(SolverRequest(scene_, "pathtrace", {{"spp", std::to_string(spp)}}, kSize));
+}
+
+double ReferenceFixture::ErrorOf(const std::string& solver,
+                                 std::map<std::string, std::string> params) {
+  const FloatImage image = RenderRequestExr(SolverRequest(scene_, solver, std::move(params), kSize));
+  EXPECT_EQ(image.non_finite(), 0u) << solver;
+  return RelMse(image, reference_);
+}
+
 }  // namespace gistream::testing

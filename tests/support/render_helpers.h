@@ -8,6 +8,7 @@
 #include <string>
 
 #include <glm/glm.hpp>
+#include <gtest/gtest.h>
 
 #include "encode/encode.h"
 #include "render/camera.h"
@@ -100,6 +101,21 @@ ChangeKindFrames RenderEachChangeKind(const std::string& solver,
                                       const std::map<std::string, std::string>& params);
 // True when `frame` reports `stage` as skipped (a test failure if absent).
 bool StageSkipped(const EncodedFrame& frame, const std::string& stage);
+
+// A fixture for error against the path-traced reference at 64 x 64:
+// Reference() loads a private copy of a bundled scene and renders
+// `pathtrace` at `spp`; ErrorOf() renders a solver on it (expecting a
+// finite image) and returns its relMSE.
+class ReferenceFixture : public ::testing::Test {
+ protected:
+  void Reference(const std::string& file, int spp);
+  double ErrorOf(const std::string& solver, std::map<std::string, std::string> params = {});
+
+  static constexpr uint32_t kSize = 64;
+  std::unique_ptr<BundledCopy> copy_;
+  std::string scene_;
+  FloatImage reference_;
+};
 
 // Renders an EXR frame of `request` (format forced to EXR); fails the test
 // on error.
