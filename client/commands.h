@@ -13,6 +13,9 @@ absl::Status RunRender(const ConnectionOptions& connection, const RenderOptions&
 absl::Status RunStream(const ConnectionOptions& connection, const StreamOptions& options);
 absl::Status RunScript(const ConnectionOptions& connection, const ScriptOptions& options);
 absl::Status RunEval(const ConnectionOptions& connection, const EvalOptions& options);
+// `connection.server` may list several servers, comma separated: sessions
+// are placed on them round-robin.
+absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& options);
 
 // What RunStream/RunScript return when a second interrupt cancelled the
 // session (main exits 130).

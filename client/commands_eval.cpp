@@ -253,24 +253,6 @@ std::string Markdown(const std::vector<EvalRow>& rows) {
   return md.str();
 }
 
-nlohmann::json StagesJson(const std::vector<StageSummary>& stages) {
-  nlohmann::json out = nlohmann::json::array();
-  auto number = [](const std::optional<double>& v) {
-    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
-  };
-  for (const StageSummary& s : stages) {
-    out.push_back({{"name", s.name},
-                   {"runs", s.runs},
-                   {"skipped", s.skipped},
-                   {"cpu_stage", s.cpu_stage},
-                   {"cpu_median_ms", number(s.cpu_median)},
-                   {"cpu_p95_ms", number(s.cpu_p95)},
-                   {"gpu_median_ms", number(s.gpu_median)},
-                   {"gpu_p95_ms", number(s.gpu_p95)}});
-  }
-  return out;
-}
-
 absl::Status WriteOutputs(const std::filesystem::path& dir, const std::vector<EvalRow>& rows,
                           const nlohmann::json& meta) {
   std::filesystem::create_directories(dir);

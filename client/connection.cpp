@@ -30,6 +30,7 @@ Connection::Connection(const ConnectionOptions& options) : options_(options) {
   // default; the server enforces its own limits.
   args.SetMaxReceiveMessageSize(-1);
   args.SetMaxSendMessageSize(-1);
+  if (options_.own_connection) args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);
   channel_ = grpc::CreateCustomChannel(options_.server, grpc::InsecureChannelCredentials(), args);
   stub_ = v1::Gistream::NewStub(channel_);
 }

@@ -31,6 +31,7 @@ absl::Status Dispatch(const CommandLine& line) {
     case Command::kStream: return RunStream(connection, std::get<StreamOptions>(line.options));
     case Command::kScript: return RunScript(connection, std::get<ScriptOptions>(line.options));
     case Command::kEval: return RunEval(connection, std::get<EvalOptions>(line.options));
+    case Command::kBench: return RunBench(connection, std::get<BenchOptions>(line.options));
   }
   return absl::InternalError("unknown command");
 }

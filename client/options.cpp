@@ -48,6 +48,7 @@ std::optional<Command> CommandFromName(absl::string_view name) {
   if (name == "script") return Command::kScript;
   if (name == "status") return Command::kStatus;
   if (name == "eval") return Command::kEval;
+  if (name == "bench") return Command::kBench;
   return std::nullopt;
 }
 
@@ -222,6 +223,62 @@ absl::StatusOr<EvalOptions> ParseEval(const ParsedFlags& flags) {
   return options;
 }
 
+absl::StatusOr<BenchOptions> ParseBench(const ParsedFlags& flags) {
+  BenchOptions options;
+  options.scene.scene = "cornell_box";
+  options.view.width = 128;
+  options.view.height = 128;
+  options.view.encoding.set_format(v1::IMAGE_FORMAT_JPEG);
+  GS_RETURN_IF_ERROR(NoPositional(flags));
+  GS_RETURN_IF_ERROR(ApplyScene(flags, options.scene));
+  GS_RETURN_IF_ERROR(ApplySolver(flags, options.solver));
+  GS_RETURN_IF_ERROR(ApplyView(flags, options.view));
+  if (auto value = flags.Get("workload")) {
+    if (value->empty()) return Usage("--workload: empty");
+    options.workload = *value;
+  }
+  if (auto value = flags.Get("node")) options.node = *value;
+  if (auto value = flags.Get("update-hz")) {
+    GS_ASSIGN_OR_RETURN(float hz, ParseFloat("--update-hz", *value));
+    if (hz < 0.0f || hz > 1000.0f) {
+      return Usage(absl::StrCat("--update-hz: ", *value, " is out of range [0, 1000]"));
+    }
+    options.update_hz = hz;
+  }
+  if (auto value = flags.Get("sessions")) {
+    GS_ASSIGN_OR_RETURN(options.sessions, ParseIntList("--sessions", *value));
+  }
+  if (auto value = flags.Get("duration")) {
+    GS_ASSIGN_OR_RETURN(options.duration_s, ParseDuration("--duration", *value));
+    if (options.duration_s <= 0.0) return Usage("--duration: must be positive");
+  }
+  if (auto value = flags.Get("warmup")) {
+    GS_ASSIGN_OR_RETURN(options.warmup_s, ParseDuration("--warmup", *value));
+  }
+  if (auto value = flags.Get("channels")) {
+    if (*value == "shared") options.channel_per_session = false;
+    else if (*value == "per-session") options.channel_per_session = true;
+    else return Usage(absl::StrCat("--channels: \"", *value, "\" is not shared or per-session"));
+  }
+  if (auto value = flags.Get("fps")) {
+    if (*value == "uncapped") {
+      options.fps = kUncappedFps;
+    } else {
+      GS_ASSIGN_OR_RETURN(options.fps, ParseFloat("--fps", *value));
+      if (options.fps < 0.0f || options.fps > kUncappedFps) {
+        return Usage(absl::StrCat("--fps: ", *value, " is out of range [0, ", kUncappedFps,
+                                  "] (or \"uncapped\")"));
+      }
+    }
+  }
+  if (auto value = flags.Get("interfere")) options.interfere = *value;
+  if (auto value = flags.Get("out")) {
+    if (value->empty()) return Usage("--out: empty directory name");
+    options.out_dir = *value;
+  }
+  return options;
+}
+
 // Leading options before the command word: --server, --timeout, --help.
 absl::StatusOr<size_t> ParseGlobalOptions(std::span<const std::string> args, CommandLine& line) {
   size_t i = 0;
@@ -263,6 +320,7 @@ absl::string_view CommandName(Command command) {
     case Command::kScript: return "script";
     case Command::kStatus: return "status";
     case Command::kEval: return "eval";
+    case Command::kBench: return "bench";
   }
   return "?";
 }
@@ -304,6 +362,30 @@ absl::StatusOr<std::pair<std::string, std::string>> ParseParam(absl::string_view
     return Usage(absl::StrCat("--param: \"", text, "\" is not key=value"));
   }
   return std::make_pair(std::string(text.substr(0, eq)), std::string(text.substr(eq + 1)));
+}
+
+absl::StatusOr<double> ParseDuration(absl::string_view flag, absl::string_view text) {
+  double scale = 1.0;
+  absl::string_view number = text;
+  if (absl::ConsumeSuffix(&number, "ms")) scale = 1e-3;
+  else if (absl::ConsumeSuffix(&number, "s")) scale = 1.0;
+  else if (absl::ConsumeSuffix(&number, "m")) scale = 60.0;
+  double value = 0.0;
+  if (!absl::SimpleAtod(number, &value) || !std::isfinite(value) || value < 0.0 ||
+      value * scale > 86400.0) {
+    return Usage(absl::StrCat(flag, ": \"", text,
+                              "\" is not a duration (e.g. 10s, 500ms, 2m; at most a day)"));
+  }
+  return value * scale;
+}
+
+absl::StatusOr<std::vector<int>> ParseIntList(absl::string_view flag, absl::string_view text) {
+  std::vector<int> out;
+  for (absl::string_view part : absl::StrSplit(text, ',')) {
+    GS_ASSIGN_OR_RETURN(int64_t value, ParseInt(flag, absl::StripAsciiWhitespace(part), 1, 1024));
+    out.push_back(int(value));
+  }
+  return out;
 }
 
 absl::StatusOr<CommandLine> ParseCommandLine(std::span<const std::string> args,
@@ -354,6 +436,11 @@ absl::StatusOr<CommandLine> ParseCommandLine(std::span<const std::string> args,
       specs = Concat({&kConnectionFlags});
       specs.insert(specs.end(), {{"out"}, {"cache"}});
       break;
+    case Command::kBench:
+      specs = Concat({&kConnectionFlags, &kSceneFlags, &kSolverFlags, &kViewFlags});
+      specs.insert(specs.end(), {{"workload"}, {"node"}, {"update-hz"}, {"sessions"}, {"duration"},
+                                 {"warmup"}, {"channels"}, {"fps"}, {"interfere"}, {"out"}});
+      break;
   }
   GS_ASSIGN_OR_RETURN(ParsedFlags flags, ParseFlags(rest, specs));
   GS_RETURN_IF_ERROR(ApplyConnection(flags, line.connection));
@@ -383,6 +470,10 @@ absl::StatusOr<CommandLine> ParseCommandLine(std::span<const std::string> args,
     }
     case Command::kEval: {
       GS_ASSIGN_OR_RETURN(line.options, ParseEval(flags));
+      break;
+    }
+    case Command::kBench: {
+      GS_ASSIGN_OR_RETURN(line.options, ParseBench(flags));
       break;
     }
   }

@@ -9,6 +9,7 @@
 #include <span>
 #include <string>
 #include <variant>
+#include <vector>
 
 #include <absl/strings/string_view.h>
 
@@ -19,11 +20,14 @@ namespace gistream::client {
 
 inline constexpr absl::string_view kDefaultServer = "127.0.0.1:50051";
 
-enum class Command { kSolvers, kRender, kStream, kScript, kStatus, kEval };
+enum class Command { kSolvers, kRender, kStream, kScript, kStatus, kEval, kBench };
 
 struct ConnectionOptions {
   std::string server{kDefaultServer};
   double timeout_seconds = 300.0;  // deadline of each unary call
+  // A TCP connection of this channel's own instead of one shared with other
+  // channels to the same address (bench --channels per-session).
+  bool own_connection = false;
 };
 
 // Where the scene comes from (LoadScene).
@@ -80,6 +84,22 @@ struct EvalOptions {
   std::filesystem::path cache_dir = ".cache/reference";
 };
 
+struct BenchOptions {
+  SceneOptions scene;  // default cornell_box
+  SolverOptions solver;
+  ViewOptions view;  // default 128x128 JPEG
+  std::string workload = "orbit";  // orbit | light | object | mixed | FILE.json
+  std::string node;                // object/mixed: the node to move (name or id)
+  double update_hz = 0.0;          // open loop at this rate; 0: one per received frame
+  std::vector<int> sessions = {1, 2, 4};
+  double duration_s = 10.0;
+  double warmup_s = 2.0;
+  bool channel_per_session = false;  // else one channel per server
+  float fps = 30.0f;                 // session frame cap; 0: the server's default
+  std::string interfere;             // a `render ...` command line run in a loop
+  std::filesystem::path out_dir = "out/bench";
+};
+
 struct CommandLine {
   ConnectionOptions connection;
   // --help / -h / `help [COMMAND]`: print the help of `command` (or the
@@ -87,7 +107,7 @@ struct CommandLine {
   bool help = false;
   std::optional<Command> command;
   std::variant<std::monostate, SolversOptions, RenderOptions, StreamOptions, ScriptOptions,
-               StatusOptions, EvalOptions>
+               StatusOptions, EvalOptions, BenchOptions>
       options;
 };
 
@@ -103,5 +123,11 @@ absl::StatusOr<std::pair<uint32_t, uint32_t>> ParseSize(absl::string_view flag,
                                                         absl::string_view text);
 absl::StatusOr<v1::Vec3> ParseVec3(absl::string_view flag, absl::string_view text);
 absl::StatusOr<std::pair<std::string, std::string>> ParseParam(absl::string_view text);
+// "10s", "500ms", "2m" or plain seconds ("10", "0.5").
+absl::StatusOr<double> ParseDuration(absl::string_view flag, absl::string_view text);
+// "1,2,4,8": positive integers.
+absl::StatusOr<std::vector<int>> ParseIntList(absl::string_view flag, absl::string_view text);
+// The highest frame cap the server accepts: what `--fps uncapped` asks for.
+inline constexpr float kUncappedFps = 240.0f;
 
 }  // namespace gistream::client

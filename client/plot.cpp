@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <string>
 
 namespace gistream::client {
 namespace {
@@ -113,7 +115,41 @@ int DecadeLabelWidth(int k) {
   return 2 * kGlyphAdvance + int(std::to_string(k).size()) * kGlyphAdvance / 2;
 }
 
-bool Usable(double x, double y) { return std::isfinite(x) && std::isfinite(y) && x > 0 && y > 0; }
+bool Usable(double v, bool log) { return std::isfinite(v) && (!log || v > 0); }
+
+// A 1, 2 or 5 times a power of ten step giving about `ticks` intervals.
+double NiceStep(double span, int ticks) {
+  const double raw = span / std::max(ticks, 1);
+  const double decade = std::pow(10.0, std::floor(std::log10(raw)));
+  for (double m : {1.0, 2.0, 5.0}) {
+    if (m * decade >= raw) return m * decade;
+  }
+  return 10.0 * decade;
+}
+
+// Axis range [lo, hi] of the usable values, as decades or padded values.
+void AxisRange(double lo, double hi, bool log, double& a0, double& a1, double& step) {
+  if (log) {
+    a0 = std::floor(std::log10(lo));
+    a1 = std::max(std::ceil(std::log10(hi)), a0 + 1);
+    step = 1.0;
+    return;
+  }
+  // Linear axes start at 0 for non-negative data (rates, fractions).
+  if (lo >= 0.0) lo = 0.0;
+  if (hi <= lo) hi = lo + 1.0;
+  step = NiceStep(hi - lo, 5);
+  a0 = std::floor(lo / step) * step;
+  a1 = std::ceil(hi / step) * step;
+}
+
+std::string TickLabel(double v, double step) {
+  char buf[32];
+  if (std::fabs(v) < step * 1e-6) v = 0.0;
+  const int decimals = step >= 1.0 ? 0 : int(std::ceil(-std::log10(step)));
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  return buf;
+}
 
 }  // namespace
 
@@ -125,28 +161,35 @@ int LegendRowY(const LogAxes& axes, size_t i) {
 }
 
 int LogAxes::X(double x) const {
-  return left + int(std::lround((std::log10(x) - x0) / (x1 - x0) * double(right - left)));
+  const double u = x_log ? std::log10(x) : x;
+  return left + int(std::lround((u - x0) / (x1 - x0) * double(right - left)));
 }
 int LogAxes::Y(double y) const {
-  return bottom - int(std::lround((std::log10(y) - y0) / (y1 - y0) * double(bottom - top)));
+  const double u = y_log ? std::log10(y) : y;
+  return bottom - int(std::lround((u - y0) / (y1 - y0) * double(bottom - top)));
 }
 
 bool ComputeAxes(const std::vector<PlotSeries>& series, int width, int height, LogAxes& axes) {
-  double lx0 = 1e300, lx1 = -1e300, ly0 = 1e300, ly1 = -1e300;
+  return ComputeAxes(series, PlotStyle{}, width, height, axes);
+}
+
+bool ComputeAxes(const std::vector<PlotSeries>& series, const PlotStyle& style, int width,
+                 int height, LogAxes& axes) {
+  axes.x_log = style.x_scale == AxisScale::kLog;
+  axes.y_log = style.y_scale == AxisScale::kLog;
+  double x_lo = 1e300, x_hi = -1e300, y_lo = 1e300, y_hi = -1e300;
   for (const PlotSeries& s : series) {
     for (const auto& [x, y] : s.points) {
-      if (!Usable(x, y)) continue;
-      lx0 = std::min(lx0, std::log10(x));
-      lx1 = std::max(lx1, std::log10(x));
-      ly0 = std::min(ly0, std::log10(y));
-      ly1 = std::max(ly1, std::log10(y));
+      if (!Usable(x, axes.x_log) || !Usable(y, axes.y_log)) continue;
+      x_lo = std::min(x_lo, x);
+      x_hi = std::max(x_hi, x);
+      y_lo = std::min(y_lo, y);
+      y_hi = std::max(y_hi, y);
     }
   }
-  if (lx0 > lx1) return false;
-  axes.x0 = std::floor(lx0);
-  axes.x1 = std::max(std::ceil(lx1), axes.x0 + 1);
-  axes.y0 = std::floor(ly0);
-  axes.y1 = std::max(std::ceil(ly1), axes.y0 + 1);
+  if (x_lo > x_hi) return false;
+  AxisRange(x_lo, x_hi, axes.x_log, axes.x0, axes.x1, axes.x_step);
+  AxisRange(y_lo, y_hi, axes.y_log, axes.y0, axes.y1, axes.y_step);
   axes.left = 60;
   axes.right = width - 20;
   axes.top = 24;
@@ -157,40 +200,58 @@ bool ComputeAxes(const std::vector<PlotSeries>& series, int width, int height, L
 }
 
 Raster PlotLogLog(const std::vector<PlotSeries>& series, int width, int height) {
+  return PlotLines(series, PlotStyle{}, width, height);
+}
+
+Raster PlotLines(const std::vector<PlotSeries>& series, const PlotStyle& style, int width,
+                 int height) {
   Raster r;
   r.width = width;
   r.height = height;
   r.rgba.assign(size_t(width) * size_t(height) * 4, 255);
   LogAxes axes;
-  if (!ComputeAxes(series, width, height, axes)) return r;
+  if (!ComputeAxes(series, style, width, height, axes)) return r;
   const std::array<uint8_t, 3> grid{225, 225, 225}, black{0, 0, 0};
-  // Decade grid and labels (the exponent k of 10^k).
-  for (double k = axes.x0; k <= axes.x1; k += 1) {
-    const int x = axes.X(std::pow(10.0, k));
+  // Grid and labels: 10^k on a log axis, the value on a linear one.
+  for (double k = axes.x0; k <= axes.x1 + axes.x_step * 1e-9; k += axes.x_step) {
+    const int x = axes.X(axes.x_log ? std::pow(10.0, k) : k);
     Line(r, x, axes.top, x, axes.bottom, grid, 1);
-    DecadeLabel(r, x - DecadeLabelWidth(int(k)) / 2, axes.bottom + 8, int(k), black);
+    if (axes.x_log) {
+      DecadeLabel(r, x - DecadeLabelWidth(int(k)) / 2, axes.bottom + 8, int(k), black);
+    } else {
+      const std::string label = TickLabel(k, axes.x_step);
+      Text(r, x - int(label.size()) * kGlyphAdvance / 2, axes.bottom + 8, label, black);
+    }
   }
-  for (double k = axes.y0; k <= axes.y1; k += 1) {
-    const int y = axes.Y(std::pow(10.0, k));
+  for (double k = axes.y0; k <= axes.y1 + axes.y_step * 1e-9; k += axes.y_step) {
+    const int y = axes.Y(axes.y_log ? std::pow(10.0, k) : k);
     Line(r, axes.left, y, axes.right, y, grid, 1);
-    DecadeLabel(r, axes.left - 6 - DecadeLabelWidth(int(k)), y - 5, int(k), black);
+    if (axes.y_log) {
+      DecadeLabel(r, axes.left - 6 - DecadeLabelWidth(int(k)), y - 5, int(k), black);
+    } else {
+      const std::string label = TickLabel(k, axes.y_step);
+      Text(r, axes.left - 6 - int(label.size()) * kGlyphAdvance, y - 5, label, black);
+    }
   }
-  Text(r, axes.right - 15 * kGlyphAdvance, axes.bottom + 24, "full update ms", black);
-  Text(r, 4, 4, "relMSE", black);
+  Text(r, axes.right - int(style.x_title.size() + 1) * kGlyphAdvance, axes.bottom + 24,
+       style.x_title, black);
+  Text(r, 4, 4, style.y_title, black);
   Line(r, axes.left, axes.bottom, axes.right, axes.bottom, black, 1);
   Line(r, axes.left, axes.top, axes.left, axes.bottom, black, 1);
   for (size_t i = 0; i < series.size(); ++i) {
     const auto color = SeriesColor(i);
     std::vector<std::pair<double, double>> pts;
     for (const auto& p : series[i].points) {
-      if (Usable(p.first, p.second)) pts.push_back(p);
+      if (Usable(p.first, axes.x_log) && Usable(p.second, axes.y_log)) pts.push_back(p);
     }
     std::sort(pts.begin(), pts.end());
     for (size_t k = 0; k + 1 < pts.size(); ++k) {
       Line(r, axes.X(pts[k].first), axes.Y(pts[k].second), axes.X(pts[k + 1].first),
            axes.Y(pts[k + 1].second), color, 2);
     }
-    for (const auto& p : pts) Box(r, axes.X(p.first), axes.Y(p.second), 3, color);
+    if (style.markers) {
+      for (const auto& p : pts) Box(r, axes.X(p.first), axes.Y(p.second), 3, color);
+    }
   }
   // Legend under the plot: a swatch and the name per series.
   for (size_t i = 0; i < series.size(); ++i) {

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "gistream/v1/gistream.pb.h"
 
 namespace gistream::client {
@@ -70,5 +72,9 @@ class StatsCollector {
 
 // The table, then the frame-time, fps, dropped and solver-stats lines.
 std::string FormatStatsTable(const StatsSummary& summary);
+
+// The stages as JSON objects (name, runs, skipped, cpu_stage, CPU/GPU
+// median and p95 in ms; null where a stage never ran), for results files.
+nlohmann::json StagesJson(const std::vector<StageSummary>& stages);
 
 }  // namespace gistream::client

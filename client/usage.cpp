@@ -14,6 +14,7 @@ commands:
   stream    open a session and save the frames it streams
   script    play a JSON timeline of updates, one saved frame per step
   eval      error against a path-traced reference and run time, per solver
+  bench     load and latency: sessions, update-to-frame latency, fps, stalls
   status    show the server's device, sessions, scenes and frame count
 
 global options (also accepted after the command):
@@ -125,6 +126,51 @@ error_vs_time.png (log-log) into DIR and prints the markdown table.
 See scenes/eval_default.json and README.md for the spec format.
 )";
 
+constexpr absl::string_view kBench =
+    R"(usage: gistream [--server ADDR[,ADDR...]] bench [--sessions N,N,...]
+                [--duration T] [--warmup T] [--workload orbit|light|object|mixed|FILE.json]
+                [--node NAME_OR_ID] [--update-hz HZ] [--channels shared|per-session]
+                [--fps F|uncapped] [--interfere "render ..."] [--out DIR]
+                [--scene NAME_OR_FILE] [--solver NAME] [--param KEY=VALUE]...
+                [--size WxH] [--format jpeg|png|exr] [--quality Q]
+
+Load and latency benchmark. For each session count in --sessions (a step),
+opens that many continuous sessions, waits for every first frame, runs
+--warmup, then measures for --duration while each session sends the
+workload's updates. Per step: update-to-frame latency (send of update seq
+to the first frame whose last applied seq is >= seq) p50/p95/p99/max, frame
+interval p50/p95 and the longest gap, fps per session and in total, Jain's
+fairness index of fps, dropped frames, bytes/s, the server's stage medians,
+and the server's RSS and CPU use (GetServerStatus). Prints a table and
+writes results.csv, results.json, results.md, latency_cdf.png,
+fps_vs_sessions.png and latency_vs_sessions.png into DIR.
+
+  --sessions N,N,...   concurrency steps (default 1,2,4)
+  --duration T         measured time per step: 10s, 500ms, 2m (default 10s)
+  --warmup T           unmeasured time after the first frames (default 2s)
+  --workload W         orbit (camera only), light (a light's intensity and
+                       position, or an emitter's strength), object (a mesh
+                       node moves), mixed (the three in turn), or a script
+                       JSON file whose tracks and events loop (default orbit)
+  --node NAME_OR_ID    the node object/mixed move (default: a "block"/"box"
+                       node, else the last mesh node)
+  --update-hz HZ       open loop: updates at this rate; 0 (default): closed
+                       loop, one update per received frame
+  --channels C         shared: one gRPC channel per server (default);
+                       per-session: a channel and TCP connection each
+  --fps F              frame cap per session (default 30; 0: the server's
+                       default; uncapped: 240, the highest the server takes)
+  --interfere "CMD"    a `render ...` command line (e.g. "render --solver
+                       pathtrace --param spp=256 --size 256x256") run in a
+                       loop by an extra client during warmup and measurement,
+                       on the first server, to measure isolation
+  --out DIR            output directory (default out/bench)
+  --scene, --solver, --param, --size, --format, --quality, --exposure as
+  for stream (defaults: cornell_box, direct, 128x128, jpeg).
+With several servers (--server a,b) sessions are placed round-robin and
+each server loads the scene.
+)";
+
 constexpr absl::string_view kStatus = R"(usage: gistream [--server ADDR] status
 
 Prints the server's GL vendor, renderer and version, the number of sessions
@@ -142,6 +188,7 @@ absl::string_view HelpText(std::optional<Command> command) {
     case Command::kScript: return kScript;
     case Command::kStatus: return kStatus;
     case Command::kEval: return kEval;
+    case Command::kBench: return kBench;
   }
   return kOverview;
 }

@@ -1,0 +1,161 @@
+#include "bench_session.h"
+
+#include <absl/strings/str_cat.h>
+
+namespace gistream::client {
+
+BenchSession::~BenchSession() {
+  StopUpdates();
+  if (stream_) stream_->Cancel();
+  if (sender_.joinable()) sender_.join();
+  if (reader_.joinable()) reader_.join();
+}
+
+absl::Status BenchSession::Open(v1::Gistream::Stub& stub, const v1::SessionConfig& config) {
+  absl::StatusOr<std::unique_ptr<SessionStream>> stream = SessionStream::Open(stub, config, server_);
+  if (!stream.ok()) {
+    std::lock_guard lock(mutex_);
+    error_ = std::string(stream.status().ToString());
+    return stream.status();
+  }
+  stream_ = *std::move(stream);
+  reader_ = std::thread([this] { ReadLoop(); });
+  if (update_hz_ > 0.0) sender_ = std::thread([this] { SendLoop(); });
+  return absl::OkStatus();
+}
+
+bool BenchSession::failed() const {
+  std::lock_guard lock(mutex_);
+  return !error_.empty();
+}
+
+void BenchSession::SetWindow(BenchClock::time_point start, BenchClock::time_point end) {
+  std::lock_guard lock(mutex_);
+  window_set_ = true;
+  window_start_ = start;
+  window_end_ = end;
+  intervals_ = std::make_unique<FrameIntervals>(start, end);
+}
+
+void BenchSession::StopUpdates() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_updates_ = true;
+  }
+  stop_cv_.notify_all();
+}
+
+size_t BenchSession::Unanswered() const {
+  std::lock_guard lock(mutex_);
+  return tracker_.unanswered();
+}
+
+int BenchSession::LiveFrames() const {
+  std::lock_guard lock(mutex_);
+  return live_frames_;
+}
+
+void BenchSession::AppendLatencies(std::vector<double>& out) const {
+  std::lock_guard lock(mutex_);
+  out.insert(out.end(), tracker_.latencies_ms().begin(), tracker_.latencies_ms().end());
+}
+
+void BenchSession::SendTick() {
+  std::vector<v1::Update> updates = workload_.UpdatesForTick(tick_++);
+  for (v1::Update& update : updates) {
+    uint64_t seq = 0;
+    {
+      std::lock_guard lock(mutex_);
+      if (stop_updates_) return;
+      seq = next_seq_++;
+      const BenchClock::time_point now = BenchClock::now();
+      const bool measured = window_set_ && now >= window_start_ && now < window_end_;
+      // Registered before the send: the answering frame may come back
+      // before SendUpdate returns.
+      tracker_.OnSend(seq, now, measured);
+      if (measured) ++updates_sent_;
+    }
+    update.set_seq(seq);
+    if (!stream_->SendUpdate(update)) return;  // the call ended; the reader reports why
+  }
+}
+
+void BenchSession::SendLoop() {
+  // Open loop: ticks on a fixed schedule from the first frame on, whatever
+  // the frames do. A sender that falls behind skips the missed ticks
+  // instead of bursting.
+  while (!first_frame_ && !stop_updates_) {
+    std::unique_lock lock(mutex_);
+    stop_cv_.wait_for(lock, std::chrono::milliseconds(20));
+  }
+  const auto period = std::chrono::duration_cast<BenchClock::duration>(
+      std::chrono::duration<double>(1.0 / update_hz_));
+  BenchClock::time_point next = BenchClock::now();
+  while (!stop_updates_) {
+    SendTick();
+    next += period;
+    const BenchClock::time_point now = BenchClock::now();
+    if (next < now) next = now;
+    std::unique_lock lock(mutex_);
+    stop_cv_.wait_until(lock, next, [this] { return stop_updates_.load(); });
+  }
+}
+
+void BenchSession::ReadLoop() {
+  v1::SessionEvent event;
+  while (stream_->Next(&event)) {
+    const BenchClock::time_point now = BenchClock::now();
+    if (event.has_rejected()) {
+      std::lock_guard lock(mutex_);
+      tracker_.OnRejected(event.rejected().seq());
+      continue;
+    }
+    if (!event.has_frame()) continue;
+    const v1::Frame& frame = event.frame();
+    {
+      std::lock_guard lock(mutex_);
+      tracker_.OnFrame(frame.last_update_seq(), now);
+      if (window_set_ && intervals_->Add(now)) {
+        ++live_frames_;
+        dropped_ += frame.dropped_frames();
+        bytes_ += frame.image().size();
+        std::lock_guard stages_lock(stages_.mutex);
+        stages_.collector.Add(frame, now);
+      }
+    }
+    first_frame_ = true;
+    // Closed loop: the next tick's updates go out as each frame arrives
+    // (the first right after the first frame).
+    if (update_hz_ <= 0.0 && !stop_updates_) SendTick();
+  }
+  const absl::Status status = stream_->Finish();
+  if (!status.ok() && !stream_->cancelled_by_client()) {
+    std::lock_guard lock(mutex_);
+    error_ = std::string(status.ToString());
+  }
+}
+
+void BenchSession::Close() {
+  StopUpdates();
+  if (sender_.joinable()) sender_.join();
+  if (stream_) stream_->CloseWrites(std::chrono::seconds(10));
+  if (reader_.joinable()) reader_.join();
+}
+
+SessionMeasurement BenchSession::Result() const {
+  std::lock_guard lock(mutex_);
+  SessionMeasurement m;
+  m.server = server_;
+  m.window_s = std::chrono::duration<double>(window_end_ - window_start_).count();
+  if (intervals_) intervals_->Finish(m);
+  m.dropped_frames = dropped_;
+  m.bytes = bytes_;
+  m.updates_sent = updates_sent_;
+  m.updates_rejected = tracker_.rejected();
+  m.updates_unanswered = tracker_.unanswered();
+  m.latencies_ms = tracker_.latencies_ms();
+  m.error = error_;
+  return m;
+}
+
+}  // namespace gistream::client

@@ -1,0 +1,91 @@
+// One session of a `gistream bench` step: a reader thread that times every
+// frame and matches it to the updates it answers, and (open loop) a sender
+// thread at the update rate; closed loop sends one tick's updates per
+// received frame. The coordinator opens it, sets the measurement window
+// once every session has its first frame, stops the updates at the window's
+// end, drains, closes, and collects a SessionMeasurement.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "bench_stats.h"
+#include "bench_workload.h"
+#include "session_stream.h"
+#include "stats_table.h"
+
+namespace gistream::client {
+
+// Frames of every session of a step feed one stage collector.
+struct SharedStages {
+  std::mutex mutex;
+  StatsCollector collector;
+};
+
+class BenchSession {
+ public:
+  BenchSession(std::string server, const Workload& workload, double update_hz,
+               SharedStages& stages)
+      : server_(std::move(server)), workload_(workload), update_hz_(update_hz), stages_(stages) {}
+  ~BenchSession();  // cancels and joins whatever still runs
+  BenchSession(const BenchSession&) = delete;
+  BenchSession& operator=(const BenchSession&) = delete;
+
+  // Opens the call (waits for `opened`) and starts the threads. A failure
+  // is kept as the session's error.
+  absl::Status Open(v1::Gistream::Stub& stub, const v1::SessionConfig& config);
+
+  bool failed() const;
+  bool has_first_frame() const { return first_frame_.load(); }
+  // Frames before `start` are warm-up; updates sent inside [start, end)
+  // are measured.
+  void SetWindow(BenchClock::time_point start, BenchClock::time_point end);
+  // No more updates (the window has ended).
+  void StopUpdates();
+  // Measured updates not yet answered by a frame.
+  size_t Unanswered() const;
+  // Half-closes, waits for the server to end the call, joins the threads.
+  void Close();
+  // After Close.
+  SessionMeasurement Result() const;
+
+  // Live figures for the progress line: frames inside the window so far,
+  // and a copy of the latencies measured so far.
+  int LiveFrames() const;
+  void AppendLatencies(std::vector<double>& out) const;
+
+ private:
+  void ReadLoop();
+  void SendLoop();
+  void SendTick();
+
+  const std::string server_;
+  const Workload& workload_;
+  const double update_hz_;
+  SharedStages& stages_;
+
+  std::unique_ptr<SessionStream> stream_;
+  std::thread reader_, sender_;
+  std::atomic<bool> first_frame_{false};
+  std::atomic<bool> stop_updates_{false};
+
+  mutable std::mutex mutex_;
+  std::condition_variable stop_cv_;  // wakes the sender
+  bool window_set_ = false;
+  BenchClock::time_point window_start_{}, window_end_{};
+  std::unique_ptr<FrameIntervals> intervals_;
+  LatencyTracker tracker_;
+  uint64_t tick_ = 0;
+  uint64_t next_seq_ = 1;
+  uint64_t updates_sent_ = 0;  // measured ones
+  uint64_t dropped_ = 0;
+  uint64_t bytes_ = 0;
+  int live_frames_ = 0;
+  std::string error_;
+};
+
+}  // namespace gistream::client

@@ -1,0 +1,459 @@
+// gistream bench: load and latency. For each concurrency step, opens N
+// continuous sessions (round-robin over the servers), waits for their
+// first frames, warms up, measures for the duration while each session
+// sends its workload's updates, then drains and closes. An optional
+// interferer loops a Render on its own channel meanwhile.
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <ctime>
+#include <iostream>
+#include <memory>
+#include <thread>
+
+#include <absl/strings/str_cat.h>
+#include <absl/strings/str_join.h>
+#include <absl/strings/str_split.h>
+
+#include "bench_report.h"
+#include "bench_session.h"
+#include "bench_stats.h"
+#include "bench_workload.h"
+#include "commands.h"
+#include "connection.h"
+#include "interrupt.h"
+#include "scene_loader.h"
+#include "text_table.h"
+#include "util/log.h"
+
+namespace gistream::client {
+namespace {
+
+using Clock = BenchClock;
+
+constexpr auto kFirstFrameTimeout = std::chrono::minutes(5);
+constexpr auto kDrainTimeout = std::chrono::seconds(5);
+constexpr auto kPollPeriod = std::chrono::milliseconds(500);
+
+double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
+Clock::duration FromSeconds(double s) {
+  return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(s));
+}
+
+// One server of the run: its channel(s), its copy of the scene, and the
+// GetServerStatus samples of the current step.
+struct BenchServer {
+  std::string address;
+  std::unique_ptr<Connection> connection;  // shared by its sessions unless per-session
+  std::unique_ptr<LoadedScene> scene;
+  v1::ServerStatus first, last;
+  ServerSample sample;
+};
+
+// The `--interfere "render ..."` client: Render in a loop on a channel of
+// its own until stopped; Stop cancels the call in flight.
+class Interferer {
+ public:
+  Interferer(const ConnectionOptions& connection, v1::RenderRequest request)
+      : connection_([&] {
+          ConnectionOptions own = connection;
+          own.own_connection = true;
+          return own;
+        }()),
+        request_(std::move(request)) {}
+  ~Interferer() { Stop(); }
+
+  void Start() {
+    stop_ = false;
+    thread_ = std::thread([this] { Loop(); });
+  }
+  void Stop() {
+    {
+      std::lock_guard lock(mutex_);
+      stop_ = true;
+      if (context_) context_->TryCancel();
+    }
+    cv_.notify_all();
+    if (thread_.joinable()) thread_.join();
+  }
+  // Renders finished since the last call, their times, and the last error.
+  void Take(int& renders, std::optional<double>& median_ms, std::string& error) {
+    std::lock_guard lock(mutex_);
+    renders = int(times_ms_.size());
+    median_ms = Percentile(times_ms_, 50);
+    error = error_;
+    times_ms_.clear();
+    error_.clear();
+  }
+
+ private:
+  void Loop() {
+    while (true) {
+      grpc::ClientContext context;
+      {
+        std::lock_guard lock(mutex_);
+        if (stop_) return;
+        context_ = &context;
+      }
+      v1::Frame frame;
+      const Clock::time_point start = Clock::now();
+      const grpc::Status status = connection_.stub().Render(&context, request_, &frame);
+      std::unique_lock lock(mutex_);
+      context_ = nullptr;
+      if (stop_) return;
+      if (status.ok()) {
+        times_ms_.push_back(Seconds(Clock::now() - start) * 1e3);
+      } else {
+        error_ = FromGrpc(status, connection_.server()).ToString();
+        cv_.wait_for(lock, std::chrono::seconds(1), [this] { return stop_; });  // no busy loop
+      }
+    }
+  }
+
+  Connection connection_;
+  v1::RenderRequest request_;
+  std::thread thread_;
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  bool stop_ = false;
+  grpc::ClientContext* context_ = nullptr;
+  std::vector<double> times_ms_;
+  std::string error_;
+};
+
+// Parses `--interfere` as a `render` command line; the scene defaults to
+// the bench's, and no file is written.
+absl::StatusOr<RenderOptions> ParseInterferer(const std::string& text, const std::string& scene,
+                                              const std::string& server) {
+  std::vector<std::string> args = absl::StrSplit(text, ' ', absl::SkipWhitespace());
+  if (args.empty() || args.front() != "render") {
+    return absl::InvalidArgumentError(
+        absl::StrCat("--interfere: \"", text, "\" is not a `render ...` command line"));
+  }
+  if (std::find(args.begin(), args.end(), "--scene") == args.end()) {
+    args.insert(args.end(), {"--scene", scene});
+  }
+  if (std::find(args.begin(), args.end(), "--out") == args.end()) {
+    args.insert(args.end(), {"--out", "/dev/null"});
+  }
+  absl::StatusOr<CommandLine> line = ParseCommandLine(args, server);
+  if (!line.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("--interfere: ", line.status().message()));
+  }
+  return std::get<RenderOptions>(line->options);
+}
+
+bool StderrIsTty() { return ::isatty(STDERR_FILENO) == 1; }
+
+// The live progress line (on a terminal only), rewritten in place.
+class Progress {
+ public:
+  explicit Progress(bool enabled) : enabled_(enabled) {}
+  void Show(const std::string& text) {
+    if (!enabled_) return;
+    std::cerr << "\r\033[K" << text << std::flush;
+    shown_ = true;
+  }
+  void Clear() {
+    if (enabled_ && shown_) std::cerr << "\r\033[K" << std::flush;
+    shown_ = false;
+  }
+
+ private:
+  bool enabled_;
+  bool shown_ = false;
+};
+
+std::string Canonical(const BenchOptions& o, const std::string& servers) {
+  std::string cmd = absl::StrCat("gistream --server ", servers, " bench --scene ", o.scene.scene,
+                                 " --solver ", o.solver.solver);
+  for (const auto& [k, v] : o.solver.params) absl::StrAppend(&cmd, " --param ", k, "=", v);
+  absl::StrAppend(&cmd, " --size ", o.view.width, "x", o.view.height, " --workload ", o.workload);
+  if (!o.node.empty()) absl::StrAppend(&cmd, " --node ", o.node);
+  absl::StrAppend(&cmd, " --update-hz ", o.update_hz, " --sessions ", absl::StrJoin(o.sessions, ","),
+                  " --duration ", o.duration_s, "s --warmup ", o.warmup_s, "s --channels ",
+                  o.channel_per_session ? "per-session" : "shared", " --fps ", o.fps);
+  if (!o.interfere.empty()) absl::StrAppend(&cmd, " --interfere \"", o.interfere, "\"");
+  return cmd;
+}
+
+void PollStatus(BenchServer& server, bool first) {
+  v1::ServerStatus status;
+  if (!server.connection
+           ->Call(&v1::Gistream::Stub::GetServerStatus, v1::GetServerStatusRequest(), &status, 5.0)
+           .ok()) {
+    return;
+  }
+  if (first) server.first = status;
+  server.last = status;
+  server.sample.max_rss_bytes = std::max<uint64_t>(server.sample.max_rss_bytes, status.rss_bytes());
+}
+
+void FinishSample(BenchServer& server) {
+  ServerSample& s = server.sample;
+  s.server = server.address;
+  // A server that reports no RSS predates these fields.
+  s.available = server.last.rss_bytes() > 0;
+  const double wall = server.last.uptime_s() - server.first.uptime_s();
+  s.cpu_percent = wall > 0.0 ? 100.0 * (server.last.cpu_seconds() - server.first.cpu_seconds()) / wall
+                             : 0.0;
+}
+
+// Runs one step with `count` sessions.
+absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const ConnectionOptions& connection,
+                                   std::vector<BenchServer>& servers, const Workload& workload,
+                                   Interferer* interferer, int count, const std::string& label,
+                                   Progress& progress, const std::atomic<bool>& interrupted) {
+  SharedStages stages;
+  std::vector<std::unique_ptr<Connection>> own_connections;
+  std::vector<std::unique_ptr<BenchSession>> sessions;
+  for (int i = 0; i < count && !interrupted; ++i) {
+    BenchServer& server = servers[size_t(i) % servers.size()];
+    Connection* channel = server.connection.get();
+    if (options.channel_per_session) {
+      ConnectionOptions own = connection;
+      own.server = server.address;
+      own.own_connection = true;
+      own_connections.push_back(std::make_unique<Connection>(own));
+      channel = own_connections.back().get();
+    }
+    v1::SessionConfig config;
+    config.set_scene_id(server.scene->id());
+    config.set_solver(options.solver.solver);
+    config.mutable_params()->insert(options.solver.params.begin(), options.solver.params.end());
+    config.set_width(options.view.width);
+    config.set_height(options.view.height);
+    *config.mutable_encoding() = options.view.encoding;
+    config.mutable_continuous()->set_max_fps(options.fps);
+    if (options.view.camera.ByteSizeLong() > 0) *config.mutable_camera() = options.view.camera;
+    auto session =
+        std::make_unique<BenchSession>(server.address, workload, options.update_hz, stages);
+    progress.Show(absl::StrCat(label, " opening session ", i + 1, "/", count));
+    const absl::Status opened = session->Open(channel->stub(), config);
+    if (!opened.ok()) Log(LogLevel::kWarning, absl::StrCat("session ", i + 1, ": ", opened.ToString()));
+    sessions.push_back(std::move(session));
+  }
+
+  // Every session's first frame (a GI solver's first full solve can take a
+  // while): the warm-up starts after it.
+  const Clock::time_point wait_start = Clock::now();
+  while (!interrupted) {
+    int ready = 0, live = 0;
+    for (const auto& s : sessions) {
+      if (s->failed()) continue;
+      ++live;
+      ready += s->has_first_frame() ? 1 : 0;
+    }
+    if (ready == live) break;
+    if (Clock::now() - wait_start > kFirstFrameTimeout) {
+      Log(LogLevel::kWarning, absl::StrCat(label, " ", live - ready,
+                                           " session(s) sent no frame in 5 minutes; measuring anyway"));
+      break;
+    }
+    progress.Show(absl::StrCat(label, " waiting for first frames ", ready, "/", live, " (",
+                               int(Seconds(Clock::now() - wait_start)), " s)"));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+
+  if (interferer) interferer->Start();
+  const Clock::time_point start = Clock::now() + FromSeconds(options.warmup_s);
+  const Clock::time_point end = start + FromSeconds(options.duration_s);
+  for (auto& s : sessions) s->SetWindow(start, end);
+  for (BenchServer& server : servers) server.sample = ServerSample{};
+  bool polled_first = false;
+  while (!interrupted) {
+    const Clock::time_point now = Clock::now();
+    if (now >= end) break;
+    if (now < start) {
+      const double warmed = options.warmup_s - Seconds(start - now);
+      progress.Show(absl::StrCat(label, " warming up ", FormatFixed(warmed, 1), "/",
+                                 FormatFixed(options.warmup_s, 1), " s"));
+    } else {
+      for (BenchServer& server : servers) PollStatus(server, !polled_first);
+      polled_first = true;
+      int frames = 0;
+      std::vector<double> latencies;
+      for (const auto& s : sessions) {
+        frames += s->LiveFrames();
+        s->AppendLatencies(latencies);
+      }
+      const double elapsed = std::max(Seconds(Clock::now() - start), 1e-3);
+      const std::optional<double> p95 = Percentile(latencies, 95);
+      progress.Show(absl::StrCat(label, " measuring ", FormatFixed(elapsed, 1), "/",
+                                 FormatFixed(options.duration_s, 1), " s  fps ",
+                                 FormatFixed(frames / elapsed / std::max<size_t>(sessions.size(), 1), 1),
+                                 "/session  p95 latency ",
+                                 p95 ? absl::StrCat(FormatFixed(*p95, 1), " ms") : "-"));
+    }
+    std::this_thread::sleep_until(std::min(Clock::now() + kPollPeriod, now < start ? start : end));
+  }
+  for (BenchServer& server : servers) {
+    PollStatus(server, !polled_first);
+    FinishSample(server);
+  }
+  for (auto& s : sessions) s->StopUpdates();
+  StepResult partial;
+  if (interferer) {
+    interferer->Stop();
+    interferer->Take(partial.interferer_renders, partial.interferer_median_ms,
+                     partial.interferer_error);
+  }
+  // Let the frames that answer the last measured updates arrive.
+  const Clock::time_point drain_end = Clock::now() + kDrainTimeout;
+  while (!interrupted && Clock::now() < drain_end) {
+    size_t pending = 0;
+    for (const auto& s : sessions) pending += s->Unanswered();
+    if (pending == 0) break;
+    progress.Show(absl::StrCat(label, " waiting for ", pending, " update(s) to show"));
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  progress.Show(absl::StrCat(label, " closing ", sessions.size(), " session(s)"));
+  std::vector<SessionMeasurement> measured;
+  for (auto& s : sessions) s->StopUpdates();
+  for (auto& s : sessions) s->Close();
+  for (auto& s : sessions) measured.push_back(s->Result());
+  progress.Clear();
+
+  StatsSummary stage_summary;
+  {
+    std::lock_guard lock(stages.mutex);
+    stage_summary = stages.collector.Summarize();
+  }
+  StepResult step =
+      AggregateStep(std::move(measured), std::move(stage_summary), options.duration_s);
+  step.interferer_renders = partial.interferer_renders;
+  step.interferer_median_ms = partial.interferer_median_ms;
+  step.interferer_error = partial.interferer_error;
+  for (BenchServer& server : servers) step.servers.push_back(server.sample);
+  return step;
+}
+
+}  // namespace
+
+absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& options) {
+  GS_ASSIGN_OR_RETURN(WorkloadSpec spec, ParseWorkload(options.workload));
+  spec.node = options.node;
+  const std::vector<std::string> addresses =
+      absl::StrSplit(connection.server, ',', absl::SkipWhitespace());
+  if (addresses.empty()) return absl::InvalidArgumentError("--server: no address");
+  std::optional<RenderOptions> interferer_options;
+  if (!options.interfere.empty()) {
+    GS_ASSIGN_OR_RETURN(interferer_options,
+                        ParseInterferer(options.interfere, options.scene.scene, addresses[0]));
+  }
+  GS_ASSIGN_OR_RETURN(v1::LoadSceneRequest load, BuildLoadSceneRequest(options.scene));
+
+  std::vector<BenchServer> servers;
+  for (const std::string& address : addresses) {
+    BenchServer server;
+    server.address = address;
+    ConnectionOptions one = connection;
+    one.server = address;
+    server.connection = std::make_unique<Connection>(one);
+    GS_ASSIGN_OR_RETURN(server.scene, LoadedScene::Load(*server.connection, load,
+                                                        options.scene.keep_scene));
+    servers.push_back(std::move(server));
+  }
+  std::cout << DescribeScene(options.scene.scene, servers[0].scene->info()) << std::endl;
+  GS_ASSIGN_OR_RETURN(Workload workload, Workload::Create(spec, servers[0].scene->info()));
+
+  std::unique_ptr<LoadedScene> interferer_scene;
+  std::unique_ptr<Interferer> interferer;
+  if (interferer_options) {
+    v1::RenderRequest request;
+    std::string scene_id = servers[0].scene->id();
+    if (interferer_options->scene.scene != options.scene.scene) {
+      GS_ASSIGN_OR_RETURN(v1::LoadSceneRequest other, BuildLoadSceneRequest(interferer_options->scene));
+      GS_ASSIGN_OR_RETURN(interferer_scene, LoadedScene::Load(*servers[0].connection, other, false));
+      scene_id = interferer_scene->id();
+    }
+    request.set_scene_id(scene_id);
+    request.set_solver(interferer_options->solver.solver);
+    request.mutable_params()->insert(interferer_options->solver.params.begin(),
+                                     interferer_options->solver.params.end());
+    request.set_width(interferer_options->view.width);
+    request.set_height(interferer_options->view.height);
+    *request.mutable_encoding() = interferer_options->view.encoding;
+    if (interferer_options->view.camera.ByteSizeLong() > 0) {
+      *request.mutable_camera() = interferer_options->view.camera;
+    }
+    ConnectionOptions first = connection;
+    first.server = addresses[0];
+    interferer = std::make_unique<Interferer>(first, request);
+  }
+
+  const std::string pacing = options.update_hz > 0.0
+                                 ? absl::StrCat("open loop at ", options.update_hz, " Hz")
+                                 : "closed loop (one update per frame)";
+  std::cout << "workload " << WorkloadName(spec) << ": " << workload.description() << "; "
+            << pacing << "; " << options.solver.solver << " at " << options.view.width << "x"
+            << options.view.height << ", fps cap "
+            << (options.fps > 0.0f ? FormatFixed(options.fps, 0) : std::string("server default")) << std::endl;
+
+  std::atomic<bool> interrupted{false};
+  ScopedInterruptHandler on_interrupt([&](int) { interrupted = true; });
+  Progress progress(StderrIsTty());
+  std::vector<StepResult> steps;
+  for (size_t i = 0; i < options.sessions.size() && !interrupted; ++i) {
+    const int count = options.sessions[i];
+    const std::string label = absl::StrCat("[step ", i + 1, "/", options.sessions.size(), ": ",
+                                           count, count == 1 ? " session]" : " sessions]");
+    if (!StderrIsTty()) std::cout << label << " running" << std::endl;
+    GS_ASSIGN_OR_RETURN(StepResult step, RunStep(options, connection, servers, workload,
+                                                 interferer.get(), count, label, progress,
+                                                 interrupted));
+    std::cout << label << " " << FormatFixed(step.fps_mean, 1) << " fps/session, latency p95 "
+              << (step.latency_ms.p95 ? FormatFixed(*step.latency_ms.p95, 1) : "-")
+              << " ms, longest frame interval "
+              << (step.interval_ms.max ? FormatFixed(*step.interval_ms.max, 0) : "-") << " ms"
+              << (step.failed_sessions ? absl::StrCat(", ", step.failed_sessions, " failed") : "")
+              << std::endl;
+    for (const SessionMeasurement& m : step.per_session) {
+      if (!m.error.empty()) Log(LogLevel::kWarning, absl::StrCat("session on ", m.server, ": ", m.error));
+    }
+    if (!step.interferer_error.empty()) {
+      Log(LogLevel::kWarning, absl::StrCat("interferer: ", step.interferer_error));
+    }
+    steps.push_back(std::move(step));
+  }
+  if (steps.empty()) return absl::CancelledError("interrupted before the first step ended");
+
+  v1::ServerStatus status = servers[0].last;
+  const std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof(date), "%Y-%m-%d", std::gmtime(&now));
+  const nlohmann::json meta = {
+      {"date", date},
+      {"command", Canonical(options, connection.server)},
+      {"servers", addresses},
+      {"server_version", status.version()},
+      {"gl_renderer", status.gl_renderer()},
+      {"cpu", absl::StrCat(status.cpu_model(), ", ", status.cpu_threads(), " threads")},
+      {"scene", options.scene.scene},
+      {"solver", options.solver.solver},
+      {"params", options.solver.params},
+      {"size", absl::StrCat(options.view.width, "x", options.view.height)},
+      {"format", v1::ImageFormat_Name(options.view.encoding.format())},
+      {"workload", WorkloadName(spec)},
+      {"workload_description", workload.description()},
+      {"pacing", pacing},
+      {"update_hz", options.update_hz},
+      {"fps_cap", options.fps > 0.0f ? FormatFixed(options.fps, 0) : std::string("server default")},
+      {"duration_s", options.duration_s},
+      {"warmup_s", options.warmup_s},
+      {"channels", options.channel_per_session ? "per-session" : "shared"},
+      {"interfere", options.interfere}};
+  std::cout << "\n" << FormatBenchTable(steps);
+  for (const StepResult& s : steps) {
+    std::cout << "stages (" << s.sessions << "): " << FormatStageMedians(s.stages) << "\n";
+  }
+  GS_RETURN_IF_ERROR(WriteBenchOutputs(options.out_dir, steps, meta));
+  std::cout << "wrote " << (options.out_dir / "results.{csv,json,md}").string() << ", "
+            << (options.out_dir / "latency_cdf.png").string() << ", fps_vs_sessions.png and "
+            << "latency_vs_sessions.png" << std::endl;
+  if (interrupted) return InterruptedError();
+  return absl::OkStatus();
+}
+
+}  // namespace gistream::client
