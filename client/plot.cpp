@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 namespace gistream::client {
 namespace {
@@ -221,6 +222,32 @@ Raster PlotLines(const std::vector<PlotSeries>& series, const PlotStyle& style, 
     } else {
       const std::string label = TickLabel(k, axes.x_step);
       Text(r, x - int(label.size()) * kGlyphAdvance / 2, axes.bottom + 8, label, black);
+    }
+  }
+  // A log axis of at most two decades also gets 2 and 5 times each decade,
+  // labelled plainly (session counts, latencies in ms read better so).
+  auto minor = [](double d0, double d1) {
+    std::vector<double> values;
+    if (d1 - d0 > 2.0) return values;
+    for (double k = d0; k < d1; k += 1) {
+      for (double m : {2.0, 5.0}) values.push_back(m * std::pow(10.0, k));
+    }
+    return values;
+  };
+  if (axes.x_log) {
+    for (double v : minor(axes.x0, axes.x1)) {
+      const int x = axes.X(v);
+      Line(r, x, axes.top, x, axes.bottom, grid, 1);
+      const std::string label = TickLabel(v, v >= 1.0 ? 1.0 : v);
+      Text(r, x - int(label.size()) * kGlyphAdvance / 2, axes.bottom + 8, label, black);
+    }
+  }
+  if (axes.y_log) {
+    for (double v : minor(axes.y0, axes.y1)) {
+      const int y = axes.Y(v);
+      Line(r, axes.left, y, axes.right, y, grid, 1);
+      const std::string label = TickLabel(v, v >= 1.0 ? 1.0 : v);
+      Text(r, axes.left - 6 - int(label.size()) * kGlyphAdvance, y - 5, label, black);
     }
   }
   for (double k = axes.y0; k <= axes.y1 + axes.y_step * 1e-9; k += axes.y_step) {
