@@ -13,6 +13,7 @@
 #include "interrupt.h"
 #include "options.h"
 #include "usage.h"
+#include "util/version.h"
 
 namespace {
 
@@ -43,6 +44,10 @@ int main(int argc, char** argv) {
   InterruptWatcher interrupts;
 
   const std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.size() == 1 && args[0] == "--version") {
+    std::cout << "gistream " << gistream::Version() << "\n";
+    return 0;
+  }
   const char* env_server = std::getenv("GISTREAM_SERVER");
   const auto line = ParseCommandLine(
       args, env_server != nullptr && *env_server != '\0' ? env_server : kDefaultServer);

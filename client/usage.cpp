@@ -21,6 +21,7 @@ global options (also accepted after the command):
   --server ADDR   server address (default $GISTREAM_SERVER, else 127.0.0.1:50051)
   --timeout SEC   deadline of each single request (default 300)
   -h, --help      show help; `gistream COMMAND --help` for a command
+  --version       print "gistream VERSION" and exit (on its own)
 
 exit status: 0 on success, 1 on an error (printed as "error: CODE: message"),
 2 on a usage error, 130 when interrupted twice.

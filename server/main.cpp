@@ -1,6 +1,7 @@
 // gistreamd: the render server. Parses flags, creates the Engine (EGL device,
-// render thread), serves gistream.v1 over gRPC, prints `listening on ADDR`
-// once serving, and shuts down gracefully on SIGTERM/SIGINT.
+// render thread), serves gistream.v1 over gRPC (and, with --metrics-listen,
+// Prometheus metrics over HTTP), prints `listening on ADDR` once serving, and
+// shuts down gracefully on SIGTERM/SIGINT.
 #include <pthread.h>
 #include <signal.h>
 
@@ -22,10 +23,12 @@
 #include <string_view>
 #include <thread>
 
+#include "metrics/metrics.h"
 #include "service/engine.h"
 #include "service/grpc/server.h"
 #include "util/log.h"
 #include "util/status.h"
+#include "util/version.h"
 
 namespace gistream {
 namespace {
@@ -37,6 +40,7 @@ absl::string_view AV(std::string_view s) { return absl::string_view(s.data(), s.
 
 struct Flags {
   std::string listen = "127.0.0.1:50051";
+  std::string metrics_listen;  // empty: no metrics endpoint
   EngineOptions engine;
   uint64_t max_message_bytes = 0;  // 0: max_scene_bytes + 16 MiB
   double shutdown_deadline_s = 10.0;
@@ -47,6 +51,8 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
 
   --listen ADDR              host:port to serve on (default 127.0.0.1:50051;
                              port 0 picks a free one)
+  --metrics-listen ADDR      also serve Prometheus metrics on http://ADDR/metrics
+                             (host:port; default off)
   --scenes DIR               scene directory for LoadScene by name (default scenes)
   --egl-device N             EGL device index; -1 picks the first hardware
                              device, else Mesa's software one (default -1)
@@ -65,6 +71,7 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
   --shutdown-deadline-s F    on SIGTERM/SIGINT, seconds running calls get before
                              they are cancelled (default 10)
   --log-level L              debug | info | warning | error (default info)
+  --version                  print "gistreamd VERSION" and exit
   --help                     this text
 Flags take their value as the next argument or after '=' (--listen=:50051).
 )";
@@ -128,6 +135,11 @@ Flags ParseFlags(int argc, char** argv) {
          if (v.empty()) UsageError(absl::StrCat(AV(flag), ": empty address"));
          f.listen = std::string(v);
        }},
+      {"--metrics-listen",
+       [&](auto flag, auto v) {
+         if (v.empty()) UsageError(absl::StrCat(AV(flag), ": empty address"));
+         f.metrics_listen = std::string(v);
+       }},
       {"--scenes", [&](auto, auto v) { f.engine.scene_dir = std::string(v); }},
       {"--egl-device", [&](auto flag, auto v) { f.engine.egl_device = ParseInt(flag, v, -1, 1024); }},
       {"--max-sessions",
@@ -173,6 +185,11 @@ Flags ParseFlags(int argc, char** argv) {
     std::string_view arg = argv[i];
     if (arg == "--help" || arg == "-h") {
       std::fputs(kUsage, stdout);
+      std::exit(0);
+    }
+    if (arg == "--version") {
+      const std::string_view version = Version();
+      std::printf("gistreamd %.*s\n", static_cast<int>(version.size()), version.data());
       std::exit(0);
     }
     std::string_view name = arg;
@@ -239,10 +256,17 @@ class SignalWaiter {
 };
 
 int Main(int argc, char** argv) {
-  const Flags flags = ParseFlags(argc, argv);
+  Flags flags = ParseFlags(argc, argv);
   SetLogLevel(flags.log_level);
   const sigset_t signals = BlockShutdownSignals();
+  Log(LogLevel::kInfo, absl::StrCat("gistreamd ", AV(Version())));
 
+  // Declared before the engine and server, which report to it.
+  std::shared_ptr<metrics::Metrics> metrics;
+  if (!flags.metrics_listen.empty()) {
+    metrics = std::make_shared<metrics::Metrics>();
+    flags.engine.observer = metrics;
+  }
   absl::StatusOr<std::unique_ptr<Engine>> engine = Engine::Create(flags.engine);
   if (!engine.ok()) {
     std::fprintf(stderr, "gistreamd: cannot start the engine: %s\n",
@@ -254,14 +278,26 @@ int Main(int argc, char** argv) {
                                     device.version));
   Log(LogLevel::kInfo, absl::StrCat("EGL device: ", device.egl_device));
 
+  if (metrics) {
+    if (absl::Status serving = metrics->Serve(flags.metrics_listen, **engine); !serving.ok()) {
+      std::fprintf(stderr, "gistreamd: %s\n", serving.ToString().c_str());
+      (*engine)->Shutdown();
+      return 1;
+    }
+    const std::string host = flags.metrics_listen.substr(0, flags.metrics_listen.rfind(':'));
+    Log(LogLevel::kInfo, absl::StrCat("metrics on http://", host, ":", metrics->port(), "/metrics"));
+  }
+
   service::ServerOptions options;
   options.listen = flags.listen;
   options.max_receive_message_bytes = static_cast<int>(flags.max_message_bytes);
   options.max_send_message_bytes = static_cast<int>(flags.max_message_bytes);
+  options.service.observer = metrics;
   absl::StatusOr<std::unique_ptr<service::GistreamServer>> server =
       service::GistreamServer::Start(**engine, options);
   if (!server.ok()) {
     std::fprintf(stderr, "gistreamd: %s\n", server.status().ToString().c_str());
+    if (metrics) metrics->StopServing();
     (*engine)->Shutdown();
     return 1;
   }
@@ -288,6 +324,7 @@ int Main(int argc, char** argv) {
   const auto deadline = std::chrono::duration_cast<std::chrono::milliseconds>(
       std::chrono::duration<double>(flags.shutdown_deadline_s));
   (*server)->Shutdown(deadline);  // health NOT_SERVING, drain calls, Engine::Shutdown
+  if (metrics) metrics->StopServing();  // scrapes read the engine: stop them first
   server->reset();
   engine->reset();
   return 0;

@@ -14,6 +14,10 @@ class GBuffer {
   void Resize(uint32_t width, uint32_t height);
   uint32_t width() const { return width_; }
   uint32_t height() const { return height_; }
+  // Bytes its textures hold: position RGBA32F, normal RGBA16F, albedo RGBA8,
+  // emission RGBA32F, depth 32F, hdr RGBA32F, ldr RGBA8 = 68 per pixel.
+  uint64_t gpu_bytes() const { return uint64_t(width_) * height_ * kBytesPerPixel; }
+  static constexpr uint64_t kBytesPerPixel = 16 + 8 + 4 + 16 + 4 + 16 + 4;
 
   GLuint fbo() const { return fbo_.id(); }          // the four G-buffer targets + depth
   GLuint hdr_fbo() const { return hdr_fbo_.id(); }  // the radiance target

@@ -20,6 +20,7 @@
 #include "scene/import_limits.h"
 #include "scene/scene.h"
 #include "scene/updates.h"
+#include "service/observer.h"
 #include "solvers/solver_params.h"
 #include "util/stage_timing.h"
 #include "util/status.h"
@@ -149,6 +150,10 @@ class FrameSink {
   virtual void OnUpdateRejected(uint64_t seq, const absl::Status& status) = 0;
   // The session cannot go on (e.g. a GPU reset); no frames follow.
   virtual void OnSessionFailed(const absl::Status& status) = 0;
+  // Frames this sink received but replaced with newer ones before they
+  // reached the client (a slow reader), so far. Read by Engine::stats() from
+  // any thread: must not block.
+  virtual uint64_t dropped_frames() const { return 0; }
 };
 
 // ---------------------------------------------------------------- render
@@ -180,6 +185,8 @@ struct EngineOptions {
   uint32_t max_height = 4096;
   float default_max_fps = 30.0f;
   float max_fps = 240.0f;
+  // Told about every frame produced (see observer.h); may be null.
+  std::shared_ptr<ServerObserver> observer;
 };
 
 struct DeviceInfo {
@@ -191,11 +198,38 @@ struct DeviceInfo {
   uint32_t cpu_threads = 0;
 };
 
+// One open client session (Render calls are not listed).
+struct SessionStatus {
+  SessionId id;
+  SceneId scene;
+  std::string solver;
+  uint32_t width = 0;  // of the last frame (the configured size before the first)
+  uint32_t height = 0;
+  uint64_t frames = 0;          // frames rendered for this session
+  double fps = 0.0;             // frames per second over the last 5 s (or since it opened)
+  uint64_t dropped_frames = 0;  // its sink's FrameSink::dropped_frames()
+  uint32_t pending_updates = 0;  // queued, not yet applied
+  uint64_t last_update_seq = 0;  // highest sequence number applied so far
+};
+
 struct EngineStats {
   uint32_t sessions = 0;
   uint32_t scenes = 0;
   uint64_t frames_rendered = 0;
   std::vector<SceneId> scene_ids;
+  std::vector<SessionStatus> session_status;  // by session id
+  // Bytes held by the GL objects the engine accounts for: every scene's
+  // GpuScene (vertex/index buffers, materials, textures) and every view's
+  // G-buffer and targets. Solver-owned objects (shadow maps, probe atlases,
+  // link buffers) are not yet included. Refreshed on the render thread
+  // after loads, unloads, closed sessions and (at most 4 times a second)
+  // frames.
+  uint64_t gl_object_bytes = 0;
+  // What the driver reports through GL_NVX_gpu_memory_info or
+  // GL_ATI_meminfo (queried with gl_object_bytes); 0 when it does not tell.
+  // ATI reports no total, only what is free.
+  uint64_t gpu_memory_total_bytes = 0;
+  uint64_t gpu_memory_available_bytes = 0;
 };
 
 class Engine {

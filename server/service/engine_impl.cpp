@@ -95,6 +95,8 @@ absl::Status EngineImpl::Start() {
     }
     GS_ASSIGN_OR_RETURN(ViewPasses passes, ViewPasses::Create());
     passes_ = std::make_unique<ViewPasses>(std::move(passes));
+    memory_query_.emplace();
+    RefreshMemoryStats(/*force=*/true);
     return absl::OkStatus();
   });
 }
@@ -125,13 +127,46 @@ void EngineImpl::Shutdown() {
 }
 
 EngineStats EngineImpl::stats() const {
+  const auto now = FrameRate::Clock::now();
   std::lock_guard lock(mutex_);
   EngineStats out;
-  for (const auto& [id, s] : sessions_) out.sessions += s->transient ? 0 : 1;
+  for (const auto& [id, s] : sessions_) {
+    if (s->transient) continue;
+    out.sessions += 1;
+    SessionStatus& status = out.session_status.emplace_back();
+    status.id = id;
+    status.scene = s->config.scene;
+    status.solver = s->config.solver;
+    status.width = s->width;
+    status.height = s->height;
+    status.frames = s->frames;
+    status.fps = s->rate.PerSecond(now);
+    status.dropped_frames = s->sink->dropped_frames();
+    status.pending_updates = uint32_t(s->pending.size());
+    status.last_update_seq = s->last_seq;
+  }
   out.scenes = uint32_t(scenes_.size());
   out.frames_rendered = frames_rendered_.load();
   for (const auto& [id, s] : scenes_) out.scene_ids.push_back(id);
+  out.gl_object_bytes = gl_object_bytes_.load();
+  out.gpu_memory_total_bytes = gpu_memory_total_.load();
+  out.gpu_memory_available_bytes = gpu_memory_available_.load();
   return out;
+}
+
+void EngineImpl::RefreshMemoryStats(bool force) {
+  const auto now = Clock::now();
+  if (!force && now - memory_refreshed_ < std::chrono::milliseconds(250)) return;
+  memory_refreshed_ = now;
+  uint64_t bytes = 0;
+  for (const auto& [id, scene] : gpu_scenes_) bytes += scene.gpu ? scene.gpu->gpu_bytes() : 0;
+  for (const auto& [id, view] : views_) bytes += view.gbuffer.gpu_bytes();
+  gl_object_bytes_ = bytes;
+  if (memory_query_ && memory_query_->supported()) {
+    const gl::GpuMemoryInfo info = memory_query_->Query();
+    gpu_memory_total_ = info.total_bytes;
+    gpu_memory_available_ = info.available_bytes;
+  }
 }
 
 std::vector<SolverDescription> EngineImpl::ListSolvers() const { return AllSolverDescriptions(); }
@@ -218,6 +253,7 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
         GS_ASSIGN_OR_RETURN(gpu.gpu, GpuScene::Upload(*gpu.state));
         SceneInfo described = DescribeScene(record->id, *gpu.state);
         gpu_scenes_[record->id] = std::move(gpu);
+        RefreshMemoryStats(/*force=*/true);
         return described;
       });
   if (!info.ok()) {
@@ -241,7 +277,11 @@ absl::Status EngineImpl::UnloadScene(const SceneId& id) {
     }
     scenes_.erase(it);
   }
-  render_thread_->Post([this, id] { gpu_scenes_.erase(id); });
+  render_thread_->Post([this, id] {
+    gpu_scenes_.erase(id);
+    RefreshMemoryStats(/*force=*/true);
+  });
+  Log(LogLevel::kInfo, {"", id}, "unloaded");
   return absl::OkStatus();
 }
 
@@ -305,6 +345,8 @@ absl::StatusOr<std::shared_ptr<EngineImpl::SessionRecord>> EngineImpl::CreateSes
     }
   }
   session->id = absl::StrCat(transient ? "render-" : "session-", next_id_++);
+  session->width = config.width;
+  session->height = config.height;
   session->scene->sessions += 1;
   sessions_[session->id] = session;
   return session;
@@ -315,8 +357,9 @@ absl::StatusOr<SessionOpenInfo> EngineImpl::OpenSession(const SessionConfig& con
   GS_ASSIGN_OR_RETURN(std::shared_ptr<SessionRecord> session,
                       CreateSession(config, std::move(sink), /*transient=*/false));
   render_thread_->Wake();
-  Log(LogLevel::kInfo, absl::StrCat("session ", session->id, " opened on ", config.scene, " (",
-                                    config.solver, ", ", config.width, "x", config.height, ")"));
+  Log(LogLevel::kDebug, {session->id, config.scene},
+      absl::StrCat("engine session created (", config.solver, ", ", config.width, "x",
+                   config.height, ")"));
   return SessionOpenInfo{session->id, config.scene, config.solver, session->params.values()};
 }
 
@@ -361,7 +404,9 @@ void EngineImpl::CloseSession(const SessionId& id) {
   render_thread_->Post([this, id] { ReleaseSessionGpu(id); });
 }
 
-void EngineImpl::ReleaseSessionGpu(const SessionId& id) { views_.erase(id); }
+void EngineImpl::ReleaseSessionGpu(const SessionId& id) {
+  if (views_.erase(id) > 0) RefreshMemoryStats(/*force=*/true);
+}
 
 absl::StatusOr<EncodedFrame> EngineImpl::Render(const RenderRequest& request) {
   SessionConfig config;
@@ -442,6 +487,8 @@ Clock::time_point EngineImpl::Tick() {
 }
 
 void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
+  // Lines logged while this frame renders (solvers included) name it.
+  const ScopedLogContext log_context({session.id, session.scene->id});
   std::deque<Update> updates;
   {
     std::lock_guard lock(mutex_);
@@ -452,13 +499,25 @@ void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
   CheckGpuReset();
   if (gpu_lost_) return;
   if (!frame.ok()) {
-    Log(LogLevel::kError, absl::StrCat("session ", session.id, ": ", frame.status().ToString()));
+    Log(LogLevel::kError, absl::StrCat("frame failed: ", frame.status().ToString()));
     session.sink->OnSessionFailed(frame.status());
     std::lock_guard lock(mutex_);
     session.closed = true;
     return;
   }
   frames_rendered_.fetch_add(1);
+  {
+    std::lock_guard lock(mutex_);
+    session.frames += 1;
+    session.last_seq = (*frame)->last_update_seq;
+    session.width = (*frame)->width;
+    session.height = (*frame)->height;
+    session.rate.Add(Clock::now());
+  }
+  if (options_.observer) options_.observer->OnFrameRendered(**frame);
+  // A view's first frame allocated its G-buffer: count it before the client
+  // sees the frame.
+  RefreshMemoryStats(/*force=*/(*frame)->frame_number == 1);
   session.sink->OnFrame(*std::move(frame));
 }
 
@@ -579,7 +638,8 @@ void EngineImpl::EvictIdleSolvers(GpuSceneRecord& scene, const SceneRecord* owne
       }
     }
     if (victim == scene.solvers.end()) return;  // every cached solver is in use
-    Log(LogLevel::kInfo, absl::StrCat("scene ", owner->id, ": dropping idle solver ", victim->first));
+    Log(LogLevel::kInfo, {"", owner->id},
+        absl::StrCat("dropping idle solver ", victim->first));
     scene.solvers.erase(victim);
   }
 }

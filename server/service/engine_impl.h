@@ -7,9 +7,11 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <unordered_map>
 
+#include "gl/memory_info.h"
 #include "gl/stage_timer.h"
 #include "render/camera.h"
 #include "render/gbuffer.h"
@@ -17,6 +19,7 @@
 #include "scene/gpu_scene.h"
 #include "scene/scene_state.h"
 #include "service/engine.h"
+#include "service/frame_rate.h"
 #include "service/render_thread.h"
 #include "solvers/solver.h"
 
@@ -62,6 +65,11 @@ class EngineImpl final : public Engine {
     std::deque<Update> pending;
     uint32_t requested = 0;
     bool closed = false;
+    // For stats(), updated after each frame (mutex-guarded).
+    uint64_t frames = 0;
+    uint64_t last_seq = 0;
+    uint32_t width = 0, height = 0;
+    mutable FrameRate rate;  // stats() prunes it
   };
 
   // Render-thread-only state.
@@ -103,6 +111,9 @@ class EngineImpl final : public Engine {
                                                              std::deque<Update> updates);
   void ReleaseSessionGpu(const SessionId& id);
   void CheckGpuReset();
+  // Recomputes the GL object bytes and queries the driver's GPU memory into
+  // the atomics below; unless `force`, at most every 250 ms.
+  void RefreshMemoryStats(bool force);
 
   EngineOptions options_;
   DeviceInfo device_;
@@ -115,6 +126,10 @@ class EngineImpl final : public Engine {
   bool shut_down_ = false;
   std::atomic<uint64_t> frames_rendered_{0};
   std::atomic<bool> gpu_lost_{false};
+  // Written by RefreshMemoryStats (render thread), read by stats().
+  std::atomic<uint64_t> gl_object_bytes_{0};
+  std::atomic<uint64_t> gpu_memory_total_{0};
+  std::atomic<uint64_t> gpu_memory_available_{0};
 
   // Render thread only.
   std::unordered_map<SceneId, GpuSceneRecord> gpu_scenes_;
@@ -122,6 +137,8 @@ class EngineImpl final : public Engine {
   std::unique_ptr<ViewPasses> passes_;
   gl::StageTimer timer_;
   SessionId last_served_;
+  std::optional<gl::GpuMemoryQuery> memory_query_;
+  RenderThread::Clock::time_point memory_refreshed_{};
 };
 
 }  // namespace gistream

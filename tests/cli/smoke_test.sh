@@ -8,6 +8,15 @@ SCENES=${2:?scene dir}
 TMP=$(mktemp -d)
 trap 'kill -9 $PID 2>/dev/null || true; rm -rf "$TMP"' EXIT
 
+PID=""
+# --version: "NAME VERSION" on stdout, exit 0, no server needed.
+"$BIN/gistreamd" --version >"$TMP/v1.txt" || { echo "FAIL: gistreamd --version exited non-zero"; exit 1; }
+grep -Eq '^gistreamd [0-9]+\.[0-9]+\.[0-9]+' "$TMP/v1.txt" || { cat "$TMP/v1.txt"; echo "FAIL: gistreamd --version"; exit 1; }
+"$BIN/gistream" --version >"$TMP/v2.txt" || { echo "FAIL: gistream --version exited non-zero"; exit 1; }
+grep -Eq '^gistream [0-9]+\.[0-9]+\.[0-9]+' "$TMP/v2.txt" || { cat "$TMP/v2.txt"; echo "FAIL: gistream --version"; exit 1; }
+[ "$(cut -d' ' -f2 "$TMP/v1.txt")" = "$(cut -d' ' -f2 "$TMP/v2.txt")" ] ||
+  { echo "FAIL: gistreamd and gistream report different versions"; exit 1; }
+
 "$BIN/gistreamd" --listen 127.0.0.1:0 --scenes "$SCENES" >"$TMP/out.log" 2>"$TMP/err.log" &
 PID=$!
 for _ in $(seq 1 300); do

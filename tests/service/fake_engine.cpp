@@ -57,6 +57,20 @@ EngineStats FakeEngine::stats() const {
   s.scenes = static_cast<uint32_t>(scenes_.size());
   s.frames_rendered = frames_rendered_.load();
   for (const auto& [id, scene] : scenes_) s.scene_ids.push_back(id);
+  const auto now = Clock::now();
+  for (auto& [id, session] : sessions_) {
+    SessionStatus& status = s.session_status.emplace_back();
+    status.id = id;
+    status.scene = session.config.scene;
+    status.solver = session.config.solver;
+    status.width = session.config.width;
+    status.height = session.config.height;
+    status.frames = session.frames;
+    status.fps = session.rate.PerSecond(now);
+    status.dropped_frames = session.sink->dropped_frames();
+    status.pending_updates = static_cast<uint32_t>(session.pending.size());
+    status.last_update_seq = session.last_update_seq;
+  }
   return s;
 }
 
@@ -345,6 +359,7 @@ absl::StatusOr<EncodedFrame> FakeEngine::Render(const RenderRequest& request) {
   applied_.erase("render");
   if (!rejected.empty()) return rejected.front().second;
   frames_rendered_.fetch_add(1);
+  if (options_.observer) options_.observer->OnFrameRendered(frame);
   return frame;
 }
 
@@ -396,6 +411,9 @@ void FakeEngine::FrameLoop(std::stop_token stop) {
         Delivery d;
         d.sink = s.sink;
         EncodedFrame frame = MakeFrameLocked(s, applied, d.rejected);
+        s.frames += 1;
+        s.rate.Add(now);
+        if (options_.observer) options_.observer->OnFrameRendered(frame);
         live_frames_->fetch_add(1);
         d.frame = std::shared_ptr<const EncodedFrame>(
             new EncodedFrame(std::move(frame)),

@@ -16,6 +16,10 @@
 //     synchronously. A material id past the scene's materials is rejected
 //     later, on the frame thread, through FrameSink::OnUpdateRejected (as a
 //     render-thread validation would be).
+//
+// Like the real engine it tells EngineOptions::observer about every frame it
+// produces and reports per-session status (frames, fps, pending updates,
+// last seq, the sink's dropped frames) in stats().
 #pragma once
 
 #include <atomic>
@@ -29,6 +33,7 @@
 #include <vector>
 
 #include "service/engine.h"
+#include "service/frame_rate.h"
 
 namespace gistream::testing {
 
@@ -84,6 +89,8 @@ class FakeEngine final : public Engine {
     std::chrono::steady_clock::time_point next_due;
     absl::Status failure;  // set by FailSession; delivered by the frame thread
     bool failed = false;
+    uint64_t frames = 0;
+    FrameRate rate;
   };
 
   absl::Status ValidateUpdateLocked(const Update& update, absl::string_view field) const;
@@ -101,7 +108,7 @@ class FakeEngine final : public Engine {
   mutable std::mutex mutex_;
   std::condition_variable_any wake_;
   std::map<SceneId, FakeScene> scenes_;
-  std::map<SessionId, FakeSession> sessions_;
+  mutable std::map<SessionId, FakeSession> sessions_;  // stats() prunes frame rates
   std::map<SessionId, std::vector<uint64_t>> applied_;
   std::vector<std::shared_ptr<FrameSink>> closed_sinks_;  // called once more after close
   uint64_t next_scene_ = 1;

@@ -137,6 +137,49 @@ TEST_F(RealEngineTest, CancelledClientFreesItsSession) {
   EXPECT_TRUE(WaitFor([] { return Sessions() == 0; }, 10s));
 }
 
+TEST_F(RealEngineTest, ServerStatusCountsSessionFramesAndGlObjectBytes) {
+  const std::string scene = LoadSceneOrDie(stub(), "cornell_box");
+  grpc::ClientContext context;
+  SetDeadline(&context, 120s);
+  auto stream = stub().Session(&context);
+  ASSERT_TRUE(stream->Write(ConfigRequest(scene, 64, 48, /*on_request=*/true)));
+  pb::SessionEvent event;
+  ASSERT_TRUE(stream->Read(&event));
+  ASSERT_TRUE(event.has_opened());
+  const std::string id = event.opened().session_id();
+  ASSERT_TRUE(stream->Write(CameraUpdate(3, 3.5f)));
+  ASSERT_TRUE(stream->Write(FrameRequest(1)));
+  ASSERT_TRUE(stream->Read(&event));
+  ASSERT_TRUE(event.has_frame());
+
+  grpc::ClientContext status_context;
+  SetDeadline(&status_context);
+  pb::ServerStatus status;
+  ASSERT_TRUE(stub().GetServerStatus(&status_context, pb::GetServerStatusRequest(), &status).ok());
+  EXPECT_FALSE(status.version().empty());
+  EXPECT_GT(status.rss_bytes(), 0u);
+  const pb::SessionStatus* session = nullptr;
+  for (const pb::SessionStatus& s : status.session_status()) {
+    if (s.session_id() == id) session = &s;
+  }
+  ASSERT_NE(session, nullptr);
+  EXPECT_EQ(session->scene_id(), scene);
+  EXPECT_EQ(session->solver(), "direct");
+  EXPECT_EQ(session->frames(), 1u);
+  EXPECT_EQ(session->width(), 64u);
+  EXPECT_EQ(session->height(), 48u);
+  EXPECT_EQ(session->last_update_seq(), 3u);
+  // The scene's buffers and textures plus this view's G-buffer (68 bytes a pixel).
+  EXPECT_GT(status.gl_object_bytes(), 64u * 48u * 68u);
+  // llvmpipe reports no GPU memory; a driver that does reports both or the free part.
+  EXPECT_LE(status.gpu_memory_available_bytes(),
+            status.gpu_memory_total_bytes() > 0 ? status.gpu_memory_total_bytes()
+                                                : status.gpu_memory_available_bytes());
+  context.TryCancel();
+  stream->Finish();
+  EXPECT_TRUE(WaitFor([] { return Sessions() == 0; }, 10s));
+}
+
 TEST_F(RealEngineTest, InvalidConfigIsInvalidArgument) {
   const std::string scene = LoadSceneOrDie(stub(), "cornell_box");
   grpc::ClientContext context;

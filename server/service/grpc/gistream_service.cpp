@@ -4,13 +4,33 @@
 
 #include "service/grpc/translate.h"
 #include "util/log.h"
+#include "util/process_stats.h"
+#include "util/version.h"
 
 namespace gistream::service {
 
 namespace pb = ::gistream::v1;
 
+namespace {
+// Sessions report to the service's observer unless given their own.
+GistreamService::Options WithSessionObserver(GistreamService::Options options) {
+  if (options.session.observer == nullptr) options.session.observer = options.observer;
+  return options;
+}
+}  // namespace
+
 GistreamService::GistreamService(Engine& engine, const Options& options)
-    : engine_(engine), options_(options), pool_(options.workers) {}
+    : engine_(engine), options_(WithSessionObserver(options)), pool_(options.workers) {}
+
+void GistreamService::NoteFailure(std::string_view method, grpc::CallbackServerContext* context,
+                                  const grpc::Status& status) {
+  const absl::StatusCode code = FromGrpcCode(status.error_code());
+  if (options_.observer) options_.observer->OnRpcFailed(method, code);
+  // The code's name and the message (which names the field); never the request.
+  Log(LogLevel::kInfo, absl::StrCat(absl::string_view(method.data(), method.size()), " from ",
+                                    context->peer(), " failed: ", absl::StatusCodeToString(code),
+                                    ": ", status.error_message()));
+}
 
 GistreamService::~GistreamService() { StopWorkers(); }
 
@@ -20,21 +40,21 @@ template <typename Work>
 grpc::ServerUnaryReactor* GistreamService::RunOnPool(grpc::CallbackServerContext* context,
                                                      const char* method, Work work) {
   grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  absl::Status submitted = pool_.Submit([reactor, context, method, work]() {
+  absl::Status submitted = pool_.Submit([this, reactor, context, method, work]() {
     grpc::Status status;
     if (context->IsCancelled()) {
       status = grpc::Status(grpc::StatusCode::CANCELLED, "cancelled before it ran");
     } else {
       status = work();
     }
-    if (!status.ok()) {
-      Log(LogLevel::kDebug, absl::StrCat(method, " from ", context->peer(), ": ",
-                                         static_cast<int>(status.error_code()), " ",
-                                         status.error_message()));
-    }
+    if (!status.ok()) NoteFailure(method, context, status);
     reactor->Finish(status);  // the last use of context/request/response
   });
-  if (!submitted.ok()) reactor->Finish(ToGrpcStatus(submitted));
+  if (!submitted.ok()) {
+    const grpc::Status status = ToGrpcStatus(submitted);
+    NoteFailure(method, context, status);
+    reactor->Finish(status);
+  }
   return reactor;
 }
 
@@ -46,8 +66,9 @@ grpc::ServerUnaryReactor* GistreamService::LoadScene(grpc::CallbackServerContext
     if (!source.ok()) return ToGrpcStatus(source.status());
     absl::StatusOr<SceneInfo> info = engine_.LoadScene(*source);
     if (!info.ok()) return ToGrpcStatus(info.status());
-    Log(LogLevel::kInfo, absl::StrCat("loaded scene ", info->id, ": ", info->triangle_count,
-                                      " triangles, ", info->lights.size(), " lights"));
+    Log(LogLevel::kInfo, {"", info->id},
+        absl::StrCat("loaded (", info->triangle_count, " triangles, ", info->lights.size(),
+                     " lights)"));
     SceneInfoToProto(*info, response);
     return grpc::Status::OK;
   });
@@ -95,7 +116,8 @@ grpc::ServerUnaryReactor* GistreamService::GetServerStatus(
     grpc::CallbackServerContext* context, const pb::GetServerStatusRequest* /*request*/,
     pb::ServerStatus* response) {
   return RunOnPool(context, "GetServerStatus", [this, response] {
-    ServerStatusToProto(engine_.device_info(), engine_.stats(), response);
+    ServerStatusToProto(engine_.device_info(), engine_.stats(), ReadProcessStats(), Version(),
+                        response);
     return grpc::Status::OK;
   });
 }

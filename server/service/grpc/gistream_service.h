@@ -19,6 +19,9 @@ class GistreamService final : public ::gistream::v1::Gistream::CallbackService {
   struct Options {
     WorkerPool::Options workers;
     SessionReactor::Options session;
+    /// Told about failed calls, rejected updates and dropped frames (also
+    /// passed on to every session); may be null.
+    std::shared_ptr<ServerObserver> observer;
   };
 
   GistreamService(Engine& engine, const Options& options);
@@ -52,6 +55,10 @@ class GistreamService final : public ::gistream::v1::Gistream::CallbackService {
   template <typename Work>
   grpc::ServerUnaryReactor* RunOnPool(grpc::CallbackServerContext* context, const char* method,
                                       Work work);
+
+  // Counts and logs (at info, with the code's name) a call that failed.
+  void NoteFailure(std::string_view method, grpc::CallbackServerContext* context,
+                   const grpc::Status& status);
 
   // Configuration
   Engine& engine_;

@@ -128,8 +128,7 @@ void SessionReactor::OnReadDone(bool ok) {
   read_in_flight_ = false;
   if (pacing_ == Pacing::kOnRequest) frames_owed_ += frames_requested;
   if (!status.ok() && !finish_status_.has_value()) {
-    Log(LogLevel::kDebug, absl::StrCat("session ", id, ": rejected seq ", rejected_seq, ": ",
-                                       status.ToString()));
+    NoteRejectedLocked(rejected_seq, status);
     pb::SessionEvent event;
     UpdateRejectedToProto(rejected_seq, status, event.mutable_rejected());
     events_.push_back(std::move(event));
@@ -153,6 +152,7 @@ void SessionReactor::HandleConfig(const pb::SessionConfig& proto) {
     return;
   }
   pacing_ = config->pacing;
+  scene_id_ = config->scene;
   state_ = State::kOpening;  // from here until the worker is done, nothing finishes the call
   lock.unlock();
 
@@ -175,15 +175,14 @@ void SessionReactor::OpenOnWorker(SessionConfig config) {
   std::unique_lock lock(mutex_);
   if (!opened.ok()) {
     state_ = State::kClosed;
-    Log(LogLevel::kDebug, absl::StrCat("session config from ", context_->peer(),
-                                       " refused: ", opened.status().ToString()));
     RequestFinishLocked(ToGrpcStatus(opened.status()), /*flush=*/false);
   } else {
     state_ = State::kOpen;
     session_id_ = opened->id;
-    Log(LogLevel::kInfo, absl::StrCat("session ", opened->id, " opened by ", context_->peer(),
-                                      ": scene ", opened->scene, ", solver ", opened->solver,
-                                      ", ", config.width, "x", config.height));
+    Log(LogLevel::kInfo, {opened->id, opened->scene},
+        absl::StrCat("opened (", opened->solver, ", ", config.width, "x", config.height, ", ",
+                     config.pacing == Pacing::kOnRequest ? "on request" : "continuous",
+                     ") by ", context_->peer()));
     if (cancelled_) {
       to_close = TakeSessionToCloseLocked();
       RequestFinishLocked(grpc::Status::CANCELLED, /*flush=*/false);
@@ -227,9 +226,7 @@ void SessionReactor::OnCancel() {
       PumpLocked();
     }
   }
-  if (!to_close.empty()) {
-    Log(LogLevel::kInfo, absl::StrCat("session ", to_close, " cancelled"));
-  }
+  if (!to_close.empty()) Log(LogLevel::kInfo, {to_close, scene_id_}, "cancelled");
   CloseSessionAsync(engine_, pool_, to_close);
 }
 
@@ -241,7 +238,7 @@ void SessionReactor::OnDone() {
     std::lock_guard lock(mutex_);
     to_close = TakeSessionToCloseLocked();
   }
-  if (!to_close.empty()) Log(LogLevel::kInfo, absl::StrCat("session ", to_close, " closed"));
+  if (!to_close.empty()) Log(LogLevel::kInfo, {to_close, scene_id_}, "closed");
   CloseSessionAsync(engine_, pool_, to_close);
   delete this;
 }
@@ -255,7 +252,11 @@ void SessionReactor::DeliverFrame(std::shared_ptr<const EncodedFrame> frame) {
     return;
   }
   if (pacing_ == Pacing::kOnRequest) --frames_owed_;
-  if (pending_frame_ != nullptr) ++dropped_;
+  if (pending_frame_ != nullptr) {
+    ++dropped_;
+    sink_->dropped_.fetch_add(1);
+    observer().OnFramesDropped(1);
+  }
   pending_frame_ = std::move(frame);
   PumpLocked();
 }
@@ -263,6 +264,7 @@ void SessionReactor::DeliverFrame(std::shared_ptr<const EncodedFrame> frame) {
 void SessionReactor::DeliverRejected(uint64_t seq, const absl::Status& status) {
   std::lock_guard lock(mutex_);
   if (cancelled_ || finish_status_.has_value()) return;
+  NoteRejectedLocked(seq, status);
   pb::SessionEvent event;
   UpdateRejectedToProto(seq, status, event.mutable_rejected());
   events_.push_back(std::move(event));
@@ -271,7 +273,7 @@ void SessionReactor::DeliverRejected(uint64_t seq, const absl::Status& status) {
 
 void SessionReactor::DeliverFailure(const absl::Status& status) {
   std::lock_guard lock(mutex_);
-  Log(LogLevel::kWarning, absl::StrCat("session ", session_id_, " failed: ", status.ToString()));
+  Log(LogLevel::kWarning, {session_id_, scene_id_}, absl::StrCat("failed: ", status.ToString()));
   RequestFinishLocked(ToGrpcStatus(status.ok() ? absl::InternalError("session failed") : status),
                       /*flush=*/true);
   PumpLocked();
@@ -322,6 +324,13 @@ void SessionReactor::PumpLocked() {
   if (finish_status_.has_value()) {
     if (!write_in_flight_) {
       finish_called_ = true;
+      if (!finish_status_->ok()) {
+        const absl::StatusCode code = FromGrpcCode(finish_status_->error_code());
+        observer().OnRpcFailed("Session", code);
+        Log(LogLevel::kInfo, {session_id_, scene_id_},
+            absl::StrCat("Session from ", context_->peer(), " failed: ",
+                         absl::StatusCodeToString(code), ": ", finish_status_->error_message()));
+      }
       Finish(*finish_status_);  // OnDone may follow on another thread; it waits for mutex_
     }
     return;
@@ -338,6 +347,18 @@ SessionId SessionReactor::TakeSessionToCloseLocked() {
   if (state_ != State::kOpen || session_closed_) return {};
   session_closed_ = true;
   return session_id_;
+}
+
+void SessionReactor::NoteRejectedLocked(uint64_t seq, const absl::Status& status) {
+  observer().OnUpdateRejected(status.code());
+  Log(LogLevel::kDebug, {session_id_, scene_id_},
+      absl::StrCat("update seq ", seq, " rejected: ", absl::StatusCodeToString(status.code()),
+                   ": ", status.message()));
+}
+
+ServerObserver& SessionReactor::observer() const {
+  static ServerObserver none;
+  return options_.observer ? *options_.observer : none;
 }
 
 void SessionReactor::CloseSessionAsync(Engine& engine, WorkerPool& pool, const SessionId& id) {

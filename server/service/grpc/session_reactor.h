@@ -17,6 +17,7 @@
 // shutdown) closes the engine session at once.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -45,10 +46,13 @@ class SessionSink final : public FrameSink {
   void OnFrame(std::shared_ptr<const EncodedFrame> frame) override;
   void OnUpdateRejected(uint64_t seq, const absl::Status& status) override;
   void OnSessionFailed(const absl::Status& status) override;
+  uint64_t dropped_frames() const override { return dropped_.load(); }
 
  private:
+  friend class SessionReactor;
   std::mutex mutex_;
   SessionReactor* reactor_;  // null once detached
+  std::atomic<uint64_t> dropped_{0};  // the reactor's drops, over the session's life
 };
 
 class SessionReactor final
@@ -58,6 +62,8 @@ class SessionReactor final
     /// Control events (opened, rejected) waiting to be written before the
     /// reactor stops reading from the client.
     size_t max_queued_events = 32;
+    /// Told about dropped frames, rejected updates and a failed call; may be null.
+    std::shared_ptr<ServerObserver> observer;
   };
 
   // Deletes itself in OnDone.
@@ -97,6 +103,9 @@ class SessionReactor final
   // Takes the session id for CloseSession exactly once ("" when none).
   SessionId TakeSessionToCloseLocked();
   static void CloseSessionAsync(Engine& engine, WorkerPool& pool, const SessionId& id);
+  // Counts and logs an UpdateRejected event about to be queued.
+  void NoteRejectedLocked(uint64_t seq, const absl::Status& status);
+  ServerObserver& observer() const;
 
   // Configuration
   Engine& engine_;
@@ -112,6 +121,7 @@ class SessionReactor final
   std::mutex mutex_;
   State state_ = State::kAwaitConfig;
   SessionId session_id_;
+  SceneId scene_id_;  // from the config, for log lines
   bool session_closed_ = false;
   Pacing pacing_ = Pacing::kContinuous;
   int64_t frames_owed_ = 0;  // on-request frames asked for and not yet delivered

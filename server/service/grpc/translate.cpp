@@ -33,6 +33,29 @@ grpc::StatusCode ToGrpcCode(absl::StatusCode code) {
   }
 }
 
+absl::StatusCode FromGrpcCode(grpc::StatusCode code) {
+  switch (code) {
+    case grpc::StatusCode::OK: return absl::StatusCode::kOk;
+    case grpc::StatusCode::CANCELLED: return absl::StatusCode::kCancelled;
+    case grpc::StatusCode::UNKNOWN: return absl::StatusCode::kUnknown;
+    case grpc::StatusCode::INVALID_ARGUMENT: return absl::StatusCode::kInvalidArgument;
+    case grpc::StatusCode::DEADLINE_EXCEEDED: return absl::StatusCode::kDeadlineExceeded;
+    case grpc::StatusCode::NOT_FOUND: return absl::StatusCode::kNotFound;
+    case grpc::StatusCode::ALREADY_EXISTS: return absl::StatusCode::kAlreadyExists;
+    case grpc::StatusCode::PERMISSION_DENIED: return absl::StatusCode::kPermissionDenied;
+    case grpc::StatusCode::RESOURCE_EXHAUSTED: return absl::StatusCode::kResourceExhausted;
+    case grpc::StatusCode::FAILED_PRECONDITION: return absl::StatusCode::kFailedPrecondition;
+    case grpc::StatusCode::ABORTED: return absl::StatusCode::kAborted;
+    case grpc::StatusCode::OUT_OF_RANGE: return absl::StatusCode::kOutOfRange;
+    case grpc::StatusCode::UNIMPLEMENTED: return absl::StatusCode::kUnimplemented;
+    case grpc::StatusCode::INTERNAL: return absl::StatusCode::kInternal;
+    case grpc::StatusCode::UNAVAILABLE: return absl::StatusCode::kUnavailable;
+    case grpc::StatusCode::DATA_LOSS: return absl::StatusCode::kDataLoss;
+    case grpc::StatusCode::UNAUTHENTICATED: return absl::StatusCode::kUnauthenticated;
+    default: return absl::StatusCode::kUnknown;
+  }
+}
+
 grpc::Status ToGrpcStatus(const absl::Status& status) {
   if (status.ok()) return grpc::Status::OK;
   return grpc::Status(ToGrpcCode(status.code()), std::string(status.message()));
@@ -449,6 +472,7 @@ void UpdateRejectedToProto(uint64_t seq, const absl::Status& status, pb::UpdateR
 }
 
 void ServerStatusToProto(const DeviceInfo& device, const EngineStats& stats,
+                         const ProcessStats& process, std::string_view version,
                          pb::ServerStatus* out) {
   out->set_gl_vendor(device.vendor);
   out->set_gl_renderer(device.renderer);
@@ -459,6 +483,27 @@ void ServerStatusToProto(const DeviceInfo& device, const EngineStats& stats,
   out->set_scenes(stats.scenes);
   out->set_frames_rendered(stats.frames_rendered);
   for (const SceneId& id : stats.scene_ids) out->add_scene_ids(id);
+  out->set_version(std::string(version));
+  out->set_uptime_s(process.uptime_s);
+  out->set_rss_bytes(process.rss_bytes);
+  out->set_peak_rss_bytes(process.peak_rss_bytes);
+  out->set_cpu_seconds(process.cpu_seconds);
+  for (const SessionStatus& s : stats.session_status) {
+    pb::SessionStatus* session = out->add_session_status();
+    session->set_session_id(s.id);
+    session->set_scene_id(s.scene);
+    session->set_solver(s.solver);
+    session->set_width(s.width);
+    session->set_height(s.height);
+    session->set_frames(s.frames);
+    session->set_fps(s.fps);
+    session->set_dropped_frames(s.dropped_frames);
+    session->set_pending_updates(s.pending_updates);
+    session->set_last_update_seq(s.last_update_seq);
+  }
+  out->set_gl_object_bytes(stats.gl_object_bytes);
+  out->set_gpu_memory_total_bytes(stats.gpu_memory_total_bytes);
+  out->set_gpu_memory_available_bytes(stats.gpu_memory_available_bytes);
 }
 
 }  // namespace gistream::service

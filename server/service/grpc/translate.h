@@ -12,12 +12,14 @@
 #pragma once
 
 #include <absl/strings/string_view.h>
+#include <string_view>
 #include <vector>
 
 #include <grpcpp/support/status.h>
 
 #include "gistream/v1/gistream.pb.h"
 #include "service/engine.h"
+#include "util/process_stats.h"
 #include "util/status.h"
 
 namespace gistream::service {
@@ -27,6 +29,8 @@ namespace pb = ::gistream::v1;
 // ---------------------------------------------------------------- status
 
 grpc::StatusCode ToGrpcCode(absl::StatusCode code);
+// The inverse; the codes and their names (absl::StatusCodeToString) are gRPC's.
+absl::StatusCode FromGrpcCode(grpc::StatusCode code);
 grpc::Status ToGrpcStatus(const absl::Status& status);
 
 // ---------------------------------------------------------------- math
@@ -58,7 +62,9 @@ void SolversToProto(const std::vector<SolverDescription>& solvers,
 void FrameToProto(const EncodedFrame& frame, pb::Frame* out);
 void SessionOpenedToProto(const SessionOpenInfo& info, pb::SessionOpened* out);
 void UpdateRejectedToProto(uint64_t seq, const absl::Status& status, pb::UpdateRejected* out);
+// `version` is util/version.h's Version(); `process` ReadProcessStats().
 void ServerStatusToProto(const DeviceInfo& device, const EngineStats& stats,
+                         const ProcessStats& process, std::string_view version,
                          pb::ServerStatus* out);
 
 }  // namespace gistream::service
