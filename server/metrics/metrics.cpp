@@ -96,7 +96,7 @@ struct Metrics::Impl {
     out.push_back(Family("gistream_sessions", "Open sessions", MetricType::Gauge, stats.sessions));
     out.push_back(Family("gistream_scenes", "Loaded scenes", MetricType::Gauge, stats.scenes));
     out.push_back(Family("gistream_gl_object_bytes",
-                         "Bytes held by the GL objects the engine accounts for (scenes, views)",
+                         "Bytes held by the engine's GL objects (scenes, solvers, views)",
                          MetricType::Gauge, double(stats.gl_object_bytes)));
     out.push_back(Family("gistream_gpu_memory_total_bytes",
                          "GPU memory as the driver reports it (0: not reported)",

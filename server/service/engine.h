@@ -219,11 +219,12 @@ struct EngineStats {
   std::vector<SceneId> scene_ids;
   std::vector<SessionStatus> session_status;  // by session id
   // Bytes held by the GL objects the engine accounts for: every scene's
-  // GpuScene (vertex/index buffers, materials, textures) and every view's
-  // G-buffer and targets. Solver-owned objects (shadow maps, probe atlases,
-  // link buffers) are not yet included. Refreshed on the render thread
-  // after loads, unloads, closed sessions and (at most 4 times a second)
-  // frames.
+  // GpuScene (vertex/index buffers, materials, textures), every cached
+  // solver's main buffers and textures (Solver::gpu_bytes: shadow maps,
+  // probe atlas, element/link buffers) and every view's G-buffer and
+  // targets; shader programs and small uniform buffers are not counted.
+  // Refreshed on the render thread after loads, unloads, closed sessions,
+  // a view's first frame and (at most 4 times a second) frames.
   uint64_t gl_object_bytes = 0;
   // What the driver reports through GL_NVX_gpu_memory_info or
   // GL_ATI_meminfo (queried with gl_object_bytes); 0 when it does not tell.

@@ -159,7 +159,12 @@ void EngineImpl::RefreshMemoryStats(bool force) {
   if (!force && now - memory_refreshed_ < std::chrono::milliseconds(250)) return;
   memory_refreshed_ = now;
   uint64_t bytes = 0;
-  for (const auto& [id, scene] : gpu_scenes_) bytes += scene.gpu ? scene.gpu->gpu_bytes() : 0;
+  for (const auto& [id, scene] : gpu_scenes_) {
+    bytes += scene.gpu ? scene.gpu->gpu_bytes() : 0;
+    for (const auto& [key, entry] : scene.solvers) {
+      bytes += entry.solver ? entry.solver->gpu_bytes() : 0;
+    }
+  }
   for (const auto& [id, view] : views_) bytes += view.gbuffer.gpu_bytes();
   gl_object_bytes_ = bytes;
   if (memory_query_ && memory_query_->supported()) {

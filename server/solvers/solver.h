@@ -5,6 +5,7 @@
 // shared by every session on the same scene with the same parameters.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <utility>
@@ -42,6 +43,9 @@ class Solver {
   virtual SolverStats Stats() const = 0;
   // False when Shade does not read the G-buffer (the engine then skips it).
   virtual bool NeedsGBuffer() const { return true; }
+  // Bytes its main GL buffers and textures hold (shadow maps, probe atlas,
+  // element and link buffers), for status reports; 0 when it holds none.
+  virtual uint64_t gpu_bytes() const { return 0; }
 };
 
 }  // namespace gistream

@@ -41,6 +41,10 @@ class AntiradianceSolver final : public Solver {
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
+  // Shadow maps and the display's element buffer (the transport is CPU memory).
+  uint64_t gpu_bytes() const override {
+    return lighting_.gpu_bytes() + element_data_.size() * sizeof(glm::vec4);
+  }
 
  private:
   AntiradianceSolver() = default;

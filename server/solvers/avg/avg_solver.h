@@ -27,6 +27,8 @@ class AvgSolver final : public Solver {
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
+  // VPL and direct-light shadow maps (the voxel grid is CPU memory).
+  uint64_t gpu_bytes() const override { return shadow_maps_.gpu_bytes() + direct_.gpu_bytes(); }
 
   // For tests: the current grid and VPLs.
   const avg::VoxelGrid* grid() const { return grid_ ? &*grid_ : nullptr; }

@@ -17,6 +17,7 @@ class DirectSolver final : public Solver {
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
+  uint64_t gpu_bytes() const override { return lighting_.gpu_bytes(); }
 
  private:
   DirectSolver() = default;

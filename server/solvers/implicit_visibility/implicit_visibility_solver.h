@@ -45,6 +45,9 @@ class ImplicitVisibilitySolver final : public Solver {
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
+  uint64_t gpu_bytes() const override {
+    return illumination_.gpu_bytes() + lighting_.gpu_bytes();
+  }
 
   // Bins of all elements may take at most this much memory.
   static constexpr uint64_t kMaxBinBytes = uint64_t(3) << 30;

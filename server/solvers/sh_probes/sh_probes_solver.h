@@ -38,6 +38,7 @@ class ShProbesSolver final : public Solver {
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
+  uint64_t gpu_bytes() const override { return atlas_.gpu_bytes() + lighting_.gpu_bytes(); }
 
  private:
   ShProbesSolver() = default;
