@@ -35,6 +35,9 @@ absl::StatusOr<ViewPasses> ViewPasses::Create() {
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "render/tonemap.frag.glsl"}}));
   passes.empty_vao_ = gl::VertexArray::Create();
+  passes.non_finite_ = gl::Buffer::Create();
+  glNamedBufferStorage(passes.non_finite_.id(), sizeof(GLuint), nullptr,
+                       GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
   return passes;
 }
 
@@ -61,10 +64,20 @@ void ViewPasses::Tonemap(const GBuffer& gbuffer, float exposure_ev) {
   glDisable(GL_DEPTH_TEST);
   glBindTextureUnit(0, gbuffer.hdr());
   tonemap_.Set("uExposureScale", std::exp2(exposure_ev));
+  const GLuint zero = 0;
+  glNamedBufferSubData(non_finite_.id(), 0, sizeof(zero), &zero);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, non_finite_.id());
   tonemap_.Use();
   glBindVertexArray(empty_vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+}
+
+uint32_t ViewPasses::NonFinitePixels() const {
+  GLuint count = 0;
+  glGetNamedBufferSubData(non_finite_.id(), 0, sizeof(count), &count);
+  return count;
 }
 
 std::vector<float> ViewPasses::ReadHdr(const GBuffer& gbuffer) const {

@@ -18,7 +18,12 @@ class ViewPasses {
   void DrawGBuffer(const SceneState& state, const GpuScene& gpu, const ViewCamera& camera,
                    GBuffer& gbuffer);
   // HDR radiance -> gbuffer.ldr(): exposure 2^ev, filmic curve, sRGB.
+  // Also counts the HDR pixels that are not finite (NonFinitePixels).
   void Tonemap(const GBuffer& gbuffer, float exposure_ev);
+  // Pixels of the last Tonemap's HDR input with a NaN or Inf channel (the
+  // tone map draws them black). Reads 4 bytes back; call after the LDR
+  // readback, which has waited for the pass already.
+  uint32_t NonFinitePixels() const;
 
   // Readbacks, rows top first (GL stores them bottom first).
   std::vector<float> ReadHdr(const GBuffer& gbuffer) const;    // RGBA float
@@ -28,6 +33,7 @@ class ViewPasses {
   gl::Program gbuffer_;
   gl::Program tonemap_;
   gl::VertexArray empty_vao_;
+  gl::Buffer non_finite_;  // one uint, SSBO binding 7 of the tone map
 };
 
 }  // namespace gistream

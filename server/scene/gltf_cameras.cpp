@@ -3,6 +3,7 @@
 
 #include "scene/gltf_stages.h"
 #include "scene/gltf_util.h"
+#include "scene/magnitude_limits.h"
 #include "util/log.h"
 
 namespace gistream::gltf {
@@ -24,9 +25,12 @@ absl::StatusOr<std::vector<Camera>> ImportCameras(const tinygltf::Model& model,
           absl::StrCat(field, ".type: '", in.type, "' is not perspective or orthographic"));
     }
     const tinygltf::PerspectiveCamera& p = in.perspective;
-    if (!(p.yfov > 0.0 && p.yfov < std::numbers::pi)) {
-      return absl::InvalidArgumentError(
-          absl::StrCat(field, ".perspective.yfov: ", p.yfov, " is not in (0, pi) radians"));
+    const double min_yfov = kMinYfovDegrees * std::numbers::pi / 180.0;
+    const double max_yfov = kMaxYfovDegrees * std::numbers::pi / 180.0;
+    if (!(p.yfov >= min_yfov && p.yfov <= max_yfov)) {
+      return absl::InvalidArgumentError(absl::StrCat(field, ".perspective.yfov: ", p.yfov,
+                                                     " is out of range [", min_yfov, ", ", max_yfov,
+                                                     "] radians"));
     }
     if (!(p.znear > 0.0 && p.znear < kMaxFloat)) {
       return absl::InvalidArgumentError(

@@ -9,7 +9,9 @@
 #include "scene/gltf_parse.h"
 #include "scene/gltf_preflight.h"
 #include "scene/gltf_stages.h"
+#include "scene/magnitude_limits.h"
 #include "scene/scene_files.h"
+#include "util/user_string.h"
 
 namespace gistream {
 namespace {
@@ -35,8 +37,28 @@ void ComputeTotals(const gltf::NodeGraph& graph, Scene* scene) {
   }
 }
 
+// The magnitude limits (scene/magnitude_limits.h) that import stages cannot
+// check one value at a time: local vertex positions, and world positions
+// and scales through the node hierarchy.
+absl::Status CheckMagnitudes(const Scene& scene) {
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    const std::vector<Primitive>& primitives = scene.meshes[m].primitives;
+    for (size_t p = 0; p < primitives.size(); ++p) {
+      if (primitives[p].bounds.empty()) continue;
+      const std::string field =
+          absl::StrCat("meshes[", m, "].primitives[", p, "].attributes.POSITION");
+      GS_RETURN_IF_ERROR(CheckPosition(field + " min", primitives[p].bounds.min));
+      GS_RETURN_IF_ERROR(CheckPosition(field + " max", primitives[p].bounds.max));
+    }
+  }
+  return CheckWorldExtent(scene, scene.nodes, WorldMatrices(scene, scene.nodes), "");
+}
+
+// A file name on Linux is at most 255 bytes (NAME_MAX), suffix included.
+constexpr size_t kMaxSceneNameBytes = 250;
+
 bool IsSceneName(const std::string& name) {
-  if (name.empty() || name.front() == '.') return false;
+  if (name.empty() || name.front() == '.' || name.size() > kMaxSceneNameBytes) return false;
   for (char c : name) {
     const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
                     c == '_' || c == '.' || c == '-';
@@ -78,6 +100,7 @@ absl::StatusOr<Scene> ImportGltf(std::span<const uint8_t> bytes, const ImportOpt
   scene.nodes = std::move(graph.nodes);
   scene.roots = graph.roots;
   ComputeTotals(graph, &scene);
+  GS_RETURN_IF_ERROR(CheckMagnitudes(scene));
   return scene;
 }
 
@@ -85,7 +108,8 @@ absl::StatusOr<Scene> ImportSceneByName(const std::filesystem::path& scene_dir,
                                         const std::string& name, const ImportLimits& limits) {
   if (!IsSceneName(name)) {
     return absl::InvalidArgumentError(
-        absl::StrCat("name: '", name, "' is not a scene name ([A-Za-z0-9_.-]+)"));
+        absl::StrCat("name: '", Echo(name), "' is not a scene name ([A-Za-z0-9_.-]+, at most ",
+                     kMaxSceneNameBytes, " bytes)"));
   }
   std::vector<std::string> candidates;
   if (EndsWith(name, ".glb") || EndsWith(name, ".gltf")) {
@@ -107,7 +131,12 @@ absl::StatusOr<Scene> ImportSceneByName(const std::filesystem::path& scene_dir,
     return ImportGltf(*bytes, options);
   }
   return absl::NotFoundError(
-      absl::StrCat("name: no scene '", name, "' (tried ", absl::StrJoin(candidates, ", "), ")"));
+      absl::StrCat("name: no scene '", Echo(name), "' (tried ",
+                   absl::StrJoin(candidates, ", ",
+                                 [](std::string* out, const std::string& c) {
+                                   out->append(Echo(c));
+                                 }),
+                   ")"));
 }
 
 }  // namespace gistream

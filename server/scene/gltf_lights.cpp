@@ -3,6 +3,7 @@
 
 #include "scene/gltf_stages.h"
 #include "scene/gltf_util.h"
+#include "scene/magnitude_limits.h"
 
 namespace gistream::gltf {
 
@@ -31,10 +32,15 @@ absl::StatusOr<std::vector<Light>> ImportLights(const tinygltf::Model& model) {
       GS_RETURN_IF_ERROR(CheckRange(field + ".color", in.color, 0.0, kMaxFloat));
       light.color = glm::vec3(in.color[0], in.color[1], in.color[2]);
     }
-    GS_RETURN_IF_ERROR(CheckNumber(field + ".intensity", in.intensity, 0.0, kMaxFloat));
+    GS_RETURN_IF_ERROR(CheckNumber(field + ".intensity", in.intensity, 0.0, kMaxRadiance));
     GS_RETURN_IF_ERROR(CheckNumber(field + ".range", in.range, 0.0, kMaxFloat));
     light.intensity = static_cast<float>(in.intensity);
     light.range = static_cast<float>(in.range);
+    if (MaxLightStrength(light) > kMaxRadiance) {
+      return absl::InvalidArgumentError(absl::StrCat(field, ".intensity: ", in.intensity,
+                                                     " x color ", MaxLightStrength(light) / light.intensity,
+                                                     " exceeds the limit of ", kMaxRadiance));
+    }
     if (light.type == LightType::kSpot) {
       const double half_pi = std::numbers::pi / 2;
       GS_RETURN_IF_ERROR(

@@ -4,6 +4,7 @@
 #include "scene/gltf_stages.h"
 #include "scene/gltf_util.h"
 #include "scene/image_decode.h"
+#include "scene/magnitude_limits.h"
 #include "scene/scene_files.h"
 #include "util/log.h"
 
@@ -95,7 +96,7 @@ absl::StatusOr<float> EmissiveStrength(const tinygltf::Material& in, const std::
     return absl::InvalidArgumentError(strength_field + ": not a number");
   }
   const double strength = value.GetNumberAsDouble();
-  GS_RETURN_IF_ERROR(CheckNumber(strength_field, strength, 0.0, kMaxFloat));
+  GS_RETURN_IF_ERROR(CheckNumber(strength_field, strength, 0.0, kMaxRadiance));
   return static_cast<float>(strength);
 }
 

@@ -4,6 +4,7 @@
 
 #include "scene/gltf_stages.h"
 #include "scene/gltf_util.h"
+#include "scene/magnitude_limits.h"
 #include "util/log.h"
 
 namespace gistream::gltf {
@@ -56,7 +57,8 @@ absl::Status DecomposeMatrix(const std::vector<double>& m, const std::string& fi
   node->translation = glm::vec3(m[12], m[13], m[14]);
   node->rotation = glm::normalize(glm::quat(glm::quat_cast(r)));
   node->scale = glm::vec3(scale);
-  return absl::OkStatus();
+  GS_RETURN_IF_ERROR(gistream::CheckPosition(field + " translation", node->translation));
+  return gistream::CheckScale(field + " scale", node->scale);
 }
 
 absl::Status ReadTrs(const tinygltf::Node& in, const std::string& field, Node* node) {
@@ -68,20 +70,19 @@ absl::Status ReadTrs(const tinygltf::Node& in, const std::string& field, Node* n
   GS_RETURN_IF_ERROR(CheckRange(field + ".scale", in.scale, -kMaxFloat, kMaxFloat));
   if (!in.translation.empty()) {
     node->translation = glm::vec3(in.translation[0], in.translation[1], in.translation[2]);
+    GS_RETURN_IF_ERROR(gistream::CheckPosition(field + ".translation", node->translation));
   }
   if (!in.rotation.empty()) {
     // glTF stores x, y, z, w; glm::quat takes w first.
-    const glm::dquat q(in.rotation[3], in.rotation[0], in.rotation[1], in.rotation[2]);
-    const double len = glm::length(q);
-    if (!(len > 1e-12) || !std::isfinite(len)) {
-      return absl::InvalidArgumentError(field + ".rotation: zero-length quaternion");
-    }
-    node->rotation = glm::quat(q / len);
+    const glm::quat q(float(in.rotation[3]), float(in.rotation[0]), float(in.rotation[1]),
+                      float(in.rotation[2]));
+    GS_ASSIGN_OR_RETURN(node->rotation, gistream::CheckUnitQuaternion(field + ".rotation", q));
   }
   if (!in.scale.empty()) {
     const glm::dvec3 s(in.scale[0], in.scale[1], in.scale[2]);
     GS_RETURN_IF_ERROR(CheckScale(field + ".scale", s));
     node->scale = glm::vec3(s);
+    GS_RETURN_IF_ERROR(gistream::CheckScale(field + ".scale", node->scale));
   }
   return absl::OkStatus();
 }

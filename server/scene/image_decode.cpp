@@ -4,11 +4,13 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <type_traits>
 #include <cmath>
 #include <vector>
 
 #include "encode/image_format.h"
 #include "encode/image_reader.h"
+#include "scene/magnitude_limits.h"
 
 namespace gistream {
 namespace {
@@ -47,18 +49,66 @@ absl::Status CheckSpec(const OIIO::ImageSpec& spec, const ImportLimits& limits,
   return absl::OkStatus();
 }
 
-// Expands 1..4 channels to RGBA; gray replicates, missing alpha is opaque.
+// Most pixels one encoded byte of each format can describe: far above
+// what any encoder reaches (PNG: deflate's 1032:1 on 1-bit pixels is 8256;
+// Radiance RLE: 127-pixel runs of 2 bytes per channel are 16; JPEG and
+// EXR: a few bits per 8x8 block, less with arithmetic coding or DWA).
+// A header that claims more pixels than its file can hold is truncated or
+// forged, and is refused before any pixel buffer is allocated (a 92-byte
+// HDR header claiming 16384 x 4096 pixels used to allocate 758 MB).
+uint64_t MaxPixelsPerByte(const std::string& format) {
+  if (format == "hdr") return 1024;
+  if (format == "png") return 16384;
+  return 65536;  // jpeg, exr
+}
+
+absl::Status CheckPlausibleSize(const OIIO::ImageSpec& spec, size_t encoded_bytes,
+                                const std::string& format, const std::string& field) {
+  const uint64_t pixels = uint64_t(spec.width) * uint64_t(spec.height);
+  const uint64_t most = uint64_t(encoded_bytes) * MaxPixelsPerByte(format);
+  if (pixels > most) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        field, ": truncated ", format, " image: the header claims ", spec.width, "x",
+        spec.height, " pixels but the data is only ", encoded_bytes, " bytes (at most ", most,
+        " pixels)"));
+  }
+  return absl::OkStatus();
+}
+
+// Reads the image straight into RGBA (gray replicated, missing alpha
+// opaque), a band of rows at a time: no second full-size buffer, and a
+// file that ends early fails after touching only the rows it really has.
 template <typename T>
-std::vector<T> ToRgba(const std::vector<T>& raw, size_t pixels, int channels, T opaque) {
-  std::vector<T> out(pixels * 4);
-  for (size_t p = 0; p < pixels; ++p) {
-    const T* src = &raw[p * static_cast<size_t>(channels)];
-    T* dst = &out[p * 4];
-    const bool gray = channels <= 2;
-    dst[0] = src[0];
-    dst[1] = gray ? src[0] : src[1];
-    dst[2] = gray ? src[0] : src[2];
-    dst[3] = channels == 2 ? src[1] : channels >= 4 ? src[3] : opaque;
+absl::StatusOr<std::vector<T>> ReadRgba(OIIO::ImageInput* in, const OIIO::ImageSpec& spec,
+                                        int channels, T opaque, const std::string& format,
+                                        const std::string& field) {
+  const size_t width = static_cast<size_t>(spec.width);
+  const size_t row = width * 4;
+  const OIIO::TypeDesc type = std::is_same_v<T, float> ? OIIO::TypeDesc::FLOAT
+                                                       : OIIO::TypeDesc::UINT8;
+  constexpr int kBand = 64;
+  std::vector<T> out;
+  // Address space only: pages are touched band by band as rows decode.
+  out.reserve(row * static_cast<size_t>(spec.height));
+  for (int y0 = 0; y0 < spec.height; y0 += kBand) {
+    const int y1 = std::min(spec.height, y0 + kBand);
+    const size_t first = out.size();
+    out.resize(row * static_cast<size_t>(y1));
+    T* dst = out.data() + first;
+    if (!in->read_scanlines(0, 0, spec.y + y0, spec.y + y1, 0, 0, channels, type, dst,
+                            OIIO::stride_t(4 * sizeof(T)), OIIO::stride_t(row * sizeof(T)))) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ": corrupt ", format, " image: ", in->geterror()));
+    }
+    for (size_t p = first / 4; p < out.size() / 4; ++p) {
+      T* px = &out[p * 4];
+      if (channels <= 2) {
+        if (channels == 2) px[3] = px[1];
+        px[1] = px[0];
+        px[2] = px[0];
+      }
+      if (channels == 1 || channels == 3) px[3] = opaque;
+    }
   }
   return out;
 }
@@ -89,6 +139,8 @@ absl::StatusOr<Image> DecodeImage(std::span<const uint8_t> bytes, ImageKind kind
   OIIO::ImageInput* in = reader.input.get();
   GS_RETURN_IF_ERROR(CheckSpec(spec, limits, field));
 
+  GS_RETURN_IF_ERROR(CheckPlausibleSize(spec, bytes.size(), format, field));
+
   const size_t pixels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
   const int channels = std::min(spec.nchannels, 4);
   Image image;
@@ -96,33 +148,38 @@ absl::StatusOr<Image> DecodeImage(std::span<const uint8_t> bytes, ImageKind kind
   image.height = spec.height;
   image.channels = 4;
   if (kind == ImageKind::kTexture) {
-    std::vector<uint8_t> raw(pixels * static_cast<size_t>(channels));
-    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::UINT8, raw.data())) {
-      return absl::InvalidArgumentError(
-          absl::StrCat(field, ": corrupt ", format, " image: ", in->geterror()));
-    }
+    GS_ASSIGN_OR_RETURN(image.pixels8, ReadRgba<uint8_t>(in, spec, channels, uint8_t{255},
+                                                         format, field));
     image.srgb = true;
     image.is_float = false;
-    image.pixels8 = ToRgba<uint8_t>(raw, pixels, channels, 255);
   } else {
-    std::vector<float> raw(pixels * static_cast<size_t>(channels));
-    if (!in->read_image(0, 0, 0, channels, OIIO::TypeDesc::FLOAT, raw.data())) {
-      return absl::InvalidArgumentError(
-          absl::StrCat(field, ": corrupt ", format, " image: ", in->geterror()));
-    }
-    for (size_t i = 0; i < raw.size(); ++i) {
-      if (!std::isfinite(raw[i])) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            field, ": pixel ", i / static_cast<size_t>(channels), " channel ",
-            i % static_cast<size_t>(channels), " is ", raw[i], "; radiance must be finite"));
+    GS_ASSIGN_OR_RETURN(std::vector<float> rgba,
+                        ReadRgba<float>(in, spec, channels, 1.0f, format, field));
+    for (size_t p = 0; p < pixels; ++p) {
+      for (int c = 0; c < 3; ++c) {  // RGB after expansion; alpha is no radiance
+        float& v = rgba[p * 4 + size_t(c)];
+        if (!std::isfinite(v)) {
+          return absl::InvalidArgumentError(absl::StrCat(
+              field, ": pixel ", p, " channel ", c, " is ", v, "; radiance must be finite"));
+        }
+        // Radiance cannot be negative: a map with negative pixels is broken.
+        // Filtered HDR captures carry tiny negative ringing, which is clamped.
+        if (v < -kNegativeRadianceTolerance) {
+          return absl::InvalidArgumentError(absl::StrCat(
+              field, ": pixel ", p, " channel ", c, " is ", v,
+              "; radiance must not be negative (tolerance ", kNegativeRadianceTolerance, ")"));
+        }
+        if (v > kMaxRadiance) {
+          return absl::InvalidArgumentError(
+              absl::StrCat(field, ": pixel ", p, " channel ", c, " is ", v,
+                           "; radiance exceeds the limit of ", kMaxRadiance, " nits"));
+        }
+        v = std::max(v, 0.0f);
       }
-      // Filtered HDR captures carry tiny negative lobes; radiance cannot be
-      // negative.
-      raw[i] = std::max(raw[i], 0.0f);
     }
     image.srgb = false;
     image.is_float = true;
-    image.pixelsf = ToRgba<float>(raw, pixels, channels, 1.0f);
+    image.pixelsf = std::move(rgba);
   }
   return image;
 }

@@ -1,9 +1,15 @@
 #include "scene/scene_files.h"
 
-#include <fstream>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <system_error>
 
 #include "scene/gltf_import.h"
+#include "util/user_string.h"
 
 namespace gistream {
 namespace fs = std::filesystem;
@@ -40,11 +46,11 @@ absl::StatusOr<std::string> PercentDecode(const std::string& uri, const std::str
     const int lo = i + 2 < uri.size() ? HexValue(uri[i + 2]) : -1;
     if (hi < 0 || lo < 0) {
       return absl::InvalidArgumentError(
-          absl::StrCat(field, ": malformed %-escape at offset ", i, " of '", uri, "'"));
+          absl::StrCat(field, ": malformed %-escape at offset ", i, " of '", Echo(uri), "'"));
     }
     const char c = static_cast<char>(hi * 16 + lo);
     if (c == '\0') {
-      return absl::InvalidArgumentError(absl::StrCat(field, ": '", uri, "' contains %00"));
+      return absl::InvalidArgumentError(absl::StrCat(field, ": '", Echo(uri), "' contains %00"));
     }
     out += c;
     i += 2;
@@ -56,29 +62,29 @@ absl::StatusOr<fs::path> ResolveScenePath(const fs::path& base_dir, const std::s
                                           const std::string& field) {
   if (base_dir.empty()) {
     return absl::InvalidArgumentError(
-        absl::StrCat(field, ": external file '", path,
+        absl::StrCat(field, ": external file '", Echo(path),
                      "' refused: a scene sent as bytes may only use data: URIs (or use a .glb)"));
   }
   if (path.empty()) return absl::InvalidArgumentError(absl::StrCat(field, ": empty URI"));
   if (path.find('\0') != std::string::npos || path.find('\\') != std::string::npos) {
     return absl::InvalidArgumentError(
-        absl::StrCat(field, ": '", path, "' contains a NUL or a backslash"));
+        absl::StrCat(field, ": '", Echo(path), "' contains a NUL or a backslash"));
   }
   const fs::path relative(path);
   if (relative.is_absolute() || relative.has_root_name() || path.front() == '/') {
     return absl::InvalidArgumentError(
-        absl::StrCat(field, ": absolute path '", path, "' refused; URIs must be relative"));
+        absl::StrCat(field, ": absolute path '", Echo(path), "' refused; URIs must be relative"));
   }
   const size_t colon = path.find(':');
   if (colon != std::string::npos && path.find('/') > colon) {
-    return absl::InvalidArgumentError(absl::StrCat(field, ": URI scheme '", path.substr(0, colon),
+    return absl::InvalidArgumentError(absl::StrCat(field, ": URI scheme '", Echo(path.substr(0, colon)),
                                                    "' is not supported (only data: URIs"
                                                    " and relative paths)"));
   }
   for (const fs::path& part : relative) {
     if (part == "..") {
       return absl::InvalidArgumentError(
-          absl::StrCat(field, ": '", path, "' refused: '..' is not allowed in scene URIs"));
+          absl::StrCat(field, ": '", Echo(path), "' refused: '..' is not allowed in scene URIs"));
     }
   }
   std::error_code ec;
@@ -92,7 +98,7 @@ absl::StatusOr<fs::path> ResolveScenePath(const fs::path& base_dir, const std::s
   const fs::path resolved = fs::weakly_canonical(base / relative, ec);
   if (ec || !IsWithin(resolved, base)) {
     return absl::InvalidArgumentError(
-        absl::StrCat(field, ": '", path, "' resolves outside the scene directory"));
+        absl::StrCat(field, ": '", Echo(path), "' resolves outside the scene directory"));
   }
   return resolved;
 }
@@ -105,32 +111,51 @@ absl::StatusOr<fs::path> ResolveSceneUri(const fs::path& base_dir, const std::st
 
 absl::StatusOr<std::vector<uint8_t>> ReadFileLimited(const fs::path& path, uint64_t max_bytes,
                                                      const std::string& field) {
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (ec || !fs::exists(status)) {
-    return absl::NotFoundError(
-        absl::StrCat(field, ": '", path.filename().string(), "' does not exist"));
-  }
-  if (!fs::is_regular_file(status)) {
+  const std::string name = Echo(path.filename().string());
+  // O_NONBLOCK: opening a FIFO (or a device) for reading would otherwise
+  // block until a writer appears, wedging the caller forever. The checks
+  // run on the opened descriptor, so the file cannot be swapped between
+  // check and read.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) {
+    const int err = errno;
+    if (err == ENOENT || err == ENOTDIR) {
+      return absl::NotFoundError(absl::StrCat(field, ": '", name, "' does not exist"));
+    }
     return absl::InvalidArgumentError(
-        absl::StrCat(field, ": '", path.filename().string(), "' is not a regular file"));
+        absl::StrCat(field, ": cannot open '", name, "': ", std::strerror(err)));
   }
-  const uint64_t size = fs::file_size(path, ec);
-  if (ec) {
+  struct Closer {
+    int fd;
+    ~Closer() { ::close(fd); }
+  } closer{fd};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
     return absl::InvalidArgumentError(
-        absl::StrCat(field, ": cannot stat '", path.string(), "': ", ec.message()));
+        absl::StrCat(field, ": cannot stat '", name, "': ", std::strerror(errno)));
   }
+  if (!S_ISREG(st.st_mode)) {
+    return absl::InvalidArgumentError(
+        absl::StrCat(field, ": '", name, "' is not a regular file"));
+  }
+  const uint64_t size = static_cast<uint64_t>(st.st_size);
   if (size > max_bytes) {
     return absl::ResourceExhaustedError(
-        absl::StrCat(field, ": '", path.filename().string(), "' has ", size,
+        absl::StrCat(field, ": '", name, "' has ", size,
                      " bytes, over the remaining scene budget of ", max_bytes, " bytes"));
   }
-  std::ifstream in(path, std::ios::binary);
   std::vector<uint8_t> bytes(size);
-  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size)) ||
-      in.peek() != std::ifstream::traits_type::eof()) {
+  size_t done = 0;
+  while (done < size) {
+    const ssize_t n = ::read(fd, bytes.data() + done, size - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    done += static_cast<size_t>(n);
+  }
+  char extra = 0;
+  if (done != size || ::read(fd, &extra, 1) != 0) {
     return absl::InvalidArgumentError(
-        absl::StrCat(field, ": '", path.filename().string(), "' changed or could not be read"));
+        absl::StrCat(field, ": '", name, "' changed or could not be read"));
   }
   return bytes;
 }

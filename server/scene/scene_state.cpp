@@ -4,6 +4,8 @@
 #include <glm/gtx/matrix_decompose.hpp>
 #include <glm/gtx/quaternion.hpp>
 
+#include "scene/magnitude_limits.h"
+
 namespace gistream {
 namespace {
 constexpr size_t kLogLength = 256;
@@ -133,6 +135,45 @@ ChangeMask SceneState::Apply(const Change& change) {
   }
   Record(mask);
   return mask;
+}
+
+absl::Status SceneState::CheckMagnitudes(const std::string& prefix) const {
+  GS_RETURN_IF_ERROR(CheckWorldExtent(*scene_, nodes_, world_, prefix));
+  for (size_t i = 0; i < lights_.size(); ++i) {
+    const float strength = MaxLightStrength(lights_[i].light);
+    if (!(strength <= kMaxRadiance)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(prefix, "lights[", i, "]: colour x intensity ", strength,
+                       " exceeds the limit of ", kMaxRadiance));
+    }
+  }
+  for (size_t i = 0; i < materials_.size(); ++i) {
+    const float emission = MaxEmission(materials_[i]);
+    if (!(emission <= kMaxRadiance)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(prefix, "materials[", i, "]: emissive factor x strength ", emission,
+                       " exceeds the limit of ", kMaxRadiance, " nits"));
+    }
+  }
+  if (scene_->environment) {
+    const float env = env_intensity_ * scene_->environment->max_radiance;
+    if (!(env <= kMaxRadiance)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(prefix, "environment: intensity x brightest pixel ", env,
+                       " exceeds the limit of ", kMaxRadiance, " nits"));
+    }
+  }
+  return absl::OkStatus();
+}
+
+absl::Status SceneState::CheckApply(const Change& change) const {
+  SceneState trial = *this;
+  trial.Apply(change);
+  const char* what = std::holds_alternative<NodeTransformUpdate>(change) ? "node_transform"
+                     : std::holds_alternative<LightUpdate>(change)       ? "light"
+                     : std::holds_alternative<MaterialUpdate>(change)    ? "material"
+                                                                         : "environment";
+  return trial.CheckMagnitudes(absl::StrCat("update.", what, ": after it, "));
 }
 
 }  // namespace gistream

@@ -8,11 +8,13 @@
 #include <cstdint>
 #include <deque>
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "scene/scene.h"
 #include "scene/updates.h"
+#include "util/status.h"
 
 namespace gistream {
 
@@ -40,6 +42,15 @@ class SceneState {
   // Applies a validated scene update (not camera updates) and returns what
   // changed; bumps the version unless nothing changed.
   ChangeMask Apply(const Change& change);
+
+  // INVALID_ARGUMENT when applying the (validated) `change` would break a
+  // magnitude limit of scene/magnitude_limits.h that depends on the current
+  // state: a world-space position or scale through the node hierarchy,
+  // colour x intensity, emissive factor x strength, environment intensity x
+  // its brightest pixel. The state is left unchanged.
+  absl::Status CheckApply(const Change& change) const;
+  // The same limits over the whole current state (import's check).
+  absl::Status CheckMagnitudes(const std::string& prefix) const;
 
   // Union of the changes after `version`; kChangeAll when the log no longer
   // reaches back that far.

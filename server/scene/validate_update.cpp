@@ -2,9 +2,12 @@
 
 #include <absl/strings/string_view.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
+
+#include "scene/magnitude_limits.h"
 
 namespace gistream {
 namespace {
@@ -43,13 +46,22 @@ absl::Status CheckVec(absl::string_view field, const glm::vec<N, float>& v, cons
   return absl::OkStatus();
 }
 
-absl::Status CheckQuat(absl::string_view field, const glm::quat& q) {
-  GS_RETURN_IF_ERROR(CheckVec<4>(field, glm::vec4(q.w, q.x, q.y, q.z), "wxyz"));
-  if (!(glm::length(glm::vec4(q.w, q.x, q.y, q.z)) > 1e-12f)) {
-    return Invalid(field, "zero-length quaternion");
-  }
+absl::Status CheckAtMost(absl::string_view field, float v, float hi) {
+  if (v > hi) return Invalid(field, absl::StrCat(v, " exceeds the limit of ", hi));
   return absl::OkStatus();
 }
+
+// Unit length within kQuaternionTolerance (the render thread renormalises).
+absl::Status CheckQuat(absl::string_view field, const glm::quat& q) {
+  return CheckUnitQuaternion(absl::StrCat("update.", field), q).status();
+}
+
+absl::Status CheckPos(absl::string_view field, const glm::vec3& p) {
+  return CheckPosition(absl::StrCat("update.", field), p);
+}
+
+// Largest component of an RGB triple, for the kMaxRadiance products.
+float MaxComponent(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
 
 absl::Status CheckNonZero(absl::string_view field, const glm::vec3& v) {
   GS_RETURN_IF_ERROR(CheckVec<3>(field, v, "xyz"));
@@ -73,9 +85,14 @@ absl::Status Check(const Scene& scene, const NodeTransformUpdate& u) {
     if (!(std::abs(glm::determinant(glm::mat3(m))) > 0.0f)) {
       return Invalid("node_transform.matrix", "singular (zero scale)");
     }
+    GS_RETURN_IF_ERROR(CheckPos("node_transform.matrix[3]", glm::vec3(m[3])));
+    GS_RETURN_IF_ERROR(CheckScale("update.node_transform.matrix.scale",
+                                  glm::vec3(glm::length(glm::vec3(m[0])),
+                                            glm::length(glm::vec3(m[1])),
+                                            glm::length(glm::vec3(m[2])))));
     return absl::OkStatus();
   }
-  GS_RETURN_IF_ERROR(CheckVec<3>("node_transform.translation", u.translation, "xyz"));
+  GS_RETURN_IF_ERROR(CheckPos("node_transform.translation", u.translation));
   GS_RETURN_IF_ERROR(CheckQuat("node_transform.rotation", u.rotation));
   GS_RETURN_IF_ERROR(CheckVec<3>("node_transform.scale", u.scale, "xyz"));
   for (int i = 0; i < 3; ++i) {
@@ -84,15 +101,28 @@ absl::Status Check(const Scene& scene, const NodeTransformUpdate& u) {
                      "0; scale must be non-zero");
     }
   }
-  return absl::OkStatus();
+  return CheckScale("update.node_transform.scale", u.scale);
 }
 
 absl::Status Check(const Scene& scene, const LightUpdate& u) {
   GS_RETURN_IF_ERROR(
       CheckId("light.light", u.light, LightInstanceNodes(scene).size(), "light instances"));
-  if (u.color) GS_RETURN_IF_ERROR(CheckVec<3>("light.color", *u.color, "rgb", 0.0f));
-  if (u.intensity) GS_RETURN_IF_ERROR(CheckAtLeast("light.intensity", *u.intensity, 0.0f));
-  if (u.position) GS_RETURN_IF_ERROR(CheckVec<3>("light.position", *u.position, "xyz"));
+  if (u.color) {
+    GS_RETURN_IF_ERROR(CheckVec<3>("light.color", *u.color, "rgb", 0.0f));
+    GS_RETURN_IF_ERROR(CheckAtMost("light.color", MaxComponent(*u.color), kMaxRadiance));
+  }
+  if (u.intensity) {
+    GS_RETURN_IF_ERROR(CheckAtLeast("light.intensity", *u.intensity, 0.0f));
+    GS_RETURN_IF_ERROR(CheckAtMost("light.intensity", *u.intensity, kMaxRadiance));
+  }
+  // colour x intensity against the current values is checked when the
+  // update is applied (SceneState::CheckApply).
+  if (u.color && u.intensity && MaxComponent(*u.color) * *u.intensity > kMaxRadiance) {
+    return Invalid("light.intensity",
+                   absl::StrCat(*u.intensity, " x colour ", MaxComponent(*u.color),
+                                " exceeds the limit of ", kMaxRadiance));
+  }
+  if (u.position) GS_RETURN_IF_ERROR(CheckPos("light.position", *u.position));
   if (u.direction) GS_RETURN_IF_ERROR(CheckNonZero("light.direction", *u.direction));
   const float half_pi = std::numbers::pi_v<float> / 2;
   for (const auto& [field, angle] : {std::pair{"light.inner_cone_angle", u.inner_cone_angle},
@@ -117,8 +147,8 @@ absl::Status Check(const Scene& scene, const CameraUpdate& u, uint32_t max_width
     return Invalid("camera", "look_at, pose and scene_camera are mutually exclusive");
   }
   if (u.look_at) {
-    GS_RETURN_IF_ERROR(CheckVec<3>("camera.look_at.eye", u.look_at->eye, "xyz"));
-    GS_RETURN_IF_ERROR(CheckVec<3>("camera.look_at.target", u.look_at->target, "xyz"));
+    GS_RETURN_IF_ERROR(CheckPos("camera.look_at.eye", u.look_at->eye));
+    GS_RETURN_IF_ERROR(CheckPos("camera.look_at.target", u.look_at->target));
     GS_RETURN_IF_ERROR(CheckNonZero("camera.look_at.up", u.look_at->up));
     const glm::vec3 dir = u.look_at->target - u.look_at->eye;
     if (!(glm::length(dir) > 0.0f)) return Invalid("camera.look_at", "eye equals target");
@@ -127,7 +157,7 @@ absl::Status Check(const Scene& scene, const CameraUpdate& u, uint32_t max_width
     }
   }
   if (u.pose) {
-    GS_RETURN_IF_ERROR(CheckVec<3>("camera.pose.position", u.pose->position, "xyz"));
+    GS_RETURN_IF_ERROR(CheckPos("camera.pose.position", u.pose->position));
     GS_RETURN_IF_ERROR(CheckQuat("camera.pose.rotation", u.pose->rotation));
   }
   if (u.scene_camera) {
@@ -136,8 +166,9 @@ absl::Status Check(const Scene& scene, const CameraUpdate& u, uint32_t max_width
   }
   if (u.yfov_degrees) {
     const float fov = *u.yfov_degrees;
-    if (!(fov > 0.0f && fov < 179.0f)) {
-      return Invalid("camera.yfov_degrees", absl::StrCat(fov, " is not in (0, 179)"));
+    if (!(fov >= kMinYfovDegrees && fov <= kMaxYfovDegrees)) {
+      return Invalid("camera.yfov_degrees", absl::StrCat(fov, " is out of range [", kMinYfovDegrees,
+                                                         ", ", kMaxYfovDegrees, "]"));
     }
   }
   if (u.width.has_value() != u.height.has_value()) {
@@ -169,9 +200,21 @@ absl::Status Check(const Scene& scene, const MaterialUpdate& u) {
       }
     }
   }
-  if (u.emissive) GS_RETURN_IF_ERROR(CheckVec<3>("material.emissive", *u.emissive, "rgb", 0.0f));
+  if (u.emissive) {
+    GS_RETURN_IF_ERROR(CheckVec<3>("material.emissive", *u.emissive, "rgb", 0.0f));
+    GS_RETURN_IF_ERROR(CheckAtMost("material.emissive", MaxComponent(*u.emissive), kMaxRadiance));
+  }
   if (u.emissive_strength) {
     GS_RETURN_IF_ERROR(CheckAtLeast("material.emissive_strength", *u.emissive_strength, 0.0f));
+    GS_RETURN_IF_ERROR(
+        CheckAtMost("material.emissive_strength", *u.emissive_strength, kMaxRadiance));
+  }
+  // factor x strength against the current values: SceneState::CheckApply.
+  if (u.emissive && u.emissive_strength &&
+      MaxComponent(*u.emissive) * *u.emissive_strength > kMaxRadiance) {
+    return Invalid("material.emissive_strength",
+                   absl::StrCat(*u.emissive_strength, " x emissive ", MaxComponent(*u.emissive),
+                                " exceeds the limit of ", kMaxRadiance, " nits"));
   }
   return absl::OkStatus();
 }
@@ -179,7 +222,16 @@ absl::Status Check(const Scene& scene, const MaterialUpdate& u) {
 absl::Status Check(const Scene& scene, const EnvironmentUpdate& u) {
   if (!scene.environment) return Invalid("environment", "the scene has no environment map");
   if (u.rotation) GS_RETURN_IF_ERROR(CheckFinite("environment.rotation", *u.rotation));
-  if (u.intensity) GS_RETURN_IF_ERROR(CheckAtLeast("environment.intensity", *u.intensity, 0.0f));
+  if (u.intensity) {
+    GS_RETURN_IF_ERROR(CheckAtLeast("environment.intensity", *u.intensity, 0.0f));
+    GS_RETURN_IF_ERROR(CheckAtMost("environment.intensity", *u.intensity, kMaxRadiance));
+    const float brightest = scene.environment->max_radiance;
+    if (*u.intensity * brightest > kMaxRadiance) {
+      return Invalid("environment.intensity",
+                     absl::StrCat(*u.intensity, " x the map's brightest pixel ", brightest,
+                                  " exceeds the limit of ", kMaxRadiance, " nits"));
+    }
+  }
   return absl::OkStatus();
 }
 

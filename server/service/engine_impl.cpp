@@ -1,5 +1,8 @@
 #include "service/engine_impl.h"
 
+#include <absl/strings/str_join.h>
+
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -9,10 +12,13 @@
 #include "encode/encode.h"
 #include "scene/gltf_import.h"
 #include "scene/image_decode.h"
+#include "scene/magnitude_limits.h"
+#include "scene/scene_files.h"
 #include "scene/validate_update.h"
 #include "service/scene_info.h"
 #include "solvers/registry.h"
 #include "util/log.h"
+#include "util/user_string.h"
 
 namespace gistream {
 namespace {
@@ -36,12 +42,6 @@ std::string CpuModel() {
 std::string GlString(GLenum name) {
   const GLubyte* s = glGetString(name);
   return s ? reinterpret_cast<const char*>(s) : "";
-}
-
-absl::StatusOr<std::string> ReadFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return absl::NotFoundError(absl::StrCat("cannot read ", path.string()));
-  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 std::span<const uint8_t> Bytes(const std::string& s) {
@@ -223,17 +223,28 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
     GS_ASSIGN_OR_RETURN(scene, ImportGltf(Bytes(source.bytes), import));
   }
   if (has_env) {
-    std::string env_bytes = source.environment_bytes;
+    std::vector<uint8_t> env_file;
+    std::span<const uint8_t> env_bytes = Bytes(source.environment_bytes);
     if (!source.environment_name.empty()) {
       GS_ASSIGN_OR_RETURN(std::filesystem::path path,
                           ResolveSceneUri(options_.scene_dir, source.environment_name,
                                           "environment_name"));
-      GS_ASSIGN_OR_RETURN(env_bytes, ReadFile(path));
+      // A regular file only, opened without blocking (a FIFO would wedge
+      // this thread), and no larger than a scene may be.
+      GS_ASSIGN_OR_RETURN(env_file, ReadFileLimited(path, options_.import_limits.max_scene_bytes,
+                                                    "environment_name"));
+      env_bytes = env_file;
     }
     Environment env;
-    GS_ASSIGN_OR_RETURN(env.image, DecodeImage(Bytes(env_bytes), ImageKind::kEnvironment,
+    GS_ASSIGN_OR_RETURN(env.image, DecodeImage(env_bytes, ImageKind::kEnvironment,
                                                options_.import_limits, "environment"));
     env.intensity = source.environment_intensity > 0.0f ? source.environment_intensity : 1.0f;
+    env.max_radiance = MaxPixel(env.image);
+    if (env.intensity * env.max_radiance > kMaxRadiance) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "environment_intensity: ", env.intensity, " x the map's brightest pixel ",
+          env.max_radiance, " exceeds the limit of ", kMaxRadiance, " nits"));
+    }
     scene.environment = std::move(env);
   }
 
@@ -274,11 +285,11 @@ absl::Status EngineImpl::UnloadScene(const SceneId& id) {
     if (shut_down_) return Unavailable();
     auto it = scenes_.find(id);
     if (it == scenes_.end()) {
-      return absl::NotFoundError(absl::StrCat("scene_id: no scene '", id, "'"));
+      return absl::NotFoundError(absl::StrCat("scene_id: no scene '", Echo(id), "'"));
     }
     if (it->second->sessions > 0) {
       return absl::FailedPreconditionError(absl::StrCat(
-          "scene_id: scene '", id, "' is used by ", it->second->sessions, " session(s)"));
+          "scene_id: scene '", Echo(id), "' is used by ", it->second->sessions, " session(s)"));
     }
     scenes_.erase(it);
   }
@@ -334,7 +345,7 @@ absl::StatusOr<std::shared_ptr<EngineImpl::SessionRecord>> EngineImpl::CreateSes
   if (shut_down_) return Unavailable();
   auto scene = scenes_.find(config.scene);
   if (scene == scenes_.end()) {
-    return absl::NotFoundError(absl::StrCat("scene_id: no scene '", config.scene, "'"));
+    return absl::NotFoundError(absl::StrCat("scene_id: no scene '", Echo(config.scene), "'"));
   }
   session->scene = scene->second;
   if (config.camera) {
@@ -372,7 +383,7 @@ absl::Status EngineImpl::PushUpdate(const SessionId& id, Update update) {
   std::lock_guard lock(mutex_);
   if (shut_down_) return Unavailable();
   auto it = sessions_.find(id);
-  if (it == sessions_.end()) return absl::NotFoundError(absl::StrCat("session: no session '", id, "'"));
+  if (it == sessions_.end()) return absl::NotFoundError(absl::StrCat("session: no session '", Echo(id), "'"));
   SessionRecord& session = *it->second;
   GS_RETURN_IF_ERROR(ValidateUpdate(*session.scene->scene, update, options_.max_width,
                                     options_.max_height));
@@ -388,7 +399,7 @@ absl::Status EngineImpl::RequestFrames(const SessionId& id, uint32_t count) {
     if (shut_down_) return Unavailable();
     auto it = sessions_.find(id);
     if (it == sessions_.end()) {
-      return absl::NotFoundError(absl::StrCat("session: no session '", id, "'"));
+      return absl::NotFoundError(absl::StrCat("session: no session '", Echo(id), "'"));
     }
     it->second->requested += std::max<uint32_t>(count, 1);
   }
@@ -550,6 +561,10 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
       if (const auto* camera = std::get_if<CameraUpdate>(&u.change)) {
         ApplyCameraUpdate(state, *camera, view.camera);
         view.camera_changed = true;
+      } else if (absl::Status limits = state.CheckApply(u.change); !limits.ok()) {
+        // Within its own limits, but not with the current state (a world
+        // position through the hierarchy, colour x intensity, ...).
+        session.sink->OnUpdateRejected(u.seq, limits);
       } else {
         materials |= state.Apply(u.change) & (kChangeMaterials | kChangeEmission);
       }
@@ -596,6 +611,21 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
     ldr = passes_->ReadLdr(view.gbuffer);
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  // No frame with NaN or Inf leaves the server: it is a solver bug (inputs
+  // are bounded, scene/magnitude_limits.h), reported as such. EXR scans the
+  // float readback it has anyway; JPEG/PNG count in the tone-map pass, which
+  // reads every HDR pixel already, and read back one counter.
+  const size_t non_finite =
+      enc.format == ImageFormat::kExr
+          ? size_t(std::count_if(hdr.begin(), hdr.end(), [](float v) { return !std::isfinite(v); }))
+          : size_t(passes_->NonFinitePixels());
+  if (non_finite > 0) {
+    return absl::InternalError(absl::StrCat(
+        "solver '", session.config.solver, "' (stages ",
+        absl::StrJoin(entry.solver->Plan(changes), ", "), "): produced ", non_finite,
+        enc.format == ImageFormat::kExr ? " non-finite values" : " non-finite pixels",
+        "; the frame is not sent"));
+  }
   {
     gl::StageTimer::Scope stage(timer_, "encode", /*cpu_stage=*/true);
     const int w = int(view.gbuffer.width()), h = int(view.gbuffer.height());

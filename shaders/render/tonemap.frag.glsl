@@ -4,6 +4,10 @@
 #include "common/math.glsl"
 layout(binding = 0) uniform sampler2D uHdr;
 uniform float uExposureScale;  // 2^EV
+// Pixels whose solver output is NaN or Inf: the engine refuses to encode a
+// frame with any (checked on the exponent bits, which no fast-math
+// compilation can fold away).
+layout(std430, binding = 7) buffer NonFinite { uint uNonFinite; };
 in vec2 vUv;
 out vec4 oColor;
 
@@ -17,6 +21,11 @@ vec3 LinearToSrgb(vec3 c) {
 }
 
 void main() {
+  // This pixel's own texel: a filtered fetch would spread a neighbour's
+  // NaN (0 x Inf) and count it again.
+  const uvec3 exponent = floatBitsToUint(texelFetch(uHdr, ivec2(gl_FragCoord.xy), 0).rgb) &
+                         0x7f800000u;
+  if (any(equal(exponent, uvec3(0x7f800000u)))) atomicAdd(uNonFinite, 1u);
   vec3 hdr = FiniteOrZero(texture(uHdr, vUv).rgb) * uExposureScale;
   oColor = vec4(LinearToSrgb(FilmicAces(max(hdr, vec3(0.0)))), 1.0);
 }

@@ -126,12 +126,18 @@ TEST(SceneImport, MirrorMatrixKeepsItsHandedness) {
   ExpectVec3(glm::vec3(back * glm::vec4(1, 0, 0, 0)), {-1, 0, 0});
 }
 
-TEST(SceneImport, RotationIsNormalized) {
+TEST(SceneImport, NearUnitRotationIsNormalized) {
   TestGltf g;
-  g.AddRoot({{"rotation", {0, 0, 0, 2}}});
+  g.AddRoot({{"rotation", {0, 0, 0, 1.005}}});  // within the 1e-2 tolerance
   const absl::StatusOr<Scene> scene = Import(g.ToGltf());
   ASSERT_TRUE(scene.ok()) << scene.status();
   EXPECT_NEAR(scene->nodes[0].rotation.w, 1.0f, kEps);
+}
+
+TEST(SceneImport, FarFromUnitRotationIsRejected) {
+  TestGltf g;
+  g.AddRoot({{"rotation", {0, 0, 0, 2}}});
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "nodes[0].rotation: length 2 is not 1");
 }
 
 TEST(SceneImport, NonIndexedPrimitiveBecomesIndexed) {

@@ -148,7 +148,7 @@ TEST(ValidateUpdate, CameraNumbers) {
   EXPECT_ERROR(Validate(u), kInvalidArgument, "update.camera.pose.rotation: zero-length");
   u.scene_camera = 0;
   EXPECT_ERROR(Validate(u), kInvalidArgument, "mutually exclusive");
-  for (const float fov : {0.0f, 179.0f, -5.0f, kNaN}) {
+  for (const float fov : {0.0f, 1e-6f, 0.09f, 179.5f, -5.0f, kNaN}) {
     u = CameraUpdate{};
     u.yfov_degrees = fov;
     EXPECT_ERROR(Validate(u), kInvalidArgument, "update.camera.yfov_degrees:");

@@ -1,0 +1,76 @@
+// Issue 13, finding 2 (unbounded memory), image part: a 92-byte HDR header
+// claiming 16384 x 4096 pixels cost 758 MB before it was refused.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <span>
+#include <string>
+
+#include "encode/encode.h"
+#include "reliability/reliability_fixture.h"
+#include "scene/image_decode.h"
+#include "support/render_helpers.h"
+
+namespace gistream::reliability {
+namespace {
+
+// ------------------------------------------------- 5. forged image headers
+
+// Peak resident memory of this process since ResetPeak(), from
+// /proc/self/status VmHWM; false when the kernel cannot reset the peak.
+bool ResetPeak() {
+  std::ofstream clear("/proc/self/clear_refs");
+  clear << "5";
+  clear.flush();
+  return bool(clear);
+}
+uint64_t ReadStatusKiB(const std::string& key) {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind(key + ":", 0) == 0) return std::stoull(line.substr(key.size() + 1));
+  }
+  return 0;
+}
+
+std::string ForgedHdr(int width, int height) {
+  return absl::StrCat("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y ", height, " +X ", width,
+                      "\n", std::string(16, '\x02'));
+}
+
+TEST(ImageHeaders, ForgedHdrHeaderIsRefusedBeforeAllocating) {
+  // 16384 x 4096 is exactly the default pixel limit (8192^2): the header
+  // passes the limit, and decoding used to allocate 758 MB before finding
+  // the data missing.
+  const std::string hdr = ForgedHdr(16384, 4096);
+  ASSERT_LT(hdr.size(), 100u);
+  const std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(hdr.data()), hdr.size());
+  const bool can_measure = ResetPeak();
+  const uint64_t before = ReadStatusKiB("VmRSS");
+  EXPECT_STATUS(StatusOf(DecodeImage(bytes, ImageKind::kEnvironment, ImportLimits{}, "environment")),
+                kInvalidArgument, "environment: truncated hdr image: the header claims 16384x4096");
+  if (can_measure) {
+    // 64 MiB: far below the 1 GiB the claimed pixels would take as RGBA floats.
+    EXPECT_LT(ReadStatusKiB("VmHWM"), before + 64 * 1024) << "peak RSS grew while refusing";
+  }
+  // Over the limit, it is RESOURCE_EXHAUSTED from the header alone.
+  const std::string big = ForgedHdr(16384, 8192);
+  EXPECT_STATUS(StatusOf(DecodeImage(std::span<const uint8_t>(
+                                         reinterpret_cast<const uint8_t*>(big.data()), big.size()),
+                                     ImageKind::kEnvironment, ImportLimits{}, "environment")),
+                kResourceExhausted, "pixels exceed the limit");
+  // Through the engine: refused, and the engine loads a real map next.
+  SceneSource source = testing::SceneFromBytes(QuadScene().dump());
+  source.environment_bytes = hdr;
+  EXPECT_STATUS(StatusOf(E().LoadScene(source)), kInvalidArgument, "truncated hdr image");
+  auto exr = EncodeExr(std::vector<float>(8 * 4 * 4, 0.25f), 8, 4);
+  ASSERT_TRUE(exr.ok());
+  source.environment_bytes = *exr;
+  auto info = E().LoadScene(source);
+  ASSERT_TRUE(info.ok()) << info.status();
+  ExpectRendersFinite(info->id, "direct");
+  EXPECT_TRUE(E().UnloadScene(info->id).ok());
+}
+
+}  // namespace
+}  // namespace gistream::reliability
