@@ -6,6 +6,7 @@
 #include "solvers/implicit_visibility/implicit_visibility_solver.h"
 #include "solvers/pathtrace/pathtrace_solver.h"
 #include "solvers/sh_probes/sh_probes_solver.h"
+#include "util/user_string.h"
 
 namespace gistream {
 
@@ -24,7 +25,7 @@ absl::StatusOr<const SolverDescription*> FindSolver(const std::string& name) {
     absl::StrAppend(&known, known.empty() ? "" : ", ", d.name);
   }
   return absl::InvalidArgumentError(
-      absl::StrCat("solver: unknown solver '", name, "' (known: ", known, ")"));
+      absl::StrCat("solver: unknown solver '", Echo(name), "' (known: ", known, ")"));
 }
 
 absl::StatusOr<std::unique_ptr<Solver>> CreateSolver(const std::string& name,

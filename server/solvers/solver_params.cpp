@@ -1,4 +1,5 @@
 #include "solvers/solver_params.h"
+#include "util/user_string.h"
 
 #include <absl/strings/str_join.h>
 
@@ -30,7 +31,7 @@ absl::StatusOr<std::string> Canonical(const ParamSpec& spec, const std::string& 
     case ParamType::kInt: {
       long long v = 0;
       if (!ParseWhole(value, &v)) {
-        return absl::InvalidArgumentError(absl::StrCat(field, ": '", value, "' is not an integer"));
+        return absl::InvalidArgumentError(absl::StrCat(field, ": '", Echo(value), "' is not an integer"));
       }
       if (double(v) < spec.min || double(v) > spec.max || v < std::numeric_limits<int>::min() ||
           v > std::numeric_limits<int>::max()) {
@@ -38,15 +39,19 @@ absl::StatusOr<std::string> Canonical(const ParamSpec& spec, const std::string& 
                                                        FormatDouble(spec.min), ", ",
                                                        FormatDouble(spec.max), "]"));
       }
+      if (spec.multiple_of > 1 && v % spec.multiple_of != 0) {
+        return absl::InvalidArgumentError(
+            absl::StrCat(field, ": ", v, " is not a multiple of ", spec.multiple_of));
+      }
       return std::to_string(v);
     }
     case ParamType::kFloat: {
       double v = 0.0;
       if (!ParseWhole(value, &v)) {
-        return absl::InvalidArgumentError(absl::StrCat(field, ": '", value, "' is not a number"));
+        return absl::InvalidArgumentError(absl::StrCat(field, ": '", Echo(value), "' is not a number"));
       }
       if (!std::isfinite(v)) {
-        return absl::InvalidArgumentError(absl::StrCat(field, ": '", value, "' is not finite"));
+        return absl::InvalidArgumentError(absl::StrCat(field, ": '", Echo(value), "' is not finite"));
       }
       if (v < spec.min || v > spec.max) {
         return absl::InvalidArgumentError(absl::StrCat(field, ": ", value, " is out of range [",
@@ -59,13 +64,13 @@ absl::StatusOr<std::string> Canonical(const ParamSpec& spec, const std::string& 
       if (value == "true" || value == "1") return std::string("true");
       if (value == "false" || value == "0") return std::string("false");
       return absl::InvalidArgumentError(
-          absl::StrCat(field, ": '", value, "' is not a boolean (true, false, 1, 0)"));
+          absl::StrCat(field, ": '", Echo(value), "' is not a boolean (true, false, 1, 0)"));
     case ParamType::kEnum:
       for (const std::string& choice : spec.choices) {
         if (value == choice) return value;
       }
       return absl::InvalidArgumentError(
-          absl::StrCat(field, ": '", value, "' is not one of ", absl::StrJoin(spec.choices, ", ")));
+          absl::StrCat(field, ": '", Echo(value), "' is not one of ", absl::StrJoin(spec.choices, ", ")));
   }
   return absl::InternalError(absl::StrCat(field, ": unknown parameter type"));
 }
@@ -88,7 +93,7 @@ absl::StatusOr<ParamSet> ValidateParams(const SolverDescription& solver,
       std::vector<std::string> names;
       for (const ParamSpec& spec : solver.params) names.push_back(spec.name);
       return absl::InvalidArgumentError(
-          absl::StrCat("params.", name, ": unknown parameter of solver '", solver.name,
+          absl::StrCat("params.", Echo(name), ": unknown parameter of solver '", solver.name,
                        "' (known: ", names.empty() ? "none" : absl::StrJoin(names, ", "), ")"));
     }
   }

@@ -21,6 +21,7 @@ struct ParamSpec {
   double max = 0.0;
   std::vector<std::string> choices;  // kEnum
   std::string description;           // one line
+  int multiple_of = 1;               // kInt: values must be multiples of this
 };
 
 struct SolverDescription {

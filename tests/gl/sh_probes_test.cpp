@@ -136,12 +136,12 @@ TEST(ShProbes, StagePlanFollowsTheChange) {
   for (const std::string& s : gi) EXPECT_FALSE(StageSkipped(f.geometry, s)) << "geometry " << s;
 }
 
-TEST(ShProbes, GridTooLargeIsRejectedNamingTheParameters) {
+TEST(ShProbes, GridOverBudgetIsResourceExhaustedNamingTheParameters) {
   const BundledCopy scene("cornell_box.gltf");
   RenderRequest r = SolverRequest(scene.id(), "sh_probes", {{"grid", "32"}, {"face_size", "64"}}, 8);
   auto frame = testing::SharedEngine().Render(r);
   ASSERT_FALSE(frame.ok());
-  EXPECT_EQ(frame.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(frame.status().code(), absl::StatusCode::kResourceExhausted);
   EXPECT_NE(frame.status().message().find("params.grid"), std::string::npos) << frame.status();
 }
 

@@ -47,7 +47,8 @@ SolverDescription AntiradianceSolver::Describe() {
       "Dachsbacher et al. 2007: implicit visibility through antiradiance, hierarchical links, directional bins";
   d.stages = {"link", "global_pass", "local_pass", "push_pull", "display"};
   d.params = {
-      {"bins", ParamType::kInt, "128", 32, 512, {}, "Directional bins per element (even)"},
+      // Even: the bins come in opposite pairs (directional_bins.h).
+      {"bins", ParamType::kInt, "128", 32, 512, {}, "Directional bins per element (even)", 2},
       {"iterations", ParamType::kInt, "4", 1, 64, {},
        "Iterations per update (asymmetric: radiance steps, each after converged antiradiance)"},
       {"scheme", ParamType::kEnum, "symmetric", 0, 0, {"symmetric", "asymmetric"},

@@ -64,7 +64,7 @@ absl::StatusOr<std::unique_ptr<Solver>> AvgSolver::Create(const ParamSet& params
   const double atlas = double(solver->trace_settings_.vpls) * solver->shadow_resolution_ *
                        solver->shadow_resolution_ * 4.0;
   if (atlas > kMaxAtlasBytes) {
-    return absl::InvalidArgumentError(absl::StrCat(
+    return absl::ResourceExhaustedError(absl::StrCat(
         "params.shadow_res: ", solver->trace_settings_.vpls, " VPL maps of ",
         solver->shadow_resolution_, "^2 need ", int64_t(atlas / 1048576.0),
         " MiB, more than the 1024 MiB atlas limit; lower shadow_res or vpls"));
@@ -72,7 +72,7 @@ absl::StatusOr<std::unique_ptr<Solver>> AvgSolver::Create(const ParamSet& params
   GLint max_layers = 0;
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
   if (solver->trace_settings_.vpls > max_layers) {
-    return absl::InvalidArgumentError(absl::StrCat("params.vpls: ", solver->trace_settings_.vpls,
+    return absl::ResourceExhaustedError(absl::StrCat("params.vpls: ", solver->trace_settings_.vpls,
                                                    " exceeds this GPU's ", max_layers,
                                                    " shadow-map array layers"));
   }

@@ -68,7 +68,7 @@ absl::Status ImplicitVisibilitySolver::Relink(SolverContext& ctx) {
   const hierarchy::Elements& e = scene_.elements();
   const uint64_t bin_bytes = uint64_t(e.node_count()) * uint64_t(bins_.count()) * 12;
   if (bin_bytes > kMaxBinBytes) {
-    return absl::InvalidArgumentError(absl::StrCat(
+    return absl::ResourceExhaustedError(absl::StrCat(
         "params.bins_per_face: ", bins_.n(), " gives ", bins_.count(), " bins for each of ",
         e.node_count(), " elements, ", bin_bytes >> 20, " MiB; the limit is ", kMaxBinBytes >> 20,
         " MiB (use fewer bins or a coarser mesh)"));

@@ -35,7 +35,7 @@ absl::StatusOr<ProbeLayout> FitProbeGrid(const Bounds& bounds, const ProbeGridSe
     if (settings.spacing > 0.0f) {
       const double n = std::ceil(double(extent[a]) / double(settings.spacing));
       if (!(n <= 256.0)) {
-        return absl::InvalidArgumentError(
+        return absl::ResourceExhaustedError(
             absl::StrCat("params.spacing: ", settings.spacing, " m gives more than 256 probes along ",
                          std::string(1, "xyz"[a]), " (scene extent ", extent[a], " m)"));
       }
@@ -50,7 +50,7 @@ absl::StatusOr<ProbeLayout> FitProbeGrid(const Bounds& bounds, const ProbeGridSe
   layout.tiles_x = int(std::ceil(std::sqrt(double(probes))));
   layout.tiles_y = (probes + layout.tiles_x - 1) / layout.tiles_x;
   if (layout.texels() > kMaxProbeTexels) {
-    return absl::InvalidArgumentError(absl::StrCat(
+    return absl::ResourceExhaustedError(absl::StrCat(
         "params.grid/params.face_size: ", layout.dims.x, "x", layout.dims.y, "x", layout.dims.z,
         " probes with ", layout.face_size, "x", layout.face_size, " faces need ", layout.texels(),
         " cube-map texels, over the limit of ", kMaxProbeTexels));
