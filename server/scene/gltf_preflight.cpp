@@ -1,6 +1,8 @@
 #include "scene/gltf_preflight.h"
 
+#include <cmath>
 #include <cstring>
+#include <initializer_list>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
@@ -278,6 +280,311 @@ absl::Status CheckImageViews(const json& doc, const std::vector<uint64_t>& buffe
   return absl::OkStatus();
 }
 
+// ---- JSON types of the members gistream reads.
+//
+// tinygltf 2.7 reads a member of the wrong type as absent (a string where
+// a number belongs, "scene": "x"), casts 2^32-1 to the int -1 ("no mesh")
+// and a negative byteOffset to a huge size_t: the server would render
+// something other than the file. Every member that gistream reads is
+// checked here, before tinygltf sees the document, and named by its JSON
+// path.
+
+enum class Kind {
+  kIndex,    // integer in [0, 2^31 - 1] (tinygltf stores int)
+  kUint,     // integer in [0, 2^32] (byte offsets and lengths: a scene is < 4 GiB)
+  kCount,    // any non-negative integer (counts; the budgets bound them later)
+  kInt,      // any integer that fits an int (enums: componentType, mode, target)
+  kNumber,   // finite number that fits a float
+  kString,
+  kBool,
+  kObject,
+  kNumbers,  // array of `count` kNumber
+  kIndices,  // array of kIndex
+};
+
+struct Member {
+  const char* key;
+  Kind kind;
+  size_t count = 0;  // kNumbers
+};
+
+constexpr uint64_t kMaxIndex = 2147483647;
+constexpr uint64_t kMaxUint = 4294967296;
+
+absl::Status TypeError(const std::string& path, const json& value, const char* expected) {
+  std::string shown = value.dump();
+  if (shown.size() > 40) shown = shown.substr(0, 40) + "...";
+  return absl::InvalidArgumentError(absl::StrCat(path, ": ", shown, " is not ", expected));
+}
+
+absl::Status CheckValue(const std::string& path, const json& v, Kind kind, size_t count) {
+  switch (kind) {
+    case Kind::kIndex:
+      if (!v.is_number_integer() || (v.is_number_unsigned() ? v.get<uint64_t>() > kMaxIndex
+                                                            : v.get<int64_t>() < 0)) {
+        return TypeError(path, v, "an index (an integer in [0, 2147483647])");
+      }
+      return absl::OkStatus();
+    case Kind::kUint:
+      if (!v.is_number_integer() || (v.is_number_unsigned() ? v.get<uint64_t>() > kMaxUint
+                                                            : v.get<int64_t>() < 0)) {
+        return TypeError(path, v, "an integer in [0, 4294967296]");
+      }
+      return absl::OkStatus();
+    case Kind::kCount:
+      if (!v.is_number_unsigned()) return TypeError(path, v, "a non-negative integer");
+      return absl::OkStatus();
+    case Kind::kInt:
+      if (!v.is_number_integer() ||
+          (v.is_number_unsigned() ? v.get<uint64_t>() > kMaxIndex
+                                  : v.get<int64_t>() < -int64_t(kMaxIndex) - 1)) {
+        return TypeError(path, v, "a 32-bit integer");
+      }
+      return absl::OkStatus();
+    case Kind::kNumber:
+      if (!v.is_number()) return TypeError(path, v, "a number");
+      if (!(std::abs(v.get<double>()) <= kMaxFloat)) {
+        return absl::InvalidArgumentError(absl::StrCat(path, ": ", v.dump(),
+                                                       " is out of range for a float"));
+      }
+      return absl::OkStatus();
+    case Kind::kString:
+      return v.is_string() ? absl::OkStatus() : TypeError(path, v, "a string");
+    case Kind::kBool:
+      return v.is_boolean() ? absl::OkStatus() : TypeError(path, v, "a boolean");
+    case Kind::kObject:
+      return v.is_object() ? absl::OkStatus() : TypeError(path, v, "an object");
+    case Kind::kNumbers:
+      if (!v.is_array()) return TypeError(path, v, "an array of numbers");
+      if (v.size() != count) {
+        return absl::InvalidArgumentError(
+            absl::StrCat(path, ": ", v.size(), " values, expected ", count));
+      }
+      for (size_t i = 0; i < v.size(); ++i) {
+        GS_RETURN_IF_ERROR(CheckValue(absl::StrCat(path, "[", i, "]"), v[i], Kind::kNumber, 0));
+      }
+      return absl::OkStatus();
+    case Kind::kIndices:
+      if (!v.is_array()) return TypeError(path, v, "an array of indices");
+      for (size_t i = 0; i < v.size(); ++i) {
+        GS_RETURN_IF_ERROR(CheckValue(absl::StrCat(path, "[", i, "]"), v[i], Kind::kIndex, 0));
+      }
+      return absl::OkStatus();
+  }
+  return absl::OkStatus();
+}
+
+// Checks the listed members of `object` (when present); `object` itself
+// must be an object.
+absl::Status CheckMembers(const std::string& path, const json& object,
+                          std::initializer_list<Member> members) {
+  if (!object.is_object()) return TypeError(path, object, "an object");
+  for (const Member& m : members) {
+    const auto it = object.find(m.key);
+    if (it == object.end()) continue;
+    GS_RETURN_IF_ERROR(CheckValue(absl::StrCat(path, ".", m.key), *it, m.kind, m.count));
+  }
+  return absl::OkStatus();
+}
+
+// `doc[key]`, when present, must be an array; `check` runs on each element.
+template <typename F>
+absl::Status ForEach(const std::string& path, const json& parent, const char* key, F check) {
+  const auto it = parent.find(key);
+  if (it == parent.end()) return absl::OkStatus();
+  const std::string field = path.empty() ? key : absl::StrCat(path, ".", key);
+  if (!it->is_array()) return TypeError(field, *it, "an array");
+  for (size_t i = 0; i < it->size(); ++i) {
+    GS_RETURN_IF_ERROR(check(absl::StrCat(field, "[", i, "]"), (*it)[i]));
+  }
+  return absl::OkStatus();
+}
+
+// An object member that, when present, must be an object checked by `check`.
+template <typename F>
+absl::Status IfObject(const std::string& path, const json& parent, const char* key, F check) {
+  const auto it = parent.find(key);
+  if (it == parent.end()) return absl::OkStatus();
+  const std::string field = path.empty() ? key : absl::StrCat(path, ".", key);
+  if (!it->is_object()) return TypeError(field, *it, "an object");
+  return check(field, *it);
+}
+
+absl::Status CheckTextureInfo(const std::string& path, const json& info) {
+  return CheckMembers(path, info, {{"index", Kind::kIndex}, {"texCoord", Kind::kIndex}});
+}
+
+absl::Status CheckScene(const std::string& p, const json& v) {
+  return CheckMembers(p, v, {{"nodes", Kind::kIndices}, {"name", Kind::kString}});
+}
+
+absl::Status CheckNodeLight(const std::string& p, const json& v) {
+  return CheckMembers(p, v, {{"light", Kind::kIndex}});
+}
+
+absl::Status CheckNodeExtensions(const std::string& p, const json& v) {
+  return IfObject(p, v, "KHR_lights_punctual", CheckNodeLight);
+}
+
+absl::Status CheckNode(const std::string& p, const json& v) {
+  GS_RETURN_IF_ERROR(CheckMembers(p, v,
+                                  {{"mesh", Kind::kIndex},
+                                   {"camera", Kind::kIndex},
+                                   {"skin", Kind::kIndex},
+                                   {"children", Kind::kIndices},
+                                   {"translation", Kind::kNumbers, 3},
+                                   {"rotation", Kind::kNumbers, 4},
+                                   {"scale", Kind::kNumbers, 3},
+                                   {"matrix", Kind::kNumbers, 16},
+                                   {"name", Kind::kString}}));
+  return IfObject(p, v, "extensions", CheckNodeExtensions);
+}
+
+absl::Status CheckPrimitive(const std::string& p, const json& v) {
+  GS_RETURN_IF_ERROR(CheckMembers(p, v,
+                                  {{"attributes", Kind::kObject},
+                                   {"indices", Kind::kIndex},
+                                   {"material", Kind::kIndex},
+                                   {"mode", Kind::kInt}}));
+  const auto attributes = v.find("attributes");
+  if (attributes == v.end()) return absl::OkStatus();
+  for (const auto& [name, accessor] : attributes->items()) {
+    GS_RETURN_IF_ERROR(
+        CheckValue(absl::StrCat(p, ".attributes.", name), accessor, Kind::kIndex, 0));
+  }
+  return absl::OkStatus();
+}
+
+absl::Status CheckMesh(const std::string& p, const json& v) {
+  GS_RETURN_IF_ERROR(CheckMembers(p, v, {{"name", Kind::kString}}));
+  return ForEach(p, v, "primitives", CheckPrimitive);
+}
+
+absl::Status CheckNumberValue(const std::string& p, const json& v) {
+  return CheckValue(p, v, Kind::kNumber, 0);
+}
+
+absl::Status CheckAccessor(const std::string& p, const json& v) {
+  GS_RETURN_IF_ERROR(CheckMembers(p, v,
+                                  {{"bufferView", Kind::kIndex},
+                                   {"byteOffset", Kind::kUint},
+                                   {"componentType", Kind::kInt},
+                                   {"count", Kind::kCount},
+                                   {"type", Kind::kString},
+                                   {"normalized", Kind::kBool},
+                                   {"sparse", Kind::kObject}}));
+  GS_RETURN_IF_ERROR(ForEach(p, v, "min", CheckNumberValue));
+  return ForEach(p, v, "max", CheckNumberValue);
+}
+
+absl::Status CheckBufferView(const std::string& p, const json& v) {
+  return CheckMembers(p, v,
+                      {{"buffer", Kind::kIndex},
+                       {"byteOffset", Kind::kUint},
+                       {"byteLength", Kind::kUint},
+                       {"byteStride", Kind::kUint},
+                       {"target", Kind::kInt}});
+}
+
+absl::Status CheckBuffer(const std::string& p, const json& v) {
+  return CheckMembers(p, v, {{"byteLength", Kind::kUint}, {"uri", Kind::kString}});
+}
+
+absl::Status CheckPbr(const std::string& p, const json& v) {
+  GS_RETURN_IF_ERROR(CheckMembers(p, v,
+                                  {{"baseColorFactor", Kind::kNumbers, 4},
+                                   {"metallicFactor", Kind::kNumber},
+                                   {"roughnessFactor", Kind::kNumber}}));
+  GS_RETURN_IF_ERROR(IfObject(p, v, "baseColorTexture", CheckTextureInfo));
+  return IfObject(p, v, "metallicRoughnessTexture", CheckTextureInfo);
+}
+
+absl::Status CheckEmissiveStrength(const std::string& p, const json& v) {
+  return CheckMembers(p, v, {{"emissiveStrength", Kind::kNumber}});
+}
+
+absl::Status CheckMaterialExtensions(const std::string& p, const json& v) {
+  return IfObject(p, v, "KHR_materials_emissive_strength", CheckEmissiveStrength);
+}
+
+absl::Status CheckMaterial(const std::string& p, const json& v) {
+  GS_RETURN_IF_ERROR(CheckMembers(p, v,
+                                  {{"name", Kind::kString},
+                                   {"emissiveFactor", Kind::kNumbers, 3},
+                                   {"doubleSided", Kind::kBool},
+                                   {"alphaMode", Kind::kString},
+                                   {"alphaCutoff", Kind::kNumber}}));
+  GS_RETURN_IF_ERROR(IfObject(p, v, "emissiveTexture", CheckTextureInfo));
+  GS_RETURN_IF_ERROR(IfObject(p, v, "normalTexture", CheckTextureInfo));
+  GS_RETURN_IF_ERROR(IfObject(p, v, "occlusionTexture", CheckTextureInfo));
+  GS_RETURN_IF_ERROR(IfObject(p, v, "pbrMetallicRoughness", CheckPbr));
+  return IfObject(p, v, "extensions", CheckMaterialExtensions);
+}
+
+absl::Status CheckTexture(const std::string& p, const json& v) {
+  return CheckMembers(p, v, {{"source", Kind::kIndex}, {"sampler", Kind::kIndex}});
+}
+
+absl::Status CheckImage(const std::string& p, const json& v) {
+  return CheckMembers(p, v,
+                      {{"uri", Kind::kString},
+                       {"bufferView", Kind::kIndex},
+                       {"mimeType", Kind::kString},
+                       {"name", Kind::kString}});
+}
+
+absl::Status CheckPerspective(const std::string& p, const json& v) {
+  return CheckMembers(p, v,
+                      {{"yfov", Kind::kNumber},
+                       {"znear", Kind::kNumber},
+                       {"zfar", Kind::kNumber},
+                       {"aspectRatio", Kind::kNumber}});
+}
+
+absl::Status CheckCamera(const std::string& p, const json& v) {
+  GS_RETURN_IF_ERROR(CheckMembers(p, v, {{"type", Kind::kString}, {"name", Kind::kString}}));
+  return IfObject(p, v, "perspective", CheckPerspective);
+}
+
+absl::Status CheckSpot(const std::string& p, const json& v) {
+  return CheckMembers(p, v, {{"innerConeAngle", Kind::kNumber}, {"outerConeAngle", Kind::kNumber}});
+}
+
+absl::Status CheckLight(const std::string& p, const json& v) {
+  GS_RETURN_IF_ERROR(CheckMembers(p, v,
+                                  {{"type", Kind::kString},
+                                   {"name", Kind::kString},
+                                   {"color", Kind::kNumbers, 3},
+                                   {"intensity", Kind::kNumber},
+                                   {"range", Kind::kNumber}}));
+  return IfObject(p, v, "spot", CheckSpot);
+}
+
+absl::Status CheckLightsExtension(const std::string& p, const json& v) {
+  return ForEach(p, v, "lights", CheckLight);
+}
+
+absl::Status CheckRootExtensions(const std::string& p, const json& v) {
+  return IfObject(p, v, "KHR_lights_punctual", CheckLightsExtension);
+}
+
+absl::Status CheckTypes(const json& doc) {
+  if (const auto scene = doc.find("scene"); scene != doc.end()) {
+    GS_RETURN_IF_ERROR(CheckValue("scene", *scene, Kind::kIndex, 0));
+  }
+  GS_RETURN_IF_ERROR(ForEach("", doc, "scenes", CheckScene));
+  GS_RETURN_IF_ERROR(ForEach("", doc, "nodes", CheckNode));
+  GS_RETURN_IF_ERROR(ForEach("", doc, "meshes", CheckMesh));
+  GS_RETURN_IF_ERROR(ForEach("", doc, "accessors", CheckAccessor));
+  GS_RETURN_IF_ERROR(ForEach("", doc, "bufferViews", CheckBufferView));
+  GS_RETURN_IF_ERROR(ForEach("", doc, "buffers", CheckBuffer));
+  GS_RETURN_IF_ERROR(ForEach("", doc, "materials", CheckMaterial));
+  GS_RETURN_IF_ERROR(ForEach("", doc, "textures", CheckTexture));
+  GS_RETURN_IF_ERROR(ForEach("", doc, "images", CheckImage));
+  GS_RETURN_IF_ERROR(ForEach("", doc, "cameras", CheckCamera));
+  return IfObject("", doc, "extensions", CheckRootExtensions);
+}
+
 }  // namespace
 
 absl::StatusOr<Container> SplitContainer(std::span<const uint8_t> bytes) {
@@ -355,6 +662,7 @@ absl::Status PreflightJson(const Container& container, const ImportOptions& opti
     return absl::ResourceExhaustedError(absl::StrCat(
         "nodes: ", nodes->size(), " nodes exceed the limit of ", options.limits.max_nodes));
   }
+  GS_RETURN_IF_ERROR(CheckTypes(doc));
   GS_RETURN_IF_ERROR(CheckPrimitives(doc));
   GS_ASSIGN_OR_RETURN(const std::vector<uint64_t> buffer_sizes,
                       CheckBuffers(doc, container, options));
