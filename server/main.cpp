@@ -26,6 +26,7 @@
 #include "metrics/metrics.h"
 #include "service/engine.h"
 #include "service/grpc/server.h"
+#include "util/cpu_pool.h"
 #include "util/log.h"
 #include "util/status.h"
 #include "util/version.h"
@@ -45,6 +46,7 @@ struct Flags {
   uint64_t max_message_bytes = 0;  // 0: max_scene_bytes + 16 MiB
   double shutdown_deadline_s = 10.0;
   LogLevel log_level = LogLevel::kInfo;
+  unsigned cpu_threads = 0;  // 0: DefaultCpuThreads()
 };
 
 constexpr const char* kUsage = R"(usage: gistreamd [flags]
@@ -71,6 +73,12 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
   --shutdown-deadline-s F    on SIGTERM/SIGINT, seconds running calls get before
                              they are cancelled (default 10)
   --log-level L              debug | info | warning | error (default info)
+  --cpu-threads N            threads of the CPU pool that runs every CPU stage
+                             (default: the CPUs of the affinity mask, capped by
+                             the cgroup CPU quota)
+  --frame-budget-ms F        solver work per frame before the render thread
+                             serves other sessions; sliceable work (pathtrace)
+                             continues in later slices (default 30)
   --version                  print "gistreamd VERSION" and exit
   --help                     this text
 Flags take their value as the next argument or after '=' (--listen=:50051).
@@ -179,6 +187,10 @@ Flags ParseFlags(int argc, char** argv) {
       {"--shutdown-deadline-s",
        [&](auto flag, auto v) { f.shutdown_deadline_s = ParseDouble(flag, v, 0.0, 3600.0); }},
       {"--log-level", [&](auto flag, auto v) { f.log_level = ParseLogLevel(flag, v); }},
+      {"--cpu-threads",
+       [&](auto flag, auto v) { f.cpu_threads = ParseUnsigned<unsigned>(flag, v, 1, 1024); }},
+      {"--frame-budget-ms",
+       [&](auto flag, auto v) { f.engine.frame_budget_ms = ParseDouble(flag, v, 1.0, 10'000.0); }},
   };
 
   for (int i = 1; i < argc; ++i) {
@@ -267,6 +279,11 @@ int Main(int argc, char** argv) {
     metrics = std::make_shared<metrics::Metrics>();
     flags.engine.observer = metrics;
   }
+  // The one CPU pool, sized before any CPU stage can start it.
+  CpuPool::Configure(flags.cpu_threads);
+  Log(LogLevel::kInfo, absl::StrCat("CPU pool: ", CpuPool::Get().threads(), " threads",
+                                    flags.cpu_threads > 0 ? " (--cpu-threads)"
+                                                          : " (affinity and cgroup quota)"));
   absl::StatusOr<std::unique_ptr<Engine>> engine = Engine::Create(flags.engine);
   if (!engine.ok()) {
     std::fprintf(stderr, "gistreamd: cannot start the engine: %s\n",

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -130,6 +131,9 @@ struct SessionConfig {
   Pacing pacing = Pacing::kContinuous;
   float max_fps = 0.0f;  // 0: the engine's default cap
   std::optional<CameraUpdate> camera;
+  // Solver work per frame before it yields to other sessions (ms; 0: the
+  // engine's default). Sliceable solvers spread longer work over frames.
+  double frame_budget_ms = 0.0;
 };
 
 struct SessionOpenInfo {
@@ -167,6 +171,11 @@ struct RenderRequest {
   EncodingOptions encoding;
   std::optional<CameraUpdate> camera;
   std::vector<Update> updates;  // camera updates here change only this frame
+  double frame_budget_ms = 0.0;  // per slice, as SessionConfig's (0: the default)
+  // Polled while the frame is being made: true stops the work within one
+  // slice and Render returns CANCELLED (the client left, its deadline
+  // passed, the server is shutting down).
+  std::function<bool()> cancelled;
 };
 
 // ---------------------------------------------------------------- engine
@@ -185,6 +194,8 @@ struct EngineOptions {
   uint32_t max_height = 4096;
   float default_max_fps = 30.0f;
   float max_fps = 240.0f;
+  // Default SessionConfig::frame_budget_ms, and the budget of Render calls.
+  double frame_budget_ms = 30.0;
   // Told about every frame produced (see observer.h); may be null.
   std::shared_ptr<ServerObserver> observer;
 };

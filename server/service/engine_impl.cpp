@@ -25,6 +25,9 @@ namespace {
 
 using Clock = RenderThread::Clock;
 
+// A frame's solver work may take at most this long before it yields.
+constexpr double kMaxFrameBudgetMs = 10'000.0;
+
 absl::Status Unavailable() { return absl::UnavailableError("server is shutting down"); }
 
 std::string CpuModel() {
@@ -42,6 +45,26 @@ std::string CpuModel() {
 std::string GlString(GLenum name) {
   const GLubyte* s = glGetString(name);
   return s ? reinterpret_cast<const char*>(s) : "";
+}
+
+// Adds `slice`'s stage times into `total` (by stage name; a stage is
+// skipped only if it was skipped in every slice).
+void MergeTimings(std::vector<StageTiming>& total, std::vector<StageTiming> slice) {
+  if (total.empty()) {
+    total = std::move(slice);
+    return;
+  }
+  for (StageTiming& t : slice) {
+    auto it = std::find_if(total.begin(), total.end(),
+                           [&](const StageTiming& s) { return s.name == t.name; });
+    if (it == total.end()) {
+      total.push_back(std::move(t));
+      continue;
+    }
+    it->cpu_ms += t.cpu_ms;
+    it->gpu_ms += t.gpu_ms;
+    it->skipped = it->skipped && t.skipped;
+  }
 }
 
 std::span<const uint8_t> Bytes(const std::string& s) {
@@ -321,6 +344,11 @@ absl::Status EngineImpl::ValidateConfig(const SessionConfig& c) const {
     return absl::InvalidArgumentError(
         absl::StrCat("encoding.exposure: ", c.encoding.exposure, " is out of range [-30, 30]"));
   }
+  if (!std::isfinite(c.frame_budget_ms) || c.frame_budget_ms < 0.0 ||
+      c.frame_budget_ms > kMaxFrameBudgetMs) {
+    return absl::InvalidArgumentError(absl::StrCat("frame_budget_ms: ", c.frame_budget_ms,
+                                                   " is out of range [0, ", kMaxFrameBudgetMs, "]"));
+  }
   if (!std::isfinite(c.max_fps) || c.max_fps < 0.0f || c.max_fps > options_.max_fps) {
     return absl::InvalidArgumentError(absl::StrCat("max_fps: ", c.max_fps,
                                                    " is out of range [0, ", options_.max_fps, "]"));
@@ -434,6 +462,7 @@ absl::StatusOr<EncodedFrame> EngineImpl::Render(const RenderRequest& request) {
   config.encoding = request.encoding;
   config.pacing = Pacing::kOnRequest;
   config.camera = request.camera;
+  config.frame_budget_ms = request.frame_budget_ms;
   auto sink = std::make_shared<PromiseSink>();
   auto result = sink->future();
   GS_ASSIGN_OR_RETURN(std::shared_ptr<SessionRecord> session,
@@ -447,6 +476,15 @@ absl::StatusOr<EncodedFrame> EngineImpl::Render(const RenderRequest& request) {
   if (!status.ok()) {
     CloseSession(session->id);
     return status;
+  }
+  // Sliced work yields between slices, so a cancel stops it within one
+  // slice: the closed session is skipped at its next turn.
+  while (result.wait_for(std::chrono::milliseconds(20)) != std::future_status::ready) {
+    if (request.cancelled && request.cancelled()) {
+      CloseSession(session->id);
+      return absl::CancelledError(
+          "render: cancelled (the client left, its deadline passed or the server is stopping)");
+    }
   }
   absl::StatusOr<EncodedFrame> frame = result.get();
   CloseSession(session->id);
@@ -514,6 +552,12 @@ void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
       ProduceFrame(session, view, std::move(updates));
   CheckGpuReset();
   if (gpu_lost_) return;
+  if (frame.ok() && *frame == nullptr) {
+    // A slice of a frame still in progress: the session stays due.
+    std::lock_guard lock(mutex_);
+    session.requested += 1;
+    return;
+  }
   if (!frame.ok()) {
     Log(LogLevel::kError, absl::StrCat("frame failed: ", frame.status().ToString()));
     session.sink->OnSessionFailed(frame.status());
@@ -549,8 +593,8 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   const auto frame_start = Clock::now();
   timer_.Reset();
 
-  const bool first_frame = view.frame_number == 0;
-  if (first_frame) {
+  if (!view.initialized) {
+    view.initialized = true;
     view.camera = DefaultCamera(state, session.config.width, session.config.height);
     if (session.config.camera) ApplyCameraUpdate(state, *session.config.camera, view.camera);
   }
@@ -581,6 +625,8 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   entry.last_used = ++solver_clock_;
   const ChangeMask changes = entry.fresh ? kChangeAll : state.ChangesSince(entry.version);
   SolverContext ctx{state, *scene.gpu, timer_};
+  ctx.budget_ms = session.config.frame_budget_ms > 0.0 ? session.config.frame_budget_ms
+                                                       : options_.frame_budget_ms;
   GS_RETURN_IF_ERROR(entry.solver->Update(ctx, changes));
   entry.version = state.version();
   entry.fresh = false;
@@ -593,6 +639,14 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
     timer_.Skip("gbuffer");
   }
   GS_RETURN_IF_ERROR(entry.solver->Shade(ctx, view.camera, view.gbuffer));
+  if (!entry.solver->FrameComplete() && session.config.pacing == Pacing::kOnRequest) {
+    // A frame requested on its own is sent complete: keep this slice's
+    // timings and run the next slice at the session's next turn, after the
+    // other sessions' frames.
+    MergeTimings(view.carry, timer_.Finish());
+    view.carry_ms += std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
+    return std::shared_ptr<EncodedFrame>();
+  }
 
   auto frame = std::make_shared<EncodedFrame>();
   const EncodingOptions& enc = session.config.encoding;
@@ -636,7 +690,9 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
     if (!bytes.ok()) return bytes.status();
     frame->image = *std::move(bytes);
   }
-  frame->timings = timer_.Finish();
+  frame->timings = std::move(view.carry);
+  view.carry.clear();
+  MergeTimings(frame->timings, timer_.Finish());
   frame->frame_number = ++view.frame_number;
   frame->width = view.gbuffer.width();
   frame->height = view.gbuffer.height();
@@ -650,7 +706,8 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   frame->stats.emplace_back("cached_solvers", double(scene.solvers.size()));
   view.camera_changed = false;
   frame->total_ms =
-      std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
+      view.carry_ms + std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
+  view.carry_ms = 0.0;
   return frame;
 }
 

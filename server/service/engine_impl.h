@@ -95,6 +95,11 @@ class EngineImpl final : public Engine {
     uint64_t frame_number = 0;
     uint64_t last_seq = 0;
     bool camera_changed = true;
+    bool initialized = false;  // camera set from the config
+    // Timings of the slices of a frame still in progress (a sliced solver's
+    // Render), summed into the frame that completes it.
+    std::vector<StageTiming> carry;
+    double carry_ms = 0.0;
     RenderThread::Clock::time_point next_due{};
   };
 

@@ -3,6 +3,8 @@
 // set needs and reporting the others as skipped), then shades a view from
 // the G-buffer into linear HDR radiance (Shade). One solver instance is
 // shared by every session on the same scene with the same parameters.
+// Long work is sliced to SolverContext::budget_ms where the solver can
+// (FrameComplete() says whether the frame's work is done).
 #pragma once
 
 #include <cstdint>
@@ -24,6 +26,11 @@ struct SolverContext {
   const SceneState& state;
   GpuScene& gpu;
   gl::StageTimer& timer;
+  // The frame's time budget for solver work in ms (0: none). A solver that
+  // can slice its work stops near it and reports FrameComplete() false;
+  // the engine then runs the rest in later slices, other sessions' frames
+  // in between.
+  double budget_ms = 0.0;
 };
 
 using SolverStats = std::vector<std::pair<std::string, double>>;
@@ -43,6 +50,11 @@ class Solver {
   virtual SolverStats Stats() const = 0;
   // False when Shade does not read the G-buffer (the engine then skips it).
   virtual bool NeedsGBuffer() const { return true; }
+  // Whether the last Update + Shade finished what this frame owes (e.g. the
+  // `spp` samples of a path-traced frame). A frame requested on its own (a
+  // Render) is only delivered complete; a continuous stream shows partial
+  // frames as they come (progressive).
+  virtual bool FrameComplete() const { return true; }
   // Bytes its main GL buffers and textures hold (shadow maps, probe atlas,
   // element and link buffers), for status reports; 0 when it holds none.
   virtual uint64_t gpu_bytes() const { return 0; }

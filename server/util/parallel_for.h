@@ -1,43 +1,25 @@
-// A minimal parallel-for for the solvers' CPU stages (hierarchy linking,
-// antiradiance transport, ...): indices handed out in chunks from an atomic counter (dynamic scheduling,
-// since link work per top-level pair varies by orders of magnitude), one
-// std::thread per hardware thread, joined before returning.
+// The solvers' parallel-for (hierarchy linking, antiradiance transport, VPL
+// tracing, path tracing, ...): indices handed out in chunks from an atomic
+// counter (dynamic scheduling, since work per item varies by orders of
+// magnitude) on the process's one CPU pool (util/cpu_pool.h), never on
+// threads of its own.
 #pragma once
 
-#include <algorithm>
-#include <atomic>
 #include <cstddef>
-#include <thread>
-#include <vector>
+#include <functional>
+
+#include "util/cpu_pool.h"
 
 namespace gistream {
 
-inline unsigned WorkerCount() { return std::max(1u, std::thread::hardware_concurrency()); }
+// Threads a ParallelFor runs on (the pool's size, --cpu-threads).
+inline unsigned WorkerCount() { return CpuPool::Get().threads(); }
 
 // Calls fn(i) for every i in [0, n), `chunk` consecutive indices at a time.
 template <typename Fn>
 void ParallelFor(size_t n, size_t chunk, Fn&& fn) {
-  if (n == 0) return;
-  chunk = std::max<size_t>(chunk, 1);
-  const unsigned workers = unsigned(std::min<size_t>(WorkerCount(), (n + chunk - 1) / chunk));
-  std::atomic<size_t> next{0};
-  auto run = [&] {
-    for (;;) {
-      const size_t begin = next.fetch_add(chunk);
-      if (begin >= n) return;
-      const size_t end = std::min(n, begin + chunk);
-      for (size_t i = begin; i < end; ++i) fn(i);
-    }
-  };
-  if (workers <= 1) {
-    run();
-    return;
-  }
-  std::vector<std::thread> pool;
-  pool.reserve(workers - 1);
-  for (unsigned t = 1; t < workers; ++t) pool.emplace_back(run);
-  run();
-  for (std::thread& t : pool) t.join();
+  const std::function<void(size_t)> body = [&fn](size_t i) { fn(i); };
+  CpuPool::Get().ParallelFor(n, chunk, body);
 }
 
 }  // namespace gistream

@@ -97,9 +97,12 @@ grpc::ServerUnaryReactor* GistreamService::ListSolvers(grpc::CallbackServerConte
 grpc::ServerUnaryReactor* GistreamService::Render(grpc::CallbackServerContext* context,
                                                   const pb::RenderRequest* request,
                                                   pb::Frame* response) {
-  return RunOnPool(context, "Render", [this, request, response] {
+  return RunOnPool(context, "Render", [this, context, request, response] {
     absl::StatusOr<RenderRequest> render = RenderRequestFromProto(*request);
     if (!render.ok()) return ToGrpcStatus(render.status());
+    // A client that leaves (or whose deadline passes, or a server shutdown
+    // past its deadline) cancels the call: the engine stops the work.
+    render->cancelled = [context] { return context->IsCancelled(); };
     absl::StatusOr<EncodedFrame> frame = engine_.Render(*render);
     if (!frame.ok()) return ToGrpcStatus(frame.status());
     FrameToProto(*frame, response);

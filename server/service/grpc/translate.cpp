@@ -303,6 +303,7 @@ absl::StatusOr<SessionConfig> SessionConfigFromProto(const pb::SessionConfig& co
     case pb::SessionConfig::PACING_NOT_SET:
     default: out.pacing = Pacing::kContinuous; break;
   }
+  out.frame_budget_ms = config.frame_budget_ms();
   if (config.has_camera()) {
     GS_ASSIGN_OR_RETURN(out.camera, CameraFromProto(config.camera(), "config.camera"));
   }
@@ -326,6 +327,7 @@ absl::StatusOr<RenderRequest> RenderRequestFromProto(const pb::RenderRequest& re
                         UpdateFromProto(request.updates(i), absl::StrCat("updates[", i, "]")));
     out.updates.push_back(std::move(u));
   }
+  out.frame_budget_ms = request.frame_budget_ms();
   return out;
 }
 

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <thread>
 
 #include <glm/gtc/constants.hpp>
 
 #include "solvers/avg/quasi_random.h"
+#include "util/parallel_for.h"
 
 namespace gistream::avg {
 namespace {
@@ -192,9 +192,6 @@ VplTraceResult TraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& lig
   const size_t target = size_t(std::max(settings.vpls, 0));
   if (lights.empty() || !(table.total > 0.0) || target == 0) return result;
 
-  const int threads = settings.threads > 0
-                          ? settings.threads
-                          : std::max(1, int(std::thread::hardware_concurrency()));
   // Paths are traced in batches (in parallel) and appended whole, in index
   // order, while their VPLs fit into `vpls`; the first path that does not
   // fit ends the walk (it is not counted in N). The result does not depend
@@ -207,16 +204,14 @@ VplTraceResult TraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& lig
     const uint64_t want = uint64_t(double(target - result.vpls.size()) / vpls_per_path) + 8;
     const uint64_t batch = std::min(want, max_paths - next);
     std::vector<PathResult> paths(batch);
-    const int used = batch < 64 ? 1 : threads;  // threads do not pay for a few paths
-    auto work = [&](int t) {
-      for (uint64_t j = uint64_t(t); j < batch; j += uint64_t(used)) {
-        paths[j] = TracePath(grid, lights, table, settings, next + j);
-      }
-    };
-    std::vector<std::thread> pool;
-    for (int t = 1; t < used; ++t) pool.emplace_back(work, t);
-    work(0);
-    for (std::thread& th : pool) th.join();
+    // Each path depends on its index only, so the result does not depend on
+    // how the pool splits the batch; a few paths stay on this thread.
+    auto trace = [&](size_t j) { paths[j] = TracePath(grid, lights, table, settings, next + j); };
+    if (batch < 64 || settings.threads == 1) {
+      for (size_t j = 0; j < batch; ++j) trace(j);
+    } else {
+      ParallelFor(batch, 16, trace);
+    }
     for (PathResult& p : paths) {
       if (result.vpls.size() + p.vpls.size() > target) {
         done = true;

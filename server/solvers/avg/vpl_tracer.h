@@ -27,7 +27,7 @@ struct VplTraceSettings {
   int vpls = 1024;         // VPLs to place (paths are added until there are this many)
   int bounces = 3;         // VPL generations per path (1..kMaxBounces)
   bool roulette = true;    // Russian roulette after each VPL
-  int threads = 0;         // 0: hardware concurrency
+  int threads = 0;         // 1: on the calling thread; else the CPU pool
   static constexpr int kMaxBounces = 8;
 };
 

@@ -4,7 +4,8 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <thread>
+
+#include "util/parallel_for.h"
 
 namespace gistream {
 
@@ -62,101 +63,145 @@ absl::Status PathtraceSolver::Update(SolverContext& ctx, ChangeMask changes) {
     // cheap pass over the triangles, no BVH rebuild.
     if (changes & kChangeEmission) bvh_->UpdateEmitters(ctx.state);
   }
-  if (changes != kChangeNone) spp_total_ = 0;  // any scene change restarts
+  if (changes != kChangeNone) {  // any scene change restarts every view
+    views_.clear();
+    current_ = nullptr;
+  }
   return absl::OkStatus();
 }
 
-bool PathtraceSolver::SameView(const ViewCamera& c) const {
-  return has_view_ && c.position == view_.position && c.rotation == view_.rotation &&
-         c.yfov == view_.yfov && c.width == view_.width && c.height == view_.height;
+bool PathtraceSolver::SameView(const ViewCamera& a, const ViewCamera& b) {
+  return a.position == b.position && a.rotation == b.rotation && a.yfov == b.yfov &&
+         a.width == b.width && a.height == b.height;
 }
 
-void PathtraceSolver::TraceRound(const SceneState& state, const ViewCamera& camera, int spp) {
-  const int w = int(camera.width), h = int(camera.height);
+PathtraceSolver::Accumulation& PathtraceSolver::ViewFor(const ViewCamera& camera) {
+  Accumulation* pick = nullptr;
+  for (Accumulation& acc : views_) {
+    if (SameView(acc.view, camera)) pick = &acc;
+  }
+  if (!pick) {
+    if (views_.size() < kMaxViews) {
+      pick = &views_.emplace_back();
+    } else {
+      pick = &*std::min_element(views_.begin(), views_.end(), [](const auto& a, const auto& b) {
+        return a.last_used < b.last_used;
+      });
+    }
+    *pick = Accumulation{};
+    pick->view = camera;
+    pick->accum.assign(size_t(camera.width) * size_t(camera.height) * 3, 0.0);
+  }
+  pick->last_used = ++clock_;
+  return *pick;
+}
+
+void PathtraceSolver::TraceRows(const SceneState& state, Accumulation& acc, int row_begin,
+                                int row_end) {
+  const ViewCamera& camera = acc.view;
+  const int w = int(camera.width);
   const glm::mat4 inv = glm::inverse(camera.Projection() * camera.View());
   const Integrator integrator(state, *bvh_, env_.get(), settings_);
-  const int first_sample = spp_total_;
-  std::atomic<int> next_row{0};
+  const uint64_t sample = uint64_t(acc.spp_total);
   std::atomic<uint64_t> rays{0}, nonfinite{0};
-  auto worker = [&] {
+  ParallelFor(size_t(row_end - row_begin), 1, [&](size_t row) {
+    const int y = row_begin + int(row);
     PathStats stats;
     uint64_t bad = 0;
-    for (int y = next_row++; y < h; y = next_row++) {
-      for (int x = 0; x < w; ++x) {
-        glm::dvec3 sum(0.0);
-        for (int s = 0; s < spp; ++s) {
-          const uint64_t sample = uint64_t(first_sample + s);
-          Rng rng(pathtrace::Mix64(seed_ ^ pathtrace::Mix64(sample)),
-                  uint64_t(y) * uint64_t(w) + uint64_t(x));
-          // Pixel (x, y) counts rows from the bottom, as GL does.
-          const glm::vec2 ndc((float(x) + rng.Uniform()) / float(w) * 2.0f - 1.0f,
-                              (float(y) + rng.Uniform()) / float(h) * 2.0f - 1.0f);
-          const glm::vec4 far = inv * glm::vec4(ndc, 0.5f, 1.0f);
-          const glm::vec3 dir = glm::normalize(glm::vec3(far) / far.w - camera.position);
-          const glm::vec3 li = integrator.Li(camera.position, dir, rng, stats);
-          if (std::isfinite(li.r) && std::isfinite(li.g) && std::isfinite(li.b)) {
-            sum += glm::dvec3(li);
-          } else {
-            ++bad;  // dropped and counted: never averaged into the image
-          }
-        }
-        double* a = &accum_[(size_t(y) * size_t(w) + size_t(x)) * 3];
-        a[0] += sum.x;
-        a[1] += sum.y;
-        a[2] += sum.z;
+    for (int x = 0; x < w; ++x) {
+      Rng rng(pathtrace::Mix64(seed_ ^ pathtrace::Mix64(sample)),
+              uint64_t(y) * uint64_t(w) + uint64_t(x));
+      // Pixel (x, y) counts rows from the bottom, as GL does.
+      const glm::vec2 ndc((float(x) + rng.Uniform()) / float(w) * 2.0f - 1.0f,
+                          (float(y) + rng.Uniform()) / float(camera.height) * 2.0f - 1.0f);
+      const glm::vec4 far = inv * glm::vec4(ndc, 0.5f, 1.0f);
+      const glm::vec3 dir = glm::normalize(glm::vec3(far) / far.w - camera.position);
+      const glm::vec3 li = integrator.Li(camera.position, dir, rng, stats);
+      if (!(std::isfinite(li.r) && std::isfinite(li.g) && std::isfinite(li.b))) {
+        ++bad;  // dropped and counted: never averaged into the image
+        continue;
       }
+      double* a = &acc.accum[(size_t(y) * size_t(w) + size_t(x)) * 3];
+      a[0] += double(li.r);
+      a[1] += double(li.g);
+      a[2] += double(li.b);
     }
     rays += stats.rays;
     nonfinite += bad;
-  };
-  const unsigned threads = std::max(1u, std::thread::hardware_concurrency());
-  std::vector<std::thread> pool;
-  for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
-  worker();
-  for (std::thread& t : pool) t.join();
-  spp_total_ += spp;
-  rays_ += rays;
-  nonfinite_ += nonfinite;
+  });
+  acc.rays += rays;
+  acc.nonfinite += nonfinite;
 }
 
 absl::Status PathtraceSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
                                     const GBuffer& gbuffer) {
   const size_t pixels = size_t(camera.width) * size_t(camera.height);
-  if (!SameView(camera) || spp_total_ == 0) {
-    view_ = camera;
-    has_view_ = true;
-    spp_total_ = 0;
-    accum_.assign(pixels * 3, 0.0);
-    rays_ = 0;
-    nonfinite_ = 0;
+  const int h = int(camera.height);
+  Accumulation& acc = ViewFor(camera);
+  current_ = &acc;
+  if (acc.frame_complete) {  // a new frame: what it owes
+    acc.frame_complete = false;
+    acc.owed_passes = time_budget_ms_ > 0.0 ? 0 : spp_per_frame_;
+    acc.frame_trace_ms = 0.0;
+    acc.frame_passes = 0;
+    acc.frame_rays = 0;
+    acc.frame_slices = 0;
   }
+  ++acc.frame_slices;
   {
     gl::StageTimer::Scope stage(ctx.timer, "trace", /*cpu_stage=*/true);
     const auto start = std::chrono::steady_clock::now();
-    const int before = spp_total_;
-    const uint64_t rays_before = rays_;
+    const uint64_t rays_before = acc.rays;
     auto elapsed_ms = [&] {
       return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
           .count();
     };
-    if (time_budget_ms_ > 0.0) {
-      do {
-        TraceRound(ctx.state, camera, 1);
-      } while (elapsed_ms() < time_budget_ms_);
-    } else {
-      TraceRound(ctx.state, camera, spp_per_frame_);
+    auto frame_done = [&] {
+      if (time_budget_ms_ > 0.0) {
+        // Whole passes until the trace time is spent (at least one).
+        return acc.pass_row == 0 && acc.frame_passes > 0 &&
+               acc.frame_trace_ms + elapsed_ms() >= time_budget_ms_;
+      }
+      return acc.owed_passes <= 0;
+    };
+    while (!frame_done()) {
+      int rows = h - acc.pass_row;
+      if (ctx.budget_ms > 0.0) {
+        const double left = ctx.budget_ms - elapsed_ms();
+        if (left <= 0.0) break;  // the rest in the next slice
+        if (ms_per_row_ > 0.0) {
+          rows = std::clamp(int(left / ms_per_row_), std::min(rows, int(WorkerCount())), rows);
+        }
+      }
+      const auto slice_start = std::chrono::steady_clock::now();
+      TraceRows(ctx.state, acc, acc.pass_row, acc.pass_row + rows);
+      const double per_row = std::chrono::duration<double, std::milli>(
+                                 std::chrono::steady_clock::now() - slice_start)
+                                 .count() /
+                             double(rows);
+      ms_per_row_ = ms_per_row_ > 0.0 ? 0.5 * (ms_per_row_ + per_row) : per_row;
+      acc.pass_row += rows;
+      if (acc.pass_row >= h) {  // a pass is complete: every pixel has one more sample
+        acc.pass_row = 0;
+        ++acc.spp_total;
+        ++acc.frame_passes;
+        --acc.owed_passes;
+      }
     }
-    last_trace_ms_ = elapsed_ms();
-    last_spp_ = spp_total_ - before;
-    last_rays_ = rays_ - rays_before;
+    acc.frame_trace_ms += elapsed_ms();
+    acc.frame_complete = frame_done();
+    acc.frame_rays += acc.rays - rays_before;
   }
   gl::StageTimer::Scope stage(ctx.timer, "accumulate");
   image_.resize(pixels * 4);
-  const double inv = 1.0 / double(std::max(spp_total_, 1));
+  // Rows below pass_row hold one sample more than the others.
   for (size_t i = 0; i < pixels; ++i) {
-    image_[i * 4 + 0] = float(accum_[i * 3 + 0] * inv);
-    image_[i * 4 + 1] = float(accum_[i * 3 + 1] * inv);
-    image_[i * 4 + 2] = float(accum_[i * 3 + 2] * inv);
+    const int row = int(i / camera.width);
+    const int samples = acc.spp_total + (row < acc.pass_row ? 1 : 0);
+    const double inv = samples > 0 ? 1.0 / double(samples) : 0.0;
+    image_[i * 4 + 0] = float(acc.accum[i * 3 + 0] * inv);
+    image_[i * 4 + 1] = float(acc.accum[i * 3 + 1] * inv);
+    image_[i * 4 + 2] = float(acc.accum[i * 3 + 2] * inv);
     image_[i * 4 + 3] = 1.0f;
   }
   glTextureSubImage2D(gbuffer.hdr(), 0, 0, 0, GLsizei(camera.width), GLsizei(camera.height),
@@ -165,17 +210,23 @@ absl::Status PathtraceSolver::Shade(SolverContext& ctx, const ViewCamera& camera
 }
 
 SolverStats PathtraceSolver::Stats() const {
-  const double seconds = last_trace_ms_ * 1e-3;
-  return {{"spp_total", double(spp_total_)},
-          {"spp_frame", double(last_spp_)},
-          {"trace_ms", last_trace_ms_},
-          {"rays", double(last_rays_)},
-          {"rays_total", double(rays_)},
-          {"mrays_per_s", seconds > 0.0 ? double(last_rays_) * 1e-6 / seconds : 0.0},
-          {"nonfinite_samples", double(nonfinite_)},
+  // The frame's figures are over all its slices.
+  const Accumulation empty;
+  const Accumulation& acc = current_ ? *current_ : empty;
+  const double seconds = acc.frame_trace_ms * 1e-3;
+  return {{"spp_total", double(acc.spp_total)},
+          {"spp_frame", double(acc.frame_passes)},
+          {"trace_ms", acc.frame_trace_ms},
+          {"rays", double(acc.frame_rays)},
+          {"rays_total", double(acc.rays)},
+          {"mrays_per_s", seconds > 0.0 ? double(acc.frame_rays) * 1e-6 / seconds : 0.0},
+          {"nonfinite_samples", double(acc.nonfinite)},
           {"triangles", bvh_ ? double(bvh_->triangles().size()) : 0.0},
           {"emitter_triangles", bvh_ ? double(bvh_->emitters().size()) : 0.0},
-          {"threads", double(std::max(1u, std::thread::hardware_concurrency()))}};
+          {"pass_rows", double(acc.pass_row)},
+          {"slices", double(acc.frame_slices)},
+          {"frame_complete", acc.frame_complete ? 1.0 : 0.0},
+          {"threads", double(WorkerCount())}};
 }
 
 }  // namespace gistream

@@ -25,12 +25,38 @@ class PathtraceSolver final : public Solver {
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
   bool NeedsGBuffer() const override { return false; }
+  bool FrameComplete() const override { return !current_ || current_->frame_complete; }
 
  private:
+  // One view's accumulation. The solver instance is shared by every
+  // session with these parameters; each view (camera and size) keeps its
+  // own, so sessions that look from different places do not restart each
+  // other (their slices interleave).
+  struct Accumulation {
+    ViewCamera view;
+    std::vector<double> accum;  // RGB sums, rows bottom first (GL order)
+    int spp_total = 0;          // complete passes
+    int pass_row = 0;           // rows of the current pass done (one more sample)
+    // What the frame in progress still owes: passes (spp mode) or trace
+    // time (time_budget_ms mode, whole passes).
+    bool frame_complete = true;
+    int owed_passes = 0;
+    double frame_trace_ms = 0.0;
+    int frame_passes = 0;
+    uint64_t frame_rays = 0;
+    int frame_slices = 0;  // Shade calls the frame took
+    uint64_t rays = 0;  // since the accumulation restarted
+    uint64_t nonfinite = 0;
+    uint64_t last_used = 0;
+  };
+  static constexpr size_t kMaxViews = 4;
+
   PathtraceSolver() = default;
-  bool SameView(const ViewCamera& camera) const;
-  // Traces `spp` more samples per pixel into accum_.
-  void TraceRound(const SceneState& state, const ViewCamera& camera, int spp);
+  static bool SameView(const ViewCamera& a, const ViewCamera& b);
+  // The accumulation of `camera`'s view (least recently used one replaced).
+  Accumulation& ViewFor(const ViewCamera& camera);
+  // Traces sample `acc.spp_total` of rows [row_begin, row_end).
+  void TraceRows(const SceneState& state, Accumulation& acc, int row_begin, int row_end);
 
   // Configuration
   int spp_per_frame_ = 1;         ///< Samples per pixel added each frame
@@ -41,18 +67,11 @@ class PathtraceSolver final : public Solver {
   // Runtime data
   std::unique_ptr<pathtrace::SceneBvh> bvh_;
   std::unique_ptr<pathtrace::EnvironmentLight> env_;  // null: the scene has none
-  // The accumulation belongs to one view; the solver instance is shared by
-  // every session with these parameters, so a different view restarts it.
-  bool has_view_ = false;
-  ViewCamera view_;
-  std::vector<double> accum_;  // RGB sums, rows bottom first (GL order)
-  std::vector<float> image_;   // RGBA averages for upload
-  int spp_total_ = 0;
-  uint64_t rays_ = 0;       // since the accumulation restarted
-  uint64_t last_rays_ = 0;  // traced by the last frame
-  uint64_t nonfinite_ = 0;
-  double last_trace_ms_ = 0.0;
-  int last_spp_ = 0;
+  std::vector<Accumulation> views_;
+  Accumulation* current_ = nullptr;  // the last shaded view
+  uint64_t clock_ = 0;
+  std::vector<float> image_;  // RGBA averages for upload
+  double ms_per_row_ = 0.0;   // per pixel row of a pass, a running estimate; sizes slices
 };
 
 }  // namespace gistream

@@ -1,0 +1,117 @@
+// The one CPU pool: it runs on at most the threads it was given, visits
+// every index once (also for concurrent and nested loops), and reads the
+// cgroup CPU quota of both cgroup versions.
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <set>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "util/cpu_pool.h"
+#include "util/parallel_for.h"
+
+namespace gistream {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::set<std::thread::id> ThreadsUsed(CpuPool& pool, size_t n, std::vector<int>& visits) {
+  std::mutex mutex;
+  std::set<std::thread::id> ids;
+  visits.assign(n, 0);
+  pool.ParallelFor(n, 1, [&](size_t i) {
+    // Enough work per index that every worker gets a share.
+    volatile double x = 0.0;
+    for (int k = 0; k < 2000; ++k) x = x + double(k) * 1e-9;
+    std::lock_guard lock(mutex);
+    ids.insert(std::this_thread::get_id());
+    ++visits[i];
+  });
+  return ids;
+}
+
+TEST(CpuPool, RunsOnAtMostItsThreadsAndVisitsEveryIndexOnce) {
+  for (unsigned threads : {1u, 2u, 3u}) {
+    CpuPool pool(threads);
+    EXPECT_EQ(pool.threads(), threads);
+    std::vector<int> visits;
+    const std::set<std::thread::id> ids = ThreadsUsed(pool, 5000, visits);
+    EXPECT_LE(ids.size(), threads);
+    EXPECT_GE(ids.size(), 1u);
+    for (size_t i = 0; i < visits.size(); ++i) ASSERT_EQ(visits[i], 1) << "index " << i;
+    if (threads == 1) {
+      EXPECT_EQ(*ids.begin(), std::this_thread::get_id());
+    }
+  }
+}
+
+TEST(CpuPool, ConcurrentAndNestedLoopsEachFinishWhole) {
+  CpuPool pool(3);
+  std::atomic<size_t> sum_a{0}, sum_b{0};
+  std::thread other([&] {
+    pool.ParallelFor(1000, 7, [&](size_t i) { sum_b += i; });
+  });
+  pool.ParallelFor(100, 1, [&](size_t i) {
+    // A nested loop drains on the calling worker if no one else helps.
+    pool.ParallelFor(10, 1, [&](size_t j) { sum_a += i * 10 + j; });
+  });
+  other.join();
+  EXPECT_EQ(sum_a.load(), 999u * 1000u / 2u);
+  EXPECT_EQ(sum_b.load(), 999u * 1000u / 2u);
+}
+
+TEST(CpuPool, EmptyAndTinyLoops) {
+  CpuPool pool(2);
+  int calls = 0;
+  pool.ParallelFor(0, 1, [&](size_t) { ++calls; });
+  EXPECT_EQ(calls, 0);
+  pool.ParallelFor(1, 8, [&](size_t) { ++calls; });  // one chunk: the caller alone
+  EXPECT_EQ(calls, 1);
+}
+
+class CgroupDir : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    root_ = fs::temp_directory_path() /
+            ("gistream_cgroup_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+             "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(root_);
+    fs::create_directories(root_ / "cpu");
+  }
+  void TearDown() override { fs::remove_all(root_); }
+  void Write(const fs::path& rel, const std::string& text) { std::ofstream(root_ / rel) << text; }
+  fs::path root_;
+};
+
+TEST_F(CgroupDir, V2QuotaRoundsUpAndMaxMeansNoLimit) {
+  Write("cpu.max", "200000 100000\n");
+  EXPECT_EQ(CgroupCpuLimit(root_.string()), 2u);
+  Write("cpu.max", "150000 100000\n");  // 1.5 CPUs: two threads share them
+  EXPECT_EQ(CgroupCpuLimit(root_.string()), 2u);
+  Write("cpu.max", "50000 100000\n");  // half a CPU: still one thread
+  EXPECT_EQ(CgroupCpuLimit(root_.string()), 1u);
+  Write("cpu.max", "max 100000\n");
+  EXPECT_EQ(CgroupCpuLimit(root_.string()), 0u);
+}
+
+TEST_F(CgroupDir, V1QuotaAndNoFilesAtAll) {
+  EXPECT_EQ(CgroupCpuLimit(root_.string()), 0u);
+  Write("cpu/cpu.cfs_quota_us", "400000\n");
+  Write("cpu/cpu.cfs_period_us", "100000\n");
+  EXPECT_EQ(CgroupCpuLimit(root_.string()), 4u);
+  Write("cpu/cpu.cfs_quota_us", "-1\n");
+  EXPECT_EQ(CgroupCpuLimit(root_.string()), 0u);
+}
+
+TEST(CpuPool, DefaultSizeIsWithinTheMachine) {
+  const unsigned threads = DefaultCpuThreads();
+  EXPECT_GE(threads, 1u);
+  EXPECT_LE(threads, std::max(1u, std::thread::hardware_concurrency()));
+}
+
+}  // namespace
+}  // namespace gistream
