@@ -121,7 +121,7 @@ absl::Status EngineImpl::Start() {
     memory_query_.emplace();
     RefreshMemoryStats(/*force=*/true);
     return absl::OkStatus();
-  });
+  }, Unavailable());
 }
 
 EngineImpl::~EngineImpl() { Shutdown(); }
@@ -227,9 +227,19 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
       }
     }
     if (existing) {
-      return render_thread_->Call<SceneInfo>([this, existing] {
-        return DescribeScene(existing->id, *gpu_scenes_.at(existing->id).state);
-      });
+      // Its upload may still be queued (this job runs after it), or may
+      // have failed, or the scene may have been unloaded since.
+      return render_thread_->Call<absl::StatusOr<SceneInfo>>(
+          [this, existing]() -> absl::StatusOr<SceneInfo> {
+            auto it = gpu_scenes_.find(existing->id);
+            if (it == gpu_scenes_.end()) {
+              return absl::AbortedError(absl::StrCat(
+                  "name: scene '", Echo(existing->id),
+                  "' was unloaded or failed to load meanwhile; load it again"));
+            }
+            return DescribeScene(existing->id, *it->second.state);
+          },
+          Unavailable());
     }
   }
 
@@ -287,6 +297,15 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   }
   auto info = render_thread_->Call<absl::StatusOr<SceneInfo>>(
       [this, record]() -> absl::StatusOr<SceneInfo> {
+        {
+          // An UnloadScene of this id (ids are predictable) may have come
+          // first: its GPU copy would then never be freed.
+          std::lock_guard lock(mutex_);
+          if (scenes_.count(record->id) == 0) {
+            return absl::AbortedError(absl::StrCat("scene_id: '", Echo(record->id),
+                                                   "' was unloaded while it loaded"));
+          }
+        }
         GpuSceneRecord gpu;
         gpu.state = std::make_unique<SceneState>(record->scene);
         GS_ASSIGN_OR_RETURN(gpu.gpu, GpuScene::Upload(*gpu.state));
@@ -294,7 +313,8 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
         gpu_scenes_[record->id] = std::move(gpu);
         RefreshMemoryStats(/*force=*/true);
         return described;
-      });
+      },
+      Unavailable());
   if (!info.ok()) {
     std::lock_guard lock(mutex_);
     scenes_.erase(record->id);

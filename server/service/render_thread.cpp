@@ -38,12 +38,16 @@ absl::StatusOr<std::unique_ptr<RenderThread>> RenderThread::Start(int egl_device
 
 RenderThread::~RenderThread() { Stop(); }
 
-void RenderThread::Post(std::function<void()> job) {
+bool RenderThread::Post(std::function<void()> job) {
   {
     std::lock_guard lock(mutex_);
+    // Jobs queued before Stop() run (they are ahead of its last job); later
+    // ones would wait forever on a thread that has ended.
+    if (stopping_ || !thread_.joinable()) return false;
     jobs_.push_back(std::move(job));
   }
   cv_.notify_one();
+  return true;
 }
 
 void RenderThread::Wake() {

@@ -27,14 +27,17 @@ class RenderThread {
   static absl::StatusOr<std::unique_ptr<RenderThread>> Start(int egl_device, Tick tick);
   ~RenderThread();  // Stop()
 
-  // Runs `job` on the render thread.
-  void Post(std::function<void()> job);
-  // Runs `job` on the render thread and waits for its result.
+  // Runs `job` on the render thread; false (and `job` dropped) once Stop()
+  // has begun, when no job would run any more.
+  bool Post(std::function<void()> job);
+  // Runs `job` on the render thread and waits for its result; `if_stopped`
+  // when the thread is stopping (a caller racing shutdown must not wait
+  // for a job that never runs).
   template <typename T>
-  T Call(std::function<T()> job) {
+  T Call(std::function<T()> job, T if_stopped) {
     auto task = std::make_shared<std::packaged_task<T()>>(std::move(job));
     std::future<T> result = task->get_future();
-    Post([task] { (*task)(); });
+    if (!Post([task] { (*task)(); })) return if_stopped;
     return result.get();
   }
   // Wakes the scheduler (a session became due).
