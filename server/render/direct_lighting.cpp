@@ -50,7 +50,7 @@ absl::StatusOr<DirectLighting> DirectLighting::Create() {
 }
 
 absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu,
-                                    const DirectLightingSettings& settings) {
+                                    const DirectLightingSettings& settings, ChangeMask changes) {
   std::vector<EmitterTriangle> emitters = CollectEmitters(state);
   std::vector<EmitterSample> emitter_samples = SampleEmitters(emitters, settings.area_samples);
 
@@ -75,8 +75,25 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
   }
   emitters_ = std::move(emitters);
   samples_ = std::move(emitter_samples);
+  // A new layout reallocates the maps; moved geometry changes what every
+  // map sees: both redraw everything.
+  const bool all_stale = (changes & kChangeGeometry) || cube_count != int(cube_views_.size()) ||
+                         dir_count != int(dir_views_.size()) ||
+                         settings.shadow_resolution != shadow_resolution_;
   shadows_.Allocate(cube_count, dir_count, settings.shadow_resolution);
   shadow_resolution_ = settings.shadow_resolution;
+  if (all_stale) {
+    cube_views_.assign(size_t(cube_count), CubeView{glm::vec3(0.0f), -1.0f});
+    dir_views_.assign(size_t(dir_count), DirView{glm::vec3(0.0f), glm::mat4(1.0f)});
+  }
+  maps_redrawn_ = 0;
+  auto cube_map = [&](int index, const glm::vec3& origin, float far) {
+    const CubeView view{origin, far};
+    if (cube_views_[size_t(index)] == view) return;
+    shadows_.RenderCube(gpu, state, index, origin, far);
+    cube_views_[size_t(index)] = view;
+    ++maps_redrawn_;
+  };
 
   std::vector<GpuPunctual> punctual;
   std::vector<glm::mat4> dir_matrices;
@@ -95,11 +112,16 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
     const float scale = 1.0f / std::max(0.001f, std::cos(l.light.inner_cone_angle) - cos_outer);
     if (l.light.type == LightType::kDirectional) {
       const int index = int(dir_matrices.size());
-      dir_matrices.push_back(shadows_.RenderDirectional(gpu, state, index, l.direction));
+      DirView& view = dir_views_[size_t(index)];
+      if (all_stale || view.direction != l.direction) {
+        view = {l.direction, shadows_.RenderDirectional(gpu, state, index, l.direction)};
+        ++maps_redrawn_;
+      }
+      dir_matrices.push_back(view.view_proj);
       g.cone_shadow = glm::vec4(0.0f, 0.0f, float(index), 0.0f);
     } else {
       const float far = ShadowFar(bounds, l.position);
-      shadows_.RenderCube(gpu, state, cube, l.position, far);
+      cube_map(cube, l.position, far);
       g.cone_shadow = glm::vec4(scale, -cos_outer * scale, float(cube), far);
       ++cube;
     }
@@ -112,7 +134,7 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
     // does not shadow itself.
     const float far = ShadowFar(bounds, s.position);
     const glm::vec3 origin = s.position + s.normal * (far * 1e-5f);
-    shadows_.RenderCube(gpu, state, cube, origin, far);
+    cube_map(cube, origin, far);
     samples.push_back({glm::vec4(origin, s.area), glm::vec4(s.normal, float(cube)),
                        glm::vec4(s.radiance, far)});
     ++cube;

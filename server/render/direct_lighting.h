@@ -6,11 +6,14 @@
 
 #include <vector>
 
+#include <glm/glm.hpp>
+
 #include "gl/handle.h"
 #include "gl/program.h"
 #include "render/area_lights.h"
 #include "render/shadow_maps.h"
 #include "scene/gpu_scene.h"
+#include "scene/updates.h"
 #include "solvers/solver_params.h"
 
 namespace gistream {
@@ -29,12 +32,17 @@ class DirectLighting {
  public:
   static absl::StatusOr<DirectLighting> Create();
 
-  // Rebuilds light buffers and redraws shadow maps. Call when geometry,
-  // lights or emission changed, or the settings did. INVALID_ARGUMENT
-  // naming params.area_samples/params.shadow_res when the shadow cubes
-  // exceed the GL's array layers or kMaxShadowBytes (nothing is changed).
+  // Rebuilds the light buffers and redraws the shadow maps that `changes`
+  // made stale. Call when geometry, lights or emission changed, or the
+  // settings did. A geometry change (or a new shadow-map layout) redraws
+  // every map; otherwise only the maps whose origin, range or direction
+  // moved are redrawn, so an intensity, colour or emission-strength change
+  // redraws none and moving one light redraws only its maps.
+  // INVALID_ARGUMENT naming params.area_samples/params.shadow_res when the
+  // shadow cubes exceed the GL's array layers or kMaxShadowBytes (nothing
+  // is changed).
   absl::Status Update(const SceneState& state, const GpuScene& gpu,
-                      const DirectLightingSettings& settings);
+                      const DirectLightingSettings& settings, ChangeMask changes = kChangeAll);
 
   // Binds buffers (SSBO 1..3), shadow maps (units 4, 5) and sets uniforms
   // of a program that includes render/direct_light.glsl.
@@ -44,13 +52,30 @@ class DirectLighting {
   const std::vector<EmitterSample>& area_samples() const { return samples_; }
   const std::vector<EmitterTriangle>& emitters() const { return emitters_; }
   uint64_t gpu_bytes() const { return shadows_.gpu_bytes(); }
+  // Shadow maps (cube-map sets and directional maps) the last Update drew.
+  int maps_redrawn() const { return maps_redrawn_; }
 
   static constexpr GLuint kCubeShadowUnit = 4;
   static constexpr uint64_t kMaxShadowBytes = uint64_t(2) << 30;
   static constexpr GLuint kDirShadowUnit = 5;
 
  private:
+  // Where each shadow map was drawn from: it stays valid while the
+  // geometry does not move and this does not change.
+  struct CubeView {
+    glm::vec3 origin{0.0f};
+    float far = 0.0f;
+    bool operator==(const CubeView&) const = default;
+  };
+  struct DirView {
+    glm::vec3 direction{0.0f};
+    glm::mat4 view_proj{1.0f};
+  };
+
   ShadowMaps shadows_;
+  std::vector<CubeView> cube_views_;
+  std::vector<DirView> dir_views_;
+  int maps_redrawn_ = 0;
   gl::Buffer punctual_;
   gl::Buffer samples_buffer_;
   gl::Buffer dir_matrices_;

@@ -246,7 +246,7 @@ absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) 
     // Section 3.3: direct light initializes the elements through the
     // shadow maps; it creates no antiradiance.
     gl::StageTimer::Scope stage(ctx.timer, "local_pass", /*cpu_stage=*/true);
-    GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct));
+    GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes));
     direct = DirectAtLeaves();
   }
   // Emission is the direct term's (area-light samples), not transported again.

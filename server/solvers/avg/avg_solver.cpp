@@ -136,7 +136,7 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
     // The direct lights' shadow maps are drawn here too: they are the
     // shadow maps of the path's first vertices, and change when VPLs do.
     gl::StageTimer::Scope stage(ctx.timer, "vpl_shadow_maps");
-    GS_RETURN_IF_ERROR(direct_.Update(ctx.state, ctx.gpu, direct_settings_));
+    GS_RETURN_IF_ERROR(direct_.Update(ctx.state, ctx.gpu, direct_settings_, changes));
     shadow_maps_.Upload(trace_.vpls, grid_bounds);
     if (visibility_) shadow_maps_.Render(ctx.gpu, ctx.state, shadow_resolution_);
   }

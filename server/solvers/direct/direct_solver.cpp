@@ -42,7 +42,7 @@ absl::Status DirectSolver::Update(SolverContext& ctx, ChangeMask changes) {
     return absl::OkStatus();
   }
   gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
-  return lighting_.Update(ctx.state, ctx.gpu, settings_);
+  return lighting_.Update(ctx.state, ctx.gpu, settings_, changes);
 }
 
 absl::Status DirectSolver::Shade(SolverContext& ctx, const ViewCamera& /*camera*/,
@@ -65,7 +65,8 @@ SolverStats DirectSolver::Stats() const {
   return {{"punctual_lights", double(lighting_.punctual_count())},
           {"area_samples", double(lighting_.area_samples().size())},
           {"emitter_triangles", double(lighting_.emitters().size())},
-          {"shadow_map_bytes", double(lighting_.gpu_bytes())}};
+          {"shadow_map_bytes", double(lighting_.gpu_bytes())},
+          {"shadow_maps_redrawn", double(lighting_.maps_redrawn())}};
 }
 
 }  // namespace gistream

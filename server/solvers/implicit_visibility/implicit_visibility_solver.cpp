@@ -138,7 +138,7 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
     // The shared shadow maps, as `direct` draws them: the first bounce's
     // source at the leaves and the per-pixel direct light.
     gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
-    GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct));
+    GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes));
   } else {
     ctx.timer.Skip("shadow_maps");
   }

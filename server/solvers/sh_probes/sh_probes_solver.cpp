@@ -143,7 +143,7 @@ absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
     {
       gl::StageTimer::Scope stage(ctx.timer, "render_cubemaps");
       if (bounce == 1 && lights) {
-        GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct));
+        GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes));
       }
       RenderCubemaps(/*compute_direct=*/bounce == 1, /*use_indirect=*/bounce > 1);
     }
