@@ -6,12 +6,16 @@
 #include <cstdint>
 
 #include "gl/handle.h"
+#include "util/status.h"
 
 namespace gistream {
 
 class GBuffer {
  public:
-  void Resize(uint32_t width, uint32_t height);
+  // (Re)allocates the targets. RESOURCE_EXHAUSTED naming the size when it
+  // exceeds the GPU's largest texture or the GPU cannot allocate it
+  // (GL_OUT_OF_MEMORY, incomplete framebuffer); the G-buffer is then empty.
+  absl::Status Resize(uint32_t width, uint32_t height);
   uint32_t width() const { return width_; }
   uint32_t height() const { return height_; }
   // Bytes its textures hold: position RGBA32F, normal RGBA16F, albedo RGBA8,

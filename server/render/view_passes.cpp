@@ -41,9 +41,9 @@ absl::StatusOr<ViewPasses> ViewPasses::Create() {
   return passes;
 }
 
-void ViewPasses::DrawGBuffer(const SceneState& state, const GpuScene& gpu,
-                             const ViewCamera& camera, GBuffer& gbuffer) {
-  gbuffer.Resize(camera.width, camera.height);
+absl::Status ViewPasses::DrawGBuffer(const SceneState& state, const GpuScene& gpu,
+                                     const ViewCamera& camera, GBuffer& gbuffer) {
+  GS_RETURN_IF_ERROR(gbuffer.Resize(camera.width, camera.height));
   glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.fbo());
   glViewport(0, 0, GLsizei(camera.width), GLsizei(camera.height));
   const float zero[4] = {0, 0, 0, 0};
@@ -56,6 +56,7 @@ void ViewPasses::DrawGBuffer(const SceneState& state, const GpuScene& gpu,
   gbuffer_.Set("uViewProj", camera.Projection() * camera.View());
   gbuffer_.Use();
   gpu.Draw(gbuffer_, state, true);
+  return absl::OkStatus();
 }
 
 void ViewPasses::Tonemap(const GBuffer& gbuffer, float exposure_ev) {

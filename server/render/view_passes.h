@@ -15,8 +15,10 @@ class ViewPasses {
  public:
   static absl::StatusOr<ViewPasses> Create();
 
-  void DrawGBuffer(const SceneState& state, const GpuScene& gpu, const ViewCamera& camera,
-                   GBuffer& gbuffer);
+  // Resizes `gbuffer` to the camera (RESOURCE_EXHAUSTED when the GPU cannot
+  // hold it, see GBuffer::Resize) and rasterises the scene into it.
+  absl::Status DrawGBuffer(const SceneState& state, const GpuScene& gpu, const ViewCamera& camera,
+                           GBuffer& gbuffer);
   // HDR radiance -> gbuffer.ldr(): exposure 2^ev, filmic curve, sRGB.
   // Also counts the HDR pixels that are not finite (NonFinitePixels).
   void Tonemap(const GBuffer& gbuffer, float exposure_ev);

@@ -653,9 +653,9 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
 
   if (entry.solver->NeedsGBuffer()) {
     gl::StageTimer::Scope stage(timer_, "gbuffer");
-    passes_->DrawGBuffer(state, *scene.gpu, view.camera, view.gbuffer);
+    GS_RETURN_IF_ERROR(passes_->DrawGBuffer(state, *scene.gpu, view.camera, view.gbuffer));
   } else {
-    view.gbuffer.Resize(view.camera.width, view.camera.height);
+    GS_RETURN_IF_ERROR(view.gbuffer.Resize(view.camera.width, view.camera.height));
     timer_.Skip("gbuffer");
   }
   GS_RETURN_IF_ERROR(entry.solver->Shade(ctx, view.camera, view.gbuffer));

@@ -26,7 +26,7 @@ TEST(FiniteFrames, ToneMapCountsNonFinitePixels) {
     ASSERT_TRUE(passes.ok()) << passes.status();
     GBuffer gbuffer;
     constexpr uint32_t kSize = 8;
-    gbuffer.Resize(kSize, kSize);
+    ASSERT_TRUE(gbuffer.Resize(kSize, kSize).ok());
     std::vector<float> hdr(kSize * kSize * 4, 0.5f);
     const auto set = [&](int pixel, int channel, float v) { hdr[size_t(pixel) * 4 + size_t(channel)] = v; };
 
