@@ -201,7 +201,10 @@ glm::vec3 Integrator::Li(glm::vec3 origin, glm::vec3 dir, Rng& rng, PathStats& s
         radiance += beta * s.emission * PowerHeuristic(pdf_bsdf, pdf_light);
       }
     }
-    if (depth >= settings_.max_depth) break;
+    if ((settings_.max_depth > 0 && depth >= settings_.max_depth) ||
+        depth >= IntegratorSettings::kSafetyDepth) {
+      break;
+    }
     radiance += beta * (SampleAreaLights(s, rng, stats) + SamplePunctualLights(s, stats) +
                         SampleEnvironment(s, rng, stats));
 
@@ -212,9 +215,18 @@ glm::vec3 Integrator::Li(glm::vec3 origin, glm::vec3 dir, Rng& rng, PathStats& s
     beta *= s.albedo;
     pdf_bsdf = cos_next / kPi;
     if (depth >= 3) {
-      const float q = std::min(std::max({beta.r, beta.g, beta.b}), 0.95f);
-      if (!(q > 0.0f) || rng.Uniform() >= q) break;
-      beta /= q;
+      // Russian roulette, survival q = max(beta) (at most 1; after the
+      // division beta's largest component is 1, so from then on q is the
+      // surface's albedo). Unbiased: E[beta / q * [survive]] = beta. A
+      // survival cap below 1 (the former 0.95) made the variance infinite
+      // for rho^2 / 0.95 >= 1, i.e. rho >= 0.975: E[X^2] ~ sum (rho^2/q)^k.
+      // With q = rho it is sum rho^k, finite for every rho < 1.
+      const float q = std::min(std::max({beta.r, beta.g, beta.b}), 1.0f);
+      if (!(q > 0.0f)) break;
+      if (q < 1.0f) {
+        if (rng.Uniform() >= q) break;
+        beta /= q;
+      }
     }
     origin = Offset(s, next);
     dir = next;

@@ -4,7 +4,11 @@
 // punctual lights are sampled directly (they cannot be hit); the
 // environment is importance-sampled by luminance and combined with the
 // BSDF-sampled paths that escape, also by MIS. Lambertian surfaces, lit on
-// the side the ray arrives from. Russian roulette after three bounces.
+// the side the ray arrives from. Paths end only by Russian roulette (after
+// three bounces, survival = the throughput's largest component, no cap
+// below 1), which keeps the estimator unbiased at any albedo < 1; a bounce
+// cap is opt-in (`max_depth`), and kSafetyDepth bounds the work of a path
+// whose albedo is exactly 1.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -17,7 +21,16 @@
 namespace gistream::pathtrace {
 
 struct IntegratorSettings {
-  int max_depth = 64;  // bounces at most
+  // Bounces at most; 0 = no cap (Russian roulette alone ends paths). A cap
+  // makes the estimate biased low by the light of the longer paths.
+  int max_depth = 0;
+  // Hard safety cap, also when max_depth = 0. Roulette survives a bounce
+  // with probability about the albedo rho, so P(path > kSafetyDepth) ~
+  // rho^kSafetyDepth: e^-65 at rho = 0.999 (mean length 1000), e^-6.6 at
+  // rho = 0.9999, and it never ends a path at rho = 1, where only this cap
+  // bounds the work (the radiance is then unbounded anyway). The bias it
+  // leaves is L * rho^kSafetyDepth, below 1e-28 of L at rho <= 0.999.
+  static constexpr int kSafetyDepth = 1 << 16;
 };
 
 struct PathStats {

@@ -20,8 +20,8 @@ SolverDescription PathtraceSolver::Describe() {
   d.stages = {"build_bvh", "trace", "accumulate"};
   d.params = {
       {"spp", ParamType::kInt, "1", 1, 4096, {}, "Samples per pixel added each frame"},
-      {"max_depth", ParamType::kInt, "64", 1, 64, {},
-       "Maximum bounces (Russian roulette ends most paths earlier)"},
+      {"max_depth", ParamType::kInt, "0", 0, 65536, {},
+       "Maximum bounces; 0 = none (unbiased: Russian roulette ends paths; a cap biases low)"},
       {"seed", ParamType::kInt, "0", 0, 2147483647, {}, "Random seed; same seed, same image"},
       {"time_budget_ms", ParamType::kFloat, "0", 0, 600000, {},
        "When > 0: add 1-spp rounds until this much trace time is spent (at least one)"},
