@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace gistream {
 namespace {
@@ -47,6 +48,15 @@ std::vector<EmitterTriangle> CollectEmitters(const SceneState& state) {
         if (glm::dot(vn, t.normal) < 0.0f) t.normal = -t.normal;
         t.radiance = mat.emission();
         out.push_back(t);
+        if (mat.double_sided) {
+          // glTF 2.0 (3.9.2, doubleSided): the back face is a surface with
+          // the flipped normal, so it emits too. Listed as a second,
+          // one-sided triangle (winding reversed to match), which every
+          // consumer (area samples, VPL paths, power sums) handles as is.
+          std::swap(t.p1, t.p2);
+          t.normal = -t.normal;
+          out.push_back(t);
+        }
       }
     }
   }

@@ -27,7 +27,9 @@ struct EmitterSample {
   float area = 0.0f;  // A_i = 1 / (N pdf(y_i))
 };
 
-// Emissive triangles of the current state (degenerate ones dropped).
+// Emissive triangles of the current state (degenerate ones dropped). A
+// triangle of a doubleSided material is listed twice, once per face (normal
+// flipped, winding reversed): both faces emit.
 std::vector<EmitterTriangle> CollectEmitters(const SceneState& state);
 
 // Total emitted power, sum over triangles of pi * L * A (watts in glTF's

@@ -18,6 +18,8 @@ class GltfBuilder {
   // Returns the material index.
   int AddMaterial(const std::string& name, Vec3 base_color, Vec3 emissive = {0, 0, 0},
                   float emissive_strength = 1.0f);
+  // Marks material `material` doubleSided (glTF: both faces are surfaces).
+  void SetDoubleSided(int material) { materials_[size_t(material)]["doubleSided"] = true; }
   // A rectangle centred at `center` spanned by half-vectors u and v, facing
   // along normalize(cross(u, v)), tessellated n x n. Returns the node index.
   int AddQuad(const std::string& name, Vec3 center, Vec3 u, Vec3 v, int material, int n = 1);

@@ -53,8 +53,11 @@ Integrator::Surface Integrator::Shade(const Hit& hit, const glm::vec3& dir) cons
     s.albedo *= SampleTexture(state_.scene().images[size_t(m->base_color_texture)], uv);
   }
   s.albedo = glm::clamp(s.albedo, 0.0f, 1.0f);
-  // Emitters emit on the side their authored normals face.
-  s.emission = (m && front && t.emitter >= 0) ? Emission(t, hit.u, hit.v) : glm::vec3(0.0f);
+  // Emitters emit on the side their authored normals face, and from both
+  // faces when the material is doubleSided (glTF 2.0 3.9.2: the back face is
+  // a surface with the flipped normal).
+  s.emission = (m && (front || t.double_sided) && t.emitter >= 0) ? Emission(t, hit.u, hit.v)
+                                                                   : glm::vec3(0.0f);
   return s;
 }
 
@@ -80,10 +83,15 @@ glm::vec3 Integrator::Offset(const Surface& s, const glm::vec3& towards) const {
 }
 
 float Integrator::AreaLightPdf(const Triangle& t, float distance, float cos_y) const {
+  if (t.double_sided) cos_y = std::abs(cos_y);  // either face emits
   if (cos_y <= 0.0f || bvh_.emitter_total() <= 0.0) return 0.0f;
   const Material& m = state_.materials()[size_t(t.material)];
-  // pdf per area = lum(L_e) / sum(lum(L_e) A); to solid angle: * d^2 / cos.
-  const float pdf_area = float(double(Luminance(m.emission())) / bvh_.emitter_total());
+  // pdf per area = lum(L_e) faces / sum(lum(L_e) A faces) (faces = 2 for a
+  // double-sided emitter, as it is chosen by power); to solid angle:
+  // * d^2 / cos.
+  const double faces = t.double_sided ? 2.0 : 1.0;
+  const float pdf_area =
+      float(double(Luminance(m.emission())) * faces / bvh_.emitter_total());
   return pdf_area * distance * distance / cos_y;
 }
 
@@ -102,7 +110,7 @@ glm::vec3 Integrator::SampleAreaLights(const Surface& s, Rng& rng, PathStats& st
   if (!(dist > 0.0f)) return glm::vec3(0.0f);
   d /= dist;
   const float cos_x = glm::dot(s.normal, d);
-  const float cos_y = -glm::dot(t.normal, d);
+  const float cos_y = t.double_sided ? std::abs(glm::dot(t.normal, d)) : -glm::dot(t.normal, d);
   // Below the geometric surface the BSDF sampler cannot go either.
   if (cos_x <= 0.0f || cos_y <= 0.0f || glm::dot(s.geometric, d) <= 0.0f) return glm::vec3(0.0f);
   const float pdf_light = AreaLightPdf(t, dist, cos_y);

@@ -98,11 +98,13 @@ void SceneBvh::UpdateEmitters(const SceneState& state) {
     Triangle& t = triangles_[i];
     t.emitter = -1;
     if (t.material < 0) continue;
-    const float lum = Luminance(state.materials()[size_t(t.material)].emission());
+    const Material& m = state.materials()[size_t(t.material)];
+    t.double_sided = m.double_sided;
+    const float lum = Luminance(m.emission());
     if (!(lum > 0.0f) || !std::isfinite(lum)) continue;
     t.emitter = int(emitters_.size());
     emitters_.push_back(uint32_t(i));
-    emitter_total_ += double(lum) * double(t.area);
+    emitter_total_ += double(lum) * double(t.area) * (t.double_sided ? 2.0 : 1.0);
     emitter_cdf_.push_back(emitter_total_);
   }
 }

@@ -23,6 +23,9 @@ struct Triangle {
   float area = 0.0f;
   int material = -1;       // -1: default material
   int emitter = -1;        // index into `emitters` or -1
+  // glTF doubleSided material: the back face is a surface with the flipped
+  // normal, so an emitter emits from both faces (twice the power).
+  bool double_sided = false;
 };
 
 struct Hit {
@@ -48,7 +51,8 @@ class SceneBvh {
 
   const std::vector<Triangle>& triangles() const { return triangles_; }
   const std::vector<uint32_t>& emitters() const { return emitters_; }  // triangle ids
-  // Emitter selection by luminous power (lum(L_e) x area).
+  // Emitter selection by luminous power (lum(L_e) x area x faces, 2 for a
+  // double-sided emitter).
   const std::vector<double>& emitter_cdf() const { return emitter_cdf_; }
   double emitter_total() const { return emitter_total_; }
   float scene_scale() const { return scale_; }  // bounds diagonal
