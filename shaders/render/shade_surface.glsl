@@ -21,7 +21,11 @@ bool ReadGBuffer(ivec2 px, out GSurface s) {
   return pos.w != 0.0;
 }
 
+// The solver's indirect irradiance scaled by uIndirectScale: 1, or k when
+// every light was scaled by k since the solve (solvers/emission_scale.h).
+uniform float uIndirectScale = 1.0;
+
 vec3 ShadeSurface(GSurface s, vec3 e_indirect) {
   vec3 e_direct = FiniteOrZero(DirectIrradiance(s.position, s.normal));
-  return s.emission + s.albedo * INV_PI * (e_direct + FiniteOrZero(e_indirect));
+  return s.emission + s.albedo * INV_PI * (e_direct + uIndirectScale * FiniteOrZero(e_indirect));
 }

@@ -232,6 +232,15 @@ absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) 
     for (const char* stage : {"link", "global_pass", "local_pass", "push_pull"}) ctx.timer.Skip(stage);
     return absl::OkStatus();
   }
+  if (const std::optional<float> k = geometry ? std::nullopt : emission_.Factor(ctx.state, changes)) {
+    // A dimmer: the transported light scales with the lights (linear
+    // transport, solvers/emission_scale.h); no link, pass or push-pull.
+    for (const char* stage : {"link", "global_pass", "push_pull"}) ctx.timer.Skip(stage);
+    gl::StageTimer::Scope stage(ctx.timer, "local_pass", /*cpu_stage=*/true);
+    GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes));
+    indirect_scale_ = *k;
+    return absl::OkStatus();
+  }
   if (geometry) {
     gl::StageTimer::Scope stage(ctx.timer, "link", /*cpu_stage=*/true);
     GS_RETURN_IF_ERROR(Link(ctx));
@@ -258,6 +267,8 @@ absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) 
     }
   });
   UploadIrradiance();
+  emission_.Solved(ctx.state);
+  indirect_scale_ = 1.0f;
   return absl::OkStatus();
 }
 
@@ -274,6 +285,7 @@ absl::Status AntiradianceSolver::Shade(SolverContext& ctx, const ViewCamera& /*c
   display_.Set("uGridMin", grid_min_);
   display_.Set("uGridDims", grid_dims_);
   display_.Set("uGridCell", grid_cell_);
+  display_.Set("uIndirectScale", indirect_scale_);
   display_.Use();
   glBindVertexArray(empty_vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);

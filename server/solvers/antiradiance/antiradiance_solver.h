@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "render/direct_lighting.h"
+#include "solvers/emission_scale.h"
 #include "solvers/antiradiance/directional_bins.h"
 #include "solvers/antiradiance/links.h"
 #include "solvers/antiradiance/patches.h"
@@ -66,6 +67,8 @@ class AntiradianceSolver final : public Solver {
   std::unique_ptr<antiradiance::Transport> transport_;
   std::vector<int> leaves_;
   DirectLighting lighting_;
+  EmissionScale emission_;  // the lights the elements were solved for
+  float indirect_scale_ = 1.0f;
   gl::Buffer elements_;  // per leaf: position + splat radius, normal, indirect irradiance
   std::vector<glm::vec4> element_data_;  // its CPU copy, 3 vec4 per leaf
   gl::Buffer grid_;      // uniform grid over the leaves: cell starts, then leaf ids

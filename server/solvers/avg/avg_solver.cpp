@@ -107,6 +107,14 @@ std::vector<std::string> AvgSolver::Plan(ChangeMask changes) const {
   return {"gbuffer", "illuminate", "filter"};
 }
 
+bool AvgSolver::SamePlacement(const std::vector<avg::Vpl>& a, const std::vector<avg::Vpl>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i].position != b[i].position || a[i].normal != b[i].normal) return false;
+  }
+  return true;
+}
+
 absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
   const bool voxelize = NeedsVoxelize(changes) || !grid_;
   const bool trace = voxelize || NeedsTrace(changes);
@@ -138,7 +146,18 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
     gl::StageTimer::Scope stage(ctx.timer, "vpl_shadow_maps");
     GS_RETURN_IF_ERROR(direct_.Update(ctx.state, ctx.gpu, direct_settings_, changes));
     shadow_maps_.Upload(trace_.vpls, grid_bounds);
-    if (visibility_) shadow_maps_.Render(ctx.gpu, ctx.state, shadow_resolution_);
+    // A VPL's paraboloid map depends on its position, its normal and the
+    // geometry only: when a light change left every path where it was (a
+    // dimmer, a colour; the paths are quasi-random in the path index), the
+    // maps stay and only the VPLs' flux is new.
+    const bool same_placement = !voxelize && !(changes & kChangeGeometry) &&
+                                SamePlacement(mapped_vpls_, trace_.vpls);
+    vpl_maps_redrawn_ = 0;
+    if (visibility_ && !same_placement) {
+      shadow_maps_.Render(ctx.gpu, ctx.state, shadow_resolution_);
+      vpl_maps_redrawn_ = int(trace_.vpls.size());
+    }
+    mapped_vpls_ = trace_.vpls;
   }
   return absl::OkStatus();
 }
@@ -200,6 +219,7 @@ SolverStats AvgSolver::Stats() const {
           {"voxels_filled", double(grid_ ? grid_->filled() : 0)},
           {"voxel_bytes", double(grid_ ? grid_->bytes() : 0)},
           {"vpl_shadow_bytes", double(shadow_maps_.gpu_bytes())},
+          {"vpl_maps_redrawn", double(vpl_maps_redrawn_)},
           {"direct_area_samples", double(direct_.area_samples().size())},
           {"direct_shadow_bytes", double(direct_.gpu_bytes())},
           {"split_bytes", double(split_.gpu_bytes())}};

@@ -35,6 +35,7 @@ class AvgSolver final : public Solver {
   const avg::VplTraceResult& vpls() const { return trace_; }
 
  private:
+  static bool SamePlacement(const std::vector<avg::Vpl>& a, const std::vector<avg::Vpl>& b);
   AvgSolver() = default;
   // What a change set needs, as flags.
   static bool NeedsVoxelize(ChangeMask changes);
@@ -51,6 +52,9 @@ class AvgSolver final : public Solver {
   // Runtime data
   std::optional<avg::VoxelGrid> grid_;
   avg::VplTraceResult trace_;
+  // The VPLs whose paraboloid maps are drawn, and how many the last update drew.
+  std::vector<avg::Vpl> mapped_vpls_;
+  int vpl_maps_redrawn_ = 0;
   avg::VplShadowMaps shadow_maps_;
   DirectLighting direct_;
   avg::InterleavedBuffer split_;

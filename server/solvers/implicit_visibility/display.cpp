@@ -50,7 +50,7 @@ void Display::Resize(uint32_t width, uint32_t height) {
 }
 
 void Display::Draw(const ViewCamera& camera, const GBuffer& gbuffer, GLuint indirect_buffer,
-                   const DirectLighting& lighting) {
+                   const DirectLighting& lighting, float indirect_scale) {
   Resize(gbuffer.width(), gbuffer.height());
   // Indirect irradiance at the vertices, interpolated, nearest surface.
   const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
@@ -78,6 +78,7 @@ void Display::Draw(const ViewCamera& camera, const GBuffer& gbuffer, GLuint indi
   gbuffer.BindTextures(8);
   glBindTextureUnit(13, irradiance_.id());
   lighting.Bind(final_);
+  final_.Set("uIndirectScale", indirect_scale);
   final_.Use();
   glBindVertexArray(empty_vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);

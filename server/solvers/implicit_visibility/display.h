@@ -21,8 +21,9 @@ class Display {
   void UploadTriangles(const std::vector<uint32_t>& triangles);
   void UploadVertices(const std::vector<glm::vec3>& world);
 
+  // `indirect_scale` multiplies the indirect term (solvers/emission_scale.h).
   void Draw(const ViewCamera& camera, const GBuffer& gbuffer, GLuint indirect_buffer,
-            const DirectLighting& lighting);
+            const DirectLighting& lighting, float indirect_scale = 1.0f);
 
  private:
   void Resize(uint32_t width, uint32_t height);

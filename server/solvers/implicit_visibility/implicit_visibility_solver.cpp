@@ -134,6 +134,19 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
   } else {
     for (const char* s : {"update_elements", "create_links", "refine_push"}) ctx.timer.Skip(s);
   }
+  if (const std::optional<float> k =
+          (geometry || materials) ? std::nullopt : emission_.Factor(ctx.state, changes)) {
+    // A dimmer: the gathered light scales with the lights (linear
+    // transport, solvers/emission_scale.h); the direct light's buffers
+    // change, no shadow map is redrawn and no bounce runs.
+    {
+      gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
+      GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes));
+    }
+    ctx.timer.Skip("illumination");
+    indirect_scale_ = *k;
+    return absl::OkStatus();
+  }
   if (lights) {
     // The shared shadow maps, as `direct` draws them: the first bounce's
     // source at the leaves and the per-pixel direct light.
@@ -153,13 +166,15 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
   }
   if (environment) UpdateEnvironment(ctx.state);
   result_ = illumination_.Run(lighting_, settings_.bounces);
+  emission_.Solved(ctx.state);
+  indirect_scale_ = 1.0f;
   return absl::OkStatus();
 }
 
 absl::Status ImplicitVisibilitySolver::Shade(SolverContext& ctx, const ViewCamera& camera,
                                              const GBuffer& gbuffer) {
   gl::StageTimer::Scope stage(ctx.timer, "display");
-  display_.Draw(camera, gbuffer, illumination_.indirect(), lighting_);
+  display_.Draw(camera, gbuffer, illumination_.indirect(), lighting_, indirect_scale_);
   return absl::OkStatus();
 }
 

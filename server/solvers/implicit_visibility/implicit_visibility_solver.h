@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "render/direct_lighting.h"
+#include "solvers/emission_scale.h"
 #include "solvers/hierarchy/bin_table.h"
 #include "solvers/hierarchy/cube_bins.h"
 #include "solvers/hierarchy/links.h"
@@ -68,6 +69,8 @@ class ImplicitVisibilitySolver final : public Solver {
   hierarchy::BinTable table_;
   hierarchy::LeafLinks leaf_links_;
   DirectLighting lighting_;
+  EmissionScale emission_;  // the lights the elements were solved for
+  float indirect_scale_ = 1.0f;
   Illumination illumination_;
   Display display_;
 

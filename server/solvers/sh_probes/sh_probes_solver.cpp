@@ -107,6 +107,17 @@ absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
     }
     return absl::OkStatus();
   }
+  if (const std::optional<float> k = emission_.Factor(ctx.state, changes)) {
+    // A dimmer: the probes' indirect light scales with the lights
+    // (solvers/emission_scale.h); only the direct light's buffers change.
+    for (const char* stage : {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate"}) {
+      ctx.timer.Skip(stage);
+    }
+    gl::StageTimer::Scope stage(ctx.timer, "final");
+    GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes));
+    indirect_scale_ = *k;
+    return absl::OkStatus();
+  }
   if (geometry) {
     GS_ASSIGN_OR_RETURN(ProbeLayout layout, FitProbeGrid(ctx.gpu.WorldBounds(ctx.state), settings_.grid));
     gl::StageTimer::Scope stage(ctx.timer, "rasterize_cubemaps");
@@ -172,6 +183,8 @@ absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
       tail_applied_ = true;
     }
   }
+  emission_.Solved(ctx.state);
+  indirect_scale_ = 1.0f;
   return absl::OkStatus();
 }
 
@@ -280,6 +293,7 @@ absl::Status ShProbesSolver::Shade(SolverContext& ctx, const ViewCamera& /*camer
   gbuffer.BindTextures(8);
   lighting_.Bind(final_);
   BindProbeData(final_);
+  final_.Set("uIndirectScale", indirect_scale_);
   final_.Use();
   glBindVertexArray(empty_vao_.id());
   glDrawArrays(GL_TRIANGLES, 0, 3);

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "render/direct_lighting.h"
+#include "solvers/emission_scale.h"
 #include "solvers/sh_probes/probe_grid.h"
 #include "solvers/solver.h"
 
@@ -58,6 +59,8 @@ class ShProbesSolver final : public Solver {
 
   // Runtime data
   DirectLighting lighting_;
+  EmissionScale emission_;  // the lights the probes were solved for
+  float indirect_scale_ = 1.0f;
   ProbeLayout layout_;
   ProbeAtlas atlas_;
   gl::Buffer coefficients_;           // 9 x probes vec4, coefficient-major
