@@ -2,7 +2,6 @@
 // claiming 16384 x 4096 pixels cost 758 MB before it was refused.
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <span>
 #include <string>
 
@@ -13,25 +12,6 @@
 
 namespace gistream::reliability {
 namespace {
-
-// ------------------------------------------------- 5. forged image headers
-
-// Peak resident memory of this process since ResetPeak(), from
-// /proc/self/status VmHWM; false when the kernel cannot reset the peak.
-bool ResetPeak() {
-  std::ofstream clear("/proc/self/clear_refs");
-  clear << "5";
-  clear.flush();
-  return bool(clear);
-}
-uint64_t ReadStatusKiB(const std::string& key) {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line)) {
-    if (line.rfind(key + ":", 0) == 0) return std::stoull(line.substr(key.size() + 1));
-  }
-  return 0;
-}
 
 std::string ForgedHdr(int width, int height) {
   return absl::StrCat("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y ", height, " +X ", width,
@@ -45,13 +25,13 @@ TEST(ImageHeaders, ForgedHdrHeaderIsRefusedBeforeAllocating) {
   const std::string hdr = ForgedHdr(16384, 4096);
   ASSERT_LT(hdr.size(), 100u);
   const std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(hdr.data()), hdr.size());
-  const bool can_measure = ResetPeak();
-  const uint64_t before = ReadStatusKiB("VmRSS");
+  const bool can_measure = ResetPeakRss();
+  const uint64_t before = StatusKiB("VmRSS");
   EXPECT_STATUS(StatusOf(DecodeImage(bytes, ImageKind::kEnvironment, ImportLimits{}, "environment")),
                 kInvalidArgument, "environment: truncated hdr image: the header claims 16384x4096");
   if (can_measure) {
     // 64 MiB: far below the 1 GiB the claimed pixels would take as RGBA floats.
-    EXPECT_LT(ReadStatusKiB("VmHWM"), before + 64 * 1024) << "peak RSS grew while refusing";
+    EXPECT_LT(StatusKiB("VmHWM"), before + 64 * 1024) << "peak RSS grew while refusing";
   }
   // Over the limit, it is RESOURCE_EXHAUSTED from the header alone.
   const std::string big = ForgedHdr(16384, 8192);

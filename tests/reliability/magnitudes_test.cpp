@@ -22,7 +22,6 @@ NodeTransformUpdate Translate(uint32_t node, glm::vec3 t) {
   return u;
 }
 
-// ------------------------------------------------- 1. crash: huge positions
 
 TEST(Magnitudes, HugeTranslationUpdateIsRejectedAndPathtraceStillRenders) {
   const QuadCopy scene;
@@ -94,7 +93,6 @@ TEST(Magnitudes, ScaleRotationAndFieldOfViewLimits) {
   ExpectRendersFinite(scene.id(), "direct");
 }
 
-// ------------------------------------------ 3. +Inf out of finite input
 
 TEST(Magnitudes, HugeEmissionAndIntensityAreRejected) {
   const QuadCopy scene;

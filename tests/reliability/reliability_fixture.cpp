@@ -106,4 +106,20 @@ void ExpectRendersFinite(const std::string& scene, const std::string& solver) {
   EXPECT_GT(testing::ImageMean(image).x, 0.0) << "the lit floor renders black";
 }
 
+bool ResetPeakRss() {
+  std::ofstream clear("/proc/self/clear_refs");
+  clear << "5";
+  clear.flush();
+  return bool(clear);
+}
+
+uint64_t StatusKiB(const std::string& key) {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind(key + ":", 0) == 0) return std::stoull(line.substr(key.size() + 1));
+  }
+  return 0;
+}
+
 }  // namespace gistream::reliability

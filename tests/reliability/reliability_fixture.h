@@ -64,4 +64,10 @@ inline Update U(Change change, uint64_t seq = 1) { return Update{seq, std::move(
 // The next normal render works: finite, and the lit floor is not black.
 void ExpectRendersFinite(const std::string& scene, const std::string& solver);
 
+// Resets this process's peak RSS (VmHWM, via /proc/self/clear_refs); false
+// when the kernel does not allow it.
+bool ResetPeakRss();
+// A "Key:   N kB" line of /proc/self/status, in KiB (0 when absent).
+uint64_t StatusKiB(const std::string& key);
+
 }  // namespace gistream::reliability

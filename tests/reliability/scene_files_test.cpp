@@ -15,8 +15,6 @@
 namespace gistream::reliability {
 namespace {
 
-// --------------------------------------------- 4. wedged: FIFOs in the scene dir
-
 // Runs `load` on another thread; a load that blocks longer than a minute is
 // a failure, and writing to the FIFO then unblocks it so the binary exits.
 void ExpectRefusedWithoutBlocking(const SceneSource& source, const std::string& fifo,

@@ -1,6 +1,9 @@
 // Issue 13, finding 7 (small ones): odd antiradiance bins, over-budget
-// parameters, huge names echoed in errors, zero sizes.
+// parameters, huge names echoed in errors, zero sizes; and finding 2's
+// antiradiance part (a tiny patch_size).
 #include <gtest/gtest.h>
+
+#include <string>
 
 #include "reliability/reliability_fixture.h"
 #include "solvers/registry.h"
@@ -8,8 +11,6 @@
 
 namespace gistream::reliability {
 namespace {
-
-// ------------------------------------------------------- 7. small ones
 
 TEST(SmallOnes, OddAntiradianceBinsAreRejectedWhenTheSessionOpens) {
   const QuadCopy scene;
@@ -38,6 +39,23 @@ TEST(SmallOnes, OverBudgetParameterIsResourceExhausted) {
   auto frame = E().Render(
       Request(scene.id(), "avg", {}, {{"vpls", "2048"}, {"shadow_res", "512"}}));
   EXPECT_STATUS(StatusOf(frame), kResourceExhausted, "params.shadow_res:");
+  ExpectRendersFinite(scene.id(), "direct");
+}
+
+// Finding 2 (unbounded memory), antiradiance part: patch_size 1e-6 m is in
+// the schema's range and split every triangle into 4^12 leaves (5 GB in
+// 38 s) before a check ran.
+TEST(SmallOnes, TinyAntiradiancePatchesAreRefusedBeforeSplitting) {
+  const QuadCopy scene;
+  const bool can_measure = ResetPeakRss();
+  const uint64_t before = StatusKiB("VmRSS");
+  auto frame = E().Render(Request(scene.id(), "antiradiance", {},
+                                  {{"elements", "triangles"}, {"patch_size", "0.000001"}}));
+  EXPECT_STATUS(StatusOf(frame), kResourceExhausted, "params.patch_size: 1e-06 m splits");
+  if (can_measure) {
+    // 256 MiB: the engine's own working set varies; 4 x 4^12 leaves would be 3 GB.
+    EXPECT_LT(StatusKiB("VmHWM"), before + 256 * 1024) << "peak RSS grew while refusing";
+  }
   ExpectRendersFinite(scene.id(), "direct");
 }
 

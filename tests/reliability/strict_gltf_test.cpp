@@ -12,7 +12,6 @@ namespace {
 
 using json = nlohmann::json;
 
-// --------------------------------------------------------- 6. strict glTF
 
 TEST(StrictGltf, WrongTypesAndRangesNameTheJsonPath) {
   const auto load = [](const json& doc) {

@@ -105,9 +105,25 @@ absl::Status AntiradianceSolver::Link(const SolverContext& ctx) {
   const Bounds bounds = ctx.gpu.WorldBounds(ctx.state);
   const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
   const float max_edge = settings_.patch_size > 0.0f ? settings_.patch_size : diagonal / 24.0f;
-  antiradiance::Patches patches = settings_.surfels
-                                       ? antiradiance::SurfelPatches(ctx.state, ctx.gpu, surfel_cache_)
-                                       : antiradiance::BuildPatches(antiradiance::SceneTriangles(ctx.state), max_edge);
+  antiradiance::Patches patches;
+  if (settings_.surfels) {
+    patches = antiradiance::SurfelPatches(ctx.state, ctx.gpu, surfel_cache_);
+  } else {
+    const auto triangles = antiradiance::SceneTriangles(ctx.state);
+    // Refuse before splitting: a tiny patch_size makes up to 4^12 leaves per
+    // triangle (it used to pass 5 GB before any check ran). Each leaf needs
+    // its own I_ex/L_in tables, so this bound is never above the real need.
+    const uint64_t leaves = antiradiance::CountLeaves(triangles, max_edge);
+    const uint64_t leaf_table_bytes = leaves * uint64_t(bins_.count()) * 2 * sizeof(glm::vec3);
+    if (leaves > kMaxTableBytes || leaf_table_bytes > kMaxTableBytes) {
+      transport_.reset();
+      return absl::ResourceExhaustedError(absl::StrCat(
+          "params.patch_size: ", max_edge, " m splits the scene's triangles into ", leaves,
+          " leaves, whose I_ex/L_in tables need at least ", leaf_table_bytes >> 20, " MiB (limit ",
+          kMaxTableBytes >> 20, " MiB); use a larger patch_size or fewer bins"));
+    }
+    patches = antiradiance::BuildPatches(triangles, max_edge);
+  }
   // Section 3.3: relink only the pairs of roots (charts / mesh instances)
   // that touch a moved one; the layout is the same as long as the scene's
   // meshes are (only transforms change), which same_layout checks.

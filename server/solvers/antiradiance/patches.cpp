@@ -109,6 +109,23 @@ std::vector<int> Patches::Leaves() const {
   return leaves;
 }
 
+uint64_t CountLeaves(const std::vector<std::vector<SourceTriangle>>& groups, float max_edge) {
+  uint64_t leaves = 0;
+  for (const std::vector<SourceTriangle>& group : groups) {
+    for (const SourceTriangle& t : group) {
+      float e = std::max({glm::length(t.p[1] - t.p[0]), glm::length(t.p[2] - t.p[1]),
+                          glm::length(t.p[0] - t.p[2])});
+      int depth = 0;
+      while (e > max_edge && depth < 12) {  // as Split
+        e *= 0.5f;
+        ++depth;
+      }
+      leaves += uint64_t(1) << (2 * depth);
+    }
+  }
+  return leaves;
+}
+
 Patches BuildPatches(const std::vector<std::vector<SourceTriangle>>& groups, float max_edge) {
   Patches out;
   for (const std::vector<SourceTriangle>& group : groups) {

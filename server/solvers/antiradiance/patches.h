@@ -45,5 +45,10 @@ struct SourceTriangle {
 // along the widest extent of (centre, 0.3 x size x normal) so siblings are
 // adjacent and similarly oriented.
 Patches BuildPatches(const std::vector<std::vector<SourceTriangle>>& groups, float max_edge);
+// How many leaves BuildPatches would make at most (degenerate ones are
+// dropped), without making them: each split halves every edge, so a
+// triangle with longest edge e becomes 4^d leaves, d = halvings to reach
+// max_edge (at most 12). For checking a memory budget before building.
+uint64_t CountLeaves(const std::vector<std::vector<SourceTriangle>>& groups, float max_edge);
 
 }  // namespace gistream::antiradiance
