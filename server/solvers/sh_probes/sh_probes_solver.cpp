@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "solvers/sh_probes/spherical_harmonics.h"
+#include "solvers/sh_probes/tail_estimate.h"
 
 namespace gistream {
 namespace {
@@ -37,7 +38,8 @@ SolverDescription ShProbesSolver::Describe() {
       {"tolerance", ParamType::kFloat, "0.01", 0, 1, {},
        "Stop when a bounce changes the probes' L_00 by less than this fraction (0: never)"},
       {"tail_estimate", ParamType::kBool, "false", 0, 0, {},
-       "Add the geometric tail r / (1 - r) x last increment of the bounces not run"},
+       "Add the geometric tail r / (1 - r) x last increment of the bounces not run (r: the "
+       "smallest of the last stable bounce ratios, at most 0.99; none if they are unstable)"},
       {"indirect_shadows", ParamType::kBool, "true", 0, 0, {},
        "Weight each probe by its depth-cube visibility of the point (paper Section 6)"},
   };
@@ -142,10 +144,11 @@ absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
   // Section 3: start from L_indirect = 0 and bounce until the change is
   // insignificant or the budget of bounces is spent.
   dc_luminance_.assign(size_t(layout_.probes()), 0.0f);
-  double last_delta = 0.0, previous_delta = 0.0;
+  std::vector<double> deltas;  // each bounce's change, for the tail
   bounces_run_ = 0;
   tail_applied_ = false;
   tail_ratio_ = 0.0;
+  tail_spread_ = 0.0;
   for (int bounce = 1; bounce <= settings_.bounces; ++bounce) {
     if (bounce > 1) {
       gl::StageTimer::Scope stage(ctx.timer, "interpolate");
@@ -166,20 +169,24 @@ absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
     double sum = 0.0;
     const double change = ProjectToSh(&sum);
     bounces_run_ = bounce;
-    previous_delta = last_delta;
-    last_delta = change;
+    deltas.push_back(change);
     bounce_change_ = sum > 0.0 ? change / sum : 0.0;
     if (bounce >= 2 && bounce_change_ < settings_.tolerance) break;
   }
   if (bounces_run_ == 1) ctx.timer.Skip("interpolate");
 
-  if (settings_.tail_estimate && bounces_run_ >= 2 && previous_delta > 0.0) {
+  if (settings_.tail_estimate) {
     // Geometric tail: increments shrink by r per bounce, so the bounces not
-    // run add sum_{j>=1} r^j = r / (1 - r) times the last one.
-    tail_ratio_ = last_delta / previous_delta;
-    if (tail_ratio_ > 0.0 && tail_ratio_ < 1.0) {
+    // run add sum_{j>=1} r^j = r / (1 - r) times the last one. r is the
+    // smallest of the last stable ratios, capped (sh/tail_estimate.h): the
+    // former last-ratio estimate always came out above the true albedo and
+    // exploded at rho = 0.999 (38,870 for an exact 1000).
+    const sh::TailEstimate tail = sh::EstimateTail(deltas);
+    tail_ratio_ = tail.ratio;
+    tail_spread_ = tail.spread;
+    if (tail.applied) {
       gl::StageTimer::Scope stage(ctx.timer, "sh_project");
-      ApplyTail(tail_ratio_ / (1.0 - tail_ratio_));
+      ApplyTail(tail.ratio / (1.0 - tail.ratio));
       tail_applied_ = true;
     }
   }
@@ -310,6 +317,7 @@ SolverStats ShProbesSolver::Stats() const {
           {"bounce_change", bounce_change_},
           {"tail_ratio", tail_ratio_},
           {"tail_applied", tail_applied_ ? 1.0 : 0.0},
+          {"tail_ratio_spread", tail_spread_},
           {"probe_gpu_bytes", double(atlas_.gpu_bytes())},
           {"area_samples", double(lighting_.area_samples().size())},
           {"shadow_map_bytes", double(lighting_.gpu_bytes())}};

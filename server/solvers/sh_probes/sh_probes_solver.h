@@ -75,6 +75,7 @@ class ShProbesSolver final : public Solver {
   int invalid_probes_ = 0;
   double bounce_change_ = 0.0;
   double tail_ratio_ = 0.0;
+  double tail_spread_ = 0.0;
   bool tail_applied_ = false;
 };
 

@@ -1,0 +1,32 @@
+// The optional geometric tail of sh_probes' bounce series (the bounces not
+// run), estimated only from what the measured bounces support.
+#pragma once
+
+#include <vector>
+
+namespace gistream::sh {
+
+struct TailEstimate {
+  bool applied = false;
+  double ratio = 0.0;   // r used: the tail adds r / (1 - r) x the last increment
+  double spread = 0.0;  // (max - min) / max of the ratios considered
+  int ratios = 0;       // how many ratios were considered
+};
+
+// The most a ratio may imply: the tail is at most r / (1 - r) = 99 x the
+// last increment ("albedo" 0.99), however close to 1 the ratios are.
+inline constexpr double kMaxTailRatio = 0.99;
+// Ratios that differ by more than this fraction are not a geometric series
+// (yet): no tail.
+inline constexpr double kTailStability = 0.05;
+
+// `deltas[k]` is the change that bounce k + 1 made (deltas[0]: the first,
+// direct-lit bounce). Ratios r_k = d_k / d_{k-1} are taken from the third
+// bounce on (the first indirect bounce redistributes light differently
+// from the direct one), the last three at most; the tail needs at least two
+// of them, each finite in (0, 1), within kTailStability of each other. It
+// uses the smallest (the series' ratio is never taken above any measured
+// one), capped at kMaxTailRatio. Otherwise no tail (applied = false).
+TailEstimate EstimateTail(const std::vector<double>& deltas);
+
+}  // namespace gistream::sh

@@ -1,0 +1,74 @@
+// sh_probes' geometric tail estimate (solvers/sh_probes/tail_estimate.h):
+// never above what the measured bounce ratios support.
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "solvers/sh_probes/tail_estimate.h"
+
+namespace gistream::sh {
+namespace {
+
+std::vector<double> Geometric(double first, double r, int n) {
+  std::vector<double> d;
+  for (int k = 0; k < n; ++k) d.push_back(first * std::pow(r, k));
+  return d;
+}
+
+TEST(ShTailEstimate, ExactGeometricSeriesGivesItsRatio) {
+  const TailEstimate t = EstimateTail(Geometric(1.0, 0.9, 6));
+  EXPECT_TRUE(t.applied);
+  EXPECT_NEAR(t.ratio, 0.9, 1e-12);
+  EXPECT_EQ(t.ratios, 3);
+  EXPECT_NEAR(t.spread, 0.0, 1e-12);
+}
+
+TEST(ShTailEstimate, TakesTheSmallestRecentRatio) {
+  // Ratios 0.90, 0.92, 0.91 (within 5 %): the tail uses 0.90, never more.
+  const std::vector<double> d = {1.0, 0.9, 0.81, 0.81 * 0.90, 0.81 * 0.90 * 0.92,
+                                 0.81 * 0.90 * 0.92 * 0.91};
+  const TailEstimate t = EstimateTail(d);
+  EXPECT_TRUE(t.applied);
+  EXPECT_NEAR(t.ratio, 0.90, 1e-12);
+}
+
+TEST(ShTailEstimate, RatioNearOneIsCapped) {
+  // rho = 0.9999: r / (1 - r) would be 9999 x the last increment; capped at
+  // 0.99, i.e. 99 x.
+  const TailEstimate t = EstimateTail(Geometric(1.0, 0.9999, 5));
+  EXPECT_TRUE(t.applied);
+  EXPECT_DOUBLE_EQ(t.ratio, kMaxTailRatio);
+}
+
+TEST(ShTailEstimate, UnstableOrDivergingOrTooFewRatiosGiveNoTail) {
+  EXPECT_FALSE(EstimateTail({1.0, 0.5, 0.25}).applied);          // one usable ratio
+  EXPECT_FALSE(EstimateTail({1.0, 0.5, 0.4, 0.2}).applied);      // 0.8 then 0.5
+  EXPECT_FALSE(EstimateTail({1.0, 0.9, 0.95, 0.97}).applied);    // growing: ratio >= 1
+  EXPECT_FALSE(EstimateTail({1.0, 0.0, 0.0, 0.0}).applied);      // converged to nothing
+  EXPECT_FALSE(EstimateTail({1.0, 0.5, NAN, 0.2}).applied);
+  EXPECT_EQ(EstimateTail({1.0, 0.5, 0.4, 0.2}).ratio, 0.0);
+}
+
+TEST(ShTailEstimate, FixedPointIsNeverOvershotForAnySeriesBelowTheCap) {
+  // For a geometric series of ratio rho, partial sum + tail must not exceed
+  // the exact sum d_1 / (1 - rho) for any number of bounces >= 2, and must
+  // grow with the number of bounces (monotone).
+  for (double rho : {0.5, 0.9, 0.99, 0.999}) {
+    const double exact = 1.0 / (1.0 - rho);
+    double previous = 0.0;
+    for (int n = 2; n <= 64; ++n) {
+      const std::vector<double> d = Geometric(1.0, rho, n);
+      double sum = 0.0;
+      for (double x : d) sum += x;
+      const TailEstimate t = EstimateTail(d);
+      const double total = sum + (t.applied ? t.ratio / (1.0 - t.ratio) * d.back() : 0.0);
+      EXPECT_LE(total, exact * (1.0 + 1e-9)) << "rho " << rho << " n " << n;
+      EXPECT_GE(total, previous * (1.0 - 1e-12)) << "rho " << rho << " n " << n;
+      previous = total;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace gistream::sh
