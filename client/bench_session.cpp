@@ -2,6 +2,8 @@
 
 #include <absl/strings/str_cat.h>
 
+#include "connection.h"
+
 namespace gistream::client {
 
 BenchSession::~BenchSession() {
@@ -15,7 +17,7 @@ absl::Status BenchSession::Open(v1::Gistream::Stub& stub, const v1::SessionConfi
   absl::StatusOr<std::unique_ptr<SessionStream>> stream = SessionStream::Open(stub, config, server_);
   if (!stream.ok()) {
     std::lock_guard lock(mutex_);
-    error_ = std::string(stream.status().ToString());
+    error_ = DescribeStatus(stream.status());
     return stream.status();
   }
   stream_ = *std::move(stream);
@@ -131,7 +133,7 @@ void BenchSession::ReadLoop() {
   const absl::Status status = stream_->Finish();
   if (!status.ok() && !stream_->cancelled_by_client()) {
     std::lock_guard lock(mutex_);
-    error_ = std::string(status.ToString());
+    error_ = DescribeStatus(status);
   }
 }
 

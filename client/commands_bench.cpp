@@ -105,7 +105,7 @@ class Interferer {
       if (status.ok()) {
         times_ms_.push_back(Seconds(Clock::now() - start) * 1e3);
       } else {
-        error_ = FromGrpc(status, connection_.server()).ToString();
+        error_ = DescribeStatus(FromGrpc(status, connection_.server()));
         cv_.wait_for(lock, std::chrono::seconds(1), [this] { return stop_; });  // no busy loop
       }
     }
@@ -231,7 +231,7 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
         std::make_unique<BenchSession>(server.address, workload, options.update_hz, stages);
     progress.Show(absl::StrCat(label, " opening session ", i + 1, "/", count));
     const absl::Status opened = session->Open(channel->stub(), config);
-    if (!opened.ok()) Log(LogLevel::kWarning, absl::StrCat("session ", i + 1, ": ", opened.ToString()));
+    if (!opened.ok()) Log(LogLevel::kWarning, absl::StrCat("session ", i + 1, ": ", DescribeStatus(opened)));
     sessions.push_back(std::move(session));
   }
 

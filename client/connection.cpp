@@ -24,6 +24,10 @@ absl::Status FromGrpc(const grpc::Status& status, absl::string_view server) {
 
 bool IsRpcError(const absl::Status& status) { return status.GetPayload(kRpcPayload).has_value(); }
 
+std::string DescribeStatus(const absl::Status& status) {
+  return absl::StrCat(absl::StatusCodeToString(status.code()), ": ", status.message());
+}
+
 Connection::Connection(const ConnectionOptions& options) : options_(options) {
   grpc::ChannelArguments args;
   // Frames (EXR at high resolution) and uploaded scenes exceed gRPC's 4 MiB

@@ -20,6 +20,8 @@ namespace gistream::client {
 // code name: "error: INVALID_ARGUMENT: params.area_samples: ...".
 absl::Status FromGrpc(const grpc::Status& status, absl::string_view server);
 bool IsRpcError(const absl::Status& status);
+// "CODE: message", without the payloads absl::Status::ToString appends.
+std::string DescribeStatus(const absl::Status& status);
 
 class Connection {
  public:

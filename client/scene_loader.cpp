@@ -144,7 +144,7 @@ LoadedScene::~LoadedScene() {
       connection_.Call(&v1::Gistream::Stub::UnloadScene, request, &response, kUnloadTimeoutSeconds);
   if (!status.ok() && !absl::IsFailedPrecondition(status) && !absl::IsNotFound(status)) {
     Log(LogLevel::kWarning,
-        absl::StrCat("could not unload scene ", info_.scene_id(), ": ", status.ToString()));
+        absl::StrCat("could not unload scene ", info_.scene_id(), ": ", DescribeStatus(status)));
   }
 }
 

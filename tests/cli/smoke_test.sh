@@ -76,9 +76,43 @@ set -e
 [ $rc2 -ne 0 ] && grep -q "NOT_FOUND" "$TMP/e2.log" || { cat "$TMP/e2.log"; echo "FAIL: unknown scene"; exit 1; }
 $C status >/dev/null || { echo "FAIL: server stopped serving after bad input"; exit 1; }
 
+# bench: one short step on the bundled Cornell box prints its table and
+# writes the results and plots.
+$C bench --sessions 1 --duration 1s --warmup 0s --size 32x32 --param area_samples=4 \
+  --out "$TMP/bench" >"$TMP/bench.log" 2>&1 || { cat "$TMP/bench.log"; echo "FAIL: bench"; exit 1; }
+grep -q "latency p50/p95/p99/max" "$TMP/bench.log" || { cat "$TMP/bench.log"; echo "FAIL: bench table"; exit 1; }
+for f in results.csv results.json results.md latency_cdf.png fps_vs_sessions.png latency_vs_sessions.png; do
+  [ -s "$TMP/bench/$f" ] || { echo "FAIL: bench did not write $f"; exit 1; }
+done
+
 kill -TERM $PID
 for _ in $(seq 1 100); do kill -0 $PID 2>/dev/null || break; sleep 0.1; done
 if kill -0 $PID 2>/dev/null; then echo "FAIL: gistreamd ignored SIGTERM"; exit 1; fi
 wait $PID && rc=0 || rc=$?
 [ $rc -eq 0 ] || { cat "$TMP/err.log"; echo "FAIL: gistreamd exited $rc on SIGTERM"; exit 1; }
+
+# SIGTERM under a long Render (4096 spp would trace for minutes): the server
+# stops within its 1 s shutdown deadline plus one slice, and the client gets
+# a status. 20 s bounds a hang; it is not a timing threshold.
+"$BIN/gistreamd" --listen 127.0.0.1:0 --scenes "$SCENES" --shutdown-deadline-s 1 \
+  >"$TMP/out2.log" 2>"$TMP/err2.log" &
+PID=$!
+for _ in $(seq 1 300); do
+  grep -q "^listening on" "$TMP/out2.log" && break
+  sleep 0.1
+done
+ADDR2=$(sed -n 's/^listening on //p' "$TMP/out2.log")
+[ -n "$ADDR2" ] || { cat "$TMP/err2.log"; echo "FAIL: no 'listening on' line (second server)"; exit 1; }
+"$BIN/gistream" --server "$ADDR2" render --scene cornell_box --solver pathtrace --param spp=4096 \
+  --size 64x64 --format exr --out "$TMP/long.exr" >"$TMP/long.log" 2>&1 &
+RPID=$!
+sleep 1
+kill -TERM $PID
+for _ in $(seq 1 200); do kill -0 $PID 2>/dev/null || break; sleep 0.1; done
+if kill -0 $PID 2>/dev/null; then echo "FAIL: gistreamd still running 20 s after SIGTERM under a long Render"; exit 1; fi
+wait $PID && rc=0 || rc=$?
+[ $rc -eq 0 ] || { cat "$TMP/err2.log"; echo "FAIL: gistreamd exited $rc on SIGTERM under a long Render"; exit 1; }
+wait $RPID && rrc=0 || rrc=$?
+[ $rrc -ne 0 ] && grep -Eq "UNAVAILABLE|CANCELLED" "$TMP/long.log" ||
+  { cat "$TMP/long.log"; echo "FAIL: the long Render got no clean status at shutdown"; exit 1; }
 echo "smoke test passed"
