@@ -104,12 +104,20 @@ absl::Status CheckPair(absl::string_view field, absl::string_view a_name, bool a
                                  "; give both or neither"));
 }
 
+// A rotation field: unset means identity (proto3 message presence); a set
+// one is taken as given, so that update validation rejects an explicit
+// zero or non-unit quaternion naming the field instead of it silently
+// becoming the identity.
+glm::quat RotationFromProto(bool set, const pb::Quat& q) {
+  return set ? glm::quat(q.w(), q.x(), q.y(), q.z()) : glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+}
+
 absl::StatusOr<NodeTransformUpdate> NodeTransformFromProto(const pb::NodeTransform& t,
                                                            absl::string_view field) {
   NodeTransformUpdate out;
   out.node = t.node();
   out.translation = FromProto(t.translation());
-  out.rotation = FromProto(t.rotation());
+  out.rotation = RotationFromProto(t.has_rotation(), t.rotation());
   out.scale = t.has_scale() ? FromProto(t.scale()) : glm::vec3(1.0f);
   if (t.matrix_size() != 0) {
     if (t.matrix_size() != 16) {
@@ -218,7 +226,7 @@ absl::StatusOr<CameraUpdate> CameraFromProto(const pb::CameraChange& camera,
     case pb::CameraChange::kPose: {
       CameraPose pose;
       pose.position = FromProto(camera.pose().position());
-      pose.rotation = FromProto(camera.pose().rotation());
+      pose.rotation = RotationFromProto(camera.pose().has_rotation(), camera.pose().rotation());
       out.pose = pose;
       break;
     }
