@@ -40,7 +40,9 @@ void EmissionScale::Solved(const SceneState& state) {
 
 std::optional<float> EmissionScale::Factor(const SceneState& state, ChangeMask changes) const {
   if (!solved_) return std::nullopt;
-  if (changes & ~(kChangeLights | kChangeEmission | kChangeEnvironment)) return std::nullopt;
+  // Only a change of lights (and nothing else) can be a pure scaling.
+  constexpr ChangeMask kLightKinds = kChangeLights | kChangeEmission | kChangeEnvironment;
+  if (!(changes & kLightKinds) || (changes & ~kLightKinds)) return std::nullopt;
   std::vector<float> radiometry, geometry;
   Signature(state, radiometry, geometry);
   if (geometry != geometry_ || radiometry.size() != radiometry_.size()) return std::nullopt;

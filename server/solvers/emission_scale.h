@@ -25,9 +25,9 @@ class EmissionScale {
   // Forget the solved lights (the next change needs a solve).
   void Reset() { solved_ = false; }
 
-  // k when `changes` touched only lights, emission or the environment and
-  // the scene's lights are the solved ones times k (k >= 0); nullopt when
-  // a new solve is needed.
+  // k when `changes` touched lights, emission or the environment (nothing
+  // else) and the scene's lights are the solved ones times k (k >= 0);
+  // nullopt when a new solve is needed or there is no light change.
   std::optional<float> Factor(const SceneState& state, ChangeMask changes) const;
 
  private:

@@ -156,11 +156,12 @@ absl::Status PathtraceSolver::Shade(SolverContext& ctx, const ViewCamera& camera
       return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
           .count();
     };
+    const double traced_before = acc.frame_trace_ms;  // by the frame's earlier slices
     auto frame_done = [&] {
       if (time_budget_ms_ > 0.0) {
         // Whole passes until the trace time is spent (at least one).
         return acc.pass_row == 0 && acc.frame_passes > 0 &&
-               acc.frame_trace_ms + elapsed_ms() >= time_budget_ms_;
+               traced_before + elapsed_ms() >= time_budget_ms_;
       }
       return acc.owed_passes <= 0;
     };
@@ -188,8 +189,8 @@ absl::Status PathtraceSolver::Shade(SolverContext& ctx, const ViewCamera& camera
         --acc.owed_passes;
       }
     }
-    acc.frame_trace_ms += elapsed_ms();
     acc.frame_complete = frame_done();
+    acc.frame_trace_ms = traced_before + elapsed_ms();
     acc.frame_rays += acc.rays - rays_before;
   }
   gl::StageTimer::Scope stage(ctx.timer, "accumulate");
