@@ -48,6 +48,23 @@ gl::Texture UploadImage(const Image& image) {
 
 absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& state) {
   const Scene& scene = state.scene();
+  // Import bounds images by --max-image-pixels and a per-side limit that
+  // may exceed what this GPU can hold; that is the client's data meeting
+  // this GPU, so a status, not a silently black texture.
+  GLint max_size = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+  for (size_t i = 0; i < scene.images.size(); ++i) {
+    const Image& image = scene.images[i];
+    if (image.width > max_size || image.height > max_size) {
+      return absl::ResourceExhaustedError(absl::StrCat(
+          "images: texture ", i, image.name.empty() ? "" : absl::StrCat(" '", image.name, "'"),
+          " is ", image.width, "x", image.height, ", larger than this GPU's largest texture (",
+          max_size, " per side)"));
+    }
+  }
+  // Only this upload's errors below; earlier ones were reported already.
+  while (glGetError() != GL_NO_ERROR) {
+  }
   auto gpu = std::make_unique<GpuScene>();
 
   // Geometry: one vertex/index range per primitive, shared by its instances.
@@ -114,6 +131,16 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
                        GLsizeiptr((scene.materials.size() + 1) * sizeof(GpuMaterial)), nullptr,
                        GL_DYNAMIC_STORAGE_BIT);
   gpu->UpdateMaterials(state);
+  // Out of GPU memory is RESOURCE_EXHAUSTED for this load (the objects made
+  // so far are freed with `gpu`), not a scene that renders wrong.
+  if (const GLenum error = glGetError(); error == GL_OUT_OF_MEMORY) {
+    return absl::ResourceExhaustedError(
+        absl::StrCat("scene: the GPU could not hold its ", gpu->gpu_bytes_ >> 20,
+                     " MiB of geometry and textures (GL_OUT_OF_MEMORY)"));
+  } else if (error != GL_NO_ERROR) {
+    return absl::InternalError(
+        absl::StrCat("scene: uploading to the GPU failed with GL error 0x", absl::Hex(error)));
+  }
   return gpu;
 }
 
