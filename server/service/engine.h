@@ -48,6 +48,9 @@ struct EncodedFrame {
   uint64_t scene_version = 0;
   uint64_t last_update_seq = 0;
   std::vector<StageTiming> timings;
+  // The stages of the solver's table its Plan() named for this frame's
+  // changes (the others are reported skipped).
+  std::vector<std::string> planned_stages;
   std::vector<std::pair<std::string, double>> stats;
   std::string solver;
   double total_ms = 0.0;

@@ -67,6 +67,29 @@ void MergeTimings(std::vector<StageTiming>& total, std::vector<StageTiming> slic
   }
 }
 
+// Every stage of the solver's table appears in the frame: one the solver
+// did not report is reported skipped. A stage that ran outside the plan is
+// a solver bug (its Plan and Update disagree), logged once per solver and
+// stage; tests/gl/stage_plan_test.cpp holds every solver to its plan.
+void ReportAgainstPlan(const SolverDescription& solver, const std::vector<std::string>& plan,
+                       std::vector<StageTiming>& timings) {
+  for (const std::string& stage : solver.stages) {
+    auto it = std::find_if(timings.begin(), timings.end(),
+                           [&](const StageTiming& t) { return t.name == stage; });
+    const bool planned = std::find(plan.begin(), plan.end(), stage) != plan.end();
+    if (it == timings.end()) {
+      StageTiming skipped;
+      skipped.name = stage;
+      skipped.skipped = true;
+      timings.push_back(std::move(skipped));
+    } else if (!it->skipped && !planned) {
+      LogOnce(LogLevel::kWarning, absl::StrCat("unplanned:", solver.name, ":", stage),
+              absl::StrCat("solver ", solver.name, " ran stage ", stage,
+                           " which its plan for this change does not name"));
+    }
+  }
+}
+
 std::span<const uint8_t> Bytes(const std::string& s) {
   return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
 }
@@ -644,6 +667,13 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   }
   entry.last_used = ++solver_clock_;
   const ChangeMask changes = entry.fresh ? kChangeAll : state.ChangesSince(entry.version);
+  // The engine asks the solver which of its stages this change needs; the
+  // frame reports every stage of the solver's table against that plan.
+  for (std::string& stage : entry.solver->Plan(changes)) {
+    if (std::find(view.plan.begin(), view.plan.end(), stage) == view.plan.end()) {
+      view.plan.push_back(std::move(stage));
+    }
+  }
   SolverContext ctx{state, *scene.gpu, timer_};
   ctx.budget_ms = session.config.frame_budget_ms > 0.0 ? session.config.frame_budget_ms
                                                        : options_.frame_budget_ms;
@@ -713,6 +743,9 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   frame->timings = std::move(view.carry);
   view.carry.clear();
   MergeTimings(frame->timings, timer_.Finish());
+  ReportAgainstPlan(entry.solver->description(), view.plan, frame->timings);
+  frame->planned_stages = std::move(view.plan);
+  view.plan.clear();
   frame->frame_number = ++view.frame_number;
   frame->width = view.gbuffer.width();
   frame->height = view.gbuffer.height();

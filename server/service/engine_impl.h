@@ -100,6 +100,7 @@ class EngineImpl final : public Engine {
     // Render), summed into the frame that completes it.
     std::vector<StageTiming> carry;
     double carry_ms = 0.0;
+    std::vector<std::string> plan;  // the solver's plan, over the frame's slices
     RenderThread::Clock::time_point next_due{};
   };
 
