@@ -32,13 +32,18 @@ absl::StatusOr<std::vector<Camera>> ImportCameras(const tinygltf::Model& model,
                                                      " is out of range [", min_yfov, ", ", max_yfov,
                                                      "] radians"));
     }
-    if (!(p.znear > 0.0 && p.znear < kMaxFloat)) {
-      return absl::InvalidArgumentError(
-          absl::StrCat(field, ".perspective.znear: ", p.znear, " must be positive and finite"));
+    // Clip distances are positions along the view ray: within the world
+    // extent limit (and its diagonal for zfar) like every other distance.
+    const double max_far = 4.0 * double(kMaxCoordinate);
+    if (!(p.znear > 0.0 && p.znear <= double(kMaxCoordinate))) {
+      return absl::InvalidArgumentError(absl::StrCat(field, ".perspective.znear: ", p.znear,
+                                                     " is out of range (0, ", kMaxCoordinate,
+                                                     "] m"));
     }
-    if (!(p.zfar == 0.0 || (p.zfar > p.znear && p.zfar < kMaxFloat))) {
+    if (!(p.zfar == 0.0 || (p.zfar > p.znear && p.zfar <= max_far))) {
       return absl::InvalidArgumentError(absl::StrCat(field, ".perspective.zfar: ", p.zfar,
-                                                     " must be finite and beyond znear ", p.znear));
+                                                     " must be 0 (infinite) or beyond znear ",
+                                                     p.znear, " and at most ", max_far, " m"));
     }
     Camera camera;
     camera.name = in.name;

@@ -154,6 +154,11 @@ TEST(BadGraph, CameraValues) {
   EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "cameras[0].perspective.yfov: 4");
   g.doc["cameras"][0]["perspective"] = {{"yfov", 1}, {"znear", 1}, {"zfar", 0.5}};
   EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "cameras[0].perspective.zfar: 0.5");
+  g.doc["cameras"][0]["perspective"] = {{"yfov", 1}, {"znear", 1e30}};
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
+               "cameras[0].perspective.znear: 1e+30 is out of range (0, 1e+06] m");
+  g.doc["cameras"][0]["perspective"] = {{"yfov", 1e-6}, {"znear", 0.1}};
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "cameras[0].perspective.yfov: 1e-06");
   g.doc["cameras"][0]["perspective"] = {{"yfov", 1}, {"znear", 0.1}};
   g.doc["nodes"][0]["camera"] = 2;
   EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "nodes[0].camera: 2 is out of range");
