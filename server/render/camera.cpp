@@ -1,19 +1,14 @@
 #include "render/camera.h"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtx/matrix_decompose.hpp>
 
 namespace gistream {
 namespace {
-
-// Near plane scaled to the scene so millimetre and kilometre scenes both
-// keep depth precision.
-float NearPlane(const SceneState& state) {
-  const float size = glm::length(state.scene().bounds.extent());
-  return std::clamp(size * 1e-4f, 1e-6f, 1.0f);
-}
 
 void FromSceneCamera(const SceneState& state, int node, ViewCamera& camera) {
   const Scene& scene = state.scene();
@@ -24,6 +19,7 @@ void FromSceneCamera(const SceneState& state, int node, ViewCamera& camera) {
   camera.position = translation;
   camera.rotation = glm::normalize(rotation);
   camera.yfov = scene.cameras[size_t(scene.nodes[size_t(node)].camera)].yfov;
+  camera.scene_camera_node = node;
 }
 
 }  // namespace
@@ -34,14 +30,81 @@ glm::mat4 ViewCamera::View() const {
 
 glm::mat4 ViewCamera::Projection() const {
   const float aspect = float(width) / float(std::max<uint32_t>(height, 1));
+  if (zfar > znear) return glm::perspective(yfov, aspect, znear, zfar);
   return glm::infinitePerspective(yfov, aspect, znear);
+}
+
+glm::vec3 ViewCamera::RayDirection(glm::vec2 ndc) const {
+  const float aspect = float(width) / float(std::max<uint32_t>(height, 1));
+  const float t = std::tan(0.5f * yfov);
+  // Camera space looks down -Z with +Y up; the film at distance 1 spans
+  // [-t aspect, t aspect] x [-t, t].
+  const glm::vec3 d(ndc.x * t * aspect, ndc.y * t, -1.0f);
+  return glm::normalize(rotation * d);
+}
+
+ViewCamera WithDepthRange(ViewCamera camera, const SceneState& state, const Bounds& world_bounds) {
+  const Bounds& b = world_bounds;
+  const float diagonal = b.empty() ? 1.0f : std::max(glm::length(b.extent()), 1e-30f);
+  // The glTF camera's planes, in world units (scaled with the node's world
+  // scale, cube root of |det|, like its position); 0 when not given.
+  float gltf_near = 0.0f, gltf_far = 0.0f;
+  const Scene& scene = state.scene();
+  const int node = camera.scene_camera_node;
+  if (node >= 0 && size_t(node) < scene.nodes.size() && scene.nodes[size_t(node)].camera >= 0) {
+    const Camera& c = scene.cameras[size_t(scene.nodes[size_t(node)].camera)];
+    const float det = std::abs(glm::determinant(glm::mat3(state.world()[size_t(node)])));
+    const float s = std::isfinite(det) && det > 0.0f ? std::cbrt(det) : 1.0f;
+    if (std::isfinite(c.znear * s) && c.znear * s > 0.0f) gltf_near = c.znear * s;
+    if (std::isfinite(c.zfar * s) && c.zfar * s > 0.0f) gltf_far = c.zfar * s;
+  }
+  // A point at distance d inside the frustum lies at view depth >= d cos(a),
+  // a = the half angle of the frustum's diagonal.
+  const float aspect = float(camera.width) / float(std::max<uint32_t>(camera.height, 1));
+  const float t = std::tan(0.5f * camera.yfov);
+  const float cos_diagonal = 1.0f / std::sqrt(1.0f + t * t * (1.0f + aspect * aspect));
+  float near = gltf_near > 0.0f ? gltf_near : 1e-3f * diagonal, d_far = diagonal;
+  if (!b.empty()) {
+    const glm::vec3 p = camera.position;
+    const glm::vec3 farthest = glm::max(glm::abs(b.min - p), glm::abs(b.max - p));
+    d_far = glm::length(farthest);
+    // A lower bound on the view depth of anything in the box and the
+    // frustum: the nearest corner's depth when the whole box is in front,
+    // and the box's distance x cos(a) when the camera is outside it.
+    const glm::vec3 forward = camera.rotation * glm::vec3(0.0f, 0.0f, -1.0f);
+    float z_min = std::numeric_limits<float>::max();
+    for (int i = 0; i < 8; ++i) {
+      const glm::vec3 corner((i & 1) ? b.max.x : b.min.x, (i & 2) ? b.max.y : b.min.y,
+                             (i & 4) ? b.max.z : b.min.z);
+      z_min = std::min(z_min, glm::dot(corner - p, forward));
+    }
+    const float d_out = glm::length(glm::clamp(p, b.min, b.max) - p);
+    const float safe = 0.99f * std::max(z_min, d_out * cos_diagonal);
+    if (safe > 0.0f) {
+      // Nothing visible lies nearer: this near plane clips nothing, a larger
+      // glTF znear clips what its author meant to.
+      near = std::max(safe, gltf_near);
+    } else {
+      // Inside the box, part of it behind the camera: geometry can be
+      // anywhere. The glTF znear (else 1e-3 of the diagonal), but at most
+      // half the distance to the nearest face (or 1e-3 of the diagonal when
+      // that is less), so geometry scaled down around a camera that was not
+      // is not clipped.
+      const glm::vec3 in = glm::min(p - b.min, b.max - p);
+      const float d_in = std::min({in.x, in.y, in.z});
+      near = std::min(near, std::max(0.5f * d_in * cos_diagonal, 1e-3f * diagonal));
+    }
+  }
+  camera.znear = std::max({near, 1e-7f * diagonal, 1e-30f});
+  camera.zfar = gltf_far > 0.0f ? gltf_far : 1.01f * d_far;
+  if (!(camera.zfar > camera.znear * 1.0001f)) camera.zfar = 0.0f;  // infinite
+  return camera;
 }
 
 ViewCamera DefaultCamera(const SceneState& state, uint32_t width, uint32_t height) {
   ViewCamera camera;
   camera.width = width;
   camera.height = height;
-  camera.znear = NearPlane(state);
   const std::vector<int> cameras = CameraInstanceNodes(state.scene());
   if (!cameras.empty()) {
     FromSceneCamera(state, cameras.front(), camera);
@@ -66,9 +129,11 @@ bool ApplyCameraUpdate(const SceneState& state, const CameraUpdate& update, View
     camera.position = l.eye;
     // The inverse of a look-at view matrix is the camera's world rotation.
     camera.rotation = glm::normalize(glm::quat_cast(glm::inverse(glm::lookAt(l.eye, l.target, up))));
+    camera.scene_camera_node = -1;
   } else if (update.pose) {
     camera.position = update.pose->position;
     camera.rotation = glm::normalize(update.pose->rotation);
+    camera.scene_camera_node = -1;
   } else if (update.scene_camera) {
     FromSceneCamera(state, CameraInstanceNodes(state.scene())[*update.scene_camera], camera);
   }

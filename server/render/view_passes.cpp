@@ -53,7 +53,9 @@ absl::Status ViewPasses::DrawGBuffer(const SceneState& state, const GpuScene& gp
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);
-  gbuffer_.Set("uViewProj", camera.Projection() * camera.View());
+  // Clip planes from the glTF camera or the current geometry (camera.h).
+  const ViewCamera view = WithDepthRange(camera, state, gpu.WorldBounds(state));
+  gbuffer_.Set("uViewProj", view.Projection() * view.View());
   gbuffer_.Use();
   gpu.Draw(gbuffer_, state, true);
   return absl::OkStatus();

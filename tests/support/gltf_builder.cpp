@@ -170,12 +170,12 @@ int GltfBuilder::AddSpotLightDown(const std::string& name, Vec3 position, Vec3 c
 }
 
 int GltfBuilder::AddCamera(const std::string& name, Vec3 position, Vec3 forward, Vec3 up,
-                           float yfov) {
+                           float yfov, float znear) {
   const Vec3 back = Normalize({-forward[0], -forward[1], -forward[2]});
   const Vec3 right = Normalize(Cross(up, back));
   const Vec3 true_up = Cross(back, right);
   cameras_.push_back(
-      {{"name", name}, {"type", "perspective"}, {"perspective", {{"yfov", yfov}, {"znear", 0.01}}}});
+      {{"name", name}, {"type", "perspective"}, {"perspective", {{"yfov", yfov}, {"znear", znear}}}});
   return AddNode({{"name", name},
                   {"translation", position},
                   {"rotation", QuatFromBasis(right, true_up, back)},

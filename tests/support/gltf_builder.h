@@ -28,7 +28,8 @@ class GltfBuilder {
   int AddSpotLightDown(const std::string& name, Vec3 position, Vec3 color, float intensity,
                        float inner_cone, float outer_cone);
   // Camera at `position` looking along `forward` (unit) with `up`.
-  int AddCamera(const std::string& name, Vec3 position, Vec3 forward, Vec3 up, float yfov);
+  int AddCamera(const std::string& name, Vec3 position, Vec3 forward, Vec3 up, float yfov,
+                float znear = 0.01f);
 
   std::string ToJson() const;
 

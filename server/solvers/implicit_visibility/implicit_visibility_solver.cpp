@@ -174,7 +174,9 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
 absl::Status ImplicitVisibilitySolver::Shade(SolverContext& ctx, const ViewCamera& camera,
                                              const GBuffer& gbuffer) {
   gl::StageTimer::Scope stage(ctx.timer, "display");
-  display_.Draw(camera, gbuffer, illumination_.indirect(), lighting_, indirect_scale_);
+  // The G-buffer's clip planes (render/camera.h), so both depth tests agree.
+  display_.Draw(WithDepthRange(camera, ctx.state, ctx.gpu.WorldBounds(ctx.state)), gbuffer,
+                illumination_.indirect(), lighting_, indirect_scale_);
   return absl::OkStatus();
 }
 

@@ -100,7 +100,6 @@ void PathtraceSolver::TraceRows(const SceneState& state, Accumulation& acc, int 
                                 int row_end) {
   const ViewCamera& camera = acc.view;
   const int w = int(camera.width);
-  const glm::mat4 inv = glm::inverse(camera.Projection() * camera.View());
   const Integrator integrator(state, *bvh_, env_.get(), settings_);
   const uint64_t sample = uint64_t(acc.spp_total);
   std::atomic<uint64_t> rays{0}, nonfinite{0};
@@ -114,8 +113,9 @@ void PathtraceSolver::TraceRows(const SceneState& state, Accumulation& acc, int 
       // Pixel (x, y) counts rows from the bottom, as GL does.
       const glm::vec2 ndc((float(x) + rng.Uniform()) / float(w) * 2.0f - 1.0f,
                           (float(y) + rng.Uniform()) / float(camera.height) * 2.0f - 1.0f);
-      const glm::vec4 far = inv * glm::vec4(ndc, 0.5f, 1.0f);
-      const glm::vec3 dir = glm::normalize(glm::vec3(far) / far.w - camera.position);
+      // From the camera basis and tan(yfov / 2), not an inverted
+      // projection matrix (which lost precision at large scales).
+      const glm::vec3 dir = camera.RayDirection(ndc);
       const glm::vec3 li = integrator.Li(camera.position, dir, rng, stats);
       if (!(std::isfinite(li.r) && std::isfinite(li.g) && std::isfinite(li.b))) {
         ++bad;  // dropped and counted: never averaged into the image
