@@ -35,7 +35,8 @@ TEST(ImplicitVisibility, WhiteFurnaceConservesEnergy) {
   const BundledCopy scene("furnace.gltf");
   EncodedFrame frame;
   const FloatImage image =
-      RenderRequestExr(Request(scene.id(), {{"bounces", "12"}, {"bins_per_face", "8"}}, 32), &frame);
+      RenderRequestExr(Request(scene.id(), {{"bounces", "12"}, {"tolerance", "0"}, {"bins_per_face", "8"}}, 32),
+                       &frame);
   ASSERT_EQ(image.width, 32);
   EXPECT_EQ(image.non_finite(), 0u);
   // 5 %: the bound.
@@ -55,7 +56,8 @@ TEST(ImplicitVisibility, StiffFurnaceStaysFiniteAndMonotone) {
   for (const int bounces : {4, 16, 64}) {
     EncodedFrame frame;
     const FloatImage image = RenderRequestExr(
-        Request(scene.id(), {{"bounces", std::to_string(bounces)}, {"bins_per_face", "8"}}, 16,
+        Request(scene.id(),
+                {{"bounces", std::to_string(bounces)}, {"tolerance", "0"}, {"bins_per_face", "8"}}, 16,
                 {{1, GreyAlbedo(0.99f)}}),
         &frame);
     EXPECT_EQ(image.non_finite(), 0u);

@@ -49,8 +49,12 @@ SolverDescription AntiradianceSolver::Describe() {
   d.params = {
       // Even: the bins come in opposite pairs (directional_bins.h).
       {"bins", ParamType::kInt, "128", 32, 512, {}, "Directional bins per element (even)", 2},
-      {"iterations", ParamType::kInt, "4", 1, 64, {},
-       "Iterations per update (asymmetric: radiance steps, each after converged antiradiance)"},
+      {"iterations", ParamType::kInt, "32", 1, 64, {},
+       "Most iterations per update (asymmetric: radiance steps, each after converged "
+       "antiradiance): a safety cap; tolerance stops first"},
+      {"tolerance", ParamType::kFloat, "0.01", 0, 1, {},
+       "Stop iterating when an iteration changes the exitant intensities by less than this "
+       "fraction of the direct-light source (|dI_ex|_1 / |I_ex^(0)|_1; 0: run every iteration)"},
       {"scheme", ParamType::kEnum, "symmetric", 0, 0, {"symmetric", "asymmetric"},
        "Iteration scheme (Section 2.2); symmetric falls back to asymmetric when it diverges"},
       {"antiradiance_steps", ParamType::kInt, "16", 1, 64, {},
@@ -76,6 +80,7 @@ absl::StatusOr<std::unique_ptr<Solver>> AntiradianceSolver::Create(const ParamSe
   s.patch_size = float(params.GetFloat("patch_size"));
   s.surfels = params.GetString("elements") == "surfels";
   s.transport.iterations = params.GetInt("iterations");
+  s.transport.tolerance = params.GetFloat("tolerance");
   s.transport.scheme = params.GetString("scheme") == "asymmetric" ? Scheme::kAsymmetric : Scheme::kSymmetric;
   s.transport.antiradiance_steps = params.GetInt("antiradiance_steps");
   s.direct = DirectLightingFromParams(params);
@@ -324,7 +329,9 @@ SolverStats AntiradianceSolver::Stats() const {
       {"table_bytes", transport_ ? double(transport_->table_bytes()) : 0.0},
       {"spreading_table_bytes", double(bins_.table_bytes())},
       {"element_gpu_bytes", double(leaves_.size() * sizeof(ElementGpu))},
-      {"iterations", double(settings_.transport.iterations)},
+      {"iterations", double(result_.iterations)},
+      {"max_iterations", double(settings_.transport.iterations)},
+      {"cap_reached", result_.cap_reached ? 1.0 : 0.0},
       {"global_passes", double(result_.global_passes)},
       {"scheme_used", double(int(result_.scheme_used))},
       {"fallback", result_.fallback ? 1.0 : 0.0},

@@ -179,7 +179,9 @@ double Transport::RunScheme(Scheme scheme, const TransportSettings& s, const Sta
     result->residual.push_back(r);
     return r;
   };
+  result->iterations = 0;
   for (int it = 0; it < s.iterations; ++it) {
+    result->iterations = it + 1;
     if (scheme == Scheme::kAsymmetric) {
       // Eq. 14 with L^(i) frozen, then one step of Eq. 13.
       // The antiradiance steps run until A stops changing (at most
@@ -189,7 +191,9 @@ double Transport::RunScheme(Scheme scheme, const TransportSettings& s, const Sta
         if (!std::isfinite(r)) return std::nan("");
         if (r < s.antiradiance_tolerance) break;
       }
-      if (!std::isfinite(step(true))) return std::nan("");
+      const double r = step(true);
+      if (!std::isfinite(r)) return std::nan("");
+      if (r < s.tolerance) return r;  // converged
       continue;
     }
     // Symmetric: Eqs. 13 and 14 together.
@@ -200,7 +204,9 @@ double Transport::RunScheme(Scheme scheme, const TransportSettings& s, const Sta
         h[h.size() - 2] > h[h.size() - 3]) {
       return std::nan("");  // grew two iterations in a row
     }
+    if (r < s.tolerance) return r;  // converged
   }
+  result->cap_reached = true;  // every iteration ran without reaching the tolerance
   return result->residual.empty() ? 0.0 : result->residual.back();
 }
 
@@ -218,6 +224,7 @@ TransportResult Transport::Solve(const std::vector<glm::vec3>& direct_irradiance
     result.scheme_used = Scheme::kAsymmetric;
     result.symmetric_residual = std::move(result.residual);
     result.residual.clear();
+    result.cap_reached = false;
     Initialize(direct_irradiance, emitted);
     r = RunScheme(Scheme::kAsymmetric, settings, hook, &result, false);
   }

@@ -119,7 +119,8 @@ std::vector<float> Illumination::ReadIndirectLuminance() const {
   return lum;
 }
 
-Illumination::Result Illumination::Run(const DirectLighting& lighting, int bounces) {
+Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_bounces,
+                                       double tolerance) {
   Result result;
   if (leaf_count_ == 0) return result;
   // The first bounce's source: direct light (and environment) at the leaves.
@@ -138,7 +139,7 @@ Illumination::Result Illumination::Run(const DirectLighting& lighting, int bounc
   glClearNamedBufferData(e_indirect_.id(), GL_R32F, GL_RED, GL_FLOAT, &zero);
   std::vector<float> previous(size_t(leaf_count_), 0.0f);
   int in = 0;
-  for (int bounce = 1; bounce <= bounces; ++bounce) {
+  for (int bounce = 1; bounce <= max_bounces; ++bounce) {
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, leaves_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, e_direct_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, e_env_.id());
@@ -153,7 +154,7 @@ Illumination::Result Illumination::Run(const DirectLighting& lighting, int bounc
     glMemoryBarrier(kBarrier);
     in = 1 - in;
     Pull(radiance_[in].id());
-    // Residual of this bounce (the change it made), for stats.
+    // Residual of this bounce (the change it made): the stopping test.
     const std::vector<float> current = ReadIndirectLuminance();
     double change = 0.0, total = 0.0;
     for (size_t i = 0; i < current.size(); ++i) {
@@ -164,7 +165,11 @@ Illumination::Result Illumination::Run(const DirectLighting& lighting, int bounc
     result.residual = total > 0.0 ? change / total : 0.0;
     result.bounces = bounce;
     previous = current;
+    // The first bounce's residual is 1 by definition (from nothing).
+    if (bounce >= 2 && result.residual < tolerance) return result;
   }
+  // Bounce 1 alone cannot test convergence; a cap of 1 is the user's choice.
+  result.cap_reached = max_bounces >= 2 && !(result.residual < tolerance);
   return result;
 }
 

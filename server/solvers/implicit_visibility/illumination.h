@@ -31,10 +31,13 @@ class Illumination {
     int bounces = 0;
     double residual = 0.0;   // sum |dE| / sum |E| of the last bounce (luminance)
     bool monotone = true;    // no leaf's indirect luminance fell between bounces
+    bool cap_reached = false;  // stopped by max_bounces with residual >= tolerance
   };
-  // Direct light at the leaves, then `bounces` gathers with pull-ups.
-  // Leaves the indirect irradiance per leaf in indirect().
-  Result Run(const DirectLighting& lighting, int bounces);
+  // Direct light at the leaves, then gathers with pull-ups until a
+  // bounce's residual is below `tolerance` (from the second bounce on; 0:
+  // never) or `max_bounces` ran. Leaves the indirect irradiance per leaf in
+  // indirect().
+  Result Run(const DirectLighting& lighting, int max_bounces, double tolerance);
 
   GLuint indirect() const { return e_indirect_.id(); }
   uint64_t gpu_bytes() const { return gpu_bytes_; }

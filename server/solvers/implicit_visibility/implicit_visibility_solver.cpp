@@ -18,7 +18,11 @@ SolverDescription ImplicitVisibilitySolver::Describe() {
   d.params = {
       {"bins_per_face", ParamType::kInt, "12", 2, 32, {},
        "N: each element has 6 x N x N world-aligned cube-map bins (paper: 8, 12, 16)"},
-      {"bounces", ParamType::kInt, "2", 1, 64, {}, "Indirect bounces (gather + pull per bounce)"},
+      {"bounces", ParamType::kInt, "32", 1, 64, {},
+       "Most indirect bounces (gather + pull per bounce): a safety cap; tolerance stops first"},
+      {"tolerance", ParamType::kFloat, "0.01", 0, 1, {},
+       "Stop bouncing when a bounce changes the leaves' indirect light by less than this "
+       "fraction (sum |dE| / sum |E|; 0: run every bounce)"},
       {"linking", ParamType::kEnum, "hierarchical", 0, 0, {"hierarchical", "brute_force"},
        "hierarchical (Section 4.2) or every pair of leaves (Section 3.1, for comparison)"},
   };
@@ -35,6 +39,7 @@ absl::StatusOr<std::unique_ptr<Solver>> ImplicitVisibilitySolver::Create(const P
   ImplicitVisibilitySettings s;
   s.bins_per_face = params.GetInt("bins_per_face");
   s.bounces = params.GetInt("bounces");
+  s.tolerance = params.GetFloat("tolerance");
   s.linking = params.GetString("linking") == "brute_force" ? hierarchy::Linking::kBruteForce
                                                             : hierarchy::Linking::kHierarchical;
   s.direct = DirectLightingFromParams(params);
@@ -165,7 +170,7 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
     illumination_.UploadElements(scene_.elements(), scene_.albedo());
   }
   if (environment) UpdateEnvironment(ctx.state);
-  result_ = illumination_.Run(lighting_, settings_.bounces);
+  result_ = illumination_.Run(lighting_, settings_.bounces, settings_.tolerance);
   emission_.Solved(ctx.state);
   indirect_scale_ = 1.0f;
   return absl::OkStatus();
@@ -197,6 +202,7 @@ SolverStats ImplicitVisibilitySolver::Stats() const {
           {"link_gpu_bytes", double(illumination_.gpu_bytes())},
           {"bounces_run", double(result_.bounces)},
           {"residual", result_.residual},
+          {"cap_reached", result_.cap_reached ? 1.0 : 0.0},
           {"monotone", result_.monotone ? 1.0 : 0.0},
           {"area_samples", double(lighting_.area_samples().size())},
           {"shadow_map_bytes", double(lighting_.gpu_bytes())}};

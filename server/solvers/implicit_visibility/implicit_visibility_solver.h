@@ -31,7 +31,8 @@ namespace gistream {
 
 struct ImplicitVisibilitySettings {
   int bins_per_face = 12;  // N: 6 x N x N bins per element
-  int bounces = 2;         // indirect bounces
+  int bounces = 32;        // most indirect bounces (safety cap)
+  double tolerance = 0.01; // stop when a bounce's residual is below this
   hierarchy::Linking linking = hierarchy::Linking::kHierarchical;
   DirectLightingSettings direct;
 };

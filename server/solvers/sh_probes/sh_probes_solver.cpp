@@ -34,7 +34,8 @@ SolverDescription ShProbesSolver::Describe() {
        "Metres between probes; > 0 overrides grid (each axis gets ceil(extent / spacing))"},
       {"face_size", ParamType::kInt, "16", 2, 64, {}, "Cube-map face resolution per probe"},
       {"bands", ParamType::kInt, "3", 1, 3, {}, "SH bands l < bands (1, 4 or 9 coefficients)"},
-      {"bounces", ParamType::kInt, "4", 1, 64, {}, "Most indirect bounces per update"},
+      {"bounces", ParamType::kInt, "32", 1, 64, {},
+       "Most indirect bounces per update: a safety cap; tolerance stops first"},
       {"tolerance", ParamType::kFloat, "0.01", 0, 1, {},
        "Stop when a bounce changes the probes' L_00 by less than this fraction (0: never)"},
       {"tail_estimate", ParamType::kBool, "false", 0, 0, {},
@@ -173,6 +174,8 @@ absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
     bounce_change_ = sum > 0.0 ? change / sum : 0.0;
     if (bounce >= 2 && bounce_change_ < settings_.tolerance) break;
   }
+  // Stopped by the count, not by the tolerance (a count of 1 cannot test).
+  cap_reached_ = bounces_run_ >= 2 && !(bounce_change_ < settings_.tolerance);
   if (bounces_run_ == 1) ctx.timer.Skip("interpolate");
 
   if (settings_.tail_estimate) {
@@ -315,6 +318,8 @@ SolverStats ShProbesSolver::Stats() const {
           {"atlas_texels", double(layout_.texels())},
           {"bounces_run", double(bounces_run_)},
           {"bounce_change", bounce_change_},
+          {"residual", bounce_change_},
+          {"cap_reached", cap_reached_ ? 1.0 : 0.0},
           {"tail_ratio", tail_ratio_},
           {"tail_applied", tail_applied_ ? 1.0 : 0.0},
           {"tail_ratio_spread", tail_spread_},

@@ -22,7 +22,7 @@ namespace gistream {
 struct ShProbeSettings {
   ProbeGridSettings grid;
   int bands = 3;
-  int bounces = 4;
+  int bounces = 32;
   double tolerance = 0.01;
   bool tail_estimate = false;
   bool indirect_shadows = true;
@@ -74,6 +74,7 @@ class ShProbesSolver final : public Solver {
   int bounces_run_ = 0;
   int invalid_probes_ = 0;
   double bounce_change_ = 0.0;
+  bool cap_reached_ = false;
   double tail_ratio_ = 0.0;
   double tail_spread_ = 0.0;
   bool tail_applied_ = false;
