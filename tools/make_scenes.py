@@ -228,11 +228,12 @@ CORNELL_LIGHT_T = (0.278, 0.5483, 0.2795)
 CORNELL_LIGHT_HALF = (0.065, 0.0525)
 
 
-def cornell_box(out, walls_n=24, blocks_n=6, scene_name="cornell_box"):
+def cornell_box(out, walls_n=24, blocks_n=6, scene_name="cornell_box", light_n=2):
     """Cornell University Program of Computer Graphics "Cornell Box Data" (mm -> m).
 
-    walls_n / blocks_n: quads per wall / block face edge (tools/make_tessellations.py
-    writes other tessellations of the same box under other names)."""
+    walls_n / blocks_n / light_n: quads per wall / block face / light edge
+    (tools/make_tessellations.py writes other tessellations of the same box under
+    other names; cornell_box_coarse is the one-quad-per-face version)."""
     g = Gltf(scene_name)
     white = g.material("white", (0.725, 0.71, 0.68))
     red = g.material("red", (0.63, 0.065, 0.05))
@@ -274,11 +275,18 @@ def cornell_box(out, walls_n=24, blocks_n=6, scene_name="cornell_box"):
         g.node(block, m, white)
 
     hx, hz = CORNELL_LIGHT_HALF   # local coordinates around the node origin, facing down
-    g.node("light", Mesh().quad((-hx, 0, -hz), (hx, 0, -hz), (hx, 0, hz), (-hx, 0, hz), 2, 2,
-                                toward=(0, -1, 0)), lamp, translation=CORNELL_LIGHT_T)
+    g.node("light", Mesh().quad((-hx, 0, -hz), (hx, 0, -hz), (hx, 0, hz), (-hx, 0, hz), light_n,
+                                light_n, toward=(0, -1, 0)), lamp, translation=CORNELL_LIGHT_T)
     # Published camera: (278, 273, -800) mm looking along +Z, 35 mm lens, 25 mm film.
     g.camera("camera", (0.278, 0.273, -0.800), (0.0, 1.0, 0.0, 0.0), math.radians(39.3), 0.01)
     g.write(os.path.join(out, scene_name + ".gltf"))
+
+
+def cornell_box_coarse(out):
+    """The same box with one quad per wall, block face and light: 64 vertices and
+    32 triangles, as the common OBJ versions of the Cornell box are (a test of
+    coarse meshes for the vertex-based solvers)."""
+    cornell_box(out, 1, 1, "cornell_box_coarse", light_n=1)
 
 
 def indirect_room(out):
@@ -446,7 +454,8 @@ def main():
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(
         os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scenes")
     os.makedirs(out, exist_ok=True)
-    for make in (cornell_box, indirect_room, furnace, dynamic_block, cornell_orbit):
+    for make in (cornell_box, cornell_box_coarse, indirect_room, furnace, dynamic_block,
+                 cornell_orbit):
         make(out)
 
 

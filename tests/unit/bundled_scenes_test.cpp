@@ -38,8 +38,25 @@ TEST_P(BundledScene, Imports) {
 }
 
 INSTANTIATE_TEST_SUITE_P(All, BundledScene,
-                         ::testing::Values("cornell_box", "indirect_room", "furnace",
-                                           "dynamic_block"));
+                         ::testing::Values("cornell_box", "cornell_box_coarse", "indirect_room",
+                                           "furnace", "dynamic_block"));
+
+TEST(BundledScenes, CoarseCornellBoxIsTheSameBoxInOneQuadPerFace) {
+  // 64 vertices like the common OBJ versions; the same measured corners,
+  // nodes and materials as cornell_box.
+  auto coarse = ImportSceneByName(kSceneDir, "cornell_box_coarse", {});
+  auto fine = ImportSceneByName(kSceneDir, "cornell_box", {});
+  ASSERT_TRUE(coarse.ok()) << coarse.status();
+  ASSERT_TRUE(fine.ok()) << fine.status();
+  EXPECT_EQ(coarse->vertex_count, 64u);
+  EXPECT_EQ(coarse->triangle_count, 32u);
+  EXPECT_EQ(NodeNames(*coarse), NodeNames(*fine));
+  EXPECT_EQ(coarse->materials.size(), fine->materials.size());
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(coarse->bounds.min[k], fine->bounds.min[k], 1e-6f);
+    EXPECT_NEAR(coarse->bounds.max[k], fine->bounds.max[k], 1e-6f);
+  }
+}
 
 TEST(BundledScenes, CornellBoxIsLitByItsCeilingQuadOnly) {
   auto scene = ImportSceneByName(kSceneDir, "cornell_box", {});
