@@ -58,7 +58,8 @@ const std::vector<FlagSpec> kSceneFlags = {
     {"scene"}, {"environment"}, {"environment-intensity"}, {"keep-scene", false}};
 const std::vector<FlagSpec> kSolverFlags = {{"solver"}, {"param", true, true}};
 const std::vector<FlagSpec> kViewFlags = {
-    {"size"}, {"format"}, {"quality"}, {"exposure"}, {"camera-eye"}, {"camera-target"}, {"yfov"}};
+    {"size"}, {"format"}, {"quality"}, {"exposure"}, {"camera-eye"}, {"camera-target"}, {"yfov"},
+    {"bitrate"}, {"crf"}, {"key-interval"}, {"send-unchanged", false}};
 
 std::vector<FlagSpec> Concat(std::initializer_list<const std::vector<FlagSpec>*> groups) {
   std::vector<FlagSpec> all;
@@ -120,6 +121,19 @@ absl::Status ApplyView(const ParsedFlags& flags, ViewOptions& view) {
     GS_ASSIGN_OR_RETURN(float exposure, ParseFloat("--exposure", *value));
     view.encoding.set_exposure(exposure);
   }
+  if (auto value = flags.Get("bitrate")) {
+    GS_ASSIGN_OR_RETURN(int64_t kbps, ParseInt("--bitrate", *value, 1, 1'000'000));
+    view.encoding.set_bitrate_kbps(static_cast<uint32_t>(kbps));
+  }
+  if (auto value = flags.Get("crf")) {
+    GS_ASSIGN_OR_RETURN(int64_t crf, ParseInt("--crf", *value, 1, 51));
+    view.encoding.set_crf(static_cast<uint32_t>(crf));
+  }
+  if (auto value = flags.Get("key-interval")) {
+    GS_ASSIGN_OR_RETURN(int64_t interval, ParseInt("--key-interval", *value, 1, 100'000));
+    view.encoding.set_key_frame_interval(static_cast<uint32_t>(interval));
+  }
+  if (flags.Has("send-unchanged")) view.encoding.set_send_unchanged(true);
   const auto eye = flags.Get("camera-eye");
   const auto target = flags.Get("camera-target");
   if (eye.has_value() != target.has_value()) {

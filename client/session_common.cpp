@@ -4,6 +4,7 @@
 #include <absl/strings/str_cat.h>
 
 #include "commands.h"
+#include "image_format.h"
 #include "util/log.h"
 
 namespace gistream::client {
@@ -42,6 +43,10 @@ absl::Status EndSession(SessionStream& stream) {
 
 std::string FormatWrittenFrames(const FrameWriter& writer, uint64_t count, v1::ImageFormat format) {
   if (count == 0) return absl::StrCat("wrote no frames to ", writer.dir().string());
+  if (IsVideoFormat(format)) {
+    return absl::StrCat("wrote ", count, count == 1 ? " frame" : " frames", " to ",
+                        writer.PathFor(0, format).string());
+  }
   return absl::StrCat(
       "wrote ", count, count == 1 ? " frame" : " frames", " to ", writer.dir().string(), " (",
       writer.PathFor(0, format).filename().string(),

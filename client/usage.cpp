@@ -38,7 +38,7 @@ and the parameter schema (name, type, default, range or choices, meaning).
 constexpr absl::string_view kRender =
     R"(usage: gistream [--server ADDR] render --scene NAME_OR_FILE --out FILE
                 [--solver NAME] [--param KEY=VALUE]... [--size WxH]
-                [--format jpeg|png|exr] [--quality Q] [--exposure EV]
+                [--format jpeg|png|exr|h264|hevc|av1] [--quality Q] [--exposure EV]
                 [--camera-eye X,Y,Z --camera-target X,Y,Z] [--yfov DEG]
                 [--environment NAME_OR_FILE] [--environment-intensity X]
                 [--keep-scene]
@@ -52,10 +52,17 @@ a one-line summary and the per-stage timings.
   --solver NAME          GI solver (default direct; see `gistream solvers`)
   --param KEY=VALUE      solver parameter; repeatable
   --size WxH             image size (default 320x240)
-  --format F             jpeg, png or exr (linear HDR); default: from the
-                         --out extension, else jpeg
+  --format F             jpeg, png, exr (linear HDR), or video: h264, hevc,
+                         av1 (one key frame; a raw stream ffmpeg reads);
+                         default: from the --out extension, else jpeg
   --quality Q            JPEG quality 1..100 (server default 90)
-  --exposure EV          stops added before tone mapping (jpeg, png)
+  --exposure EV          stops added before tone mapping (8-bit formats)
+  --crf N                video quality 1..51, x264 scale (server default 23)
+  --bitrate KBPS         video target bitrate in kbit/s (instead of --crf)
+  --key-interval N       video key frame at least every N frames (default 120)
+  --send-unchanged       re-send frames whose picture did not change (by
+                         default they come without an image; continuous
+                         sessions send them only once a second)
   --camera-eye X,Y,Z     camera position; needs --camera-target
   --camera-target X,Y,Z  point the camera looks at (up is +Y)
   --yfov DEG             vertical field of view in degrees
@@ -68,11 +75,15 @@ a one-line summary and the per-stage timings.
 
 constexpr absl::string_view kStream =
     R"(usage: gistream [--server ADDR] stream [--scene NAME_OR_FILE] [--solver NAME]
-                [--param KEY=VALUE]... [--size WxH] [--format jpeg|png|exr]
+                [--param KEY=VALUE]... [--size WxH] [--format F]
                 [--frames N] [--fps F] [--out DIR] [view and scene options]
 
 Opens an interactive session with continuous pacing and saves every frame it
-receives as DIR/frame_00000.jpg, frame_00001.jpg, ... (extension by format).
+receives as DIR/frame_00000.jpg, frame_00001.jpg, ... (extension by format;
+video formats: one raw stream DIR/stream.h264, .hevc or .obu). A still
+picture is not re-sent: the server sends a keep-alive frame about once a
+second instead, saved as a copy of the last picture (--send-unchanged
+turns this off).
 At the end prints a per-stage timing table (runs, skipped, CPU and GPU
 median/p95 in ms), the frame time median/p95, the achieved frame rate and the
 frames the server dropped. Ctrl-C ends the session cleanly and prints the
@@ -82,12 +93,13 @@ table; a second Ctrl-C cancels it.
   --solver NAME          default direct
   --param KEY=VALUE      solver parameter; repeatable
   --size WxH             default 320x240
-  --format F             jpeg (default), png or exr
+  --format F             jpeg (default), png, exr, h264, hevc or av1
   --frames N             frames to save (default 30; 0: until Ctrl-C)
   --fps F                frame-rate cap asked of the server (default 30;
                          0: the server's default cap)
   --out DIR              output directory (default out/)
-  also: --quality, --exposure, --camera-eye, --camera-target, --yfov,
+  also: --quality, --exposure, --crf, --bitrate, --key-interval,
+        --send-unchanged, --camera-eye, --camera-target, --yfov,
         --environment, --environment-intensity, --keep-scene (see render)
 )";
 

@@ -8,7 +8,7 @@ PACKAGES=(
   libgrpc++-dev libprotobuf-dev protobuf-compiler protobuf-compiler-grpc libabsl-dev
   libegl-dev libgl-dev libopengl-dev libegl-mesa0 libgl1-mesa-dri
   libglm-dev libopenimageio-dev openimageio-tools libopenexr-dev libtinygltf-dev nlohmann-json3-dev
-  libjpeg62-turbo-dev libpng-dev libembree-dev prometheus-cpp-dev
+  libjpeg62-turbo-dev libpng-dev libembree-dev prometheus-cpp-dev libavcodec-dev libavutil-dev
   libgtest-dev libgmock-dev
 )
 

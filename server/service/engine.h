@@ -31,12 +31,26 @@ namespace gistream {
 using SceneId = std::string;
 using SessionId = std::string;
 
-enum class ImageFormat { kJpeg, kPng, kExr };
+// kH264/kHevc: Annex-B access units; kAv1: low-overhead OBUs; one per frame
+// from a per-session encoder (service/frame_encoder.h).
+enum class ImageFormat { kJpeg, kPng, kExr, kH264, kHevc, kAv1 };
 
 struct EncodingOptions {
   ImageFormat format = ImageFormat::kJpeg;
   int quality = 90;       // JPEG 1..100
   float exposure = 0.0f;  // EV stops before tone mapping (8-bit formats)
+  // Video formats: target bitrate in kbit/s (0: constant quality at `crf`,
+  // x264's 1..51 scale), a key frame at least every `key_frame_interval`
+  // encoded frames.
+  uint32_t bitrate_kbps = 0;
+  int crf = 23;
+  uint32_t key_frame_interval = 120;
+  // libavcodec encoders to try, in order (tests pin "libx264"); empty:
+  // NVENC first, then the software encoder.
+  std::vector<std::string> video_encoders;
+  // Send frames whose pixels did not change as full frames (default: they
+  // go out without an image, see EncodedFrame::unchanged).
+  bool send_unchanged = false;
 };
 
 struct EncodedFrame {
@@ -55,6 +69,11 @@ struct EncodedFrame {
   std::string solver;
   double total_ms = 0.0;
   uint32_t dropped_frames = 0;  // filled in by the sink that dropped them
+  bool key_frame = true;  // decodable on its own (every JPEG/PNG/EXR frame)
+  // The pixels equal the last frame's: `image` is empty and the client keeps
+  // showing what it has. A continuous session sends such frames only as
+  // keep-alives (about once a second); an on-request one answers with them.
+  bool unchanged = false;
 };
 
 // ---------------------------------------------------------------- scenes
@@ -270,6 +289,11 @@ class Engine {
   virtual absl::Status PushUpdate(const SessionId& id, Update update) = 0;
   // On-request pacing: render `count` more frames.
   virtual absl::Status RequestFrames(const SessionId& id, uint32_t count) = 0;
+  // The session's next frame is a key frame with its full image, changed or
+  // not (a client that joins a stream or lost frames).
+  virtual absl::Status RequestKeyFrame(const SessionId& id) {
+    return absl::UnimplementedError(absl::StrCat("session '", id, "': key frames on request"));
+  }
   // Frees the session; its sink receives nothing more once the render
   // thread has seen the close (see FrameSink).
   virtual void CloseSession(const SessionId& id) = 0;

@@ -8,6 +8,7 @@
 #include <iterator>
 #include <set>
 #include <thread>
+#include <utility>
 
 #include "encode/encode.h"
 #include "scene/gltf_import.h"
@@ -387,6 +388,7 @@ absl::Status EngineImpl::ValidateConfig(const SessionConfig& c) const {
     return absl::InvalidArgumentError(
         absl::StrCat("encoding.exposure: ", c.encoding.exposure, " is out of range [-30, 30]"));
   }
+  GS_RETURN_IF_ERROR(ValidateEncoding(c.encoding));
   if (!std::isfinite(c.frame_budget_ms) || c.frame_budget_ms < 0.0 ||
       c.frame_budget_ms > kMaxFrameBudgetMs) {
     return absl::InvalidArgumentError(absl::StrCat("frame_budget_ms: ", c.frame_budget_ms,
@@ -473,6 +475,20 @@ absl::Status EngineImpl::RequestFrames(const SessionId& id, uint32_t count) {
       return absl::NotFoundError(absl::StrCat("session: no session '", Echo(id), "'"));
     }
     it->second->requested += std::max<uint32_t>(count, 1);
+  }
+  render_thread_->Wake();
+  return absl::OkStatus();
+}
+
+absl::Status EngineImpl::RequestKeyFrame(const SessionId& id) {
+  {
+    std::lock_guard lock(mutex_);
+    if (shut_down_) return Unavailable();
+    auto it = sessions_.find(id);
+    if (it == sessions_.end()) {
+      return absl::NotFoundError(absl::StrCat("session: no session '", Echo(id), "'"));
+    }
+    it->second->key_frame_requested = true;
   }
   render_thread_->Wake();
   return absl::OkStatus();
@@ -621,6 +637,13 @@ void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
   // A view's first frame allocated its G-buffer: count it before the client
   // sees the frame.
   RefreshMemoryStats(/*force=*/(*frame)->frame_number == 1);
+  // A continuous session's unchanged frame is sent only as a keep-alive.
+  const auto now = Clock::now();
+  if ((*frame)->unchanged && session.config.pacing == Pacing::kContinuous &&
+      !view.encoder.KeepAliveDue(now)) {
+    return;
+  }
+  view.encoder.MarkSent(now);
   session.sink->OnFrame(*std::move(frame));
 }
 
@@ -731,14 +754,33 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
         "; the frame is not sent"));
   }
   {
-    gl::StageTimer::Scope stage(timer_, "encode", /*cpu_stage=*/true);
-    const int w = int(view.gbuffer.width()), h = int(view.gbuffer.height());
-    absl::StatusOr<std::string> bytes =
-        enc.format == ImageFormat::kExr   ? EncodeExr(hdr, w, h)
-        : enc.format == ImageFormat::kPng ? EncodePng(ldr, w, h)
-                                          : EncodeJpeg(ldr, w, h, enc.quality);
-    if (!bytes.ok()) return bytes.status();
-    frame->image = *std::move(bytes);
+    // Pixels equal to the last frame's are not encoded again (the frame
+    // says `unchanged`), unless a key frame was asked for.
+    bool key_frame = false;
+    {
+      std::lock_guard lock(mutex_);
+      key_frame = std::exchange(session.key_frame_requested, false);
+    }
+    const std::span<const uint8_t> pixels =
+        enc.format == ImageFormat::kExr
+            ? std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(hdr.data()),
+                                       hdr.size() * sizeof(float))
+            : std::span<const uint8_t>(ldr);
+    const bool same = !enc.send_unchanged && view.encoder.SameAsLast(pixels);
+    frame->unchanged = same && !key_frame;
+    if (frame->unchanged) {
+      timer_.Skip("encode");
+      frame->key_frame = false;
+    } else {
+      gl::StageTimer::Scope stage(timer_, "encode", /*cpu_stage=*/true);
+      const int w = int(view.gbuffer.width()), h = int(view.gbuffer.height());
+      const float fps = session.config.max_fps > 0.0f ? session.config.max_fps
+                                                      : options_.default_max_fps;
+      GS_ASSIGN_OR_RETURN(EncodedImage image,
+                          view.encoder.Encode(enc, fps, ldr, hdr, w, h, key_frame));
+      frame->image = std::move(image.bytes);
+      frame->key_frame = image.key_frame;
+    }
   }
   frame->timings = std::move(view.carry);
   view.carry.clear();

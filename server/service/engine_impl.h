@@ -19,6 +19,7 @@
 #include "scene/gpu_scene.h"
 #include "scene/scene_state.h"
 #include "service/engine.h"
+#include "service/frame_encoder.h"
 #include "service/frame_rate.h"
 #include "service/render_thread.h"
 #include "solvers/solver.h"
@@ -40,6 +41,7 @@ class EngineImpl final : public Engine {
                                               std::shared_ptr<FrameSink> sink) override;
   absl::Status PushUpdate(const SessionId& id, Update update) override;
   absl::Status RequestFrames(const SessionId& id, uint32_t count) override;
+  absl::Status RequestKeyFrame(const SessionId& id) override;
   void CloseSession(const SessionId& id) override;
   absl::StatusOr<EncodedFrame> Render(const RenderRequest& request) override;
   void Shutdown() override;
@@ -64,6 +66,7 @@ class EngineImpl final : public Engine {
     // mutex-guarded:
     std::deque<Update> pending;
     uint32_t requested = 0;
+    bool key_frame_requested = false;
     bool closed = false;
     // For stats(), updated after each frame (mutex-guarded).
     uint64_t frames = 0;
@@ -102,6 +105,7 @@ class EngineImpl final : public Engine {
     double carry_ms = 0.0;
     std::vector<std::string> plan;  // the solver's plan, over the frame's slices
     RenderThread::Clock::time_point next_due{};
+    FrameEncoder encoder;  // image/video encoding, unchanged-frame detection
   };
 
   absl::StatusOr<std::shared_ptr<SessionRecord>> CreateSession(const SessionConfig& config,

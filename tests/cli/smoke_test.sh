@@ -45,6 +45,10 @@ $C render --scene "$SCENES/furnace.gltf" --size 32x32 --format exr --out "$TMP/f
 $C stream --frames 3 --size 48x32 --param area_samples=4 --out "$TMP/frames" >"$TMP/stream.log"
 [ "$(ls "$TMP/frames" | wc -l)" -eq 3 ] || { echo "FAIL: stream wrote $(ls "$TMP/frames" | wc -l) frames"; exit 1; }
 grep -q "shadow_maps" "$TMP/stream.log" || { echo "FAIL: stream printed no stage table"; exit 1; }
+# H.264: one raw Annex-B stream (starts with a start code and an SPS).
+$C stream --frames 2 --size 48x32 --param area_samples=4 --format h264 --out "$TMP/video" >/dev/null
+[ "$(head -c 5 "$TMP/video/stream.h264" | od -An -tx1 | tr -d ' \n')" = "0000000167" ] ||
+  { echo "FAIL: stream --format h264 did not write an Annex-B stream"; exit 1; }
 
 # eval end to end on a tiny spec: outputs written, every row finite.
 cat >"$TMP/spec.json" <<'JSON'

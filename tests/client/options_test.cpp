@@ -127,7 +127,7 @@ TEST(CommandLine, UsageErrors) {
   EXPECT_EQ(UsageError({"render", "--scene", "a", "--out", "b", "--size", "0x10"}),
             "--size: 0x10 is out of range [1, 16384] per side");
   EXPECT_EQ(UsageError({"render", "--scene", "a", "--out", "b", "--format", "gif"}),
-            "--format: unknown image format \"gif\" (expected jpeg, png or exr)");
+            "--format: unknown image format \"gif\" (expected jpeg, png, exr, h264, hevc or av1)");
   EXPECT_EQ(UsageError({"render", "--scene", "a", "--out", "b", "--param", "noequals"}),
             "--param: \"noequals\" is not key=value");
   EXPECT_EQ(

@@ -112,7 +112,8 @@ void SessionReactor::OnReadDone(bool ok) {
     }
     case pb::SessionRequest::kRequestFrame: {
       const uint32_t count = request_.request_frame().count() == 0 ? 1 : request_.request_frame().count();
-      status = engine_.RequestFrames(id, count);
+      if (request_.request_frame().key_frame()) status = engine_.RequestKeyFrame(id);
+      if (status.ok()) status = engine_.RequestFrames(id, count);
       if (status.ok()) frames_requested = count;
       break;
     }
@@ -252,12 +253,35 @@ void SessionReactor::DeliverFrame(std::shared_ptr<const EncodedFrame> frame) {
     return;
   }
   if (pacing_ == Pacing::kOnRequest) --frames_owed_;
+  // A video frame that never reaches the client breaks the chain of frames
+  // predicted from it: drop delta frames until a key frame, and ask for one.
+  const auto breaks_chain = [](const EncodedFrame& f) {
+    return !f.image.empty() && (f.format == ImageFormat::kH264 ||
+                                f.format == ImageFormat::kHevc || f.format == ImageFormat::kAv1);
+  };
+  bool request_key_frame = false;
   if (pending_frame_ != nullptr) {
     ++dropped_;
     sink_->dropped_.fetch_add(1);
     observer().OnFramesDropped(1);
+    if (breaks_chain(*pending_frame_) && !awaiting_key_frame_) {
+      awaiting_key_frame_ = true;
+      request_key_frame = true;
+    }
+    pending_frame_.reset();
   }
-  pending_frame_ = std::move(frame);
+  if (awaiting_key_frame_ && breaks_chain(*frame) && !frame->key_frame) {
+    ++dropped_;
+    sink_->dropped_.fetch_add(1);
+    observer().OnFramesDropped(1);
+  } else {
+    if (frame->key_frame && !frame->image.empty()) awaiting_key_frame_ = false;
+    pending_frame_ = std::move(frame);
+  }
+  if (request_key_frame) {
+    // Not on the render thread (this runs inside the engine's sink call).
+    (void)pool_.Submit([&engine = engine_, id = session_id_] { (void)engine.RequestKeyFrame(id); });
+  }
   PumpLocked();
 }
 

@@ -9,7 +9,8 @@
 // reading, so a client that floods bad updates without reading is slowed,
 // not buffered. Frames are never queued: the newest unsent frame replaces an
 // older one and the count of replaced frames rides on the next frame sent
-// (Frame.dropped_frames).
+// (Frame.dropped_frames). For video formats a dropped frame is followed by
+// a key-frame request, and delta frames are dropped until the key frame.
 //
 // The client half-closing the stream ends the session once what is queued
 // is written (on-request sessions also wait for the frames they asked for);
@@ -132,6 +133,7 @@ class SessionReactor final
   std::deque<::gistream::v1::SessionEvent> events_;
   std::shared_ptr<const EncodedFrame> pending_frame_;
   uint32_t dropped_ = 0;  // frames replaced since the last frame written
+  bool awaiting_key_frame_ = false;  // a video frame was dropped: only a key frame may follow
   std::optional<grpc::Status> finish_status_;
   bool flush_before_finish_ = false;
   bool finish_called_ = false;

@@ -252,6 +252,9 @@ absl::StatusOr<EncodingOptions> EncodingFromProto(const pb::Encoding& encoding,
     case pb::IMAGE_FORMAT_JPEG: out.format = ImageFormat::kJpeg; break;
     case pb::IMAGE_FORMAT_PNG: out.format = ImageFormat::kPng; break;
     case pb::IMAGE_FORMAT_EXR: out.format = ImageFormat::kExr; break;
+    case pb::IMAGE_FORMAT_H264: out.format = ImageFormat::kH264; break;
+    case pb::IMAGE_FORMAT_HEVC: out.format = ImageFormat::kHevc; break;
+    case pb::IMAGE_FORMAT_AV1: out.format = ImageFormat::kAv1; break;
     default:
       return FieldError(absl::StrCat(field, ".format"),
                         absl::StrCat("unknown image format ", static_cast<int>(encoding.format())));
@@ -262,6 +265,14 @@ absl::StatusOr<EncodingOptions> EncodingFromProto(const pb::Encoding& encoding,
   }
   out.quality = encoding.quality() == 0 ? 90 : static_cast<int>(encoding.quality());
   out.exposure = encoding.exposure();
+  if (encoding.crf() > 51) {
+    return FieldError(absl::StrCat(field, ".crf"),
+                      absl::StrCat("expected 1..51 (0 means 23), got ", encoding.crf()));
+  }
+  out.crf = encoding.crf() == 0 ? 23 : static_cast<int>(encoding.crf());
+  out.bitrate_kbps = encoding.bitrate_kbps();
+  out.key_frame_interval = encoding.key_frame_interval() == 0 ? 120 : encoding.key_frame_interval();
+  out.send_unchanged = encoding.send_unchanged();
   return out;
 }
 
@@ -369,6 +380,9 @@ pb::ImageFormat ToProto(ImageFormat format) {
     case ImageFormat::kJpeg: return pb::IMAGE_FORMAT_JPEG;
     case ImageFormat::kPng: return pb::IMAGE_FORMAT_PNG;
     case ImageFormat::kExr: return pb::IMAGE_FORMAT_EXR;
+    case ImageFormat::kH264: return pb::IMAGE_FORMAT_H264;
+    case ImageFormat::kHevc: return pb::IMAGE_FORMAT_HEVC;
+    case ImageFormat::kAv1: return pb::IMAGE_FORMAT_AV1;
   }
   return pb::IMAGE_FORMAT_UNSPECIFIED;
 }
@@ -466,6 +480,8 @@ void FrameToProto(const EncodedFrame& frame, pb::Frame* out) {
   out->set_dropped_frames(frame.dropped_frames);
   out->set_solver(frame.solver);
   out->set_total_ms(frame.total_ms);
+  out->set_key_frame(frame.key_frame);
+  out->set_unchanged(frame.unchanged);
 }
 
 void SessionOpenedToProto(const SessionOpenInfo& info, pb::SessionOpened* out) {

@@ -1,0 +1,66 @@
+// A session view's frame encoding: JPEG/PNG/EXR per frame, or one video
+// encoder (H.264/HEVC/AV1, encode/video/) that lives as long as the view and
+// is reopened when the frame size changes. It also decides what is not
+// worth sending: a frame whose pixels (the readback, before encoding) equal
+// the previous frame's is "unchanged" and carries no image; a continuous
+// session sends such frames only as keep-alives, once per kKeepAlivePeriod.
+// Render thread only.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "encode/video/video_encoder.h"
+#include "service/engine.h"
+#include "util/status.h"
+
+namespace gistream {
+
+inline constexpr std::chrono::milliseconds kKeepAlivePeriod{1000};
+
+bool IsVideoFormat(ImageFormat format);
+
+// Checks the fields of `encoding` the translation layer cannot: ranges and
+// whether this server has an encoder for the format (FAILED_PRECONDITION
+// naming encoding.format when it has none).
+absl::Status ValidateEncoding(const EncodingOptions& encoding);
+
+struct EncodedImage {
+  std::string bytes;
+  bool key_frame = true;  // every JPEG/PNG/EXR frame is one
+};
+
+class FrameEncoder {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  // True when `pixels` equal the last frame's pixels (same size); keeps a
+  // copy of them either way.
+  bool SameAsLast(std::span<const uint8_t> pixels);
+
+  // ldr: RGBA8 for JPEG/PNG/video; hdr: RGBA float for EXR. `key_frame`
+  // forces a video key frame. `fps` sizes the video rate control.
+  absl::StatusOr<EncodedImage> Encode(const EncodingOptions& encoding, float fps,
+                                      std::span<const uint8_t> ldr, std::span<const float> hdr,
+                                      int width, int height, bool key_frame);
+
+  // A continuous session's unchanged frame goes out only when this says so
+  // (no frame sent for kKeepAlivePeriod).
+  bool KeepAliveDue(Clock::time_point now) const { return now - last_sent_ >= kKeepAlivePeriod; }
+  void MarkSent(Clock::time_point now) { last_sent_ = now; }
+
+  // The libavcodec encoder in use ("" before the first video frame).
+  std::string video_encoder_name() const;
+
+ private:
+  std::vector<uint8_t> last_pixels_;
+  std::unique_ptr<VideoEncoder> video_;
+  std::vector<uint8_t> padded_;  // odd sizes, padded to even for 4:2:0
+  Clock::time_point last_sent_{};
+};
+
+}  // namespace gistream
