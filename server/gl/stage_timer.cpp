@@ -54,6 +54,14 @@ void StageTimer::Skip(const std::string& stage) {
   entries_.push_back(std::move(entry));
 }
 
+void StageTimer::Record(const std::string& stage, double cpu_ms) {
+  Entry entry;
+  entry.timing.name = stage;
+  entry.timing.cpu_ms = cpu_ms;
+  entry.timing.cpu_stage = true;
+  entries_.push_back(std::move(entry));
+}
+
 std::vector<StageTiming> StageTimer::Finish() {
   GS_CHECK(open_ < 0);
   std::vector<StageTiming> out;

@@ -23,6 +23,9 @@ class StageTimer {
   void End();
   // Records a stage the change did not need.
   void Skip(const std::string& stage);
+  // Records a CPU stage that ran elsewhere (a background job on the CPU
+  // pool) and took `cpu_ms`; it is reported in this frame.
+  void Record(const std::string& stage, double cpu_ms);
   // Reads GPU results (blocks until the queries are available).
   std::vector<StageTiming> Finish();
 

@@ -61,6 +61,7 @@ struct CpuPool::Job {
   size_t n = 0;
   size_t chunk = 1;
   const std::function<void(size_t)>* fn = nullptr;
+  std::function<void(size_t)> owned;  // Async's task
   std::atomic<size_t> next{0};
   int active = 0;  // workers inside Drain (guarded by the pool's mutex)
 };
@@ -119,6 +120,27 @@ void CpuPool::WorkerLoop() {
     --job->active;
     done_cv_.notify_all();
   }
+}
+
+std::shared_future<void> CpuPool::Async(std::function<void()> task) {
+  auto packaged = std::make_shared<std::packaged_task<void()>>(std::move(task));
+  std::shared_future<void> done = packaged->get_future().share();
+  if (workers_.empty()) {
+    (*packaged)();
+    return done;
+  }
+  // A one-index job no caller drains: a worker runs it. The job owns the
+  // function it points to.
+  auto job = std::make_shared<Job>();
+  job->n = 1;
+  job->owned = [packaged](size_t) { (*packaged)(); };
+  job->fn = &job->owned;
+  {
+    std::lock_guard lock(mutex_);
+    jobs_.push_back(std::move(job));
+  }
+  work_cv_.notify_one();
+  return done;
 }
 
 void CpuPool::ParallelFor(size_t n, size_t chunk, const std::function<void(size_t)>& fn) {

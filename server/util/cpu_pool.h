@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <deque>
 #include <functional>
+#include <future>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -47,6 +48,12 @@ class CpuPool {
   // returns when all are done. Safe to call from several threads at once
   // (their loops share the workers).
   void ParallelFor(size_t n, size_t chunk, const std::function<void(size_t)>& fn);
+
+  // Runs `task` on a worker (on the calling thread when the pool has no
+  // workers) and returns at once; the future is ready when it has run. The
+  // task may use ParallelFor. Whoever owns what the task touches waits for
+  // the future before destroying it.
+  std::shared_future<void> Async(std::function<void()> task);
 
  private:
   struct Job;

@@ -64,6 +64,26 @@ TEST(CpuPool, ConcurrentAndNestedLoopsEachFinishWhole) {
   EXPECT_EQ(sum_b.load(), 999u * 1000u / 2u);
 }
 
+TEST(CpuPool, AsyncTasksRunOffTheCallerAndMayUseLoops) {
+  for (unsigned threads : {1u, 3u}) {
+    CpuPool pool(threads);
+    std::atomic<size_t> sum{0};
+    std::thread::id ran_on;
+    std::shared_future<void> done = pool.Async([&] {
+      ran_on = std::this_thread::get_id();
+      pool.ParallelFor(100, 3, [&](size_t i) { sum += i; });
+    });
+    done.wait();
+    EXPECT_EQ(sum.load(), 99u * 100u / 2u);
+    // With workers the task runs on one of them; without, on the caller.
+    if (threads == 1) {
+      EXPECT_EQ(ran_on, std::this_thread::get_id());
+    } else {
+      EXPECT_NE(ran_on, std::this_thread::get_id());
+    }
+  }
+}
+
 TEST(CpuPool, EmptyAndTinyLoops) {
   CpuPool pool(2);
   int calls = 0;

@@ -1,5 +1,7 @@
 #include "solvers/implicit_visibility/implicit_visibility_solver.h"
 
+#include <algorithm>
+#include <chrono>
 #include <utility>
 
 #include "util/parallel_for.h"
@@ -65,11 +67,22 @@ std::vector<std::string> ImplicitVisibilitySolver::Plan(ChangeMask changes) cons
       plan.push_back("illumination");
     }
   }
+  if (pending_ || relink_again_ || illumination_stale_) {
+    // A background relink may end this frame: its links are taken and the
+    // light gathered.
+    for (const char* s : {"create_links", "refine_push", "illumination"}) {
+      if (std::find(plan.begin(), plan.end(), s) == plan.end()) plan.push_back(s);
+    }
+  }
   plan.push_back("display");
   return plan;
 }
 
-absl::Status ImplicitVisibilitySolver::Relink(SolverContext& ctx) {
+ImplicitVisibilitySolver::~ImplicitVisibilitySolver() {
+  if (pending_) pending_->done.wait();  // the job reads bins_
+}
+
+absl::Status ImplicitVisibilitySolver::CheckBinBytes() const {
   const hierarchy::Elements& e = scene_.elements();
   const uint64_t bin_bytes = uint64_t(e.node_count()) * uint64_t(bins_.count()) * 12;
   if (bin_bytes > kMaxBinBytes) {
@@ -78,6 +91,12 @@ absl::Status ImplicitVisibilitySolver::Relink(SolverContext& ctx) {
         e.node_count(), " elements, ", bin_bytes >> 20, " MiB; the limit is ", kMaxBinBytes >> 20,
         " MiB (use fewer bins or a coarser mesh)"));
   }
+  return absl::OkStatus();
+}
+
+absl::Status ImplicitVisibilitySolver::Relink(SolverContext& ctx) {
+  GS_RETURN_IF_ERROR(CheckBinBytes());
+  const hierarchy::Elements& e = scene_.elements();
   {
     gl::StageTimer::Scope stage(ctx.timer, "create_links", /*cpu_stage=*/true);
     link_stats_ = hierarchy::CreateLinks(e, bins_, settings_.linking, table_);
@@ -89,6 +108,54 @@ absl::Status ImplicitVisibilitySolver::Relink(SolverContext& ctx) {
     illumination_.UploadLinks(leaf_links_);
   }
   return absl::OkStatus();
+}
+
+absl::Status ImplicitVisibilitySolver::StartRelink(SolverContext& ctx) {
+  GS_RETURN_IF_ERROR(CheckBinBytes());
+  if (pending_) {
+    relink_again_ = true;  // the running job links older geometry
+    return absl::OkStatus();
+  }
+  auto job = std::make_shared<RelinkJob>();
+  job->elements = scene_.elements();
+  job->environment = ctx.state.scene().environment.has_value();
+  job->version = ctx.state.version();
+  const hierarchy::CubeBins* bins = &bins_;
+  const hierarchy::Linking linking = settings_.linking;
+  RelinkJob* j = job.get();
+  job->done = CpuPool::Get().Async([j, bins, linking] {
+    using Clock = std::chrono::steady_clock;
+    const auto t0 = Clock::now();
+    j->link_stats = hierarchy::CreateLinks(j->elements, *bins, linking, j->table);
+    const auto t1 = Clock::now();
+    j->leaf_links = hierarchy::RefinePush(j->elements, *bins, j->table, j->environment,
+                                          &j->refine_stats);
+    j->create_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    j->refine_ms = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
+  });
+  pending_ = std::move(job);
+  return absl::OkStatus();
+}
+
+bool ImplicitVisibilitySolver::FinishRelink(SolverContext& ctx) {
+  if (!pending_ || pending_->done.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+    return false;
+  }
+  const std::shared_ptr<RelinkJob> job = std::move(pending_);
+  pending_.reset();
+  table_ = std::move(job->table);
+  link_stats_ = job->link_stats;
+  refine_stats_ = job->refine_stats;
+  leaf_links_ = std::move(job->leaf_links);
+  // The job's CPU time is reported in the frame that takes its links.
+  ctx.timer.Record("create_links", job->create_ms);
+  ctx.timer.Record("refine_push", job->refine_ms);
+  illumination_.UploadLinks(leaf_links_);
+  if (relink_again_) {
+    relink_again_ = false;
+    if (!StartRelink(ctx).ok()) relink_again_ = false;  // same elements: cannot fail now
+  }
+  return true;
 }
 
 void ImplicitVisibilitySolver::UpdateEnvironment(const SceneState& state) {
@@ -127,6 +194,7 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
     ctx.timer.Skip("create_surfels");
     ctx.timer.Skip("create_hierarchy");
   }
+  latest_version_ = ctx.state.version();
   if (geometry) {
     {
       gl::StageTimer::Scope stage(ctx.timer, "update_elements", /*cpu_stage=*/true);
@@ -135,12 +203,42 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
       illumination_.UploadElements(scene_.elements(), scene_.albedo());
       display_.UploadVertices(scene_.vertex_world());
     }
-    GS_RETURN_IF_ERROR(Relink(ctx));
+    if (first) {
+      GS_RETURN_IF_ERROR(Relink(ctx));
+    } else {
+      // A moved node: the links are rebuilt by a background job on the CPU
+      // pool; until they are, frames show the last solution on the moved
+      // geometry (the display interpolates it at the new vertices).
+      GS_RETURN_IF_ERROR(StartRelink(ctx));
+      illumination_stale_ = true;
+    }
   } else {
-    for (const char* s : {"update_elements", "create_links", "refine_push"}) ctx.timer.Skip(s);
+    ctx.timer.Skip("update_elements");
   }
-  if (const std::optional<float> k =
-          (geometry || materials) ? std::nullopt : emission_.Factor(ctx.state, changes)) {
+  const bool relinked = FinishRelink(ctx);
+  if (!geometry || !first) {
+    if (!relinked) {
+      ctx.timer.Skip("create_links");
+      ctx.timer.Skip("refine_push");
+    }
+  }
+  if (pending_) {
+    // The links do not match the elements yet: keep the last solution; the
+    // light changes meanwhile are gathered once the links arrive.
+    if (lights) {
+      gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
+      GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes));
+    } else {
+      ctx.timer.Skip("shadow_maps");
+    }
+    if (materials && !geometry) scene_.UpdateAlbedo(ctx.state);
+    if (materials || environment || lights) illumination_stale_ = true;
+    ctx.timer.Skip("illumination");
+    return absl::OkStatus();
+  }
+  if (const std::optional<float> k = (geometry || materials || illumination_stale_)
+                                         ? std::nullopt
+                                         : emission_.Factor(ctx.state, changes)) {
     // A dimmer: the gathered light scales with the lights (linear
     // transport, solvers/emission_scale.h); the direct light's buffers
     // change, no shadow map is redrawn and no bounce runs.
@@ -160,19 +258,21 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
   } else {
     ctx.timer.Skip("shadow_maps");
   }
-  if (!geometry && !materials && !lights && !environment) {
+  if (!geometry && !materials && !lights && !environment && !illumination_stale_) {
     ctx.timer.Skip("illumination");
     return absl::OkStatus();
   }
   gl::StageTimer::Scope stage(ctx.timer, "illumination");
-  if (materials && !geometry) {
+  if ((materials && !geometry) || illumination_stale_) {
     scene_.UpdateAlbedo(ctx.state);
     illumination_.UploadElements(scene_.elements(), scene_.albedo());
   }
-  if (environment) UpdateEnvironment(ctx.state);
+  if (environment || relinked) UpdateEnvironment(ctx.state);
   result_ = illumination_.Run(lighting_, settings_.bounces, settings_.tolerance);
   emission_.Solved(ctx.state);
   indirect_scale_ = 1.0f;
+  illumination_stale_ = false;
+  solved_version_ = latest_version_;
   return absl::OkStatus();
 }
 
@@ -188,6 +288,9 @@ absl::Status ImplicitVisibilitySolver::Shade(SolverContext& ctx, const ViewCamer
 SolverStats ImplicitVisibilitySolver::Stats() const {
   const hierarchy::Elements& e = scene_.elements();
   return {{"elements", double(e.node_count())},
+          {"links_pending", pending_ ? 1.0 : 0.0},
+          {"gi_versions_behind",
+           double(latest_version_ - std::min(solved_version_, latest_version_))},
           {"leaves", double(e.leaf_count())},
           {"top_level_nodes", double(e.roots().size())},
           {"bins_per_element", double(bins_.count())},

@@ -8,11 +8,15 @@
 //   update_elements   world discs bottom-up after transforms (CPU)
 //   create_links      top-level pairs, subdivided by bin solid angle (CPU, threads)
 //   refine_push       shortest link per bin down each leaf's chain (CPU, threads)
+//                     (after a moved node both run as a background job on the
+//                     CPU pool; frames keep showing the last solution meanwhile)
 //   shadow_maps       the shared direct-light shadow maps (lights, emission, geometry)
 //   illumination      direct at leaves, gather + pull per bounce (GL compute)
 //   display           vertex irradiance raster + per-pixel direct light
 #pragma once
 
+#include <future>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -44,7 +48,11 @@ class ImplicitVisibilitySolver final : public Solver {
 
   const SolverDescription& description() const override;
   std::vector<std::string> Plan(ChangeMask changes) const override;
+  ~ImplicitVisibilitySolver() override;
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
+  // False while a background relink runs (the shown indirect light is the
+  // last solution's) or its illumination has not run yet.
+  bool FrameComplete() const override { return !pending_ && !relink_again_; }
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
   uint64_t gpu_bytes() const override {
@@ -58,7 +66,27 @@ class ImplicitVisibilitySolver final : public Solver {
   explicit ImplicitVisibilitySolver(const ImplicitVisibilitySettings& settings)
       : settings_(settings), bins_(settings.bins_per_face) {}
 
+  // Linking of one element layout (create_links + refine_push), on a copy
+  // of the elements so it can run on the CPU pool while frames are shaded.
+  struct RelinkJob {
+    hierarchy::Elements elements;
+    bool environment = false;
+    uint64_t version = 0;  // the scene version whose geometry it links
+    hierarchy::BinTable table;
+    hierarchy::LinkStats link_stats;
+    hierarchy::LeafLinks leaf_links;
+    hierarchy::RefineStats refine_stats;
+    double create_ms = 0.0, refine_ms = 0.0;
+    std::shared_future<void> done;
+  };
+  absl::Status CheckBinBytes() const;
+  // First solve: links now, on this thread.
   absl::Status Relink(SolverContext& ctx);
+  // Later geometry changes: a background relink (or, while one runs, a
+  // note to start another with the newest geometry when it ends).
+  absl::Status StartRelink(SolverContext& ctx);
+  // Takes a finished background relink's links; true when it did.
+  bool FinishRelink(SolverContext& ctx);
   void UpdateEnvironment(const SceneState& state);
 
   // Configuration
@@ -74,6 +102,12 @@ class ImplicitVisibilitySolver final : public Solver {
   float indirect_scale_ = 1.0f;
   Illumination illumination_;
   Display display_;
+
+  std::shared_ptr<RelinkJob> pending_;
+  bool relink_again_ = false;
+  bool illumination_stale_ = false;  // an illumination waits for the links
+  uint64_t solved_version_ = 0;      // scene version the shown GI reflects
+  uint64_t latest_version_ = 0;      // newest scene version seen
 
   // Stats of the last update
   hierarchy::LinkStats link_stats_;

@@ -1,0 +1,147 @@
+// implicit_visibility relinks a moved scene in a background job on the CPU
+// pool while a continuous session keeps getting frames of the last
+// solution; once the links are in, the image equals what a fresh solver
+// renders for the moved scene (a split update converges to the unsplit one).
+#include <chrono>
+#include <condition_variable>
+#include <mutex>
+
+#include <gtest/gtest.h>
+
+#include "support/render_helpers.h"
+
+namespace gistream {
+namespace {
+
+using testing::BundledCopy;
+using testing::FloatImage;
+
+class CollectingSink final : public FrameSink {
+ public:
+  void OnFrame(std::shared_ptr<const EncodedFrame> frame) override {
+    std::lock_guard lock(mutex_);
+    frames_.push_back(std::move(frame));
+    cv_.notify_all();
+  }
+  void OnUpdateRejected(uint64_t, const absl::Status& status) override { Fail(status); }
+  void OnSessionFailed(const absl::Status& status) override { Fail(status); }
+
+  // Waits (at most 5 minutes: a hang bound, not a timing threshold) for a
+  // frame matching `want`; nullptr when none came or the session failed.
+  std::shared_ptr<const EncodedFrame> WaitFor(
+      const std::function<bool(const EncodedFrame&)>& want) {
+    std::unique_lock lock(mutex_);
+    std::shared_ptr<const EncodedFrame> found;
+    cv_.wait_for(lock, std::chrono::minutes(5), [&] {
+      for (const auto& f : frames_) {
+        if (want(*f)) found = f;
+      }
+      return found != nullptr || !failure_.ok();
+    });
+    EXPECT_TRUE(failure_.ok()) << failure_;
+    return found;
+  }
+  size_t count(const std::function<bool(const EncodedFrame&)>& which) {
+    std::lock_guard lock(mutex_);
+    size_t n = 0;
+    for (const auto& f : frames_) n += which(*f) ? 1 : 0;
+    return n;
+  }
+
+ private:
+  void Fail(const absl::Status& status) {
+    std::lock_guard lock(mutex_);
+    failure_ = status;
+    cv_.notify_all();
+  }
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::vector<std::shared_ptr<const EncodedFrame>> frames_;
+  absl::Status failure_;
+};
+
+double Stat(const EncodedFrame& frame, const std::string& name) {
+  for (const auto& [k, v] : frame.stats) {
+    if (k == name) return v;
+  }
+  return -1.0;
+}
+
+const std::map<std::string, std::string> kParams = {
+    {"bins_per_face", "6"}, {"area_samples", "8"}, {"shadow_res", "64"}};
+
+NodeTransformUpdate MoveBlock() {
+  NodeTransformUpdate move;
+  move.node = 6;  // tall_block
+  move.translation = glm::vec3(0.20f, 0.0f, 0.30f);
+  return move;
+}
+
+TEST(BackgroundRelink, AStreamKeepsItsFramesAndConvergesToAFreshSolve) {
+  const BundledCopy scene("cornell_box.gltf"), fresh_scene("cornell_box.gltf");
+  SessionConfig config;
+  config.scene = scene.id();
+  config.solver = "implicit_visibility";
+  config.params = kParams;
+  config.width = config.height = 32;
+  config.encoding.format = ImageFormat::kExr;
+  config.max_fps = 240.0f;
+  auto sink = std::make_shared<CollectingSink>();
+  auto opened = testing::SharedEngine().OpenSession(config, sink);
+  ASSERT_TRUE(opened.ok()) << opened.status();
+  // The first solve is synchronous: the first frame is complete.
+  auto first = sink->WaitFor([](const EncodedFrame&) { return true; });
+  ASSERT_NE(first, nullptr);
+  EXPECT_EQ(Stat(*first, "links_pending"), 0.0);
+
+  ASSERT_TRUE(testing::SharedEngine().PushUpdate(opened->id, {1, MoveBlock()}).ok());
+  // Frames keep coming while the links are rebuilt; the last of them takes
+  // the links and gathers the light.
+  auto done = sink->WaitFor([](const EncodedFrame& f) {
+    return f.last_update_seq >= 1 && Stat(f, "links_pending") == 0.0 &&
+           Stat(f, "gi_versions_behind") == 0.0;
+  });
+  testing::SharedEngine().CloseSession(opened->id);
+  ASSERT_NE(done, nullptr);
+  const StageTiming* links = testing::FrameStage(*done, "create_links");
+  ASSERT_NE(links, nullptr);
+  // Every frame that showed the move while its links were pending said so.
+  EXPECT_EQ(sink->count([](const EncodedFrame& f) {
+              return f.last_update_seq >= 1 && Stat(f, "links_pending") == 1.0 &&
+                     Stat(f, "gi_versions_behind") == 0.0;
+            }),
+            0u);
+
+  RenderRequest fresh =
+      testing::SolverRequest(fresh_scene.id(), "implicit_visibility", kParams, 32, {{1, MoveBlock()}});
+  EncodedFrame fresh_frame;
+  const FloatImage expected = testing::RenderRequestExr(fresh, &fresh_frame);
+  const FloatImage got = testing::DecodeExr(*done);
+  ASSERT_EQ(got.rgba.size(), expected.rgba.size());
+  // Same links, same gather: equal to float rounding (1e-4 relative).
+  for (size_t i = 0; i < got.rgba.size(); ++i) {
+    ASSERT_NEAR(got.rgba[i], expected.rgba[i], 1e-4f * std::max(1.0f, expected.rgba[i]))
+        << "value " << i;
+  }
+}
+
+TEST(BackgroundRelink, ARenderAfterAMoveIsComplete) {
+  const BundledCopy scene("cornell_box.gltf"), fresh_scene("cornell_box.gltf");
+  testing::RenderRequestExr(testing::SolverRequest(scene.id(), "implicit_visibility", kParams, 32));
+  EncodedFrame moved_frame, fresh_frame;
+  const FloatImage moved = testing::RenderRequestExr(
+      testing::SolverRequest(scene.id(), "implicit_visibility", kParams, 32, {{1, MoveBlock()}}),
+      &moved_frame);
+  const FloatImage fresh = testing::RenderRequestExr(
+      testing::SolverRequest(fresh_scene.id(), "implicit_visibility", kParams, 32, {{1, MoveBlock()}}),
+      &fresh_frame);
+  EXPECT_EQ(Stat(moved_frame, "links_pending"), 0.0);
+  EXPECT_FALSE(testing::FrameStage(moved_frame, "create_links")->skipped);
+  ASSERT_EQ(moved.rgba.size(), fresh.rgba.size());
+  for (size_t i = 0; i < moved.rgba.size(); ++i) {
+    ASSERT_NEAR(moved.rgba[i], fresh.rgba[i], 1e-4f * std::max(1.0f, fresh.rgba[i])) << "value " << i;
+  }
+}
+
+}  // namespace
+}  // namespace gistream
