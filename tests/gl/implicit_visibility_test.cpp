@@ -73,6 +73,29 @@ TEST(ImplicitVisibility, StiffFurnaceStaysFiniteAndMonotone) {
   }
 }
 
+TEST(ImplicitVisibility, GapsBetweenDiscsLoseNoLight) {
+  // rho = 0.9 (exact L = 10) iterated to convergence at N = 8. Bins that
+  // are empty or under-covered only because vertex discs do not tile a
+  // surface (their neighbours all hold links) used to drop their share of
+  // every bounce: 8.49 (-15 %). Counting them as covered (refine_push.cpp)
+  // gives 8.82; what remains (-12 %) is the leaves' source term near the
+  // box's edges and corners, see ARCHITECTURE. 8.7 separates the two by
+  // more than the run-to-run noise (the solver is deterministic).
+  const BundledCopy scene("furnace.gltf");
+  EncodedFrame frame;
+  const FloatImage image = RenderRequestExr(
+      Request(scene.id(), {{"bounces", "64"}, {"tolerance", "1e-4"}, {"bins_per_face", "8"}}, 16,
+              {{1, GreyAlbedo(0.9f)}}),
+      &frame);
+  EXPECT_EQ(image.non_finite(), 0u);
+  const double mean = ImageMean(image).g;
+  std::cout << "rho 0.9 converged mean " << mean << " bounces " << FrameStat(frame, "bounces_run")
+            << "\n";
+  EXPECT_GT(mean, 8.7);
+  EXPECT_LT(mean, 10.0 * 1.01) << "no energy is created";
+  EXPECT_EQ(FrameStat(frame, "monotone"), 1.0);
+}
+
 TEST(ImplicitVisibility, ExtremeScalesAndIntensitiesStayFiniteAndConserveEnergy) {
   // Millimetres to kilometres and 1e-3 to 1e6 nits: solid angles, the
   // coplanar test and the disc form factor are scale-free, so the furnace

@@ -1,6 +1,7 @@
 #include "solvers/hierarchy/refine_push.h"
 
 #include <algorithm>
+#include <array>
 
 #include "util/parallel_for.h"
 
@@ -10,6 +11,25 @@ namespace {
 constexpr float kPi = 3.14159265358979f;
 // A bin covered at least this much counts as fully covered.
 constexpr float kSnapCoverage = 0.5f;
+
+// The four bins next to each bin on the cube (across face edges too): the
+// bin's centre on the unit cube moved by one bin width along each of its
+// face's axes.
+std::vector<std::array<int, 4>> BinNeighbours(const CubeBins& bins) {
+  std::vector<std::array<int, 4>> out(size_t(bins.count()));
+  const float step = 2.0f / float(bins.n());
+  for (int b = 0; b < bins.count(); ++b) {
+    const glm::vec3 d = bins.Direction(b);
+    const glm::vec3 a = glm::abs(d);
+    const int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+    const glm::vec3 q = d / a[axis];  // on the unit cube
+    glm::vec3 u(0.0f), v(0.0f);
+    u[(axis + 1) % 3] = step;
+    v[(axis + 2) % 3] = step;
+    out[size_t(b)] = {bins.Bin(q + u), bins.Bin(q - u), bins.Bin(q + v), bins.Bin(q - v)};
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -24,8 +44,11 @@ LeafLinks RefinePush(const Elements& elements, const CubeBins& bins, const BinTa
     uint64_t blocked = 0, empty = 0;
   };
   std::vector<Row> rows(leaves);
+  const std::vector<std::array<int, 4>> neighbours = BinNeighbours(bins);
   ParallelFor(leaves, 32, [&](size_t leaf) {
     Row& row = rows[leaf];
+    thread_local std::vector<uint64_t> scratch_best;
+    thread_local std::vector<uint32_t> scratch_covered;
     const glm::vec3 n = elements.normal[leaf];
     const glm::vec3 p = elements.position[leaf];
     const float cosine_sum = bins.CosineSum(n);
@@ -35,24 +58,57 @@ LeafLinks RefinePush(const Elements& elements, const CubeBins& bins, const BinTa
     for (int node = int(leaf); node >= 0 && depth < 64; node = elements.parent[size_t(node)]) {
       chain[depth++] = node;
     }
+    // Refinement: the shortest link of each bin along the ancestor chain
+    // wins; coverage adds up over the levels the links were made at.
+    std::vector<uint64_t>& best_of = scratch_best;
+    std::vector<uint32_t>& covered_of = scratch_covered;
+    best_of.assign(size_t(bins.count()), BinTable::kEmpty);
+    covered_of.assign(size_t(bins.count()), 0);
     for (int b = 0; b < bins.count(); ++b) {
-      const float c = glm::dot(n, bins.Direction(b));
-      if (!(c > 0.0f)) continue;
-      // Refinement: the shortest link of this bin along the ancestor chain
-      // wins; coverage adds up over the levels the links were made at.
+      if (!(glm::dot(n, bins.Direction(b)) > 0.0f)) continue;
       uint64_t best = BinTable::kEmpty;
       uint32_t covered = 0;
       for (int k = 0; k < depth; ++k) {
         best = std::min(best, table.Entry(chain[k], b));
         covered = std::min(covered + table.Coverage(chain[k], b), BinTable::kFullCoverage);
       }
+      best_of[size_t(b)] = best;
+      covered_of[size_t(b)] = covered;
+    }
+    // A bin of the upper hemisphere whose upper-hemisphere neighbours all
+    // hold a link lies inside a covered region of the leaf's view.
+    auto enclosed = [&](int b) {
+      int linked = 0;
+      for (const int o : neighbours[size_t(b)]) {
+        if (!(glm::dot(n, bins.Direction(o)) > 0.0f)) continue;  // below the horizon
+        if (best_of[size_t(o)] == BinTable::kEmpty) return false;
+        ++linked;
+      }
+      return linked >= 2;
+    };
+    for (int b = 0; b < bins.count(); ++b) {
+      const float c = glm::dot(n, bins.Direction(b));
+      if (!(c > 0.0f)) continue;
+      uint64_t best = best_of[size_t(b)];
+      const bool inside = enclosed(b);
+      if (best == BinTable::kEmpty && inside) {
+        // An empty bin amid linked ones is a gap between discs (they do not
+        // tile a surface), not a view of the sky: it sees what its nearest
+        // neighbour sees. Counting it empty lost its light on every bounce
+        // (1.8 % of a closed box's bins at N = 12).
+        for (const int o : neighbours[size_t(b)]) {
+          if (glm::dot(n, bins.Direction(o)) > 0.0f) best = std::min(best, best_of[size_t(o)]);
+        }
+      }
       // Eq. 5 assumes the closest element covers its bin. We hold to it
       // where the bin is mostly covered (the measured sum scatters around 1
-      // on a closed surface, and each bin's shortfall would be light lost),
-      // and weigh by the measured coverage where it is not (small or
-      // distant elements, silhouettes).
-      const float measured = float(covered) / float(BinTable::kFullCoverage);
-      const float cover = measured >= kSnapCoverage ? 1.0f : measured;
+      // on a closed surface, and each bin's shortfall would be light lost)
+      // or surrounded by covered bins (its shortfall is the gaps between
+      // discs, which the surface behind them fills), and weigh by the
+      // measured coverage elsewhere (small or distant elements,
+      // silhouettes: bins next to an empty one).
+      const float measured = float(covered_of[size_t(b)]) / float(BinTable::kFullCoverage);
+      const float cover = measured >= kSnapCoverage || inside ? 1.0f : measured;
       const float quadrature = norm * c * bins.SolidAngle(b);
       if (best == BinTable::kEmpty) {
         ++row.empty;
