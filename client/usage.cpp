@@ -186,8 +186,10 @@ each server loads the scene.
 
 constexpr absl::string_view kStatus = R"(usage: gistream [--server ADDR] status
 
-Prints the server's GL vendor, renderer and version, the number of sessions
-and scenes (with their ids) and the number of frames rendered.
+Prints the server's version and uptime, GL vendor, renderer and version,
+CPU and memory use (RSS, GL objects, GPU memory where the driver tells),
+the scenes, the frames rendered, and a table of the open sessions (scene,
+solver, size, frames, fps, dropped frames, pending updates, last seq).
 )";
 
 }  // namespace
