@@ -167,13 +167,49 @@ absl::Status SceneState::CheckMagnitudes(const std::string& prefix) const {
 }
 
 absl::Status SceneState::CheckApply(const Change& change) const {
+  // The common cases touch one light, material or the environment: check
+  // just that, without copying the state.
+  if (const auto* m = std::get_if<MaterialUpdate>(&change)) {
+    Material mat = materials_[m->material];
+    if (m->emissive) mat.emissive_factor = *m->emissive;
+    if (m->emissive_strength) mat.emissive_strength = *m->emissive_strength;
+    const float emission = MaxEmission(mat);
+    if (!(emission <= kMaxRadiance)) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "update.material: after it, materials[", m->material, "]: emissive factor x strength ",
+          emission, " exceeds the limit of ", kMaxRadiance, " nits"));
+    }
+    return absl::OkStatus();
+  }
+  if (const auto* e = std::get_if<EnvironmentUpdate>(&change)) {
+    const float env = (e->intensity ? *e->intensity : env_intensity_) *
+                      (scene_->environment ? scene_->environment->max_radiance : 0.0f);
+    if (!(env <= kMaxRadiance)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("update.environment: after it, environment: intensity x brightest pixel ",
+                       env, " exceeds the limit of ", kMaxRadiance, " nits"));
+    }
+    return absl::OkStatus();
+  }
+  const auto* l = std::get_if<LightUpdate>(&change);
+  if (l != nullptr && !l->position && !l->direction) {
+    Light light = lights_[l->light].light;
+    if (l->color) light.color = *l->color;
+    if (l->intensity) light.intensity = *l->intensity;
+    const float strength = MaxLightStrength(light);
+    if (!(strength <= kMaxRadiance)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("update.light: after it, lights[", l->light, "]: colour x intensity ",
+                       strength, " exceeds the limit of ", kMaxRadiance));
+    }
+    return absl::OkStatus();
+  }
+  // A transform (a node's, or a light's position/direction) moves a
+  // subtree: recompute and check the whole state on a copy.
   SceneState trial = *this;
   trial.Apply(change);
-  const char* what = std::holds_alternative<NodeTransformUpdate>(change) ? "node_transform"
-                     : std::holds_alternative<LightUpdate>(change)       ? "light"
-                     : std::holds_alternative<MaterialUpdate>(change)    ? "material"
-                                                                         : "environment";
-  return trial.CheckMagnitudes(absl::StrCat("update.", what, ": after it, "));
+  return trial.CheckMagnitudes(
+      absl::StrCat("update.", l != nullptr ? "light" : "node_transform", ": after it, "));
 }
 
 }  // namespace gistream
