@@ -24,6 +24,7 @@
 #include "connection.h"
 #include "interrupt.h"
 #include "scene_loader.h"
+#include "session_common.h"
 #include "text_table.h"
 #include "util/log.h"
 
@@ -218,15 +219,8 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
       own_connections.push_back(std::make_unique<Connection>(own));
       channel = own_connections.back().get();
     }
-    v1::SessionConfig config;
-    config.set_scene_id(server.scene->id());
-    config.set_solver(options.solver.solver);
-    config.mutable_params()->insert(options.solver.params.begin(), options.solver.params.end());
-    config.set_width(options.view.width);
-    config.set_height(options.view.height);
-    *config.mutable_encoding() = options.view.encoding;
-    config.mutable_continuous()->set_max_fps(options.fps);
-    if (options.view.camera.ByteSizeLong() > 0) *config.mutable_camera() = options.view.camera;
+    const v1::SessionConfig config =
+        ContinuousConfig(server.scene->id(), options.solver, options.view, options.fps);
     auto session =
         std::make_unique<BenchSession>(server.address, workload, options.update_hz, stages);
     progress.Show(absl::StrCat(label, " opening session ", i + 1, "/", count));

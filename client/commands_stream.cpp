@@ -9,6 +9,7 @@
 #include "frame_report.h"
 #include "frame_writer.h"
 #include "interrupt.h"
+#include "progress_line.h"
 #include "scene_loader.h"
 #include "session_common.h"
 #include "session_stream.h"
@@ -22,23 +23,20 @@ absl::Status RunStream(const ConnectionOptions& connection_options, const Stream
   GS_ASSIGN_OR_RETURN(FrameWriter writer,
                       FrameWriter::Create(options.out_dir, options.view.encoding.format()));
   Connection connection(connection_options);
+  ProgressLine progress;
+  progress.Wait(absl::StrCat("loading scene ", options.scene.scene));
   GS_ASSIGN_OR_RETURN(std::unique_ptr<LoadedScene> scene,
                       LoadedScene::Load(connection, load, options.scene.keep_scene));
+  progress.Done();
   std::cout << DescribeScene(options.scene.scene, scene->info()) << std::endl;
 
-  v1::SessionConfig config;
-  config.set_scene_id(scene->id());
-  config.set_solver(options.solver.solver);
-  config.mutable_params()->insert(options.solver.params.begin(), options.solver.params.end());
-  config.set_width(options.view.width);
-  config.set_height(options.view.height);
-  *config.mutable_encoding() = options.view.encoding;
-  config.mutable_continuous()->set_max_fps(options.fps);
-  if (options.view.camera.ByteSizeLong() > 0) *config.mutable_camera() = options.view.camera;
+  const v1::SessionConfig config =
+      ContinuousConfig(scene->id(), options.solver, options.view, options.fps);
 
   GS_ASSIGN_OR_RETURN(std::unique_ptr<SessionStream> stream,
                       SessionStream::Open(connection.stub(), config, connection.server()));
   std::cout << FormatSessionOpened(stream->opened()) << std::endl;
+  progress.Wait("waiting for the first frame");
 
   // Declared after `stream`, so it is gone before the stream is.
   std::atomic<bool> closing{false};
@@ -65,6 +63,7 @@ absl::Status RunStream(const ConnectionOptions& connection_options, const Stream
     }
     if (!event.has_frame() || closing) continue;  // frames after the half-close are not kept
     const v1::Frame& frame = event.frame();
+    if (saved == 0) progress.Done();
     stats.Add(frame, StatsCollector::Clock::now());
     GS_RETURN_IF_ERROR(writer.Write(saved, frame));
     ++saved;
@@ -74,6 +73,7 @@ absl::Status RunStream(const ConnectionOptions& connection_options, const Stream
     }
   }
   const absl::Status ended = EndSession(*stream);
+  progress.Done();
 
   std::cout << FormatStatsTable(stats.Summarize())
             << FormatWrittenFrames(writer, saved, options.view.encoding.format()) << std::endl;

@@ -22,6 +22,20 @@ bool IsInterrupted(const absl::Status& status) {
   return status.GetPayload(kInterruptedPayload).has_value();
 }
 
+v1::SessionConfig ContinuousConfig(const std::string& scene_id, const SolverOptions& solver,
+                                   const ViewOptions& view, float max_fps) {
+  v1::SessionConfig config;
+  config.set_scene_id(scene_id);
+  config.set_solver(solver.solver);
+  config.mutable_params()->insert(solver.params.begin(), solver.params.end());
+  config.set_width(view.width);
+  config.set_height(view.height);
+  *config.mutable_encoding() = view.encoding;
+  config.mutable_continuous()->set_max_fps(max_fps);
+  if (view.camera.ByteSizeLong() > 0) *config.mutable_camera() = view.camera;
+  return config;
+}
+
 absl::Status EndSession(SessionStream& stream) {
   stream.CloseWrites();
   v1::SessionEvent event;

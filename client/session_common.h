@@ -6,10 +6,16 @@
 #include <string>
 
 #include "frame_writer.h"
+#include "options.h"
 #include "session_stream.h"
 #include "util/status.h"
 
 namespace gistream::client {
+
+// A continuous session's config: scene, solver and its parameters, size,
+// encoding, the fps cap, and the view's camera when the options set one.
+v1::SessionConfig ContinuousConfig(const std::string& scene_id, const SolverOptions& solver,
+                                   const ViewOptions& view, float max_fps);
 
 // Half-closes the session (if not yet), drains what the server still
 // sends, and finishes the call. OK when the server ended it normally, or

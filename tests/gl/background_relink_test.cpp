@@ -2,12 +2,9 @@
 // pool while a continuous session keeps getting frames of the last
 // solution; once the links are in, the image equals what a fresh solver
 // renders for the moved scene (a split update converges to the unsplit one).
-#include <chrono>
-#include <condition_variable>
-#include <mutex>
-
 #include <gtest/gtest.h>
 
+#include "support/frame_queue.h"
 #include "support/render_helpers.h"
 
 namespace gistream {
@@ -16,49 +13,6 @@ namespace {
 using testing::BundledCopy;
 using testing::FloatImage;
 
-class CollectingSink final : public FrameSink {
- public:
-  void OnFrame(std::shared_ptr<const EncodedFrame> frame) override {
-    std::lock_guard lock(mutex_);
-    frames_.push_back(std::move(frame));
-    cv_.notify_all();
-  }
-  void OnUpdateRejected(uint64_t, const absl::Status& status) override { Fail(status); }
-  void OnSessionFailed(const absl::Status& status) override { Fail(status); }
-
-  // Waits (at most 5 minutes: a hang bound, not a timing threshold) for a
-  // frame matching `want`; nullptr when none came or the session failed.
-  std::shared_ptr<const EncodedFrame> WaitFor(
-      const std::function<bool(const EncodedFrame&)>& want) {
-    std::unique_lock lock(mutex_);
-    std::shared_ptr<const EncodedFrame> found;
-    cv_.wait_for(lock, std::chrono::minutes(5), [&] {
-      for (const auto& f : frames_) {
-        if (want(*f)) found = f;
-      }
-      return found != nullptr || !failure_.ok();
-    });
-    EXPECT_TRUE(failure_.ok()) << failure_;
-    return found;
-  }
-  size_t count(const std::function<bool(const EncodedFrame&)>& which) {
-    std::lock_guard lock(mutex_);
-    size_t n = 0;
-    for (const auto& f : frames_) n += which(*f) ? 1 : 0;
-    return n;
-  }
-
- private:
-  void Fail(const absl::Status& status) {
-    std::lock_guard lock(mutex_);
-    failure_ = status;
-    cv_.notify_all();
-  }
-  std::mutex mutex_;
-  std::condition_variable cv_;
-  std::vector<std::shared_ptr<const EncodedFrame>> frames_;
-  absl::Status failure_;
-};
 
 double Stat(const EncodedFrame& frame, const std::string& name) {
   for (const auto& [k, v] : frame.stats) {
@@ -86,7 +40,7 @@ TEST(BackgroundRelink, AStreamKeepsItsFramesAndConvergesToAFreshSolve) {
   config.width = config.height = 32;
   config.encoding.format = ImageFormat::kExr;
   config.max_fps = 240.0f;
-  auto sink = std::make_shared<CollectingSink>();
+  auto sink = std::make_shared<testing::FrameQueue>();
   auto opened = testing::SharedEngine().OpenSession(config, sink);
   ASSERT_TRUE(opened.ok()) << opened.status();
   // The first solve is synchronous: the first frame is complete.
@@ -106,7 +60,7 @@ TEST(BackgroundRelink, AStreamKeepsItsFramesAndConvergesToAFreshSolve) {
   const StageTiming* links = testing::FrameStage(*done, "create_links");
   ASSERT_NE(links, nullptr);
   // Every frame that showed the move while its links were pending said so.
-  EXPECT_EQ(sink->count([](const EncodedFrame& f) {
+  EXPECT_EQ(sink->Count([](const EncodedFrame& f) {
               return f.last_update_seq >= 1 && Stat(f, "links_pending") == 1.0 &&
                      Stat(f, "gi_versions_behind") == 0.0;
             }),

@@ -6,6 +6,7 @@
 #include <deque>
 #include <mutex>
 
+#include "support/frame_queue.h"
 #include "support/render_helpers.h"
 
 namespace gistream {
@@ -18,39 +19,7 @@ const StageTiming* FindStage(const EncodedFrame& frame, const std::string& name)
   return nullptr;
 }
 
-class QueueSink final : public FrameSink {
- public:
-  void OnFrame(std::shared_ptr<const EncodedFrame> frame) override {
-    std::lock_guard lock(mutex_);
-    frames_.push_back(std::move(frame));
-    cv_.notify_all();
-  }
-  void OnUpdateRejected(uint64_t seq, const absl::Status& status) override {
-    std::lock_guard lock(mutex_);
-    rejected_.emplace_back(seq, status);
-    cv_.notify_all();
-  }
-  void OnSessionFailed(const absl::Status& status) override {
-    std::lock_guard lock(mutex_);
-    failed_ = status;
-    cv_.notify_all();
-  }
-  std::shared_ptr<const EncodedFrame> Next() {
-    std::unique_lock lock(mutex_);
-    const bool ok = cv_.wait_for(lock, std::chrono::seconds(120), [&] { return !frames_.empty(); });
-    if (!ok) return nullptr;
-    auto f = frames_.front();
-    frames_.pop_front();
-    return f;
-  }
-
- private:
-  std::mutex mutex_;
-  std::condition_variable cv_;
-  std::deque<std::shared_ptr<const EncodedFrame>> frames_;
-  std::vector<std::pair<uint64_t, absl::Status>> rejected_;
-  absl::Status failed_;
-};
+using QueueSink = testing::FrameQueue;
 
 class EngineStagesTest : public ::testing::Test {
  protected:

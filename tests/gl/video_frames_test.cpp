@@ -13,6 +13,7 @@
 
 #include "encode/encode.h"
 #include "encode/video/video_decoder.h"
+#include "support/frame_queue.h"
 #include "support/render_helpers.h"
 
 namespace gistream {
@@ -21,35 +22,7 @@ namespace {
 using testing::BundledCopy;
 using testing::SharedEngine;
 
-class QueueSink final : public FrameSink {
- public:
-  void OnFrame(std::shared_ptr<const EncodedFrame> frame) override {
-    std::lock_guard lock(mutex_);
-    frames_.push_back(std::move(frame));
-    cv_.notify_all();
-  }
-  void OnUpdateRejected(uint64_t, const absl::Status&) override {}
-  void OnSessionFailed(const absl::Status& status) override {
-    std::lock_guard lock(mutex_);
-    failed_ = status;
-    cv_.notify_all();
-  }
-  std::shared_ptr<const EncodedFrame> Next() {
-    std::unique_lock lock(mutex_);
-    cv_.wait_for(lock, std::chrono::seconds(120), [&] { return !frames_.empty() || !failed_.ok(); });
-    EXPECT_TRUE(failed_.ok()) << failed_;
-    if (frames_.empty()) return nullptr;
-    auto f = frames_.front();
-    frames_.pop_front();
-    return f;
-  }
-
- private:
-  std::mutex mutex_;
-  std::condition_variable cv_;
-  std::deque<std::shared_ptr<const EncodedFrame>> frames_;
-  absl::Status failed_;
-};
+using QueueSink = testing::FrameQueue;
 
 constexpr uint32_t kSize = 128;
 
