@@ -17,6 +17,7 @@
 #include "eval_spec.h"
 #include "metrics.h"
 #include "plot.h"
+#include "progress_line.h"
 #include "scene_loader.h"
 #include "session_stream.h"
 #include "stats_table.h"
@@ -83,6 +84,9 @@ class Evaluator {
  public:
   Evaluator(Connection& connection, const EvalSpec& spec) : conn_(connection), spec_(spec) {}
 
+  // What the evaluation is waiting for (a terminal's stderr only).
+  ProgressLine& progress() { return progress_; }
+
   absl::StatusOr<v1::Frame> RenderOnce(const std::string& scene, const std::string& solver,
                                        const std::map<std::string, std::string>& params,
                                        const v1::CameraChange& camera) {
@@ -111,6 +115,7 @@ class Evaluator {
     name << std::hex << std::setw(16) << std::setfill('0') << Fnv1a(key.str()) << ".exr";
     const std::filesystem::path file = cache / name.str();
     if (auto cached = ReadText(file); cached.ok()) {
+      progress_.Done();
       std::cerr << "reference " << file.string() << " (cached)\n";
       GS_ASSIGN_OR_RETURN(
           DecodedImage d,
@@ -124,9 +129,13 @@ class Evaluator {
     v1::Frame frame;
     const auto start = std::chrono::steady_clock::now();
     double spp = 0.0;
+    const std::string what = absl::StrCat("reference ", view.name, ": pathtrace ");
+    progress_.Wait(absl::StrCat(what, "0/", spec_.reference_spp, " spp"));
     for (;;) {
       GS_ASSIGN_OR_RETURN(frame, RenderOnce(scene_id, "pathtrace", params, ViewCamera(view)));
       const double now = StatOf(frame, "spp_total");
+      progress_.Update(absl::StrCat(what, now, "/", spec_.reference_spp, " spp"),
+                       now / spec_.reference_spp);
       if (now >= spec_.reference_spp) break;
       // The server keeps the solver between Render calls with the same
       // settings; if it did not accumulate, looping would never end.
@@ -139,6 +148,7 @@ class Evaluator {
     }
     std::filesystem::create_directories(cache);
     std::ofstream(file, std::ios::binary) << frame.image();
+    progress_.Done();
     std::cerr << "reference " << file.string() << ": " << StatOf(frame, "spp_total") << " spp in "
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
               << " s\n";
@@ -219,6 +229,7 @@ class Evaluator {
  private:
   Connection& conn_;
   const EvalSpec& spec_;
+  ProgressLine progress_;
 };
 
 std::string Fixed(double v, int digits = 3) {
@@ -359,8 +370,13 @@ absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOpti
       const float yfov = view.yfov_degrees.value_or(base_yfov);
       for (const EvalSolver& solver : spec.solvers) {
         for (const auto& params : solver.Settings()) {
+          std::string setting;
+          for (const auto& [k, v] : params) absl::StrAppend(&setting, " ", k, "=", v);
+          evaluator.progress().Wait(
+              absl::StrCat(scene.name, "/", view.name, " ", solver.name, setting));
           GS_ASSIGN_OR_RETURN(EvalRow row, evaluator.Measure(loaded->id(), scene, view, solver.name,
                                                              params, reference, yfov));
+          evaluator.progress().Done();
           std::cerr << scene.name << "/" << view.name << " " << solver.name << " " << row.params
                     << ": relMSE " << row.error.rel_mse << ", full " << row.full.median << " ms\n";
           rows.push_back(std::move(row));
@@ -371,11 +387,13 @@ absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOpti
         const double budget = spec.pathtrace_budgets_ms[i];
         std::ostringstream b;
         b << budget;
+        evaluator.progress().Wait(absl::StrCat(scene.name, "/", view.name, " pathtrace ", b.str(), " ms"));
         GS_ASSIGN_OR_RETURN(
             v1::Frame frame,
             evaluator.RenderOnce(loaded->id(), "pathtrace",
                                  {{"time_budget_ms", b.str()}, {"seed", std::to_string(1000 + i)}},
                                  ViewCamera(view)));
+        evaluator.progress().Done();
         GS_ASSIGN_OR_RETURN(RgbaImage image, DecodeFrame(frame));
         EvalRow row;
         row.scene = scene.name;

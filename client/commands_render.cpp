@@ -7,6 +7,7 @@
 #include "connection.h"
 #include "file_io.h"
 #include "frame_report.h"
+#include "progress_line.h"
 #include "scene_loader.h"
 
 namespace gistream::client {
@@ -14,6 +15,8 @@ namespace gistream::client {
 absl::Status RunRender(const ConnectionOptions& connection_options, const RenderOptions& options) {
   GS_ASSIGN_OR_RETURN(v1::LoadSceneRequest load, BuildLoadSceneRequest(options.scene));
   Connection connection(connection_options);
+  ProgressLine progress;
+  progress.Wait(absl::StrCat("loading scene ", options.scene.scene));
   GS_ASSIGN_OR_RETURN(std::unique_ptr<LoadedScene> scene,
                       LoadedScene::Load(connection, load, options.scene.keep_scene));
 
@@ -27,7 +30,10 @@ absl::Status RunRender(const ConnectionOptions& connection_options, const Render
   if (options.view.camera.ByteSizeLong() > 0) *request.mutable_camera() = options.view.camera;
 
   v1::Frame frame;
+  progress.Wait(absl::StrCat("rendering (", options.solver.solver.empty() ? "direct" : options.solver.solver,
+                             ", ", options.view.width, "x", options.view.height, ")"));
   GS_RETURN_IF_ERROR(connection.Call(&v1::Gistream::Stub::Render, request, &frame));
+  progress.Done();
   if (frame.image().empty()) {
     return absl::InternalError(
         absl::StrCat("frame ", frame.frame_number(), " arrived without image bytes"));

@@ -13,6 +13,7 @@
 #include "frame_report.h"
 #include "frame_writer.h"
 #include "interrupt.h"
+#include "progress_line.h"
 #include "scene_loader.h"
 #include "script.h"
 #include "session_common.h"
@@ -82,8 +83,11 @@ absl::Status RunScript(const ConnectionOptions& connection_options, const Script
   GS_ASSIGN_OR_RETURN(FrameWriter writer,
                       FrameWriter::Create(options.out_dir, script.encoding.format()));
   Connection connection(connection_options);
+  ProgressLine progress;
+  progress.Wait(absl::StrCat("loading scene ", script.scene));
   GS_ASSIGN_OR_RETURN(std::unique_ptr<LoadedScene> scene,
                       LoadedScene::Load(connection, load, options.keep_scene));
+  progress.Done();
   std::cout << DescribeScene(script.scene, scene->info()) << std::endl;
 
   // Every name in the script is resolved before the session opens.
@@ -97,6 +101,8 @@ absl::Status RunScript(const ConnectionOptions& connection_options, const Script
       std::unique_ptr<SessionStream> stream,
       SessionStream::Open(connection.stub(), MakeConfig(script, scene->id()), connection.server()));
   std::cout << FormatSessionOpened(stream->opened()) << std::endl;
+  // Frame by frame, with a bar and an ETA from the frames so far.
+  progress.Wait(absl::StrCat("frame 1/", timeline->frames()));
 
   std::atomic<bool> interrupted{false};
   ScopedInterruptHandler on_interrupt([&](int count) {
@@ -165,10 +171,14 @@ absl::Status RunScript(const ConnectionOptions& connection_options, const Script
                 std::chrono::duration<double, std::milli>(arrived - requested).count());
       GS_RETURN_IF_ERROR(writer.Write(static_cast<uint64_t>(i), frame));
       ++saved;
+      progress.Update(absl::StrCat("frame ", std::min(saved + 1, timeline->frames()), "/",
+                                   timeline->frames()),
+                      double(saved) / double(timeline->frames()));
     }
     if (!got_frame) call_ended = true;
   }
   const absl::Status ended = EndSession(*stream);
+  progress.Done();
 
   std::cout << FormatStatsTable(stats.Summarize())
             << FormatWrittenFrames(writer, static_cast<uint64_t>(saved), script.encoding.format())
