@@ -1,6 +1,7 @@
 // Issue 13, finding 3 ("accepted silently: a zero quaternion") and finding
-// 7 (0x0 sizes), at the gRPC boundary: protobuf messages are translated,
-// then validated by the engine, which names the field.
+// 7 (0x0 sizes, long names echoed), at the gRPC boundary: protobuf
+// messages are translated, then validated by the engine, which names the
+// field; status messages sent back are bounded.
 #include <gtest/gtest.h>
 
 #include "reliability/reliability_fixture.h"
@@ -54,6 +55,20 @@ TEST(TranslateLimits, ZeroSizeMeansTheDocumentedDefaultOnlyWhenBothAreZero) {
   config.set_height(5);
   EXPECT_STATUS(StatusOf(SessionConfigFromProto(config)), kInvalidArgument,
                 "config.height: set without config.width");
+}
+
+TEST(TranslateLimits, StatusMessagesSentToClientsAreBounded) {
+  const absl::Status huge = absl::InvalidArgumentError(std::string(100000, 'x'));
+  const grpc::Status sent = service::ToGrpcStatus(huge);
+  EXPECT_EQ(sent.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
+  EXPECT_LE(sent.error_message().size(), 4096u + 32u);
+  EXPECT_NE(sent.error_message().find("\u2026 (100000 bytes)"), std::string::npos);
+  pb::UpdateRejected rejected;
+  service::UpdateRejectedToProto(7, huge, &rejected);
+  EXPECT_LE(rejected.message().size(), 4096u + 32u);
+  // Ordinary messages pass unchanged.
+  EXPECT_EQ(service::ToGrpcStatus(absl::NotFoundError("scene_id: no scene 'x'")).error_message(),
+            "scene_id: no scene 'x'");
 }
 
 }  // namespace

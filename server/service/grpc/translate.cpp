@@ -56,9 +56,25 @@ absl::StatusCode FromGrpcCode(grpc::StatusCode code) {
   }
 }
 
+namespace {
+
+// A status message sent to a client is at most this long: messages echo
+// user strings cut to 64 bytes (util/user_string.h), and this bounds
+// whatever else (a library's error text quoting input) gets through.
+constexpr size_t kMaxStatusMessageBytes = 4096;
+
+std::string BoundedMessage(absl::string_view message) {
+  if (message.size() <= kMaxStatusMessageBytes) return std::string(message);
+  size_t cut = kMaxStatusMessageBytes;
+  while (cut > 0 && (static_cast<unsigned char>(message[cut]) & 0xC0) == 0x80) --cut;
+  return absl::StrCat(message.substr(0, cut), "\u2026 (", message.size(), " bytes)");
+}
+
+}  // namespace
+
 grpc::Status ToGrpcStatus(const absl::Status& status) {
   if (status.ok()) return grpc::Status::OK;
-  return grpc::Status(ToGrpcCode(status.code()), std::string(status.message()));
+  return grpc::Status(ToGrpcCode(status.code()), BoundedMessage(status.message()));
 }
 
 // ---------------------------------------------------------------- math
@@ -494,7 +510,7 @@ void SessionOpenedToProto(const SessionOpenInfo& info, pb::SessionOpened* out) {
 void UpdateRejectedToProto(uint64_t seq, const absl::Status& status, pb::UpdateRejected* out) {
   out->set_seq(seq);
   out->set_code(static_cast<int32_t>(ToGrpcCode(status.code())));  // google.rpc.Code
-  out->set_message(std::string(status.message()));
+  out->set_message(BoundedMessage(status.message()));
 }
 
 void ServerStatusToProto(const DeviceInfo& device, const EngineStats& stats,
