@@ -1,5 +1,7 @@
 // Validation of client updates before they reach the render thread: ids in
-// range, every number finite, values in their ranges. Messages name the
+// range, every number finite, values in their ranges and within the
+// magnitude limits of scene/magnitude_limits.h (limits that depend on the
+// scene's current state are SceneState::CheckApply's). Messages name the
 // field ("update.node_transform.translation.y: nan is not finite").
 #pragma once
 
