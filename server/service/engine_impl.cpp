@@ -28,6 +28,8 @@ using Clock = RenderThread::Clock;
 
 // A frame's solver work may take at most this long before it yields.
 constexpr double kMaxFrameBudgetMs = 10'000.0;
+// How often a frame that waits on a solver's background job polls it.
+constexpr auto kPollInterval = std::chrono::milliseconds(2);
 
 absl::Status Unavailable() { return absl::UnavailableError("server is shutting down"); }
 
@@ -571,8 +573,10 @@ Clock::time_point EngineImpl::Tick() {
       std::lock_guard lock(mutex_);
       if (session->closed) continue;
       if (session->config.pacing == Pacing::kOnRequest) {
-        due = session->requested > 0;
+        // A frame waiting on a background job is polled, not spun on.
+        due = session->requested > 0 && Clock::now() >= view.poll_at;
         if (due) session->requested -= 1;
+        if (session->requested > 0 && !due) next = std::min(next, view.poll_at);
       } else {
         due = Clock::now() >= view.next_due;
       }
@@ -592,7 +596,7 @@ Clock::time_point EngineImpl::Tick() {
       next = std::min(next, view.next_due);
     } else {
       std::lock_guard lock(mutex_);
-      if (session->requested > 0) next = Clock::time_point::min();
+      if (session->requested > 0) next = std::min(next, std::max(view.poll_at, Clock::now()));
     }
     if (gpu_lost_) break;
   }
@@ -703,6 +707,15 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   GS_RETURN_IF_ERROR(entry.solver->Update(ctx, changes));
   entry.version = state.version();
   entry.fresh = false;
+  if (!entry.solver->UpdateComplete() && session.config.pacing == Pacing::kOnRequest) {
+    // Its view-independent update runs on (slices, a background job): a
+    // frame requested on its own waits for it, the other sessions' frames
+    // in between, polling every kPollInterval.
+    view.poll_at = Clock::now() + kPollInterval;
+    MergeTimings(view.carry, timer_.Finish());
+    view.carry_ms += std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
+    return std::shared_ptr<EncodedFrame>();
+  }
 
   if (entry.solver->NeedsGBuffer()) {
     gl::StageTimer::Scope stage(timer_, "gbuffer");

@@ -104,6 +104,7 @@ class EngineImpl final : public Engine {
     std::vector<StageTiming> carry;
     double carry_ms = 0.0;
     std::vector<std::string> plan;  // the solver's plan, over the frame's slices
+    RenderThread::Clock::time_point poll_at{};  // next poll of a pending update
     RenderThread::Clock::time_point next_due{};
     FrameEncoder encoder;  // image/video encoding, unchanged-frame detection
   };

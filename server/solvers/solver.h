@@ -55,6 +55,11 @@ class Solver {
   // Render) is only delivered complete; a continuous stream shows partial
   // frames as they come (progressive).
   virtual bool FrameComplete() const { return true; }
+  // Whether the view-independent work of the changes seen so far is done
+  // (false while a background job runs or a sliced update has slices to
+  // go; Shade then shows the last consistent solution). A frame requested
+  // on its own skips Shade until it is.
+  virtual bool UpdateComplete() const { return true; }
   // Bytes its main GL buffers and textures hold (shadow maps, probe atlas,
   // element and link buffers), for status reports; 0 when it holds none.
   virtual uint64_t gpu_bytes() const { return 0; }

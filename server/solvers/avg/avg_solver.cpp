@@ -1,5 +1,7 @@
 #include "solvers/avg/avg_solver.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 
 #include <glm/gtc/constants.hpp>
@@ -61,13 +63,15 @@ absl::StatusOr<std::unique_ptr<Solver>> AvgSolver::Create(const ParamSet& params
   solver->clamp_ = float(params.GetFloat("clamp"));
   solver->direct_settings_.area_samples = params.GetInt("area_samples");
   solver->direct_settings_.shadow_resolution = params.GetInt("direct_shadow_res");
-  const double atlas = double(solver->trace_settings_.vpls) * solver->shadow_resolution_ *
+  // Two atlases: the shown one and the one a re-map draws into.
+  const double atlas = 2.0 * double(solver->trace_settings_.vpls) * solver->shadow_resolution_ *
                        solver->shadow_resolution_ * 4.0;
   if (atlas > kMaxAtlasBytes) {
     return absl::ResourceExhaustedError(absl::StrCat(
         "params.shadow_res: ", solver->trace_settings_.vpls, " VPL maps of ",
         solver->shadow_resolution_, "^2 need ", int64_t(atlas / 1048576.0),
-        " MiB, more than the 1024 MiB atlas limit; lower shadow_res or vpls"));
+        " MiB for the two atlases (shown and re-mapped), more than the 1024 MiB limit; lower "
+        "shadow_res or vpls"));
   }
   GLint max_layers = 0;
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
@@ -77,6 +81,7 @@ absl::StatusOr<std::unique_ptr<Solver>> AvgSolver::Create(const ParamSet& params
                                                    " shadow-map array layers"));
   }
   GS_ASSIGN_OR_RETURN(solver->shadow_maps_, avg::VplShadowMaps::Create());
+  GS_ASSIGN_OR_RETURN(solver->remap_, avg::VplShadowMaps::Create());
   GS_ASSIGN_OR_RETURN(solver->direct_, DirectLighting::Create());
   GS_ASSIGN_OR_RETURN(solver->illuminate_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
@@ -102,9 +107,45 @@ std::vector<std::string> AvgSolver::Plan(ChangeMask changes) const {
     return {"voxelize", "trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
   }
   if (NeedsTrace(changes)) return {"trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
+  if (remap_pending_) return {"vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
   // Camera (or environment, which avg does not use): VPLs and shadow maps
   // are view-independent.
   return {"gbuffer", "illuminate", "filter"};
+}
+
+void AvgSolver::ContinueRemap(SolverContext& ctx) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const int total = remap_.count();
+  while (remap_next_ < total) {
+    int count = total - remap_next_;
+    const double elapsed = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    if (ctx.budget_ms > 0.0 && remap_next_ > 0 && elapsed >= ctx.budget_ms) break;
+    if (ctx.budget_ms > 0.0) {
+      // No estimate yet: a few maps measure one.
+      count = ms_per_map_ > 0.0
+                  ? std::clamp(int((ctx.budget_ms - elapsed) / ms_per_map_), 1, count)
+                  : std::min(count, 4);
+    }
+    const auto slice = Clock::now();
+    remap_.RenderRange(ctx.gpu, ctx.state, shadow_resolution_, remap_next_, count);
+    glFinish();  // the slice's GPU time sizes the next slice
+    const double per_map =
+        std::chrono::duration<double, std::milli>(Clock::now() - slice).count() / double(count);
+    ms_per_map_ = ms_per_map_ > 0.0 ? 0.5 * (ms_per_map_ + per_map) : per_map;
+    remap_next_ += count;
+    vpl_maps_redrawn_ += count;
+    if (ctx.budget_ms > 0.0 &&
+        std::chrono::duration<double, std::milli>(Clock::now() - start).count() >= ctx.budget_ms) {
+      break;
+    }
+  }
+  if (remap_next_ >= total) {
+    std::swap(shadow_maps_, remap_);  // the old atlas is the next re-map's target
+    mapped_vpls_ = std::move(remap_vpls_);
+    remap_vpls_.clear();
+    remap_pending_ = false;
+  }
 }
 
 bool AvgSolver::SamePlacement(const std::vector<avg::Vpl>& a, const std::vector<avg::Vpl>& b) {
@@ -126,7 +167,13 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
   }
   if (!trace) {
     ctx.timer.Skip("trace_vpls");
-    ctx.timer.Skip("vpl_shadow_maps");
+    if (remap_pending_) {
+      gl::StageTimer::Scope stage(ctx.timer, "vpl_shadow_maps");
+      vpl_maps_redrawn_ = 0;
+      ContinueRemap(ctx);
+    } else {
+      ctx.timer.Skip("vpl_shadow_maps");
+    }
     return absl::OkStatus();
   }
   const Bounds& scene_bounds = ctx.state.scene().bounds;
@@ -145,7 +192,6 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
     // shadow maps of the path's first vertices, and change when VPLs do.
     gl::StageTimer::Scope stage(ctx.timer, "vpl_shadow_maps");
     GS_RETURN_IF_ERROR(direct_.Update(ctx.state, ctx.gpu, direct_settings_, changes));
-    shadow_maps_.Upload(trace_.vpls, grid_bounds);
     // A VPL's paraboloid map depends on its position, its normal and the
     // geometry only: when a light change left every path where it was (a
     // dimmer, a colour; the paths are quasi-random in the path index), the
@@ -153,11 +199,19 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
     const bool same_placement = !voxelize && !(changes & kChangeGeometry) &&
                                 SamePlacement(mapped_vpls_, trace_.vpls);
     vpl_maps_redrawn_ = 0;
-    if (visibility_ && !same_placement) {
-      shadow_maps_.Render(ctx.gpu, ctx.state, shadow_resolution_);
-      vpl_maps_redrawn_ = int(trace_.vpls.size());
+    if (!visibility_ || same_placement) {
+      shadow_maps_.Upload(trace_.vpls, grid_bounds);
+      mapped_vpls_ = trace_.vpls;
+      remap_pending_ = false;  // a re-map of older VPLs is moot
+    } else {
+      // New maps are drawn into the other atlas in slices of the frame
+      // budget; frames show the last VPLs and maps until all are drawn.
+      remap_.Upload(trace_.vpls, grid_bounds);
+      remap_vpls_ = trace_.vpls;
+      remap_next_ = 0;
+      remap_pending_ = true;
+      ContinueRemap(ctx);
     }
-    mapped_vpls_ = trace_.vpls;
   }
   return absl::OkStatus();
 }
@@ -220,6 +274,7 @@ SolverStats AvgSolver::Stats() const {
           {"voxel_bytes", double(grid_ ? grid_->bytes() : 0)},
           {"vpl_shadow_bytes", double(shadow_maps_.gpu_bytes())},
           {"vpl_maps_redrawn", double(vpl_maps_redrawn_)},
+          {"vpl_maps_pending", remap_pending_ ? double(remap_.count() - remap_next_) : 0.0},
           {"direct_area_samples", double(direct_.area_samples().size())},
           {"direct_shadow_bytes", double(direct_.gpu_bytes())},
           {"split_bytes", double(split_.gpu_bytes())}};

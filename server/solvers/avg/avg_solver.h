@@ -27,8 +27,13 @@ class AvgSolver final : public Solver {
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
-  // VPL and direct-light shadow maps (the voxel grid is CPU memory).
-  uint64_t gpu_bytes() const override { return shadow_maps_.gpu_bytes() + direct_.gpu_bytes(); }
+  // False while new VPLs' maps are drawn in slices (frames show the last
+  // VPLs and maps meanwhile).
+  bool UpdateComplete() const override { return !remap_pending_; }
+  // VPL and direct-light shadow maps, both atlases (the voxel grid is CPU memory).
+  uint64_t gpu_bytes() const override {
+    return shadow_maps_.gpu_bytes() + remap_.gpu_bytes() + direct_.gpu_bytes();
+  }
 
   // For tests: the current grid and VPLs.
   const avg::VoxelGrid* grid() const { return grid_ ? &*grid_ : nullptr; }
@@ -40,6 +45,9 @@ class AvgSolver final : public Solver {
   // What a change set needs, as flags.
   static bool NeedsVoxelize(ChangeMask changes);
   static bool NeedsTrace(ChangeMask changes);
+  // Draws the next slice of the re-map (as many maps as the budget allows,
+  // at least one); when the last is drawn, the new VPLs and maps are shown.
+  void ContinueRemap(SolverContext& ctx);
 
   // Configuration
   int grid_resolution_ = 64;            ///< voxels per axis
@@ -55,7 +63,13 @@ class AvgSolver final : public Solver {
   // The VPLs whose paraboloid maps are drawn, and how many the last update drew.
   std::vector<avg::Vpl> mapped_vpls_;
   int vpl_maps_redrawn_ = 0;
-  avg::VplShadowMaps shadow_maps_;
+  avg::VplShadowMaps shadow_maps_;  // shown: VPLs and maps that agree
+  // New VPLs whose maps are being drawn, in slices of the frame budget.
+  avg::VplShadowMaps remap_;
+  std::vector<avg::Vpl> remap_vpls_;
+  bool remap_pending_ = false;
+  int remap_next_ = 0;
+  double ms_per_map_ = 0.0;  // running estimate, sizes the slices
   DirectLighting direct_;
   avg::InterleavedBuffer split_;
   gl::Program illuminate_;

@@ -56,7 +56,14 @@ void VplShadowMaps::Allocate(int layers, int resolution) {
 }
 
 void VplShadowMaps::Render(const GpuScene& gpu, const SceneState& state, int resolution) {
+  RenderRange(gpu, state, resolution, 0, count_);
+}
+
+void VplShadowMaps::RenderRange(const GpuScene& gpu, const SceneState& state, int resolution,
+                                int first, int count) {
   Allocate(std::max(count_, 1), resolution);
+  first = std::clamp(first, 0, count_);
+  count = std::clamp(count, 0, count_ - first);
   // Layered attachment: the geometry shader picks the layer (the VPL).
   glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, maps_.id(), 0);
   glNamedFramebufferDrawBuffer(fbo_.id(), GL_NONE);
@@ -66,11 +73,16 @@ void VplShadowMaps::Render(const GpuScene& gpu, const SceneState& state, int res
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);
   const float one = 1.0f;
-  glClearBufferfv(GL_DEPTH, 0, &one);  // every layer
-  if (count_ > 0) {
+  if (count > 0) {
+    // The slice's layers only.
+    glClearTexSubImage(maps_.id(), 0, 0, 0, first, resolution, resolution, count,
+                       GL_DEPTH_COMPONENT, GL_FLOAT, &one);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVplBinding, vpls_.id());
+    program_.Set("uFirstVpl", first);
     program_.Use();
-    gpu.Draw(program_, state, false, count_);
+    gpu.Draw(program_, state, false, count);
+  } else if (count_ == 0) {
+    glClearBufferfv(GL_DEPTH, 0, &one);
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }

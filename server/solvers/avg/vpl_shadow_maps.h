@@ -21,6 +21,10 @@ class VplShadowMaps {
   void Upload(const std::vector<Vpl>& vpls, const Bounds& bounds);
   // Draws every VPL's map at `resolution`^2 (needs Upload first).
   void Render(const GpuScene& gpu, const SceneState& state, int resolution);
+  // Draws the maps of VPLs [first, first + count) only (a slice of a
+  // re-map spread over frames); the other layers keep what they hold.
+  void RenderRange(const GpuScene& gpu, const SceneState& state, int resolution, int first,
+                   int count);
   // Binds the VPL buffer, and the maps to kShadowUnit.
   void Bind();
 
