@@ -1,23 +1,11 @@
 #include "render/direct_lighting.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 namespace gistream {
 namespace {
-
-// std430 mirrors of shaders/render/direct_light.glsl.
-struct GpuPunctual {
-  glm::vec4 position_type;
-  glm::vec4 direction;
-  glm::vec4 intensity;
-  glm::vec4 cone_shadow;
-};
-struct GpuAreaSample {
-  glm::vec4 position_area;
-  glm::vec4 normal_shadow;
-  glm::vec4 radiance_far;
-};
 
 template <typename T>
 void Upload(gl::Buffer& buffer, const std::vector<T>& data) {
@@ -46,11 +34,13 @@ DirectLightingSettings DirectLightingFromParams(const ParamSet& params) {
 absl::StatusOr<DirectLighting> DirectLighting::Create() {
   DirectLighting lighting;
   GS_ASSIGN_OR_RETURN(lighting.shadows_, ShadowMaps::Create());
+  GS_ASSIGN_OR_RETURN(lighting.back_, ShadowMaps::Create());
   return lighting;
 }
 
 absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu,
-                                    const DirectLightingSettings& settings, ChangeMask changes) {
+                                    const DirectLightingSettings& settings, ChangeMask changes,
+                                    double budget_ms) {
   std::vector<EmitterTriangle> emitters = CollectEmitters(state);
   std::vector<EmitterSample> emitter_samples = SampleEmitters(emitters, settings.area_samples);
 
@@ -73,32 +63,14 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
         " MiB; this GL allows ", max_layers / 6, " cubes and the limit is ",
         kMaxShadowBytes >> 20, " MiB"));
   }
-  emitters_ = std::move(emitters);
-  samples_ = std::move(emitter_samples);
-  // A new layout reallocates the maps; moved geometry changes what every
-  // map sees: both redraw everything.
-  const bool all_stale = (changes & kChangeGeometry) || cube_count != int(cube_views_.size()) ||
-                         dir_count != int(dir_views_.size()) ||
-                         settings.shadow_resolution != shadow_resolution_;
-  shadows_.Allocate(cube_count, dir_count, settings.shadow_resolution);
-  shadow_resolution_ = settings.shadow_resolution;
-  if (all_stale) {
-    cube_views_.assign(size_t(cube_count), CubeView{glm::vec3(0.0f), -1.0f});
-    dir_views_.assign(size_t(dir_count), DirView{glm::vec3(0.0f), glm::mat4(1.0f)});
-  }
-  maps_redrawn_ = 0;
-  auto cube_map = [&](int index, const glm::vec3& origin, float far) {
-    const CubeView view{origin, far};
-    if (cube_views_[size_t(index)] == view) return;
-    shadows_.RenderCube(gpu, state, index, origin, far);
-    cube_views_[size_t(index)] = view;
-    ++maps_redrawn_;
-  };
 
-  std::vector<GpuPunctual> punctual;
-  std::vector<glm::mat4> dir_matrices;
-  int cube = 0;
+  // The light set to show next: buffers, and where every map is drawn from.
+  Pending next;
+  next.emitters = std::move(emitters);
+  next.samples = std::move(emitter_samples);
+  next.resolution = settings.shadow_resolution;
   const Bounds bounds = gpu.WorldBounds(state);  // follows moved nodes
+  int cube = 0;
   for (const LightInstance& l : state.lights()) {
     GpuPunctual g{};
     const float type = l.light.type == LightType::kPoint ? 0.0f
@@ -111,40 +83,112 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
     const float cos_outer = std::cos(l.light.outer_cone_angle);
     const float scale = 1.0f / std::max(0.001f, std::cos(l.light.inner_cone_angle) - cos_outer);
     if (l.light.type == LightType::kDirectional) {
-      const int index = int(dir_matrices.size());
-      DirView& view = dir_views_[size_t(index)];
-      if (all_stale || view.direction != l.direction) {
-        view = {l.direction, shadows_.RenderDirectional(gpu, state, index, l.direction)};
-        ++maps_redrawn_;
-      }
-      dir_matrices.push_back(view.view_proj);
-      g.cone_shadow = glm::vec4(0.0f, 0.0f, float(index), 0.0f);
+      g.cone_shadow = glm::vec4(0.0f, 0.0f, float(next.dir_views.size()), 0.0f);
+      next.dir_views.push_back({l.direction, glm::mat4(1.0f)});
     } else {
       const float far = ShadowFar(bounds, l.position);
-      cube_map(cube, l.position, far);
-      g.cone_shadow = glm::vec4(scale, -cos_outer * scale, float(cube), far);
-      ++cube;
+      g.cone_shadow = glm::vec4(scale, -cos_outer * scale, float(cube++), far);
+      next.cube_views.push_back({l.position, far});
     }
-    punctual.push_back(g);
+    next.punctual.push_back(g);
   }
-  std::vector<GpuAreaSample> samples;
-  samples.reserve(samples_.size());
-  for (const EmitterSample& s : samples_) {
+  for (const EmitterSample& sample : next.samples) {
     // Start the shadow rays a hair in front of the emitter so the emitter
     // does not shadow itself.
-    const float far = ShadowFar(bounds, s.position);
-    const glm::vec3 origin = s.position + s.normal * (far * 1e-5f);
-    cube_map(cube, origin, far);
-    samples.push_back({glm::vec4(origin, s.area), glm::vec4(s.normal, float(cube)),
-                       glm::vec4(s.radiance, far)});
-    ++cube;
+    const float far = ShadowFar(bounds, sample.position);
+    const glm::vec3 origin = sample.position + sample.normal * (far * 1e-5f);
+    next.area.push_back({glm::vec4(origin, sample.area), glm::vec4(sample.normal, float(cube++)),
+                         glm::vec4(sample.radiance, far)});
+    next.cube_views.push_back({origin, far});
   }
-  punctual_count_ = int(punctual.size());
-  Upload(punctual_, punctual);
-  Upload(samples_buffer_, samples);
-  Upload(dir_matrices_, dir_matrices);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+
+  // A new layout reallocates the maps; moved geometry changes what every
+  // map sees: both redraw everything. Otherwise only the maps whose origin,
+  // range or direction moved.
+  const bool all_stale = (changes & kChangeGeometry) || cube_count != int(cube_views_.size()) ||
+                         dir_count != int(dir_views_.size()) ||
+                         settings.shadow_resolution != shadow_resolution_;
+  maps_redrawn_ = 0;
+  pending_.reset();  // a newer light set replaces one still being drawn
+  if (all_stale && budget_ms > 0.0 && drawn_once_) {
+    // Sliced: every map is drawn into the other set, a budget's worth per
+    // frame, while the shown set (maps and buffers that agree) stays bound.
+    for (size_t i = 0; i < next.cube_views.size(); ++i) next.cube_draws.push_back(int(i));
+    for (size_t i = 0; i < next.dir_views.size(); ++i) next.dir_draws.push_back(int(i));
+    back_.Allocate(cube_count, dir_count, settings.shadow_resolution);
+    pending_ = std::make_unique<Pending>(std::move(next));
+    Continue(gpu, state, budget_ms);
+    return absl::OkStatus();
+  }
+  // In place: the stale maps of the shown set.
+  shadows_.Allocate(cube_count, dir_count, settings.shadow_resolution);
+  for (size_t i = 0; i < next.cube_views.size(); ++i) {
+    if (all_stale || !(cube_views_[i] == next.cube_views[i])) next.cube_draws.push_back(int(i));
+  }
+  for (size_t i = 0; i < next.dir_views.size(); ++i) {
+    if (all_stale || dir_views_[i].direction != next.dir_views[i].direction) {
+      next.dir_draws.push_back(int(i));
+    } else {
+      next.dir_views[i].view_proj = dir_views_[i].view_proj;
+    }
+  }
+  Draw(gpu, state, shadows_, next, 0.0);
+  Commit(std::move(next));
   return absl::OkStatus();
+}
+
+bool DirectLighting::Draw(const GpuScene& gpu, const SceneState& state, ShadowMaps& target,
+                          Pending& set, double budget_ms) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto over = [&] {
+    return budget_ms > 0.0 &&
+           std::chrono::duration<double, std::milli>(Clock::now() - start).count() >= budget_ms;
+  };
+  bool drew = false;
+  while (set.next_dir < set.dir_draws.size()) {
+    if (drew && over()) return false;
+    const int i = set.dir_draws[set.next_dir++];
+    set.dir_views[size_t(i)].view_proj =
+        target.RenderDirectional(gpu, state, i, set.dir_views[size_t(i)].direction);
+    ++maps_redrawn_;
+    drew = true;
+  }
+  while (set.next_cube < set.cube_draws.size()) {
+    if (drew && over()) return false;
+    const int i = set.cube_draws[set.next_cube++];
+    target.RenderCube(gpu, state, i, set.cube_views[size_t(i)].origin, set.cube_views[size_t(i)].far);
+    ++maps_redrawn_;
+    drew = true;
+    if (budget_ms > 0.0) glFinish();  // the budget counts the GPU's time too
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return true;
+}
+
+void DirectLighting::Continue(const GpuScene& gpu, const SceneState& state, double budget_ms) {
+  if (!pending_) return;
+  maps_redrawn_ = 0;
+  if (!Draw(gpu, state, back_, *pending_, budget_ms)) return;
+  // Every map of the new set is drawn: show it.
+  std::swap(shadows_, back_);
+  Commit(std::move(*pending_));
+  pending_.reset();
+}
+
+void DirectLighting::Commit(Pending set) {
+  emitters_ = std::move(set.emitters);
+  samples_ = std::move(set.samples);
+  shadow_resolution_ = set.resolution;
+  cube_views_ = std::move(set.cube_views);
+  dir_views_ = std::move(set.dir_views);
+  std::vector<glm::mat4> dir_matrices;
+  for (const DirView& view : dir_views_) dir_matrices.push_back(view.view_proj);
+  punctual_count_ = int(set.punctual.size());
+  Upload(punctual_, set.punctual);
+  Upload(samples_buffer_, set.area);
+  Upload(dir_matrices_, dir_matrices);
+  drawn_once_ = true;
 }
 
 void DirectLighting::Bind(gl::Program& program) const {

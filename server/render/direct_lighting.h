@@ -4,6 +4,7 @@
 // light and first bounce.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -41,8 +42,18 @@ class DirectLighting {
   // INVALID_ARGUMENT naming params.area_samples/params.shadow_res when the
   // shadow cubes exceed the GL's array layers or kMaxShadowBytes (nothing
   // is changed).
+  //
+  // With `budget_ms` > 0 a change that makes every map stale (after the
+  // first set) is drawn into a second set of maps, about `budget_ms` of
+  // drawing per call, while the shown set (maps and light buffers that
+  // agree) stays bound; Continue() draws more, and the new set is shown
+  // once every map of it is drawn (pending() is false again). Twice the
+  // shadow-map memory while that is used.
   absl::Status Update(const SceneState& state, const GpuScene& gpu,
-                      const DirectLightingSettings& settings, ChangeMask changes = kChangeAll);
+                      const DirectLightingSettings& settings, ChangeMask changes = kChangeAll,
+                      double budget_ms = 0.0);
+  void Continue(const GpuScene& gpu, const SceneState& state, double budget_ms);
+  bool pending() const { return pending_ != nullptr; }
 
   // Binds buffers (SSBO 1..3), shadow maps (units 4, 5) and sets uniforms
   // of a program that includes render/direct_light.glsl.
@@ -51,7 +62,7 @@ class DirectLighting {
   int punctual_count() const { return punctual_count_; }
   const std::vector<EmitterSample>& area_samples() const { return samples_; }
   const std::vector<EmitterTriangle>& emitters() const { return emitters_; }
-  uint64_t gpu_bytes() const { return shadows_.gpu_bytes(); }
+  uint64_t gpu_bytes() const { return shadows_.gpu_bytes() + back_.gpu_bytes(); }
   // Shadow maps (cube-map sets and directional maps) the last Update drew.
   int maps_redrawn() const { return maps_redrawn_; }
 
@@ -72,7 +83,42 @@ class DirectLighting {
     glm::mat4 view_proj{1.0f};
   };
 
-  ShadowMaps shadows_;
+  // std430 mirrors of shaders/render/direct_light.glsl.
+  struct GpuPunctual {
+    glm::vec4 position_type;
+    glm::vec4 direction;
+    glm::vec4 intensity;
+    glm::vec4 cone_shadow;
+  };
+  struct GpuAreaSample {
+    glm::vec4 position_area;
+    glm::vec4 normal_shadow;
+    glm::vec4 radiance_far;
+  };
+  // A light set: its buffers, where each map is drawn from, and the maps
+  // still to draw.
+  struct Pending {
+    std::vector<EmitterTriangle> emitters;
+    std::vector<EmitterSample> samples;
+    int resolution = 0;
+    std::vector<GpuPunctual> punctual;
+    std::vector<GpuAreaSample> area;
+    std::vector<CubeView> cube_views;
+    std::vector<DirView> dir_views;
+    std::vector<int> cube_draws, dir_draws;
+    size_t next_cube = 0, next_dir = 0;
+  };
+  // Draws `set`'s remaining maps into `target` (about `budget_ms` of them
+  // when > 0, at least one); true when none remains.
+  bool Draw(const GpuScene& gpu, const SceneState& state, ShadowMaps& target, Pending& set,
+            double budget_ms);
+  // Shows `set`: its buffers and views become the bound ones.
+  void Commit(Pending set);
+
+  ShadowMaps shadows_;  // shown
+  ShadowMaps back_;     // drawn into while a sliced set is pending
+  std::unique_ptr<Pending> pending_;
+  bool drawn_once_ = false;
   std::vector<CubeView> cube_views_;
   std::vector<DirView> dir_views_;
   int maps_redrawn_ = 0;

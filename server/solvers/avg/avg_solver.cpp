@@ -107,7 +107,9 @@ std::vector<std::string> AvgSolver::Plan(ChangeMask changes) const {
     return {"voxelize", "trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
   }
   if (NeedsTrace(changes)) return {"trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
-  if (remap_pending_) return {"vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
+  if (remap_pending_ || direct_.pending()) {
+    return {"vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
+  }
   // Camera (or environment, which avg does not use): VPLs and shadow maps
   // are view-independent.
   return {"gbuffer", "illuminate", "filter"};
@@ -167,10 +169,11 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
   }
   if (!trace) {
     ctx.timer.Skip("trace_vpls");
-    if (remap_pending_) {
+    if (remap_pending_ || direct_.pending()) {
       gl::StageTimer::Scope stage(ctx.timer, "vpl_shadow_maps");
       vpl_maps_redrawn_ = 0;
-      ContinueRemap(ctx);
+      if (direct_.pending()) direct_.Continue(ctx.gpu, ctx.state, ctx.budget_ms);
+      if (remap_pending_) ContinueRemap(ctx);
     } else {
       ctx.timer.Skip("vpl_shadow_maps");
     }
@@ -191,7 +194,10 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
     // The direct lights' shadow maps are drawn here too: they are the
     // shadow maps of the path's first vertices, and change when VPLs do.
     gl::StageTimer::Scope stage(ctx.timer, "vpl_shadow_maps");
-    GS_RETURN_IF_ERROR(direct_.Update(ctx.state, ctx.gpu, direct_settings_, changes));
+    // Sliced by the frame budget, like the VPL maps below (the direct
+    // light's maps do not feed the VPLs).
+    GS_RETURN_IF_ERROR(
+        direct_.Update(ctx.state, ctx.gpu, direct_settings_, changes, ctx.budget_ms));
     // A VPL's paraboloid map depends on its position, its normal and the
     // geometry only: when a light change left every path where it was (a
     // dimmer, a colour; the paths are quasi-random in the path index), the

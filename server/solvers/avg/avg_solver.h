@@ -29,7 +29,7 @@ class AvgSolver final : public Solver {
   SolverStats Stats() const override;
   // False while new VPLs' maps are drawn in slices (frames show the last
   // VPLs and maps meanwhile).
-  bool UpdateComplete() const override { return !remap_pending_; }
+  bool UpdateComplete() const override { return !remap_pending_ && !direct_.pending(); }
   // VPL and direct-light shadow maps, both atlases (the voxel grid is CPU memory).
   uint64_t gpu_bytes() const override {
     return shadow_maps_.gpu_bytes() + remap_.gpu_bytes() + direct_.gpu_bytes();

@@ -30,7 +30,7 @@ absl::StatusOr<std::unique_ptr<Solver>> DirectSolver::Create(const ParamSet& par
 std::vector<std::string> DirectSolver::Plan(ChangeMask changes) const {
   // Shadow maps depend on geometry, lights and emission; base colour and
   // camera changes only need the view-dependent stages.
-  if (changes & (kChangeGeometry | kChangeLights | kChangeEmission)) {
+  if ((changes & (kChangeGeometry | kChangeLights | kChangeEmission)) || lighting_.pending()) {
     return {"shadow_maps", "gbuffer", "shade"};
   }
   return {"gbuffer", "shade"};
@@ -38,11 +38,19 @@ std::vector<std::string> DirectSolver::Plan(ChangeMask changes) const {
 
 absl::Status DirectSolver::Update(SolverContext& ctx, ChangeMask changes) {
   if (!(changes & (kChangeGeometry | kChangeLights | kChangeEmission))) {
-    ctx.timer.Skip("shadow_maps");
+    if (!lighting_.pending()) {
+      ctx.timer.Skip("shadow_maps");
+      return absl::OkStatus();
+    }
+    // The next slice of a redraw after moved geometry.
+    gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
+    lighting_.Continue(ctx.gpu, ctx.state, ctx.budget_ms);
     return absl::OkStatus();
   }
   gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
-  return lighting_.Update(ctx.state, ctx.gpu, settings_, changes);
+  // Sliced by the frame budget: frames show the last shadows until the new
+  // ones are all drawn (render/direct_lighting.h).
+  return lighting_.Update(ctx.state, ctx.gpu, settings_, changes, ctx.budget_ms);
 }
 
 absl::Status DirectSolver::Shade(SolverContext& ctx, const ViewCamera& /*camera*/,
@@ -66,7 +74,8 @@ SolverStats DirectSolver::Stats() const {
           {"area_samples", double(lighting_.area_samples().size())},
           {"emitter_triangles", double(lighting_.emitters().size())},
           {"shadow_map_bytes", double(lighting_.gpu_bytes())},
-          {"shadow_maps_redrawn", double(lighting_.maps_redrawn())}};
+          {"shadow_maps_redrawn", double(lighting_.maps_redrawn())},
+          {"shadow_maps_pending", lighting_.pending() ? 1.0 : 0.0}};
 }
 
 }  // namespace gistream

@@ -16,6 +16,8 @@ class DirectSolver final : public Solver {
   std::vector<std::string> Plan(ChangeMask changes) const override;
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
+  // False while shadow maps after moved geometry are drawn in slices.
+  bool UpdateComplete() const override { return !lighting_.pending(); }
   SolverStats Stats() const override;
   uint64_t gpu_bytes() const override { return lighting_.gpu_bytes(); }
 
