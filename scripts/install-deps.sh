@@ -10,6 +10,8 @@ PACKAGES=(
   libglm-dev libopenimageio-dev openimageio-tools libopenexr-dev libtinygltf-dev nlohmann-json3-dev
   libjpeg62-turbo-dev libpng-dev libembree-dev prometheus-cpp-dev libavcodec-dev libavutil-dev
   libgtest-dev libgmock-dev
+  libboost-dev  # Boost.Beast (header-only) for gistream-web
+  chromium nodejs  # the viewer test (tests/web) drives headless Chromium through puppeteer-core
 )
 
 missing=()
@@ -18,6 +20,10 @@ for p in "${PACKAGES[@]}"; do
     missing+=("$p")
   fi
 done
+
+# npm for the viewer test's puppeteer-core: Debian ships it apart from
+# nodejs; a nodejs from elsewhere (NodeSource) brings its own.
+command -v npm >/dev/null 2>&1 || missing+=(npm)
 
 if [ ${#missing[@]} -eq 0 ]; then
   exit 0

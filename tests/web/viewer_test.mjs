@@ -1,0 +1,106 @@
+// Drives gistream-web's viewer in Debian's headless Chromium (puppeteer-core
+// with /usr/bin/chromium): the page loads, frames arrive and the canvas is
+// not black, a mouse drag changes the camera (the echoed sequence number
+// reaches the drag's and the picture changes), a slider changes a light
+// (the picture gets brighter); saves a screenshot; prints the measured
+// update-to-frame latency.
+//
+//   node viewer_test.mjs URL OUT_DIR [jpeg|h264]
+import puppeteer from "puppeteer-core";
+import fs from "node:fs";
+import path from "node:path";
+
+const [url, outDir, format = "jpeg"] = process.argv.slice(2);
+if (!url || !outDir) {
+  console.error("usage: node viewer_test.mjs URL OUT_DIR [jpeg|h264]");
+  process.exit(2);
+}
+fs.mkdirSync(outDir, { recursive: true });
+
+function fail(message) {
+  console.error(`FAIL (${format}): ${message}`);
+  process.exitCode = 1;
+  throw new Error(message);
+}
+
+const browser = await puppeteer.launch({
+  executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
+  headless: true,
+  args: ["--no-sandbox", "--disable-dev-shm-usage"],
+});
+try {
+  const page = await browser.newPage();
+  await page.setViewport({ width: 1000, height: 560 });
+  page.on("console", m => console.log(`page: ${m.text()}`));
+  await page.goto(`${url}?format=${format}`, { waitUntil: "load" });
+
+  const waitFor = (fn, what, arg, timeout = 120000) =>
+    page.waitForFunction(fn, { timeout, polling: 50 }, arg).catch(() => fail(`timed out: ${what}`));
+  // Mean of R, G, B over the canvas (0..255).
+  const pixels = () => page.evaluate(() => {
+    const c = document.getElementById("view");
+    const d = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
+    let sum = 0;
+    for (let i = 0; i < d.length; i += 4) sum += d[i] + d[i + 1] + d[i + 2];
+    return { mean: sum / (3 * d.length / 4), data: Array.from(d.filter((_, i) => i % 16 === 0)) };
+  });
+  const diff = (a, b) => a.data.reduce((s, v, i) => s + Math.abs(v - b.data[i]), 0) / a.data.length;
+
+  await waitFor(() => window.viewer && window.viewer.drawn >= 1, "first picture");
+  const format_used = await page.evaluate(() => window.viewer.format);
+  if (format_used !== format) fail(`the page chose ${format_used}`);
+  const first = await pixels();
+  if (!(first.mean > 10)) fail(`the canvas is black (mean ${first.mean.toFixed(2)})`);
+
+  // Drag: orbit the camera.
+  const box = await (await page.$("#view")).boundingBox();
+  const cx = box.x + box.width / 2, cy = box.y + box.height / 2;
+  const drawnBefore = await page.evaluate(() => window.viewer.drawn);
+  await page.mouse.move(cx, cy);
+  await page.mouse.down();
+  for (let i = 1; i <= 8; i++) await page.mouse.move(cx + 12 * i, cy + 3 * i);
+  await page.mouse.up();
+  await waitFor(() => window.viewer.seq > 0 && window.viewer.lastSeq >= window.viewer.seq,
+                "the echoed sequence number reaching the drag's");
+  await waitFor(d => window.viewer.drawn > d, "a picture after the drag", drawnBefore);
+  await new Promise(r => setTimeout(r, 300));  // let the decode of that frame land
+  const dragged = await pixels();
+  const moved = diff(first, dragged);
+  if (!(moved > 1)) fail(`the picture did not change after the drag (mean abs diff ${moved.toFixed(3)})`);
+  const seqAfterDrag = await page.evaluate(() => window.viewer.lastSeq);
+
+  // Slider: dim, then brighten the first light or emissive material (the
+  // scene is shared, so another browser may have moved it before).
+  const setSlider = value => page.evaluate(v => {
+    const s = document.querySelector("#lights input, #materials input");
+    if (!s) return false;
+    s.value = String(v);
+    s.dispatchEvent(new Event("input"));
+    return true;
+  }, value);
+  const lightStep = async (value, after) => {
+    if (!(await setSlider(value))) fail("the page shows no light or material slider");
+    await waitFor(s => window.viewer.lastSeq > s, `the slider's update (${value}) in a frame`, after);
+    await new Promise(r => setTimeout(r, 500));  // the decode of that frame
+    return [await pixels(), await page.evaluate(() => window.viewer.lastSeq)];
+  };
+  const [dim, seqDim] = await lightStep(0.5, seqAfterDrag);
+  const [brighter] = await lightStep(2.5, seqDim);
+  if (!(brighter.mean > dim.mean + 2)) {
+    fail(`the slider did not brighten the picture (${dim.mean.toFixed(2)} -> ${brighter.mean.toFixed(2)})`);
+  }
+
+  await page.screenshot({ path: path.join(outDir, `viewer_${format}.png`) });
+  const stats = await page.evaluate(() => ({
+    frames: window.viewer.frames, images: window.viewer.images, latencies: window.viewer.latencies,
+    errors: window.viewer.errors }));
+  const lat = [...stats.latencies].sort((a, b) => a - b);
+  console.log(`PASS (${format}): ${stats.frames} frames (${stats.images} with a picture), ` +
+              `update-to-frame latency median ${lat[lat.length >> 1].toFixed(0)} ms over ${lat.length} updates, ` +
+              `canvas mean ${first.mean.toFixed(1)}, drag diff ${moved.toFixed(1)}, slider ${dim.mean.toFixed(1)} -> ${brighter.mean.toFixed(1)}` +
+              (stats.errors.length ? `, errors: ${stats.errors.join("; ")}` : ""));
+} catch (e) {
+  if (!process.exitCode) { console.error(`FAIL (${format}): ${e.message}`); process.exitCode = 1; }
+} finally {
+  await browser.close();
+}

@@ -1,0 +1,133 @@
+#include "http_server.h"
+
+#include <cstring>
+#include <iostream>
+#include <memory>
+
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+
+namespace gistream::web {
+
+struct EmbeddedFile {
+  const char* path;
+  const char* data;
+  std::size_t size;
+};
+extern const EmbeddedFile kEmbeddedFiles[];
+
+namespace {
+
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace net = boost::asio;
+using tcp = net::ip::tcp;
+
+const char* ContentType(const std::string& path) {
+  auto ends = [&](const char* ext) {
+    const size_t n = std::strlen(ext);
+    return path.size() >= n && path.compare(path.size() - n, n, ext) == 0;
+  };
+  if (ends(".html")) return "text/html; charset=utf-8";
+  if (ends(".js")) return "text/javascript; charset=utf-8";
+  if (ends(".css")) return "text/css; charset=utf-8";
+  return "application/octet-stream";
+}
+
+class HttpSession : public std::enable_shared_from_this<HttpSession> {
+ public:
+  HttpSession(tcp::socket socket, const ViewerOptions& options)
+      : stream_(std::move(socket)), options_(options) {}
+  void Start() {
+    http::async_read(stream_, buffer_, request_,
+                     [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                       if (!ec) self->OnRequest();
+                     });
+  }
+
+ private:
+  void OnRequest() {
+    std::string target(request_.target());
+    if (beast::websocket::is_upgrade(request_) && target.rfind("/ws", 0) == 0) {
+      StartViewer(stream_.release_socket(), std::move(request_), options_);
+      return;
+    }
+    const std::string path = target.substr(0, target.find('?'));
+    auto response = std::make_shared<http::response<http::string_body>>();
+    response->version(request_.version());
+    response->keep_alive(false);
+    response->set(http::field::server, "gistream-web");
+    response->set(http::field::cache_control, "no-store");
+    response->result(http::status::not_found);
+    response->set(http::field::content_type, "text/plain");
+    response->body() = "not found\n";
+    if (path == "/healthz") {
+      response->result(http::status::ok);
+      response->body() = "ok\n";
+    } else {
+      const std::string name = path == "/" ? "index.html" : path.substr(1);
+      for (const EmbeddedFile* f = kEmbeddedFiles; f->path != nullptr; ++f) {
+        if (name == f->path) {
+          response->result(http::status::ok);
+          response->set(http::field::content_type, ContentType(name));
+          response->body().assign(f->data, f->size);
+        }
+      }
+    }
+    response->prepare_payload();
+    http::async_write(stream_, *response,
+                      [self = shared_from_this(), response](beast::error_code, std::size_t) {
+                        beast::error_code ignored;
+                        self->stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+                      });
+  }
+
+  beast::tcp_stream stream_;
+  beast::flat_buffer buffer_;
+  http::request<http::string_body> request_;
+  const ViewerOptions& options_;
+};
+
+void Accept(tcp::acceptor& acceptor, const ViewerOptions& options) {
+  acceptor.async_accept([&acceptor, &options](beast::error_code ec, tcp::socket socket) {
+    if (!ec) std::make_shared<HttpSession>(std::move(socket), options)->Start();
+    Accept(acceptor, options);
+  });
+}
+
+}  // namespace
+
+int Serve(const std::string& address, const ViewerOptions& options,
+          const std::function<void(const std::string&)>& on_listening) {
+  const size_t colon = address.rfind(':');
+  if (colon == std::string::npos) {
+    std::cerr << "error: --listen: expected HOST:PORT, got '" << address << "'\n";
+    return 2;
+  }
+  net::io_context io{1};
+  beast::error_code ec;
+  const auto host = net::ip::make_address(address.substr(0, colon), ec);
+  if (ec) {
+    std::cerr << "error: --listen: " << ec.message() << "\n";
+    return 2;
+  }
+  tcp::acceptor acceptor(io);
+  const tcp::endpoint endpoint(host, uint16_t(std::stoi(address.substr(colon + 1))));
+  acceptor.open(endpoint.protocol(), ec);
+  if (!ec) acceptor.set_option(net::socket_base::reuse_address(true), ec);
+  if (!ec) acceptor.bind(endpoint, ec);
+  if (!ec) acceptor.listen(net::socket_base::max_listen_connections, ec);
+  if (ec) {
+    std::cerr << "error: --listen " << address << ": " << ec.message() << "\n";
+    return 1;
+  }
+  const tcp::endpoint bound = acceptor.local_endpoint();
+  on_listening(bound.address().to_string() + ":" + std::to_string(bound.port()));
+  Accept(acceptor, options);
+  io.run();
+  return 0;
+}
+
+}  // namespace gistream::web

@@ -1,0 +1,79 @@
+// gistream-web: the browser viewer's gateway. Loads a scene on a gistreamd
+// over gRPC, serves the embedded viewer page, and bridges each browser's
+// WebSocket to its own continuous Session on that scene (so browsers see
+// each other's light and material changes).
+//
+//   gistream-web [--server ADDR] [--listen HOST:PORT] [--scene NAME]
+//                [--solver NAME] [--param K=V]... [--size WxH] [--fps F]
+#include <cstdio>
+#include <iostream>
+#include <string>
+
+#include <grpcpp/grpcpp.h>
+
+#include "http_server.h"
+
+namespace {
+
+int Usage() {
+  std::cerr << "usage: gistream-web [--server ADDR] [--listen HOST:PORT] [--scene NAME]\n"
+               "                    [--solver NAME] [--param K=V]... [--size WxH] [--fps F]\n"
+               "Serves the viewer on http://HOST:PORT/ (default 127.0.0.1:8080), bridged to\n"
+               "gistreamd at --server (default $GISTREAM_SERVER, else 127.0.0.1:50051).\n";
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace gistream;
+  const char* env = std::getenv("GISTREAM_SERVER");
+  std::string server = env && *env ? env : "127.0.0.1:50051";
+  std::string listen = "127.0.0.1:8080", scene = "cornell_box", solver = "direct";
+  unsigned width = 640, height = 480;
+  float fps = 30.0f;
+  v1::SessionConfig config;
+  for (int i = 1; i < argc; ++i) {
+    const std::string flag = argv[i];
+    if (flag == "--help" || flag == "-h") return Usage(), 0;
+    if (i + 1 >= argc) return Usage();
+    const std::string value = argv[++i];
+    if (flag == "--server") server = value;
+    else if (flag == "--listen") listen = value;
+    else if (flag == "--scene") scene = value;
+    else if (flag == "--solver") solver = value;
+    else if (flag == "--fps") fps = std::stof(value);
+    else if (flag == "--size") {
+      if (std::sscanf(value.c_str(), "%ux%u", &width, &height) != 2) return Usage();
+    } else if (flag == "--param") {
+      const size_t eq = value.find('=');
+      if (eq == std::string::npos) return Usage();
+      (*config.mutable_params())[value.substr(0, eq)] = value.substr(eq + 1);
+    } else {
+      return Usage();
+    }
+  }
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(256 << 20);
+  auto channel = grpc::CreateCustomChannel(server, grpc::InsecureChannelCredentials(), args);
+  web::ViewerOptions options;
+  options.stub = v1::Gistream::NewStub(channel);
+  v1::LoadSceneRequest load;
+  load.set_name(scene);
+  grpc::ClientContext context;
+  context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(120));
+  if (grpc::Status s = options.stub->LoadScene(&context, load, &options.scene); !s.ok()) {
+    std::cerr << "error: LoadScene " << scene << " on " << server << ": " << s.error_message() << "\n";
+    return 1;
+  }
+  config.set_scene_id(options.scene.scene_id());
+  config.set_solver(solver);
+  config.set_width(width);
+  config.set_height(height);
+  config.mutable_continuous()->set_max_fps(fps);
+  options.config = config;
+  return web::Serve(listen, options, [&](const std::string& bound) {
+    std::cout << "serving http://" << bound << "/ (scene " << options.scene.scene_id() << " on "
+              << server << ")" << std::endl;
+  });
+}

@@ -1,0 +1,275 @@
+#include "viewer_bridge.h"
+
+#include <deque>
+#include <iostream>
+#include <mutex>
+#include <thread>
+
+#include <boost/asio/post.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/websocket.hpp>
+#include <grpcpp/grpcpp.h>
+#include <nlohmann/json.hpp>
+
+namespace gistream::web {
+namespace {
+
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+namespace net = boost::asio;
+using tcp = net::ip::tcp;
+using json = nlohmann::json;
+
+json Vec(const v1::Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+void SetVec(const json& j, v1::Vec3* out) {
+  out->set_x(j.at(0).get<float>());
+  out->set_y(j.at(1).get<float>());
+  out->set_z(j.at(2).get<float>());
+}
+
+// The browser's JSON message as a SessionRequest; throws on malformed input.
+v1::SessionRequest RequestFromJson(const json& m) {
+  v1::SessionRequest request;
+  const std::string type = m.at("type").get<std::string>();
+  if (type == "key_frame") {
+    request.mutable_request_frame()->set_key_frame(true);
+    return request;
+  }
+  v1::Update* u = request.mutable_update();
+  u->set_seq(m.value("seq", uint64_t(0)));
+  if (type == "camera") {
+    v1::LookAt* look = u->mutable_camera()->mutable_look_at();
+    SetVec(m.at("eye"), look->mutable_eye());
+    SetVec(m.at("target"), look->mutable_target());
+  } else if (type == "light") {
+    u->mutable_light()->set_light(m.at("light").get<uint32_t>());
+    u->mutable_light()->set_intensity(m.at("intensity").get<float>());
+  } else if (type == "material") {
+    u->mutable_material()->set_material(m.at("material").get<uint32_t>());
+    SetVec(m.at("emissive"), u->mutable_material()->mutable_emissive());
+    u->mutable_material()->set_emissive_strength(1.0f);
+  } else {
+    throw std::invalid_argument("unknown message type '" + type + "'");
+  }
+  return request;
+}
+
+json SceneJson(const v1::LoadSceneResponse& scene, const v1::SessionConfig& config) {
+  json lights = json::array(), materials = json::array();
+  for (const v1::LightInfo& l : scene.lights()) {
+    lights.push_back({{"id", l.id()}, {"name", l.name()}, {"intensity", l.intensity()}});
+  }
+  for (const v1::MaterialInfo& m : scene.materials()) {
+    if (m.emissive().x() + m.emissive().y() + m.emissive().z() <= 0.0f) continue;
+    materials.push_back({{"id", m.id()}, {"name", m.name()}, {"emissive", Vec(m.emissive())}});
+  }
+  json out = {{"type", "scene"},
+              {"scene_id", scene.scene_id()},
+              {"solver", config.solver()},
+              {"width", config.width()},
+              {"height", config.height()},
+              {"format", config.encoding().format() == v1::IMAGE_FORMAT_H264 ? "h264" : "jpeg"},
+              {"bounds", {{"min", Vec(scene.bounds().min())}, {"max", Vec(scene.bounds().max())}}},
+              {"lights", lights},
+              {"materials", materials}};
+  if (scene.cameras_size() > 0) {
+    out["camera"] = {{"position", Vec(scene.cameras(0).position())},
+                     {"yfov_degrees", scene.cameras(0).yfov() * 57.29578f}};
+  }
+  return out;
+}
+
+std::string FrameMessage(const v1::Frame& f) {
+  json timings = json::array();
+  for (const v1::StageTiming& t : f.timings()) {
+    timings.push_back({t.name(), t.cpu_ms(), t.gpu_ms(), t.skipped()});
+  }
+  const std::string header =
+      json{{"frame", f.frame_number()},  {"seq", f.last_update_seq()},
+           {"width", f.width()},         {"height", f.height()},
+           {"format", f.format() == v1::IMAGE_FORMAT_H264 ? "h264" : "jpeg"},
+           {"key_frame", f.key_frame()}, {"unchanged", f.unchanged()},
+           {"total_ms", f.total_ms()},   {"dropped", f.dropped_frames()},
+           {"timings", timings}}
+          .dump();
+  std::string out(4, '\0');
+  const uint32_t n = uint32_t(header.size());
+  for (int i = 0; i < 4; ++i) out[size_t(i)] = char((n >> (8 * i)) & 0xff);
+  out += header;
+  out += f.image();
+  return out;
+}
+
+// The gRPC side, shared by the WebSocket session and the thread reading
+// events (which outlives neither: it holds a reference).
+struct Link {
+  grpc::ClientContext context;
+  std::unique_ptr<grpc::ClientReaderWriter<v1::SessionRequest, v1::SessionEvent>> stream;
+  std::mutex write_mutex;  // one write at a time (the reader thread sends the config)
+  bool Write(const v1::SessionRequest& r) {
+    std::lock_guard lock(write_mutex);
+    return stream->Write(r);
+  }
+};
+
+class Viewer : public std::enable_shared_from_this<Viewer> {
+ public:
+  Viewer(tcp::socket socket, const ViewerOptions& options, bool h264)
+      : ws_(std::move(socket)), options_(options), h264_(h264), link_(std::make_shared<Link>()) {
+    options_.config.mutable_encoding()->set_format(h264 ? v1::IMAGE_FORMAT_H264
+                                                         : v1::IMAGE_FORMAT_JPEG);
+  }
+  ~Viewer() { link_->context.TryCancel(); }
+
+  void Start(http::request<http::string_body> request) {
+    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
+      if (!ec) self->OnAccepted();
+    });
+  }
+
+ private:
+  struct Outgoing {
+    std::string data;
+    bool binary = false;
+    bool frame = false;
+  };
+
+  void OnAccepted() {
+    link_->stream = options_.stub->Session(&link_->context);
+    Send(SceneJson(options_.scene, options_.config).dump(), false, false);
+    // Events are read on their own thread (the gRPC sync API blocks) and
+    // handed to this session's executor.
+    std::weak_ptr<Viewer> weak = weak_from_this();
+    std::thread([weak, link = link_, config = options_.config, executor = ws_.get_executor()] {
+      v1::SessionRequest first;
+      *first.mutable_config() = config;
+      link->Write(first);
+      v1::SessionEvent event;
+      while (link->stream->Read(&event)) {
+        std::string message;
+        bool binary = false, key = false, has_image = false;
+        if (event.has_frame()) {
+          message = FrameMessage(event.frame());
+          binary = true;
+          key = event.frame().key_frame();
+          has_image = !event.frame().image().empty();
+        } else if (event.has_rejected()) {
+          message = json{{"type", "rejected"}, {"seq", event.rejected().seq()},
+                         {"message", event.rejected().message()}}.dump();
+        } else if (event.has_opened()) {
+          message = json{{"type", "opened"}, {"session_id", event.opened().session_id()}}.dump();
+        } else {
+          continue;
+        }
+        net::post(executor, [weak, message = std::move(message), binary, key, has_image]() mutable {
+          if (auto self = weak.lock()) self->OnServerMessage(std::move(message), binary, key, has_image);
+        });
+      }
+      const grpc::Status status = link->stream->Finish();
+      net::post(executor, [weak, text = status.error_message(), code = int(status.error_code())] {
+        if (auto self = weak.lock()) {
+          self->Send(json{{"type", "closed"}, {"code", code}, {"message", text}}.dump(), false, false);
+        }
+      });
+    }).detach();
+    Read();
+  }
+
+  void OnServerMessage(std::string message, bool binary, bool key, bool has_image) {
+    if (!binary) {
+      Send(std::move(message), false, false);
+      return;
+    }
+    // A browser behind by two frames loses the queued ones. Delta frames
+    // after a lost H.264 frame cannot be decoded: drop them until a key
+    // frame, which is asked for.
+    size_t queued_frames = 0;
+    for (size_t i = writing_ ? 1 : 0; i < queue_.size(); ++i) queued_frames += queue_[i].frame;
+    if (queued_frames >= 2) {
+      std::deque<Outgoing> kept;
+      for (size_t i = 0; i < queue_.size(); ++i) {
+        if ((i == 0 && writing_) || !queue_[i].frame) kept.push_back(std::move(queue_[i]));
+      }
+      queue_ = std::move(kept);
+      if (h264_ && !awaiting_key_) {
+        awaiting_key_ = true;
+        v1::SessionRequest r;
+        r.mutable_request_frame()->set_key_frame(true);
+        link_->Write(r);
+      }
+    }
+    if (h264_ && awaiting_key_ && has_image && !key) return;
+    if (key && has_image) awaiting_key_ = false;
+    Send(std::move(message), true, true);
+  }
+
+  void Read() {
+    ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec) {
+        self->link_->context.TryCancel();
+        return;
+      }
+      self->OnRead();
+    });
+  }
+
+  void OnRead() {
+    const std::string text = beast::buffers_to_string(buffer_.data());
+    buffer_.consume(buffer_.size());
+    try {
+      link_->Write(RequestFromJson(json::parse(text)));
+    } catch (const std::exception& e) {
+      Send(json{{"type", "error"}, {"message", std::string("bad message: ") + e.what()}}.dump(),
+           false, false);
+    }
+    Read();
+  }
+
+  void Send(std::string data, bool binary, bool frame) {
+    queue_.push_back({std::move(data), binary, frame});
+    if (!writing_) WriteNext();
+  }
+
+  void WriteNext() {
+    if (queue_.empty()) {
+      writing_ = false;
+      return;
+    }
+    writing_ = true;
+    ws_.binary(queue_.front().binary);
+    ws_.async_write(net::buffer(queue_.front().data),
+                    [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                      self->queue_.pop_front();
+                      if (ec) {
+                        self->link_->context.TryCancel();
+                        self->queue_.clear();
+                        self->writing_ = false;
+                        return;
+                      }
+                      self->WriteNext();
+                    });
+  }
+
+  websocket::stream<beast::tcp_stream> ws_;
+  ViewerOptions options_;
+  const bool h264_;
+  std::shared_ptr<Link> link_;
+  beast::flat_buffer buffer_;
+  std::deque<Outgoing> queue_;
+  bool writing_ = false;
+  bool awaiting_key_ = false;
+};
+
+}  // namespace
+
+void StartViewer(tcp::socket socket, http::request<http::string_body> request,
+                 const ViewerOptions& options) {
+  const std::string target(request.target());
+  const bool h264 = target.find("format=h264") != std::string::npos;
+  std::make_shared<Viewer>(std::move(socket), options, h264)->Start(std::move(request));
+}
+
+}  // namespace gistream::web

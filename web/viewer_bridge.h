@@ -1,0 +1,35 @@
+// One browser's WebSocket bridged to one gistreamd Session (continuous
+// pacing) on the gateway's scene. Browser -> server: JSON text messages
+// (camera, light, material, key_frame) become Updates with the browser's
+// sequence numbers; server -> browser: the scene description once (text),
+// then every frame as a binary message: a 4-byte little-endian header
+// length, a JSON header (frame number, last update seq, size, format,
+// key_frame, unchanged, total_ms, stage timings) and the image bytes.
+// A browser that reads slower than frames come loses frames: JPEG frames
+// are replaced by newer ones; for H.264 the queued frames are dropped and
+// a key frame is requested (delta frames would not decode).
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/http.hpp>
+
+#include "gistream/v1/gistream.grpc.pb.h"
+
+namespace gistream::web {
+
+struct ViewerOptions {
+  std::shared_ptr<v1::Gistream::Stub> stub;
+  v1::LoadSceneResponse scene;
+  v1::SessionConfig config;  // scene id, solver, params, size, pacing; encoding per browser
+};
+
+// Takes over the socket of an HTTP upgrade request to /ws (query:
+// format=jpeg|h264) and runs until either side closes.
+void StartViewer(boost::asio::ip::tcp::socket socket,
+                 boost::beast::http::request<boost::beast::http::string_body> request,
+                 const ViewerOptions& options);
+
+}  // namespace gistream::web
