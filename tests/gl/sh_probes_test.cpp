@@ -114,6 +114,14 @@ TEST_P(ShProbesStiffTail, BoundedMonotoneAndNotAboveTheExactValue) {
                 FrameStat(frame, "tail_ratio_spread"), FrameStat(frame, "tail_applied"));
     EXPECT_LE(mean, 1.01 * exact) << bounces << " bounces";
     EXPECT_LE(FrameStat(frame, "tail_ratio"), 0.99);
+    // The probes keep the albedo in half floats: the measured bounce ratio
+    // is the albedo within 0.1 % (an 8-bit atlas made it 252/255 = 0.98824
+    // at 0.99, and 1.0 at 0.999, where the ratios then never settled and
+    // no tail applied).
+    if (rho == 0.99f) {
+      EXPECT_NEAR(FrameStat(frame, "tail_ratio"), 0.99, 0.99e-3);
+    }
+    EXPECT_EQ(FrameStat(frame, "tail_applied"), 1.0) << bounces << " bounces";
     EXPECT_GE(mean, previous * 0.995) << bounces << " bounces: not monotone";
     previous = mean;
   }

@@ -64,7 +64,10 @@ void ProbeAtlas::Allocate(const ProbeLayout& layout) {
   height_ = layout.height();
   distance_ = LayeredTexture(GL_R32F, width_, height_);
   normal_ = LayeredTexture(GL_RGBA8_SNORM, width_, height_);
-  albedo_ = LayeredTexture(GL_RGBA8, width_, height_);
+  // Half floats, not 8 bits: an 8-bit albedo rounds 0.999 up to 1.0 (and
+  // 0.9 to 0.902), so at high albedo the probes' bounces created energy
+  // and never converged (issue 14).
+  albedo_ = LayeredTexture(GL_RGBA16F, width_, height_);
   depth_ = LayeredTexture(GL_DEPTH_COMPONENT32F, width_, height_);
   direct_ = LayeredTexture(GL_RGBA32F, width_, height_);
   indirect_ = LayeredTexture(GL_RGBA32F, width_, height_);
@@ -76,7 +79,7 @@ void ProbeAtlas::Allocate(const ProbeLayout& layout) {
   glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
   const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
   glNamedFramebufferDrawBuffers(fbo_.id(), 3, buffers);
-  bytes_ = layout.texels() * (4 + 4 + 4 + 4 + 16 * 3);
+  bytes_ = layout.texels() * (4 + 4 + 8 + 4 + 16 * 3);
 }
 
 void SetProbeGridUniforms(gl::Program& program, const ProbeLayout& layout, int coefficients,

@@ -55,7 +55,7 @@ class ProbeAtlas {
   GLuint fbo() const { return fbo_.id(); }
   GLuint distance() const { return distance_.id(); }  // R32F, 0 where nothing was hit
   GLuint normal() const { return normal_.id(); }      // RGBA8 snorm, w = 1: back face
-  GLuint albedo() const { return albedo_.id(); }      // RGBA8
+  GLuint albedo() const { return albedo_.id(); }      // RGBA16F
   GLuint direct() const { return direct_.id(); }      // RGBA32F E_direct
   GLuint indirect() const { return indirect_.id(); }  // RGBA32F E_indirect
   GLuint radiance() const { return radiance_.id(); }  // RGBA32F outgoing radiance
