@@ -67,10 +67,10 @@ std::vector<std::string> ImplicitVisibilitySolver::Plan(ChangeMask changes) cons
       plan.push_back("illumination");
     }
   }
-  if (pending_ || relink_again_ || illumination_stale_) {
+  if (pending_ || relink_again_ || illumination_stale_ || lighting_.pending()) {
     // A background relink may end this frame: its links are taken and the
     // light gathered.
-    for (const char* s : {"create_links", "refine_push", "illumination"}) {
+    for (const char* s : {"create_links", "refine_push", "shadow_maps", "illumination"}) {
       if (std::find(plan.begin(), plan.end(), s) == plan.end()) plan.push_back(s);
     }
   }
@@ -185,7 +185,7 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
   const bool first = !scene_.built();
   const bool geometry = first || (changes & kChangeGeometry);
   const bool materials = first || (changes & kChangeMaterials);
-  const bool lights = geometry || (changes & (kChangeLights | kChangeEmission));
+  bool lights = geometry || (changes & (kChangeLights | kChangeEmission));
   const bool environment = geometry || (changes & kChangeEnvironment);
   if (first) {
     scene_.Build(ctx.state, ctx.gpu, ctx.timer);
@@ -222,19 +222,29 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
       ctx.timer.Skip("refine_push");
     }
   }
-  if (pending_) {
-    // The links do not match the elements yet: keep the last solution; the
-    // light changes meanwhile are gathered once the links arrive.
+  if (pending_ || lighting_.pending()) {
+    // The links or the shadow maps do not match the elements yet: keep the
+    // last solution (and the last shadow maps, which the leaves' direct
+    // light reads); the light is gathered once both are in. The maps are
+    // redrawn in slices of the frame budget meanwhile.
     if (lights) {
       gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
-      GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes));
+      GS_RETURN_IF_ERROR(
+          lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes, ctx.budget_ms));
+    } else if (lighting_.pending()) {
+      gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
+      lighting_.Continue(ctx.gpu, ctx.state, ctx.budget_ms);
     } else {
       ctx.timer.Skip("shadow_maps");
     }
     if (materials && !geometry) scene_.UpdateAlbedo(ctx.state);
     if (materials || environment || lights) illumination_stale_ = true;
-    ctx.timer.Skip("illumination");
-    return absl::OkStatus();
+    if (pending_ || lighting_.pending()) {
+      ctx.timer.Skip("illumination");
+      return absl::OkStatus();
+    }
+    // The maps' last slice was drawn now and the links are in: gather.
+    lights = false;  // drawn above
   }
   if (const std::optional<float> k = (geometry || materials || illumination_stale_)
                                          ? std::nullopt

@@ -52,7 +52,9 @@ class ImplicitVisibilitySolver final : public Solver {
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   // False while a background relink runs (the shown indirect light is the
   // last solution's) or its illumination has not run yet.
-  bool UpdateComplete() const override { return !pending_ && !relink_again_; }
+  bool UpdateComplete() const override {
+    return !pending_ && !relink_again_ && !lighting_.pending();
+  }
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
   uint64_t gpu_bytes() const override {
