@@ -66,6 +66,13 @@ int main(int argc, char** argv) {
     std::cerr << "error: LoadScene " << scene << " on " << server << ": " << s.error_message() << "\n";
     return 1;
   }
+  grpc::ClientContext list_context;
+  list_context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
+  if (grpc::Status s = options.stub->ListSolvers(&list_context, v1::ListSolversRequest(), &options.solvers);
+      !s.ok()) {
+    std::cerr << "error: ListSolvers on " << server << ": " << s.error_message() << "\n";
+    return 1;
+  }
   config.set_scene_id(options.scene.scene_id());
   config.set_solver(solver);
   config.set_width(width);

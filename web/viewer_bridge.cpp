@@ -1,9 +1,11 @@
 #include "viewer_bridge.h"
 
 #include <deque>
+#include <map>
 #include <iostream>
 #include <mutex>
 #include <thread>
+#include <vector>
 
 #include <boost/asio/post.hpp>
 #include <boost/beast/core.hpp>
@@ -56,7 +58,26 @@ v1::SessionRequest RequestFromJson(const json& m) {
   return request;
 }
 
-json SceneJson(const v1::LoadSceneResponse& scene, const v1::SessionConfig& config) {
+json SolversJson(const v1::ListSolversResponse& list) {
+  json out = json::array();
+  for (const v1::SolverInfo& s : list.solvers()) {
+    json params = json::array();
+    for (const v1::ParamSpec& p : s.params()) {
+      params.push_back({{"name", p.name()},
+                        {"type", v1::ParamType_Name(p.type())},
+                        {"default", p.default_value()},
+                        {"min", p.min()},
+                        {"max", p.max()},
+                        {"choices", std::vector<std::string>(p.choices().begin(), p.choices().end())},
+                        {"description", p.description()}});
+    }
+    out.push_back({{"name", s.name()}, {"description", s.description()}, {"params", params}});
+  }
+  return out;
+}
+
+json SceneJson(const v1::LoadSceneResponse& scene, const v1::SessionConfig& config,
+               const v1::ListSolversResponse& solvers) {
   json lights = json::array(), materials = json::array();
   for (const v1::LightInfo& l : scene.lights()) {
     lights.push_back({{"id", l.id()}, {"name", l.name()}, {"intensity", l.intensity()}});
@@ -73,7 +94,10 @@ json SceneJson(const v1::LoadSceneResponse& scene, const v1::SessionConfig& conf
               {"format", config.encoding().format() == v1::IMAGE_FORMAT_H264 ? "h264" : "jpeg"},
               {"bounds", {{"min", Vec(scene.bounds().min())}, {"max", Vec(scene.bounds().max())}}},
               {"lights", lights},
-              {"materials", materials}};
+              {"materials", materials},
+              {"solvers", SolversJson(solvers)},
+              {"params", std::map<std::string, std::string>(config.params().begin(),
+                                                             config.params().end())}};
   if (scene.cameras_size() > 0) {
     out["camera"] = {{"position", Vec(scene.cameras(0).position())},
                      {"yfov_degrees", scene.cameras(0).yfov() * 57.29578f}};
@@ -138,8 +162,19 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   };
 
   void OnAccepted() {
+    Send(SceneJson(options_.scene, options_.config, options_.solvers).dump(), false, false);
+    StartLink();
+    Read();
+  }
+
+  // Opens the gRPC session for the current config (closing the previous
+  // one: the picker changed the solver). Messages of an older link are
+  // ignored.
+  void StartLink() {
+    if (link_->stream) link_->context.TryCancel();
+    link_ = std::make_shared<Link>();
     link_->stream = options_.stub->Session(&link_->context);
-    Send(SceneJson(options_.scene, options_.config).dump(), false, false);
+    awaiting_key_ = false;
     // Events are read on their own thread (the gRPC sync API blocks) and
     // handed to this session's executor.
     std::weak_ptr<Viewer> weak = weak_from_this();
@@ -164,18 +199,20 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
         } else {
           continue;
         }
-        net::post(executor, [weak, message = std::move(message), binary, key, has_image]() mutable {
-          if (auto self = weak.lock()) self->OnServerMessage(std::move(message), binary, key, has_image);
+        net::post(executor, [weak, link, message = std::move(message), binary, key, has_image]() mutable {
+          auto self = weak.lock();
+          if (self && self->link_ == link) {
+            self->OnServerMessage(std::move(message), binary, key, has_image);
+          }
         });
       }
       const grpc::Status status = link->stream->Finish();
-      net::post(executor, [weak, text = status.error_message(), code = int(status.error_code())] {
-        if (auto self = weak.lock()) {
+      net::post(executor, [weak, link, text = status.error_message(), code = int(status.error_code())] {
+        if (auto self = weak.lock(); self && self->link_ == link) {
           self->Send(json{{"type", "closed"}, {"code", code}, {"message", text}}.dump(), false, false);
         }
       });
     }).detach();
-    Read();
   }
 
   void OnServerMessage(std::string message, bool binary, bool key, bool has_image) {
@@ -220,7 +257,19 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
     const std::string text = beast::buffers_to_string(buffer_.data());
     buffer_.consume(buffer_.size());
     try {
-      link_->Write(RequestFromJson(json::parse(text)));
+      const json message = json::parse(text);
+      if (message.at("type") == "config") {
+        options_.config.set_solver(message.at("solver").get<std::string>());
+        options_.config.clear_params();
+        if (const auto params = message.find("params"); params != message.end()) {
+          for (const auto& [k, v] : params->items()) {
+            (*options_.config.mutable_params())[k] = v.get<std::string>();
+          }
+        }
+        StartLink();
+      } else {
+        link_->Write(RequestFromJson(message));
+      }
     } catch (const std::exception& e) {
       Send(json{{"type", "error"}, {"message", std::string("bad message: ") + e.what()}}.dump(),
            false, false);

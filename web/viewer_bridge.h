@@ -1,7 +1,8 @@
 // One browser's WebSocket bridged to one gistreamd Session (continuous
 // pacing) on the gateway's scene. Browser -> server: JSON text messages
 // (camera, light, material, key_frame) become Updates with the browser's
-// sequence numbers; server -> browser: the scene description once (text),
+// sequence numbers, and `config` (solver + parameters from the picker)
+// replaces the browser's session with a new one; server -> browser: the scene description once (text),
 // then every frame as a binary message: a 4-byte little-endian header
 // length, a JSON header (frame number, last update seq, size, format,
 // key_frame, unchanged, total_ms, stage timings) and the image bytes.
@@ -23,6 +24,7 @@ namespace gistream::web {
 struct ViewerOptions {
   std::shared_ptr<v1::Gistream::Stub> stub;
   v1::LoadSceneResponse scene;
+  v1::ListSolversResponse solvers;  // for the page's solver picker
   v1::SessionConfig config;  // scene id, solver, params, size, pacing; encoding per browser
 };
 

@@ -2,7 +2,8 @@
 // with /usr/bin/chromium): the page loads, frames arrive and the canvas is
 // not black, a mouse drag changes the camera (the echoed sequence number
 // reaches the drag's and the picture changes), a slider changes a light
-// (the picture gets brighter); saves a screenshot; prints the measured
+// (the picture gets brighter), the solver picker starts a new session
+// that draws; saves a screenshot; prints the measured
 // update-to-frame latency.
 //
 //   node viewer_test.mjs URL OUT_DIR [jpeg|h264]
@@ -89,6 +90,19 @@ try {
   if (!(brighter.mean > dim.mean + 2)) {
     fail(`the slider did not brighten the picture (${dim.mean.toFixed(2)} -> ${brighter.mean.toFixed(2)})`);
   }
+
+  // The solver picker: new parameters start a new session, frames follow.
+  const [sessions, drawn] = await page.evaluate(() => [window.viewer.sessions, window.viewer.drawn]);
+  const picked = await page.evaluate(() => {
+    const input = document.querySelector('#params [data-param="area_samples"]');
+    if (!input) return false;
+    input.value = "8";
+    document.getElementById("apply").click();
+    return true;
+  });
+  if (!picked) fail("the solver picker shows no area_samples control for direct");
+  await waitFor(([s, d]) => window.viewer.sessions > s && window.viewer.drawn > d,
+                "a picture from the session the picker started", [sessions, drawn]);
 
   await page.screenshot({ path: path.join(outDir, `viewer_${format}.png`) });
   const stats = await page.evaluate(() => ({
