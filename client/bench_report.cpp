@@ -63,6 +63,7 @@ std::string FormatBenchTable(const std::vector<StepResult>& steps) {
                    {"fps total", TextTable::Align::kRight},
                    {"interval p50/p95/max ms", TextTable::Align::kRight},
                    {"latency p50/p95/p99/max ms", TextTable::Align::kRight},
+                   {"settle p50/max ms", TextTable::Align::kRight},
                    {"updates", TextTable::Align::kRight},
                    {"dropped", TextTable::Align::kRight},
                    {"MB/s", TextTable::Align::kRight},
@@ -79,6 +80,8 @@ std::string FormatBenchTable(const std::vector<StepResult>& steps) {
                                Ms(s.interval_ms.max)),
                   absl::StrCat(Ms(s.latency_ms.p50), " / ", Ms(s.latency_ms.p95), " / ",
                                Ms(s.latency_ms.p99), " / ", Ms(s.latency_ms.max)),
+                  absl::StrCat(Ms(s.settle_ms.p50, 0), " / ", Ms(s.settle_ms.max, 0),
+                               s.unsettled ? absl::StrCat(" (", s.unsettled, " not)") : ""),
                   absl::StrCat(s.updates_answered, "/", s.updates_sent), absl::StrCat(s.dropped),
                   FormatFixed(s.bytes_per_s / 1e6, 2), FormatFixed(s.jain, 3),
                   known ? FormatFixed(double(MaxRss(s)) / (1 << 20), 0) : "-",
@@ -110,6 +113,7 @@ nlohmann::json BenchJson(const std::vector<StepResult>& steps, const nlohmann::j
                           {"max_gap_ms", m.max_gap_ms},
                           {"latency_ms", QuantilesJson(Summarize(m.latencies_ms))},
                           {"updates_sent", m.updates_sent},
+                          {"settle_ms", Number(m.settle_ms)},
                           {"updates_answered", m.latencies_ms.size()},
                           {"updates_rejected", m.updates_rejected},
                           {"updates_unanswered", m.updates_unanswered},
@@ -140,6 +144,8 @@ nlohmann::json BenchJson(const std::vector<StepResult>& steps, const nlohmann::j
                            {"failed_sessions", s.failed_sessions},
                            {"latency_ms", QuantilesJson(s.latency_ms)},
                            {"interval_ms", QuantilesJson(s.interval_ms)},
+                           {"settle_ms", QuantilesJson(s.settle_ms)},
+                           {"unsettled_sessions", s.unsettled},
                            {"frame_total_ms",
                             {{"median", Number(s.stages.total_median)},
                              {"p95", Number(s.stages.total_p95)}}},
@@ -166,7 +172,8 @@ absl::Status WriteBenchOutputs(const std::filesystem::path& dir,
   std::ofstream csv(dir / "results.csv");
   csv << "sessions,window_s,fps_mean,fps_min,fps_total,jain,frames,dropped,interval_p50_ms,"
          "interval_p95_ms,interval_max_ms,latency_p50_ms,latency_p95_ms,latency_p99_ms,"
-         "latency_max_ms,updates_sent,updates_answered,updates_rejected,updates_unanswered,"
+         "latency_max_ms,settle_p50_ms,settle_max_ms,unsettled_sessions,updates_sent,"
+         "updates_answered,updates_rejected,updates_unanswered,"
          "bytes_per_s,max_rss_bytes,cpu_percent,failed_sessions,interferer_renders\n";
   auto cell = [](const std::optional<double>& v) { return v ? absl::StrCat(*v) : std::string(); };
   for (const StepResult& s : steps) {
@@ -175,7 +182,8 @@ absl::Status WriteBenchOutputs(const std::filesystem::path& dir,
         << cell(s.interval_ms.p50) << ',' << cell(s.interval_ms.p95) << ','
         << cell(s.interval_ms.max) << ',' << cell(s.latency_ms.p50) << ','
         << cell(s.latency_ms.p95) << ',' << cell(s.latency_ms.p99) << ','
-        << cell(s.latency_ms.max) << ',' << s.updates_sent << ',' << s.updates_answered << ','
+        << cell(s.latency_ms.max) << ',' << cell(s.settle_ms.p50) << ',' << cell(s.settle_ms.max)
+        << ',' << s.unsettled << ',' << s.updates_sent << ',' << s.updates_answered << ','
         << s.updates_rejected << ',' << s.updates_unanswered << ',' << s.bytes_per_s << ','
         << MaxRss(s) << ',' << CpuPercent(s) << ',' << s.failed_sessions << ','
         << s.interferer_renders << '\n';
@@ -233,9 +241,9 @@ absl::Status WriteBenchOutputs(const std::filesystem::path& dir,
      << meta.value("pacing", "") << ", fps cap " << meta.value("fps_cap", "") << ".\n\n";
   for (const std::string& line : {std::string("| sessions | fps/session (min) | fps total | "
                                                "interval p50 / p95 / max ms | latency p50 / p95 / "
-                                               "p99 / max ms | updates answered/sent | dropped | "
+                                               "p99 / max ms | settle p50 / max ms | updates answered/sent | dropped | "
                                                "MB/s | Jain | RSS MB | CPU % |"),
-                                  std::string("|---|---|---|---|---|---|---|---|---|---|---|")}) {
+                                  std::string("|---|---|---|---|---|---|---|---|---|---|---|---|")}) {
     md << line << "\n";
   }
   for (const StepResult& s : steps) {
@@ -244,7 +252,9 @@ absl::Status WriteBenchOutputs(const std::filesystem::path& dir,
        << FormatFixed(s.fps_min, 1) << ") | " << FormatFixed(s.fps_total, 1) << " | "
        << Ms(s.interval_ms.p50) << " / " << Ms(s.interval_ms.p95) << " / " << Ms(s.interval_ms.max)
        << " | " << Ms(s.latency_ms.p50) << " / " << Ms(s.latency_ms.p95) << " / "
-       << Ms(s.latency_ms.p99) << " / " << Ms(s.latency_ms.max) << " | " << s.updates_answered
+       << Ms(s.latency_ms.p99) << " / " << Ms(s.latency_ms.max) << " | " << Ms(s.settle_ms.p50, 0)
+       << " / " << Ms(s.settle_ms.max, 0) << (s.unsettled ? " (some did not)" : "") << " | "
+       << s.updates_answered
        << "/" << s.updates_sent << " | " << s.dropped << " | " << FormatFixed(s.bytes_per_s / 1e6, 2)
        << " | " << FormatFixed(s.jain, 3) << " | "
        << (known ? FormatFixed(double(MaxRss(s)) / (1 << 20), 0) : "-") << " | "

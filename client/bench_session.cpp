@@ -42,9 +42,15 @@ void BenchSession::SetWindow(BenchClock::time_point start, BenchClock::time_poin
 void BenchSession::StopUpdates() {
   {
     std::lock_guard lock(mutex_);
+    if (!stop_updates_) stopped_at_ = BenchClock::now();
     stop_updates_ = true;
   }
   stop_cv_.notify_all();
+}
+
+bool BenchSession::Settled() const {
+  std::lock_guard lock(mutex_);
+  return settle_ms_.has_value() || !error_.empty();
 }
 
 size_t BenchSession::Unanswered() const {
@@ -70,6 +76,7 @@ void BenchSession::SendTick() {
       std::lock_guard lock(mutex_);
       if (stop_updates_) return;
       seq = next_seq_++;
+      last_seq_sent_ = seq;
       const BenchClock::time_point now = BenchClock::now();
       const bool measured = window_set_ && now >= window_start_ && now < window_end_;
       // Registered before the send: the answering frame may come back
@@ -117,6 +124,12 @@ void BenchSession::ReadLoop() {
     {
       std::lock_guard lock(mutex_);
       tracker_.OnFrame(frame.last_update_seq(), now);
+      if (stop_updates_ && !settle_ms_ && frame.last_update_seq() >= last_seq_sent_) {
+        const auto complete = frame.stats().find("update_complete");
+        if (complete == frame.stats().end() || complete->second != 0.0) {
+          settle_ms_ = std::chrono::duration<double, std::milli>(now - stopped_at_).count();
+        }
+      }
       if (window_set_ && intervals_->Add(now)) {
         ++live_frames_;
         dropped_ += frame.dropped_frames();
@@ -156,6 +169,7 @@ SessionMeasurement BenchSession::Result() const {
   m.updates_rejected = tracker_.rejected();
   m.updates_unanswered = tracker_.unanswered();
   m.latencies_ms = tracker_.latencies_ms();
+  m.settle_ms = settle_ms_;
   m.error = error_;
   return m;
 }

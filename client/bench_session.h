@@ -48,6 +48,9 @@ class BenchSession {
   void StopUpdates();
   // Measured updates not yet answered by a frame.
   size_t Unanswered() const;
+  // Whether a frame after StopUpdates included the last update and had its
+  // GI update complete (see SessionMeasurement::settle_ms).
+  bool Settled() const;
   // Half-closes, waits for the server to end the call, joins the threads.
   void Close();
   // After Close.
@@ -82,6 +85,9 @@ class BenchSession {
   uint64_t tick_ = 0;
   uint64_t next_seq_ = 1;
   uint64_t updates_sent_ = 0;  // measured ones
+  uint64_t last_seq_sent_ = 0;
+  BenchClock::time_point stopped_at_{};
+  std::optional<double> settle_ms_;
   uint64_t dropped_ = 0;
   uint64_t bytes_ = 0;
   int live_frames_ = 0;

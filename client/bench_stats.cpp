@@ -90,7 +90,7 @@ StepResult AggregateStep(std::vector<SessionMeasurement> sessions, StatsSummary 
   StepResult step;
   step.sessions = int(sessions.size());
   step.window_s = window_s;
-  std::vector<double> intervals, fps;
+  std::vector<double> intervals, fps, settle;
   double max_gap = 0.0;
   uint64_t bytes = 0;
   for (const SessionMeasurement& s : sessions) {
@@ -106,11 +106,17 @@ StepResult AggregateStep(std::vector<SessionMeasurement> sessions, StatsSummary 
     step.updates_rejected += s.updates_rejected;
     step.updates_unanswered += s.updates_unanswered;
     bytes += s.bytes;
+    if (s.settle_ms) {
+      settle.push_back(*s.settle_ms);
+    } else {
+      ++step.unsettled;
+    }
     if (!s.error.empty()) ++step.failed_sessions;
   }
   std::sort(step.all_latencies_ms.begin(), step.all_latencies_ms.end());
   step.latency_ms = Summarize(step.all_latencies_ms);
   step.interval_ms = Summarize(intervals);
+  step.settle_ms = Summarize(settle);
   if (!sessions.empty()) step.interval_ms.max = std::max(step.interval_ms.max.value_or(0.0), max_gap);
   if (!fps.empty()) {
     step.fps_total = std::accumulate(fps.begin(), fps.end(), 0.0);

@@ -67,6 +67,10 @@ struct SessionMeasurement {
   uint64_t updates_rejected = 0;
   uint64_t updates_unanswered = 0;
   std::vector<double> latencies_ms;
+  // From the end of the updates to the first frame that includes the last
+  // one and whose GI update is complete (stat update_complete): the time
+  // to converge once motion stops. nullopt when that frame never came.
+  std::optional<double> settle_ms;
   std::string error;  // the session's failure, if it failed
 
   double fps() const { return window_s > 0.0 ? frames / window_s : 0.0; }
@@ -121,6 +125,8 @@ struct StepResult {
   uint64_t updates_answered = 0;
   uint64_t updates_rejected = 0;
   uint64_t updates_unanswered = 0;
+  Quantiles settle_ms;   // over the sessions that settled
+  int unsettled = 0;     // sessions that did not settle before the drain ended
   double bytes_per_s = 0.0;
   int failed_sessions = 0;
   StatsSummary stages;  // the server's per-stage timings, over all frames

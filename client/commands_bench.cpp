@@ -34,7 +34,7 @@ namespace {
 using Clock = BenchClock;
 
 constexpr auto kFirstFrameTimeout = std::chrono::minutes(5);
-constexpr auto kDrainTimeout = std::chrono::seconds(5);
+constexpr auto kDrainTimeout = std::chrono::seconds(30);
 constexpr auto kPollPeriod = std::chrono::milliseconds(500);
 
 double Seconds(Clock::duration d) { return std::chrono::duration<double>(d).count(); }
@@ -293,13 +293,18 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
     interferer->Take(partial.interferer_renders, partial.interferer_median_ms,
                      partial.interferer_error);
   }
-  // Let the frames that answer the last measured updates arrive.
+  // Let the frames that answer the last measured updates arrive, and the GI
+  // catch up with the last update (the time to converge).
   const Clock::time_point drain_end = Clock::now() + kDrainTimeout;
   while (!interrupted && Clock::now() < drain_end) {
-    size_t pending = 0;
-    for (const auto& s : sessions) pending += s->Unanswered();
-    if (pending == 0) break;
-    progress.Show(absl::StrCat(label, " waiting for ", pending, " update(s) to show"));
+    size_t pending = 0, unsettled = 0;
+    for (const auto& s : sessions) {
+      pending += s->Unanswered();
+      unsettled += s->Settled() ? 0 : 1;
+    }
+    if (pending == 0 && unsettled == 0) break;
+    progress.Show(absl::StrCat(label, " waiting for ", pending, " update(s) to show, ", unsettled,
+                               " session(s) to converge"));
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   progress.Show(absl::StrCat(label, " closing ", sessions.size(), " session(s)"));

@@ -812,6 +812,9 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   frame->stats.emplace_back("camera_changed", view.camera_changed ? 1.0 : 0.0);
   frame->stats.emplace_back("scene_gpu_bytes", double(scene.gpu->gpu_bytes()));
   frame->stats.emplace_back("cached_solvers", double(scene.solvers.size()));
+  // 0 while the solver's view-independent update runs on (slices, a
+  // background job): the frame shows the last consistent solution.
+  frame->stats.emplace_back("update_complete", entry.solver->UpdateComplete() ? 1.0 : 0.0);
   view.camera_changed = false;
   frame->total_ms =
       view.carry_ms + std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();

@@ -205,8 +205,11 @@ TEST_F(BenchTest, ClosedLoopStepsMatchEveryUpdateAndWriteEveryFile) {
   EXPECT_EQ(doc["steps"][1]["sessions"], 2);
   for (const auto& step : doc["steps"]) {
     ExpectConsistentStep(step);
-    // The fake frames every update straight back: none is left unanswered.
+    // The fake frames every update straight back: none is left unanswered,
+    // and every session settles (its frames carry no update_complete stat).
     EXPECT_EQ(step["updates_unanswered"], 0);
+    EXPECT_EQ(step["unsettled_sessions"], 0);
+    EXPECT_GE(double(step["settle_ms"]["p50"]), 0.0);
     ASSERT_EQ(step["servers"].size(), 1u);
     EXPECT_EQ(step["servers"][0]["max_rss_bytes"], 123456789u);
     // uptime advances 1 and CPU time 0.5 per status call: 50 %.

@@ -123,6 +123,7 @@ TEST(AggregateStep, PoolsSessionsAndKeepsTheLongestGap) {
   b.bytes = 1000;
   b.dropped_frames = 2;
   b.error = "UNAVAILABLE: gone";
+  a.settle_ms = 120.0;  // b never settled
   const StepResult step = AggregateStep({a, b}, StatsSummary{}, 2.0);
   EXPECT_EQ(step.sessions, 2);
   EXPECT_DOUBLE_EQ(step.fps_total, 40.0);
@@ -138,6 +139,8 @@ TEST(AggregateStep, PoolsSessionsAndKeepsTheLongestGap) {
   EXPECT_EQ(step.updates_unanswered, 1u);
   EXPECT_EQ(step.dropped, 2u);
   EXPECT_EQ(step.failed_sessions, 1);
+  EXPECT_EQ(step.unsettled, 1);
+  EXPECT_DOUBLE_EQ(*step.settle_ms.max, 120.0);
   EXPECT_DOUBLE_EQ(step.bytes_per_s, 2000.0);
   EXPECT_EQ(step.all_latencies_ms, (std::vector<double>{10, 20, 50}));
 }
