@@ -98,7 +98,9 @@ TEST_F(RealEngineTest, TwoSessionsOnOneSceneEchoSeqWithTimings) {
       const pb::Frame& f = event.frame();
       EXPECT_EQ(f.width(), 64u);
       EXPECT_EQ(f.height(), 64u);
-      EXPECT_FALSE(f.image().empty());
+      // A frame without a new picture (a keep-alive, when the machine is
+      // slow enough that a second passes between changed frames) says so.
+      EXPECT_TRUE(!f.image().empty() || f.unchanged());
       EXPECT_GT(f.timings_size(), 0);
       for (const pb::StageTiming& t : f.timings()) EXPECT_FALSE(t.name().empty());
       EXPECT_GE(f.last_update_seq(), seen);

@@ -253,32 +253,14 @@ void SessionReactor::DeliverFrame(std::shared_ptr<const EncodedFrame> frame) {
     return;
   }
   if (pacing_ == Pacing::kOnRequest) --frames_owed_;
-  // A video frame that never reaches the client breaks the chain of frames
-  // predicted from it: drop delta frames until a key frame, and ask for one.
-  const auto breaks_chain = [](const EncodedFrame& f) {
-    return !f.image.empty() && (f.format == ImageFormat::kH264 ||
-                                f.format == ImageFormat::kHevc || f.format == ImageFormat::kAv1);
-  };
-  bool request_key_frame = false;
-  if (pending_frame_ != nullptr) {
-    ++dropped_;
-    sink_->dropped_.fetch_add(1);
-    observer().OnFramesDropped(1);
-    if (breaks_chain(*pending_frame_) && !awaiting_key_frame_) {
-      awaiting_key_frame_ = true;
-      request_key_frame = true;
-    }
-    pending_frame_.reset();
+  // Replaces an unsent frame; video: see FrameSlot.
+  const FrameSlot::Offered offered = slot_.Offer(std::move(frame));
+  if (offered.dropped > 0) {
+    dropped_ += offered.dropped;
+    sink_->dropped_.fetch_add(offered.dropped);
+    observer().OnFramesDropped(offered.dropped);
   }
-  if (awaiting_key_frame_ && breaks_chain(*frame) && !frame->key_frame) {
-    ++dropped_;
-    sink_->dropped_.fetch_add(1);
-    observer().OnFramesDropped(1);
-  } else {
-    if (frame->key_frame && !frame->image.empty()) awaiting_key_frame_ = false;
-    pending_frame_ = std::move(frame);
-  }
-  if (request_key_frame) {
+  if (offered.request_key_frame) {
     // Not on the render thread (this runs inside the engine's sink call).
     (void)pool_.Submit([&engine = engine_, id = session_id_] { (void)engine.RequestKeyFrame(id); });
   }
@@ -324,7 +306,7 @@ void SessionReactor::PumpLocked() {
   }
   if (finish_status_.has_value() && !flush_before_finish_) {
     events_.clear();
-    pending_frame_.reset();
+    slot_.Clear();
   }
 
   if (!write_in_flight_) {
@@ -333,13 +315,13 @@ void SessionReactor::PumpLocked() {
       events_.pop_front();
       write_in_flight_ = true;
       StartWrite(&response_);
-    } else if (pending_frame_ != nullptr) {
+    } else if (!slot_.empty()) {
+      const std::shared_ptr<const EncodedFrame> next = slot_.Take();
       response_.Clear();
       pb::Frame* frame = response_.mutable_frame();
-      FrameToProto(*pending_frame_, frame);
-      frame->set_dropped_frames(pending_frame_->dropped_frames + dropped_);
+      FrameToProto(*next, frame);
+      frame->set_dropped_frames(next->dropped_frames + dropped_);
       dropped_ = 0;
-      pending_frame_.reset();
       write_in_flight_ = true;
       StartWrite(&response_);
     }

@@ -29,6 +29,7 @@
 
 #include "gistream/v1/gistream.grpc.pb.h"
 #include "service/engine.h"
+#include "service/grpc/frame_slot.h"
 #include "service/grpc/worker_pool.h"
 
 namespace gistream::service {
@@ -131,9 +132,8 @@ class SessionReactor final
   bool cancelled_ = false;
   bool write_in_flight_ = false;
   std::deque<::gistream::v1::SessionEvent> events_;
-  std::shared_ptr<const EncodedFrame> pending_frame_;
+  FrameSlot slot_;        // the unsent frame
   uint32_t dropped_ = 0;  // frames replaced since the last frame written
-  bool awaiting_key_frame_ = false;  // a video frame was dropped: only a key frame may follow
   std::optional<grpc::Status> finish_status_;
   bool flush_before_finish_ = false;
   bool finish_called_ = false;
