@@ -24,6 +24,14 @@ done
 # npm for the viewer test's puppeteer-core: Debian ships it apart from
 # nodejs; a nodejs from elsewhere (NodeSource) brings its own.
 command -v npm >/dev/null 2>&1 || missing+=(npm)
+# GISTREAM_NO_TEST_DEPS=1 (image builds): leave out what only tests need.
+if [ "${GISTREAM_NO_TEST_DEPS:-0}" = 1 ]; then
+  kept=()
+  for p in "${missing[@]}"; do
+    case "$p" in chromium|nodejs|npm) ;; *) kept+=("$p") ;; esac
+  done
+  missing=("${kept[@]+"${kept[@]}"}")
+fi
 
 if [ ${#missing[@]} -eq 0 ]; then
   exit 0
