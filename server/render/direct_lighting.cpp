@@ -105,7 +105,10 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
   // A new layout reallocates the maps; moved geometry changes what every
   // map sees: both redraw everything. Otherwise only the maps whose origin,
   // range or direction moved.
-  const bool all_stale = (changes & kChangeGeometry) || cube_count != int(cube_views_.size()) ||
+  // A set still being drawn means the shown maps saw older geometry: all
+  // of them are stale too.
+  const bool all_stale = (changes & kChangeGeometry) || pending_ != nullptr ||
+                         cube_count != int(cube_views_.size()) ||
                          dir_count != int(dir_views_.size()) ||
                          settings.shadow_resolution != shadow_resolution_;
   maps_redrawn_ = 0;
