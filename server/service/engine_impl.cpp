@@ -641,13 +641,11 @@ void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
   // A view's first frame allocated its G-buffer: count it before the client
   // sees the frame.
   RefreshMemoryStats(/*force=*/(*frame)->frame_number == 1);
-  // A continuous session's unchanged frame is sent only as a keep-alive.
+  // A continuous session's unchanged frame goes out only with news (an
+  // update's echo) or as a keep-alive (FrameEncoder::HoldBack).
   const auto now = Clock::now();
-  if ((*frame)->unchanged && session.config.pacing == Pacing::kContinuous &&
-      !view.encoder.KeepAliveDue(now)) {
-    return;
-  }
-  view.encoder.MarkSent(now);
+  if (session.config.pacing == Pacing::kContinuous && view.encoder.HoldBack(**frame, now)) return;
+  view.encoder.MarkSent(**frame, now);
   session.sink->OnFrame(*std::move(frame));
 }
 

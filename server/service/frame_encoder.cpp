@@ -54,6 +54,26 @@ absl::Status ValidateEncoding(const EncodingOptions& e) {
   return CheckVideoEncoderAvailable(CodecOf(e.format), "encoding.format", e.video_encoders);
 }
 
+namespace {
+double UpdateComplete(const EncodedFrame& frame) {
+  for (const auto& [name, value] : frame.stats) {
+    if (name == "update_complete") return value;
+  }
+  return -1.0;
+}
+}  // namespace
+
+bool FrameEncoder::HoldBack(const EncodedFrame& frame, Clock::time_point now) const {
+  return frame.unchanged && frame.last_update_seq == sent_seq_ &&
+         UpdateComplete(frame) == sent_complete_ && now - last_sent_ < kKeepAlivePeriod;
+}
+
+void FrameEncoder::MarkSent(const EncodedFrame& frame, Clock::time_point now) {
+  last_sent_ = now;
+  sent_seq_ = frame.last_update_seq;
+  sent_complete_ = UpdateComplete(frame);
+}
+
 bool FrameEncoder::SameAsLast(std::span<const uint8_t> pixels) {
   const bool same = last_pixels_.size() == pixels.size() &&
                     std::equal(pixels.begin(), pixels.end(), last_pixels_.begin());

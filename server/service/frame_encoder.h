@@ -3,7 +3,11 @@
 // is reopened when the frame size changes. It also decides what is not
 // worth sending: a frame whose pixels (the readback, before encoding) equal
 // the previous frame's is "unchanged" and carries no image; a continuous
-// session sends such frames only as keep-alives, once per kKeepAlivePeriod.
+// session holds such frames back unless they tell the client something new
+// (a newer update sequence number, or the solver's update_complete stat
+// changed: a client waiting for its update's echo gets it at once even when
+// the update changed nothing visible), or as keep-alives, once per
+// kKeepAlivePeriod.
 // Render thread only.
 #pragma once
 
@@ -48,10 +52,12 @@ class FrameEncoder {
                                       std::span<const uint8_t> ldr, std::span<const float> hdr,
                                       int width, int height, bool key_frame);
 
-  // A continuous session's unchanged frame goes out only when this says so
-  // (no frame sent for kKeepAlivePeriod).
-  bool KeepAliveDue(Clock::time_point now) const { return now - last_sent_ >= kKeepAlivePeriod; }
-  void MarkSent(Clock::time_point now) { last_sent_ = now; }
+  // Whether a continuous session keeps `frame` to itself: unchanged, with
+  // the same update sequence number and update_complete stat as the last
+  // frame sent, and a frame went out within kKeepAlivePeriod.
+  bool HoldBack(const EncodedFrame& frame, Clock::time_point now) const;
+  // `frame` went to the client at `now`.
+  void MarkSent(const EncodedFrame& frame, Clock::time_point now);
 
   // The libavcodec encoder in use ("" before the first video frame).
   std::string video_encoder_name() const;
@@ -60,7 +66,10 @@ class FrameEncoder {
   std::vector<uint8_t> last_pixels_;
   std::unique_ptr<VideoEncoder> video_;
   std::vector<uint8_t> padded_;  // odd sizes, padded to even for 4:2:0
+  // The last frame sent: when, its update sequence number, update_complete.
   Clock::time_point last_sent_{};
+  uint64_t sent_seq_ = 0;
+  double sent_complete_ = -1.0;
 };
 
 }  // namespace gistream

@@ -173,5 +173,31 @@ TEST(FrameEncoder, OddSizedVideoIsPaddedToEven) {
   EXPECT_GE(Psnr(picture, decoded->rgba, w, h, decoded->width), 30.0);
 }
 
+TEST(FrameEncoder, HoldsBackOnlyUnchangedFramesWithoutNews) {
+  using Clock = FrameEncoder::Clock;
+  const Clock::time_point t0 = Clock::now();
+  FrameEncoder encoder;
+  EncodedFrame sent;
+  sent.last_update_seq = 3;
+  sent.stats = {{"update_complete", 1.0}};
+  encoder.MarkSent(sent, t0);
+  EncodedFrame still = sent;
+  still.unchanged = true;
+  EXPECT_TRUE(encoder.HoldBack(still, t0 + std::chrono::milliseconds(100)));
+  // A keep-alive once the period has passed.
+  EXPECT_FALSE(encoder.HoldBack(still, t0 + kKeepAlivePeriod));
+  // An update's echo goes out at once, even when the picture is the same.
+  EncodedFrame echo = still;
+  echo.last_update_seq = 4;
+  EXPECT_FALSE(encoder.HoldBack(echo, t0 + std::chrono::milliseconds(100)));
+  // So does a change of update_complete (a background update finished).
+  EncodedFrame completed = still;
+  completed.stats = {{"update_complete", 0.0}};
+  EXPECT_FALSE(encoder.HoldBack(completed, t0 + std::chrono::milliseconds(100)));
+  // And any frame with a new picture.
+  EncodedFrame changed = sent;
+  EXPECT_FALSE(encoder.HoldBack(changed, t0 + std::chrono::milliseconds(100)));
+}
+
 }  // namespace
 }  // namespace gistream
