@@ -21,7 +21,8 @@ build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
 # Starts gistreamd on the bundled scenes, streams the Cornell box with a
-# moving light and an orbiting camera into out/, prints the timing table.
+# moving light and an orbiting camera into out/ with global illumination
+# (implicit_visibility, scenes/cornell_orbit.json), prints the timing table.
 run: build
 	@bash scripts/run-demo.sh $(BUILD_DIR) $(ADDR)
 
