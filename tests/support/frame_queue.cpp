@@ -41,7 +41,10 @@ std::shared_ptr<const EncodedFrame> FrameQueue::WaitFor(
   std::shared_ptr<const EncodedFrame> found;
   cv_.wait_for(lock, kHangBound, [&] {
     for (const auto& f : frames_) {
-      if (want(*f)) found = f;
+      if (want(*f)) {
+        found = f;
+        break;
+      }
     }
     return found != nullptr || !failed_.ok();
   });

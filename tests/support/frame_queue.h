@@ -23,8 +23,9 @@ class FrameQueue final : public FrameSink {
 
   // The next frame not yet taken by Next().
   std::shared_ptr<const EncodedFrame> Next();
-  // The latest frame received so far that matches `want` (taken or not),
-  // waiting for one if there is none yet.
+  // The first frame received that matches `want` (taken or not), waiting
+  // for one if there is none yet. (The first: later ones may be keep-alive
+  // frames without an image.)
   std::shared_ptr<const EncodedFrame> WaitFor(const std::function<bool(const EncodedFrame&)>& want);
   // Frames received so far that match `which`.
   size_t Count(const std::function<bool(const EncodedFrame&)>& which) const;
