@@ -69,14 +69,8 @@ TEST(BackgroundRelink, AStreamKeepsItsFramesAndConvergesToAFreshSolve) {
   RenderRequest fresh =
       testing::SolverRequest(fresh_scene.id(), "implicit_visibility", kParams, 32, {{1, MoveBlock()}});
   EncodedFrame fresh_frame;
-  const FloatImage expected = testing::RenderRequestExr(fresh, &fresh_frame);
-  const FloatImage got = testing::DecodeExr(*done);
-  ASSERT_EQ(got.rgba.size(), expected.rgba.size());
   // Same links, same gather: equal to float rounding (1e-4 relative).
-  for (size_t i = 0; i < got.rgba.size(); ++i) {
-    ASSERT_NEAR(got.rgba[i], expected.rgba[i], 1e-4f * std::max(1.0f, expected.rgba[i]))
-        << "value " << i;
-  }
+  testing::ExpectSameImage(testing::DecodeExr(*done), testing::RenderRequestExr(fresh, &fresh_frame));
 }
 
 TEST(BackgroundRelink, ARenderAfterAMoveIsComplete) {
@@ -91,10 +85,7 @@ TEST(BackgroundRelink, ARenderAfterAMoveIsComplete) {
       &fresh_frame);
   EXPECT_EQ(Stat(moved_frame, "links_pending"), 0.0);
   EXPECT_FALSE(testing::FrameStage(moved_frame, "create_links")->skipped);
-  ASSERT_EQ(moved.rgba.size(), fresh.rgba.size());
-  for (size_t i = 0; i < moved.rgba.size(); ++i) {
-    ASSERT_NEAR(moved.rgba[i], fresh.rgba[i], 1e-4f * std::max(1.0f, fresh.rgba[i])) << "value " << i;
-  }
+  testing::ExpectSameImage(moved, fresh);
 }
 
 }  // namespace

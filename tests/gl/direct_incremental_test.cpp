@@ -31,6 +31,13 @@ Rendered RenderDirect(const std::string& scene, std::vector<Update> updates = {}
   return out;
 }
 
+NodeTransformUpdate MoveTallBlock() {
+  NodeTransformUpdate move;
+  move.node = 6;  // cornell_box's tall_block
+  move.translation = glm::vec3(0.20f, 0.0f, 0.30f);
+  return move;
+}
+
 Update Emission(float strength, uint64_t seq = 1) {
   MaterialUpdate m;
   m.material = 3;  // cornell_box's "light" material
@@ -61,9 +68,7 @@ TEST(DirectIncremental, EmissionStrengthRedrawsNoShadowMapAndScalesTheImage) {
 TEST(DirectIncremental, MovingGeometryRedrawsEveryMapAndMatchesAFreshRender) {
   const BundledCopy incremental("cornell_box.gltf"), fresh("cornell_box.gltf");
   RenderDirect(incremental.id());
-  NodeTransformUpdate move;
-  move.node = 6;  // tall_block
-  move.translation = glm::vec3(0.20f, 0.0f, 0.30f);
+  const NodeTransformUpdate move = MoveTallBlock();
   const Rendered moved = RenderDirect(incremental.id(), {{1, move}});
   EXPECT_EQ(FrameStat(moved.frame, "shadow_maps_redrawn"), 16.0);
   // An emission change afterwards keeps the moved block's shadows...
@@ -71,12 +76,7 @@ TEST(DirectIncremental, MovingGeometryRedrawsEveryMapAndMatchesAFreshRender) {
   EXPECT_EQ(FrameStat(after.frame, "shadow_maps_redrawn"), 0.0);
   // ... and gives what a fresh solver renders for the same state.
   const Rendered reference = RenderDirect(fresh.id(), {{1, move}, Emission(17.0f, 2)});
-  ASSERT_EQ(after.image.rgba.size(), reference.image.rgba.size());
-  for (size_t i = 0; i < after.image.rgba.size(); ++i) {
-    ASSERT_NEAR(after.image.rgba[i], reference.image.rgba[i],
-                1e-4f * std::max(1.0f, reference.image.rgba[i]))
-        << "value " << i;
-  }
+  testing::ExpectSameImage(after.image, reference.image);
 }
 
 TEST(DirectIncremental, ASlicedRedrawAfterAMoveEqualsAFreshRender) {
@@ -84,19 +84,12 @@ TEST(DirectIncremental, ASlicedRedrawAfterAMoveEqualsAFreshRender) {
   // set; the frame (a Render waits for it) shows the new set only whole.
   const BundledCopy incremental("cornell_box.gltf"), fresh("cornell_box.gltf");
   RenderDirect(incremental.id());
-  NodeTransformUpdate move;
-  move.node = 6;  // tall_block
-  move.translation = glm::vec3(0.20f, 0.0f, 0.30f);
+  const NodeTransformUpdate move = MoveTallBlock();
   const Rendered sliced = RenderDirect(incremental.id(), {{1, move}}, 0.01);
   EXPECT_EQ(FrameStat(sliced.frame, "shadow_maps_pending"), 0.0);
   EXPECT_LT(FrameStat(sliced.frame, "shadow_maps_redrawn"), 16.0);  // the last of several slices
   const Rendered reference = RenderDirect(fresh.id(), {{1, move}});
-  ASSERT_EQ(sliced.image.rgba.size(), reference.image.rgba.size());
-  for (size_t i = 0; i < sliced.image.rgba.size(); ++i) {
-    ASSERT_NEAR(sliced.image.rgba[i], reference.image.rgba[i],
-                1e-4f * std::max(1.0f, reference.image.rgba[i]))
-        << "value " << i;
-  }
+  testing::ExpectSameImage(sliced.image, reference.image);
 }
 
 TEST(DirectIncremental, AChangeWhileASlicedRedrawRunsStillEndsConsistent) {
@@ -117,9 +110,7 @@ TEST(DirectIncremental, AChangeWhileASlicedRedrawRunsStillEndsConsistent) {
   auto opened = testing::SharedEngine().OpenSession(config, sink);
   ASSERT_TRUE(opened.ok()) << opened.status();
   ASSERT_NE(sink->Next(), nullptr);
-  NodeTransformUpdate move;
-  move.node = 6;  // tall_block
-  move.translation = glm::vec3(0.20f, 0.0f, 0.30f);
+  const NodeTransformUpdate move = MoveTallBlock();
   ASSERT_TRUE(testing::SharedEngine().PushUpdate(opened->id, {1, move}).ok());
   // A frame that shows the move with its maps still pending, then the change.
   auto stat = [](const EncodedFrame& f, const std::string& name) {
@@ -138,13 +129,8 @@ TEST(DirectIncremental, AChangeWhileASlicedRedrawRunsStillEndsConsistent) {
   });
   testing::SharedEngine().CloseSession(opened->id);
   ASSERT_NE(done, nullptr);
-  const testing::FloatImage got = testing::DecodeExr(*done);
   const Rendered reference = RenderDirect(fresh.id(), {{1, move}, Emission(17.0f, 2)});
-  ASSERT_EQ(got.rgba.size(), reference.image.rgba.size());
-  for (size_t i = 0; i < got.rgba.size(); ++i) {
-    ASSERT_NEAR(got.rgba[i], reference.image.rgba[i], 1e-4f * std::max(1.0f, reference.image.rgba[i]))
-        << "value " << i;
-  }
+  testing::ExpectSameImage(testing::DecodeExr(*done), reference.image);
 }
 
 TEST(DirectIncremental, MovingOnePunctualLightRedrawsItsMapAlone) {

@@ -120,6 +120,16 @@ glm::dvec3 ImageMean(const FloatImage& image) {
   return image.width > 0 ? sum / double(image.width * image.height) : sum;
 }
 
+void ExpectSameImage(const FloatImage& got, const FloatImage& expected, float relative) {
+  ASSERT_EQ(got.width, expected.width);
+  ASSERT_EQ(got.height, expected.height);
+  ASSERT_EQ(got.rgba.size(), expected.rgba.size());
+  for (size_t i = 0; i < got.rgba.size(); ++i) {
+    ASSERT_NEAR(got.rgba[i], expected.rgba[i], relative * std::max(1.0f, expected.rgba[i]))
+        << "value " << i << " (pixel " << i / 4 << ")";
+  }
+}
+
 double RelMse(const FloatImage& image, const FloatImage& reference) {
   EXPECT_EQ(image.width, reference.width);
   EXPECT_EQ(image.height, reference.height);

@@ -70,6 +70,11 @@ double FrameStat(const EncodedFrame& frame, const std::string& name);
 const StageTiming* FrameStage(const EncodedFrame& frame, const std::string& name);
 
 glm::dvec3 ImageMean(const FloatImage& image);
+// Fails the test unless the images have the same size and every value
+// agrees within `relative` x max(1, expected) (float rounding of the same
+// computation done in another order or split over frames).
+void ExpectSameImage(const FloatImage& got, const FloatImage& expected, float relative = 1e-4f);
+
 // gistream eval's relMSE: mean over pixels and channels of
 // (x - r)^2 / (r^2 + 0.01).
 double RelMse(const FloatImage& image, const FloatImage& reference);
