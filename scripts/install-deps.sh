@@ -12,6 +12,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev
   libboost-dev  # Boost.Beast (header-only) for gistream-web
   chromium nodejs  # the viewer test (tests/web) drives headless Chromium through puppeteer-core
+  python3 python3-grpcio python3-protobuf  # the Python client package (python/) and its test
 )
 
 missing=()

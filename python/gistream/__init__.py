@@ -1,0 +1,21 @@
+"""gistream: a small Python client of gistreamd.
+
+    import gistream
+    with gistream.Client("127.0.0.1:50051") as client:
+        scene = client.load_scene("cornell_box")
+        frame = client.render(scene.scene_id, solver="implicit_visibility", size=(256, 256))
+        open("box.png", "wb").write(frame.image)
+        with client.session(scene.scene_id, solver="direct", size=(320, 240)) as session:
+            session.update(camera=gistream.look_at((1, 0.3, 0.2), (0.2, 0.2, 0.2)))
+            for frame in session.frames(10):
+                print(frame.frame_number, frame.last_update_seq, frame.total_ms)
+
+The generated stubs (gistream.v1.gistream_pb2, gistream_pb2_grpc) come
+from the build (CMake writes the package into build/python); everything
+the API offers is there, this module only makes the common calls short.
+"""
+
+from gistream.client import Client, Session, look_at, node_transform
+from gistream.v1 import gistream_pb2 as pb
+
+__all__ = ["Client", "Session", "look_at", "node_transform", "pb"]

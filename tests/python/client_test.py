@@ -1,0 +1,73 @@
+"""The Python client package against a real gistreamd on loopback
+(llvmpipe without a GPU): load a scene, list solvers, render a PNG, run a
+session whose frames echo the updates, see a bad parameter come back as
+INVALID_ARGUMENT naming it. Run by ctest (python_client) with PYTHONPATH
+set to build/python and GISTREAMD/GISTREAM_SCENES pointing at the binary
+and the scene folder."""
+
+import os
+import subprocess
+import unittest
+
+import grpc
+
+import gistream
+
+
+class ClientTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.server = subprocess.Popen(
+            [os.environ["GISTREAMD"], "--listen", "127.0.0.1:0", "--scenes",
+             os.environ["GISTREAM_SCENES"]],
+            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+        line = cls.server.stdout.readline()  # "listening on ADDR" once it serves
+        if not line.startswith("listening on "):
+            cls.server.kill()
+            raise RuntimeError(f"gistreamd did not start: {line!r}")
+        cls.client = gistream.Client(line.split()[-1], timeout=120)
+        cls.scene = cls.client.load_scene("cornell_box")
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.client.close()
+        cls.server.terminate()
+        cls.server.wait(timeout=30)
+
+    def test_scene_and_solvers(self):
+        self.assertTrue(self.scene.scene_id)
+        self.assertGreater(self.scene.triangle_count, 0)
+        names = [s.name for s in self.client.solvers()]
+        for solver in ("direct", "pathtrace", "sh_probes", "avg", "implicit_visibility",
+                       "antiradiance"):
+            self.assertIn(solver, names)
+
+    def test_render_writes_a_png(self):
+        frame = self.client.render(self.scene.scene_id, params={"area_samples": 4},
+                                   size=(32, 24), format="png")
+        self.assertEqual(frame.image[:8], b"\x89PNG\r\n\x1a\n")
+        self.assertEqual((frame.width, frame.height), (32, 24))
+        self.assertEqual(frame.solver, "direct")
+        self.assertIn("shade", [t.name for t in frame.timings])
+
+    def test_session_frames_echo_the_updates(self):
+        with self.client.session(self.scene.scene_id, params={"area_samples": 4},
+                                 size=(32, 24), fps=60) as session:
+            self.assertTrue(session.opened.session_id)
+            seq = session.update(camera=gistream.look_at((0.9, 0.3, 0.3), (0.28, 0.27, 0.28)))
+            self.assertEqual(seq, 1)
+            for frame in session.frames(50):
+                if frame.last_update_seq >= seq:
+                    break
+            self.assertEqual(frame.last_update_seq, seq)
+            self.assertFalse(session.rejected)
+
+    def test_a_bad_parameter_names_itself(self):
+        with self.assertRaises(grpc.RpcError) as caught:
+            self.client.render(self.scene.scene_id, params={"area_samples": 0}, size=(8, 8))
+        self.assertEqual(caught.exception.code(), grpc.StatusCode.INVALID_ARGUMENT)
+        self.assertIn("area_samples", caught.exception.details())
+
+
+if __name__ == "__main__":
+    unittest.main()
