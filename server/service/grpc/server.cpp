@@ -34,6 +34,12 @@ absl::StatusOr<std::unique_ptr<GistreamServer>> GistreamServer::Start(
   grpc::ServerBuilder builder;
   builder.AddListeningPort(options.listen, grpc::InsecureServerCredentials(), &self->port_);
   builder.RegisterService(self->service_.get());
+  // Generic tools ask for grpc.reflection.v1 first; libgrpc++ 1.51 serves
+  // only v1alpha (the plugin above), so v1 is ours.
+  self->reflection_v1_ = std::make_unique<ReflectionV1>(std::vector<std::string>{
+      kServiceName, "grpc.health.v1.Health", "grpc.reflection.v1.ServerReflection",
+      "grpc.reflection.v1alpha.ServerReflection"});
+  builder.RegisterService(self->reflection_v1_.get());
   // gRPC sets SO_REUSEPORT by default: a second gistreamd on the same port
   // would silently share its traffic instead of failing to start.
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);

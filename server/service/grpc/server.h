@@ -16,6 +16,7 @@
 
 #include "service/engine.h"
 #include "service/grpc/gistream_service.h"
+#include "service/grpc/reflection_v1.h"
 
 namespace gistream::service {
 
@@ -67,6 +68,7 @@ class GistreamServer {
 
   // Runtime data. service_ must outlive server_ (declared first).
   std::unique_ptr<GistreamService> service_;
+  std::unique_ptr<ReflectionV1> reflection_v1_;  // grpc.reflection.v1 (v1alpha: libgrpc++)
   std::unique_ptr<grpc::Server> server_;
   std::mutex shutdown_mutex_;  // held for the whole of Shutdown
   std::mutex done_mutex_;
