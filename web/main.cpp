@@ -5,6 +5,7 @@
 //
 //   gistream-web [--server ADDR] [--listen HOST:PORT] [--scene NAME]
 //                [--solver NAME] [--param K=V]... [--size WxH] [--fps F]
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <string>
@@ -17,7 +18,9 @@ namespace {
 
 int Usage() {
   std::cerr << "usage: gistream-web [--server ADDR] [--listen HOST:PORT] [--scene NAME]\n"
-               "                    [--solver NAME] [--param K=V]... [--size WxH] [--fps F]\n"
+               "                    [--scenes NAME,NAME,...] [--solver NAME] [--param K=V]...\n"
+               "                    [--size WxH] [--fps F]\n"
+               "--scenes: the page's scene picker (default: the bundled scenes).\n"
                "Serves the viewer on http://HOST:PORT/ (default 127.0.0.1:8080), bridged to\n"
                "gistreamd at --server (default $GISTREAM_SERVER, else 127.0.0.1:50051).\n";
   return 2;
@@ -30,6 +33,8 @@ int main(int argc, char** argv) {
   const char* env = std::getenv("GISTREAM_SERVER");
   std::string server = env && *env ? env : "127.0.0.1:50051";
   std::string listen = "127.0.0.1:8080", scene = "cornell_box", solver = "direct";
+  // The scene picker's choices: the bundled scenes unless --scenes says.
+  std::string scenes = "cornell_box,cornell_box_coarse,indirect_room,dynamic_block,furnace";
   unsigned width = 640, height = 480;
   float fps = 30.0f;
   v1::SessionConfig config;
@@ -41,6 +46,7 @@ int main(int argc, char** argv) {
     if (flag == "--server") server = value;
     else if (flag == "--listen") listen = value;
     else if (flag == "--scene") scene = value;
+    else if (flag == "--scenes") scenes = value;
     else if (flag == "--solver") solver = value;
     else if (flag == "--fps") fps = std::stof(value);
     else if (flag == "--size") {
@@ -74,6 +80,16 @@ int main(int argc, char** argv) {
     return 1;
   }
   config.set_scene_id(options.scene.scene_id());
+  options.scene_name = scene;
+  for (size_t begin = 0; begin <= scenes.size();) {
+    const size_t end = std::min(scenes.find(',', begin), scenes.size());
+    if (end > begin) options.scene_names.push_back(scenes.substr(begin, end - begin));
+    begin = end + 1;
+  }
+  if (std::find(options.scene_names.begin(), options.scene_names.end(), scene) ==
+      options.scene_names.end()) {
+    options.scene_names.insert(options.scene_names.begin(), scene);
+  }
   config.set_solver(solver);
   config.set_width(width);
   config.set_height(height);

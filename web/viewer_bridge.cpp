@@ -1,5 +1,7 @@
 #include "viewer_bridge.h"
 
+#include <algorithm>
+#include <chrono>
 #include <deque>
 #include <map>
 #include <iostream>
@@ -77,7 +79,8 @@ json SolversJson(const v1::ListSolversResponse& list) {
 }
 
 json SceneJson(const v1::LoadSceneResponse& scene, const v1::SessionConfig& config,
-               const v1::ListSolversResponse& solvers) {
+               const v1::ListSolversResponse& solvers, const std::vector<std::string>& names,
+               const std::string& name) {
   json lights = json::array(), materials = json::array();
   for (const v1::LightInfo& l : scene.lights()) {
     lights.push_back({{"id", l.id()}, {"name", l.name()}, {"intensity", l.intensity()}});
@@ -96,6 +99,8 @@ json SceneJson(const v1::LoadSceneResponse& scene, const v1::SessionConfig& conf
               {"lights", lights},
               {"materials", materials},
               {"solvers", SolversJson(solvers)},
+              {"scenes", names},
+              {"scene_name", name},
               {"params", std::map<std::string, std::string>(config.params().begin(),
                                                              config.params().end())}};
   if (scene.cameras_size() > 0) {
@@ -162,7 +167,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   };
 
   void OnAccepted() {
-    Send(SceneJson(options_.scene, options_.config, options_.solvers).dump(), false, false);
+    SendScene();
     StartLink();
     Read();
   }
@@ -243,6 +248,48 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
     Send(std::move(message), true, true);
   }
 
+  void SendScene() {
+    Send(SceneJson(options_.scene, options_.config, options_.solvers, options_.scene_names,
+                   options_.scene_name)
+             .dump(),
+         false, false);
+  }
+
+  // The scene picker: LoadScene on a thread of its own (a first load may
+  // take a while; the gateway's other browsers go on), then the scene's
+  // description and a new session on it.
+  void LoadScene(const std::string& name) {
+    if (std::find(options_.scene_names.begin(), options_.scene_names.end(), name) ==
+        options_.scene_names.end()) {
+      Send(json{{"type", "error"}, {"message", "scene: \"" + name + "\" is not offered"}}.dump(),
+           false, false);
+      return;
+    }
+    std::weak_ptr<Viewer> weak = weak_from_this();
+    std::thread([weak, stub = options_.stub, name, executor = ws_.get_executor()] {
+      v1::LoadSceneRequest request;
+      request.set_name(name);
+      v1::LoadSceneResponse response;
+      grpc::ClientContext context;
+      context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(120));
+      const grpc::Status status = stub->LoadScene(&context, request, &response);
+      net::post(executor, [weak, name, status, response = std::move(response)]() mutable {
+        auto self = weak.lock();
+        if (!self) return;
+        if (!status.ok()) {
+          self->Send(json{{"type", "error"}, {"message", "scene " + name + ": " + status.error_message()}}.dump(),
+                     false, false);
+          return;
+        }
+        self->options_.scene = std::move(response);
+        self->options_.scene_name = name;
+        self->options_.config.set_scene_id(self->options_.scene.scene_id());
+        self->SendScene();
+        self->StartLink();
+      });
+    }).detach();
+  }
+
   void Read() {
     ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
       if (ec) {
@@ -267,6 +314,8 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
           }
         }
         StartLink();
+      } else if (message.at("type") == "scene") {
+        LoadScene(message.at("name").get<std::string>());
       } else {
         link_->Write(RequestFromJson(message));
       }

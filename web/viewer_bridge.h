@@ -2,7 +2,9 @@
 // pacing) on the gateway's scene. Browser -> server: JSON text messages
 // (camera, light, material, key_frame) become Updates with the browser's
 // sequence numbers, and `config` (solver + parameters from the picker)
-// replaces the browser's session with a new one; server -> browser: the scene description once (text),
+// replaces the browser's session with a new one, `scene` (a name from the
+// picker) loads that scene and moves the browser's session onto it;
+// server -> browser: the scene description (text, again after `scene`),
 // then every frame as a binary message: a 4-byte little-endian header
 // length, a JSON header (frame number, last update seq, size, format,
 // key_frame, unchanged, total_ms, stage timings) and the image bytes.
@@ -13,6 +15,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/beast/http.hpp>
@@ -26,6 +29,10 @@ struct ViewerOptions {
   v1::LoadSceneResponse scene;
   v1::ListSolversResponse solvers;  // for the page's solver picker
   v1::SessionConfig config;  // scene id, solver, params, size, pacing; encoding per browser
+  // The scene names (in the server's scene directory) the page's scene
+  // picker offers; `scene_name` is the one loaded first.
+  std::vector<std::string> scene_names;
+  std::string scene_name;
 };
 
 // Takes over the socket of an HTTP upgrade request to /ws (query:

@@ -3,7 +3,8 @@
 // not black, a mouse drag changes the camera (the echoed sequence number
 // reaches the drag's and the picture changes), a slider changes a light
 // (the picture gets brighter), the solver picker starts a new session
-// that draws; saves a screenshot; prints the measured
+// that draws, the scene picker loads another scene whose session draws;
+// saves a screenshot; prints the measured
 // update-to-frame latency.
 //
 //   node viewer_test.mjs URL OUT_DIR [jpeg|h264]
@@ -105,6 +106,21 @@ try {
                 "a picture from the session the picker started", [sessions, drawn]);
 
   await page.screenshot({ path: path.join(outDir, `viewer_${format}.png`) });
+
+  // The scene picker: another bundled scene loads and a new session shows it.
+  const [sessions2, drawn2, scene0] = await page.evaluate(
+    () => [window.viewer.sessions, window.viewer.drawn, window.viewer.scene.scene_id]);
+  const switched = await page.evaluate(() => {
+    const select = document.getElementById("scene");
+    if (![...select.options].some(o => o.value === "indirect_room")) return false;
+    select.value = "indirect_room";
+    select.dispatchEvent(new Event("change"));
+    return true;
+  });
+  if (!switched) fail("the scene picker offers no indirect_room");
+  await waitFor(([s, d, id]) => window.viewer.sessions > s && window.viewer.drawn > d &&
+                                window.viewer.scene.scene_id !== id,
+                "a picture of the scene the picker loaded", [sessions2, drawn2, scene0]);
   const stats = await page.evaluate(() => ({
     frames: window.viewer.frames, images: window.viewer.images, latencies: window.viewer.latencies,
     errors: window.viewer.errors }));
