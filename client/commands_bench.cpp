@@ -303,8 +303,11 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
       unsettled += s->Settled() ? 0 : 1;
     }
     if (pending == 0 && unsettled == 0) break;
-    progress.Show(absl::StrCat(label, " waiting for ", pending, " update(s) to show, ", unsettled,
-                               " session(s) to converge"));
+    progress.Show(absl::StrCat(label, " waiting for ",
+                               pending > 0 ? absl::StrCat(pending, " update(s) to show") : "",
+                               pending > 0 && unsettled > 0 ? " and " : "",
+                               unsettled > 0 ? absl::StrCat(unsettled, " session(s) to converge")
+                                             : ""));
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   progress.Show(absl::StrCat(label, " closing ", sessions.size(), " session(s)"));

@@ -14,14 +14,8 @@ set -euo pipefail
 BUILD=${1:-build}
 OUT=${2:-out/bench-scaling}
 SERVER_BIN=${3:-$BUILD/gistreamd}
-SCENES=$(cd "$(dirname "$0")/../../scenes" && pwd)
-mkdir -p "$OUT"
-LOG="$OUT/gistreamd.log"
-"$SERVER_BIN" --listen 127.0.0.1:0 --scenes "$SCENES" >"$OUT/listen.txt" 2>"$LOG" &
-PID=$!
-trap 'kill $PID 2>/dev/null || true' EXIT
-for _ in $(seq 1 300); do grep -q "^listening on" "$OUT/listen.txt" && break; sleep 0.1; done
-ADDR=$(sed -n 's/^listening on //p' "$OUT/listen.txt")
+source "$(dirname "$0")/start_server.sh"
+start_server "$SERVER_BIN" "$OUT"
 C="$BUILD/gistream --server $ADDR"
 
 run() {  # name, then bench arguments

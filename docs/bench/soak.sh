@@ -9,13 +9,8 @@ set -euo pipefail
 BUILD=${1:-build}
 OUT=${2:-out/soak}
 MINUTES=${3:-10}
-SCENES=$(cd "$(dirname "$0")/../../scenes" && pwd)
-mkdir -p "$OUT"
-"$BUILD/gistreamd" --listen 127.0.0.1:0 --scenes "$SCENES" >"$OUT/listen.txt" 2>"$OUT/gistreamd.log" &
-PID=$!
-trap 'kill $PID 2>/dev/null || true' EXIT
-for _ in $(seq 1 300); do grep -q "^listening on" "$OUT/listen.txt" && break; sleep 0.1; done
-ADDR=$(sed -n 's/^listening on //p' "$OUT/listen.txt")
+source "$(dirname "$0")/start_server.sh"
+start_server "$BUILD/gistreamd" "$OUT"
 C="$BUILD/gistream --server $ADDR"
 
 $C bench --solver direct --size 128x128 --workload mixed --sessions 8 --duration "${MINUTES}m" \

@@ -113,7 +113,8 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
                          settings.shadow_resolution != shadow_resolution_;
   maps_redrawn_ = 0;
   pending_.reset();  // a newer light set replaces one still being drawn
-  if (all_stale && budget_ms > 0.0 && drawn_once_) {
+  // The second set doubles the maps' memory: only when both fit the limit.
+  if (all_stale && budget_ms > 0.0 && drawn_once_ && 2 * bytes <= kMaxShadowBytes) {
     // Sliced: every map is drawn into the other set, a budget's worth per
     // frame, while the shown set (maps and buffers that agree) stays bound.
     for (size_t i = 0; i < next.cube_views.size(); ++i) next.cube_draws.push_back(int(i));

@@ -77,6 +77,24 @@ TEST(EngineSlicing, ASplitAvgRemapEqualsAnUnsplitOne) {
   EXPECT_EQ(testing::DecodeExr(*split).rgba, testing::DecodeExr(*whole).rgba);
 }
 
+TEST(EngineSlicing, PathtraceKeepsABoundedNumberOfViews) {
+  // Each view keeps its own accumulation; a fifth view drops the least
+  // recently used one (kMaxViews), so memory does not grow with the views.
+  const BundledCopy scene("cornell_box.gltf");
+  std::vector<double> views;
+  for (int i = 0; i < 6; ++i) {
+    RenderRequest request = PathtraceRequest(scene.id(), 1, 0.0);
+    CameraUpdate camera;
+    camera.look_at = LookAt{{0.2f + 0.05f * float(i), 0.3f, -0.8f}, {0.28f, 0.27f, 0.28f},
+                            {0.0f, 1.0f, 0.0f}};
+    request.camera = camera;
+    auto frame = SharedEngine().Render(request);
+    ASSERT_TRUE(frame.ok()) << frame.status();
+    views.push_back(FrameStat(*frame, "views"));
+  }
+  EXPECT_EQ(views, (std::vector<double>{1, 2, 3, 4, 4, 4}));
+}
+
 TEST(EngineSlicing, ACancelledRenderStopsAndTheNextOneRuns) {
   const BundledCopy scene("cornell_box.gltf");
   // 4096 spp at 24x24 would take minutes on a CPU; the cancel comes once the

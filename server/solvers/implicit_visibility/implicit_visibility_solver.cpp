@@ -153,7 +153,8 @@ bool ImplicitVisibilitySolver::FinishRelink(SolverContext& ctx) {
   illumination_.UploadLinks(leaf_links_);
   if (relink_again_) {
     relink_again_ = false;
-    if (!StartRelink(ctx).ok()) relink_again_ = false;  // same elements: cannot fail now
+    // The same element layout passed the bin-memory check already.
+    StartRelink(ctx).IgnoreError();
   }
   return true;
 }
@@ -216,11 +217,9 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
     ctx.timer.Skip("update_elements");
   }
   const bool relinked = FinishRelink(ctx);
-  if (!geometry || !first) {
-    if (!relinked) {
-      ctx.timer.Skip("create_links");
-      ctx.timer.Skip("refine_push");
-    }
+  if (!first && !relinked) {  // (the first solve linked on this thread)
+    ctx.timer.Skip("create_links");
+    ctx.timer.Skip("refine_push");
   }
   if (pending_ || lighting_.pending()) {
     // The links or the shadow maps do not match the elements yet: keep the

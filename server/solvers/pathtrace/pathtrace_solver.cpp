@@ -81,14 +81,21 @@ PathtraceSolver::Accumulation& PathtraceSolver::ViewFor(const ViewCamera& camera
     if (SameView(acc.view, camera)) pick = &acc;
   }
   if (!pick) {
-    if (views_.size() < kMaxViews) {
-      pick = &views_.emplace_back();
-    } else {
-      pick = &*std::min_element(views_.begin(), views_.end(), [](const auto& a, const auto& b) {
+    // Room for the new view: the least recently used views go while they
+    // would pass kMaxViews or kMaxAccumulationBytes together.
+    const size_t need = size_t(camera.width) * size_t(camera.height) * 3 * sizeof(double);
+    auto held = [&] {
+      size_t bytes = 0;
+      for (const Accumulation& acc : views_) bytes += acc.accum.size() * sizeof(double);
+      return bytes;
+    };
+    while (!views_.empty() && (views_.size() >= kMaxViews || held() + need > kMaxAccumulationBytes)) {
+      views_.erase(std::min_element(views_.begin(), views_.end(), [](const auto& a, const auto& b) {
         return a.last_used < b.last_used;
-      });
+      }));
     }
-    *pick = Accumulation{};
+    current_ = nullptr;  // it may have pointed at a view just dropped or moved
+    pick = &views_.emplace_back();
     pick->view = camera;
     pick->accum.assign(size_t(camera.width) * size_t(camera.height) * 3, 0.0);
   }
@@ -226,6 +233,7 @@ SolverStats PathtraceSolver::Stats() const {
           {"emitter_triangles", bvh_ ? double(bvh_->emitters().size()) : 0.0},
           {"pass_rows", double(acc.pass_row)},
           {"slices", double(acc.frame_slices)},
+          {"views", double(views_.size())},
           {"frame_complete", acc.frame_complete ? 1.0 : 0.0},
           {"threads", double(WorkerCount())}};
 }

@@ -50,6 +50,9 @@ class PathtraceSolver final : public Solver {
     uint64_t last_used = 0;
   };
   static constexpr size_t kMaxViews = 4;
+  // Accumulations of all views together (doubles: 24 bytes a pixel); a
+  // view of its own may be larger (the frame-size limit bounds it).
+  static constexpr size_t kMaxAccumulationBytes = size_t(1) << 30;
 
   PathtraceSolver() = default;
   static bool SameView(const ViewCamera& a, const ViewCamera& b);
