@@ -15,7 +15,7 @@
 #include "connection.h"
 #include "encode/encode.h"
 #include "eval_spec.h"
-#include "metrics.h"
+#include "util/image_metrics.h"
 #include "plot.h"
 #include "progress_line.h"
 #include "scene_loader.h"

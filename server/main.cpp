@@ -26,6 +26,7 @@
 #include "metrics/metrics.h"
 #include "service/engine.h"
 #include "service/grpc/server.h"
+#include "solvers/registry.h"
 #include "util/cpu_pool.h"
 #include "util/log.h"
 #include "util/status.h"
@@ -80,6 +81,8 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
                              serves other sessions; sliceable work (pathtrace)
                              continues in later slices (default 30)
   --version                  print "gistreamd VERSION" and exit
+  --list-solvers             print the registered solvers, one name per line,
+                             and exit
   --help                     this text
 Flags take their value as the next argument or after '=' (--listen=:50051).
 )";
@@ -202,6 +205,10 @@ Flags ParseFlags(int argc, char** argv) {
     if (arg == "--version") {
       const std::string_view version = Version();
       std::printf("gistreamd %.*s\n", static_cast<int>(version.size()), version.data());
+      std::exit(0);
+    }
+    if (arg == "--list-solvers") {
+      for (const SolverDescription& d : AllSolverDescriptions()) std::printf("%s\n", d.name.c_str());
       std::exit(0);
     }
     std::string_view name = arg;

@@ -15,7 +15,7 @@
 #include "render/shadow_maps.h"
 #include "scene/gpu_scene.h"
 #include "scene/updates.h"
-#include "solvers/solver_params.h"
+#include "util/params.h"
 
 namespace gistream {
 

@@ -1,22 +1,55 @@
 #include "solvers/registry.h"
 
-#include "solvers/antiradiance/antiradiance_solver.h"
-#include "solvers/avg/avg_solver.h"
-#include "solvers/direct/direct_solver.h"
-#include "solvers/implicit_visibility/implicit_visibility_solver.h"
-#include "solvers/pathtrace/pathtrace_solver.h"
-#include "solvers/sh_probes/sh_probes_solver.h"
+#include <algorithm>
+#include <mutex>
+
 #include "util/user_string.h"
 
 namespace gistream {
+namespace {
 
-const std::vector<SolverDescription>& AllSolverDescriptions() {
-  static const std::vector<SolverDescription> kAll = {
-      DirectSolver::Describe(),   PathtraceSolver::Describe(),
-      ShProbesSolver::Describe(), AvgSolver::Describe(),
-      ImplicitVisibilitySolver::Describe(), AntiradianceSolver::Describe()};
-  return kAll;
+struct Registered {
+  SolverFactory factory;
+  SolverDescription description;
+};
+
+// Filled during static initialisation, frozen (sorted) at the first read.
+struct Registry {
+  std::vector<Registered> solvers;
+  std::vector<SolverDescription> descriptions;
+  std::once_flag frozen;
+  bool is_frozen = false;
+};
+
+Registry& TheRegistry() {
+  static Registry registry;
+  return registry;
 }
+
+const Registry& Frozen() {
+  Registry& r = TheRegistry();
+  std::call_once(r.frozen, [&r] {
+    std::stable_sort(r.solvers.begin(), r.solvers.end(), [](const Registered& a, const Registered& b) {
+      return a.factory.list_order < b.factory.list_order;
+    });
+    for (const Registered& s : r.solvers) r.descriptions.push_back(s.description);
+    r.is_frozen = true;
+  });
+  return r;
+}
+
+}  // namespace
+
+bool RegisterSolver(const SolverFactory& factory) {
+  Registry& r = TheRegistry();
+  GS_CHECK(!r.is_frozen && factory.describe && factory.create && factory.estimate);
+  SolverDescription description = factory.describe();
+  for (const Registered& s : r.solvers) GS_CHECK(s.description.name != description.name);
+  r.solvers.push_back({factory, std::move(description)});
+  return true;
+}
+
+const std::vector<SolverDescription>& AllSolverDescriptions() { return Frozen().descriptions; }
 
 absl::StatusOr<const SolverDescription*> FindSolver(const std::string& name) {
   std::string known;
@@ -24,18 +57,24 @@ absl::StatusOr<const SolverDescription*> FindSolver(const std::string& name) {
     if (d.name == name) return &d;
     absl::StrAppend(&known, known.empty() ? "" : ", ", d.name);
   }
-  return absl::InvalidArgumentError(
+  return absl::NotFoundError(
       absl::StrCat("solver: unknown solver '", Echo(name), "' (known: ", known, ")"));
 }
 
 absl::StatusOr<std::unique_ptr<Solver>> CreateSolver(const std::string& name,
                                                      const ParamSet& params) {
-  if (name == "direct") return DirectSolver::Create(params);
-  if (name == "pathtrace") return PathtraceSolver::Create(params);
-  if (name == "sh_probes") return ShProbesSolver::Create(params);
-  if (name == "avg") return AvgSolver::Create(params);
-  if (name == "implicit_visibility") return ImplicitVisibilitySolver::Create(params);
-  if (name == "antiradiance") return AntiradianceSolver::Create(params);
+  for (const Registered& s : Frozen().solvers) {
+    if (s.description.name == name) return s.factory.create(params);
+  }
+  return FindSolver(name).status();
+}
+
+absl::StatusOr<MemoryEstimate> EstimateSolverMemory(const std::string& name,
+                                                    const ParamSet& params,
+                                                    const SceneState& state, const GpuScene& gpu) {
+  for (const Registered& s : Frozen().solvers) {
+    if (s.description.name == name) return s.factory.estimate(params, state, gpu);
+  }
   return FindSolver(name).status();
 }
 

@@ -32,9 +32,12 @@ C="$BIN/gistream --server $ADDR"
 # client's SIGPIPE would fail the step.
 $C status >"$TMP/status.txt" && grep -qi "renderer" "$TMP/status.txt" || { echo "FAIL: status"; exit 1; }
 $C solvers >"$TMP/solvers.txt" || { echo "FAIL: solvers"; exit 1; }
-for s in direct pathtrace sh_probes avg implicit_visibility antiradiance; do
+# Every registered solver (gistreamd --list-solvers) is offered over the wire.
+"$BIN/gistreamd" --list-solvers >"$TMP/registered.txt"
+[ "$(wc -l <"$TMP/registered.txt")" -ge 6 ] || { echo "FAIL: --list-solvers lists fewer than 6"; exit 1; }
+while read -r s; do
   grep -q "^$s - " "$TMP/solvers.txt" || { echo "FAIL: solvers lacks $s"; exit 1; }
-done
+done <"$TMP/registered.txt"
 $C render --scene cornell_box --solver direct --param area_samples=8 --size 64x48 \
   --format png --out "$TMP/box.png" >/dev/null
 [ "$(head -c 8 "$TMP/box.png" | od -An -tx1 | tr -d ' \n')" = "89504e470d0a1a0a" ] ||

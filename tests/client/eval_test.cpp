@@ -6,7 +6,7 @@
 
 #include "encode/encode.h"
 #include "eval_spec.h"
-#include "metrics.h"
+#include "util/image_metrics.h"
 #include "plot.h"
 
 namespace gistream::client {

@@ -164,7 +164,7 @@ absl::Status FakeEngine::ValidateView(const std::string& solver,
   const auto it = std::find_if(solvers.begin(), solvers.end(),
                                [&](const SolverDescription& s) { return s.name == solver; });
   if (it == solvers.end()) {
-    return absl::InvalidArgumentError(absl::StrCat("solver: unknown solver '", solver, "'"));
+    return absl::NotFoundError(absl::StrCat("solver: unknown solver '", solver, "'"));
   }
   for (const auto& [key, value] : params) {
     if (std::none_of(it->params.begin(), it->params.end(),

@@ -401,7 +401,7 @@ TEST_F(ServiceTest, InvalidFirstMessageEndsTheCall) {
   cases.push_back({"update first", NodeUpdate(1, 0, 0.0f), grpc::StatusCode::INVALID_ARGUMENT,
                    "config: the first SessionRequest must be a config"});
   {
-    Case c{"unknown solver", ConfigRequest(scene, 16, 16, true), grpc::StatusCode::INVALID_ARGUMENT,
+    Case c{"unknown solver", ConfigRequest(scene, 16, 16, true), grpc::StatusCode::NOT_FOUND,
            "solver:"};
     c.first.mutable_config()->set_solver("nope");
     cases.push_back(c);

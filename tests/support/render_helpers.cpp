@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "util/image_metrics.h"
+
 namespace gistream::testing {
 
 Engine& SharedEngine() {
@@ -131,19 +133,14 @@ void ExpectSameImage(const FloatImage& got, const FloatImage& expected, float re
 }
 
 double RelMse(const FloatImage& image, const FloatImage& reference) {
-  EXPECT_EQ(image.width, reference.width);
-  EXPECT_EQ(image.height, reference.height);
-  if (image.rgba.size() != reference.rgba.size() || image.rgba.empty()) return 1e30;
-  double sum = 0.0;
-  size_t n = 0;
-  for (size_t i = 0; i < image.rgba.size(); i += 4) {
-    for (size_t c = 0; c < 3; ++c) {
-      const double x = image.rgba[i + c], r = reference.rgba[i + c];
-      sum += (x - r) * (x - r) / (r * r + 0.01);
-      ++n;
-    }
-  }
-  return sum / double(n);
+  // The same relMSE as gistream eval (util/image_metrics.h); a size
+  // mismatch or a non-finite pixel fails the test and reads as huge.
+  const absl::StatusOr<ImageError> error = CompareImages(
+      {image.width, image.height, image.rgba}, {reference.width, reference.height, reference.rgba});
+  EXPECT_TRUE(error.ok()) << error.status();
+  if (!error.ok()) return 1e30;
+  EXPECT_EQ(error->nonfinite_fraction, 0.0);
+  return error->nonfinite_fraction > 0.0 ? 1e30 : error->rel_mse;
 }
 
 RenderRequest SolverRequest(const std::string& scene, const std::string& solver,

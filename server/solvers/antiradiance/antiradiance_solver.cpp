@@ -1,4 +1,5 @@
 #include "solvers/antiradiance/antiradiance_solver.h"
+#include "solvers/registry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -346,5 +347,7 @@ SolverStats AntiradianceSolver::Stats() const {
   }
   return s;
 }
+
+GISTREAM_REGISTER_SOLVER(AntiradianceSolver, 60);
 
 }  // namespace gistream

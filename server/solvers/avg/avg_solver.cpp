@@ -1,4 +1,5 @@
 #include "solvers/avg/avg_solver.h"
+#include "solvers/registry.h"
 
 #include <algorithm>
 #include <chrono>
@@ -285,5 +286,7 @@ SolverStats AvgSolver::Stats() const {
           {"direct_shadow_bytes", double(direct_.gpu_bytes())},
           {"split_bytes", double(split_.gpu_bytes())}};
 }
+
+GISTREAM_REGISTER_SOLVER(AvgSolver, 40);
 
 }  // namespace gistream

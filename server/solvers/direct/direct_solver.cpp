@@ -1,4 +1,5 @@
 #include "solvers/direct/direct_solver.h"
+#include "solvers/registry.h"
 
 namespace gistream {
 
@@ -77,5 +78,7 @@ SolverStats DirectSolver::Stats() const {
           {"shadow_maps_redrawn", double(lighting_.maps_redrawn())},
           {"shadow_maps_pending", lighting_.pending() ? 1.0 : 0.0}};
 }
+
+GISTREAM_REGISTER_SOLVER(DirectSolver, 10);
 
 }  // namespace gistream

@@ -1,4 +1,5 @@
 #include "solvers/implicit_visibility/implicit_visibility_solver.h"
+#include "solvers/registry.h"
 
 #include <algorithm>
 #include <chrono>
@@ -319,5 +320,7 @@ SolverStats ImplicitVisibilitySolver::Stats() const {
           {"area_samples", double(lighting_.area_samples().size())},
           {"shadow_map_bytes", double(lighting_.gpu_bytes())}};
 }
+
+GISTREAM_REGISTER_SOLVER(ImplicitVisibilitySolver, 50);
 
 }  // namespace gistream

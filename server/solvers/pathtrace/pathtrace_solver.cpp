@@ -1,4 +1,5 @@
 #include "solvers/pathtrace/pathtrace_solver.h"
+#include "solvers/registry.h"
 
 #include <algorithm>
 #include <atomic>
@@ -237,5 +238,7 @@ SolverStats PathtraceSolver::Stats() const {
           {"frame_complete", acc.frame_complete ? 1.0 : 0.0},
           {"threads", double(WorkerCount())}};
 }
+
+GISTREAM_REGISTER_SOLVER(PathtraceSolver, 20);
 
 }  // namespace gistream

@@ -1,4 +1,5 @@
 #include "solvers/sh_probes/sh_probes_solver.h"
+#include "solvers/registry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -327,5 +328,7 @@ SolverStats ShProbesSolver::Stats() const {
           {"area_samples", double(lighting_.area_samples().size())},
           {"shadow_map_bytes", double(lighting_.gpu_bytes())}};
 }
+
+GISTREAM_REGISTER_SOLVER(ShProbesSolver, 30);
 
 }  // namespace gistream

@@ -1,4 +1,5 @@
-// Error of an image against a reference, as `gistream eval` reports it.
+// Error of an image against a reference: what `gistream eval` reports and
+// what the tests judge solvers by (one implementation for both).
 // Images are linear float RGBA, rows top first, the same size.
 #pragma once
 
@@ -7,7 +8,7 @@
 
 #include "util/status.h"
 
-namespace gistream::client {
+namespace gistream {
 
 struct RgbaImage {
   int width = 0;
@@ -34,4 +35,4 @@ float ToneMappedLuminance(float r, float g, float b);
 // with values in [0, 1] (C1 = (0.01)^2, C2 = (0.03)^2).
 double Ssim(const std::vector<float>& a, const std::vector<float>& b, int width, int height);
 
-}  // namespace gistream::client
+}  // namespace gistream

@@ -1,9 +1,9 @@
-#include "metrics.h"
+#include "util/image_metrics.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace gistream::client {
+namespace gistream {
 
 float ToneMappedLuminance(float r, float g, float b) {
   auto curve = [](float x) {
@@ -92,4 +92,4 @@ absl::StatusOr<ImageError> CompareImages(const RgbaImage& image, const RgbaImage
   return e;
 }
 
-}  // namespace gistream::client
+}  // namespace gistream

@@ -1,4 +1,4 @@
-#include "solvers/solver_params.h"
+#include "util/params.h"
 #include "util/user_string.h"
 
 #include <absl/strings/str_join.h>
@@ -84,21 +84,21 @@ const std::string& Value(const std::map<std::string, std::string>& values,
 
 }  // namespace
 
-absl::StatusOr<ParamSet> ValidateParams(const SolverDescription& solver,
+absl::StatusOr<ParamSet> ValidateParams(const std::string& owner, const std::vector<ParamSpec>& schema,
                                         const std::map<std::string, std::string>& given) {
   for (const auto& [name, value] : given) {
     bool known = false;
-    for (const ParamSpec& spec : solver.params) known = known || spec.name == name;
+    for (const ParamSpec& spec : schema) known = known || spec.name == name;
     if (!known) {
       std::vector<std::string> names;
-      for (const ParamSpec& spec : solver.params) names.push_back(spec.name);
+      for (const ParamSpec& spec : schema) names.push_back(spec.name);
       return absl::InvalidArgumentError(
-          absl::StrCat("params.", Echo(name), ": unknown parameter of solver '", solver.name,
-                       "' (known: ", names.empty() ? "none" : absl::StrJoin(names, ", "), ")"));
+          absl::StrCat("params.", Echo(name), ": unknown parameter of ", owner,
+                       " (known: ", names.empty() ? "none" : absl::StrJoin(names, ", "), ")"));
     }
   }
   ParamSet set;
-  for (const ParamSpec& spec : solver.params) {
+  for (const ParamSpec& spec : schema) {
     const auto it = given.find(spec.name);
     const bool is_default = it == given.end();
     const std::string field = absl::StrCat("params.", spec.name, is_default ? " (default)" : "");
