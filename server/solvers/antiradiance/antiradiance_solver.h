@@ -20,6 +20,7 @@
 #include "solvers/antiradiance/patches.h"
 #include "solvers/antiradiance/shared_elements.h"
 #include "solvers/antiradiance/transport.h"
+#include "solvers/memory_estimate.h"
 #include "solvers/solver.h"
 
 namespace gistream {
@@ -36,6 +37,9 @@ class AntiradianceSolver final : public Solver {
  public:
   static SolverDescription Describe();
   static absl::StatusOr<std::unique_ptr<Solver>> Create(const ParamSet& params);
+  // Before Create, from the parameters and the scene (solvers/memory_estimate.h).
+  static MemoryEstimate EstimateMemory(const ParamSet& params, const SceneState& state,
+                                       const GpuScene& gpu);
 
   const SolverDescription& description() const override;
   std::vector<std::string> Plan(ChangeMask changes) const override;

@@ -13,6 +13,7 @@
 #include "solvers/avg/voxel_grid.h"
 #include "solvers/avg/vpl_shadow_maps.h"
 #include "solvers/avg/vpl_tracer.h"
+#include "solvers/memory_estimate.h"
 #include "solvers/solver.h"
 
 namespace gistream {
@@ -21,6 +22,9 @@ class AvgSolver final : public Solver {
  public:
   static SolverDescription Describe();
   static absl::StatusOr<std::unique_ptr<Solver>> Create(const ParamSet& params);
+  // Before Create, from the parameters and the scene (solvers/memory_estimate.h).
+  static MemoryEstimate EstimateMemory(const ParamSet& params, const SceneState& state,
+                                       const GpuScene& gpu);
 
   const SolverDescription& description() const override;
   std::vector<std::string> Plan(ChangeMask changes) const override;

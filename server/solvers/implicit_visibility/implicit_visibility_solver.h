@@ -29,6 +29,7 @@
 #include "solvers/implicit_visibility/display.h"
 #include "solvers/implicit_visibility/illumination.h"
 #include "solvers/implicit_visibility/scene_elements.h"
+#include "solvers/memory_estimate.h"
 #include "solvers/solver.h"
 
 namespace gistream {
@@ -45,6 +46,9 @@ class ImplicitVisibilitySolver final : public Solver {
  public:
   static SolverDescription Describe();
   static absl::StatusOr<std::unique_ptr<Solver>> Create(const ParamSet& params);
+  // Before Create, from the parameters and the scene (solvers/memory_estimate.h).
+  static MemoryEstimate EstimateMemory(const ParamSet& params, const SceneState& state,
+                                       const GpuScene& gpu);
 
   const SolverDescription& description() const override;
   std::vector<std::string> Plan(ChangeMask changes) const override;

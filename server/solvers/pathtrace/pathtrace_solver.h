@@ -10,6 +10,7 @@
 #include "solvers/pathtrace/env_light.h"
 #include "solvers/pathtrace/integrator.h"
 #include "solvers/pathtrace/scene_bvh.h"
+#include "solvers/memory_estimate.h"
 #include "solvers/solver.h"
 
 namespace gistream {
@@ -18,6 +19,9 @@ class PathtraceSolver final : public Solver {
  public:
   static SolverDescription Describe();
   static absl::StatusOr<std::unique_ptr<Solver>> Create(const ParamSet& params);
+  // Before Create, from the parameters and the scene (solvers/memory_estimate.h).
+  static MemoryEstimate EstimateMemory(const ParamSet& params, const SceneState& state,
+                                       const GpuScene& gpu);
 
   const SolverDescription& description() const override;
   std::vector<std::string> Plan(ChangeMask changes) const override;

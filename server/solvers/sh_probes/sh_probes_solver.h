@@ -15,6 +15,7 @@
 #include "render/direct_lighting.h"
 #include "solvers/emission_scale.h"
 #include "solvers/sh_probes/probe_grid.h"
+#include "solvers/memory_estimate.h"
 #include "solvers/solver.h"
 
 namespace gistream {
@@ -33,6 +34,9 @@ class ShProbesSolver final : public Solver {
  public:
   static SolverDescription Describe();
   static absl::StatusOr<std::unique_ptr<Solver>> Create(const ParamSet& params);
+  // Before Create, from the parameters and the scene (solvers/memory_estimate.h).
+  static MemoryEstimate EstimateMemory(const ParamSet& params, const SceneState& state,
+                                       const GpuScene& gpu);
 
   const SolverDescription& description() const override;
   std::vector<std::string> Plan(ChangeMask changes) const override;

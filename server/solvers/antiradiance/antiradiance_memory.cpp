@@ -1,0 +1,46 @@
+// AntiradianceSolver::EstimateMemory (solvers/memory_estimate.h).
+#include <algorithm>
+
+#include "solvers/antiradiance/antiradiance_solver.h"
+#include "solvers/antiradiance/scene_patches.h"
+
+namespace gistream {
+
+MemoryEstimate AntiradianceSolver::EstimateMemory(const ParamSet& params, const SceneState& state,
+                                                  const GpuScene& gpu) {
+  const uint64_t bins = uint64_t(std::max(0, params.GetInt("bins")));
+  MemoryEstimate estimate;
+  uint64_t leaves = 0;
+  std::string driver;
+  if (params.GetString("elements") == "surfels") {
+    // The shared hierarchy's vertex discs: one leaf per instanced vertex.
+    leaves = CountInstanced(state).vertices;
+    driver = "bins";
+  } else {
+    // Counted, not split: a tiny patch_size makes up to 4^12 leaves per
+    // triangle (antiradiance::CountLeaves).
+    const Bounds bounds = gpu.WorldBounds(state);
+    const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
+    const float patch_size = float(params.GetFloat("patch_size"));
+    const float max_edge = patch_size > 0.0f ? patch_size : diagonal / 24.0f;
+    leaves = antiradiance::CountLeaves(antiradiance::SceneTriangles(state), max_edge);
+    driver = "patch_size, bins";
+  }
+  // A binary tree over the leaves: about as many clusters as leaves.
+  const uint64_t nodes = 2 * leaves;
+  // I_ex and L_in: nodes x bins x 2 x RGB floats (Section 3.1), plus the
+  // per-node geometry (Patches: ~80 bytes).
+  estimate.items.push_back({driver,
+                            absl::StrCat("I_ex/L_in tables of ", leaves, " leaves x ", bins, " bins"),
+                            nodes * bins * 2 * 12 + nodes * 80, 0});
+  // Links: at least one per node and bin pair row; the link pass keeps a
+  // sorted copy (Transport).
+  estimate.items.push_back({driver, absl::StrCat("links of ", nodes, " elements"),
+                            2 * nodes * sizeof(antiradiance::Link) * 8, 0});
+  // Display splats and their grid on the GPU (48 + 4 bytes per leaf).
+  estimate.items.push_back({driver, "display elements", 0, leaves * 52});
+  estimate.items.push_back(DirectLightingMemory(params, state));
+  return estimate;
+}
+
+}  // namespace gistream

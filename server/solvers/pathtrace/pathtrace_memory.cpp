@@ -1,0 +1,24 @@
+// PathtraceSolver::EstimateMemory (solvers/memory_estimate.h).
+#include "solvers/pathtrace/pathtrace_solver.h"
+
+namespace gistream {
+
+MemoryEstimate PathtraceSolver::EstimateMemory(const ParamSet& /*params*/, const SceneState& state,
+                                               const GpuScene& /*gpu*/) {
+  MemoryEstimate estimate;
+  // Embree's BVH over world-space copies of the triangles: about 128 bytes
+  // per triangle (build primitives, nodes, vertex and index copies).
+  const InstancedCounts counts = CountInstanced(state);
+  estimate.items.push_back({"", absl::StrCat("ray-tracing BVH of ", counts.triangles, " triangles"),
+                            counts.triangles * 128 + counts.vertices * 16, 0});
+  // The environment's sampling tables: a CDF entry per pixel.
+  if (const auto& env = state.scene().environment) {
+    const uint64_t pixels = uint64_t(env->image.width) * uint64_t(env->image.height);
+    estimate.items.push_back({"", "environment sampling tables", pixels * 8, 0});
+  }
+  // The per-view accumulation buffers are view-dependent and capped by the
+  // solver itself (kMaxViews, kMaxAccumulationBytes), not estimated here.
+  return estimate;
+}
+
+}  // namespace gistream

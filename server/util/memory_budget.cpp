@@ -1,0 +1,76 @@
+#include "util/memory_budget.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <iterator>
+#include <utility>
+
+namespace gistream {
+
+struct MemoryBudget::Reservation::Counter {
+  std::atomic<uint64_t> used{0};
+};
+
+MemoryBudget::Reservation::Reservation(Reservation&& other) noexcept
+    : counter_(std::move(other.counter_)), bytes_(std::exchange(other.bytes_, 0)) {}
+
+MemoryBudget::Reservation& MemoryBudget::Reservation::operator=(Reservation&& other) noexcept {
+  if (this != &other) {
+    Release();
+    counter_ = std::move(other.counter_);
+    bytes_ = std::exchange(other.bytes_, 0);
+  }
+  return *this;
+}
+
+void MemoryBudget::Reservation::Release() {
+  if (counter_ && bytes_ > 0) counter_->used.fetch_sub(bytes_);
+  counter_.reset();
+  bytes_ = 0;
+}
+
+MemoryBudget::MemoryBudget(uint64_t limit_bytes)
+    : limit_(limit_bytes > 0 ? limit_bytes : DefaultMemoryLimit()),
+      counter_(std::make_shared<Reservation::Counter>()) {}
+
+uint64_t MemoryBudget::used() const { return counter_->used.load(); }
+
+absl::StatusOr<MemoryBudget::Reservation> MemoryBudget::Reserve(uint64_t bytes,
+                                                                const std::string& what) {
+  uint64_t used = counter_->used.load();
+  for (;;) {
+    if (bytes > limit_ || used > limit_ - bytes) {
+      const uint64_t left = used < limit_ ? limit_ - used : 0;
+      return absl::ResourceExhaustedError(absl::StrCat(
+          what, " needs ", FormatBytes(bytes), ", more than the ", FormatBytes(left),
+          " left of the server's memory budget (--max-memory-bytes ", FormatBytes(limit_), ", ",
+          FormatBytes(used), " in use)"));
+    }
+    if (counter_->used.compare_exchange_weak(used, used + bytes)) break;
+  }
+  return Reservation(counter_, bytes);
+}
+
+uint64_t DefaultMemoryLimit() {
+  const long pages = sysconf(_SC_PHYS_PAGES);
+  const long page_size = sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page_size <= 0) return uint64_t(8) << 30;
+  return uint64_t(pages) / 4 * 3 * uint64_t(page_size);
+}
+
+std::string FormatBytes(uint64_t bytes) {
+  if (bytes < 1024) return absl::StrCat(bytes, " B");
+  static constexpr const char* kUnits[] = {"KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+  double value = double(bytes) / 1024.0;
+  int unit = 0;
+  while (value >= 1024.0 && unit + 1 < int(std::size(kUnits))) {
+    value /= 1024.0;
+    ++unit;
+  }
+  char text[32];
+  std::snprintf(text, sizeof(text), "%.1f %s", value, kUnits[unit]);
+  return text;
+}
+
+}  // namespace gistream

@@ -1,0 +1,70 @@
+// The server-wide memory budget (gistreamd --max-memory-bytes): decoded
+// images and scenes (their CPU copy and their GPU upload) and solver state
+// (estimated from the parameters and the scene before it is built) reserve
+// their bytes here before they are allocated, and give them back when they
+// are freed. A reservation is an RAII token: dropping it (unloading the
+// scene, closing the last session of a solver, evicting it) returns the
+// bytes. One count for CPU and GPU bytes together: on llvmpipe and on
+// unified-memory machines both are the same RAM, and a discrete GPU's
+// memory is checked separately by the driver's GL_OUT_OF_MEMORY.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "util/status.h"
+
+namespace gistream {
+
+class MemoryBudget {
+ public:
+  // Bytes held until destroyed or Release()d. Move-only; an empty one holds
+  // nothing.
+  class Reservation {
+   public:
+    Reservation() = default;
+    ~Reservation() { Release(); }
+    Reservation(Reservation&& other) noexcept;
+    Reservation& operator=(Reservation&& other) noexcept;
+    Reservation(const Reservation&) = delete;
+    Reservation& operator=(const Reservation&) = delete;
+
+    uint64_t bytes() const { return bytes_; }
+    void Release();
+
+   private:
+    friend class MemoryBudget;
+    struct Counter;
+    Reservation(std::shared_ptr<Counter> counter, uint64_t bytes)
+        : counter_(std::move(counter)), bytes_(bytes) {}
+    std::shared_ptr<Counter> counter_;
+    uint64_t bytes_ = 0;
+  };
+
+  // limit_bytes 0: DefaultMemoryLimit().
+  explicit MemoryBudget(uint64_t limit_bytes);
+
+  // RESOURCE_EXHAUSTED when `bytes` do not fit in what is left:
+  // "<what> needs 5.1 GiB, more than the 3.0 GiB left of the server's memory
+  // budget (--max-memory-bytes 12.0 GiB, 9.0 GiB in use)".
+  absl::StatusOr<Reservation> Reserve(uint64_t bytes, const std::string& what);
+
+  uint64_t limit() const { return limit_; }
+  uint64_t used() const;
+
+ private:
+  uint64_t limit_;
+  std::shared_ptr<Reservation::Counter> counter_;
+};
+
+// Three quarters of the machine's physical memory (sysconf), leaving the
+// rest to the process's code, encoders, gRPC buffers and transient work.
+uint64_t DefaultMemoryLimit();
+
+// "512 B", "12.0 KiB", "5.1 GiB".
+std::string FormatBytes(uint64_t bytes);
+
+}  // namespace gistream
