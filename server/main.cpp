@@ -61,6 +61,10 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
                              device, else Mesa's software one (default -1)
   --max-sessions N           concurrent sessions (default 32)
   --max-scenes N             scenes held at once (default 16)
+  --max-memory-bytes N       memory budget for scenes (decoded images
+                             included), solver state and G-buffers, CPU and
+                             GPU bytes together; over it is RESOURCE_EXHAUSTED
+                             (default: 3/4 of physical memory)
   --max-solvers-per-scene N  GI solutions cached per scene, one per solver and
                              parameter set; the least recently used idle
                              one is dropped beyond N (default 8)
@@ -157,6 +161,10 @@ Flags ParseFlags(int argc, char** argv) {
        [&](auto flag, auto v) { f.engine.max_sessions = ParseUnsigned<uint32_t>(flag, v, 1, 100'000); }},
       {"--max-scenes",
        [&](auto flag, auto v) { f.engine.max_scenes = ParseUnsigned<uint32_t>(flag, v, 1, 100'000); }},
+      {"--max-memory-bytes",
+       [&](auto flag, auto v) {
+         f.engine.max_memory_bytes = ParseUnsigned<uint64_t>(flag, v, uint64_t{1} << 20, UINT64_MAX);
+       }},
       {"--max-solvers-per-scene",
        [&](auto flag, auto v) {
          f.engine.max_solvers_per_scene = ParseUnsigned<uint32_t>(flag, v, 1, 1'000);
@@ -291,6 +299,10 @@ int Main(int argc, char** argv) {
   Log(LogLevel::kInfo, absl::StrCat("CPU pool: ", CpuPool::Get().threads(), " threads",
                                     flags.cpu_threads > 0 ? " (--cpu-threads)"
                                                           : " (affinity and cgroup quota)"));
+  // Test-only GPU fault injection (gl/fault_injection.h), never a flag.
+  if (const char* faults = std::getenv("GISTREAM_TEST_FAULT_DIR"); faults && *faults) {
+    flags.engine.test_fault_dir = faults;
+  }
   absl::StatusOr<std::unique_ptr<Engine>> engine = Engine::Create(flags.engine);
   if (!engine.ok()) {
     std::fprintf(stderr, "gistreamd: cannot start the engine: %s\n",

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "gl/fault_injection.h"
 #include "util/status.h"
 
 namespace gistream {
@@ -56,7 +57,7 @@ absl::Status GBuffer::Resize(uint32_t width, uint32_t height) {
 
   // Allocation failures are the client's size meeting this GPU's memory,
   // not a bug: an error status for the session, never an abort.
-  const GLenum error = glGetError();
+  const GLenum error = gl::AllocationError();
   bool complete = true;
   for (const gl::Framebuffer* f : {&fbo_, &hdr_fbo_, &ldr_fbo_}) {
     complete = complete &&

@@ -4,6 +4,8 @@
 
 #include <glm/gtc/matrix_inverse.hpp>
 
+#include "gl/fault_injection.h"
+
 namespace gistream {
 namespace {
 
@@ -133,7 +135,7 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
   gpu->UpdateMaterials(state);
   // Out of GPU memory is RESOURCE_EXHAUSTED for this load (the objects made
   // so far are freed with `gpu`), not a scene that renders wrong.
-  if (const GLenum error = glGetError(); error == GL_OUT_OF_MEMORY) {
+  if (const GLenum error = gl::AllocationError(); error == GL_OUT_OF_MEMORY) {
     return absl::ResourceExhaustedError(
         absl::StrCat("scene: the GPU could not hold its ", gpu->gpu_bytes_ >> 20,
                      " MiB of geometry and textures (GL_OUT_OF_MEMORY)"));

@@ -220,6 +220,15 @@ struct EngineOptions {
   double frame_budget_ms = 30.0;
   // Told about every frame produced (see observer.h); may be null.
   std::shared_ptr<ServerObserver> observer;
+  // The server-wide memory budget (util/memory_budget.h): decoded images
+  // and scenes, solver state (estimated before it is built) and views'
+  // G-buffers reserve their bytes from it; 0: DefaultMemoryLimit().
+  uint64_t max_memory_bytes = 0;
+  // Test-only fault injection (gl/fault_injection.h): a directory where the
+  // files gpu_reset, gpu_reset_fail and gpu_oom trigger a simulated GPU
+  // reset, a reset whose recovery fails, and one GL_OUT_OF_MEMORY. Empty:
+  // off. gistreamd takes it from $GISTREAM_TEST_FAULT_DIR.
+  std::filesystem::path test_fault_dir;
 };
 
 struct DeviceInfo {
@@ -264,6 +273,10 @@ struct EngineStats {
   // ATI reports no total, only what is free.
   uint64_t gpu_memory_total_bytes = 0;
   uint64_t gpu_memory_available_bytes = 0;
+  // The memory budget (EngineOptions::max_memory_bytes): reserved by
+  // scenes, solvers and views now, and the limit.
+  uint64_t memory_used_bytes = 0;
+  uint64_t memory_limit_bytes = 0;
 };
 
 class Engine {
@@ -303,6 +316,12 @@ class Engine {
 
   // Stops accepting work, finishes the frames in flight, frees GPU memory.
   virtual void Shutdown() = 0;
+
+  // Called (on the render thread, must not block) with false when the GPU
+  // context is lost (every session and Render then fails UNAVAILABLE) and
+  // with true once it is recreated and the scenes re-uploaded; the gRPC
+  // server turns it into the health status.
+  virtual void SetServingListener(std::function<void(bool serving)> /*listener*/) {}
 };
 
 }  // namespace gistream

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 #include <set>
@@ -13,8 +14,10 @@
 #include "encode/encode.h"
 #include "scene/gltf_import.h"
 #include "scene/image_decode.h"
+#include "gl/fault_injection.h"
 #include "scene/magnitude_limits.h"
 #include "scene/scene_files.h"
+#include "scene/scene_memory.h"
 #include "scene/validate_update.h"
 #include "service/scene_info.h"
 #include "solvers/registry.h"
@@ -32,6 +35,10 @@ constexpr double kMaxFrameBudgetMs = 10'000.0;
 constexpr auto kPollInterval = std::chrono::milliseconds(2);
 
 absl::Status Unavailable() { return absl::UnavailableError("server is shutting down"); }
+absl::Status GpuLost() {
+  return absl::UnavailableError(
+      "GPU reset: the render context was lost; the server is recovering, try again");
+}
 
 std::string CpuModel() {
   std::ifstream in("/proc/cpuinfo");
@@ -126,6 +133,11 @@ absl::StatusOr<std::unique_ptr<Engine>> Engine::Create(const EngineOptions& opti
 }
 
 absl::Status EngineImpl::Start() {
+  if (!options_.test_fault_dir.empty()) {
+    gl::SetFaultDirectory(options_.test_fault_dir);
+    Log(LogLevel::kWarning, absl::StrCat("test fault injection is on: ",
+                                         options_.test_fault_dir.string()));
+  }
   GS_ASSIGN_OR_RETURN(render_thread_,
                       RenderThread::Start(options_.egl_device, [this] { return Tick(); }));
   return render_thread_->Call<absl::Status>([this]() -> absl::Status {
@@ -146,6 +158,7 @@ absl::Status EngineImpl::Start() {
     passes_ = std::make_unique<ViewPasses>(std::move(passes));
     memory_query_.emplace();
     RefreshMemoryStats(/*force=*/true);
+    started_ = true;
     return absl::OkStatus();
   }, Unavailable());
 }
@@ -200,6 +213,8 @@ EngineStats EngineImpl::stats() const {
   out.gl_object_bytes = gl_object_bytes_.load();
   out.gpu_memory_total_bytes = gpu_memory_total_.load();
   out.gpu_memory_available_bytes = gpu_memory_available_.load();
+  out.memory_used_bytes = budget_.used();
+  out.memory_limit_bytes = budget_.limit();
   return out;
 }
 
@@ -311,9 +326,18 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   record->source_name = has_env ? "" : source.name;
   record->scene = std::make_shared<const Scene>(std::move(scene));
   record->light_instances = uint32_t(LightInstanceNodes(*record->scene).size());
+  // Its CPU copy (decoded images included) and its GPU upload, before the
+  // upload; held by its GPU record until the scene is freed.
+  const SceneBytes scene_bytes = CountSceneBytes(*record->scene);
+  auto memory = std::make_shared<MemoryBudget::Reservation>();
+  GS_ASSIGN_OR_RETURN(*memory, budget_.Reserve(scene_bytes.total(),
+                                               absl::StrCat("scene: its geometry and images (",
+                                                            FormatBytes(scene_bytes.cpu), " CPU, ",
+                                                            FormatBytes(scene_bytes.gpu), " GPU)")));
   {
     std::lock_guard lock(mutex_);
     if (shut_down_) return Unavailable();
+    if (gpu_lost_) return GpuLost();
     if (scenes_.size() >= options_.max_scenes) {
       return absl::ResourceExhaustedError(absl::StrCat(
           "scenes: the server holds ", scenes_.size(), " scenes, the limit (--max-scenes)"));
@@ -322,7 +346,7 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
     scenes_[record->id] = record;
   }
   auto info = render_thread_->Call<absl::StatusOr<SceneInfo>>(
-      [this, record]() -> absl::StatusOr<SceneInfo> {
+      [this, record, memory]() -> absl::StatusOr<SceneInfo> {
         {
           // An UnloadScene of this id (ids are predictable) may have come
           // first: its GPU copy would then never be freed.
@@ -333,6 +357,7 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
           }
         }
         GpuSceneRecord gpu;
+        gpu.memory = std::move(*memory);
         gpu.state = std::make_unique<SceneState>(record->scene);
         GS_ASSIGN_OR_RETURN(gpu.gpu, GpuScene::Upload(*gpu.state));
         SceneInfo described = DescribeScene(record->id, *gpu.state);
@@ -418,6 +443,7 @@ absl::StatusOr<std::shared_ptr<EngineImpl::SessionRecord>> EngineImpl::CreateSes
 
   std::lock_guard lock(mutex_);
   if (shut_down_) return Unavailable();
+  if (gpu_lost_) return GpuLost();
   auto scene = scenes_.find(config.scene);
   if (scene == scenes_.end()) {
     return absl::NotFoundError(absl::StrCat("scene_id: no scene '", Echo(config.scene), "'"));
@@ -555,7 +581,7 @@ absl::StatusOr<EncodedFrame> EngineImpl::Render(const RenderRequest& request) {
 // ---------------------------------------------------------------- render thread
 
 Clock::time_point EngineImpl::Tick() {
-  if (gpu_lost_) return Clock::time_point::max();
+  if (started_) CheckGpuReset();  // also between frames (an injected reset)
   // Snapshot the sessions, ordered so the one after the last served comes
   // first: every due session gets one frame per round.
   std::vector<std::shared_ptr<SessionRecord>> order;
@@ -588,8 +614,11 @@ Clock::time_point EngineImpl::Tick() {
     const float fps = session->config.max_fps > 0.0f ? session->config.max_fps
                                                      : options_.default_max_fps;
     const auto start = Clock::now();
+    const uint64_t resets = gpu_resets_;
     RenderFrame(*session, view);
     last_served_ = session->id;
+    // A GPU reset during the frame dropped every view (`view` too).
+    if (gpu_resets_ != resets) return Clock::now();
     if (session->config.pacing == Pacing::kContinuous) {
       view.next_due = start + std::chrono::duration_cast<Clock::duration>(
                                   std::chrono::duration<double>(1.0 / double(fps)));
@@ -598,7 +627,6 @@ Clock::time_point EngineImpl::Tick() {
       std::lock_guard lock(mutex_);
       if (session->requested > 0) next = std::min(next, std::max(view.poll_at, Clock::now()));
     }
-    if (gpu_lost_) break;
   }
   return next;
 }
@@ -613,8 +641,7 @@ void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
   }
   absl::StatusOr<std::shared_ptr<EncodedFrame>> frame =
       ProduceFrame(session, view, std::move(updates));
-  CheckGpuReset();
-  if (gpu_lost_) return;
+  if (CheckGpuReset()) return;  // the session failed with every other one
   if (frame.ok() && *frame == nullptr) {
     // A slice of a frame still in progress: the session stays due.
     std::lock_guard lock(mutex_);
@@ -662,6 +689,11 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   timer_.Reset();
 
   if (!view.initialized) {
+    GS_ASSIGN_OR_RETURN(view.memory,
+                        budget_.Reserve(uint64_t(session.config.width) * session.config.height *
+                                            GBuffer::kBytesPerPixel,
+                                        absl::StrCat("width x height: ", session.config.width, "x",
+                                                     session.config.height, " (its G-buffer)")));
     view.initialized = true;
     view.camera = DefaultCamera(state, session.config.width, session.config.height);
     if (session.config.camera) ApplyCameraUpdate(state, *session.config.camera, view.camera);
@@ -688,7 +720,10 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   SolverEntry& entry = scene.solvers[session.solver_key];
   if (!entry.solver) {
     EvictIdleSolvers(scene, session.scene.get(), session.solver_key);
-    GS_ASSIGN_OR_RETURN(entry.solver, CreateSolver(session.config.solver, session.params));
+    if (absl::Status built = BuildSolver(session, scene, entry); !built.ok()) {
+      scene.solvers.erase(session.solver_key);
+      return built;
+    }
   }
   entry.last_used = ++solver_clock_;
   const ChangeMask changes = entry.fresh ? kChangeAll : state.ChangesSince(entry.version);
@@ -845,22 +880,111 @@ void EngineImpl::EvictIdleSolvers(GpuSceneRecord& scene, const SceneRecord* owne
   }
 }
 
-void EngineImpl::CheckGpuReset() {
-  if (!render_thread_->context().robust()) return;
-  const GLenum reset = glGetGraphicsResetStatus();
-  if (reset == GL_NO_ERROR) return;
-  // The context is gone with every object in it: every session on this
-  // GPU is affected. Fail them with UNAVAILABLE so clients reconnect.
+bool EngineImpl::CheckGpuReset() {
+  GLenum reset = GL_NO_ERROR;
+  const gl::InjectedReset injected = gl::TakeInjectedReset();
+  if (injected != gl::InjectedReset::kNone) {
+    reset = GL_GUILTY_CONTEXT_RESET;
+  } else if (render_thread_->context().robust()) {
+    reset = glGetGraphicsResetStatus();
+  }
+  if (reset == GL_NO_ERROR) return false;
+  // The context is gone with every object in it: every session on this GPU
+  // is affected. New calls are refused (UNAVAILABLE) from here on, health
+  // answers NOT_SERVING, and every session and pending Render fails with
+  // UNAVAILABLE so clients reconnect.
   gpu_lost_ = true;
-  Log(LogLevel::kError, absl::StrCat("GPU reset (0x", absl::Hex(reset), "): failing all sessions"));
+  gpu_resets_ += 1;
+  NotifyServing(false);
+  Log(LogLevel::kError, absl::StrCat("GPU reset (0x", absl::Hex(reset),
+                                     injected != gl::InjectedReset::kNone ? ", injected" : "",
+                                     "): failing all sessions, recreating the context"));
   std::vector<std::shared_ptr<SessionRecord>> sessions;
   {
     std::lock_guard lock(mutex_);
-    for (auto& [id, s] : sessions_) sessions.push_back(s);
+    for (auto& [id, s] : sessions_) {
+      if (!s->closed) sessions.push_back(s);
+      s->closed = true;
+    }
   }
   for (auto& s : sessions) {
-    s->sink->OnSessionFailed(absl::UnavailableError("GPU reset: the render context was lost"));
+    s->sink->OnSessionFailed(absl::UnavailableError(
+        "GPU reset: the render context was lost; open a new session"));
   }
+  const absl::Status recovered =
+      injected == gl::InjectedReset::kResetAndFailRecovery
+          ? absl::InternalError("injected failure (gpu_reset_fail)")
+          : RecoverFromGpuReset();
+  if (!recovered.ok()) {
+    // Nothing can render any more: exit so the orchestrator restarts us.
+    Log(LogLevel::kError, absl::StrCat("GPU reset: recovery failed (", recovered.ToString(),
+                                       "); exiting with status 70"));
+    std::_Exit(70);
+  }
+  gpu_lost_ = false;
+  NotifyServing(true);
+  return true;
+}
+
+absl::Status EngineImpl::RecoverFromGpuReset() {
+  // Every GL object belongs to the lost context: drop them (deleting names
+  // of a lost context is allowed and does nothing), keeping each scene's
+  // CPU state (SceneState: the import plus every update applied so far).
+  // Solvers are rebuilt on their sessions' next frames; their and the
+  // views' reservations are given back with them.
+  views_.clear();
+  for (auto& [id, scene] : gpu_scenes_) {
+    scene.solvers.clear();
+    scene.gpu.reset();
+  }
+  passes_.reset();
+  timer_ = gl::StageTimer();
+  memory_query_.reset();
+  GS_RETURN_IF_ERROR(render_thread_->RecreateContext());
+  GS_ASSIGN_OR_RETURN(ViewPasses passes, ViewPasses::Create());
+  passes_ = std::make_unique<ViewPasses>(std::move(passes));
+  memory_query_.emplace();
+  for (auto& [id, scene] : gpu_scenes_) {
+    auto uploaded = GpuScene::Upload(*scene.state);
+    if (!uploaded.ok()) {
+      return absl::Status(uploaded.status().code(),
+                          absl::StrCat("re-uploading scene '", id, "': ", uploaded.status().message()));
+    }
+    scene.gpu = std::move(uploaded).value();
+  }
+  RefreshMemoryStats(/*force=*/true);
+  Log(LogLevel::kInfo, absl::StrCat("GPU reset: recovered (context recreated, ", gpu_scenes_.size(),
+                                    " scene(s) re-uploaded)"));
+  return absl::OkStatus();
+}
+
+void EngineImpl::SetServingListener(std::function<void(bool serving)> listener) {
+  std::lock_guard lock(mutex_);
+  serving_listener_ = std::move(listener);
+}
+
+void EngineImpl::NotifyServing(bool serving) {
+  std::function<void(bool)> listener;
+  {
+    std::lock_guard lock(mutex_);
+    listener = serving_listener_;
+  }
+  if (listener) listener(serving);
+}
+
+absl::Status EngineImpl::BuildSolver(const SessionRecord& session, const GpuSceneRecord& scene,
+                                     SolverEntry& entry) {
+  // One place for every solver: its estimate from the parameters and the
+  // scene (solvers/memory_estimate.h) is reserved before anything is built.
+  GS_ASSIGN_OR_RETURN(MemoryEstimate estimate,
+                      EstimateSolverMemory(session.config.solver, session.params, *scene.state,
+                                           *scene.gpu));
+  GS_ASSIGN_OR_RETURN(MemoryBudget::Reservation memory,
+                      budget_.Reserve(estimate.bytes(),
+                                      estimate.Describe(session.config.solver, session.params)));
+  GS_ASSIGN_OR_RETURN(entry.solver, CreateSolver(session.config.solver, session.params));
+  entry.memory = std::move(memory);
+  return absl::OkStatus();
 }
 
 }  // namespace gistream

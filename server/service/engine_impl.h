@@ -23,12 +23,14 @@
 #include "service/frame_rate.h"
 #include "service/render_thread.h"
 #include "solvers/solver.h"
+#include "util/memory_budget.h"
 
 namespace gistream {
 
 class EngineImpl final : public Engine {
  public:
-  explicit EngineImpl(const EngineOptions& options) : options_(options) {}
+  explicit EngineImpl(const EngineOptions& options)
+      : options_(options), budget_(options.max_memory_bytes) {}
   ~EngineImpl() override;
   absl::Status Start();
 
@@ -45,6 +47,7 @@ class EngineImpl final : public Engine {
   void CloseSession(const SessionId& id) override;
   absl::StatusOr<EncodedFrame> Render(const RenderRequest& request) override;
   void Shutdown() override;
+  void SetServingListener(std::function<void(bool serving)> listener) override;
 
  private:
   // Shared between threads; fields after `mutex-guarded` need mutex_.
@@ -81,11 +84,13 @@ class EngineImpl final : public Engine {
     uint64_t version = 0;
     bool fresh = true;
     uint64_t last_used = 0;  // solver_clock_ at its last frame
+    MemoryBudget::Reservation memory;  // its estimate, held while it lives
   };
   struct GpuSceneRecord {
     std::unique_ptr<SceneState> state;
     std::unique_ptr<GpuScene> gpu;
     std::map<std::string, SolverEntry> solvers;  // by solver_key
+    MemoryBudget::Reservation memory;  // the scene's CPU copy and GPU upload
   };
   // Drops least recently used solvers of `scene` beyond
   // options_.max_solvers_per_scene, sparing `keep` and those of open
@@ -107,6 +112,7 @@ class EngineImpl final : public Engine {
     RenderThread::Clock::time_point poll_at{};  // next poll of a pending update
     RenderThread::Clock::time_point next_due{};
     FrameEncoder encoder;  // image/video encoding, unchanged-frame detection
+    MemoryBudget::Reservation memory;  // its G-buffer
   };
 
   absl::StatusOr<std::shared_ptr<SessionRecord>> CreateSession(const SessionConfig& config,
@@ -121,12 +127,25 @@ class EngineImpl final : public Engine {
                                                              ViewRecord& view,
                                                              std::deque<Update> updates);
   void ReleaseSessionGpu(const SessionId& id);
-  void CheckGpuReset();
+  // Estimates the session's solver (solvers/memory_estimate.h), reserves it
+  // from budget_ and creates it into `entry`; on failure nothing is held.
+  absl::Status BuildSolver(const SessionRecord& session, const GpuSceneRecord& scene,
+                           SolverEntry& entry);
+  // A lost context (or an injected reset): fails every session and Render
+  // UNAVAILABLE, health NOT_SERVING, then recreates the context and
+  // re-uploads every scene from its CPU state (health SERVING again); exits
+  // the process (code 70) when that fails.
+  // True when a reset was handled (every view, `view` of a caller too, is
+  // gone).
+  bool CheckGpuReset();
+  absl::Status RecoverFromGpuReset();
+  void NotifyServing(bool serving);
   // Recomputes the GL object bytes and queries the driver's GPU memory into
   // the atomics below; unless `force`, at most every 250 ms.
   void RefreshMemoryStats(bool force);
 
   EngineOptions options_;
+  MemoryBudget budget_;
   DeviceInfo device_;
   std::unique_ptr<RenderThread> render_thread_;
 
@@ -137,6 +156,9 @@ class EngineImpl final : public Engine {
   bool shut_down_ = false;
   std::atomic<uint64_t> frames_rendered_{0};
   std::atomic<bool> gpu_lost_{false};
+  uint64_t gpu_resets_ = 0;  // render thread
+  bool started_ = false;     // render thread: Start's job ran (render_thread_ is set)
+  std::function<void(bool)> serving_listener_;  // mutex-guarded
   // Written by RefreshMemoryStats (render thread), read by stats().
   std::atomic<uint64_t> gl_object_bytes_{0};
   std::atomic<uint64_t> gpu_memory_total_{0};

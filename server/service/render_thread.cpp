@@ -7,6 +7,7 @@ namespace gistream {
 absl::StatusOr<std::unique_ptr<RenderThread>> RenderThread::Start(int egl_device, Tick tick) {
   auto self = std::unique_ptr<RenderThread>(new RenderThread());
   self->tick_ = std::move(tick);
+  self->egl_device_ = egl_device;
   std::promise<absl::Status> started;
   std::future<absl::Status> started_future = started.get_future();
   RenderThread* raw = self.get();
@@ -25,7 +26,7 @@ absl::StatusOr<std::unique_ptr<RenderThread>> RenderThread::Start(int egl_device
     gl::InstallDebugOutput();
     started.set_value(absl::OkStatus());
     raw->Loop();
-    raw->context_->ReleaseCurrent();
+    if (raw->context_) raw->context_->ReleaseCurrent();
     raw->context_.reset();
   });
   absl::Status status = started_future.get();
@@ -37,6 +38,16 @@ absl::StatusOr<std::unique_ptr<RenderThread>> RenderThread::Start(int egl_device
 }
 
 RenderThread::~RenderThread() { Stop(); }
+
+absl::Status RenderThread::RecreateContext() {
+  if (context_) context_->ReleaseCurrent();
+  context_.reset();
+  GS_ASSIGN_OR_RETURN(std::unique_ptr<gl::EglContext> context, gl::EglContext::Create(egl_device_));
+  GS_RETURN_IF_ERROR(context->MakeCurrent());
+  context_ = std::move(context);
+  gl::InstallDebugOutput();
+  return absl::OkStatus();
+}
 
 bool RenderThread::Post(std::function<void()> job) {
   {

@@ -47,6 +47,10 @@ class RenderThread {
   void Stop(std::function<void()> last = {});
 
   const gl::EglContext& context() const { return *context_; }
+  // On the render thread, after a GPU reset: drops the context (every GL
+  // object in it must be gone already) and makes a new one current on the
+  // same device. On failure the thread has no context.
+  absl::Status RecreateContext();
   bool on_render_thread() const { return std::this_thread::get_id() == thread_.get_id(); }
 
  private:
@@ -54,6 +58,7 @@ class RenderThread {
   void Loop();
 
   Tick tick_;
+  int egl_device_ = -1;
   std::unique_ptr<gl::EglContext> context_;
   std::mutex mutex_;
   std::condition_variable cv_;

@@ -68,6 +68,12 @@ absl::StatusOr<std::unique_ptr<GistreamServer>> GistreamServer::Start(
     health->SetServingStatus("", true);
     health->SetServingStatus(kServiceName, true);
   }
+  // A GPU reset turns health NOT_SERVING until the engine has recovered.
+  engine.SetServingListener([server = self->server_.get()](bool serving) {
+    if (grpc::HealthCheckServiceInterface* h = server->GetHealthCheckService()) {
+      h->SetServingStatus(serving);
+    }
+  });
   return self;
 }
 
@@ -87,6 +93,7 @@ void GistreamServer::Shutdown(std::chrono::milliseconds deadline) {
     if (done_) return;
   }
   if (server_ != nullptr) {
+    engine_.SetServingListener({});  // a recovery must not turn it back on
     SetNotServing();
     Log(LogLevel::kInfo, absl::StrCat("shutting down: calls have ", deadline.count(),
                                       " ms to finish"));

@@ -1,0 +1,44 @@
+#include "scene/scene_memory.h"
+
+namespace gistream {
+namespace {
+
+uint64_t ImageBytes(const Image& image) {
+  return uint64_t(image.pixels8.size()) + uint64_t(image.pixelsf.size()) * sizeof(float);
+}
+
+}  // namespace
+
+SceneBytes CountSceneBytes(const Scene& scene) {
+  SceneBytes bytes;
+  uint64_t geometry = 0;
+  for (const Mesh& mesh : scene.meshes) {
+    for (const Primitive& p : mesh.primitives) {
+      geometry += p.positions.size() * sizeof(glm::vec3) + p.normals.size() * sizeof(glm::vec3) +
+                  p.uvs.size() * sizeof(glm::vec2) + p.indices.size() * sizeof(uint32_t);
+    }
+  }
+  bytes.cpu = geometry + scene.nodes.size() * sizeof(Node);
+  // The GPU copy: the same vertex and index data (position, normal, uv per
+  // vertex even where the file has none), textures with mips (x 4/3).
+  uint64_t vertices = 0, indices = 0;
+  for (const Mesh& mesh : scene.meshes) {
+    for (const Primitive& p : mesh.primitives) {
+      vertices += p.positions.size();
+      indices += p.indices.size();
+    }
+  }
+  bytes.gpu = vertices * (12 + 12 + 8) + indices * 4;
+  for (const Image& image : scene.images) {
+    bytes.cpu += ImageBytes(image);
+    bytes.gpu += uint64_t(image.width) * uint64_t(image.height) * (image.is_float ? 16 : 4) * 4 / 3;
+  }
+  if (scene.environment) {
+    const Image& env = scene.environment->image;
+    bytes.cpu += ImageBytes(env);
+    bytes.gpu += uint64_t(env.width) * uint64_t(env.height) * 16 * 4 / 3;
+  }
+  return bytes;
+}
+
+}  // namespace gistream
