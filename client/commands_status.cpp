@@ -34,7 +34,9 @@ absl::Status RunStatus(const ConnectionOptions& connection_options, const Status
             << "CPU              " << status.cpu_model() << " (" << status.cpu_threads()
             << " threads), " << FormatFixed(status.cpu_seconds(), 1) << " s used\n"
             << "memory           RSS " << Mib(status.rss_bytes()) << " (peak "
-            << Mib(status.peak_rss_bytes()) << "), GL objects " << Mib(status.gl_object_bytes());
+            << Mib(status.peak_rss_bytes()) << "), GL objects " << Mib(status.gl_object_bytes())
+            << ", budget " << Mib(status.memory_budget_used_bytes()) << " of "
+            << Mib(status.memory_budget_limit_bytes());
   if (status.gpu_memory_total_bytes() > 0 || status.gpu_memory_available_bytes() > 0) {
     std::cout << ", GPU " << Mib(status.gpu_memory_available_bytes()) << " free of "
               << Mib(status.gpu_memory_total_bytes());

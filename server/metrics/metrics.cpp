@@ -104,6 +104,12 @@ struct Metrics::Impl {
     out.push_back(Family("gistream_gpu_memory_available_bytes",
                          "GPU memory available as the driver reports it (0: not reported)",
                          MetricType::Gauge, double(stats.gpu_memory_available_bytes)));
+    out.push_back(Family("gistream_memory_budget_used_bytes",
+                         "Bytes reserved from the memory budget (scenes, solvers, G-buffers)",
+                         MetricType::Gauge, double(stats.memory_used_bytes)));
+    out.push_back(Family("gistream_memory_budget_limit_bytes",
+                         "The memory budget (--max-memory-bytes)", MetricType::Gauge,
+                         double(stats.memory_limit_bytes)));
     out.push_back(Family("process_resident_memory_bytes", "Resident memory of gistreamd",
                          MetricType::Gauge, double(process.rss_bytes)));
     out.push_back(Family("gistream_peak_resident_memory_bytes",

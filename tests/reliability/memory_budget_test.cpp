@@ -15,6 +15,7 @@
 #include "encode/encode.h"
 #include "reliability/reliability_fixture.h"
 #include "render/gbuffer.h"
+#include "service/test_server.h"
 #include "solvers/registry.h"
 #include "support/render_helpers.h"
 #include "util/memory_budget.h"
@@ -164,6 +165,24 @@ TEST(MemoryBudget, ASceneOverTheBudgetIsRefusedAndHoldsNothing) {
   ASSERT_TRUE(frame.ok()) << frame.status();
   EXPECT_EQ(testing::DecodeExr(*frame).non_finite(), 0u);
   (*engine)->Shutdown();
+}
+
+TEST(MemoryBudget, GetServerStatusReportsTheBudget) {
+  EngineOptions options;
+  options.scene_dir = SceneDir();
+  options.max_memory_bytes = 3ull << 30;
+  auto engine = Engine::Create(options);
+  ASSERT_TRUE(engine.ok()) << engine.status();
+  auto info = (*engine)->LoadScene(testing::SceneFromBytes(QuadScene().dump()));
+  ASSERT_TRUE(info.ok()) << info.status();
+  testing::TestServer server(**engine);
+  grpc::ClientContext context;
+  testing::SetDeadline(&context);
+  testing::pb::ServerStatus status;
+  ASSERT_TRUE(server.stub().GetServerStatus(&context, {}, &status).ok());
+  EXPECT_EQ(status.memory_budget_limit_bytes(), 3ull << 30);
+  EXPECT_EQ(status.memory_budget_used_bytes(), (*engine)->stats().memory_used_bytes);
+  EXPECT_GT(status.memory_budget_used_bytes(), 0u);
 }
 
 }  // namespace

@@ -546,6 +546,8 @@ void ServerStatusToProto(const DeviceInfo& device, const EngineStats& stats,
   out->set_gl_object_bytes(stats.gl_object_bytes);
   out->set_gpu_memory_total_bytes(stats.gpu_memory_total_bytes);
   out->set_gpu_memory_available_bytes(stats.gpu_memory_available_bytes);
+  out->set_memory_budget_used_bytes(stats.memory_used_bytes);
+  out->set_memory_budget_limit_bytes(stats.memory_limit_bytes);
 }
 
 }  // namespace gistream::service
