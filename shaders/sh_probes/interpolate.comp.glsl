@@ -3,10 +3,12 @@
 // from the current coefficients (Section 3.3, "replace the previous
 // L_indirect"), read by the next bounce's render_cubemaps.
 #include "sh_probes/texel.glsl"
+#include "sh_probes/batch.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 1, rgba32f) writeonly uniform image2DArray uIndirect;
 void main() {
-  ivec3 atlas = ivec3(gl_GlobalInvocationID);
+  ivec3 atlas;
+  if (!BatchTexel(uFaceSize, uAtlasTiles, atlas)) return;
   if (any(greaterThanEqual(atlas.xy, imageSize(uIndirect).xy))) return;
   ProbeTexel t;
   if (!LoadProbeTexel(atlas, t)) return;

@@ -1,5 +1,6 @@
 #version 450 core
-// rasterize_cubemaps: one instance per probe.
+// rasterize_cubemaps: one instance per probe, or per listed probe of a
+// batch (uBatchCount > 0, sh_probes' progressive update).
 #include "common/scene.glsl"
 layout(location = 0) in vec3 aPosition;
 layout(location = 1) in vec3 aNormal;
@@ -8,10 +9,12 @@ out vec3 vWorld;
 out vec3 vNormal;
 out vec2 vUv;
 flat out int vProbe;
+layout(std430, binding = 10) readonly buffer BatchProbes { int batch_probes[]; };
+uniform int uBatchCount;
 void main() {
   vWorld = (uModel * vec4(aPosition, 1.0)).xyz;
   vNormal = uNormalMatrix * aNormal;
   vUv = aUv;
-  vProbe = gl_InstanceID;
+  vProbe = uBatchCount > 0 ? batch_probes[gl_InstanceID] : gl_InstanceID;
   gl_Position = vec4(vWorld, 1.0);
 }

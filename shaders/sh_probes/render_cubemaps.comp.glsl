@@ -6,6 +6,7 @@
 // already light surfaces through the direct term.
 #include "render/direct_light.glsl"
 #include "sh_probes/texel.glsl"
+#include "sh_probes/batch.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, rgba32f) uniform image2DArray uDirect;
 layout(binding = 1, rgba32f) readonly uniform image2DArray uIndirect;
@@ -13,7 +14,8 @@ layout(binding = 2, rgba32f) writeonly uniform image2DArray uRadiance;
 uniform int uComputeDirect;  // 1: recompute E_direct (lights or geometry changed)
 uniform int uUseIndirect;    // 0 on the first bounce
 void main() {
-  ivec3 atlas = ivec3(gl_GlobalInvocationID);
+  ivec3 atlas;
+  if (!BatchTexel(uFaceSize, uAtlasTiles, atlas)) return;
   if (any(greaterThanEqual(atlas.xy, imageSize(uRadiance).xy))) return;
   ProbeTexel t;
   if (!LoadProbeTexel(atlas, t)) return;

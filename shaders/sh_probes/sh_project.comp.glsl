@@ -2,6 +2,7 @@
 // sh_project: one work group per probe sums its six faces' radiance times
 // Y_lm times each texel's solid angle (Eq. 2), and marks the probe invalid
 // when most of what it sees are back faces (it sits inside geometry).
+// With uBatchCount > 0 only the listed probes.
 #include "sh_probes/sh.glsl"
 layout(local_size_x = 64) in;
 layout(binding = 2, rgba32f) readonly uniform image2DArray uRadiance;
@@ -13,10 +14,13 @@ uniform int uFaceSize;
 uniform int uAtlasTiles;
 uniform int uProbeCount;
 uniform int uCoefficients;
+// A batch (sh_probes/batch.glsl): work group i projects probe batch_probes[i].
+layout(std430, binding = 10) readonly buffer BatchProbes { int batch_probes[]; };
+uniform int uBatchCount;
 shared vec3 partial[64][SH_MAX];
 shared vec2 partial_faces[64];  // (hits, back faces)
 void main() {
-  int probe = int(gl_WorkGroupID.x);
+  int probe = uBatchCount > 0 ? batch_probes[gl_WorkGroupID.x] : int(gl_WorkGroupID.x);
   int lane = int(gl_LocalInvocationIndex);
   ivec2 origin = ivec2(probe % uAtlasTiles, probe / uAtlasTiles) * uFaceSize;
   vec3 c[SH_MAX];

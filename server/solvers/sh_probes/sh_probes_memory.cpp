@@ -20,8 +20,9 @@ MemoryEstimate ShProbesSolver::EstimateMemory(const ParamSet& params, const Scen
   estimate.items.push_back({"grid, spacing, face_size",
                             absl::StrCat("probe atlas of ", probes, " probes, ", texels, " texels"),
                             0, texels * 52});
-  // SH coefficients (current and previous bounce) and validity per probe.
-  estimate.items.push_back({"grid, spacing", "SH coefficients", 0, probes * (2 * 9 * 16 + 4)});
+  // SH coefficients (solution, previous bounce, shown), validity, batch
+  // list and change flag per probe.
+  estimate.items.push_back({"grid, spacing", "SH coefficients", 0, probes * (3 * 9 * 16 + 3 * 4)});
   estimate.items.push_back(DirectLightingMemory(params, state));
   return estimate;
 }

@@ -2,6 +2,7 @@
 #include "solvers/registry.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <utility>
 
@@ -14,7 +15,8 @@ namespace {
 constexpr GLbitfield kComputeBarrier = GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                                        GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
                                        GL_BUFFER_UPDATE_BARRIER_BIT;
-constexpr GLuint kCoefficientBinding = 6, kValidBinding = 7, kPreviousBinding = 8;
+constexpr GLuint kCoefficientBinding = 6, kValidBinding = 7, kPreviousBinding = 8,
+                kShownBinding = 9, kBatchBinding = 10, kSeesBinding = 11;
 constexpr GLuint kDistanceUnit = 12, kNormalUnit = 13, kAlbedoUnit = 14;
 
 GLuint Groups(int n, int size) { return GLuint((n + size - 1) / size); }
@@ -44,6 +46,9 @@ SolverDescription ShProbesSolver::Describe() {
        "smallest of the last stable bounce ratios, at most 0.99; none if they are unstable)"},
       {"indirect_shadows", ParamType::kBool, "true", 0, 0, {},
        "Weight each probe by its depth-cube visibility of the point (paper Section 6)"},
+      {"hysteresis", ParamType::kFloat, "0.6", 0, 0.99, {},
+       "While probes update after a change: fraction of the shown SH kept per frame (0: show "
+       "each update at once); the converged solution is shown as it is"},
   };
   for (ParamSpec& spec : DirectLightingParams()) d.params.push_back(std::move(spec));
   return d;
@@ -65,16 +70,27 @@ absl::StatusOr<std::unique_ptr<Solver>> ShProbesSolver::Create(const ParamSet& p
   s.tolerance = params.GetFloat("tolerance");
   s.tail_estimate = params.GetBool("tail_estimate");
   s.indirect_shadows = params.GetBool("indirect_shadows");
+  s.hysteresis = params.GetFloat("hysteresis");
   s.direct = DirectLightingFromParams(params);
   // The grid size alone (spacing needs the scene) is checked here.
   if (s.grid.spacing <= 0.0f) {
     GS_RETURN_IF_ERROR(FitProbeGrid(Bounds{glm::vec3(0.0f), glm::vec3(1.0f)}, s.grid).status());
   }
   GS_ASSIGN_OR_RETURN(solver->lighting_, DirectLighting::Create());
-  GS_ASSIGN_OR_RETURN(solver->rasterize_,
-                      gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize.vert.glsl"},
-                                          {GL_GEOMETRY_SHADER, "sh_probes/rasterize.geom.glsl"},
-                                          {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}}));
+  // Layered rendering from the vertex shader (ARB_shader_viewport_layer_array)
+  // is about 2.3x faster on llvmpipe than the geometry shader's six
+  // invocations per triangle; the geometry shader where it is missing.
+  if (auto layered = gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize_layer.vert.glsl"},
+                                         {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}});
+      layered.ok()) {
+    solver->rasterize_ = *std::move(layered);
+    solver->instances_per_probe_ = 6;
+  } else {
+    GS_ASSIGN_OR_RETURN(solver->rasterize_,
+                        gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize.vert.glsl"},
+                                            {GL_GEOMETRY_SHADER, "sh_probes/rasterize.geom.glsl"},
+                                            {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}}));
+  }
   GS_ASSIGN_OR_RETURN(solver->render_,
                       gl::Program::Build({{GL_COMPUTE_SHADER, "sh_probes/render_cubemaps.comp.glsl"}}));
   GS_ASSIGN_OR_RETURN(solver->project_,
@@ -83,6 +99,10 @@ absl::StatusOr<std::unique_ptr<Solver>> ShProbesSolver::Create(const ParamSet& p
                       gl::Program::Build({{GL_COMPUTE_SHADER, "sh_probes/interpolate.comp.glsl"}}));
   GS_ASSIGN_OR_RETURN(solver->tail_,
                       gl::Program::Build({{GL_COMPUTE_SHADER, "sh_probes/tail.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(solver->sees_,
+                      gl::Program::Build({{GL_COMPUTE_SHADER, "sh_probes/sees_change.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(solver->blend_,
+                      gl::Program::Build({{GL_COMPUTE_SHADER, "sh_probes/blend.comp.glsl"}}));
   GS_ASSIGN_OR_RETURN(solver->final_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "sh_probes/final.frag.glsl"}}));
@@ -96,7 +116,11 @@ std::vector<std::string> ShProbesSolver::Plan(ChangeMask changes) const {
   if (changes & (kChangeGeometry | kChangeMaterials)) {
     return {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate", "final"};
   }
-  if (changes & (kChangeLights | kChangeEmission)) {
+  // A progressive update under way may run any stage (a batch of probes).
+  if ((changes & (kChangeLights | kChangeEmission)) || !UpdateComplete()) {
+    if (!UpdateComplete()) {
+      return {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate", "final"};
+    }
     return {"render_cubemaps", "sh_project", "interpolate", "final"};
   }
   return {"final"};
@@ -105,13 +129,14 @@ std::vector<std::string> ShProbesSolver::Plan(ChangeMask changes) const {
 absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
   const bool geometry = changes & (kChangeGeometry | kChangeMaterials);
   const bool lights = changes & (kChangeGeometry | kChangeLights | kChangeEmission);
-  if (!geometry && !lights) {
+  const bool busy = schedule_.pending() || lighting_.pending();
+  if (!geometry && !lights && !busy) {
     for (const char* stage : {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate"}) {
       ctx.timer.Skip(stage);
     }
     return absl::OkStatus();
   }
-  if (const std::optional<float> k = emission_.Factor(ctx.state, changes)) {
+  if (const std::optional<float> k = busy ? std::nullopt : emission_.Factor(ctx.state, changes)) {
     // A dimmer: the probes' indirect light scales with the lights
     // (solvers/emission_scale.h); only the direct light's buffers change.
     for (const char* stage : {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate"}) {
@@ -122,26 +147,42 @@ absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
     indirect_scale_ = *k;
     return absl::OkStatus();
   }
-  if (geometry) {
+  if (geometry || !solved_) {
     GS_ASSIGN_OR_RETURN(ProbeLayout layout, FitProbeGrid(ctx.gpu.WorldBounds(ctx.state), settings_.grid));
+    const bool same = layout.dims == layout_.dims && layout.origin == layout_.origin &&
+                      layout.spacing == layout_.spacing && layout.face_size == layout_.face_size;
+    if (!solved_ || !same) return SolveAll(ctx, changes, layout);
+  }
+  return Progress(ctx, changes);
+}
+
+absl::Status ShProbesSolver::SolveAll(SolverContext& ctx, ChangeMask changes, const ProbeLayout& layout) {
+  {
     gl::StageTimer::Scope stage(ctx.timer, "rasterize_cubemaps");
     if (layout.probes() != layout_.probes() || !coefficients_) {
       const GLsizeiptr coefficient_bytes = GLsizeiptr(sh::kMaxCoefficients) * layout.probes() * 16;
       coefficients_ = gl::Buffer::Create();
+      shown_coefficients_ = gl::Buffer::Create();
       previous_coefficients_ = gl::Buffer::Create();
       probe_valid_ = gl::Buffer::Create();
+      batch_probes_ = gl::Buffer::Create();
+      sees_change_ = gl::Buffer::Create();
       glNamedBufferStorage(coefficients_.id(), coefficient_bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
+      glNamedBufferStorage(shown_coefficients_.id(), coefficient_bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
       glNamedBufferStorage(previous_coefficients_.id(), coefficient_bytes, nullptr,
                            GL_DYNAMIC_STORAGE_BIT);
       glNamedBufferStorage(probe_valid_.id(), GLsizeiptr(layout.probes()) * 4, nullptr,
+                           GL_DYNAMIC_STORAGE_BIT);
+      glNamedBufferStorage(batch_probes_.id(), GLsizeiptr(layout.probes()) * 4, nullptr,
+                           GL_DYNAMIC_STORAGE_BIT);
+      glNamedBufferStorage(sees_change_.id(), GLsizeiptr(layout.probes()) * 4, nullptr,
                            GL_DYNAMIC_STORAGE_BIT);
     }
     layout_ = layout;
     atlas_.Allocate(layout_);
     RasterizeCubemaps(ctx);
-  } else {
-    ctx.timer.Skip("rasterize_cubemaps");
   }
+  const bool lights = changes & (kChangeGeometry | kChangeLights | kChangeEmission);
 
   // Section 3: start from L_indirect = 0 and bounce until the change is
   // insignificant or the budget of bounces is spent.
@@ -194,22 +235,176 @@ absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
       tail_applied_ = true;
     }
   }
+  glCopyNamedBufferSubData(coefficients_.id(), shown_coefficients_.id(), 0, 0,
+                           GLsizeiptr(sh::kMaxCoefficients) * layout_.probes() * 16);
   emission_.Solved(ctx.state);
+  moved_.Solved(ctx.state);
+  schedule_.Reset(layout_.probes());
+  solved_ = true;
   indirect_scale_ = 1.0f;
   return absl::OkStatus();
 }
 
-void ShProbesSolver::BindProbeData(gl::Program& program) const {
+absl::Status ShProbesSolver::Progress(SolverContext& ctx, ChangeMask changes) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const bool geometry = changes & (kChangeGeometry | kChangeMaterials);
+  const bool lights = changes & (kChangeGeometry | kChangeLights | kChangeEmission);
+  if ((geometry || lights) && indirect_scale_ != 1.0f) {
+    // The shown solution was a dimmer's k x the solved one: make that the
+    // solution, and the texels' direct light the current one.
+    Blend(/*hysteresis=*/1.0f, indirect_scale_);
+    indirect_scale_ = 1.0f;
+    schedule_.NeedDirectAll();
+  }
+  {
+    // The direct light's shadow maps in slices of the frame budget (the
+    // shown set stays bound meanwhile); the probes' texels take the new
+    // direct light once the new set is shown.
+    gl::StageTimer::Scope stage(ctx.timer, "render_cubemaps");
+    const bool drawing = lighting_.pending();
+    if (lights) {
+      GS_RETURN_IF_ERROR(
+          lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes, ctx.budget_ms));
+    } else if (drawing) {
+      lighting_.Continue(ctx.gpu, ctx.state, ctx.budget_ms);
+    }
+    if ((lights || drawing) && !lighting_.pending()) schedule_.NeedDirectAll();
+  }
+  if (geometry) {
+    gl::StageTimer::Scope stage(ctx.timer, "rasterize_cubemaps");
+    // Albedo is baked into the cube maps: a material change re-rasterizes
+    // every probe; a moved node only the probes that see it.
+    Bounds moved = moved_.Since(ctx.gpu, ctx.state);
+    moved_.Solved(ctx.state);
+    std::vector<uint8_t> affected(size_t(layout_.probes()), 0);
+    if (changes & kChangeMaterials) {
+      std::fill(affected.begin(), affected.end(), uint8_t(1));
+    } else if (!moved.empty()) {
+      const glm::vec3 pad(1e-3f * glm::length(glm::vec3(layout_.dims) * layout_.spacing));
+      moved.Extend(moved.min - pad);
+      moved.Extend(moved.max + pad);
+      affected = SeesChange(moved);
+    }
+    probes_affected_ = 0;
+    std::vector<glm::vec3> positions(affected.size());
+    for (int p = 0; p < layout_.probes(); ++p) {
+      const glm::ivec3 c(p % layout_.dims.x, (p / layout_.dims.x) % layout_.dims.y,
+                         p / (layout_.dims.x * layout_.dims.y));
+      positions[size_t(p)] = layout_.position(c);
+      if (affected[size_t(p)]) {
+        schedule_.NeedRaster(p);
+        ++probes_affected_;
+      }
+    }
+    schedule_.Prioritize(affected, positions, eye_);
+  }
+
+  // Batches of probes for about the frame budget (at least one), each a
+  // Gauss-Seidel step from the newest coefficients.
+  probes_updated_ = 0;
+  batches_run_ = 0;
+  bool ran = false;
+  while (schedule_.pending()) {
+    const ProbeSchedule::Batch batch = schedule_.Peek();
+    const double elapsed = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    if (ran && ctx.budget_ms > 0.0 && elapsed + ms_per_unit_ * batch.units > ctx.budget_ms) break;
+    const auto batch_start = Clock::now();
+    double total = 0.0;
+    const double change = RunBatch(ctx, batch, &total);
+    schedule_.Done(batch, change, total, settings_.tolerance, settings_.bounces);
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - batch_start).count();
+    ms_per_unit_ = 0.7 * ms_per_unit_ + 0.3 * ms / std::max(batch.units, 1);
+    probes_updated_ += int(batch.probes.size());
+    ++batches_run_;
+    ran = true;
+  }
+  for (const char* s : {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate"}) {
+    if (!ran) ctx.timer.Skip(s);
+  }
+  bounce_change_ = schedule_.last_sweep_change();  // a sweep's, not a bounce's
+  cap_reached_ = schedule_.cap_reached();
+  if (ran) {
+    gl::StageTimer::Scope stage(ctx.timer, "sh_project");
+    // Converged: show the solution; until then it fades in (hysteresis).
+    Blend(schedule_.pending() ? float(settings_.hysteresis) : 0.0f);
+  }
+  if (!schedule_.pending() && !lighting_.pending()) emission_.Solved(ctx.state);
+  return absl::OkStatus();
+}
+
+std::vector<uint8_t> ShProbesSolver::SeesChange(const Bounds& moved) {
+  SetProbeGridUniforms(sees_, layout_, 0, false);
+  glBindTextureUnit(kDistanceUnit, atlas_.distance());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSeesBinding, sees_change_.id());
+  sees_.Set("uBoxMin", moved.min);
+  sees_.Set("uBoxMax", moved.max);
+  sees_.Use();
+  glDispatchCompute(GLuint(layout_.probes()), 1, 1);
+  glMemoryBarrier(kComputeBarrier);
+  std::vector<int32_t> sees(size_t(layout_.probes()));
+  glGetNamedBufferSubData(sees_change_.id(), 0, GLsizeiptr(sees.size() * 4), sees.data());
+  std::vector<uint8_t> affected(sees.size());
+  for (size_t p = 0; p < sees.size(); ++p) affected[p] = sees[p] != 0 ? 1 : 0;
+  return affected;
+}
+
+double ShProbesSolver::RunBatch(SolverContext& ctx, const ProbeSchedule::Batch& batch, double* total) {
+  if (!batch.raster.empty()) {
+    gl::StageTimer::Scope stage(ctx.timer, "rasterize_cubemaps");
+    RasterizeCubemaps(ctx, &batch.raster);
+  }
+  {
+    gl::StageTimer::Scope stage(ctx.timer, "interpolate");
+    Interpolate(&batch.probes);
+  }
+  {
+    gl::StageTimer::Scope stage(ctx.timer, "render_cubemaps");
+    std::vector<int> rest;
+    for (int p : batch.probes) {
+      if (std::find(batch.direct.begin(), batch.direct.end(), p) == batch.direct.end()) {
+        rest.push_back(p);
+      }
+    }
+    if (!batch.direct.empty()) RenderCubemaps(true, true, &batch.direct);
+    if (!rest.empty()) RenderCubemaps(false, true, &rest);
+  }
+  gl::StageTimer::Scope stage(ctx.timer, "sh_project");
+  return ProjectToSh(total, &batch.probes);
+}
+
+void ShProbesSolver::Blend(float hysteresis, float scale) {
+  const int count = sh::kMaxCoefficients * layout_.probes();
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCoefficientBinding, coefficients_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kShownBinding, shown_coefficients_.id());
+  blend_.Set("uCount", count);
+  blend_.Set("uHysteresis", hysteresis);
+  blend_.Set("uScale", scale);
+  blend_.Use();
+  glDispatchCompute(Groups(count, 64), 1, 1);
+  glMemoryBarrier(kComputeBarrier);
+}
+
+void ShProbesSolver::SetBatch(gl::Program& program, const std::vector<int>* probes) {
+  const int count = probes ? int(probes->size()) : 0;
+  if (count > 0) {
+    glNamedBufferSubData(batch_probes_.id(), 0, GLsizeiptr(count) * 4, probes->data());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBatchBinding, batch_probes_.id());
+  }
+  program.Set("uBatchCount", count);
+}
+
+void ShProbesSolver::BindProbeData(gl::Program& program, const gl::Buffer& coefficients) const {
   SetProbeGridUniforms(program, layout_, sh::CoefficientCount(settings_.bands),
                        settings_.indirect_shadows);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCoefficientBinding, coefficients_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCoefficientBinding, coefficients.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kValidBinding, probe_valid_.id());
   glBindTextureUnit(kDistanceUnit, atlas_.distance());
   glBindTextureUnit(kNormalUnit, atlas_.normal());
   glBindTextureUnit(kAlbedoUnit, atlas_.albedo());
 }
 
-void ShProbesSolver::RasterizeCubemaps(const SolverContext& ctx) {
+void ShProbesSolver::RasterizeCubemaps(const SolverContext& ctx, const std::vector<int>* probes) {
   const GLuint fbo = atlas_.fbo();
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glViewport(0, 0, layout_.width(), layout_.height());
@@ -221,67 +416,103 @@ void ShProbesSolver::RasterizeCubemaps(const SolverContext& ctx) {
   for (int i = 0; i < 4; ++i) glEnable(GLenum(GL_CLIP_DISTANCE0 + i));
   const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   const float one = 1.0f;
-  for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo, GL_COLOR, i, zero);
-  glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
+  auto clear = [&] {
+    for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo, GL_COLOR, i, zero);
+    glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
+  };
+  if (!probes) {
+    clear();
+  } else {
+    // Only the batch's tiles (every layer: a layered attachment clears whole).
+    glEnable(GL_SCISSOR_TEST);
+    for (int p : *probes) {
+      glScissor((p % layout_.tiles_x) * layout_.face_size, (p / layout_.tiles_x) * layout_.face_size,
+                layout_.face_size, layout_.face_size);
+      clear();
+    }
+    glDisable(GL_SCISSOR_TEST);
+  }
   // Near and far planes that bracket the whole grid from any probe.
   const float far = std::max(1.01f * glm::length(glm::vec3(layout_.dims) * layout_.spacing), 1e-6f);
   SetProbeGridUniforms(rasterize_, layout_, 0, false);
+  SetBatch(rasterize_, probes);
   rasterize_.Set("uNear", far * 1e-5f);
   rasterize_.Set("uFar", far);
   rasterize_.Use();
-  ctx.gpu.Draw(rasterize_, ctx.state, /*bind_textures=*/true, layout_.probes());
+  ctx.gpu.Draw(rasterize_, ctx.state, /*bind_textures=*/true,
+               instances_per_probe_ * (probes ? int(probes->size()) : layout_.probes()));
   for (int i = 0; i < 4; ++i) glDisable(GLenum(GL_CLIP_DISTANCE0 + i));
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-void ShProbesSolver::RenderCubemaps(bool compute_direct, bool use_indirect) {
-  BindProbeData(render_);
+void ShProbesSolver::RenderCubemaps(bool compute_direct, bool use_indirect,
+                                    const std::vector<int>* probes) {
+  BindProbeData(render_, coefficients_);
   lighting_.Bind(render_);
+  SetBatch(render_, probes);
   render_.Set("uComputeDirect", compute_direct ? 1 : 0);
   render_.Set("uUseIndirect", use_indirect ? 1 : 0);
   glBindImageTexture(0, atlas_.direct(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
   glBindImageTexture(1, atlas_.indirect(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
   glBindImageTexture(2, atlas_.radiance(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   render_.Use();
-  glDispatchCompute(Groups(layout_.width(), 8), Groups(layout_.height(), 8), 6);
+  DispatchTexels(probes);
+}
+
+void ShProbesSolver::DispatchTexels(const std::vector<int>* probes) const {
+  if (probes) {
+    glDispatchCompute(Groups(layout_.face_size, 8), Groups(layout_.face_size, 8),
+                      GLuint(6 * probes->size()));
+  } else {
+    glDispatchCompute(Groups(layout_.width(), 8), Groups(layout_.height(), 8), 6);
+  }
   glMemoryBarrier(kComputeBarrier);
 }
 
-double ShProbesSolver::ProjectToSh(double* total) {
-  BindProbeData(project_);
+double ShProbesSolver::ProjectToSh(double* total, const std::vector<int>* probes) {
+  BindProbeData(project_, coefficients_);
+  SetBatch(project_, probes);
   glBindImageTexture(2, atlas_.radiance(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
   project_.Use();
-  glDispatchCompute(GLuint(layout_.probes()), 1, 1);
+  glDispatchCompute(probes ? GLuint(probes->size()) : GLuint(layout_.probes()), 1, 1);
   glMemoryBarrier(kComputeBarrier);
 
   // L_00 of every probe (the first probes() entries) and the valid flags.
-  const size_t probes = size_t(layout_.probes());
-  std::vector<glm::vec4> dc(probes);
-  std::vector<float> valid(probes);
-  glGetNamedBufferSubData(coefficients_.id(), 0, GLsizeiptr(probes * sizeof(glm::vec4)), dc.data());
-  glGetNamedBufferSubData(probe_valid_.id(), 0, GLsizeiptr(probes * sizeof(float)), valid.data());
+  const size_t count = size_t(layout_.probes());
+  std::vector<glm::vec4> dc(count);
+  std::vector<float> valid(count);
+  glGetNamedBufferSubData(coefficients_.id(), 0, GLsizeiptr(count * sizeof(glm::vec4)), dc.data());
+  glGetNamedBufferSubData(probe_valid_.id(), 0, GLsizeiptr(count * sizeof(float)), valid.data());
   double change = 0.0, sum = 0.0;
-  invalid_probes_ = 0;
-  for (size_t p = 0; p < probes; ++p) {
-    if (valid[p] < 0.5f) {
-      ++invalid_probes_;
-      continue;
-    }
+  auto visit = [&](size_t p) {
+    if (valid[p] < 0.5f) return;
     const float lum = Luminance(dc[p]);
     change += std::abs(double(lum) - double(dc_luminance_[p]));
-    sum += std::abs(double(lum));
     dc_luminance_[p] = lum;
+  };
+  if (probes) {
+    for (int p : *probes) visit(size_t(p));
+  } else {
+    for (size_t p = 0; p < count; ++p) visit(p);
+  }
+  invalid_probes_ = 0;
+  for (size_t p = 0; p < count; ++p) {
+    if (valid[p] < 0.5f) {
+      ++invalid_probes_;
+    } else {
+      sum += std::abs(double(dc_luminance_[p]));
+    }
   }
   *total = sum;
   return change;
 }
 
-void ShProbesSolver::Interpolate() {
-  BindProbeData(interpolate_);
+void ShProbesSolver::Interpolate(const std::vector<int>* probes) {
+  BindProbeData(interpolate_, coefficients_);
+  SetBatch(interpolate_, probes);
   glBindImageTexture(1, atlas_.indirect(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
   interpolate_.Use();
-  glDispatchCompute(Groups(layout_.width(), 8), Groups(layout_.height(), 8), 6);
-  glMemoryBarrier(kComputeBarrier);
+  DispatchTexels(probes);
 }
 
 void ShProbesSolver::ApplyTail(double scale) {
@@ -295,15 +526,16 @@ void ShProbesSolver::ApplyTail(double scale) {
   glMemoryBarrier(kComputeBarrier);
 }
 
-absl::Status ShProbesSolver::Shade(SolverContext& ctx, const ViewCamera& /*camera*/,
+absl::Status ShProbesSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
                                    const GBuffer& gbuffer) {
   gl::StageTimer::Scope stage(ctx.timer, "final");
+  eye_ = camera.position;  // the next change updates the probes near it first
   glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
   glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
   glDisable(GL_DEPTH_TEST);
   gbuffer.BindTextures(8);
   lighting_.Bind(final_);
-  BindProbeData(final_);
+  BindProbeData(final_, shown_coefficients_);
   final_.Set("uIndirectScale", indirect_scale_);
   final_.Use();
   glBindVertexArray(empty_vao_.id());
@@ -321,6 +553,12 @@ SolverStats ShProbesSolver::Stats() const {
           {"bounce_change", bounce_change_},
           {"residual", bounce_change_},
           {"cap_reached", cap_reached_ ? 1.0 : 0.0},
+          {"probes_pending", double(schedule_.remaining())},
+          {"probe_sweeps", double(schedule_.sweeps())},
+          {"probes_affected", double(probes_affected_)},
+          {"probes_updated", double(probes_updated_)},
+          {"probe_batches", double(batches_run_)},
+          {"shadow_maps_pending", lighting_.pending() ? 1.0 : 0.0},
           {"tail_ratio", tail_ratio_},
           {"tail_applied", tail_applied_ ? 1.0 : 0.0},
           {"tail_ratio_spread", tail_spread_},

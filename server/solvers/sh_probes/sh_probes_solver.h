@@ -8,13 +8,19 @@
 //   sh_project          Eq. 2, per probe, on the GPU
 //   interpolate         indirect irradiance at the texels, for the next bounce
 //   final               direct + indirect for the view
+// After the first solve, a change is solved progressively: a budget of
+// probes per frame, the most affected first (solvers/sh_probes/
+// probe_schedule.h), blended into the displayed coefficients with
+// hysteresis; docs/ARCHITECTURE.md says where that follows DDGI.
 #pragma once
 
 #include <vector>
 
 #include "render/direct_lighting.h"
 #include "solvers/emission_scale.h"
+#include "solvers/moved_bounds.h"
 #include "solvers/sh_probes/probe_grid.h"
+#include "solvers/sh_probes/probe_schedule.h"
 #include "solvers/memory_estimate.h"
 #include "solvers/solver.h"
 
@@ -27,6 +33,7 @@ struct ShProbeSettings {
   double tolerance = 0.01;
   bool tail_estimate = false;
   bool indirect_shadows = true;
+  double hysteresis = 0.6;  // fraction of the displayed SH kept per frame
   DirectLightingSettings direct;
 };
 
@@ -43,20 +50,43 @@ class ShProbesSolver final : public Solver {
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
+  bool UpdateComplete() const override { return !schedule_.pending() && !lighting_.pending(); }
   uint64_t gpu_bytes() const override { return atlas_.gpu_bytes() + lighting_.gpu_bytes(); }
 
  private:
   ShProbesSolver() = default;
 
-  void RasterizeCubemaps(const SolverContext& ctx);
-  void RenderCubemaps(bool compute_direct, bool use_indirect);
+  // The first solve, and one after the grid's layout changed: every probe,
+  // bounce after bounce (Section 3), in one frame.
+  absl::Status SolveAll(SolverContext& ctx, ChangeMask changes, const ProbeLayout& layout);
+  // After that: marks what `changes` makes stale and re-renders batches of
+  // probes for about the frame budget (ProbeSchedule).
+  absl::Status Progress(SolverContext& ctx, ChangeMask changes);
+  // Which probes' cube maps see `moved` (sees_change.comp.glsl).
+  std::vector<uint8_t> SeesChange(const Bounds& moved);
+  // One batch: rasterize, interpolate, render, project its probes; returns
+  // its probes' L_00 change, *total the sum over all valid probes.
+  double RunBatch(SolverContext& ctx, const ProbeSchedule::Batch& batch, double* total);
+  // shown = mix(solution x scale, shown x scale, hysteresis); the solution
+  // is scaled too.
+  void Blend(float hysteresis, float scale = 1.0f);
+
+  // `probes` null: every probe; else the listed ones (a batch).
+  void RasterizeCubemaps(const SolverContext& ctx, const std::vector<int>* probes = nullptr);
+  void RenderCubemaps(bool compute_direct, bool use_indirect, const std::vector<int>* probes = nullptr);
   // Projects, then returns the change of this bounce: the sum over valid
-  // probes of |luminance of L_00 - its previous value|; *total gets the sum
-  // of |luminance of L_00|.
-  double ProjectToSh(double* total);
-  void Interpolate();
+  // probes (of the batch, when given) of |luminance of L_00 - its previous
+  // value|; *total gets the sum over all valid probes of |luminance of L_00|.
+  double ProjectToSh(double* total, const std::vector<int>* probes = nullptr);
+  void Interpolate(const std::vector<int>* probes = nullptr);
+  // A texel dispatch over the atlas, or over the listed probes' faces.
+  void DispatchTexels(const std::vector<int>* probes) const;
   void ApplyTail(double scale);
-  void BindProbeData(gl::Program& program) const;
+  // Binds the grid's uniforms and data with `coefficients` (the solution,
+  // or the shown coefficients for Shade).
+  void BindProbeData(gl::Program& program, const gl::Buffer& coefficients) const;
+  // Uploads the batch list (null: the whole atlas) and sets uBatchCount.
+  void SetBatch(gl::Program& program, const std::vector<int>* probes);
 
   // Configuration
   ShProbeSettings settings_;
@@ -67,12 +97,21 @@ class ShProbesSolver final : public Solver {
   float indirect_scale_ = 1.0f;
   ProbeLayout layout_;
   ProbeAtlas atlas_;
-  gl::Buffer coefficients_;           // 9 x probes vec4, coefficient-major
+  gl::Buffer coefficients_;           // 9 x probes vec4, coefficient-major: the solution
+  gl::Buffer shown_coefficients_;     // what Shade reads (follows the solution, hysteresis)
+  gl::Buffer batch_probes_;           // a batch's probe list (ints)
+  gl::Buffer sees_change_;            // per probe int, SeesChange's answer
   gl::Buffer previous_coefficients_;  // the previous bounce's, for the tail
   gl::Buffer probe_valid_;            // probes floats
   std::vector<float> dc_luminance_;   // L_00 luminance per probe, last bounce
-  gl::Program rasterize_, render_, project_, interpolate_, tail_, final_;
+  gl::Program rasterize_, render_, project_, interpolate_, tail_, final_, sees_, blend_;
   gl::VertexArray empty_vao_;
+  int instances_per_probe_ = 1;  // 6: rasterize_ is the layered vertex-shader variant
+  bool solved_ = false;      // SolveAll ran for layout_
+  ProbeSchedule schedule_;   // the progressive update's probes and sweeps
+  MovedBounds moved_;        // the transforms the probes' cube maps saw
+  glm::vec3 eye_{0.0f};      // the last shaded camera (probes near it first)
+  double ms_per_unit_ = 0.3; // running cost of a ProbeSchedule unit
 
   // Stats of the last update
   int bounces_run_ = 0;
@@ -82,6 +121,9 @@ class ShProbesSolver final : public Solver {
   double tail_ratio_ = 0.0;
   double tail_spread_ = 0.0;
   bool tail_applied_ = false;
+  int probes_affected_ = 0;  // probes that saw the last geometry change
+  int probes_updated_ = 0;   // probes re-rendered in the last Update
+  int batches_run_ = 0;      // and in how many batches
 };
 
 }  // namespace gistream

@@ -1,0 +1,30 @@
+// What moved since a solve: the solver remembers the world transforms it
+// solved for, and after a geometry change asks for the box around every
+// drawn primitive whose node moved, old and new place together. Progressive
+// solvers use it to update what the change affects first.
+#pragma once
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "scene/gpu_scene.h"
+#include "scene/scene_state.h"
+
+namespace gistream {
+
+class MovedBounds {
+ public:
+  // The current transforms are the solved ones.
+  void Solved(const SceneState& state) { solved_ = state.world(); }
+  // The union of the old and new world boxes (8 transformed corners, as
+  // GpuScene::WorldBounds) of every drawn primitive whose node's world
+  // transform differs from the solved one; empty when none does. Every
+  // primitive counts as moved before the first Solved.
+  Bounds Since(const GpuScene& gpu, const SceneState& state) const;
+
+ private:
+  std::vector<glm::mat4> solved_;
+};
+
+}  // namespace gistream

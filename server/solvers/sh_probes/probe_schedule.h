@@ -1,0 +1,80 @@
+// sh_probes' progressive update after a change (docs/ARCHITECTURE.md,
+// "Frames keep coming"): which probes are re-rendered next, and when the
+// update has converged. Bookkeeping only, no GL.
+//
+// A sweep visits every probe once, in priority order: the probes whose
+// cube maps see the change first, then the rest, each group nearer the
+// camera first. A probe's work in a sweep is a bounce (interpolate, render,
+// project: Gauss-Seidel over the grid, reading the newest coefficients of
+// every probe), preceded by re-rasterizing its cube map and recomputing its
+// texels' direct light when the change requires. Probes are grouped into
+// batches of about kBatchUnits of work; the batches depend on the change
+// and the order only, never on time, so the same change reaches the same
+// solution however many frames it is spread over. Sweeps repeat until one
+// changes the probes' L_00 by less than the tolerance (relative to their
+// total) with no work flag left, or `max_sweeps` ran since the last change.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+namespace gistream {
+
+class ProbeSchedule {
+ public:
+  // Relative cost of a probe's work, measured on the Cornell box at the
+  // defaults (6488 triangles, 64 area samples): rasterizing its cube map
+  // ~4.7 ms, its texels' direct light ~1.4 ms, a bounce ~0.3 ms.
+  static constexpr int kRasterUnits = 16;
+  static constexpr int kDirectUnits = 4;
+  static constexpr int kBounceUnits = 1;
+  static constexpr int kBatchUnits = 64;
+
+  struct Batch {
+    std::vector<int> probes;  // in sweep order
+    std::vector<int> raster;  // those whose cube maps are re-rasterized
+    std::vector<int> direct;  // those whose direct light is recomputed
+    int units = 0;
+  };
+
+  // `probes` probes in index order, nothing pending.
+  void Reset(int probes);
+  // A change: the next sweep starts now, `affected` probes (non-zero
+  // entries) first, each group by distance from `eye` (ties by index).
+  void Prioritize(const std::vector<uint8_t>& affected, const std::vector<glm::vec3>& positions,
+                  const glm::vec3& eye);
+  void NeedRaster(int probe);  // and its direct light
+  void NeedDirectAll();
+
+  bool pending() const { return pending_; }
+  // The next batch of the sweep (empty when nothing is pending).
+  Batch Peek() const;
+  // Marks Peek()'s batch done: `change` is the sum over its valid probes of
+  // |L_00 luminance - its value before|; at the end of a sweep `total` (the
+  // sum of |L_00 luminance| over valid probes) decides whether another
+  // sweep runs.
+  void Done(const Batch& batch, double change, double total, double tolerance, int max_sweeps);
+
+  int probes() const { return int(order_.size()); }
+  int remaining() const { return pending_ ? probes() - next_ : 0; }
+  int sweeps() const { return sweeps_; }  // since the last change
+  double last_sweep_change() const { return last_change_; }  // relative
+  bool cap_reached() const { return cap_reached_; }
+
+ private:
+  int Units(int probe) const;
+  bool AnyFlag() const;
+
+  std::vector<int> order_;
+  std::vector<uint8_t> raster_, direct_;
+  size_t next_ = 0;
+  bool pending_ = false;
+  int sweeps_ = 0;
+  double change_ = 0.0;
+  double last_change_ = 0.0;
+  bool cap_reached_ = false;
+};
+
+}  // namespace gistream
