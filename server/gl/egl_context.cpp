@@ -1,4 +1,6 @@
 #include "gl/egl_context.h"
+#include "gl/driver_quirks.h"
+#include "gl/gl.h"
 
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -189,6 +191,11 @@ absl::Status EglContext::MakeCurrent() {
     return absl::FailedPreconditionError(
         absl::StrCat("EGL: eglMakeCurrent failed: ", EglErrorName(eglGetError())));
   }
+  auto text = [](GLenum name) {
+    const GLubyte* s = glGetString(name);
+    return s ? std::string(reinterpret_cast<const char*>(s)) : std::string();
+  };
+  SetCurrentQuirks(DriverQuirks::Detect(text(GL_RENDERER), text(GL_VENDOR)));
   return absl::OkStatus();
 }
 

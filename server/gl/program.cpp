@@ -4,6 +4,7 @@
 #include <regex>
 
 #include "gl/shader_library.h"
+#include "util/log.h"
 
 namespace gistream::gl {
 namespace {
@@ -67,6 +68,7 @@ absl::StatusOr<Program> Program::Build(const std::vector<ShaderStage>& stages,
                                               Annotate(ShaderLog(shader.id()), source.files)));
     }
     glAttachShader(program.id(), shader.id());
+    program.source_ += source.text;
     absl::StrAppend(&names, names.empty() ? "" : "+", stage.path);
     shaders.push_back(std::move(shader));
   }
@@ -78,14 +80,24 @@ absl::StatusOr<Program> Program::Build(const std::vector<ShaderStage>& stages,
   }
   for (const ShaderObject& shader : shaders) glDetachShader(program.id(), shader.id());
   Label(GL_PROGRAM, program.id(), names.c_str());
+  program.name_ = std::move(names);
   return program;
 }
 
-GLint Program::Location(const char* name) {
+GLint Program::Lookup(const char* name) {
   auto it = locations_.find(name);
   if (it != locations_.end()) return it->second;
   const GLint location = glGetUniformLocation(program_.id(), name);
   locations_.emplace(name, location);
+  return location;
+}
+
+GLint Program::Location(const char* name) {
+  const GLint location = Lookup(name);
+  if (location < 0 && source_.find(name) == std::string::npos) {
+    const std::string message = "GL: " + name_ + " has no active uniform '" + name + "'";
+    LogOnce(LogLevel::kWarning, message, message);
+  }
   return location;
 }
 

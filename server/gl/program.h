@@ -28,7 +28,18 @@ class Program {
 
   GLuint id() const { return program_.id(); }
   void Use() const { glUseProgram(program_.id()); }
+  // The uniform's location, cached; -1 when the linked program has no such
+  // active uniform. A name that appears nowhere in the program's source (a
+  // misspelling, a renamed uniform) is logged once as a warning; one the
+  // compiler removed as unused is not.
   GLint Location(const char* name);
+  // Sets the uniform when the program has it, silently otherwise: for
+  // shared code that feeds several programs (a scene draw, a probe-grid
+  // block) of which some do not use every value.
+  template <typename T>
+  void SetOptional(const char* name, const T& v) {
+    if (Lookup(name) >= 0) Set(name, v);
+  }
 
   void Set(const char* name, int v) { glProgramUniform1i(id(), Location(name), v); }
   void Set(const char* name, unsigned v) { glProgramUniform1ui(id(), Location(name), v); }
@@ -50,7 +61,11 @@ class Program {
   }
 
  private:
+  GLint Lookup(const char* name);  // Location without the warning
+
   ProgramObject program_;
+  std::string name_;    // its shader paths, for messages
+  std::string source_;  // the expanded sources, to tell misspelt from unused
   std::unordered_map<std::string, GLint> locations_;
 };
 

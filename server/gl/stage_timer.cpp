@@ -1,4 +1,5 @@
 #include "gl/stage_timer.h"
+#include "gl/driver_quirks.h"
 
 #include <algorithm>
 
@@ -37,9 +38,10 @@ void StageTimer::End() {
   if (!entry.timing.cpu_stage) {
     entry.query_end = NextQuery();
     glQueryCounter(queries_[size_t(entry.query_end)].id(), GL_TIMESTAMP);
-    // Submit now, so a deferred driver (llvmpipe) runs this stage before a
-    // following CPU stage rather than after it, and its time stays its own.
-    glFlush();
+    // Submit now on a deferred driver (DriverQuirks::flush_after_gpu_stage),
+    // so this stage runs before a following CPU stage and its time stays
+    // its own.
+    if (CurrentQuirks().flush_after_gpu_stage) glFlush();
   }
   entry.timing.cpu_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - entry.cpu_start)

@@ -163,9 +163,9 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
   for (const DrawItem& d : draws_) {
     const glm::mat4& model = state.world()[size_t(d.node)];
     program.Set("uModel", model);
-    program.Set("uNormalMatrix", glm::inverseTranspose(glm::mat3(model)));
+    program.SetOptional("uNormalMatrix", glm::inverseTranspose(glm::mat3(model)));
     const int material = d.material >= 0 ? d.material : default_material;
-    program.Set("uMaterial", material);
+    program.SetOptional("uMaterial", material);
     if (bind_textures) {
       const Material* m = d.material >= 0 ? &state.materials()[size_t(d.material)] : nullptr;
       const GLuint base = m && m->base_color_texture >= 0

@@ -182,19 +182,29 @@ TEST_F(RealEngineTest, ServerStatusCountsSessionFramesAndGlObjectBytes) {
   EXPECT_TRUE(WaitFor([] { return Sessions() == 0; }, 10s));
 }
 
-TEST_F(RealEngineTest, InvalidConfigIsInvalidArgument) {
+// An unknown solver is NOT_FOUND (solvers/registry.h), an out-of-range
+// parameter INVALID_ARGUMENT; both name the field.
+TEST_F(RealEngineTest, InvalidConfigNamesTheField) {
   const std::string scene = LoadSceneOrDie(stub(), "cornell_box");
-  grpc::ClientContext context;
-  SetDeadline(&context, 60s);
-  auto stream = stub().Session(&context);
-  pb::SessionRequest config = ConfigRequest(scene, 64, 64, true);
-  config.mutable_config()->set_solver("no_such_solver");
-  stream->Write(config);
-  pb::SessionEvent event;
-  EXPECT_FALSE(stream->Read(&event));
-  const grpc::Status status = stream->Finish();
-  EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT) << status.error_message();
-  EXPECT_TRUE(absl::StrContains(status.error_message(), "solver")) << status.error_message();
+  struct Case {
+    std::string solver, param, field;
+    grpc::StatusCode code;
+  };
+  for (const Case& c : {Case{"no_such_solver", "", "solver", grpc::StatusCode::NOT_FOUND},
+                        Case{"direct", "0", "params.area_samples", grpc::StatusCode::INVALID_ARGUMENT}}) {
+    grpc::ClientContext context;
+    SetDeadline(&context, 60s);
+    auto stream = stub().Session(&context);
+    pb::SessionRequest config = ConfigRequest(scene, 64, 64, true);
+    config.mutable_config()->set_solver(c.solver);
+    if (!c.param.empty()) (*config.mutable_config()->mutable_params())["area_samples"] = c.param;
+    stream->Write(config);
+    pb::SessionEvent event;
+    EXPECT_FALSE(stream->Read(&event));
+    const grpc::Status status = stream->Finish();
+    EXPECT_EQ(status.error_code(), c.code) << status.error_message();
+    EXPECT_TRUE(absl::StrContains(status.error_message(), c.field)) << status.error_message();
+  }
 }
 
 }  // namespace

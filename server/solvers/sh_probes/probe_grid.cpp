@@ -84,15 +84,16 @@ void ProbeAtlas::Allocate(const ProbeLayout& layout) {
 
 void SetProbeGridUniforms(gl::Program& program, const ProbeLayout& layout, int coefficients,
                           bool indirect_shadows) {
-  program.Set("uGridOrigin", layout.origin);
-  program.Set("uGridSpacing", layout.spacing);
-  program.Set("uGridDims", layout.dims);
-  program.Set("uFaceSize", layout.face_size);
-  program.Set("uAtlasTiles", layout.tiles_x);
-  program.Set("uAtlasTileCount", glm::ivec2(layout.tiles_x, layout.tiles_y));
-  program.Set("uProbeCount", layout.probes());
-  program.Set("uCoefficients", coefficients);
-  program.Set("uIndirectShadows", indirect_shadows ? 1 : 0);
+  // One block for every probe-grid program; each uses part of it.
+  program.SetOptional("uGridOrigin", layout.origin);
+  program.SetOptional("uGridSpacing", layout.spacing);
+  program.SetOptional("uGridDims", layout.dims);
+  program.SetOptional("uFaceSize", layout.face_size);
+  program.SetOptional("uAtlasTiles", layout.tiles_x);
+  program.SetOptional("uAtlasTileCount", glm::ivec2(layout.tiles_x, layout.tiles_y));
+  program.SetOptional("uProbeCount", layout.probes());
+  program.SetOptional("uCoefficients", coefficients);
+  program.SetOptional("uIndirectShadows", indirect_shadows ? 1 : 0);
 }
 
 }  // namespace gistream
