@@ -1,6 +1,10 @@
 #include "connection.h"
 
 #include <chrono>
+#include <utility>
+#include <vector>
+
+#include <grpcpp/support/client_interceptor.h>
 
 #include <absl/strings/cord.h>
 #include <absl/strings/str_cat.h>
@@ -8,6 +12,46 @@
 namespace gistream::client {
 namespace {
 constexpr absl::string_view kRpcPayload = "gistream.client/rpc";
+
+// Adds "authorization: Bearer TOKEN" to every call of the channel, over TLS
+// and loopback plaintext alike (gRPC's call credentials refuse plaintext).
+class BearerInterceptor final : public grpc::experimental::Interceptor {
+ public:
+  explicit BearerInterceptor(std::string header) : header_(std::move(header)) {}
+  void Intercept(grpc::experimental::InterceptorBatchMethods* methods) override {
+    if (methods->QueryInterceptionHookPoint(
+            grpc::experimental::InterceptionHookPoints::PRE_SEND_INITIAL_METADATA)) {
+      methods->GetSendInitialMetadata()->emplace("authorization", header_);
+    }
+    methods->Proceed();
+  }
+
+ private:
+  const std::string header_;
+};
+
+class BearerInterceptorFactory final
+    : public grpc::experimental::ClientInterceptorFactoryInterface {
+ public:
+  explicit BearerInterceptorFactory(const std::string& token)
+      : header_(absl::StrCat("Bearer ", token)) {}
+  grpc::experimental::Interceptor* CreateClientInterceptor(
+      grpc::experimental::ClientRpcInfo* /*info*/) override {
+    return new BearerInterceptor(header_);
+  }
+
+ private:
+  const std::string header_;
+};
+
+std::shared_ptr<grpc::ChannelCredentials> Credentials(const ConnectionOptions& options) {
+  if (!options.tls) return grpc::InsecureChannelCredentials();
+  grpc::SslCredentialsOptions ssl;
+  ssl.pem_root_certs = options.ca_pem;  // empty: the system's roots
+  ssl.pem_cert_chain = options.cert_pem;
+  ssl.pem_private_key = options.key_pem;
+  return grpc::SslCredentials(ssl);
+}
 }  // namespace
 
 absl::Status FromGrpc(const grpc::Status& status, absl::string_view server) {
@@ -35,7 +79,14 @@ Connection::Connection(const ConnectionOptions& options) : options_(options) {
   args.SetMaxReceiveMessageSize(-1);
   args.SetMaxSendMessageSize(-1);
   if (options_.own_connection) args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);
-  channel_ = grpc::CreateCustomChannel(options_.server, grpc::InsecureChannelCredentials(), args);
+  if (options_.token.empty()) {
+    channel_ = grpc::CreateCustomChannel(options_.server, Credentials(options_), args);
+  } else {
+    std::vector<std::unique_ptr<grpc::experimental::ClientInterceptorFactoryInterface>> factories;
+    factories.push_back(std::make_unique<BearerInterceptorFactory>(options_.token));
+    channel_ = grpc::experimental::CreateCustomChannelWithInterceptors(
+        options_.server, Credentials(options_), args, std::move(factories));
+  }
   stub_ = v1::Gistream::NewStub(channel_);
 }
 

@@ -56,12 +56,18 @@ int main(int argc, char** argv) {
               << "Run 'gistream --help' for usage.\n";
     return kExitUsage;
   }
+  // $GISTREAM_TOKEN: a token out of the process list (ps shows --token).
+  CommandLine command_line = *line;
+  if (const char* token = std::getenv("GISTREAM_TOKEN");
+      command_line.connection.token.empty() && token != nullptr) {
+    command_line.connection.token = token;
+  }
   if (line->help) {
     std::cout << HelpText(line->command);
     return 0;
   }
 
-  const absl::Status status = Dispatch(*line);
+  const absl::Status status = Dispatch(command_line);
   if (status.ok()) return 0;
   std::cout.flush();
   if (IsInterrupted(status)) {

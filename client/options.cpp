@@ -1,7 +1,9 @@
 #include "options.h"
 
 #include <cmath>
+#include <fstream>
 #include <limits>
+#include <sstream>
 #include <vector>
 
 #include <absl/strings/numbers.h>
@@ -53,7 +55,17 @@ std::optional<Command> CommandFromName(absl::string_view name) {
 }
 
 // Flags every command accepts, so `--server` may come after the command too.
-const std::vector<FlagSpec> kConnectionFlags = {{"server"}, {"timeout"}};
+const std::vector<FlagSpec> kConnectionFlags = {{"server"}, {"timeout"}, {"tls", false},
+                                                {"ca"},     {"cert"},    {"key"},
+                                                {"token"}};
+
+absl::StatusOr<std::string> ReadPem(absl::string_view flag, const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  if (in) text << in.rdbuf();
+  if (!in || text.str().empty()) return Usage(absl::StrCat(flag, ": cannot read '", path, "'"));
+  return text.str();
+}
 const std::vector<FlagSpec> kSceneFlags = {
     {"scene"}, {"environment"}, {"environment-intensity"}, {"keep-scene", false}};
 const std::vector<FlagSpec> kSolverFlags = {{"solver"}, {"param", true, true}};
@@ -76,6 +88,23 @@ absl::Status ApplyConnection(const ParsedFlags& flags, ConnectionOptions& connec
     GS_ASSIGN_OR_RETURN(float seconds, ParseFloat("--timeout", *timeout));
     if (seconds <= 0.0f) return Usage("--timeout: must be positive seconds");
     connection.timeout_seconds = seconds;
+  }
+  if (flags.Has("tls")) connection.tls = true;
+  for (auto [flag, pem] : {std::pair{"ca", &connection.ca_pem},
+                           std::pair{"cert", &connection.cert_pem},
+                           std::pair{"key", &connection.key_pem}}) {
+    if (auto path = flags.Get(flag)) {
+      GS_ASSIGN_OR_RETURN(*pem, ReadPem(absl::StrCat("--", flag), *path));
+      connection.tls = true;
+    }
+  }
+  if (connection.cert_pem.empty() != connection.key_pem.empty() &&
+      (flags.Has("cert") || flags.Has("key"))) {
+    return Usage("--cert and --key: give both or neither");
+  }
+  if (auto token = flags.Get("token")) {
+    if (token->empty()) return Usage("--token: empty");
+    connection.token = *token;
   }
   return absl::OkStatus();
 }
@@ -306,7 +335,7 @@ absl::StatusOr<size_t> ParseGlobalOptions(std::span<const std::string> args, Com
     if (arg.rfind("--", 0) != 0) return Usage(absl::StrCat("unknown option ", arg));
     // Hand the flag (and its value) to the common scanner.
     const bool joined = arg.find('=') != std::string::npos;
-    const size_t count = joined ? 1 : 2;
+    const size_t count = joined || arg == "--tls" ? 1 : 2;
     GS_ASSIGN_OR_RETURN(
         ParsedFlags flags,
         ParseFlags(args.subspan(i, std::min(count, args.size() - i)), kConnectionFlags));

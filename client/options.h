@@ -28,6 +28,13 @@ struct ConnectionOptions {
   // A TCP connection of this channel's own instead of one shared with other
   // channels to the same address (bench --channels per-session).
   bool own_connection = false;
+  // TLS (--tls; implied by --ca/--cert/--key): PEM contents, read while
+  // parsing. Empty ca_pem: the system's roots. cert/key: mutual TLS.
+  bool tls = false;
+  std::string ca_pem, cert_pem, key_pem;
+  // Sent as "authorization: Bearer TOKEN" on every call (--token, else
+  // $GISTREAM_TOKEN); empty: none.
+  std::string token;
 };
 
 // Where the scene comes from (LoadScene).

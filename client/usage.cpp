@@ -4,7 +4,8 @@ namespace gistream::client {
 namespace {
 
 constexpr absl::string_view kOverview =
-    R"(usage: gistream [--server ADDR] [--timeout SEC] COMMAND [OPTIONS]
+    R"(usage: gistream [--server ADDR] [--timeout SEC] [--tls --ca FILE] [--token TOKEN]
+                COMMAND [OPTIONS]
 
 Thin client of gistreamd, the remote global-illumination render server.
 
@@ -20,6 +21,11 @@ commands:
 global options (also accepted after the command):
   --server ADDR   server address (default $GISTREAM_SERVER, else 127.0.0.1:50051)
   --timeout SEC   deadline of each single request (default 300)
+  --tls           connect with TLS (the system's root CAs unless --ca)
+  --ca FILE       PEM CA that signed the server's certificate (implies --tls)
+  --cert FILE     PEM client certificate for mutual TLS, with --key FILE
+  --token TOKEN   bearer token (default $GISTREAM_TOKEN; prefer the variable:
+                  the command line is visible to other users)
   -h, --help      show help; `gistream COMMAND --help` for a command
   --version       print "gistream VERSION" and exit (on its own)
 

@@ -16,9 +16,11 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <mutex>
+#include <sstream>
 #include <string>
 #include <string_view>
 #include <thread>
@@ -27,6 +29,7 @@
 #include "service/engine.h"
 #include "service/grpc/server.h"
 #include "solvers/registry.h"
+#include "util/auth_tokens.h"
 #include "util/cpu_pool.h"
 #include "util/log.h"
 #include "util/status.h"
@@ -43,11 +46,16 @@ absl::string_view AV(std::string_view s) { return absl::string_view(s.data(), s.
 struct Flags {
   std::string listen = "127.0.0.1:50051";
   std::string metrics_listen;  // empty: no metrics endpoint
+  std::string health_listen;   // empty: health on --listen only
   EngineOptions engine;
   uint64_t max_message_bytes = 0;  // 0: max_scene_bytes + 16 MiB
   double shutdown_deadline_s = 10.0;
   LogLevel log_level = LogLevel::kInfo;
   unsigned cpu_threads = 0;  // 0: DefaultCpuThreads()
+  std::string tls_cert, tls_key, tls_client_ca;  // PEM file paths
+  bool insecure = false;
+  std::string auth_tokens;  // token file path; empty: one default tenant
+  double idle_timeout_s = 900.0;
 };
 
 constexpr const char* kUsage = R"(usage: gistreamd [flags]
@@ -59,6 +67,24 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
   --scenes DIR               scene directory for LoadScene by name (default scenes)
   --egl-device N             EGL device index; -1 picks the first hardware
                              device, else Mesa's software one (default -1)
+  --health-listen ADDR       also serve grpc.health.v1 alone, in plaintext, on
+                             ADDR (host:port), for probes that speak no TLS
+                             (kubelet's gRPC probes); default off
+  --tls-cert FILE            serve TLS with this PEM certificate chain ...
+  --tls-key FILE             ... and its PEM private key
+  --tls-client-ca FILE       mutual TLS: clients must present a certificate
+                             signed by this PEM CA
+  --insecure                 allow plaintext on a non-loopback --listen (only
+                             behind something that encrypts, e.g. a mesh
+                             sidecar); without TLS, gistreamd otherwise
+                             refuses any address but loopback
+  --auth-tokens FILE         bearer tokens, one per line: TOKEN TENANT
+                             [scenes=N sessions=N upload_bytes=N gpu_bytes=N];
+                             calls without a listed token get UNAUTHENTICATED
+                             (health stays open). Default: no tokens, one tenant
+  --idle-timeout-s F         end sessions without a client request and free
+                             scenes nobody uses for this long; 0: never
+                             (default 900)
   --max-sessions N           concurrent sessions (default 32)
   --max-scenes N             scenes held at once (default 16)
   --max-memory-bytes N       memory budget for scenes (decoded images
@@ -198,6 +224,17 @@ Flags ParseFlags(int argc, char** argv) {
       {"--shutdown-deadline-s",
        [&](auto flag, auto v) { f.shutdown_deadline_s = ParseDouble(flag, v, 0.0, 3600.0); }},
       {"--log-level", [&](auto flag, auto v) { f.log_level = ParseLogLevel(flag, v); }},
+      {"--health-listen",
+       [&](auto flag, auto v) {
+         if (v.empty()) UsageError(absl::StrCat(AV(flag), ": empty address"));
+         f.health_listen = std::string(v);
+       }},
+      {"--tls-cert", [&](auto, auto v) { f.tls_cert = std::string(v); }},
+      {"--tls-key", [&](auto, auto v) { f.tls_key = std::string(v); }},
+      {"--tls-client-ca", [&](auto, auto v) { f.tls_client_ca = std::string(v); }},
+      {"--auth-tokens", [&](auto, auto v) { f.auth_tokens = std::string(v); }},
+      {"--idle-timeout-s",
+       [&](auto flag, auto v) { f.idle_timeout_s = ParseDouble(flag, v, 0.0, 30.0 * 86400.0); }},
       {"--cpu-threads",
        [&](auto flag, auto v) { f.cpu_threads = ParseUnsigned<unsigned>(flag, v, 1, 1024); }},
       {"--frame-budget-ms",
@@ -219,6 +256,10 @@ Flags ParseFlags(int argc, char** argv) {
       for (const SolverDescription& d : AllSolverDescriptions()) std::printf("%s\n", d.name.c_str());
       std::exit(0);
     }
+    if (arg == "--insecure") {
+      f.insecure = true;
+      continue;
+    }
     std::string_view name = arg;
     std::string_view value;
     bool has_value = false;
@@ -238,6 +279,13 @@ Flags ParseFlags(int argc, char** argv) {
     }
     it->second(name, value);
   }
+  if (f.tls_cert.empty() != f.tls_key.empty()) {
+    UsageError("--tls-cert and --tls-key: give both or neither");
+  }
+  if (!f.tls_client_ca.empty() && f.tls_cert.empty()) {
+    UsageError("--tls-client-ca: needs --tls-cert and --tls-key");
+  }
+  f.engine.idle_timeout = std::chrono::milliseconds(static_cast<int64_t>(f.idle_timeout_s * 1000.0));
   if (f.max_message_bytes == 0) {
     f.max_message_bytes = std::min<uint64_t>(f.engine.import_limits.max_scene_bytes + (16u << 20),
                                              INT_MAX);
@@ -282,11 +330,41 @@ class SignalWaiter {
   std::jthread thread_;  // stop requested and joined on destruction
 };
 
+// A PEM file named by `flag`; exits with a usage error when unreadable.
+std::string ReadPem(std::string_view flag, const std::string& path) {
+  if (path.empty()) return "";
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  if (in) text << in.rdbuf();
+  if (!in || text.str().empty()) {
+    UsageError(absl::StrCat(AV(flag), ": cannot read '", path, "'"));
+  }
+  return text.str();
+}
+
 int Main(int argc, char** argv) {
   Flags flags = ParseFlags(argc, argv);
   SetLogLevel(flags.log_level);
   const sigset_t signals = BlockShutdownSignals();
   Log(LogLevel::kInfo, absl::StrCat("gistreamd ", AV(Version())));
+
+  // Read before the engine starts, so a bad path fails fast.
+  std::shared_ptr<const AuthTokens> tokens;
+  if (!flags.auth_tokens.empty()) {
+    absl::StatusOr<AuthTokens> loaded = AuthTokens::Load(flags.auth_tokens);
+    if (!loaded.ok()) UsageError(std::string(loaded.status().message()));
+    flags.engine.quotas = loaded->quotas();
+    tokens = std::make_shared<const AuthTokens>(*std::move(loaded));
+    Log(LogLevel::kInfo, absl::StrCat("auth: ", tokens->size(), " tokens for ",
+                                      tokens->quotas().size(), " tenants"));
+  }
+  service::TlsFiles tls{ReadPem("--tls-cert", flags.tls_cert), ReadPem("--tls-key", flags.tls_key),
+                        ReadPem("--tls-client-ca", flags.tls_client_ca)};
+  if (tls.cert_chain_pem.empty() && !flags.insecure && !service::IsLoopbackAddress(flags.listen)) {
+    UsageError(absl::StrCat("refusing to serve plaintext on ", flags.listen,
+                            ", which is not a loopback address: give --tls-cert and --tls-key, "
+                            "or --insecure if something in front of gistreamd encrypts"));
+  }
 
   // Declared before the engine and server, which report to it.
   std::shared_ptr<metrics::Metrics> metrics;
@@ -329,6 +407,10 @@ int Main(int argc, char** argv) {
   options.max_receive_message_bytes = static_cast<int>(flags.max_message_bytes);
   options.max_send_message_bytes = static_cast<int>(flags.max_message_bytes);
   options.service.observer = metrics;
+  options.service.tokens = tokens;
+  options.tls = std::move(tls);
+  options.allow_insecure = flags.insecure;
+  options.health_listen = flags.health_listen;
   absl::StatusOr<std::unique_ptr<service::GistreamServer>> server =
       service::GistreamServer::Start(**engine, options);
   if (!server.ok()) {
@@ -349,6 +431,12 @@ int Main(int argc, char** argv) {
     cv.notify_all();
   });
 
+  Log(LogLevel::kInfo,
+      absl::StrCat("transport: ",
+                   !options.tls.cert_chain_pem.empty()
+                       ? (options.tls.client_ca_pem.empty() ? "TLS" : "mutual TLS")
+                       : (flags.insecure ? "plaintext (--insecure)" : "plaintext on loopback"),
+                   tokens ? "; bearer tokens required" : "; no tokens (one default tenant)"));
   std::printf("listening on %s\n", (*server)->address().c_str());
   std::fflush(stdout);
 

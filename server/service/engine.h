@@ -5,6 +5,7 @@
 // context.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -25,6 +26,7 @@
 #include "solvers/solver_params.h"
 #include "util/stage_timing.h"
 #include "util/status.h"
+#include "util/tenancy.h"
 
 namespace gistream {
 
@@ -79,6 +81,9 @@ struct EncodedFrame {
 // ---------------------------------------------------------------- scenes
 
 struct SceneSource {
+  // Who loads it: the scene belongs to this tenant, other tenants' calls do
+  // not find its id, and a named scene is shared only among its sessions.
+  TenantId tenant{kDefaultTenant};
   std::string name;   // scene in the scene directory, or
   std::string bytes;  // a glb / self-contained gltf
   std::string environment_name;   // optional, inside the scene directory, or
@@ -144,6 +149,7 @@ struct SceneInfo {
 enum class Pacing { kContinuous, kOnRequest };
 
 struct SessionConfig {
+  TenantId tenant{kDefaultTenant};  // must own `scene`
   SceneId scene;
   std::string solver = "direct";
   std::map<std::string, std::string> params;
@@ -185,6 +191,7 @@ class FrameSink {
 // ---------------------------------------------------------------- render
 
 struct RenderRequest {
+  TenantId tenant{kDefaultTenant};  // must own `scene`
   SceneId scene;
   std::string solver = "direct";
   std::map<std::string, std::string> params;
@@ -208,6 +215,13 @@ struct EngineOptions {
   ImportLimits import_limits;
   uint32_t max_sessions = 32;
   uint32_t max_scenes = 16;
+  // Per-tenant limits (util/tenancy.h); a tenant not listed has none of its
+  // own. Exceeding one answers RESOURCE_EXHAUSTED naming the quota.
+  std::map<TenantId, TenantQuota> quotas;
+  // Sessions without a client request (update, frame or key frame request)
+  // and scenes unused by any session or Render for this long are freed
+  // (sessions end with DEADLINE_EXCEEDED); 0: never.
+  std::chrono::milliseconds idle_timeout{0};
   // GI solutions (solver instances) cached per scene, one per solver and
   // parameter set; beyond this the least recently used one that no open
   // session uses is dropped with its GPU memory.
@@ -243,6 +257,7 @@ struct DeviceInfo {
 // One open client session (Render calls are not listed).
 struct SessionStatus {
   SessionId id;
+  TenantId tenant;
   SceneId scene;
   std::string solver;
   uint32_t width = 0;  // of the last frame (the configured size before the first)
@@ -259,6 +274,7 @@ struct EngineStats {
   uint32_t scenes = 0;
   uint64_t frames_rendered = 0;
   std::vector<SceneId> scene_ids;
+  std::vector<TenantId> scene_tenants;  // the owner of each of scene_ids
   std::vector<SessionStatus> session_status;  // by session id
   // Bytes held by the GL objects the engine accounts for: every scene's
   // GpuScene (vertex/index buffers, materials, textures), every cached
@@ -291,8 +307,16 @@ class Engine {
   virtual std::vector<SolverDescription> ListSolvers() const = 0;
 
   // Blocking (parses on the caller's thread, uploads on the render thread).
+  // Scene ids are unguessable (128 random bits). Each LoadScene holds a
+  // reference to the scene until UnloadScene drops it; sessions and Render
+  // calls hold one while they run. The scene is freed when the last goes
+  // (or, unused, after EngineOptions::idle_timeout). A named scene loaded
+  // again by its tenant is the same scene (another reference).
   virtual absl::StatusOr<SceneInfo> LoadScene(const SceneSource& source) = 0;
-  virtual absl::Status UnloadScene(const SceneId& id) = 0;
+  // Drops one LoadScene reference of `tenant`'s scene `id`; NOT_FOUND for
+  // an id of another tenant, as for one that does not exist.
+  virtual absl::Status UnloadScene(const SceneId& id, const TenantId& tenant) = 0;
+  absl::Status UnloadScene(const SceneId& id) { return UnloadScene(id, TenantId(kDefaultTenant)); }
 
   // Validates the config (scene id, solver, params, resolution, encoding).
   virtual absl::StatusOr<SessionOpenInfo> OpenSession(const SessionConfig& config,

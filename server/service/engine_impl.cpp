@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
+#include <random>
 #include <set>
 #include <thread>
 #include <utility>
@@ -38,6 +39,22 @@ absl::Status Unavailable() { return absl::UnavailableError("server is shutting d
 absl::Status GpuLost() {
   return absl::UnavailableError(
       "GPU reset: the render context was lost; the server is recovering, try again");
+}
+
+// "prefix-" and 128 random bits in hex: ids nobody can guess or enumerate.
+std::string RandomId(std::string_view prefix) {
+  std::random_device random;  // the kernel's CSPRNG (getrandom) on Linux
+  std::string id = absl::StrCat(absl::string_view(prefix.data(), prefix.size()), "-");
+  for (int i = 0; i < 4; ++i) absl::StrAppend(&id, absl::Hex(random(), absl::kZeroPad8));
+  return id;
+}
+
+// How far a quota would be exceeded, as the message of RESOURCE_EXHAUSTED.
+absl::Status QuotaExceeded(const TenantId& tenant, std::string_view quota, uint64_t used,
+                           uint64_t adding, uint64_t limit) {
+  return absl::ResourceExhaustedError(absl::StrCat(
+      "quota ", absl::string_view(quota.data(), quota.size()), " of tenant '", tenant, "': ", used,
+      " held + ", adding, " exceeds its limit of ", limit));
 }
 
 std::string CpuModel() {
@@ -197,6 +214,7 @@ EngineStats EngineImpl::stats() const {
     out.sessions += 1;
     SessionStatus& status = out.session_status.emplace_back();
     status.id = id;
+    status.tenant = s->config.tenant;
     status.scene = s->config.scene;
     status.solver = s->config.solver;
     status.width = s->width;
@@ -209,7 +227,10 @@ EngineStats EngineImpl::stats() const {
   }
   out.scenes = uint32_t(scenes_.size());
   out.frames_rendered = frames_rendered_.load();
-  for (const auto& [id, s] : scenes_) out.scene_ids.push_back(id);
+  for (const auto& [id, s] : scenes_) {
+    out.scene_ids.push_back(id);
+    out.scene_tenants.push_back(s->tenant);
+  }
   out.gl_object_bytes = gl_object_bytes_.load();
   out.gpu_memory_total_bytes = gpu_memory_total_.load();
   out.gpu_memory_available_bytes = gpu_memory_available_.load();
@@ -257,14 +278,19 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
                                                    " must be finite and >= 0"));
   }
   const bool has_env = !source.environment_name.empty() || !source.environment_bytes.empty();
-  // A named scene loaded twice is the same scene: its state is shared.
+  // A named scene loaded twice by one tenant is the same scene: its state
+  // is shared among that tenant's sessions, never with another tenant's.
   if (!source.name.empty() && !has_env) {
     std::shared_ptr<SceneRecord> existing;
     {
       std::lock_guard lock(mutex_);
       if (shut_down_) return Unavailable();
       for (auto& [id, record] : scenes_) {
-        if (record->source_name == source.name) existing = record;
+        if (record->source_name == source.name && record->tenant == source.tenant) existing = record;
+      }
+      if (existing) {
+        existing->loads += 1;
+        existing->last_used = Clock::now();
       }
     }
     if (existing) {
@@ -323,6 +349,10 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   }
 
   auto record = std::make_shared<SceneRecord>();
+  record->tenant = source.tenant;
+  record->upload_bytes = source.bytes.size() + source.environment_bytes.size();
+  record->loads = 1;
+  record->last_used = Clock::now();
   record->source_name = has_env ? "" : source.name;
   record->scene = std::make_shared<const Scene>(std::move(scene));
   record->light_instances = uint32_t(LightInstanceNodes(*record->scene).size());
@@ -342,14 +372,15 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
       return absl::ResourceExhaustedError(absl::StrCat(
           "scenes: the server holds ", scenes_.size(), " scenes, the limit (--max-scenes)"));
     }
-    record->id = absl::StrCat(source.name.empty() ? "upload" : source.name, "-", next_id_++);
+    GS_RETURN_IF_ERROR(CheckSceneQuotaLocked(record->tenant, record->upload_bytes));
+    record->id = RandomId(source.name.empty() ? "upload" : source.name);
     scenes_[record->id] = record;
   }
   auto info = render_thread_->Call<absl::StatusOr<SceneInfo>>(
       [this, record, memory]() -> absl::StatusOr<SceneInfo> {
         {
-          // An UnloadScene of this id (ids are predictable) may have come
-          // first: its GPU copy would then never be freed.
+          // An UnloadScene of this id (listed by stats() while it loads)
+          // may have come first: its GPU copy would then never be freed.
           std::lock_guard lock(mutex_);
           if (scenes_.count(record->id) == 0) {
             return absl::AbortedError(absl::StrCat("scene_id: '", Echo(record->id),
@@ -358,8 +389,18 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
         }
         GpuSceneRecord gpu;
         gpu.memory = std::move(*memory);
+        gpu.tenant = record->tenant;
         gpu.state = std::make_unique<SceneState>(record->scene);
         GS_ASSIGN_OR_RETURN(gpu.gpu, GpuScene::Upload(*gpu.state));
+        if (const uint64_t limit = QuotaOf(record->tenant).gpu_bytes; limit > 0) {
+          uint64_t held = 0;
+          for (const auto& [id, other] : gpu_scenes_) {
+            if (other.tenant == record->tenant && other.gpu) held += other.gpu->gpu_bytes();
+          }
+          if (held + gpu.gpu->gpu_bytes() > limit) {
+            return QuotaExceeded(record->tenant, "gpu_bytes", held, gpu.gpu->gpu_bytes(), limit);
+          }
+        }
         SceneInfo described = DescribeScene(record->id, *gpu.state);
         gpu_scenes_[record->id] = std::move(gpu);
         RefreshMemoryStats(/*force=*/true);
@@ -373,25 +414,71 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   return info;
 }
 
-absl::Status EngineImpl::UnloadScene(const SceneId& id) {
-  {
-    std::lock_guard lock(mutex_);
-    if (shut_down_) return Unavailable();
-    auto it = scenes_.find(id);
-    if (it == scenes_.end()) {
-      return absl::NotFoundError(absl::StrCat("scene_id: no scene '", Echo(id), "'"));
-    }
-    if (it->second->sessions > 0) {
-      return absl::FailedPreconditionError(absl::StrCat(
-          "scene_id: scene '", Echo(id), "' is used by ", it->second->sessions, " session(s)"));
-    }
-    scenes_.erase(it);
+absl::Status EngineImpl::UnloadScene(const SceneId& id, const TenantId& tenant) {
+  std::lock_guard lock(mutex_);
+  if (shut_down_) return Unavailable();
+  GS_ASSIGN_OR_RETURN(std::shared_ptr<SceneRecord> scene, FindSceneLocked(tenant, id));
+  if (scene->loads == 0) {
+    return absl::FailedPreconditionError(absl::StrCat(
+        "scene_id: scene '", Echo(id), "' was unloaded already; it is freed when its ",
+        scene->sessions, " session(s) and render(s) end"));
   }
-  render_thread_->Post([this, id] {
-    gpu_scenes_.erase(id);
-    RefreshMemoryStats(/*force=*/true);
-  });
-  Log(LogLevel::kInfo, {"", id}, "unloaded");
+  scene->loads -= 1;
+  if (DropIfUnreferencedLocked(scene)) {
+    Log(LogLevel::kInfo, {"", id}, "unloaded");
+  } else {
+    Log(LogLevel::kInfo, {"", id},
+        absl::StrCat("unload: still held by ", scene->loads, " load(s) and ", scene->sessions,
+                     " session(s)/render(s)"));
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<std::shared_ptr<EngineImpl::SceneRecord>> EngineImpl::FindSceneLocked(
+    const TenantId& tenant, const SceneId& id) const {
+  auto it = scenes_.find(id);
+  // Another tenant's scene is answered as one that does not exist.
+  if (it == scenes_.end() || it->second->tenant != tenant) {
+    return absl::NotFoundError(absl::StrCat("scene_id: no scene '", Echo(id), "'"));
+  }
+  return it->second;
+}
+
+bool EngineImpl::DropIfUnreferencedLocked(const std::shared_ptr<SceneRecord>& scene) {
+  if (scene->loads > 0 || scene->sessions > 0) return false;
+  auto it = scenes_.find(scene->id);
+  if (it == scenes_.end() || it->second != scene) return false;
+  scenes_.erase(it);
+  if (!shut_down_) {
+    render_thread_->Post([this, id = scene->id] {
+      gpu_scenes_.erase(id);
+      RefreshMemoryStats(/*force=*/true);
+    });
+  }
+  return true;
+}
+
+TenantQuota EngineImpl::QuotaOf(const TenantId& tenant) const {
+  auto it = options_.quotas.find(tenant);
+  return it == options_.quotas.end() ? TenantQuota{} : it->second;
+}
+
+absl::Status EngineImpl::CheckSceneQuotaLocked(const TenantId& tenant,
+                                               uint64_t upload_bytes) const {
+  const TenantQuota quota = QuotaOf(tenant);
+  uint32_t scenes = 0;
+  uint64_t uploaded = 0;
+  for (const auto& [id, s] : scenes_) {
+    if (s->tenant != tenant) continue;
+    scenes += 1;
+    uploaded += s->upload_bytes;
+  }
+  if (quota.scenes > 0 && scenes + 1 > quota.scenes) {
+    return QuotaExceeded(tenant, "scenes", scenes, 1, quota.scenes);
+  }
+  if (quota.upload_bytes > 0 && uploaded + upload_bytes > quota.upload_bytes) {
+    return QuotaExceeded(tenant, "upload_bytes", uploaded, upload_bytes, quota.upload_bytes);
+  }
   return absl::OkStatus();
 }
 
@@ -444,24 +531,27 @@ absl::StatusOr<std::shared_ptr<EngineImpl::SessionRecord>> EngineImpl::CreateSes
   std::lock_guard lock(mutex_);
   if (shut_down_) return Unavailable();
   if (gpu_lost_) return GpuLost();
-  auto scene = scenes_.find(config.scene);
-  if (scene == scenes_.end()) {
-    return absl::NotFoundError(absl::StrCat("scene_id: no scene '", Echo(config.scene), "'"));
-  }
-  session->scene = scene->second;
+  GS_ASSIGN_OR_RETURN(session->scene, FindSceneLocked(config.tenant, config.scene));
   if (config.camera) {
     GS_RETURN_IF_ERROR(ValidateUpdate(*session->scene->scene, Update{0, *config.camera},
                                       options_.max_width, options_.max_height));
   }
   if (!transient) {
-    uint32_t open = 0;
-    for (const auto& [id, s] : sessions_) open += s->transient ? 0 : 1;
+    uint32_t open = 0, tenant_open = 0;
+    for (const auto& [id, s] : sessions_) {
+      open += s->transient ? 0 : 1;
+      tenant_open += !s->transient && s->config.tenant == config.tenant ? 1 : 0;
+    }
     if (open >= options_.max_sessions) {
       return absl::ResourceExhaustedError(absl::StrCat(
           "sessions: ", open, " sessions are open, the limit (--max-sessions)"));
     }
+    if (const uint32_t limit = QuotaOf(config.tenant).sessions; limit > 0 && tenant_open >= limit) {
+      return QuotaExceeded(config.tenant, "sessions", tenant_open, 1, limit);
+    }
   }
-  session->id = absl::StrCat(transient ? "render-" : "session-", next_id_++);
+  session->id = RandomId(transient ? "render" : "session");
+  session->last_request = Clock::now();
   session->width = config.width;
   session->height = config.height;
   session->scene->sessions += 1;
@@ -489,6 +579,7 @@ absl::Status EngineImpl::PushUpdate(const SessionId& id, Update update) {
   GS_RETURN_IF_ERROR(ValidateUpdate(*session.scene->scene, update, options_.max_width,
                                     options_.max_height));
   session.pending.push_back(std::move(update));
+  session.last_request = Clock::now();
   // Continuous sessions pick updates up at their next frame; on-request
   // sessions when a frame is requested.
   return absl::OkStatus();
@@ -503,6 +594,7 @@ absl::Status EngineImpl::RequestFrames(const SessionId& id, uint32_t count) {
       return absl::NotFoundError(absl::StrCat("session: no session '", Echo(id), "'"));
     }
     it->second->requested += std::max<uint32_t>(count, 1);
+    it->second->last_request = Clock::now();
   }
   render_thread_->Wake();
   return absl::OkStatus();
@@ -517,6 +609,7 @@ absl::Status EngineImpl::RequestKeyFrame(const SessionId& id) {
       return absl::NotFoundError(absl::StrCat("session: no session '", Echo(id), "'"));
     }
     it->second->key_frame_requested = true;
+    it->second->last_request = Clock::now();
   }
   render_thread_->Wake();
   return absl::OkStatus();
@@ -527,10 +620,16 @@ void EngineImpl::CloseSession(const SessionId& id) {
     std::lock_guard lock(mutex_);
     auto it = sessions_.find(id);
     if (it == sessions_.end()) return;
-    it->second->closed = true;
-    it->second->scene->sessions -= 1;
+    std::shared_ptr<SessionRecord> session = it->second;
+    session->closed = true;
+    session->scene->sessions -= 1;
+    session->scene->last_used = Clock::now();
     sessions_.erase(it);
     if (shut_down_) return;
+    // The last reference of a scene already unloaded frees it.
+    if (DropIfUnreferencedLocked(session->scene)) {
+      Log(LogLevel::kInfo, {"", session->scene->id}, "unloaded (its last session ended)");
+    }
   }
   render_thread_->Post([this, id] { ReleaseSessionGpu(id); });
 }
@@ -541,6 +640,7 @@ void EngineImpl::ReleaseSessionGpu(const SessionId& id) {
 
 absl::StatusOr<EncodedFrame> EngineImpl::Render(const RenderRequest& request) {
   SessionConfig config;
+  config.tenant = request.tenant;
   config.scene = request.scene;
   config.solver = request.solver;
   config.params = request.params;
@@ -582,6 +682,7 @@ absl::StatusOr<EncodedFrame> EngineImpl::Render(const RenderRequest& request) {
 
 Clock::time_point EngineImpl::Tick() {
   if (started_) CheckGpuReset();  // also between frames (an injected reset)
+  ExpireIdle();
   // Snapshot the sessions, ordered so the one after the last served comes
   // first: every due session gets one frame per round.
   std::vector<std::shared_ptr<SessionRecord>> order;
@@ -628,7 +729,49 @@ Clock::time_point EngineImpl::Tick() {
       if (session->requested > 0) next = std::min(next, std::max(view.poll_at, Clock::now()));
     }
   }
+  // Idle sessions and scenes are looked for at least every second.
+  if (options_.idle_timeout.count() > 0) next = std::min(next, Clock::now() + std::chrono::seconds(1));
   return next;
+}
+
+void EngineImpl::ExpireIdle() {
+  if (options_.idle_timeout.count() <= 0) return;
+  const auto now = Clock::now();
+  std::vector<std::shared_ptr<SessionRecord>> expired;
+  std::vector<SceneId> freed;
+  {
+    std::lock_guard lock(mutex_);
+    if (shut_down_) return;
+    for (const auto& [id, s] : sessions_) {
+      if (!s->transient && !s->closed && now - s->last_request > options_.idle_timeout) {
+        s->closed = true;  // no more frames; CloseSession follows from the client's side
+        expired.push_back(s);
+      }
+    }
+    // A scene no session or Render uses, idle that long, goes even if its
+    // loader never unloaded it.
+    for (auto it = scenes_.begin(); it != scenes_.end();) {
+      const SceneRecord& scene = *it->second;
+      if (scene.sessions == 0 && now - scene.last_used > options_.idle_timeout &&
+          gpu_scenes_.count(it->first) > 0) {
+        freed.push_back(it->first);
+        it = scenes_.erase(it);
+      } else {
+        ++it;
+      }
+    }
+  }
+  const auto seconds = std::chrono::duration<double>(options_.idle_timeout).count();
+  for (const auto& s : expired) {
+    Log(LogLevel::kInfo, {s->id, s->config.scene}, "idle: ending the session");
+    s->sink->OnSessionFailed(absl::DeadlineExceededError(absl::StrCat(
+        "session: no request from the client for ", seconds, " s (--idle-timeout)")));
+  }
+  for (const SceneId& id : freed) {
+    gpu_scenes_.erase(id);
+    Log(LogLevel::kInfo, {"", id}, absl::StrCat("idle for ", seconds, " s: unloaded"));
+  }
+  if (!freed.empty()) RefreshMemoryStats(/*force=*/true);
 }
 
 void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {

@@ -38,7 +38,8 @@ class EngineImpl final : public Engine {
   EngineStats stats() const override;
   std::vector<SolverDescription> ListSolvers() const override;
   absl::StatusOr<SceneInfo> LoadScene(const SceneSource& source) override;
-  absl::Status UnloadScene(const SceneId& id) override;
+  using Engine::UnloadScene;
+  absl::Status UnloadScene(const SceneId& id, const TenantId& tenant) override;
   absl::StatusOr<SessionOpenInfo> OpenSession(const SessionConfig& config,
                                               std::shared_ptr<FrameSink> sink) override;
   absl::Status PushUpdate(const SessionId& id, Update update) override;
@@ -53,10 +54,15 @@ class EngineImpl final : public Engine {
   // Shared between threads; fields after `mutex-guarded` need mutex_.
   struct SceneRecord {
     SceneId id;
+    TenantId tenant;          // the owner; other tenants do not find `id`
     std::string source_name;  // scene-directory name, "" when uploaded
     std::shared_ptr<const Scene> scene;
     uint32_t light_instances = 0;
-    int sessions = 0;  // mutex-guarded
+    uint64_t upload_bytes = 0;  // glTF and environment bytes sent by the client
+    // mutex-guarded: the references that keep the scene (engine.h).
+    int sessions = 0;  // open sessions and Render calls on it
+    int loads = 0;     // LoadScene calls not yet undone by UnloadScene
+    RenderThread::Clock::time_point last_used{};  // for idle_timeout
   };
   struct SessionRecord {
     SessionId id;
@@ -71,6 +77,7 @@ class EngineImpl final : public Engine {
     uint32_t requested = 0;
     bool key_frame_requested = false;
     bool closed = false;
+    RenderThread::Clock::time_point last_request{};  // the client's, for idle_timeout
     // For stats(), updated after each frame (mutex-guarded).
     uint64_t frames = 0;
     uint64_t last_seq = 0;
@@ -87,6 +94,7 @@ class EngineImpl final : public Engine {
     MemoryBudget::Reservation memory;  // its estimate, held while it lives
   };
   struct GpuSceneRecord {
+    TenantId tenant;
     std::unique_ptr<SceneState> state;
     std::unique_ptr<GpuScene> gpu;
     std::map<std::string, SolverEntry> solvers;  // by solver_key
@@ -119,6 +127,17 @@ class EngineImpl final : public Engine {
                                                                std::shared_ptr<FrameSink> sink,
                                                                bool transient);
   absl::Status ValidateConfig(const SessionConfig& config) const;
+  // `tenant`'s scene `id`, or NOT_FOUND (also for another tenant's id).
+  absl::StatusOr<std::shared_ptr<SceneRecord>> FindSceneLocked(const TenantId& tenant,
+                                                               const SceneId& id) const;
+  // Forgets `scene` when nothing references it any more and frees its GPU
+  // copy on the render thread; true when it did.
+  bool DropIfUnreferencedLocked(const std::shared_ptr<SceneRecord>& scene);
+  TenantQuota QuotaOf(const TenantId& tenant) const;
+  // Checks `tenant`'s scene quotas for one more scene of `upload_bytes`.
+  absl::Status CheckSceneQuotaLocked(const TenantId& tenant, uint64_t upload_bytes) const;
+  // Ends sessions and frees scenes idle for options_.idle_timeout. Render thread.
+  void ExpireIdle();
 
   // Render thread.
   RenderThread::Clock::time_point Tick();
@@ -152,7 +171,6 @@ class EngineImpl final : public Engine {
   mutable std::mutex mutex_;
   std::map<SceneId, std::shared_ptr<SceneRecord>> scenes_;
   std::map<SessionId, std::shared_ptr<SessionRecord>> sessions_;
-  uint64_t next_id_ = 1;
   bool shut_down_ = false;
   std::atomic<uint64_t> frames_rendered_{0};
   std::atomic<bool> gpu_lost_{false};

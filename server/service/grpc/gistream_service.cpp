@@ -2,6 +2,7 @@
 
 #include <utility>
 
+#include "service/grpc/auth.h"
 #include "service/grpc/translate.h"
 #include "util/log.h"
 #include "util/process_stats.h"
@@ -16,6 +17,29 @@ namespace {
 GistreamService::Options WithSessionObserver(GistreamService::Options options) {
   if (options.session.observer == nullptr) options.session.observer = options.observer;
   return options;
+}
+// A Session call refused before it starts (no valid token).
+class RejectedSession final
+    : public grpc::ServerBidiReactor<pb::SessionRequest, pb::SessionEvent> {
+ public:
+  explicit RejectedSession(const grpc::Status& status) { Finish(status); }
+  void OnDone() override { delete this; }
+};
+
+// `stats` with the scenes and sessions of other tenants left out.
+EngineStats OnlyTenant(EngineStats stats, const TenantId& tenant) {
+  EngineStats out = stats;
+  out.scene_ids.clear();
+  out.scene_tenants.clear();
+  for (size_t i = 0; i < stats.scene_ids.size() && i < stats.scene_tenants.size(); ++i) {
+    if (stats.scene_tenants[i] != tenant) continue;
+    out.scene_ids.push_back(stats.scene_ids[i]);
+    out.scene_tenants.push_back(tenant);
+  }
+  std::erase_if(out.session_status, [&](const SessionStatus& s) { return s.tenant != tenant; });
+  out.scenes = uint32_t(out.scene_ids.size());
+  out.sessions = uint32_t(out.session_status.size());
+  return out;
 }
 }  // namespace
 
@@ -40,12 +64,22 @@ template <typename Work>
 grpc::ServerUnaryReactor* GistreamService::RunOnPool(grpc::CallbackServerContext* context,
                                                      const char* method, Work work) {
   grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  absl::Status submitted = pool_.Submit([this, reactor, context, method, work]() {
+  // Before anything of the request is looked at (TokenAuthProcessor has
+  // usually rejected an unknown caller already).
+  absl::StatusOr<TenantId> tenant = CallerTenant(*context, options_.tokens.get());
+  if (!tenant.ok()) {
+    const grpc::Status status = ToGrpcStatus(tenant.status());
+    NoteFailure(method, context, status);
+    reactor->Finish(status);
+    return reactor;
+  }
+  absl::Status submitted = pool_.Submit([this, reactor, context, method, work,
+                                         tenant = *std::move(tenant)]() {
     grpc::Status status;
     if (context->IsCancelled()) {
       status = grpc::Status(grpc::StatusCode::CANCELLED, "cancelled before it ran");
     } else {
-      status = work();
+      status = work(tenant);
     }
     if (!status.ok()) NoteFailure(method, context, status);
     reactor->Finish(status);  // the last use of context/request/response
@@ -61,13 +95,14 @@ grpc::ServerUnaryReactor* GistreamService::RunOnPool(grpc::CallbackServerContext
 grpc::ServerUnaryReactor* GistreamService::LoadScene(grpc::CallbackServerContext* context,
                                                      const pb::LoadSceneRequest* request,
                                                      pb::LoadSceneResponse* response) {
-  return RunOnPool(context, "LoadScene", [this, request, response] {
+  return RunOnPool(context, "LoadScene", [this, request, response](const TenantId& tenant) {
     absl::StatusOr<SceneSource> source = SceneSourceFromProto(*request);
     if (!source.ok()) return ToGrpcStatus(source.status());
+    source->tenant = tenant;
     absl::StatusOr<SceneInfo> info = engine_.LoadScene(*source);
     if (!info.ok()) return ToGrpcStatus(info.status());
     Log(LogLevel::kInfo, {"", info->id},
-        absl::StrCat("loaded (", info->triangle_count, " triangles, ", info->lights.size(),
+        absl::StrCat("loaded by tenant ", tenant, " (", info->triangle_count, " triangles, ", info->lights.size(),
                      " lights)"));
     SceneInfoToProto(*info, response);
     return grpc::Status::OK;
@@ -77,18 +112,18 @@ grpc::ServerUnaryReactor* GistreamService::LoadScene(grpc::CallbackServerContext
 grpc::ServerUnaryReactor* GistreamService::UnloadScene(grpc::CallbackServerContext* context,
                                                        const pb::UnloadSceneRequest* request,
                                                        pb::UnloadSceneResponse* /*response*/) {
-  return RunOnPool(context, "UnloadScene", [this, request] {
+  return RunOnPool(context, "UnloadScene", [this, request](const TenantId& tenant) {
     if (request->scene_id().empty()) {
       return grpc::Status(grpc::StatusCode::INVALID_ARGUMENT, "scene_id: empty");
     }
-    return ToGrpcStatus(engine_.UnloadScene(request->scene_id()));
+    return ToGrpcStatus(engine_.UnloadScene(request->scene_id(), tenant));
   });
 }
 
 grpc::ServerUnaryReactor* GistreamService::ListSolvers(grpc::CallbackServerContext* context,
                                                        const pb::ListSolversRequest* /*request*/,
                                                        pb::ListSolversResponse* response) {
-  return RunOnPool(context, "ListSolvers", [this, response] {
+  return RunOnPool(context, "ListSolvers", [this, response](const TenantId&) {
     SolversToProto(engine_.ListSolvers(), response);
     return grpc::Status::OK;
   });
@@ -97,9 +132,10 @@ grpc::ServerUnaryReactor* GistreamService::ListSolvers(grpc::CallbackServerConte
 grpc::ServerUnaryReactor* GistreamService::Render(grpc::CallbackServerContext* context,
                                                   const pb::RenderRequest* request,
                                                   pb::Frame* response) {
-  return RunOnPool(context, "Render", [this, context, request, response] {
+  return RunOnPool(context, "Render", [this, context, request, response](const TenantId& tenant) {
     absl::StatusOr<RenderRequest> render = RenderRequestFromProto(*request);
     if (!render.ok()) return ToGrpcStatus(render.status());
+    render->tenant = tenant;
     // A client that leaves (or whose deadline passes, or a server shutdown
     // past its deadline) cancels the call: the engine stops the work.
     render->cancelled = [context] { return context->IsCancelled(); };
@@ -112,15 +148,24 @@ grpc::ServerUnaryReactor* GistreamService::Render(grpc::CallbackServerContext* c
 
 grpc::ServerBidiReactor<pb::SessionRequest, pb::SessionEvent>* GistreamService::Session(
     grpc::CallbackServerContext* context) {
-  return new SessionReactor(engine_, pool_, context, options_.session);
+  absl::StatusOr<TenantId> tenant = CallerTenant(*context, options_.tokens.get());
+  if (!tenant.ok()) {
+    const grpc::Status status = ToGrpcStatus(tenant.status());
+    NoteFailure("Session", context, status);
+    return new RejectedSession(status);
+  }
+  return new SessionReactor(engine_, pool_, context, options_.session, *std::move(tenant));
 }
 
 grpc::ServerUnaryReactor* GistreamService::GetServerStatus(
     grpc::CallbackServerContext* context, const pb::GetServerStatusRequest* /*request*/,
     pb::ServerStatus* response) {
-  return RunOnPool(context, "GetServerStatus", [this, response] {
-    ServerStatusToProto(engine_.device_info(), engine_.stats(), ReadProcessStats(), Version(),
-                        response);
+  return RunOnPool(context, "GetServerStatus", [this, response](const TenantId& tenant) {
+    // With tokens a tenant sees its own scenes and sessions only (without,
+    // there is one tenant).
+    EngineStats stats = engine_.stats();
+    if (options_.tokens) stats = OnlyTenant(std::move(stats), tenant);
+    ServerStatusToProto(engine_.device_info(), stats, ReadProcessStats(), Version(), response);
     return grpc::Status::OK;
   });
 }

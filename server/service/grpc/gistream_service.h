@@ -9,6 +9,7 @@
 
 #include "gistream/v1/gistream.grpc.pb.h"
 #include "service/engine.h"
+#include "util/auth_tokens.h"
 #include "service/grpc/session_reactor.h"
 #include "service/grpc/worker_pool.h"
 
@@ -22,6 +23,9 @@ class GistreamService final : public ::gistream::v1::Gistream::CallbackService {
     /// Told about failed calls, rejected updates and dropped frames (also
     /// passed on to every session); may be null.
     std::shared_ptr<ServerObserver> observer;
+    /// Bearer tokens -> tenants (service/grpc/auth.h); null: every caller
+    /// is the default tenant.
+    std::shared_ptr<const AuthTokens> tokens;
   };
 
   GistreamService(Engine& engine, const Options& options);

@@ -4,6 +4,8 @@
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/health_check_service_interface.h>
 
+#include <vector>
+
 #include "util/log.h"
 
 namespace gistream::service {
@@ -30,9 +32,12 @@ absl::StatusOr<std::unique_ptr<GistreamServer>> GistreamServer::Start(
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
 
+  GS_ASSIGN_OR_RETURN(std::shared_ptr<grpc::ServerCredentials> credentials,
+                      MakeServerCredentials(options.listen, options.tls, options.allow_insecure,
+                                            options.service.tokens));
   std::unique_ptr<GistreamServer> self(new GistreamServer(engine, options));
   grpc::ServerBuilder builder;
-  builder.AddListeningPort(options.listen, grpc::InsecureServerCredentials(), &self->port_);
+  builder.AddListeningPort(options.listen, credentials, &self->port_);
   builder.RegisterService(self->service_.get());
   // Generic tools ask for grpc.reflection.v1 first; libgrpc++ 1.51 serves
   // only v1alpha (the plugin above), so v1 is ours.
@@ -63,15 +68,35 @@ absl::StatusOr<std::unique_ptr<GistreamServer>> GistreamServer::Start(
   }
   self->address_ = WithPort(options.listen, self->port_);
 
-  grpc::HealthCheckServiceInterface* health = self->server_->GetHealthCheckService();
-  if (health != nullptr) {
-    health->SetServingStatus("", true);
-    health->SetServingStatus(kServiceName, true);
+  if (!options.health_listen.empty()) {
+    // Only the default health service: nothing else is registered here.
+    grpc::ServerBuilder health_builder;
+    health_builder.AddListeningPort(options.health_listen, grpc::InsecureServerCredentials(),
+                                    &self->health_port_);
+    health_builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
+    self->health_server_ = health_builder.BuildAndStart();
+    if (self->health_server_ == nullptr || self->health_port_ == 0) {
+      self->health_server_.reset();
+      self->server_->Shutdown();
+      return absl::UnavailableError(absl::StrCat("cannot listen on ", options.health_listen,
+                                                 " (--health-listen)"));
+    }
+  }
+  for (grpc::Server* server : {self->server_.get(), self->health_server_.get()}) {
+    grpc::HealthCheckServiceInterface* health =
+        server != nullptr ? server->GetHealthCheckService() : nullptr;
+    if (health != nullptr) {
+      health->SetServingStatus("", true);
+      health->SetServingStatus(kServiceName, true);
+    }
   }
   // A GPU reset turns health NOT_SERVING until the engine has recovered.
-  engine.SetServingListener([server = self->server_.get()](bool serving) {
-    if (grpc::HealthCheckServiceInterface* h = server->GetHealthCheckService()) {
-      h->SetServingStatus(serving);
+  engine.SetServingListener([servers = std::vector<grpc::Server*>{
+                                 self->server_.get(), self->health_server_.get()}](bool serving) {
+    for (grpc::Server* server : servers) {
+      grpc::HealthCheckServiceInterface* h =
+          server != nullptr ? server->GetHealthCheckService() : nullptr;
+      if (h != nullptr) h->SetServingStatus(serving);
     }
   });
   return self;
@@ -80,9 +105,11 @@ absl::StatusOr<std::unique_ptr<GistreamServer>> GistreamServer::Start(
 GistreamServer::~GistreamServer() { Shutdown(std::chrono::milliseconds(0)); }
 
 void GistreamServer::SetNotServing() {
-  if (server_ == nullptr) return;
-  if (grpc::HealthCheckServiceInterface* health = server_->GetHealthCheckService()) {
-    health->SetServingStatus(false);  // every service, "" included
+  for (grpc::Server* server : {server_.get(), health_server_.get()}) {
+    if (server == nullptr) continue;
+    if (grpc::HealthCheckServiceInterface* health = server->GetHealthCheckService()) {
+      health->SetServingStatus(false);  // every service, "" included
+    }
   }
 }
 
@@ -100,6 +127,7 @@ void GistreamServer::Shutdown(std::chrono::milliseconds deadline) {
     server_->Shutdown(std::chrono::system_clock::now() + deadline);
     server_->Wait();
   }
+  if (health_server_ != nullptr) health_server_->Shutdown(std::chrono::system_clock::now());
   service_->StopWorkers();  // drains: jobs that finish calls or close sessions
   engine_.Shutdown();
   Log(LogLevel::kInfo, "shut down");

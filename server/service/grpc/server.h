@@ -15,6 +15,7 @@
 #include <grpcpp/grpcpp.h>
 
 #include "service/engine.h"
+#include "service/grpc/auth.h"
 #include "service/grpc/gistream_service.h"
 #include "service/grpc/reflection_v1.h"
 
@@ -31,6 +32,15 @@ struct ServerOptions {
   std::chrono::milliseconds keepalive_timeout{10'000};
   /// Shortest interval between client pings the server tolerates.
   std::chrono::milliseconds min_client_ping_interval{10'000};
+  /// TLS (mutual with a client CA); empty: plaintext, which needs a loopback
+  /// `listen` or `allow_insecure` (service/grpc/auth.h).
+  TlsFiles tls;
+  bool allow_insecure = false;
+  /// host:port of a second, plaintext listener that serves grpc.health.v1
+  /// only (kubelet's gRPC probes speak no TLS); empty: none.
+  std::string health_listen;
+  /// Bearer tokens and their tenants; set it in `service.tokens` (the
+  /// server installs the matching auth processor).
   GistreamService::Options service;
 };
 
@@ -48,6 +58,7 @@ class GistreamServer {
   // The listen address with the port actually bound ("127.0.0.1:43121").
   const std::string& address() const { return address_; }
   int port() const { return port_; }
+  int health_port() const { return health_port_; }
 
   // First shutdown step, also on its own (e.g. a drain period for load
   // balancers): health answers NOT_SERVING for every service from now on.
@@ -70,6 +81,8 @@ class GistreamServer {
   std::unique_ptr<GistreamService> service_;
   std::unique_ptr<ReflectionV1> reflection_v1_;  // grpc.reflection.v1 (v1alpha: libgrpc++)
   std::unique_ptr<grpc::Server> server_;
+  std::unique_ptr<grpc::Server> health_server_;  // --health-listen
+  int health_port_ = 0;
   std::mutex shutdown_mutex_;  // held for the whole of Shutdown
   std::mutex done_mutex_;
   std::condition_variable done_cv_;

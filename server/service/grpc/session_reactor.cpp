@@ -41,11 +41,13 @@ void SessionSink::OnSessionFailed(const absl::Status& status) {
 // inline, so this cannot re-enter.
 
 SessionReactor::SessionReactor(Engine& engine, WorkerPool& pool,
-                               grpc::CallbackServerContext* context, const Options& options)
+                               grpc::CallbackServerContext* context, const Options& options,
+                               TenantId tenant)
     : engine_(engine),
       pool_(pool),
       context_(context),
       options_(options),
+      tenant_(std::move(tenant)),
       sink_(std::make_shared<SessionSink>(this)) {
   read_in_flight_ = true;
   StartRead(&request_);
@@ -154,6 +156,7 @@ void SessionReactor::HandleConfig(const pb::SessionConfig& proto) {
   }
   pacing_ = config->pacing;
   scene_id_ = config->scene;
+  config->tenant = tenant_;
   state_ = State::kOpening;  // from here until the worker is done, nothing finishes the call
   lock.unlock();
 
@@ -183,7 +186,7 @@ void SessionReactor::OpenOnWorker(SessionConfig config) {
     Log(LogLevel::kInfo, {opened->id, opened->scene},
         absl::StrCat("opened (", opened->solver, ", ", config.width, "x", config.height, ", ",
                      config.pacing == Pacing::kOnRequest ? "on request" : "continuous",
-                     ") by ", context_->peer()));
+                     ") by tenant ", tenant_, " at ", context_->peer()));
     if (cancelled_) {
       to_close = TakeSessionToCloseLocked();
       RequestFinishLocked(grpc::Status::CANCELLED, /*flush=*/false);

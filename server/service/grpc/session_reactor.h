@@ -68,9 +68,10 @@ class SessionReactor final
     std::shared_ptr<ServerObserver> observer;
   };
 
-  // Deletes itself in OnDone.
+  // Deletes itself in OnDone. `tenant`: the authenticated caller, who must
+  // own the configured scene.
   SessionReactor(Engine& engine, WorkerPool& pool, grpc::CallbackServerContext* context,
-                 const Options& options);
+                 const Options& options, TenantId tenant);
 
   void OnReadDone(bool ok) override;
   void OnWriteDone(bool ok) override;
@@ -114,6 +115,7 @@ class SessionReactor final
   WorkerPool& pool_;
   grpc::CallbackServerContext* const context_;
   const Options options_;
+  const TenantId tenant_;
   const std::shared_ptr<SessionSink> sink_;
 
   // Runtime data. request_ belongs to whoever holds the outstanding read,
