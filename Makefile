@@ -5,6 +5,9 @@ BUILD_TYPE ?= RelWithDebInfo
 JOBS ?= $(shell nproc)
 ADDR ?= 127.0.0.1:50051
 GENERATOR := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
+# Our code builds warning-free on Debian 12's GCC; a warning fails the build
+# here and in CI (`make WERROR=OFF ...` for another compiler).
+WERROR ?= ON
 
 .PHONY: all deps configure build run test clean
 
@@ -15,7 +18,8 @@ deps:
 
 configure: deps
 	@if [ ! -f $(BUILD_DIR)/CMakeCache.txt ]; then \
-	  cmake -S . -B $(BUILD_DIR) $(GENERATOR) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE); fi
+	  cmake -S . -B $(BUILD_DIR) $(GENERATOR) -DCMAKE_BUILD_TYPE=$(BUILD_TYPE) \
+	    -DGISTREAM_WERROR=$(WERROR); fi
 
 build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
