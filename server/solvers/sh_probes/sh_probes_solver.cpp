@@ -261,13 +261,14 @@ absl::Status ShProbesSolver::Progress(SolverContext& ctx, ChangeMask changes) {
     // The direct light's shadow maps in slices of the frame budget (the
     // shown set stays bound meanwhile); the probes' texels take the new
     // direct light once the new set is shown.
+    // Half the budget while probes wait too, the rest is theirs.
     gl::StageTimer::Scope stage(ctx.timer, "render_cubemaps");
     const bool drawing = lighting_.pending();
+    const double budget = (schedule_.pending() || geometry) ? 0.5 * ctx.budget_ms : ctx.budget_ms;
     if (lights) {
-      GS_RETURN_IF_ERROR(
-          lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes, ctx.budget_ms));
+      GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes, budget));
     } else if (drawing) {
-      lighting_.Continue(ctx.gpu, ctx.state, ctx.budget_ms);
+      lighting_.Continue(ctx.gpu, ctx.state, budget);
     }
     if ((lights || drawing) && !lighting_.pending()) schedule_.NeedDirectAll();
   }
@@ -533,7 +534,7 @@ absl::Status ShProbesSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
   glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
   glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
   glDisable(GL_DEPTH_TEST);
-  gbuffer.BindTextures(8);
+  gbuffer.BindTextures();
   lighting_.Bind(final_);
   BindProbeData(final_, shown_coefficients_);
   final_.Set("uIndirectScale", indirect_scale_);
