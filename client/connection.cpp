@@ -1,6 +1,8 @@
 #include "connection.h"
 
 #include <chrono>
+#include <fstream>
+#include <sstream>
 #include <utility>
 #include <vector>
 
@@ -72,6 +74,27 @@ std::string DescribeStatus(const absl::Status& status) {
   return absl::StrCat(absl::StatusCodeToString(status.code()), ": ", status.message());
 }
 
+std::shared_ptr<grpc::Channel> MakeChannel(const ConnectionOptions& options,
+                                           const grpc::ChannelArguments& args) {
+  if (options.token.empty()) {
+    return grpc::CreateCustomChannel(options.server, Credentials(options), args);
+  }
+  std::vector<std::unique_ptr<grpc::experimental::ClientInterceptorFactoryInterface>> factories;
+  factories.push_back(std::make_unique<BearerInterceptorFactory>(options.token));
+  return grpc::experimental::CreateCustomChannelWithInterceptors(
+      options.server, Credentials(options), args, std::move(factories));
+}
+
+absl::StatusOr<std::string> ReadPem(absl::string_view flag, const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  if (in) text << in.rdbuf();
+  if (!in || text.str().empty()) {
+    return absl::InvalidArgumentError(absl::StrCat(flag, ": cannot read '", path, "'"));
+  }
+  return text.str();
+}
+
 Connection::Connection(const ConnectionOptions& options) : options_(options) {
   grpc::ChannelArguments args;
   // Frames (EXR at high resolution) and uploaded scenes exceed gRPC's 4 MiB
@@ -79,14 +102,7 @@ Connection::Connection(const ConnectionOptions& options) : options_(options) {
   args.SetMaxReceiveMessageSize(-1);
   args.SetMaxSendMessageSize(-1);
   if (options_.own_connection) args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);
-  if (options_.token.empty()) {
-    channel_ = grpc::CreateCustomChannel(options_.server, Credentials(options_), args);
-  } else {
-    std::vector<std::unique_ptr<grpc::experimental::ClientInterceptorFactoryInterface>> factories;
-    factories.push_back(std::make_unique<BearerInterceptorFactory>(options_.token));
-    channel_ = grpc::experimental::CreateCustomChannelWithInterceptors(
-        options_.server, Credentials(options_), args, std::move(factories));
-  }
+  channel_ = MakeChannel(options_, args);
   stub_ = v1::Gistream::NewStub(channel_);
 }
 

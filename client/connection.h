@@ -23,6 +23,13 @@ bool IsRpcError(const absl::Status& status);
 // "CODE: message", without the payloads absl::Status::ToString appends.
 std::string DescribeStatus(const absl::Status& status);
 
+// A channel to `options.server` with its TLS credentials and bearer token
+// (on every call); gistream-web's upstream channel too.
+std::shared_ptr<grpc::Channel> MakeChannel(const ConnectionOptions& options,
+                                           const grpc::ChannelArguments& args);
+// The contents of the PEM file `path`, or a usage error naming `flag`.
+absl::StatusOr<std::string> ReadPem(absl::string_view flag, const std::string& path);
+
 class Connection {
  public:
   // Does not connect yet: the first call does, and fails fast with

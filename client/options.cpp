@@ -1,9 +1,7 @@
 #include "options.h"
 
 #include <cmath>
-#include <fstream>
 #include <limits>
-#include <sstream>
 #include <vector>
 
 #include <absl/strings/numbers.h>
@@ -12,6 +10,7 @@
 #include <absl/strings/strip.h>
 
 #include "cli_args.h"
+#include "connection.h"
 #include "image_format.h"
 
 namespace gistream::client {
@@ -58,14 +57,6 @@ std::optional<Command> CommandFromName(absl::string_view name) {
 const std::vector<FlagSpec> kConnectionFlags = {{"server"}, {"timeout"}, {"tls", false},
                                                 {"ca"},     {"cert"},    {"key"},
                                                 {"token"}};
-
-absl::StatusOr<std::string> ReadPem(absl::string_view flag, const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  if (in) text << in.rdbuf();
-  if (!in || text.str().empty()) return Usage(absl::StrCat(flag, ": cannot read '", path, "'"));
-  return text.str();
-}
 const std::vector<FlagSpec> kSceneFlags = {
     {"scene"}, {"environment"}, {"environment-intensity"}, {"keep-scene", false}};
 const std::vector<FlagSpec> kSolverFlags = {{"solver"}, {"param", true, true}};

@@ -5,13 +5,18 @@
 //
 //   gistream-web [--server ADDR] [--listen HOST:PORT] [--scene NAME]
 //                [--solver NAME] [--param K=V]... [--size WxH] [--fps F]
+//                [--tls] [--ca FILE] [--cert FILE --key FILE] [--token TOKEN]
+// The upstream channel to gistreamd takes the CLI's TLS and token options
+// (client/connection.h); the token defaults to $GISTREAM_TOKEN.
 #include <algorithm>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 #include <string>
 
 #include <grpcpp/grpcpp.h>
 
+#include "connection.h"
 #include "http_server.h"
 
 namespace {
@@ -19,7 +24,10 @@ namespace {
 int Usage() {
   std::cerr << "usage: gistream-web [--server ADDR] [--listen HOST:PORT] [--scene NAME]\n"
                "                    [--scenes NAME,NAME,...] [--solver NAME] [--param K=V]...\n"
-               "                    [--size WxH] [--fps F]\n"
+               "                    [--size WxH] [--fps F] [--tls] [--ca FILE]\n"
+               "                    [--cert FILE --key FILE] [--token TOKEN]\n"
+               "--tls/--ca/--cert/--key/--token: the channel to gistreamd, as in gistream\n"
+               "(token default $GISTREAM_TOKEN).\n"
                "--scenes: the page's scene picker (default: the bundled scenes).\n"
                "Serves the viewer on http://HOST:PORT/ (default 127.0.0.1:8080), bridged to\n"
                "gistreamd at --server (default $GISTREAM_SERVER, else 127.0.0.1:50051).\n";
@@ -32,6 +40,8 @@ int main(int argc, char** argv) {
   using namespace gistream;
   const char* env = std::getenv("GISTREAM_SERVER");
   std::string server = env && *env ? env : "127.0.0.1:50051";
+  client::ConnectionOptions upstream;
+  if (const char* token = std::getenv("GISTREAM_TOKEN"); token != nullptr) upstream.token = token;
   std::string listen = "127.0.0.1:8080", scene = "cornell_box", solver = "direct";
   // The scene picker's choices: the bundled scenes unless --scenes says.
   std::string scenes = "cornell_box,cornell_box_coarse,indirect_room,dynamic_block,furnace";
@@ -41,6 +51,10 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "--help" || flag == "-h") return Usage(), 0;
+    if (flag == "--tls") {
+      upstream.tls = true;
+      continue;
+    }
     if (i + 1 >= argc) return Usage();
     const std::string value = argv[++i];
     if (flag == "--server") server = value;
@@ -51,6 +65,17 @@ int main(int argc, char** argv) {
     else if (flag == "--fps") fps = std::stof(value);
     else if (flag == "--size") {
       if (std::sscanf(value.c_str(), "%ux%u", &width, &height) != 2) return Usage();
+    } else if (flag == "--ca" || flag == "--cert" || flag == "--key") {
+      absl::StatusOr<std::string> pem = client::ReadPem(flag, value);
+      if (!pem.ok()) {
+        std::cerr << "gistream-web: " << pem.status().message() << "\n";
+        return 2;
+      }
+      (flag == "--ca" ? upstream.ca_pem : flag == "--cert" ? upstream.cert_pem : upstream.key_pem) =
+          *pem;
+      upstream.tls = true;
+    } else if (flag == "--token") {
+      upstream.token = value;
     } else if (flag == "--param") {
       const size_t eq = value.find('=');
       if (eq == std::string::npos) return Usage();
@@ -61,7 +86,8 @@ int main(int argc, char** argv) {
   }
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(256 << 20);
-  auto channel = grpc::CreateCustomChannel(server, grpc::InsecureChannelCredentials(), args);
+  upstream.server = server;
+  auto channel = client::MakeChannel(upstream, args);
   web::ViewerOptions options;
   options.stub = v1::Gistream::NewStub(channel);
   v1::LoadSceneRequest load;

@@ -4,7 +4,10 @@
 //
 //   cd examples/node && npm install
 //   node render.mjs [--server 127.0.0.1:50051] [--out box.png]
-import { writeFileSync } from 'node:fs';
+//                   [--ca ca.crt [--cert client.crt --key client.key]] [--token TOKEN]
+// --ca connects with TLS; the token (default $GISTREAM_TOKEN) goes with
+// every call as "authorization: Bearer TOKEN".
+import { readFileSync, writeFileSync } from 'node:fs';
 import { fileURLToPath } from 'node:url';
 import path from 'node:path';
 import grpc from '@grpc/grpc-js';
@@ -23,11 +26,18 @@ const definition = protoLoader.loadSync('gistream/v1/gistream.proto', {
   keepCase: true, longs: Number, enums: String, defaults: true, oneofs: true,
 });
 const { Gistream } = grpc.loadPackageDefinition(definition).gistream.v1;
-const client = new Gistream(server, grpc.credentials.createInsecure(), {
+const ca = arg('ca'), cert = arg('cert'), key = arg('key');
+const credentials = ca
+  ? grpc.credentials.createSsl(readFileSync(ca), key && readFileSync(key), cert && readFileSync(cert))
+  : grpc.credentials.createInsecure();
+const metadata = new grpc.Metadata();
+const token = arg('token', process.env.GISTREAM_TOKEN);
+if (token) metadata.set('authorization', `Bearer ${token}`);
+const client = new Gistream(server, credentials, {
   'grpc.max_receive_message_length': -1,
 });
 const call = (method, request) => new Promise((resolve, reject) =>
-  client[method](request, (error, response) => (error ? reject(error) : resolve(response))));
+  client[method](request, metadata, (error, response) => (error ? reject(error) : resolve(response))));
 
 const scene = await call('LoadScene', { name: 'cornell_box' });
 console.log(`scene ${scene.scene_id}: ${scene.triangle_count} triangles`);
@@ -39,7 +49,7 @@ writeFileSync(out, frame.image);
 console.log(`wrote ${out} (${frame.width}x${frame.height}, ${frame.total_ms.toFixed(1)} ms)`);
 
 // A session: config first, then updates; frames echo the last update.
-const session = client.Session();
+const session = client.Session(metadata);
 let seq = 0, frames = 0;
 session.on('data', (event) => {
   if (event.opened) {

@@ -10,12 +10,17 @@
             for frame in session.frames(10):
                 print(frame.frame_number, frame.last_update_seq, frame.total_ms)
 
+A server with TLS and tokens (gistreamd --tls-cert ... --auth-tokens ...):
+
+    client = gistream.Client("render.example:50051", token="...",  # or $GISTREAM_TOKEN
+                             credentials=gistream.tls_credentials(ca="ca.crt"))
+
 The generated stubs (gistream.v1.gistream_pb2, gistream_pb2_grpc) come
 from the build (CMake writes the package into build/python); everything
 the API offers is there, this module only makes the common calls short.
 """
 
-from gistream.client import Client, Session, look_at, node_transform
+from gistream.client import Client, Session, look_at, node_transform, tls_credentials
 from gistream.v1 import gistream_pb2 as pb
 
-__all__ = ["Client", "Session", "look_at", "node_transform", "pb"]
+__all__ = ["Client", "Session", "look_at", "node_transform", "pb", "tls_credentials"]

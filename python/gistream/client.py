@@ -1,5 +1,7 @@
 """The Client and Session classes (see the package docstring)."""
 
+import collections
+import os
 import queue
 import threading
 
@@ -39,15 +41,65 @@ def _encoding(fmt, quality):
     return pb.Encoding(format=_FORMATS[fmt], quality=quality)
 
 
+def tls_credentials(ca=None, cert=None, key=None):
+    """Channel credentials for a gistreamd serving TLS: `ca` the PEM file of
+    the CA that signed its certificate (None: the system's roots), `cert` and
+    `key` a client certificate for mutual TLS."""
+    def read(path):
+        if path is None:
+            return None
+        with open(path, "rb") as f:
+            return f.read()
+    return grpc.ssl_channel_credentials(read(ca), read(key), read(cert))
+
+
+class _CallDetails(collections.namedtuple(
+        "_CallDetails", ("method", "timeout", "metadata", "credentials", "wait_for_ready",
+                         "compression")), grpc.ClientCallDetails):
+    pass
+
+
+class _Bearer(grpc.UnaryUnaryClientInterceptor, grpc.UnaryStreamClientInterceptor,
+              grpc.StreamUnaryClientInterceptor, grpc.StreamStreamClientInterceptor):
+    """Adds "authorization: Bearer TOKEN" to every call, over TLS and
+    loopback plaintext alike (call credentials refuse plaintext)."""
+
+    def __init__(self, token):
+        self._header = ("authorization", f"Bearer {token}")
+
+    def _details(self, d):
+        return _CallDetails(d.method, d.timeout, tuple(d.metadata or ()) + (self._header,),
+                            d.credentials, d.wait_for_ready, d.compression)
+
+    def intercept_unary_unary(self, continuation, details, request):
+        return continuation(self._details(details), request)
+
+    def intercept_unary_stream(self, continuation, details, request):
+        return continuation(self._details(details), request)
+
+    def intercept_stream_unary(self, continuation, details, requests):
+        return continuation(self._details(details), requests)
+
+    def intercept_stream_stream(self, continuation, details, requests):
+        return continuation(self._details(details), requests)
+
+
 class Client:
     """A channel to gistreamd. Errors are grpc.RpcError with the server's
-    status code and a message that names the offending field."""
+    status code and a message that names the offending field.
 
-    def __init__(self, address="127.0.0.1:50051", timeout=300.0, credentials=None):
+    `credentials`: tls_credentials(...) for a server serving TLS; `token`:
+    the bearer token of a server started with --auth-tokens (default
+    $GISTREAM_TOKEN)."""
+
+    def __init__(self, address="127.0.0.1:50051", timeout=300.0, credentials=None, token=None):
         options = [("grpc.max_receive_message_length", -1),
                    ("grpc.max_send_message_length", -1)]
         self._channel = (grpc.secure_channel(address, credentials, options) if credentials
                          else grpc.insecure_channel(address, options))
+        token = token or os.environ.get("GISTREAM_TOKEN")
+        if token:
+            self._channel = grpc.intercept_channel(self._channel, _Bearer(token))
         self.stub = pb_grpc.GistreamStub(self._channel)
         self.timeout = timeout
 

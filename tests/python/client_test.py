@@ -1,12 +1,14 @@
 """The Python client package against a real gistreamd on loopback
 (llvmpipe without a GPU): load a scene, list solvers, render a PNG, run a
 session whose frames echo the updates, see a bad parameter come back as
-INVALID_ARGUMENT naming it. Run by ctest (python_client) with PYTHONPATH
+INVALID_ARGUMENT naming it; over TLS with a bearer token (and
+UNAUTHENTICATED without one). Run by ctest (python_client) with PYTHONPATH
 set to build/python and GISTREAMD/GISTREAM_SCENES pointing at the binary
 and the scene folder."""
 
 import os
 import subprocess
+import tempfile
 import unittest
 
 import grpc
@@ -71,3 +73,56 @@ class ClientTest(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class TlsTokenTest(unittest.TestCase):
+    """gistreamd with TLS (certificates from scripts/dev_certs.sh) and a
+    token file: the client's tls_credentials and token."""
+
+    TOKEN = "python-test-token-0123456789"
+
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.TemporaryDirectory()
+        source = os.path.dirname(os.path.abspath(os.environ["GISTREAM_SCENES"]))
+        subprocess.run([os.path.join(source, "scripts", "dev_certs.sh"), cls.dir.name], check=True)
+        tokens = os.path.join(cls.dir.name, "tokens")
+        with open(tokens, "w") as f:
+            f.write(f"{cls.TOKEN} python\n")
+        tls = lambda name: os.path.join(cls.dir.name, name)
+        cls.server = subprocess.Popen(
+            [os.environ["GISTREAMD"], "--listen", "127.0.0.1:0", "--scenes",
+             os.environ["GISTREAM_SCENES"], "--tls-cert", tls("server.crt"), "--tls-key",
+             tls("server.key"), "--auth-tokens", tokens],
+            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+        line = cls.server.stdout.readline()
+        if not line.startswith("listening on "):
+            cls.server.kill()
+            raise RuntimeError(f"gistreamd did not start: {line!r}")
+        cls.address = "localhost:" + line.split(":")[-1].strip()
+        cls.credentials = gistream.tls_credentials(ca=tls("ca.crt"))
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.server.terminate()
+        cls.server.wait(timeout=30)
+        cls.dir.cleanup()
+
+    def test_render_over_tls_with_a_token(self):
+        with gistream.Client(self.address, timeout=120, credentials=self.credentials,
+                             token=self.TOKEN) as client:
+            scene = client.load_scene("cornell_box")
+            frame = client.render(scene.scene_id, params={"area_samples": 4}, size=(16, 16),
+                                  format="png")
+            self.assertEqual(frame.image[:8], b"\x89PNG\r\n\x1a\n")
+
+    def test_no_token_is_unauthenticated(self):
+        env_token = os.environ.pop("GISTREAM_TOKEN", None)
+        try:
+            with gistream.Client(self.address, timeout=30, credentials=self.credentials) as client:
+                with self.assertRaises(grpc.RpcError) as caught:
+                    client.solvers()
+                self.assertEqual(caught.exception.code(), grpc.StatusCode.UNAUTHENTICATED)
+        finally:
+            if env_token is not None:
+                os.environ["GISTREAM_TOKEN"] = env_token
