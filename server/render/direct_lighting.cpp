@@ -196,9 +196,9 @@ void DirectLighting::Commit(Pending set) {
 }
 
 void DirectLighting::Bind(gl::Program& program) const {
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, punctual_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, samples_buffer_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, dir_matrices_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GS_BINDING_PUNCTUAL_LIGHTS, punctual_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GS_BINDING_AREA_SAMPLES, samples_buffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GS_BINDING_DIR_SHADOW_MATRICES, dir_matrices_.id());
   shadows_.Bind(kCubeShadowUnit, kDirShadowUnit);
   program.Set("uPunctualCount", punctual_count_);
   program.Set("uAreaSampleCount", int(samples_.size()));

@@ -9,6 +9,7 @@
 
 #include <glm/glm.hpp>
 
+#include "gl/bindings.h"
 #include "gl/handle.h"
 #include "gl/program.h"
 #include "render/area_lights.h"
@@ -66,9 +67,9 @@ class DirectLighting {
   // Shadow maps (cube-map sets and directional maps) the last Update drew.
   int maps_redrawn() const { return maps_redrawn_; }
 
-  static constexpr GLuint kCubeShadowUnit = 4;
+  static constexpr GLuint kCubeShadowUnit = GS_UNIT_CUBE_SHADOWS;
   static constexpr uint64_t kMaxShadowBytes = uint64_t(2) << 30;
-  static constexpr GLuint kDirShadowUnit = 5;
+  static constexpr GLuint kDirShadowUnit = GS_UNIT_DIR_SHADOWS;
 
  private:
   // Where each shadow map was drawn from: it stays valid while the

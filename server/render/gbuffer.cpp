@@ -78,6 +78,13 @@ absl::Status GBuffer::Resize(uint32_t width, uint32_t height) {
   return absl::OkStatus();
 }
 
+void GBuffer::BeginShadePass() const {
+  glBindFramebuffer(GL_FRAMEBUFFER, hdr_fbo_.id());
+  glViewport(0, 0, GLsizei(width_), GLsizei(height_));
+  glDisable(GL_DEPTH_TEST);
+  BindTextures();
+}
+
 void GBuffer::BindTextures(GLuint first_unit) const {
   glBindTextureUnit(first_unit + 0, position_.id());
   glBindTextureUnit(first_unit + 1, normal_.id());

@@ -5,6 +5,7 @@
 
 #include <cstdint>
 
+#include "gl/bindings.h"
 #include "gl/handle.h"
 #include "util/status.h"
 
@@ -34,8 +35,13 @@ class GBuffer {
   GLuint ldr_fbo() const { return ldr_fbo_.id(); }  // tone-mapped RGBA8
   GLuint ldr() const { return ldr_.id(); }
 
-  // Binds position/normal/albedo/emission to texture units first..first+3.
-  void BindTextures(GLuint first_unit) const;
+  // Binds position/normal/albedo/emission to texture units first..first+3
+  // (shaders/render/gbuffer_read.glsl reads them at GS_UNIT_GBUFFER).
+  void BindTextures(GLuint first_unit = GS_UNIT_GBUFFER) const;
+  // Starts a solver's final shading pass: the HDR target bound with the
+  // view's viewport, no depth test, the G-buffer textures bound. The pass
+  // itself is a gl::FullscreenPass draw.
+  void BeginShadePass() const;
 
  private:
   uint32_t width_ = 0, height_ = 0;

@@ -1,4 +1,5 @@
 #include "render/view_passes.h"
+#include "gl/bindings.h"
 
 #include <cmath>
 #include <cstring>
@@ -34,7 +35,6 @@ absl::StatusOr<ViewPasses> ViewPasses::Create() {
   GS_ASSIGN_OR_RETURN(passes.tonemap_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "render/tonemap.frag.glsl"}}));
-  passes.empty_vao_ = gl::VertexArray::Create();
   passes.non_finite_ = gl::Buffer::Create();
   glNamedBufferStorage(passes.non_finite_.id(), sizeof(GLuint), nullptr,
                        GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
@@ -65,15 +65,12 @@ void ViewPasses::Tonemap(const GBuffer& gbuffer, float exposure_ev) {
   glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.ldr_fbo());
   glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
   glDisable(GL_DEPTH_TEST);
-  glBindTextureUnit(0, gbuffer.hdr());
+  glBindTextureUnit(GS_UNIT_HDR, gbuffer.hdr());
   tonemap_.Set("uExposureScale", std::exp2(exposure_ev));
   const GLuint zero = 0;
   glNamedBufferSubData(non_finite_.id(), 0, sizeof(zero), &zero);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, non_finite_.id());
-  tonemap_.Use();
-  glBindVertexArray(empty_vao_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GS_BINDING_NON_FINITE, non_finite_.id());
+  fullscreen_.Draw(tonemap_);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
 }
 

@@ -4,6 +4,7 @@
 
 #include <vector>
 
+#include "gl/fullscreen_pass.h"
 #include "gl/program.h"
 #include "render/camera.h"
 #include "render/gbuffer.h"
@@ -34,7 +35,7 @@ class ViewPasses {
  private:
   gl::Program gbuffer_;
   gl::Program tonemap_;
-  gl::VertexArray empty_vao_;
+  gl::FullscreenPass fullscreen_;
   gl::Buffer non_finite_;  // one uint, SSBO binding 7 of the tone map
 };
 

@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "gl/bindings.h"
 #include "gl/handle.h"
 #include "gl/program.h"
 #include "scene/scene_state.h"
@@ -53,9 +54,9 @@ class GpuScene {
   Bounds WorldBounds(const SceneState& state) const;
   uint64_t gpu_bytes() const { return gpu_bytes_; }
 
-  static constexpr GLuint kMaterialBinding = 0;
-  static constexpr GLuint kBaseColorUnit = 0;
-  static constexpr GLuint kEmissiveUnit = 1;
+  static constexpr GLuint kMaterialBinding = GS_BINDING_MATERIALS;
+  static constexpr GLuint kBaseColorUnit = GS_UNIT_BASE_COLOR;
+  static constexpr GLuint kEmissiveUnit = GS_UNIT_EMISSIVE;
 
  private:
   gl::VertexArray vao_;

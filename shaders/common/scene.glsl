@@ -1,12 +1,13 @@
 // Scene data shared by every pass: vertex layout and the material table
 // (std430 mirror of gistream::GpuMaterial).
+#include "bindings.glsl"
 struct Material {
   vec4 base_color;  // linear RGBA
   vec4 emission;    // rgb: emitted radiance (nits)
   ivec4 textures;   // x: base colour texture or -1, y: emissive texture or -1
 };
 
-layout(std430, binding = 0) readonly buffer Materials { Material materials[]; };
+layout(std430, binding = GS_BINDING_MATERIALS) readonly buffer Materials { Material materials[]; };
 
 uniform int uMaterial;
 uniform mat4 uModel;

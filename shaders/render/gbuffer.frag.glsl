@@ -1,10 +1,11 @@
 #version 450 core
 // G-buffer: world position (w = 1 where geometry), shading normal facing the
 // viewer, linear albedo, emitted radiance.
+#include "bindings.glsl"
 #include "common/math.glsl"
 #include "common/scene.glsl"
-layout(binding = 0) uniform sampler2D uBaseColorTex;
-layout(binding = 1) uniform sampler2D uEmissiveTex;
+layout(binding = GS_UNIT_BASE_COLOR) uniform sampler2D uBaseColorTex;
+layout(binding = GS_UNIT_EMISSIVE) uniform sampler2D uEmissiveTex;
 in vec3 vWorld;
 in vec3 vNormal;
 in vec2 vUv;

@@ -1,13 +1,14 @@
 #version 450 core
 // Linear HDR radiance -> 8-bit display: exposure, filmic curve (Narkowicz's
 // ACES fit), sRGB transfer function.
+#include "bindings.glsl"
 #include "common/math.glsl"
-layout(binding = 0) uniform sampler2D uHdr;
+layout(binding = GS_UNIT_HDR) uniform sampler2D uHdr;
 uniform float uExposureScale;  // 2^EV
 // Pixels whose solver output is NaN or Inf: the engine refuses to encode a
 // frame with any (checked on the exponent bits, which no fast-math
 // compilation can fold away).
-layout(std430, binding = 7) buffer NonFinite { uint uNonFinite; };
+layout(std430, binding = GS_BINDING_NON_FINITE) buffer NonFinite { uint uNonFinite; };
 in vec2 vUv;
 out vec4 oColor;
 

@@ -300,7 +300,7 @@ absl::Status AntiradianceSolver::Shade(SolverContext& ctx, const ViewCamera& /*c
   glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
   glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
   glDisable(GL_DEPTH_TEST);
-  gbuffer.BindTextures(8);
+  gbuffer.BindTextures();
   lighting_.Bind(display_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kElementBinding, elements_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGridBinding, grid_.id());

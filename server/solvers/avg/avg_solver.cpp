@@ -233,7 +233,7 @@ absl::Status AvgSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
     glBindFramebuffer(GL_FRAMEBUFFER, split_.fbo());
     glViewport(0, 0, split.x, split.y);
     glDisable(GL_DEPTH_TEST);
-    gbuffer.BindTextures(8);
+    gbuffer.BindTextures();
     direct_.Bind(illuminate_);
     shadow_maps_.Bind();
     illuminate_.Set("uImageSize", size);
@@ -250,7 +250,7 @@ absl::Status AvgSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
     gl::StageTimer::Scope stage(ctx.timer, "filter");
     glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
     glViewport(0, 0, size.x, size.y);
-    gbuffer.BindTextures(8);
+    gbuffer.BindTextures();
     glBindTextureUnit(12, split_.indirect());
     glBindTextureUnit(13, split_.direct());
     filter_.Set("uImageSize", size);

@@ -2,6 +2,7 @@
 // surfaces sampled at stratified points, each with its own shadow map.
 #pragma once
 
+#include "gl/fullscreen_pass.h"
 #include "render/direct_lighting.h"
 #include "solvers/memory_estimate.h"
 #include "solvers/solver.h"
@@ -34,7 +35,7 @@ class DirectSolver final : public Solver {
   // Runtime data
   DirectLighting lighting_;
   gl::Program shade_;
-  gl::VertexArray empty_vao_;
+  gl::FullscreenPass fullscreen_;
 };
 
 }  // namespace gistream

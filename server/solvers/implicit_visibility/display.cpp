@@ -75,7 +75,7 @@ void Display::Draw(const ViewCamera& camera, const GBuffer& gbuffer, GLuint indi
   glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
   glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
   glDisable(GL_DEPTH_TEST);
-  gbuffer.BindTextures(8);
+  gbuffer.BindTextures();
   glBindTextureUnit(13, irradiance_.id());
   lighting.Bind(final_);
   final_.Set("uIndirectScale", indirect_scale);

@@ -1,0 +1,6 @@
+// The binding points shared by C++ and GLSL (shaders/bindings.glsl), as
+// constants. Include this wherever C++ binds a buffer or texture that a
+// shared shader declares.
+#pragma once
+
+#include "../../shaders/bindings.glsl"

@@ -1,0 +1,34 @@
+// Binding points, one table for GLSL and C++: shaders include this file
+// ("bindings.glsl" through the shader library) and server/gl/bindings.h
+// includes it into C++, so a slot is agreed in one place. Only #define
+// lines here: the file is read by both preprocessors.
+//
+// Shared slots (render/ and scene/: every solver's programs see them):
+//   shader storage buffers 0-3 and 12, texture units 0-1, 4-5 and 8-11.
+// Free for a solver's own resources: buffers 4-11 and 13-15, texture units
+// 2-3, 6-7 and 12-15; a solver's own table lives beside its shaders.
+
+#ifndef GS_BINDINGS_GLSL
+#define GS_BINDINGS_GLSL
+
+// Shader storage buffers.
+#define GS_BINDING_MATERIALS 0            // scene/gpu_scene: Material[]
+#define GS_BINDING_PUNCTUAL_LIGHTS 1      // render/direct_lighting
+#define GS_BINDING_AREA_SAMPLES 2         // render/direct_lighting
+#define GS_BINDING_DIR_SHADOW_MATRICES 3  // render/direct_lighting
+#define GS_BINDING_EMITTER_POLYGONS 12    // render/direct_lighting
+#define GS_BINDING_NON_FINITE 7           // render/tonemap (view pass only)
+
+// Texture units.
+#define GS_UNIT_BASE_COLOR 0     // scene material textures (G-buffer pass)
+#define GS_UNIT_EMISSIVE 1
+#define GS_UNIT_HDR 0            // tone map input (view pass only)
+#define GS_UNIT_CUBE_SHADOWS 4   // render/direct_lighting
+#define GS_UNIT_DIR_SHADOWS 5
+#define GS_UNIT_GBUFFER 8        // 8 position, 9 normal, 10 albedo, 11 emission
+#define GS_UNIT_GBUFFER_POSITION 8
+#define GS_UNIT_GBUFFER_NORMAL 9
+#define GS_UNIT_GBUFFER_ALBEDO 10
+#define GS_UNIT_GBUFFER_EMISSION 11
+
+#endif  // GS_BINDINGS_GLSL
