@@ -180,7 +180,10 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
     }
     return absl::OkStatus();
   }
-  const Bounds& scene_bounds = ctx.state.scene().bounds;
+  // The clamp scales with the current geometry (moved or scaled nodes), not
+  // the load-time Scene::bounds: a scene scaled to millimetres would
+  // otherwise keep a metre-sized d and lose all indirect light.
+  const Bounds scene_bounds = ctx.gpu.WorldBounds(ctx.state);
   clamp_distance_ = clamp_ * (scene_bounds.empty() ? 0.0f : glm::length(scene_bounds.extent()));
   Bounds grid_bounds;
   grid_bounds.Extend(grid_->origin());
