@@ -96,6 +96,7 @@ std::vector<EmitterSample> SampleEmitters(const std::vector<EmitterTriangle>& em
     s.position = b0 * tri.p0 + b1 * tri.p1 + b2 * tri.p2;
     s.normal = tri.normal;
     s.radiance = tri.radiance;
+    s.triangle = int(ti);
     // pdf(y) = lum_t / total (per unit area), so A_i = total / (N lum_t).
     s.area = float(total / (double(count) * double(Luminance(tri.radiance))));
     out.push_back(s);

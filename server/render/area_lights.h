@@ -25,6 +25,7 @@ struct EmitterSample {
   glm::vec3 normal;
   glm::vec3 radiance;
   float area = 0.0f;  // A_i = 1 / (N pdf(y_i))
+  int triangle = -1;  // the emitter triangle it lies on
 };
 
 // Emissive triangles of the current state (degenerate ones dropped). A

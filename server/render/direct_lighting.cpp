@@ -17,6 +17,36 @@ void Upload(gl::Buffer& buffer, const std::vector<T>& data) {
 
 }  // namespace
 
+// The emitters as convex polygons for the exact term, each with the range
+// of area samples on it (samples reordered by polygon; polygons without a
+// sample last, where the shader uses the visibility of all samples before).
+std::vector<DirectLighting::GpuPolygon> DirectLighting::PolygonsOf(
+    const std::vector<EmitterTriangle>& emitters, std::vector<EmitterSample>& samples) {
+  const EmitterPolygons merged = MergeEmitterPolygons(emitters);
+  if (merged.polygons.empty()) return {};
+  auto polygon_of = [&](const EmitterSample& s) {
+    return merged.polygon_of_triangle[size_t(s.triangle)];
+  };
+  std::stable_sort(samples.begin(), samples.end(), [&](const EmitterSample& a, const EmitterSample& b) {
+    return polygon_of(a) < polygon_of(b);
+  });
+  std::vector<GpuPolygon> with, without;
+  size_t next = 0;
+  for (size_t p = 0; p < merged.polygons.size(); ++p) {
+    const EmitterPolygon& poly = merged.polygons[p];
+    GpuPolygon g{};
+    g.radiance_count = glm::vec4(poly.radiance, float(poly.vertex_count));
+    g.normal = glm::vec4(poly.normal, 0.0f);
+    const size_t first = next;
+    while (next < samples.size() && polygon_of(samples[next]) == int(p)) ++next;
+    g.samples = glm::ivec4(int(first), int(next - first), 0, 0);
+    for (int v = 0; v < poly.vertex_count; ++v) g.vertices[v] = glm::vec4(poly.vertices[size_t(v)], 1.0f);
+    (next > first ? with : without).push_back(g);
+  }
+  with.insert(with.end(), without.begin(), without.end());
+  return with;
+}
+
 std::vector<ParamSpec> DirectLightingParams() {
   return {{"area_samples", ParamType::kInt, "64", 1, 1024, {},
            "Stratified sample points over all emissive surfaces, each with a shadow map"},
@@ -68,6 +98,7 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
   Pending next;
   next.emitters = std::move(emitters);
   next.samples = std::move(emitter_samples);
+  next.polygons = PolygonsOf(next.emitters, next.samples);
   next.resolution = settings.shadow_resolution;
   const Bounds bounds = gpu.WorldBounds(state);  // follows moved nodes
   int cube = 0;
@@ -192,16 +223,20 @@ void DirectLighting::Commit(Pending set) {
   Upload(punctual_, set.punctual);
   Upload(samples_buffer_, set.area);
   Upload(dir_matrices_, dir_matrices);
+  polygon_count_ = int(set.polygons.size());
+  Upload(polygons_, set.polygons);
   drawn_once_ = true;
 }
 
 void DirectLighting::Bind(gl::Program& program) const {
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GS_BINDING_PUNCTUAL_LIGHTS, punctual_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GS_BINDING_AREA_SAMPLES, samples_buffer_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GS_BINDING_DIR_SHADOW_MATRICES, dir_matrices_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, punctual_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, samples_buffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, dir_matrices_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPolygonBinding, polygons_.id());
   shadows_.Bind(kCubeShadowUnit, kDirShadowUnit);
   program.Set("uPunctualCount", punctual_count_);
   program.Set("uAreaSampleCount", int(samples_.size()));
+  program.Set("uPolygonCount", polygon_count_);
   program.Set("uShadowTexel", 2.0f / float(std::max(shadow_resolution_, 1)));
 }
 

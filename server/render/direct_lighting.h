@@ -9,10 +9,10 @@
 
 #include <glm/glm.hpp>
 
-#include "gl/bindings.h"
 #include "gl/handle.h"
 #include "gl/program.h"
 #include "render/area_lights.h"
+#include "render/emitter_polygons.h"
 #include "render/shadow_maps.h"
 #include "scene/gpu_scene.h"
 #include "scene/updates.h"
@@ -56,20 +56,23 @@ class DirectLighting {
   void Continue(const GpuScene& gpu, const SceneState& state, double budget_ms);
   bool pending() const { return pending_ != nullptr; }
 
-  // Binds buffers (SSBO 1..3), shadow maps (units 4, 5) and sets uniforms
+  // Binds buffers (SSBO 1..3 and 12), shadow maps (units 4, 5) and sets uniforms
   // of a program that includes render/direct_light.glsl.
   void Bind(gl::Program& program) const;
 
   int punctual_count() const { return punctual_count_; }
   const std::vector<EmitterSample>& area_samples() const { return samples_; }
   const std::vector<EmitterTriangle>& emitters() const { return emitters_; }
+  // Polygons of the exact unoccluded term (0: the disc estimate is used).
+  int emitter_polygons() const { return polygon_count_; }
   uint64_t gpu_bytes() const { return shadows_.gpu_bytes() + back_.gpu_bytes(); }
   // Shadow maps (cube-map sets and directional maps) the last Update drew.
   int maps_redrawn() const { return maps_redrawn_; }
 
-  static constexpr GLuint kCubeShadowUnit = GS_UNIT_CUBE_SHADOWS;
+  static constexpr GLuint kCubeShadowUnit = 4;
   static constexpr uint64_t kMaxShadowBytes = uint64_t(2) << 30;
-  static constexpr GLuint kDirShadowUnit = GS_UNIT_DIR_SHADOWS;
+  static constexpr GLuint kDirShadowUnit = 5;
+  static constexpr GLuint kPolygonBinding = 12;
 
  private:
   // Where each shadow map was drawn from: it stays valid while the
@@ -96,6 +99,14 @@ class DirectLighting {
     glm::vec4 normal_shadow;
     glm::vec4 radiance_far;
   };
+  struct GpuPolygon {
+    glm::vec4 radiance_count;   // rgb radiance, w: vertex count
+    glm::vec4 normal;           // xyz emitting side
+    glm::ivec4 samples;         // x: first area sample, y: how many
+    glm::vec4 vertices[EmitterPolygon::kMaxVertices];
+  };
+  static std::vector<GpuPolygon> PolygonsOf(const std::vector<EmitterTriangle>& emitters,
+                                            std::vector<EmitterSample>& samples);
   // A light set: its buffers, where each map is drawn from, and the maps
   // still to draw.
   struct Pending {
@@ -104,6 +115,7 @@ class DirectLighting {
     int resolution = 0;
     std::vector<GpuPunctual> punctual;
     std::vector<GpuAreaSample> area;
+    std::vector<GpuPolygon> polygons;
     std::vector<CubeView> cube_views;
     std::vector<DirView> dir_views;
     std::vector<int> cube_draws, dir_draws;
@@ -126,6 +138,8 @@ class DirectLighting {
   gl::Buffer punctual_;
   gl::Buffer samples_buffer_;
   gl::Buffer dir_matrices_;
+  gl::Buffer polygons_;
+  int polygon_count_ = 0;
   std::vector<EmitterTriangle> emitters_;
   std::vector<EmitterSample> samples_;
   int punctual_count_ = 0;

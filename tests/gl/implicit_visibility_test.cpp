@@ -30,22 +30,6 @@ RenderRequest Request(const std::string& scene, std::map<std::string, std::strin
   return testing::SolverRequest(scene, solver, std::move(params), size, std::move(updates));
 }
 
-TEST(ImplicitVisibility, WhiteFurnaceConservesEnergy) {
-  // Albedo 0.5, emission 1: L = E / (1 - rho) = 2 in every pixel.
-  const BundledCopy scene("furnace.gltf");
-  EncodedFrame frame;
-  const FloatImage image =
-      RenderRequestExr(Request(scene.id(), {{"bounces", "12"}, {"tolerance", "0"}, {"bins_per_face", "8"}}, 32),
-                       &frame);
-  ASSERT_EQ(image.width, 32);
-  EXPECT_EQ(image.non_finite(), 0u);
-  // 5 %: the bound.
-  EXPECT_NEAR(ImageMean(image).g, 2.0, 0.1);
-  std::cout << "furnace mean " << ImageMean(image).g << " links " << FrameStat(frame, "leaf_links") << "\n";
-  EXPECT_EQ(FrameStat(frame, "bounces_run"), 12.0);
-  EXPECT_LT(FrameStat(frame, "residual"), 1e-3);
-}
-
 TEST(ImplicitVisibility, StiffFurnaceStaysFiniteAndMonotone) {
   // rho = 0.99: L = 1 / (1 - 0.99) = 100 only after hundreds of bounces;
   // 64 bounces must stay finite, grow monotonically (every weight is
@@ -71,29 +55,6 @@ TEST(ImplicitVisibility, StiffFurnaceStaysFiniteAndMonotone) {
     std::cout << "rho 0.99 bounces " << bounces << " mean " << mean << " residual " << residual << "\n";
     previous = mean;
   }
-}
-
-TEST(ImplicitVisibility, GapsBetweenDiscsLoseNoLight) {
-  // rho = 0.9 (exact L = 10) iterated to convergence at N = 8. Bins that
-  // are empty or under-covered only because vertex discs do not tile a
-  // surface (their neighbours all hold links) used to drop their share of
-  // every bounce: 8.49 (-15 %). Counting them as covered (refine_push.cpp)
-  // gives 8.82; what remains (-12 %) is the leaves' source term near the
-  // box's edges and corners, see ARCHITECTURE. 8.7 separates the two by
-  // more than the run-to-run noise (the solver is deterministic).
-  const BundledCopy scene("furnace.gltf");
-  EncodedFrame frame;
-  const FloatImage image = RenderRequestExr(
-      Request(scene.id(), {{"bounces", "64"}, {"tolerance", "1e-4"}, {"bins_per_face", "8"}}, 16,
-              {{1, GreyAlbedo(0.9f)}}),
-      &frame);
-  EXPECT_EQ(image.non_finite(), 0u);
-  const double mean = ImageMean(image).g;
-  std::cout << "rho 0.9 converged mean " << mean << " bounces " << FrameStat(frame, "bounces_run")
-            << "\n";
-  EXPECT_GT(mean, 8.7);
-  EXPECT_LT(mean, 10.0 * 1.01) << "no energy is created";
-  EXPECT_EQ(FrameStat(frame, "monotone"), 1.0);
 }
 
 TEST(ImplicitVisibility, ExtremeScalesAndIntensitiesStayFiniteAndConserveEnergy) {

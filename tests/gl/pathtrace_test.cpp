@@ -65,35 +65,6 @@ FloatImage Render(const std::string& scene, std::map<std::string, std::string> p
   return testing::DecodeExr(*result);
 }
 
-TEST(Pathtrace, WhiteFurnaceHalfAlbedo) {
-  // Closed box, albedo 0.5, emission 1: L = E / (1 - rho) = 2 everywhere.
-  const BundledCopy scene("furnace.gltf");
-  const std::string& id = scene.id();
-  EncodedFrame frame;
-  const FloatImage image = Render(id, {{"spp", "64"}}, 16, {}, &frame);
-  ASSERT_EQ(image.width, 16);
-  EXPECT_EQ(image.non_finite(), 0u);
-  const glm::dvec3 mean = Mean(image);
-  // 16k paths; the per-path standard deviation is about 1, so the standard
-  // error is about 0.008 (0.4 %): 1 % is more than two of them.
-  EXPECT_NEAR(mean.g, 2.0, 0.02);
-  EXPECT_NEAR(mean.r, mean.b, 1e-9);
-  EXPECT_EQ(Stat(frame, "nonfinite_samples"), 0.0);
-}
-
-TEST(Pathtrace, WhiteFurnaceStiffAlbedo) {
-  // rho = 0.9: L = 10. Paths are long (about 10 bounces on average).
-  const BundledCopy scene("furnace.gltf");
-  const std::string& id = scene.id();
-  MaterialUpdate albedo;
-  albedo.material = 0;
-  albedo.base_color = glm::vec4(0.9f, 0.9f, 0.9f, 1.0f);
-  const FloatImage image = Render(id, {{"spp", "256"}}, 16, {{1, albedo}});
-  ASSERT_EQ(image.width, 16);
-  EXPECT_EQ(image.non_finite(), 0u);
-  EXPECT_NEAR(Mean(image).g, 10.0, 0.2);
-}
-
 
 TEST(Pathtrace, EmissionChangeKeepsTheBvh) {
   // Doubling the emission doubles L (4 at rho = 0.5): the emitter table is

@@ -22,21 +22,6 @@ using testing::GreyAlbedo;
 using testing::RenderRequestExr;
 using testing::SolverRequest;
 
-TEST(ShProbes, WhiteFurnaceConservesEnergy) {
-  // Albedo 0.5, emission 1: L = E / (1 - rho) = 2 in every pixel.
-  const BundledCopy scene("furnace.gltf");
-  const std::string& id = scene.id();
-  EncodedFrame frame;
-  const FloatImage image = RenderRequestExr(
-      SolverRequest(id, "sh_probes", {{"grid", "4"}, {"bounces", "12"}, {"tolerance", "0"}}, 32), &frame);
-  ASSERT_EQ(image.width, 32);
-  EXPECT_EQ(image.non_finite(), 0u);
-  // 3 %: the direct term's area-light samples and the SH band limit.
-  EXPECT_NEAR(ImageMean(image).g, 2.0, 0.06);
-  EXPECT_EQ(FrameStat(frame, "bounces_run"), 12.0);
-  EXPECT_EQ(FrameStat(frame, "probes_invalid"), 0.0);
-}
-
 TEST(ShProbes, ToleranceStopsBouncingAndReportsTheChange) {
   const BundledCopy scene("furnace.gltf");
   const std::string& id = scene.id();

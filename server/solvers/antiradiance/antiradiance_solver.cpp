@@ -50,7 +50,7 @@ SolverDescription AntiradianceSolver::Describe() {
   d.params = {
       // Even: the bins come in opposite pairs (directional_bins.h).
       {"bins", ParamType::kInt, "128", 32, 512, {}, "Directional bins per element (even)", 2},
-      {"iterations", ParamType::kInt, "32", 1, 64, {},
+      {"iterations", ParamType::kInt, "32", 1, 4096, {},
        "Most iterations per update (asymmetric: radiance steps, each after converged "
        "antiradiance): a safety cap; tolerance stops first"},
       {"tolerance", ParamType::kFloat, "0.01", 0, 1, {},
@@ -300,7 +300,7 @@ absl::Status AntiradianceSolver::Shade(SolverContext& ctx, const ViewCamera& /*c
   glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
   glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
   glDisable(GL_DEPTH_TEST);
-  gbuffer.BindTextures();
+  gbuffer.BindTextures(8);
   lighting_.Bind(display_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kElementBinding, elements_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGridBinding, grid_.id());

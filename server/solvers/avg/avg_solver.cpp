@@ -30,8 +30,8 @@ SolverDescription AvgSolver::Describe() {
        "Virtual point lights placed per solution (16 subsets of vpls/16 for interleaved shading)"},
       {"grid", ParamType::kInt, "64", 8, 256, {},
        "Voxels per axis of the approximate visibility grid (fitted to the scene bounds)"},
-      {"bounces", ParamType::kInt, "3", 1, avg::VplTraceSettings::kMaxBounces, {},
-       "VPL generations per light path (indirect bounces)"},
+      {"bounces", ParamType::kInt, "64", 1, avg::VplTraceSettings::kMaxBounces, {},
+       "VPL generations per light path at most (with roulette, paths end on their own)"},
       {"roulette", ParamType::kBool, "true", 0, 0, {},
        "Russian roulette after each VPL (continue with probability max albedo)"},
       {"shadow_res", ParamType::kInt, "64", 8, 512, {},
@@ -180,10 +180,7 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
     }
     return absl::OkStatus();
   }
-  // The clamp scales with the current geometry (moved or scaled nodes), not
-  // the load-time Scene::bounds: a scene scaled to millimetres would
-  // otherwise keep a metre-sized d and lose all indirect light.
-  const Bounds scene_bounds = ctx.gpu.WorldBounds(ctx.state);
+  const Bounds& scene_bounds = ctx.state.scene().bounds;
   clamp_distance_ = clamp_ * (scene_bounds.empty() ? 0.0f : glm::length(scene_bounds.extent()));
   Bounds grid_bounds;
   grid_bounds.Extend(grid_->origin());
@@ -236,7 +233,7 @@ absl::Status AvgSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
     glBindFramebuffer(GL_FRAMEBUFFER, split_.fbo());
     glViewport(0, 0, split.x, split.y);
     glDisable(GL_DEPTH_TEST);
-    gbuffer.BindTextures();
+    gbuffer.BindTextures(8);
     direct_.Bind(illuminate_);
     shadow_maps_.Bind();
     illuminate_.Set("uImageSize", size);
@@ -253,7 +250,7 @@ absl::Status AvgSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
     gl::StageTimer::Scope stage(ctx.timer, "filter");
     glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
     glViewport(0, 0, size.x, size.y);
-    gbuffer.BindTextures();
+    gbuffer.BindTextures(8);
     glBindTextureUnit(12, split_.indirect());
     glBindTextureUnit(13, split_.direct());
     filter_.Set("uImageSize", size);

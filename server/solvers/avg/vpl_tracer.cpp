@@ -25,8 +25,23 @@ void Basis(const glm::vec3& n, glm::vec3& t, glm::vec3& b) {
 // Quasi-random dimensions of one path: 0 light, 1-2 point, 3-4 direction,
 // then 3 per bounce (2 direction, 1 roulette).
 constexpr int kDimLight = 0, kDimPoint = 1, kDimDir = 3, kDimBounce = 5, kDimsPerBounce = 3;
-static_assert(kDimBounce + kDimsPerBounce * VplTraceSettings::kMaxBounces <=
-              ScrambledHalton::kMaxDimensions);
+
+// A hash of (path i, dimension dim) in [0, 1) (SplitMix64): the same every
+// frame, independent between dimensions.
+float HashSample(uint64_t i, int dim) {
+  uint64_t z = i * 0x9E3779B97F4A7C15ull + uint64_t(dim) * 0xD1B54A32D192ED03ull;
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  z ^= z >> 31;
+  return float(z >> 40) * (1.0f / 16777216.0f);
+}
+
+// Dimension `dim` of path i: the scrambled Halton point where it has that
+// many dimensions (the first 14 bounces), else the hash.
+float PathSample(uint64_t i, int dim) {
+  if (dim < ScrambledHalton::kMaxDimensions) return ScrambledHalton::Instance().Get(i, dim);
+  return HashSample(i, dim);
+}
 
 struct LightTable {
   std::vector<double> cdf;  // by luminous power
@@ -154,14 +169,18 @@ PathResult TracePath(const VoxelGrid& grid, const std::vector<VplLight>& lights,
     if (settings.roulette) {
       // Continue with probability max(albedo); the survivors carry 1/q more.
       const float q = std::min(1.0f, std::max({albedo.r, albedo.g, albedo.b}));
-      if (!(q > 0.0f) || h.Get(i, dim + 2) >= q) break;
+      // Independent numbers, not Halton dimensions: the scrambled Halton
+      // dimensions of consecutive bounces are correlated over the first
+      // hundreds of paths, which cut paths short (furnace rho = 0.9: 8.8
+      // VPLs per path for 10, total VPL flux -12 %).
+      if (!(q > 0.0f) || HashSample(i, dim + 2) >= q) break;
       next /= q;
     }
     if (!(std::max({next.r, next.g, next.b}) > 0.0f)) break;
     flux = next;
     origin = p;
     normal = n;
-    dir = SampleCosine(n, h.Get(i, dim), h.Get(i, dim + 1));
+    dir = SampleCosine(n, PathSample(i, dim), PathSample(i, dim + 1));
     on_surface = true;
   }
   return result;

@@ -25,10 +25,12 @@ struct Vpl {
 
 struct VplTraceSettings {
   int vpls = 1024;         // VPLs to place (paths are added until there are this many)
-  int bounces = 3;         // VPL generations per path (1..kMaxBounces)
+  int bounces = 64;        // VPL generations per path at most (1..kMaxBounces)
   bool roulette = true;    // Russian roulette after each VPL
   int threads = 0;         // 1: on the calling thread; else the CPU pool
-  static constexpr int kMaxBounces = 8;
+  // With roulette a path ends on its own (after 1 / (1 - albedo) VPLs on
+  // average), so the cap only bounds stiff scenes' paths.
+  static constexpr int kMaxBounces = 1024;
 };
 
 struct VplTraceResult {

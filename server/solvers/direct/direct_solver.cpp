@@ -24,6 +24,7 @@ absl::StatusOr<std::unique_ptr<Solver>> DirectSolver::Create(const ParamSet& par
   GS_ASSIGN_OR_RETURN(solver->shade_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "direct/shade.frag.glsl"}}));
+  solver->empty_vao_ = gl::VertexArray::Create();
   return solver;
 }
 
@@ -56,10 +57,16 @@ absl::Status DirectSolver::Update(SolverContext& ctx, ChangeMask changes) {
 absl::Status DirectSolver::Shade(SolverContext& ctx, const ViewCamera& /*camera*/,
                                  const GBuffer& gbuffer) {
   gl::StageTimer::Scope stage(ctx.timer, "shade");
-  gbuffer.BeginShadePass();
+  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
+  glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
+  glDisable(GL_DEPTH_TEST);
+  gbuffer.BindTextures(8);
   lighting_.Bind(shade_);
   shade_.Set("uBackground", glm::vec3(0.0f));
-  fullscreen_.Draw(shade_);
+  shade_.Use();
+  glBindVertexArray(empty_vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
   return absl::OkStatus();
 }
 

