@@ -9,6 +9,7 @@ namespace gistream::client {
 
 absl::Status RunSolvers(const ConnectionOptions& connection, const SolversOptions& options);
 absl::Status RunStatus(const ConnectionOptions& connection, const StatusOptions& options);
+absl::Status RunHealth(const ConnectionOptions& connection, const HealthOptions& options);
 absl::Status RunRender(const ConnectionOptions& connection, const RenderOptions& options);
 absl::Status RunStream(const ConnectionOptions& connection, const StreamOptions& options);
 absl::Status RunScript(const ConnectionOptions& connection, const ScriptOptions& options);

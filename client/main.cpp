@@ -33,6 +33,7 @@ absl::Status Dispatch(const CommandLine& line) {
     case Command::kScript: return RunScript(connection, std::get<ScriptOptions>(line.options));
     case Command::kEval: return RunEval(connection, std::get<EvalOptions>(line.options));
     case Command::kBench: return RunBench(connection, std::get<BenchOptions>(line.options));
+    case Command::kHealth: return RunHealth(connection, std::get<HealthOptions>(line.options));
   }
   return absl::InternalError("unknown command");
 }

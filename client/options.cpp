@@ -50,6 +50,7 @@ std::optional<Command> CommandFromName(absl::string_view name) {
   if (name == "status") return Command::kStatus;
   if (name == "eval") return Command::kEval;
   if (name == "bench") return Command::kBench;
+  if (name == "health") return Command::kHealth;
   return std::nullopt;
 }
 
@@ -355,6 +356,7 @@ absl::string_view CommandName(Command command) {
     case Command::kStatus: return "status";
     case Command::kEval: return "eval";
     case Command::kBench: return "bench";
+    case Command::kHealth: return "health";
   }
   return "?";
 }
@@ -454,6 +456,10 @@ absl::StatusOr<CommandLine> ParseCommandLine(std::span<const std::string> args,
       specs.push_back({"json", false});
       break;
     case Command::kStatus: specs = Concat({&kConnectionFlags}); break;
+    case Command::kHealth:
+      specs = Concat({&kConnectionFlags});
+      specs.push_back({"service"});
+      break;
     case Command::kRender:
       specs = Concat({&kConnectionFlags, &kSceneFlags, &kSolverFlags, &kViewFlags});
       specs.push_back({"out"});
@@ -488,6 +494,11 @@ absl::StatusOr<CommandLine> ParseCommandLine(std::span<const std::string> args,
     case Command::kStatus: {
       GS_RETURN_IF_ERROR(NoPositional(flags));
       line.options = StatusOptions{};
+      break;
+    }
+    case Command::kHealth: {
+      GS_RETURN_IF_ERROR(NoPositional(flags));
+      line.options = HealthOptions{.service = flags.Get("service").value_or("")};
       break;
     }
     case Command::kRender: {

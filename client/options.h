@@ -20,7 +20,7 @@ namespace gistream::client {
 
 inline constexpr absl::string_view kDefaultServer = "127.0.0.1:50051";
 
-enum class Command { kSolvers, kRender, kStream, kScript, kStatus, kEval, kBench };
+enum class Command { kSolvers, kRender, kStream, kScript, kStatus, kEval, kBench, kHealth };
 
 struct ConnectionOptions {
   std::string server{kDefaultServer};
@@ -85,6 +85,11 @@ struct ScriptOptions {
 
 struct StatusOptions {};
 
+// grpc.health.v1 Check; exit 0 only when SERVING (container probes).
+struct HealthOptions {
+  std::string service;  // "" (the whole server) or "gistream.v1.Gistream"
+};
+
 struct EvalOptions {
   std::filesystem::path file;
   std::filesystem::path out_dir = "out/eval";
@@ -114,7 +119,7 @@ struct CommandLine {
   bool help = false;
   std::optional<Command> command;
   std::variant<std::monostate, SolversOptions, RenderOptions, StreamOptions, ScriptOptions,
-               StatusOptions, EvalOptions, BenchOptions>
+               StatusOptions, EvalOptions, BenchOptions, HealthOptions>
       options;
 };
 

@@ -17,6 +17,7 @@ commands:
   eval      error against a path-traced reference and run time, per solver
   bench     load and latency: sessions, update-to-frame latency, fps, stalls
   status    show the server's device, sessions, scenes and frame count
+  health    ask grpc.health.v1 whether the server serves (exit 0 if it does)
 
 global options (also accepted after the command):
   --server ADDR   server address (default $GISTREAM_SERVER, else 127.0.0.1:50051)
@@ -198,6 +199,16 @@ the scenes, the frames rendered, and a table of the open sessions (scene,
 solver, size, frames, fps, dropped frames, pending updates, last seq).
 )";
 
+constexpr absl::string_view kHealth = R"(usage: gistream [--server ADDR] health [--service NAME]
+
+Asks the server's grpc.health.v1 service whether it serves (for container
+health checks): prints SERVING and exits 0, or prints the status and exits 1.
+No token is needed; over TLS give --tls/--ca as for any command. gistreamd
+--health-listen serves this alone in plaintext on a port of its own.
+
+  --service NAME   "" (the whole server, default) or gistream.v1.Gistream
+)";
+
 }  // namespace
 
 absl::string_view HelpText(std::optional<Command> command) {
@@ -210,6 +221,7 @@ absl::string_view HelpText(std::optional<Command> command) {
     case Command::kStatus: return kStatus;
     case Command::kEval: return kEval;
     case Command::kBench: return kBench;
+    case Command::kHealth: return kHealth;
   }
   return kOverview;
 }

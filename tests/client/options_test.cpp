@@ -156,3 +156,26 @@ TEST(CommandLine, UsageErrors) {
 
 }  // namespace
 }  // namespace gistream::client
+
+namespace gistream::client {
+namespace {
+
+TEST(CommandLine, TlsAndTokenOptions) {
+  const std::string ca = GISTREAM_SOURCE_DIR "/scripts/dev_certs.sh";  // any readable file
+  auto line = Parse({"--tls", "--token", "t0ken-0123456789abcdef", "health", "--service",
+                     "gistream.v1.Gistream"});
+  ASSERT_TRUE(line.ok()) << line.status();
+  EXPECT_TRUE(line->connection.tls);
+  EXPECT_EQ(line->connection.token, "t0ken-0123456789abcdef");
+  EXPECT_EQ(std::get<HealthOptions>(line->options).service, "gistream.v1.Gistream");
+  auto with_ca = Parse({"status", "--ca", ca});
+  ASSERT_TRUE(with_ca.ok()) << with_ca.status();
+  EXPECT_TRUE(with_ca->connection.tls);  // implied by --ca
+  EXPECT_FALSE(with_ca->connection.ca_pem.empty());
+  EXPECT_NE(UsageError({"status", "--ca", "/nonexistent/ca.crt"}).find("--ca: cannot read"),
+            std::string::npos);
+  EXPECT_NE(UsageError({"status", "--cert", ca}).find("--cert and --key"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace gistream::client
