@@ -2,17 +2,16 @@
 // no solver keeps its own Groups() helper.
 #pragma once
 
-#include <algorithm>
 #include <cstddef>
 
 #include "gl/gl.h"
 
 namespace gistream::gl {
 
-// Work groups of `local_size` invocations that cover `invocations` (at
-// least one group, so an empty dispatch is still valid).
+// Work groups of `local_size` invocations that cover `invocations` (none
+// for none: a dispatch of zero groups is valid and does nothing).
 inline GLuint GroupCount(size_t invocations, size_t local_size) {
-  return GLuint(std::max<size_t>(1, (invocations + local_size - 1) / local_size));
+  return GLuint((invocations + local_size - 1) / local_size);
 }
 
 // Dispatches the bound compute program over x * y * z invocations with the

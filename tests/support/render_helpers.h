@@ -89,11 +89,13 @@ MaterialUpdate GreyAlbedo(float rho, uint32_t material = 0);
 // The white furnace (albedo 0.5: L = 2 x emission) scaled to millimetres
 // and kilometres and with emission 1e-3 and 1e6 nits: renders `solver`
 // at 16 x 16 for each case and expects a finite image whose mean over the
-// emission strength is 2 within `tolerance`; `check` sees every frame.
+// emission strength is `expected` (2; 1.5 for direct light alone: L_e plus
+// one bounce of 0.5) within `tolerance`; `check` sees every frame.
 void ExpectFurnaceScaleInvariant(const std::string& solver,
                                  const std::map<std::string, std::string>& params,
                                  double tolerance,
-                                 const std::function<void(const EncodedFrame&)>& check = {});
+                                 const std::function<void(const EncodedFrame&)>& check = {},
+                                 double expected = 2.0);
 
 // One frame per kind of change, on a private copy of dynamic_block and in
 // this order: the first frame (everything runs), the point light dimmed

@@ -90,7 +90,6 @@ absl::StatusOr<std::unique_ptr<Solver>> AvgSolver::Create(const ParamSet& params
   GS_ASSIGN_OR_RETURN(solver->filter_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "avg/filter.frag.glsl"}}));
-  solver->empty_vao_ = gl::VertexArray::Create();
   return solver;
 }
 
@@ -180,7 +179,10 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
     }
     return absl::OkStatus();
   }
-  const Bounds& scene_bounds = ctx.state.scene().bounds;
+  // The clamp scales with the current geometry (moved or scaled nodes), not
+  // the load-time Scene::bounds: a scene scaled to millimetres would
+  // otherwise keep a metre-sized d and lose all indirect light.
+  const Bounds scene_bounds = ctx.gpu.WorldBounds(ctx.state);
   clamp_distance_ = clamp_ * (scene_bounds.empty() ? 0.0f : glm::length(scene_bounds.extent()));
   Bounds grid_bounds;
   grid_bounds.Extend(grid_->origin());
@@ -233,7 +235,7 @@ absl::Status AvgSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
     glBindFramebuffer(GL_FRAMEBUFFER, split_.fbo());
     glViewport(0, 0, split.x, split.y);
     glDisable(GL_DEPTH_TEST);
-    gbuffer.BindTextures(8);
+    gbuffer.BindTextures();
     direct_.Bind(illuminate_);
     shadow_maps_.Bind();
     illuminate_.Set("uImageSize", size);
@@ -242,15 +244,13 @@ absl::Status AvgSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
     illuminate_.Set("uClamp2", clamp_distance_ * clamp_distance_);
     illuminate_.Set("uVisibility", visibility_ ? 1 : 0);
     illuminate_.Set("uVplTexel", 2.0f / float(shadow_resolution_));
-    illuminate_.Use();
-    glBindVertexArray(empty_vao_.id());
-    glDrawArrays(GL_TRIANGLES, 0, 3);
+    fullscreen_.Draw(illuminate_);
   }
   {
     gl::StageTimer::Scope stage(ctx.timer, "filter");
     glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
     glViewport(0, 0, size.x, size.y);
-    gbuffer.BindTextures(8);
+    gbuffer.BindTextures();
     glBindTextureUnit(12, split_.indirect());
     glBindTextureUnit(13, split_.direct());
     filter_.Set("uImageSize", size);
@@ -260,10 +260,7 @@ absl::Status AvgSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
                 2.0f * std::tan(0.5f * camera.yfov) / float(std::max(size.y, 1)));
     filter_.Set("uNormalCos", 0.9f);
     filter_.Set("uBackground", glm::vec3(0.0f));
-    filter_.Use();
-    glBindVertexArray(empty_vao_.id());
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glBindVertexArray(0);
+    fullscreen_.Draw(filter_);
   }
   return absl::OkStatus();
 }

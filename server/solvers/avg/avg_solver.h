@@ -8,6 +8,7 @@
 
 #include <optional>
 
+#include "gl/fullscreen_pass.h"
 #include "render/direct_lighting.h"
 #include "solvers/avg/interleaved_buffer.h"
 #include "solvers/avg/voxel_grid.h"
@@ -78,7 +79,7 @@ class AvgSolver final : public Solver {
   avg::InterleavedBuffer split_;
   gl::Program illuminate_;
   gl::Program filter_;
-  gl::VertexArray empty_vao_;
+  gl::FullscreenPass fullscreen_;
   float clamp_distance_ = 0.0f;  // world units
 };
 

@@ -12,7 +12,6 @@ absl::StatusOr<Display> Display::Create() {
   GS_ASSIGN_OR_RETURN(d.final_, gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                                     {GL_FRAGMENT_SHADER, "implicit_visibility/final.frag.glsl"}}));
   d.vao_ = gl::VertexArray::Create();
-  d.empty_vao_ = gl::VertexArray::Create();
   return d;
 }
 
@@ -72,17 +71,11 @@ void Display::Draw(const ViewCamera& camera, const GBuffer& gbuffer, GLuint indi
   glBindVertexArray(0);
 
   // Direct per pixel + indirect + emission.
-  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
-  glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
-  glDisable(GL_DEPTH_TEST);
-  gbuffer.BindTextures();
+  gbuffer.BeginShadePass();
   glBindTextureUnit(13, irradiance_.id());
   lighting.Bind(final_);
   final_.Set("uIndirectScale", indirect_scale);
-  final_.Use();
-  glBindVertexArray(empty_vao_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
+  fullscreen_.Draw(final_);
 }
 
 }  // namespace gistream

@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "gl/fullscreen_pass.h"
 #include "gl/handle.h"
 #include "gl/program.h"
 #include "render/camera.h"
@@ -29,7 +30,8 @@ class Display {
   void Resize(uint32_t width, uint32_t height);
 
   gl::Program vertex_irradiance_, final_;
-  gl::VertexArray vao_, empty_vao_;
+  gl::VertexArray vao_;
+  gl::FullscreenPass fullscreen_;
   gl::Buffer positions_, indices_;
   gl::Texture irradiance_, depth_;
   gl::Framebuffer fbo_;

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <cstring>
 
+#include "gl/buffers.h"
+#include "gl/compute.h"
+
 namespace gistream {
 namespace {
 
@@ -13,26 +16,7 @@ constexpr GLbitfield kBarrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE
 struct GpuLeaf {
   glm::vec4 position, normal, albedo;
 };
-
-template <typename T>
-gl::Buffer Upload(const std::vector<T>& data, GLbitfield flags = 0) {
-  gl::Buffer buffer = gl::Buffer::Create();
-  const T zero{};
-  glNamedBufferStorage(buffer.id(), GLsizeiptr(std::max<size_t>(data.size(), 1) * sizeof(T)),
-                       data.empty() ? &zero : data.data(), flags);
-  return buffer;
-}
-
-gl::Buffer Zeroed(size_t bytes) {
-  gl::Buffer buffer = gl::Buffer::Create();
-  glNamedBufferStorage(buffer.id(), GLsizeiptr(std::max<size_t>(bytes, 16)), nullptr,
-                       GL_DYNAMIC_STORAGE_BIT);
-  const float zero = 0.0f;
-  glClearNamedBufferData(buffer.id(), GL_R32F, GL_RED, GL_FLOAT, &zero);
-  return buffer;
-}
-
-GLuint Groups(int n) { return GLuint(std::max(1, (n + 63) / 64)); }
+GS_STD430_MIRROR(GpuLeaf, 48);
 
 }  // namespace
 
@@ -60,15 +44,15 @@ void Illumination::UploadElements(const hierarchy::Elements& e, const std::vecto
   for (size_t i = 0; i < children.size(); ++i) {
     children[i] = {e.children[i][0], e.children[i][1], e.children[i][2], e.children[i][3]};
   }
-  leaves_ = Upload(leaves);
-  children_ = Upload(children);
-  areas_ = Upload(e.area);
+  leaves_ = gl::StorageBuffer(leaves);
+  children_ = gl::StorageBuffer(children);
+  areas_ = gl::StorageBuffer(e.area);
   const size_t leaf_vec4 = size_t(leaf_count_) * sizeof(glm::vec4);
   if (!e_direct_ || !e_env_) {
-    e_direct_ = Zeroed(leaf_vec4);
-    e_indirect_ = Zeroed(leaf_vec4);
-    e_env_ = Zeroed(leaf_vec4);
-    for (gl::Buffer& r : radiance_) r = Zeroed(size_t(node_count_) * sizeof(glm::vec4));
+    e_direct_ = gl::ZeroedBuffer(leaf_vec4);
+    e_indirect_ = gl::ZeroedBuffer(leaf_vec4);
+    e_env_ = gl::ZeroedBuffer(leaf_vec4);
+    for (gl::Buffer& r : radiance_) r = gl::ZeroedBuffer(size_t(node_count_) * sizeof(glm::vec4));
   }
   element_bytes_ = leaves.size() * sizeof(GpuLeaf) + children.size() * 20 + 3 * leaf_vec4 +
                    2 * size_t(node_count_) * sizeof(glm::vec4);
@@ -82,8 +66,8 @@ void Illumination::UploadLinks(const hierarchy::LeafLinks& links) {
     std::memcpy(&bits, &links.weight[k], sizeof(bits));
     packed[k] = {links.source[k], bits};
   }
-  offsets_ = Upload(links.offset);
-  links_ = Upload(packed);
+  offsets_ = gl::StorageBuffer(links.offset);
+  links_ = gl::StorageBuffer(packed);
   link_bytes_ = packed.size() * sizeof(glm::uvec2) + links.offset.size() * sizeof(uint32_t);
   gpu_bytes_ = element_bytes_ + link_bytes_;
 }
@@ -104,7 +88,7 @@ void Illumination::Pull(GLuint radiance) {
     if (end <= begin) continue;
     pull_.Set("uBegin", begin);
     pull_.Set("uEnd", end);
-    glDispatchCompute(Groups(end - begin), 1, 1);
+    glDispatchCompute(gl::GroupCount(size_t(end - begin), 64), 1, 1);
     glMemoryBarrier(kBarrier);
   }
 }
@@ -131,7 +115,7 @@ Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_b
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, radiance_[0].id());
   direct_.Set("uLeafCount", leaf_count_);
   direct_.Use();
-  glDispatchCompute(Groups(leaf_count_), 1, 1);
+  glDispatchCompute(gl::GroupCount(size_t(leaf_count_), 64), 1, 1);
   glMemoryBarrier(kBarrier);
   Pull(radiance_[0].id());
 
@@ -150,7 +134,7 @@ Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_b
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, e_indirect_.id());
     gather_.Set("uLeafCount", leaf_count_);
     gather_.Use();
-    glDispatchCompute(Groups(leaf_count_), 1, 1);
+    glDispatchCompute(gl::GroupCount(size_t(leaf_count_), 64), 1, 1);
     glMemoryBarrier(kBarrier);
     in = 1 - in;
     Pull(radiance_[in].id());

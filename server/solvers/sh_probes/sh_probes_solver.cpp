@@ -6,6 +6,7 @@
 #include <cmath>
 #include <utility>
 
+#include "gl/compute.h"
 #include "solvers/sh_probes/spherical_harmonics.h"
 #include "solvers/sh_probes/tail_estimate.h"
 
@@ -19,7 +20,6 @@ constexpr GLuint kCoefficientBinding = 6, kValidBinding = 7, kPreviousBinding = 
                 kShownBinding = 9, kBatchBinding = 10, kSeesBinding = 11;
 constexpr GLuint kDistanceUnit = 12, kNormalUnit = 13, kAlbedoUnit = 14;
 
-GLuint Groups(int n, int size) { return GLuint((n + size - 1) / size); }
 
 float Luminance(const glm::vec4& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
@@ -106,7 +106,6 @@ absl::StatusOr<std::unique_ptr<Solver>> ShProbesSolver::Create(const ParamSet& p
   GS_ASSIGN_OR_RETURN(solver->final_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "sh_probes/final.frag.glsl"}}));
-  solver->empty_vao_ = gl::VertexArray::Create();
   return solver;
 }
 
@@ -382,7 +381,7 @@ void ShProbesSolver::Blend(float hysteresis, float scale) {
   blend_.Set("uHysteresis", hysteresis);
   blend_.Set("uScale", scale);
   blend_.Use();
-  glDispatchCompute(Groups(count, 64), 1, 1);
+  glDispatchCompute(gl::GroupCount(size_t(count), 64), 1, 1);
   glMemoryBarrier(kComputeBarrier);
 }
 
@@ -462,10 +461,10 @@ void ShProbesSolver::RenderCubemaps(bool compute_direct, bool use_indirect,
 
 void ShProbesSolver::DispatchTexels(const std::vector<int>* probes) const {
   if (probes) {
-    glDispatchCompute(Groups(layout_.face_size, 8), Groups(layout_.face_size, 8),
+    glDispatchCompute(gl::GroupCount(size_t(layout_.face_size), 8), gl::GroupCount(size_t(layout_.face_size), 8),
                       GLuint(6 * probes->size()));
   } else {
-    glDispatchCompute(Groups(layout_.width(), 8), Groups(layout_.height(), 8), 6);
+    glDispatchCompute(gl::GroupCount(size_t(layout_.width()), 8), gl::GroupCount(size_t(layout_.height()), 8), 6);
   }
   glMemoryBarrier(kComputeBarrier);
 }
@@ -523,7 +522,7 @@ void ShProbesSolver::ApplyTail(double scale) {
   tail_.Set("uCount", count);
   tail_.Set("uScale", float(scale));
   tail_.Use();
-  glDispatchCompute(Groups(count, 64), 1, 1);
+  glDispatchCompute(gl::GroupCount(size_t(count), 64), 1, 1);
   glMemoryBarrier(kComputeBarrier);
 }
 
@@ -531,17 +530,11 @@ absl::Status ShProbesSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
                                    const GBuffer& gbuffer) {
   gl::StageTimer::Scope stage(ctx.timer, "final");
   eye_ = camera.position;  // the next change updates the probes near it first
-  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
-  glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
-  glDisable(GL_DEPTH_TEST);
-  gbuffer.BindTextures();
+  gbuffer.BeginShadePass();
   lighting_.Bind(final_);
   BindProbeData(final_, shown_coefficients_);
   final_.Set("uIndirectScale", indirect_scale_);
-  final_.Use();
-  glBindVertexArray(empty_vao_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
+  fullscreen_.Draw(final_);
   return absl::OkStatus();
 }
 

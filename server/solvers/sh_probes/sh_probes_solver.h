@@ -16,6 +16,7 @@
 
 #include <vector>
 
+#include "gl/fullscreen_pass.h"
 #include "render/direct_lighting.h"
 #include "solvers/emission_scale.h"
 #include "solvers/moved_bounds.h"
@@ -105,7 +106,7 @@ class ShProbesSolver final : public Solver {
   gl::Buffer probe_valid_;            // probes floats
   std::vector<float> dc_luminance_;   // L_00 luminance per probe, last bounce
   gl::Program rasterize_, render_, project_, interpolate_, tail_, final_, sees_, blend_;
-  gl::VertexArray empty_vao_;
+  gl::FullscreenPass fullscreen_;
   int instances_per_probe_ = 1;  // 6: rasterize_ is the layered vertex-shader variant
   bool solved_ = false;      // SolveAll ran for layout_
   ProbeSchedule schedule_;   // the progressive update's probes and sweeps
