@@ -144,7 +144,7 @@ absl::StatusOr<SceneInfo> FakeEngine::LoadScene(const SceneSource& source) {
   return result;
 }
 
-absl::Status FakeEngine::UnloadScene(const SceneId& id) {
+absl::Status FakeEngine::UnloadScene(const SceneId& id, const TenantId& /*tenant*/) {
   std::lock_guard lock(mutex_);
   if (!scenes_.contains(id)) return absl::NotFoundError(absl::StrCat("scene_id: no scene '", id, "'"));
   for (const auto& [sid, s] : sessions_) {
@@ -166,7 +166,8 @@ absl::Status FakeEngine::ValidateView(const std::string& solver,
   if (it == solvers.end()) {
     return absl::NotFoundError(absl::StrCat("solver: unknown solver '", solver, "'"));
   }
-  for (const auto& [key, value] : params) {
+  for (const auto& param : params) {
+    const std::string& key = param.first;  // clang 14 cannot capture a structured binding
     if (std::none_of(it->params.begin(), it->params.end(),
                      [&](const ParamSpec& p) { return p.name == key; })) {
       return absl::InvalidArgumentError(
@@ -186,8 +187,10 @@ absl::Status FakeEngine::ValidateView(const std::string& solver,
 
 absl::StatusOr<SessionOpenInfo> FakeEngine::OpenSession(const SessionConfig& config,
                                                         std::shared_ptr<FrameSink> sink) {
-  if (const int64_t ms = open_delay_ms_.load(); ms > 0) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(ms));
+  ++opens_started_;
+  {
+    std::unique_lock lock(gate_mutex_);
+    gate_cv_.wait(lock, [this] { return !gate_held_; });
   }
   GS_RETURN_IF_ERROR(ValidateView(config.solver, config.params, config.width, config.height));
   if (!(config.max_fps >= 0.0f) || config.max_fps > options_.max_fps) {
@@ -219,8 +222,22 @@ absl::StatusOr<SessionOpenInfo> FakeEngine::OpenSession(const SessionConfig& con
   for (const auto& [k, v] : config.params) info.params[k] = v;
   applied_[session.id];
   sessions_.emplace(session.id, std::move(session));
+  ++sessions_opened_;
   wake_.notify_all();
   return info;
+}
+
+void FakeEngine::HoldOpens() {
+  std::lock_guard lock(gate_mutex_);
+  gate_held_ = true;
+}
+
+void FakeEngine::ReleaseOpens() {
+  {
+    std::lock_guard lock(gate_mutex_);
+    gate_held_ = false;
+  }
+  gate_cv_.notify_all();
 }
 
 absl::Status FakeEngine::ValidateUpdateLocked(const Update& update, absl::string_view field) const {

@@ -46,7 +46,8 @@ class FakeEngine final : public Engine {
   EngineStats stats() const override;
   std::vector<SolverDescription> ListSolvers() const override;
   absl::StatusOr<SceneInfo> LoadScene(const SceneSource& source) override;
-  absl::Status UnloadScene(const SceneId& id) override;
+  using Engine::UnloadScene;
+  absl::Status UnloadScene(const SceneId& id, const TenantId& tenant) override;
   absl::StatusOr<SessionOpenInfo> OpenSession(const SessionConfig& config,
                                               std::shared_ptr<FrameSink> sink) override;
   absl::Status PushUpdate(const SessionId& id, Update update) override;
@@ -62,8 +63,13 @@ class FakeEngine final : public Engine {
   std::vector<uint64_t> applied_seqs(const SessionId& id) const;
   // Makes the session fail on the frame thread (OnSessionFailed).
   void FailSession(const SessionId& id, absl::Status status);
-  // OpenSession sleeps this long before answering.
-  void set_open_delay(std::chrono::milliseconds delay) { open_delay_ms_ = delay.count(); }
+  // While held, OpenSession waits at a gate before answering: a test can
+  // act while an open is known to be in progress, then let it finish.
+  void HoldOpens();
+  void ReleaseOpens();
+  // OpenSession calls that reached the gate / sessions opened, ever.
+  int opens_started() const { return opens_started_.load(); }
+  int sessions_opened() const { return sessions_opened_.load(); }
   // EncodedFrames produced by the frame thread that someone still holds.
   int64_t live_frames() const { return live_frames_->load(); }
   uint64_t frames_rendered() const { return frames_rendered_.load(); }
@@ -102,7 +108,11 @@ class FakeEngine final : public Engine {
 
   // Configuration
   const EngineOptions options_;
-  std::atomic<int64_t> open_delay_ms_{0};
+  std::mutex gate_mutex_;
+  std::condition_variable gate_cv_;
+  bool gate_held_ = false;
+  std::atomic<int> opens_started_{0};
+  std::atomic<int> sessions_opened_{0};
 
   // Runtime data
   mutable std::mutex mutex_;

@@ -523,18 +523,19 @@ TEST_F(ServiceTest, ClientThatDisappearsFreesItsSession) {
 
 TEST_F(ServiceTest, CancelWhileOpeningFreesTheSession) {
   const std::string scene = LoadSceneOrDie(stub(), "cornell_box");
-  engine_.set_open_delay(300ms);
+  engine_.HoldOpens();
   grpc::ClientContext context;
   SetDeadline(&context);
   auto stream = stub().Session(&context);
   ASSERT_TRUE(stream->Write(ConfigRequest(scene, 16, 16, true)));
-  std::this_thread::sleep_for(50ms);  // OpenSession is running on a worker now
+  // The cancel arrives while OpenSession is known to be running.
+  ASSERT_TRUE(WaitFor([&] { return engine_.opens_started() == 1; }, 10s));
   context.TryCancel();
   stream->Finish();
+  engine_.ReleaseOpens();
   // OpenSession succeeds after the cancel; the service must close it.
-  std::this_thread::sleep_for(400ms);
-  EXPECT_TRUE(WaitFor([&] { return engine_.session_count() == 0; }, 5s));
-  engine_.set_open_delay(0ms);
+  ASSERT_TRUE(WaitFor([&] { return engine_.sessions_opened() == 1; }, 10s));
+  EXPECT_TRUE(WaitFor([&] { return engine_.session_count() == 0; }, 10s));
 }
 
 TEST_F(ServiceTest, SlowReaderDropsFramesWithoutQueueing) {
