@@ -9,7 +9,15 @@ GENERATOR := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
 # here and in CI (`make WERROR=OFF ...` for another compiler).
 WERROR ?= ON
 
-.PHONY: all deps configure build run test clean
+# `make image`: the container image (deploy/Dockerfile) with podman, else
+# docker. ENGINE_OPTS go before `build` (e.g. --runtime runc), BUILD_OPTS
+# after it (e.g. --network host); deploy/README.md has what a sandbox needs.
+# CONTEXT: the source tree to build (default this one; e.g. a `git archive`).
+IMAGE ?= gistream/gistreamd:latest
+CONTEXT ?= .
+ENGINE ?= $(shell command -v podman >/dev/null 2>&1 && echo podman || echo docker)
+
+.PHONY: all deps configure build run test clean image
 
 all: build
 
@@ -32,6 +40,9 @@ run: build
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+image:
+	$(ENGINE) $(ENGINE_OPTS) build $(BUILD_OPTS) -f $(CONTEXT)/deploy/Dockerfile -t $(IMAGE) $(CONTEXT)
 
 clean:
 	rm -rf $(BUILD_DIR) out

@@ -13,6 +13,7 @@ PACKAGES=(
   libboost-dev  # Boost.Beast (header-only) for gistream-web
   chromium nodejs  # the viewer test (tests/web) drives headless Chromium through puppeteer-core
   python3 python3-grpcio python3-protobuf  # the Python client package (python/) and its test
+  openssl python3-yaml  # test certificates (scripts/dev_certs.sh), the deployment test (tests/deploy)
 )
 
 missing=()
@@ -32,6 +33,15 @@ if [ "${GISTREAM_NO_TEST_DEPS:-0}" = 1 ]; then
     case "$p" in chromium|nodejs|npm) ;; *) kept+=("$p") ;; esac
   done
   missing=("${kept[@]+"${kept[@]}"}")
+fi
+
+# GISTREAM_CONTAINER_DEPS=1: also podman and debootstrap, for `make image`
+# and deploy/smoke_test.sh (deploy/README.md: the base image is imported
+# from a debootstrap root).
+if [ "${GISTREAM_CONTAINER_DEPS:-0}" = 1 ]; then
+  for p in podman debootstrap runc; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
 fi
 
 if [ ${#missing[@]} -eq 0 ]; then

@@ -1,0 +1,187 @@
+"""The deployment files hold what the server needs (issue 15): the Helm
+chart rendered by helm_render.py (helm is not in Debian 12) with its
+defaults and with the switches set, the Kubernetes manifest generated from
+it, the Compose file and the Dockerfile. Checked: the port wired to
+gistreamd --listen, probes on the plaintext health port, TLS and token
+secrets mounted where the flags read them, a non-root read-only pod without
+capabilities, runtimeClassName and GPU tolerations, nvidia.com/gpu limits, a
+scene volume, the metrics port and ServiceMonitor, a PodDisruptionBudget and
+grace periods longer than the shutdown deadline.
+
+    /usr/bin/python3 -m unittest -v deploy_test     (ctest: deploy_files)
+"""
+
+import os
+import re
+import unittest
+
+import yaml
+
+import helm_render
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+CHART = os.path.join(ROOT, "deploy", "helm", "gistream")
+
+
+def render(overrides=None, release="gistream"):
+    """{kind: [documents]} of the chart rendered with `overrides`."""
+    docs = {}
+    for name, text in helm_render.render_chart(CHART, release, overrides).items():
+        for doc in yaml.safe_load_all(text):
+            if doc:
+                docs.setdefault(doc["kind"], []).append(doc)
+    return docs
+
+
+def flag(args, name):
+    """The value after `name` in a container's args (None when absent)."""
+    return args[args.index(name) + 1] if name in args else None
+
+
+def duration_s(text):
+    m = re.fullmatch(r"(\d+)s", str(text))
+    assert m, f"not a duration in seconds: {text!r}"
+    return int(m.group(1))
+
+
+class ChartTest(unittest.TestCase):
+    def deployment(self, docs):
+        self.assertEqual(len(docs["Deployment"]), 1)
+        return docs["Deployment"][0]
+
+    def check_server(self, docs, port, health_port, deadline_s):
+        """What every rendering must hold."""
+        pod = self.deployment(docs)["spec"]["template"]["spec"]
+        (container,) = pod["containers"]
+        args = [str(a) for a in container["args"]]
+        self.assertEqual(flag(args, "--listen"), f"0.0.0.0:{port}")
+        self.assertEqual(flag(args, "--health-listen"), f"0.0.0.0:{health_port}")
+        ports = {p["name"]: p["containerPort"] for p in container["ports"]}
+        self.assertEqual(ports["grpc"], port)
+        self.assertEqual(ports["health"], health_port)
+        for probe in ("startupProbe", "readinessProbe", "livenessProbe"):
+            self.assertEqual(container[probe]["grpc"]["port"], health_port, probe)
+        # TLS and tokens: the flags read the files the secrets put there.
+        mounts = {m["name"]: m for m in container["volumeMounts"]}
+        volumes = {v["name"]: v for v in pod["volumes"]}
+        self.assertEqual(os.path.dirname(flag(args, "--tls-cert")), mounts["tls"]["mountPath"])
+        self.assertEqual(os.path.dirname(flag(args, "--tls-key")), mounts["tls"]["mountPath"])
+        self.assertEqual(os.path.dirname(flag(args, "--auth-tokens")),
+                         mounts["tokens"]["mountPath"])
+        self.assertEqual(os.path.basename(flag(args, "--tls-cert")), "tls.crt")  # kubernetes.io/tls
+        self.assertEqual(os.path.basename(flag(args, "--auth-tokens")), "tokens")
+        self.assertTrue(volumes["tls"]["secret"]["secretName"])
+        self.assertTrue(volumes["tokens"]["secret"]["secretName"])
+        self.assertTrue(all(m.get("readOnly") for n, m in mounts.items() if n != "tmp"))
+        # Non-root, read-only, no capabilities, no escalation.
+        self.assertTrue(pod["securityContext"]["runAsNonRoot"])
+        self.assertNotEqual(pod["securityContext"]["runAsUser"], 0)
+        sc = container["securityContext"]
+        self.assertTrue(sc["readOnlyRootFilesystem"])
+        self.assertFalse(sc["allowPrivilegeEscalation"])
+        self.assertEqual(sc["capabilities"]["drop"], ["ALL"])
+        # The grace period outlasts the shutdown deadline.
+        self.assertEqual(float(flag(args, "--shutdown-deadline-s")), deadline_s)
+        self.assertGreater(pod["terminationGracePeriodSeconds"], deadline_s)
+        # The Service reaches the gRPC port; PDB and Service select the pods.
+        labels = self.deployment(docs)["spec"]["template"]["metadata"]["labels"]
+        (service,) = docs["Service"]
+        self.assertEqual(service["spec"]["selector"], labels)
+        self.assertIn({"name": "grpc", "port": port, "targetPort": "grpc"},
+                      service["spec"]["ports"])
+        (pdb,) = docs["PodDisruptionBudget"]
+        self.assertEqual(pdb["spec"]["selector"]["matchLabels"], labels)
+        return pod, container, args
+
+    def test_defaults(self):
+        docs = render()
+        pod, container, args = self.check_server(docs, 50051, 50052, 10)
+        self.assertEqual(pod["runtimeClassName"], "nvidia")
+        self.assertIn({"key": "nvidia.com/gpu", "operator": "Exists", "effect": "NoSchedule"},
+                      pod["tolerations"])
+        self.assertEqual(container["resources"]["limits"]["nvidia.com/gpu"], 1)
+        self.assertIsNone(flag(args, "--tls-client-ca"))
+        self.assertIsNone(flag(args, "--metrics-listen"))
+        self.assertNotIn("ServiceMonitor", docs)
+        self.assertIsNone(flag(args, "--scenes"))  # the image's scenes
+
+    def test_port_moves_listen_probes_and_service_together(self):
+        docs = render({"port": 7000, "healthPort": 7001, "shutdownDeadlineSeconds": 45})
+        self.check_server(docs, 7000, 7001, 45)
+
+    def test_switches(self):
+        docs = render({
+            "gpusPerPod": 0, "runtimeClassName": "", "tls": {"mutualTls": True},
+            "metrics": {"enabled": True, "serviceMonitor": True, "port": 9999},
+            "scenes": {"volume": {"persistentVolumeClaim": {"claimName": "scenes"}}},
+            "extraArgs": ["--max-sessions", "16"]})
+        pod, container, args = self.check_server(docs, 50051, 50052, 10)
+        self.assertNotIn("runtimeClassName", pod)
+        self.assertNotIn("nvidia.com/gpu", container["resources"]["limits"])
+        self.assertEqual(flag(args, "--tls-client-ca"), "/etc/gistream/tls/ca.crt")
+        self.assertEqual(flag(args, "--max-sessions"), "16")
+        # Metrics: flag, container port, Service port, ServiceMonitor on it.
+        self.assertEqual(flag(args, "--metrics-listen"), "0.0.0.0:9999")
+        self.assertIn({"name": "metrics", "containerPort": 9999}, container["ports"])
+        (service,) = docs["Service"]
+        self.assertIn({"name": "metrics", "port": 9999, "targetPort": "metrics"},
+                      service["spec"]["ports"])
+        (monitor,) = docs["ServiceMonitor"]
+        self.assertEqual(monitor["spec"]["endpoints"][0]["port"], "metrics")
+        self.assertEqual(monitor["spec"]["selector"]["matchLabels"], service["metadata"]["labels"])
+        # The scene volume, read-only, is what --scenes names.
+        mounts = {m["name"]: m for m in container["volumeMounts"]}
+        self.assertEqual(flag(args, "--scenes"), mounts["scenes"]["mountPath"])
+        volumes = {v["name"]: v for v in pod["volumes"]}
+        self.assertEqual(volumes["scenes"]["persistentVolumeClaim"]["claimName"], "scenes")
+
+    def test_metrics_without_service_monitor(self):
+        docs = render({"metrics": {"enabled": True}})
+        self.assertNotIn("ServiceMonitor", docs)
+
+    def test_renderer_refuses_what_it_does_not_know(self):
+        with self.assertRaises(helm_render.TemplateError):
+            helm_render._Renderer({}, "r").render(
+                helm_render._parse(helm_render._tokens("{{ include \"x\" . }}")))
+
+
+class ManifestTest(unittest.TestCase):
+    def test_k8s_manifest_is_the_rendered_chart(self):
+        """deploy/k8s/gistream.yaml is generated from the chart (deploy/README.md):
+        regenerate it when the chart changes."""
+        with open(os.path.join(ROOT, "deploy", "k8s", "gistream.yaml")) as f:
+            manifest = [d for d in yaml.safe_load_all(f) if d]
+        rendered = [d for docs in render().values() for d in docs]
+        key = lambda d: (d["kind"], d["metadata"]["name"])
+        self.assertEqual(sorted(manifest, key=key), sorted(rendered, key=key))
+
+    def test_compose(self):
+        with open(os.path.join(ROOT, "deploy", "compose.yaml")) as f:
+            service = yaml.safe_load(f)["services"]["gistreamd"]
+        command = service["command"]
+        deadline = float(flag(command, "--shutdown-deadline-s"))
+        self.assertGreater(duration_s(service["stop_grace_period"]), deadline)
+        self.assertEqual(flag(command, "--listen"), "0.0.0.0:50051")
+        self.assertTrue(flag(command, "--tls-cert") and flag(command, "--auth-tokens"))
+        health = flag(command, "--health-listen").split(":")[-1]
+        self.assertIn(f"127.0.0.1:{health}", service["healthcheck"]["test"])
+        self.assertIn("health", service["healthcheck"]["test"])
+        self.assertTrue(service["read_only"])
+        self.assertEqual(service["cap_drop"], ["ALL"])
+
+    def test_dockerfile_serves_tls_with_tokens_by_default(self):
+        with open(os.path.join(ROOT, "deploy", "Dockerfile")) as f:
+            text = f.read()
+        cmd = yaml.safe_load(re.search(r"^CMD (\[.*?\])$", text, re.S | re.M).group(1)
+                             .replace("\\\n", " "))
+        self.assertEqual(flag(cmd, "--listen"), "0.0.0.0:50051")
+        self.assertEqual(flag(cmd, "--tls-cert"), "/etc/gistream/tls/tls.crt")
+        self.assertEqual(flag(cmd, "--auth-tokens"), "/etc/gistream/tokens/tokens")
+        self.assertRegex(text, r"(?m)^USER 65534")
+        with open(os.path.join(ROOT, ".dockerignore")) as f:
+            ignored = f.read().split()
+        self.assertIn("build", ignored)
+
+
+if __name__ == "__main__":
+    unittest.main()
