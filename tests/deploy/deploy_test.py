@@ -155,6 +155,31 @@ class ManifestTest(unittest.TestCase):
         key = lambda d: (d["kind"], d["metadata"]["name"])
         self.assertEqual(sorted(manifest, key=key), sorted(rendered, key=key))
 
+    def test_balancer_reaches_the_chart_service_by_hash(self):
+        with open(os.path.join(ROOT, "deploy", "k8s", "balancer.yaml")) as f:
+            docs = {d["kind"]: d for d in yaml.safe_load_all(f) if d}
+        envoy = yaml.safe_load(docs["ConfigMap"]["data"]["envoy.yaml"])["static_resources"]
+        (cluster,) = envoy["clusters"]
+        self.assertEqual(cluster["type"], "STRICT_DNS")  # every pod of the headless Service
+        self.assertEqual(cluster["lb_policy"], "RING_HASH")
+        address = cluster["load_assignment"]["endpoints"][0]["lb_endpoints"][0]["endpoint"][
+            "address"]["socket_address"]
+        (service,) = render()["Service"]
+        self.assertEqual(address["address"], service["metadata"]["name"])
+        self.assertEqual(service["spec"]["clusterIP"], "None")
+        self.assertEqual(address["port_value"], 50051)
+        self.assertIn("UpstreamTlsContext", cluster["transport_socket"]["typed_config"]["@type"])
+        manager = envoy["listeners"][0]["filter_chains"][0]["filters"][0]["typed_config"]
+        (route,) = manager["route_config"]["virtual_hosts"][0]["routes"]
+        self.assertEqual(route["route"]["timeout"], "0s")  # sessions are long streams
+        self.assertEqual([h["header"]["header_name"] for h in route["route"]["hash_policy"]],
+                         ["x-gistream-affinity", "authorization"])
+        # The pods' CA comes from the chart's TLS secret.
+        volumes = {v["name"]: v for v in docs["Deployment"]["spec"]["template"]["spec"]["volumes"]}
+        self.assertEqual(volumes["upstream"]["secret"]["secretName"],
+                         render()["Deployment"][0]["spec"]["template"]["spec"]["volumes"][0][
+                             "secret"]["secretName"])
+
     def test_compose(self):
         with open(os.path.join(ROOT, "deploy", "compose.yaml")) as f:
             service = yaml.safe_load(f)["services"]["gistreamd"]
