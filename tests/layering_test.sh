@@ -18,7 +18,7 @@ declare -A ALLOWED=(
   [server/service]="util encode gl scene render solvers service"
   [server/service/grpc]="util service gistream grpc"
   [server/metrics]="util service metrics"
-  [client]="util encode gistream client"
+  [client]="util encode gistream grpc client"
 )
 
 # Third-party headers some files include with quotes.
