@@ -3,20 +3,10 @@
 #include <string>
 
 #include "gl/fault_injection.h"
+#include "gl/textures.h"
 #include "util/status.h"
 
 namespace gistream {
-namespace {
-gl::Texture Target(GLenum format, uint32_t w, uint32_t h) {
-  gl::Texture t = gl::Texture::Create(GL_TEXTURE_2D);
-  glTextureStorage2D(t.id(), 1, format, GLsizei(w), GLsizei(h));
-  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  return t;
-}
-}  // namespace
 
 absl::Status GBuffer::Resize(uint32_t width, uint32_t height) {
   if (width == width_ && height == height_ && fbo_) return absl::OkStatus();
@@ -31,29 +21,17 @@ absl::Status GBuffer::Resize(uint32_t width, uint32_t height) {
   // Only this function's errors below; earlier ones were reported already.
   while (glGetError() != GL_NO_ERROR) {
   }
-  position_ = Target(GL_RGBA32F, width, height);
-  normal_ = Target(GL_RGBA16F, width, height);
-  albedo_ = Target(GL_RGBA8, width, height);
-  emission_ = Target(GL_RGBA32F, width, height);
-  depth_ = Target(GL_DEPTH_COMPONENT32F, width, height);
-  hdr_ = Target(GL_RGBA32F, width, height);
-  glTextureParameteri(hdr_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTextureParameteri(hdr_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  ldr_ = Target(GL_RGBA8, width, height);
-
-  fbo_ = gl::Framebuffer::Create();
-  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT0, position_.id(), 0);
-  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT1, normal_.id(), 0);
-  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT2, albedo_.id(), 0);
-  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT3, emission_.id(), 0);
-  glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
-  const GLenum draw[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                          GL_COLOR_ATTACHMENT3};
-  glNamedFramebufferDrawBuffers(fbo_.id(), 4, draw);
-  hdr_fbo_ = gl::Framebuffer::Create();
-  glNamedFramebufferTexture(hdr_fbo_.id(), GL_COLOR_ATTACHMENT0, hdr_.id(), 0);
-  ldr_fbo_ = gl::Framebuffer::Create();
-  glNamedFramebufferTexture(ldr_fbo_.id(), GL_COLOR_ATTACHMENT0, ldr_.id(), 0);
+  const int w = int(width), h = int(height);
+  position_ = gl::RenderTarget(GL_RGBA32F, w, h);
+  normal_ = gl::RenderTarget(GL_RGBA16F, w, h);
+  albedo_ = gl::RenderTarget(GL_RGBA8, w, h);
+  emission_ = gl::RenderTarget(GL_RGBA32F, w, h);
+  depth_ = gl::RenderTarget(GL_DEPTH_COMPONENT32F, w, h);
+  hdr_ = gl::RenderTarget(GL_RGBA32F, w, h, /*linear=*/true);
+  ldr_ = gl::RenderTarget(GL_RGBA8, w, h);
+  fbo_ = gl::FramebufferOf({position_.id(), normal_.id(), albedo_.id(), emission_.id()}, depth_.id());
+  hdr_fbo_ = gl::FramebufferOf({hdr_.id()});
+  ldr_fbo_ = gl::FramebufferOf({ldr_.id()});
 
   // Allocation failures are the client's size meeting this GPU's memory,
   // not a bug: an error status for the session, never an abort.

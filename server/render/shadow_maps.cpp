@@ -4,20 +4,10 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "gl/textures.h"
+
 namespace gistream {
 namespace {
-
-gl::Texture DepthArray(GLenum target, int size, int layers) {
-  gl::Texture t = gl::Texture::Create(target);
-  glTextureStorage3D(t.id(), 1, GL_DEPTH_COMPONENT32F, size, size, std::max(layers, 1));
-  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(t.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-  glTextureParameteri(t.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
-  return t;
-}
 
 // Binds `fbo` for a depth-only pass over a square `resolution` target.
 void BeginDepthPass(GLuint fbo, int resolution) {
@@ -57,10 +47,10 @@ absl::StatusOr<ShadowMaps> ShadowMaps::Create() {
 
 void ShadowMaps::Allocate(int cube_count, int directional_count, int resolution) {
   if (cube_count != cube_count_ || resolution != resolution_) {
-    cubes_ = DepthArray(GL_TEXTURE_CUBE_MAP_ARRAY, resolution, 6 * std::max(cube_count, 1));
+    cubes_ = gl::DepthCompareArray(GL_TEXTURE_CUBE_MAP_ARRAY, resolution, 6 * std::max(cube_count, 1));
   }
   if (directional_count != dir_count_ || resolution != resolution_) {
-    directional_ = DepthArray(GL_TEXTURE_2D_ARRAY, resolution, std::max(directional_count, 1));
+    directional_ = gl::DepthCompareArray(GL_TEXTURE_2D_ARRAY, resolution, std::max(directional_count, 1));
   }
   cube_count_ = cube_count;
   dir_count_ = directional_count;

@@ -2,9 +2,8 @@
 // rasterize_cubemaps: the probes' cube-map G-buffer. Distance to the probe
 // (also the depth cube of Section 6), normal turned toward the probe with
 // w = 1 where the probe sees a back face, albedo.
+#include "common/material.glsl"
 #include "common/math.glsl"
-#include "common/scene.glsl"
-layout(binding = 0) uniform sampler2D uBaseColorTex;
 in vec3 gWorld;
 in vec3 gNormal;
 in vec2 gUv;
@@ -17,9 +16,7 @@ void main() {
   vec3 n = SafeNormalize(gNormal, vec3(0.0, 1.0, 0.0));
   bool back = dot(n, gProbe - gWorld) < 0.0;
   if (back) n = -n;
-  vec3 albedo = m.base_color.rgb;
-  if (m.textures.x >= 0) albedo *= texture(uBaseColorTex, gUv).rgb;
   oDistance = max(length(gWorld - gProbe), 1e-30);
   oNormal = vec4(n, back ? 1.0 : 0.0);
-  oAlbedo = vec4(clamp(albedo, 0.0, 1.0), 1.0);
+  oAlbedo = vec4(SurfaceAlbedo(m, gUv), 1.0);
 }

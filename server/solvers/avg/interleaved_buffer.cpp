@@ -1,5 +1,7 @@
 #include "solvers/avg/interleaved_buffer.h"
 
+#include "gl/textures.h"
+
 namespace gistream::avg {
 
 void InterleavedBuffer::Resize(uint32_t width, uint32_t height) {
@@ -8,20 +10,9 @@ void InterleavedBuffer::Resize(uint32_t width, uint32_t height) {
   height_ = height;
   tile_ = glm::ivec2((int(width) + kSide - 1) / kSide, (int(height) + kSide - 1) / kSide);
   const glm::ivec2 size = split_size();
-  auto target = [&] {
-    gl::Texture t = gl::Texture::Create(GL_TEXTURE_2D);
-    glTextureStorage2D(t.id(), 1, GL_RGBA32F, size.x, size.y);
-    glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    return t;
-  };
-  indirect_ = target();
-  direct_ = target();
-  fbo_ = gl::Framebuffer::Create();
-  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT0, indirect_.id(), 0);
-  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT1, direct_.id(), 0);
-  const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
-  glNamedFramebufferDrawBuffers(fbo_.id(), 2, buffers);
+  indirect_ = gl::RenderTarget(GL_RGBA32F, size.x, size.y);
+  direct_ = gl::RenderTarget(GL_RGBA32F, size.x, size.y);
+  fbo_ = gl::FramebufferOf({indirect_.id(), direct_.id()});
 }
 
 uint64_t InterleavedBuffer::gpu_bytes() const {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "gl/textures.h"
 #include "render/shadow_maps.h"
 
 namespace gistream::avg {
@@ -43,14 +44,7 @@ void VplShadowMaps::Upload(const std::vector<Vpl>& vpls, const Bounds& bounds) {
 
 void VplShadowMaps::Allocate(int layers, int resolution) {
   if (maps_ && layers == layers_ && resolution == resolution_) return;
-  maps_ = gl::Texture::Create(GL_TEXTURE_2D_ARRAY);
-  glTextureStorage3D(maps_.id(), 1, GL_DEPTH_COMPONENT32F, resolution, resolution, layers);
-  glTextureParameteri(maps_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTextureParameteri(maps_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTextureParameteri(maps_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(maps_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(maps_.id(), GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
-  glTextureParameteri(maps_.id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+  maps_ = gl::DepthCompareArray(GL_TEXTURE_2D_ARRAY, resolution, layers);
   layers_ = layers;
   resolution_ = resolution;
 }

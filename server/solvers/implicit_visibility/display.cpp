@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "gl/textures.h"
+
 namespace gistream {
 
 absl::StatusOr<Display> Display::Create() {
@@ -39,13 +41,9 @@ void Display::Resize(uint32_t width, uint32_t height) {
   if (width == width_ && height == height_ && fbo_) return;
   width_ = width;
   height_ = height;
-  irradiance_ = gl::Texture::Create(GL_TEXTURE_2D);
-  glTextureStorage2D(irradiance_.id(), 1, GL_RGBA32F, GLsizei(width), GLsizei(height));
-  depth_ = gl::Texture::Create(GL_TEXTURE_2D);
-  glTextureStorage2D(depth_.id(), 1, GL_DEPTH_COMPONENT32F, GLsizei(width), GLsizei(height));
-  fbo_ = gl::Framebuffer::Create();
-  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT0, irradiance_.id(), 0);
-  glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
+  irradiance_ = gl::RenderTarget(GL_RGBA32F, int(width), int(height));
+  depth_ = gl::RenderTarget(GL_DEPTH_COMPONENT32F, int(width), int(height));
+  fbo_ = gl::FramebufferOf({irradiance_.id()}, depth_.id());
 }
 
 void Display::Draw(const ViewCamera& camera, const GBuffer& gbuffer, GLuint indirect_buffer,

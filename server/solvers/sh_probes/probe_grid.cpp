@@ -3,16 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "gl/textures.h"
+
 namespace gistream {
 namespace {
 
+// The atlas: six layers (cube faces), read with texelFetch.
 gl::Texture LayeredTexture(GLenum format, int width, int height) {
-  gl::Texture t = gl::Texture::Create(GL_TEXTURE_2D_ARRAY);
-  glTextureStorage3D(t.id(), 1, format, width, height, 6);
-  // Read with texelFetch only; NEAREST keeps the single level complete.
-  glTextureParameteri(t.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-  glTextureParameteri(t.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-  return t;
+  return gl::LayeredTarget(format, width, height, 6);
 }
 
 }  // namespace
@@ -72,13 +70,7 @@ void ProbeAtlas::Allocate(const ProbeLayout& layout) {
   direct_ = LayeredTexture(GL_RGBA32F, width_, height_);
   indirect_ = LayeredTexture(GL_RGBA32F, width_, height_);
   radiance_ = LayeredTexture(GL_RGBA32F, width_, height_);
-  fbo_ = gl::Framebuffer::Create();
-  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT0, distance_.id(), 0);
-  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT1, normal_.id(), 0);
-  glNamedFramebufferTexture(fbo_.id(), GL_COLOR_ATTACHMENT2, albedo_.id(), 0);
-  glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, depth_.id(), 0);
-  const GLenum buffers[3] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2};
-  glNamedFramebufferDrawBuffers(fbo_.id(), 3, buffers);
+  fbo_ = gl::FramebufferOf({distance_.id(), normal_.id(), albedo_.id()}, depth_.id());
   bytes_ = layout.texels() * (4 + 4 + 8 + 4 + 16 * 3);
 }
 

@@ -1,0 +1,21 @@
+// A drawn surface's material as rasterizing passes read it (the view's
+// G-buffer, the probes' cube maps): base colour and emission, each times
+// its texture when it has one (scene/gpu_scene binds them per draw).
+#include "bindings.glsl"
+#include "common/scene.glsl"
+layout(binding = GS_UNIT_BASE_COLOR) uniform sampler2D uBaseColorTex;
+layout(binding = GS_UNIT_EMISSIVE) uniform sampler2D uEmissiveTex;
+
+// Linear albedo in [0, 1].
+vec3 SurfaceAlbedo(Material m, vec2 uv) {
+  vec3 albedo = m.base_color.rgb;
+  if (m.textures.x >= 0) albedo *= texture(uBaseColorTex, uv).rgb;
+  return clamp(albedo, 0.0, 1.0);
+}
+
+// Emitted radiance (nits).
+vec3 SurfaceEmission(Material m, vec2 uv) {
+  vec3 emission = m.emission.rgb;
+  if (m.textures.y >= 0) emission *= texture(uEmissiveTex, uv).rgb;
+  return emission;
+}
