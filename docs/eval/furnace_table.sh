@@ -40,7 +40,7 @@ PY
     out=$("$BIN/gistream" --server "$ADDR" render --scene "$TMP/furnace_$rho.gltf" --solver "$solver" \
       "${args[@]}" --size 16x16 --format exr --out "$TMP/o.exr" 2>&1)
     mean=$(iinfo --stats "$TMP/o.exr" | sed -n 's/.*Stats Avg: \([0-9.e+-]*\).*/\1/p' | head -1)
-    stat() { echo "$out" | grep -oE "[ ]$1=[0-9.e+-]+" | head -1 | cut -d= -f2; }
+    stat() { echo "$out" | grep -oE "[ ]$1=[0-9.e+-]+" | head -1 | cut -d= -f2 || true; }
     iters=$(stat bounces_run)
     [ -n "$iters" ] || iters=$(stat iterations)
     cap=$(stat cap_reached)

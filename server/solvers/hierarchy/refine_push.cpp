@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 
 #include "util/parallel_for.h"
 
@@ -11,6 +12,9 @@ namespace {
 constexpr float kPi = 3.14159265358979f;
 // A bin covered at least this much counts as fully covered.
 constexpr float kSnapCoverage = 0.5f;
+// Passes that fill bins from a neighbour whose element's disc their
+// direction meets (a band near the horizon is a few bins deep).
+constexpr int kDiscFillPasses = 4;
 
 // The four bins next to each bin on the cube (across face edges too): the
 // bin's centre on the unit cube moved by one bin width along each of its
@@ -49,6 +53,7 @@ LeafLinks RefinePush(const Elements& elements, const CubeBins& bins, const BinTa
     Row& row = rows[leaf];
     thread_local std::vector<uint64_t> scratch_best;
     thread_local std::vector<uint32_t> scratch_covered;
+    thread_local std::vector<uint8_t> scratch_on_disc;
     const glm::vec3 n = elements.normal[leaf];
     const glm::vec3 p = elements.position[leaf];
     const float cosine_sum = bins.CosineSum(n);
@@ -86,11 +91,54 @@ LeafLinks RefinePush(const Elements& elements, const CubeBins& bins, const BinTa
       }
       return linked >= 2;
     };
+    // Whether the bin's central direction from the leaf meets the disc
+    // that circumscribes `node`'s share of its surface (radius
+    // sqrt(2 A / pi): the discs of a vertex grid then leave no gaps).
+    auto meets = [&](int b, uint64_t entry) {
+      if (entry == BinTable::kEmpty) return false;
+      const size_t s = size_t(BinTable::Other(entry));
+      const glm::vec3 d = bins.Direction(b);
+      const glm::vec3 ns = elements.normal[s];
+      const float denom = glm::dot(d, ns);
+      if (!(std::abs(denom) > 1e-6f)) return false;
+      const float t = glm::dot(elements.position[s] - p, ns) / denom;
+      if (!(t > 0.0f)) return false;
+      const glm::vec3 off = p + t * d - elements.position[s];
+      return glm::dot(off, off) <= 2.0f * elements.area[s] / kPi;
+    };
+    // A bin whose direction meets its own element's or a neighbour's
+    // (circumscribed) disc looks at that surface: it is covered, and by
+    // that element when empty; repeated, so a band of such bins fills from
+    // its edge. Near an edge the adjacent wall's discs are seen at grazing
+    // angles and left the bins near the horizon empty or partly covered
+    // although the wall is there (furnace: such leaves gathered 90-95 % of
+    // pi, the closed box 98.9 % on average, lost on every bounce). Open
+    // directions meet no disc, so nothing leaks there.
+    std::vector<uint8_t>& on_disc = scratch_on_disc;
+    on_disc.assign(size_t(bins.count()), 0);
+    for (int b = 0; b < bins.count(); ++b) {
+      if (glm::dot(n, bins.Direction(b)) > 0.0f && meets(b, best_of[size_t(b)])) on_disc[size_t(b)] = 1;
+    }
+    for (int pass = 0; pass < kDiscFillPasses; ++pass) {
+      bool changed = false;
+      for (int b = 0; b < bins.count(); ++b) {
+        if (on_disc[size_t(b)] || !(glm::dot(n, bins.Direction(b)) > 0.0f)) continue;
+        for (const int o : neighbours[size_t(b)]) {
+          if (meets(b, best_of[size_t(o)])) {
+            if (best_of[size_t(b)] == BinTable::kEmpty) best_of[size_t(b)] = best_of[size_t(o)];
+            on_disc[size_t(b)] = 1;
+            changed = true;
+            break;
+          }
+        }
+      }
+      if (!changed) break;
+    }
     for (int b = 0; b < bins.count(); ++b) {
       const float c = glm::dot(n, bins.Direction(b));
       if (!(c > 0.0f)) continue;
       uint64_t best = best_of[size_t(b)];
-      const bool inside = enclosed(b);
+      const bool inside = on_disc[size_t(b)] || enclosed(b);
       if (best == BinTable::kEmpty && inside) {
         // An empty bin amid linked ones is a gap between discs (they do not
         // tile a surface), not a view of the sky: it sees what its nearest
