@@ -1,5 +1,6 @@
 #include "encode/image_reader.h"
 
+#include "encode/exr_header.h"
 #include "encode/image_format.h"
 
 namespace gistream {
@@ -8,6 +9,8 @@ absl::StatusOr<MemoryImageReader> OpenImageFromMemory(std::span<const uint8_t> b
                                                       const std::string& format,
                                                       const std::string& field) {
   ConfigureOpenImageIO();
+  // OpenEXR allocates what its header's attributes claim before reading.
+  if (format == "exr") GS_RETURN_IF_ERROR(CheckExrHeader(bytes, field));
   MemoryImageReader reader;
   reader.proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(bytes.data(), bytes.size());
   reader.input = OIIO::ImageInput::create(format);

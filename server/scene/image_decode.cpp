@@ -31,6 +31,15 @@ absl::Status CheckSpec(const OIIO::ImageSpec& spec, const ImportLimits& limits,
                                                    spec.height, "x", spec.depth, " with ",
                                                    spec.nchannels, " channels"));
   }
+  // Readers decode every channel of a band of rows before picking RGBA: a
+  // header naming thousands of channels (a few bytes each in EXR) would
+  // multiply every band's buffer.
+  constexpr int kMaxChannels = 16;
+  if (spec.nchannels > kMaxChannels) {
+    return absl::InvalidArgumentError(absl::StrCat(field, ": ", spec.nchannels,
+                                                   " channels; at most ", kMaxChannels,
+                                                   " are accepted (RGBA is used)"));
+  }
   const uint64_t w = static_cast<uint64_t>(spec.width);
   const uint64_t h = static_cast<uint64_t>(spec.height);
   if (w > limits.max_image_dimension || h > limits.max_image_dimension) {

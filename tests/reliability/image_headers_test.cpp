@@ -4,6 +4,7 @@
 
 #include <span>
 #include <string>
+#include <vector>
 
 #include "encode/encode.h"
 #include "reliability/reliability_fixture.h"
@@ -50,6 +51,40 @@ TEST(ImageHeaders, ForgedHdrHeaderIsRefusedBeforeAllocating) {
   ASSERT_TRUE(info.ok()) << info.status();
   ExpectRendersFinite(info->id, "direct");
   EXPECT_TRUE(E().UnloadScene(info->id).ok());
+}
+
+// Found by tests/fuzz/image_decode_fuzzer: OpenEXR allocates what a
+// header attribute claims before it finds the file too short (a 721-byte
+// file whose string attribute claimed 1.8 GB allocated 1.8 GB). The header
+// is walked first (encode/exr_header.h).
+TEST(ImageHeaders, ExrAttributeClaimingMoreThanTheFileIsRefusedBeforeAllocating) {
+  auto exr = EncodeExr(std::vector<float>(4 * 3 * 4, 0.5f), 4, 3);
+  ASSERT_TRUE(exr.ok()) << exr.status();
+  std::string forged = *exr;
+  // The first attribute's size follows its name and type name.
+  size_t pos = 8;
+  pos = forged.find('\0', pos) + 1;  // name
+  const std::string name = forged.substr(8, pos - 9);
+  pos = forged.find('\0', pos) + 1;  // type
+  const uint32_t claimed = 1845493869;
+  for (int b = 0; b < 4; ++b) forged[pos + size_t(b)] = char((claimed >> (8 * b)) & 0xff);
+  const std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(forged.data()),
+                                       forged.size());
+  const bool can_measure = ResetPeakRss();
+  const uint64_t before = StatusKiB("VmRSS");
+  EXPECT_STATUS(StatusOf(DecodeImage(bytes, ImageKind::kEnvironment, ImportLimits{}, "environment")),
+                kInvalidArgument,
+                absl::StrCat("environment: corrupt exr image: attribute '", name,
+                             "' claims 1845493869 bytes"));
+  if (can_measure) {
+    EXPECT_LT(StatusKiB("VmHWM"), before + 64 * 1024) << "peak RSS grew while refusing";
+  }
+  // The unforged file still decodes.
+  auto image = DecodeImage(std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(exr->data()),
+                                                    exr->size()),
+                           ImageKind::kEnvironment, ImportLimits{}, "environment");
+  ASSERT_TRUE(image.ok()) << image.status();
+  EXPECT_EQ(image->width, 4);
 }
 
 }  // namespace
