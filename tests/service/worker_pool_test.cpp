@@ -18,9 +18,11 @@ TEST(WorkerPool, RunsEveryAcceptedJob) {
 }
 
 TEST(WorkerPool, FullQueueIsResourceExhausted) {
-  WorkerPool pool({.threads = 1, .max_queued = 2});
+  // The latches outlive the pool: its destructor joins the worker, which
+  // may still be inside release.wait() (ASan: stack-use-after-scope).
   std::latch started(1);
   std::latch release(1);
+  WorkerPool pool({.threads = 1, .max_queued = 2});
   ASSERT_TRUE(pool.Submit([&] {
                     started.count_down();
                     release.wait();
