@@ -1,6 +1,7 @@
 // Budgeted, sliced frames through the real engine: a path-traced Render,
-// an avg VPL re-map and an sh_probes update after a move split into many
-// slices give the same image as one unsplit frame; their stats and timings cover every slice; a cancelled
+// an avg VPL re-map, an sh_probes update after a move and an antiradiance
+// relink in the background split into many slices give the same image as
+// one unsplit frame; their stats and timings cover every slice; a cancelled
 // Render stops and leaves the render thread free for the next request.
 #include <atomic>
 #include <chrono>
@@ -136,6 +137,48 @@ TEST(EngineSlicing, ASplitShProbesUpdateConvergesToAnUnsplitOne) {
   // A fresh solve (Jacobi bounces from zero, same tolerance) of the moved
   // scene: the same fixed point within about the same.
   testing::ExpectSameImage(split, fresh, 1e-2f);
+}
+
+// antiradiance after a move: the shadow maps are redrawn in slices of the
+// budget and the links of the moved block's root pairs rebuilt, with the
+// transport, as a background job on the CPU pool; the solution shown once
+// both are in equals the one an unsplit update gives and a fresh solve's.
+TEST(EngineSlicing, AnAntiradianceUpdateInTheBackgroundEqualsAnUnsplitOne) {
+  const BundledCopy split_scene("cornell_box.gltf"), whole_scene("cornell_box.gltf"),
+      fresh_scene("cornell_box.gltf");
+  auto request = [](const std::string& scene, double budget_ms, std::vector<Update> updates) {
+    RenderRequest r = testing::SolverRequest(
+        scene, "antiradiance", {{"bins", "32"}, {"area_samples", "4"}, {"shadow_res", "32"}}, 24,
+        std::move(updates));
+    r.frame_budget_ms = budget_ms;
+    return r;
+  };
+  NodeTransformUpdate move;
+  move.node = 6;  // tall_block
+  move.translation = glm::vec3(-0.05f, 0.0f, 0.05f);
+  testing::RenderRequestExr(request(split_scene.id(), 0.01, {}));
+  testing::RenderRequestExr(request(whole_scene.id(), 10'000.0, {}));
+  EncodedFrame split_frame, whole_frame, fresh_frame;
+  const testing::FloatImage split =
+      testing::RenderRequestExr(request(split_scene.id(), 0.01, {{1, move}}), &split_frame);
+  const testing::FloatImage whole =
+      testing::RenderRequestExr(request(whole_scene.id(), 10'000.0, {{1, move}}), &whole_frame);
+  const testing::FloatImage fresh =
+      testing::RenderRequestExr(request(fresh_scene.id(), 0.0, {{1, move}}), &fresh_frame);
+  for (const EncodedFrame* f : {&split_frame, &whole_frame}) {
+    EXPECT_EQ(FrameStat(*f, "links_pending"), 0.0);
+    EXPECT_EQ(FrameStat(*f, "shadow_maps_pending"), 0.0);
+    // Only the pairs with the block's root were relinked.
+    EXPECT_GT(FrameStat(*f, "relinked_root_pairs"), 0.0);
+    EXPECT_LT(FrameStat(*f, "relinked_root_pairs"), FrameStat(*f, "root_pairs"));
+    EXPECT_FALSE(testing::FrameStage(*f, "link")->skipped);
+  }
+  EXPECT_EQ(FrameStat(fresh_frame, "relinked_root_pairs"), FrameStat(fresh_frame, "root_pairs"));
+  // The same links (kept and relinked pairs equal a full link), the same
+  // direct light once the new maps are shown, the same iterations from
+  // zero: equal to float rounding.
+  testing::ExpectSameImage(split, whole);
+  testing::ExpectSameImage(split, fresh);
 }
 
 TEST(EngineSlicing, PathtraceKeepsABoundedNumberOfViews) {

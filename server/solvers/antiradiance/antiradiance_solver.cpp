@@ -2,6 +2,7 @@
 #include "solvers/registry.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -100,20 +101,26 @@ std::vector<std::string> AntiradianceSolver::Plan(ChangeMask changes) const {
   // Geometry relinks; anything that changes the light (lights, emission,
   // albedo, environment) reuses the links (Section 3.3); the camera only
   // redisplays.
-  if (changes & kChangeGeometry) return {"link", "global_pass", "local_pass", "push_pull", "display"};
+  // A solve under way (a background job, shadow-map slices) may end or
+  // start in any frame: its stages may run (link when it relinks).
+  if ((changes & kChangeGeometry) || relink_due_ || (solve_.running() && relinking_)) {
+    return {"link", "global_pass", "local_pass", "push_pull", "display"};
+  }
+  if (!UpdateComplete()) return {"global_pass", "local_pass", "push_pull", "display"};
   if (changes & (kChangeLights | kChangeEmission | kChangeMaterials | kChangeEnvironment)) {
     return {"global_pass", "local_pass", "push_pull", "display"};
   }
   return {"display"};
 }
 
-absl::Status AntiradianceSolver::Link(const SolverContext& ctx) {
+absl::StatusOr<std::unique_ptr<antiradiance::Patches>> AntiradianceSolver::PatchesNow(
+    const SolverContext& ctx) {
   const Bounds bounds = ctx.gpu.WorldBounds(ctx.state);
   const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
   const float max_edge = settings_.patch_size > 0.0f ? settings_.patch_size : diagonal / 24.0f;
-  antiradiance::Patches patches;
+  auto patches = std::make_unique<antiradiance::Patches>();
   if (settings_.surfels) {
-    patches = antiradiance::SurfelPatches(ctx.state, ctx.gpu, surfel_cache_);
+    *patches = antiradiance::SurfelPatches(ctx.state, ctx.gpu, surfel_cache_);
   } else {
     const auto triangles = antiradiance::SceneTriangles(ctx.state);
     // Refuse before splitting: a tiny patch_size makes up to 4^12 leaves per
@@ -122,56 +129,113 @@ absl::Status AntiradianceSolver::Link(const SolverContext& ctx) {
     const uint64_t leaves = antiradiance::CountLeaves(triangles, max_edge);
     const uint64_t leaf_table_bytes = leaves * uint64_t(bins_.count()) * 2 * sizeof(glm::vec3);
     if (leaves > kMaxTableBytes || leaf_table_bytes > kMaxTableBytes) {
-      transport_.reset();
       return absl::ResourceExhaustedError(absl::StrCat(
           "params.patch_size: ", max_edge, " m splits the scene's triangles into ", leaves,
           " leaves, whose I_ex/L_in tables need at least ", leaf_table_bytes >> 20, " MiB (limit ",
           kMaxTableBytes >> 20, " MiB); use a larger patch_size or fewer bins"));
     }
-    patches = antiradiance::BuildPatches(triangles, max_edge);
-  }
-  // Section 3.3: relink only the pairs of roots (charts / mesh instances)
-  // that touch a moved one; the layout is the same as long as the scene's
-  // meshes are (only transforms change), which same_layout checks.
-  const bool same_layout = transport_ && patches.roots == patches_.roots && patches.size() == patches_.size();
-  std::vector<bool> moved(patches.roots.size(), true);
-  if (same_layout) {
-    for (size_t r = 0; r < patches.roots.size(); ++r) {
-      const int end = r + 1 < patches.roots.size() ? patches.roots[r + 1] : patches.size();
-      moved[r] = false;
-      for (int i = patches.roots[r]; i < end && !moved[r]; ++i) {
-        moved[r] = patches.position[size_t(i)] != patches_.position[size_t(i)] ||
-                   patches.normal[size_t(i)] != patches_.normal[size_t(i)] ||
-                   patches.area[size_t(i)] != patches_.area[size_t(i)];
-      }
-    }
+    *patches = antiradiance::BuildPatches(triangles, max_edge);
   }
   // I_ex and L_in: elements x bins x 2 x RGB floats.
-  const uint64_t table_bytes = uint64_t(patches.size()) * uint64_t(bins_.count()) * 2 * sizeof(glm::vec3);
+  const uint64_t table_bytes = uint64_t(patches->size()) * uint64_t(bins_.count()) * 2 * sizeof(glm::vec3);
   if (table_bytes > kMaxTableBytes) {
-    transport_.reset();
     return absl::ResourceExhaustedError(absl::StrCat(
-        "params.bins: ", bins_.count(), " bins x ", patches.size(), " elements need ", table_bytes >> 20,
+        "params.bins: ", bins_.count(), " bins x ", patches->size(), " elements need ", table_bytes >> 20,
         " MiB of I_ex/L_in tables (limit ", kMaxTableBytes >> 20, " MiB); use fewer bins"));
   }
-  patches_ = std::move(patches);
-  if (same_layout) {
-    link_set_.Relink(patches_, bins_, moved);
-  } else {
-    link_set_.Build(patches_, bins_);
-  }
-  link_stats_ = link_set_.stats();
-  const uint64_t links = link_set_.size();
-  if (links * sizeof(antiradiance::Link) > kMaxLinkBytes) {
-    transport_.reset();
-    link_set_ = {};
-    return absl::ResourceExhaustedError(absl::StrCat(
-        "params.bins: ", links, " links (", (links * sizeof(antiradiance::Link)) >> 20, " MiB, limit ",
-        kMaxLinkBytes >> 20, " MiB); use fewer bins"));
-  }
-  transport_ = std::make_unique<antiradiance::Transport>(patches_, bins_, link_set_.Sorted());
-  leaves_ = patches_.Leaves();
+  return patches;
+}
 
+absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relink) {
+  auto job = std::make_shared<SolveJob>();
+  if (relink || !patches_) {
+    GS_ASSIGN_OR_RETURN(job->patches, PatchesNow(ctx));
+    const antiradiance::Patches& p = *job->patches;
+    // Section 3.3: relink only the pairs of roots (charts / mesh instances)
+    // that touch a moved one; the layout is the same as long as the scene's
+    // meshes are (only transforms change), which same_layout checks.
+    job->same_layout = transport_ && patches_ && p.roots == patches_->roots && p.size() == patches_->size();
+    job->moved.assign(p.roots.size(), true);
+    if (job->same_layout) {
+      for (size_t r = 0; r < p.roots.size(); ++r) {
+        const int end = r + 1 < p.roots.size() ? p.roots[r + 1] : p.size();
+        job->moved[r] = false;
+        for (int i = p.roots[r]; i < end && !job->moved[r]; ++i) {
+          job->moved[r] = p.position[size_t(i)] != patches_->position[size_t(i)] ||
+                          p.normal[size_t(i)] != patches_->normal[size_t(i)] ||
+                          p.area[size_t(i)] != patches_->area[size_t(i)];
+        }
+      }
+    }
+    job->relink = true;
+  } else {
+    // Same elements and links (lights, emission, albedo, environment, or
+    // the new shadow maps): only the transport runs.
+    job->patches = std::make_unique<antiradiance::Patches>(*patches_);
+  }
+  job->leaves = job->patches->Leaves();
+  for (int i : job->leaves) {
+    job->patches->albedo[size_t(i)] = antiradiance::MaterialAlbedo(ctx.state, job->patches->tag[size_t(i)]);
+  }
+  if (!job->relink || job->same_layout) job->link_set = link_set_;  // (relinked in the job)
+  {
+    // Section 3.3: direct light initializes the elements through the
+    // shadow maps shown now; it creates no antiradiance.
+    gl::StageTimer::Scope stage(ctx.timer, "local_pass", /*cpu_stage=*/true);
+    job->direct = DirectAtLeaves(*job->patches, job->leaves);
+  }
+  const antiradiance::DirectionalBins* bins = &bins_;
+  const antiradiance::TransportSettings settings = settings_.transport;
+  solve_.Start(job, [bins, settings](SolveJob& j) {
+    using Clock = std::chrono::steady_clock;
+    const auto t0 = Clock::now();
+    if (j.relink) {
+      if (j.same_layout) {
+        j.link_set.Relink(*j.patches, *bins, j.moved);
+      } else {
+        j.link_set.Build(*j.patches, *bins);
+      }
+      j.stage_ms["link"] = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    }
+    const uint64_t links = j.link_set.size();
+    if (links * sizeof(antiradiance::Link) > kMaxLinkBytes) {
+      j.status = absl::ResourceExhaustedError(absl::StrCat(
+          "params.bins: ", links, " links (", (links * sizeof(antiradiance::Link)) >> 20,
+          " MiB, limit ", kMaxLinkBytes >> 20, " MiB); use fewer bins"));
+      return;
+    }
+    j.transport = std::make_unique<antiradiance::Transport>(*j.patches, *bins, j.link_set.Sorted());
+    // Emission is the direct term's (area-light samples), not transported again.
+    Clock::time_point begun;
+    j.result = j.transport->Solve(j.direct, {}, settings, [&](const char* stage, bool begin) {
+      if (begin) {
+        begun = Clock::now();
+      } else {
+        j.stage_ms[stage] += std::chrono::duration<double, std::milli>(Clock::now() - begun).count();
+      }
+    });
+  });
+  return absl::OkStatus();
+}
+
+absl::Status AntiradianceSolver::TakeSolve(SolverContext& ctx, SolveJob& job) {
+  // The job's CPU time is reported in the frame that takes its solution.
+  for (const auto& [stage, ms] : job.stage_ms) ctx.timer.Record(stage, ms);
+  GS_RETURN_IF_ERROR(job.status);
+  patches_ = std::move(job.patches);
+  leaves_ = std::move(job.leaves);
+  link_set_ = std::move(job.link_set);
+  link_stats_ = link_set_.stats();
+  transport_ = std::move(job.transport);
+  result_ = job.result;
+  BuildDisplay();
+  UploadIrradiance();
+  indirect_scale_ = 1.0f;
+  return absl::OkStatus();
+}
+
+void AntiradianceSolver::BuildDisplay() {
+  const antiradiance::Patches& patches = *patches_;
   // Display data: the leaves as splats (radius 1.5 x the leaf's bounding
   // radius, so neighbours overlap) in a uniform grid whose cell is at
   // least the largest splat (a pixel looks at its cell and the 26 around).
@@ -181,13 +245,13 @@ absl::Status AntiradianceSolver::Link(const SolverContext& ctx) {
   leaf_area_ = 0.0;
   for (size_t k = 0; k < leaves_.size(); ++k) {
     const size_t i = size_t(leaves_[k]);
-    const float r = 1.5f * patches_.radius[i];
-    elements[k].position_radius = glm::vec4(patches_.position[i], r);
-    elements[k].normal = glm::vec4(patches_.normal[i], 0.0f);
+    const float r = 1.5f * patches.radius[i];
+    elements[k].position_radius = glm::vec4(patches.position[i], r);
+    elements[k].normal = glm::vec4(patches.normal[i], 0.0f);
     elements[k].irradiance = glm::vec4(0.0f);
-    box.Extend(patches_.position[i]);
+    box.Extend(patches.position[i]);
     largest = std::max(largest, r);
-    leaf_area_ += patches_.area[i];
+    leaf_area_ += patches.area[i];
   }
   if (box.empty()) box.Extend(glm::vec3(0.0f));
   const glm::vec3 extent = box.extent();
@@ -211,23 +275,32 @@ absl::Status AntiradianceSolver::Link(const SolverContext& ctx) {
   element_data_.resize(elements.size() * 3);
   std::memcpy(element_data_.data(), elements.data(), elements.size() * sizeof(ElementGpu));
   grid_ = MakeBuffer(GLsizeiptr(grid.size() * sizeof(uint32_t)), grid.data());
-  direct_ = MakeBuffer(GLsizeiptr(leaves_.size() * sizeof(glm::vec4)), nullptr);
-  return absl::OkStatus();
 }
 
-std::vector<glm::vec3> AntiradianceSolver::DirectAtLeaves() {
-  std::vector<glm::vec3> direct(size_t(patches_.size()), glm::vec3(0.0f));
-  if (leaves_.empty()) return direct;
+std::vector<glm::vec3> AntiradianceSolver::DirectAtLeaves(const antiradiance::Patches& patches,
+                                                          const std::vector<int>& leaves) {
+  std::vector<glm::vec3> direct(size_t(patches.size()), glm::vec3(0.0f));
+  if (leaves.empty()) return direct;
+  // The leaves' centres and normals (the element layout the shader reads).
+  std::vector<ElementGpu> elements(leaves.size());
+  for (size_t k = 0; k < leaves.size(); ++k) {
+    const size_t i = size_t(leaves[k]);
+    elements[k].position_radius = glm::vec4(patches.position[i], patches.radius[i]);
+    elements[k].normal = glm::vec4(patches.normal[i], 0.0f);
+    elements[k].irradiance = glm::vec4(0.0f);
+  }
+  const gl::Buffer input = MakeBuffer(GLsizeiptr(elements.size() * sizeof(ElementGpu)), elements.data());
+  const gl::Buffer output = MakeBuffer(GLsizeiptr(leaves.size() * sizeof(glm::vec4)), nullptr);
   lighting_.Bind(direct_program_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kElementBinding, elements_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGridBinding, direct_.id());
-  direct_program_.Set("uCount", int(leaves_.size()));
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kElementBinding, input.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGridBinding, output.id());
+  direct_program_.Set("uCount", int(leaves.size()));
   direct_program_.Use();
-  glDispatchCompute(Groups(leaves_.size(), 64), 1, 1);
+  glDispatchCompute(Groups(leaves.size(), 64), 1, 1);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
-  std::vector<glm::vec4> e(leaves_.size());
-  glGetNamedBufferSubData(direct_.id(), 0, GLsizeiptr(e.size() * sizeof(glm::vec4)), e.data());
-  for (size_t k = 0; k < leaves_.size(); ++k) direct[size_t(leaves_[k])] = glm::vec3(e[k]);
+  std::vector<glm::vec4> e(leaves.size());
+  glGetNamedBufferSubData(output.id(), 0, GLsizeiptr(e.size() * sizeof(glm::vec4)), e.data());
+  for (size_t k = 0; k < leaves.size(); ++k) direct[size_t(leaves[k])] = glm::vec3(e[k]);
   return direct;
 }
 
@@ -237,7 +310,7 @@ void AntiradianceSolver::UploadIrradiance() {
   negative_area_ = 0.0;
   for (size_t k = 0; k < leaves_.size(); ++k) {
     const glm::vec3 v = transport_->indirect_irradiance()[size_t(leaves_[k])];
-    if (v.r < 0.0f || v.g < 0.0f || v.b < 0.0f) negative_area_ += patches_.area[size_t(leaves_[k])];
+    if (v.r < 0.0f || v.g < 0.0f || v.b < 0.0f) negative_area_ += patches_->area[size_t(leaves_[k])];
     element_data_[3 * k + 2] = glm::vec4(glm::max(v, glm::vec3(0.0f)), 0.0f);
   }
   if (!element_data_.empty()) {
@@ -247,14 +320,17 @@ void AntiradianceSolver::UploadIrradiance() {
 }
 
 absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) {
-  const bool geometry = (changes & kChangeGeometry) || !transport_;
+  const bool first = !transport_;
+  const bool geometry = (changes & kChangeGeometry) || first;
   const bool light = geometry || (changes & (kChangeLights | kChangeEmission | kChangeMaterials |
                                              kChangeEnvironment));
-  if (!light) {
+  const bool busy = solve_.running() || lighting_.pending() || stale_;
+  if (!light && !busy) {
     for (const char* stage : {"link", "global_pass", "local_pass", "push_pull"}) ctx.timer.Skip(stage);
     return absl::OkStatus();
   }
-  if (const std::optional<float> k = geometry ? std::nullopt : emission_.Factor(ctx.state, changes)) {
+  if (const std::optional<float> k =
+          (geometry || busy) ? std::nullopt : emission_.Factor(ctx.state, changes)) {
     // A dimmer: the transported light scales with the lights (linear
     // transport, solvers/emission_scale.h); no link, pass or push-pull.
     for (const char* stage : {"link", "global_pass", "push_pull"}) ctx.timer.Skip(stage);
@@ -263,34 +339,33 @@ absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) 
     indirect_scale_ = *k;
     return absl::OkStatus();
   }
-  if (geometry) {
-    gl::StageTimer::Scope stage(ctx.timer, "link", /*cpu_stage=*/true);
-    GS_RETURN_IF_ERROR(Link(ctx));
-  } else {
-    ctx.timer.Skip("link");
-    if (changes & kChangeMaterials) {
-      for (int i : leaves_) patches_.albedo[size_t(i)] = antiradiance::MaterialAlbedo(ctx.state, patches_.tag[size_t(i)]);
-    }
-  }
-  std::vector<glm::vec3> direct;
   {
-    // Section 3.3: direct light initializes the elements through the
-    // shadow maps; it creates no antiradiance.
+    // The shadow maps: whole for the first solve, then in slices of the
+    // frame budget while the shown set stays bound (render/direct_lighting.h).
     gl::StageTimer::Scope stage(ctx.timer, "local_pass", /*cpu_stage=*/true);
-    GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes));
-    direct = DirectAtLeaves();
-  }
-  // Emission is the direct term's (area-light samples), not transported again.
-  result_ = transport_->Solve(direct, {}, settings_.transport, [&](const char* stage, bool begin) {
-    if (begin) {
-      ctx.timer.Begin(stage, /*cpu_stage=*/true);
-    } else {
-      ctx.timer.End();
+    const bool drawing = lighting_.pending();
+    if (light) {
+      GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes,
+                                          first ? 0.0 : ctx.budget_ms));
+    } else if (drawing) {
+      lighting_.Continue(ctx.gpu, ctx.state, ctx.budget_ms);
     }
-  });
-  UploadIrradiance();
-  emission_.Solved(ctx.state);
-  indirect_scale_ = 1.0f;
+    // New light, or the new maps are shown: the elements' direct light
+    // changed, a new solve is due.
+    if (light || (drawing && !lighting_.pending())) stale_ = true;
+  }
+  if (geometry) relink_due_ = true;
+  if (std::shared_ptr<SolveJob> done = solve_.TakeIfDone()) GS_RETURN_IF_ERROR(TakeSolve(ctx, *done));
+  if (stale_ && !solve_.running()) {
+    // Link and transport run on the CPU pool on copies (links of the moved
+    // roots only, Section 3.3); frames show the last solution meanwhile. A
+    // change during the job makes the next one, with the newest data.
+    GS_RETURN_IF_ERROR(StartSolve(ctx, relink_due_));
+    relinking_ = relink_due_;
+    stale_ = relink_due_ = false;
+    if (first) GS_RETURN_IF_ERROR(TakeSolve(ctx, *solve_.TakeWhenDone()));
+  }
+  if (!stale_ && !solve_.running() && !lighting_.pending()) emission_.Solved(ctx.state);
   return absl::OkStatus();
 }
 
@@ -319,7 +394,7 @@ SolverStats AntiradianceSolver::Stats() const {
   const uint64_t links = transport_ ? transport_->links().size() : 0;
   SolverStats s = {
       {"bins", double(bins_.count())},
-      {"elements", double(patches_.size())},
+      {"elements", patches_ ? double(patches_->size()) : 0.0},
       {"leaves", double(leaves_.size())},
       {"links", double(links)},
       {"links_spread", double(link_stats_.spread)},
@@ -341,6 +416,8 @@ SolverStats AntiradianceSolver::Stats() const {
       {"negative_irradiance_area", leaf_area_ > 0.0 ? negative_area_ / leaf_area_ : 0.0},
       {"area_samples", double(lighting_.area_samples().size())},
       {"shadow_map_bytes", double(lighting_.gpu_bytes())},
+      {"links_pending", solve_.running() ? 1.0 : 0.0},
+      {"shadow_maps_pending", lighting_.pending() ? 1.0 : 0.0},
   };
   for (size_t i = 0; i < result_.residual.size() && i < kMaxResidualStats; ++i) {
     s.push_back({absl::StrCat("residual_", i + 1), result_.residual[i]});

@@ -8,12 +8,17 @@
 //   local_pass   direct light into the elements (shadow maps, GPU), K and J (CPU)
 //   push_pull    the hierarchy's push / pull (CPU)
 //   display      direct per pixel + indirect splatted from the elements (GPU)
+// After the first solve, link and transport run as a background job on the
+// CPU pool (links of moved roots only) while frames show the last solution.
 #pragma once
 
+#include <map>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "render/direct_lighting.h"
+#include "solvers/background_job.h"
 #include "solvers/emission_scale.h"
 #include "solvers/antiradiance/directional_bins.h"
 #include "solvers/antiradiance/links.h"
@@ -46,6 +51,7 @@ class AntiradianceSolver final : public Solver {
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
+  bool UpdateComplete() const override { return !solve_.running() && !stale_ && !lighting_.pending(); }
   // Shadow maps and the display's element buffer (the transport is CPU memory).
   uint64_t gpu_bytes() const override {
     return lighting_.gpu_bytes() + element_data_.size() * sizeof(glm::vec4);
@@ -54,10 +60,34 @@ class AntiradianceSolver final : public Solver {
  private:
   AntiradianceSolver() = default;
 
-  // Fails (naming the parameter) when the tables or links would exceed the limits.
-  absl::Status Link(const SolverContext& ctx);
-  // Direct irradiance at every leaf's centre (Section 3.3), per node.
-  std::vector<glm::vec3> DirectAtLeaves();
+  // Link and transport of one state of the scene (Sections 3.2, 3.3) on
+  // copies, run on the CPU pool while frames show the last solution.
+  struct SolveJob {
+    std::unique_ptr<antiradiance::Patches> patches;  // its address is the transport's
+    std::vector<int> leaves;
+    antiradiance::LinkSet link_set;
+    bool relink = false;       // link the new patches (else keep the links)
+    bool same_layout = false;  // relink the moved roots' pairs only
+    std::vector<bool> moved;   // per root
+    std::vector<glm::vec3> direct;  // E_d per node, at the leaves
+    absl::Status status;            // a limit the links exceed
+    std::unique_ptr<antiradiance::Transport> transport;
+    antiradiance::TransportResult result;
+    std::map<std::string, double> stage_ms;  // CPU time per stage
+  };
+  // The elements of the scene now; fails (naming the parameter) when their
+  // tables would exceed the limits.
+  absl::StatusOr<std::unique_ptr<antiradiance::Patches>> PatchesNow(const SolverContext& ctx);
+  // Starts a SolveJob: new elements and links when `relink`, the direct
+  // light at the leaves from the shadow maps shown now.
+  absl::Status StartSolve(const SolverContext& ctx, bool relink);
+  // Shows a finished job's solution (its stage times go to this frame).
+  absl::Status TakeSolve(SolverContext& ctx, SolveJob& job);
+  // The display's splats and grid for patches_ / leaves_.
+  void BuildDisplay();
+  // Direct irradiance at the leaves' centres (Section 3.3), per node.
+  std::vector<glm::vec3> DirectAtLeaves(const antiradiance::Patches& patches,
+                                        const std::vector<int>& leaves);
   void UploadIrradiance();
 
   // Configuration
@@ -65,7 +95,7 @@ class AntiradianceSolver final : public Solver {
 
   // Runtime data
   antiradiance::DirectionalBins bins_;
-  antiradiance::Patches patches_;
+  std::unique_ptr<antiradiance::Patches> patches_;  // the transport refers to it
   antiradiance::SurfelCache surfel_cache_;
   antiradiance::LinkSet link_set_;
   std::unique_ptr<antiradiance::Transport> transport_;
@@ -88,6 +118,13 @@ class AntiradianceSolver final : public Solver {
   antiradiance::TransportResult result_;
   double negative_area_ = 0.0;
   double leaf_area_ = 0.0;
+
+  // The solve under way; last, so that it is waited for before the data
+  // its job reads (bins_) is destroyed.
+  bool stale_ = false;       // a change (or new shadow maps) waits for a solve
+  bool relink_due_ = false;  // and it moved geometry
+  bool relinking_ = false;   // the running job relinks
+  BackgroundJob<SolveJob> solve_;
 };
 
 }  // namespace gistream

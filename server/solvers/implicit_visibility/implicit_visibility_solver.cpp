@@ -68,7 +68,7 @@ std::vector<std::string> ImplicitVisibilitySolver::Plan(ChangeMask changes) cons
       plan.push_back("illumination");
     }
   }
-  if (pending_ || relink_again_ || illumination_stale_ || lighting_.pending()) {
+  if (relink_.running() || relink_.again() || illumination_stale_ || lighting_.pending()) {
     // A background relink may end this frame: its links are taken and the
     // light gathered.
     for (const char* s : {"create_links", "refine_push", "shadow_maps", "illumination"}) {
@@ -77,10 +77,6 @@ std::vector<std::string> ImplicitVisibilitySolver::Plan(ChangeMask changes) cons
   }
   plan.push_back("display");
   return plan;
-}
-
-ImplicitVisibilitySolver::~ImplicitVisibilitySolver() {
-  if (pending_) pending_->done.wait();  // the job reads bins_
 }
 
 absl::Status ImplicitVisibilitySolver::CheckBinBytes() const {
@@ -113,8 +109,8 @@ absl::Status ImplicitVisibilitySolver::Relink(SolverContext& ctx) {
 
 absl::Status ImplicitVisibilitySolver::StartRelink(SolverContext& ctx) {
   GS_RETURN_IF_ERROR(CheckBinBytes());
-  if (pending_) {
-    relink_again_ = true;  // the running job links older geometry
+  if (relink_.running()) {
+    relink_.Again();  // the running job links older geometry
     return absl::OkStatus();
   }
   auto job = std::make_shared<RelinkJob>();
@@ -123,27 +119,21 @@ absl::Status ImplicitVisibilitySolver::StartRelink(SolverContext& ctx) {
   job->version = ctx.state.version();
   const hierarchy::CubeBins* bins = &bins_;
   const hierarchy::Linking linking = settings_.linking;
-  RelinkJob* j = job.get();
-  job->done = CpuPool::Get().Async([j, bins, linking] {
+  relink_.Start(std::move(job), [bins, linking](RelinkJob& j) {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
-    j->link_stats = hierarchy::CreateLinks(j->elements, *bins, linking, j->table);
+    j.link_stats = hierarchy::CreateLinks(j.elements, *bins, linking, j.table);
     const auto t1 = Clock::now();
-    j->leaf_links = hierarchy::RefinePush(j->elements, *bins, j->table, j->environment,
-                                          &j->refine_stats);
-    j->create_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
-    j->refine_ms = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
+    j.leaf_links = hierarchy::RefinePush(j.elements, *bins, j.table, j.environment, &j.refine_stats);
+    j.create_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    j.refine_ms = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
   });
-  pending_ = std::move(job);
   return absl::OkStatus();
 }
 
 bool ImplicitVisibilitySolver::FinishRelink(SolverContext& ctx) {
-  if (!pending_ || pending_->done.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
-    return false;
-  }
-  const std::shared_ptr<RelinkJob> job = std::move(pending_);
-  pending_.reset();
+  const std::shared_ptr<RelinkJob> job = relink_.TakeIfDone();
+  if (!job) return false;
   table_ = std::move(job->table);
   link_stats_ = job->link_stats;
   refine_stats_ = job->refine_stats;
@@ -152,8 +142,7 @@ bool ImplicitVisibilitySolver::FinishRelink(SolverContext& ctx) {
   ctx.timer.Record("create_links", job->create_ms);
   ctx.timer.Record("refine_push", job->refine_ms);
   illumination_.UploadLinks(leaf_links_);
-  if (relink_again_) {
-    relink_again_ = false;
+  if (relink_.again()) {
     // The same element layout passed the bin-memory check already.
     StartRelink(ctx).IgnoreError();
   }
@@ -222,7 +211,7 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
     ctx.timer.Skip("create_links");
     ctx.timer.Skip("refine_push");
   }
-  if (pending_ || lighting_.pending()) {
+  if (relink_.running() || lighting_.pending()) {
     // The links or the shadow maps do not match the elements yet: keep the
     // last solution (and the last shadow maps, which the leaves' direct
     // light reads); the light is gathered once both are in. The maps are
@@ -239,7 +228,7 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
     }
     if (materials && !geometry) scene_.UpdateAlbedo(ctx.state);
     if (materials || environment || lights) illumination_stale_ = true;
-    if (pending_ || lighting_.pending()) {
+    if (relink_.running() || lighting_.pending()) {
       ctx.timer.Skip("illumination");
       return absl::OkStatus();
     }
@@ -298,7 +287,7 @@ absl::Status ImplicitVisibilitySolver::Shade(SolverContext& ctx, const ViewCamer
 SolverStats ImplicitVisibilitySolver::Stats() const {
   const hierarchy::Elements& e = scene_.elements();
   return {{"elements", double(e.node_count())},
-          {"links_pending", pending_ ? 1.0 : 0.0},
+          {"links_pending", relink_.running() ? 1.0 : 0.0},
           {"gi_versions_behind",
            double(latest_version_ - std::min(solved_version_, latest_version_))},
           {"leaves", double(e.leaf_count())},

@@ -15,12 +15,12 @@
 //   display           vertex irradiance raster + per-pixel direct light
 #pragma once
 
-#include <future>
 #include <memory>
 #include <optional>
 #include <vector>
 
 #include "render/direct_lighting.h"
+#include "solvers/background_job.h"
 #include "solvers/emission_scale.h"
 #include "solvers/hierarchy/bin_table.h"
 #include "solvers/hierarchy/cube_bins.h"
@@ -52,12 +52,11 @@ class ImplicitVisibilitySolver final : public Solver {
 
   const SolverDescription& description() const override;
   std::vector<std::string> Plan(ChangeMask changes) const override;
-  ~ImplicitVisibilitySolver() override;
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   // False while a background relink runs (the shown indirect light is the
   // last solution's) or its illumination has not run yet.
   bool UpdateComplete() const override {
-    return !pending_ && !relink_again_ && !lighting_.pending();
+    return !relink_.running() && !relink_.again() && !lighting_.pending();
   }
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
@@ -83,7 +82,6 @@ class ImplicitVisibilitySolver final : public Solver {
     hierarchy::LeafLinks leaf_links;
     hierarchy::RefineStats refine_stats;
     double create_ms = 0.0, refine_ms = 0.0;
-    std::shared_future<void> done;
   };
   absl::Status CheckBinBytes() const;
   // First solve: links now, on this thread.
@@ -109,8 +107,6 @@ class ImplicitVisibilitySolver final : public Solver {
   Illumination illumination_;
   Display display_;
 
-  std::shared_ptr<RelinkJob> pending_;
-  bool relink_again_ = false;
   bool illumination_stale_ = false;  // an illumination waits for the links
   uint64_t solved_version_ = 0;      // scene version the shown GI reflects
   uint64_t latest_version_ = 0;      // newest scene version seen
@@ -119,6 +115,10 @@ class ImplicitVisibilitySolver final : public Solver {
   hierarchy::LinkStats link_stats_;
   hierarchy::RefineStats refine_stats_;
   Illumination::Result result_;
+
+  // The background relink; last, so that it is waited for before bins_
+  // (which the job reads) is destroyed.
+  BackgroundJob<RelinkJob> relink_;
 };
 
 }  // namespace gistream
