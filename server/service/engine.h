@@ -220,7 +220,8 @@ struct EngineOptions {
   std::map<TenantId, TenantQuota> quotas;
   // Sessions without a client request (update, frame or key frame request)
   // and scenes unused by any session or Render for this long are freed
-  // (sessions end with DEADLINE_EXCEEDED); 0: never.
+  // (sessions end with DEADLINE_EXCEEDED); 0: never. A continuous session
+  // whose frames reach its client (none dropped) is in use.
   std::chrono::milliseconds idle_timeout{0};
   // GI solutions (solver instances) cached per scene, one per solver and
   // parameter set; beyond this the least recently used one that no open

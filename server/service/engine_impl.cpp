@@ -743,6 +743,17 @@ void EngineImpl::ExpireIdle() {
     std::lock_guard lock(mutex_);
     if (shut_down_) return;
     for (const auto& [id, s] : sessions_) {
+      if (s->config.pacing == Pacing::kContinuous) {
+        // A viewer that only watches sends nothing, yet reads its frames
+        // (and one still waiting for its first frame waits on us).
+        const uint64_t dropped = s->sink->dropped_frames();
+        if (s->frames == 0 ||
+            (s->frames > s->idle_seen_frames && dropped == s->idle_seen_dropped)) {
+          s->last_request = now;
+        }
+        s->idle_seen_frames = s->frames;
+        s->idle_seen_dropped = dropped;
+      }
       if (!s->transient && !s->closed && now - s->last_request > options_.idle_timeout) {
         s->closed = true;  // no more frames; CloseSession follows from the client's side
         expired.push_back(s);

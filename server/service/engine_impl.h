@@ -78,6 +78,10 @@ class EngineImpl final : public Engine {
     bool key_frame_requested = false;
     bool closed = false;
     RenderThread::Clock::time_point last_request{};  // the client's, for idle_timeout
+    // What ExpireIdle saw last: a continuous session whose frames reach its
+    // client (more frames, no more drops) is not idle.
+    uint64_t idle_seen_frames = 0;
+    uint64_t idle_seen_dropped = 0;
     // For stats(), updated after each frame (mutex-guarded).
     uint64_t frames = 0;
     uint64_t last_seq = 0;

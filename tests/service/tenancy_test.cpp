@@ -7,6 +7,7 @@
 #include <absl/strings/match.h>
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <fstream>
 #include <optional>
 #include <regex>
@@ -298,10 +299,15 @@ TEST_F(TenancyTest, QuotasGiveResourceExhaustedNamingTheQuota) {
   EXPECT_TRUE(Unload(kBob, bob_scene).ok());
 }
 
-// A sink that records how its session ended.
+// A sink that records how its session ended; with `drop` set it reports
+// every frame it gets as dropped (a client that stopped reading).
 class EndSink final : public FrameSink {
  public:
-  void OnFrame(std::shared_ptr<const EncodedFrame>) override {}
+  void OnFrame(std::shared_ptr<const EncodedFrame>) override {
+    if (drop) dropped_.fetch_add(1);
+  }
+  uint64_t dropped_frames() const override { return dropped_.load(); }
+  std::atomic<bool> drop{false};
   void OnUpdateRejected(uint64_t, const absl::Status&) override {}
   void OnSessionFailed(const absl::Status& status) override {
     std::lock_guard lock(mutex_);
@@ -315,6 +321,7 @@ class EndSink final : public FrameSink {
  private:
   mutable std::mutex mutex_;
   std::optional<absl::Status> ended_;
+  std::atomic<uint64_t> dropped_{0};
 };
 
 TEST(IdleTimeout, IdleSessionsAndScenesExpire) {
@@ -343,6 +350,40 @@ TEST(IdleTimeout, IdleSessionsAndScenesExpire) {
   (*engine)->CloseSession(session->id);
   EXPECT_TRUE(WaitFor([&] { return (*engine)->stats().scenes == 0; }));
   EXPECT_EQ((*engine)->RequestFrames(session->id, 1).code(), absl::StatusCode::kNotFound);
+}
+
+}  // namespace
+}  // namespace gistream::testing
+
+namespace gistream::testing {
+namespace {
+
+TEST(IdleTimeout, AWatchedContinuousSessionStaysUntilItsFramesAreDropped) {
+  EngineOptions options;
+  options.scene_dir = GISTREAM_SOURCE_DIR "/scenes";
+  options.idle_timeout = 300ms;
+  absl::StatusOr<std::unique_ptr<Engine>> engine = Engine::Create(options);
+  ASSERT_TRUE(engine.ok()) << engine.status();
+  SceneSource source;
+  source.name = "furnace";
+  absl::StatusOr<SceneInfo> info = (*engine)->LoadScene(source);
+  ASSERT_TRUE(info.ok()) << info.status();
+  SessionConfig config;
+  config.scene = info->id;
+  config.width = 16;
+  config.height = 16;
+  config.encoding.send_unchanged = true;  // every frame reaches the sink
+  auto sink = std::make_shared<EndSink>();
+  absl::StatusOr<SessionOpenInfo> session = (*engine)->OpenSession(config, sink);
+  ASSERT_TRUE(session.ok()) << session.status();
+  // Frames reach the client: five idle timeouts later it is still open.
+  std::this_thread::sleep_for(5 * options.idle_timeout);
+  EXPECT_FALSE(sink->ended().has_value()) << *sink->ended();
+  // The client stops reading: its frames are dropped and it goes idle.
+  sink->drop = true;
+  ASSERT_TRUE(WaitFor([&] { return sink->ended().has_value(); }));
+  EXPECT_EQ(sink->ended()->code(), absl::StatusCode::kDeadlineExceeded) << *sink->ended();
+  (*engine)->CloseSession(session->id);
 }
 
 }  // namespace
