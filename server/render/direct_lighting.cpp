@@ -4,18 +4,9 @@
 #include <chrono>
 #include <cmath>
 
+#include "gl/buffers.h"
+
 namespace gistream {
-namespace {
-
-template <typename T>
-void Upload(gl::Buffer& buffer, const std::vector<T>& data) {
-  buffer = gl::Buffer::Create();
-  const T zero{};
-  glNamedBufferStorage(buffer.id(), GLsizeiptr(std::max<size_t>(data.size(), 1) * sizeof(T)),
-                       data.empty() ? &zero : data.data(), 0);
-}
-
-}  // namespace
 
 // The emitters as convex polygons for the exact term, each with the range
 // of area samples on it (samples reordered by polygon; polygons without a
@@ -220,18 +211,18 @@ void DirectLighting::Commit(Pending set) {
   std::vector<glm::mat4> dir_matrices;
   for (const DirView& view : dir_views_) dir_matrices.push_back(view.view_proj);
   punctual_count_ = int(set.punctual.size());
-  Upload(punctual_, set.punctual);
-  Upload(samples_buffer_, set.area);
-  Upload(dir_matrices_, dir_matrices);
+  punctual_ = gl::StorageBuffer(set.punctual);
+  samples_buffer_ = gl::StorageBuffer(set.area);
+  dir_matrices_ = gl::StorageBuffer(dir_matrices);
   polygon_count_ = int(set.polygons.size());
-  Upload(polygons_, set.polygons);
+  polygons_ = gl::StorageBuffer(set.polygons);
   drawn_once_ = true;
 }
 
 void DirectLighting::Bind(gl::Program& program) const {
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, punctual_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, samples_buffer_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, dir_matrices_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GS_BINDING_PUNCTUAL_LIGHTS, punctual_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GS_BINDING_AREA_SAMPLES, samples_buffer_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GS_BINDING_DIR_SHADOW_MATRICES, dir_matrices_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kPolygonBinding, polygons_.id());
   shadows_.Bind(kCubeShadowUnit, kDirShadowUnit);
   program.Set("uPunctualCount", punctual_count_);

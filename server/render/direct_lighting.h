@@ -9,6 +9,8 @@
 
 #include <glm/glm.hpp>
 
+#include "gl/bindings.h"
+#include "gl/buffers.h"
 #include "gl/handle.h"
 #include "gl/program.h"
 #include "render/area_lights.h"
@@ -69,10 +71,10 @@ class DirectLighting {
   // Shadow maps (cube-map sets and directional maps) the last Update drew.
   int maps_redrawn() const { return maps_redrawn_; }
 
-  static constexpr GLuint kCubeShadowUnit = 4;
+  static constexpr GLuint kCubeShadowUnit = GS_UNIT_CUBE_SHADOWS;
   static constexpr uint64_t kMaxShadowBytes = uint64_t(2) << 30;
-  static constexpr GLuint kDirShadowUnit = 5;
-  static constexpr GLuint kPolygonBinding = 12;
+  static constexpr GLuint kDirShadowUnit = GS_UNIT_DIR_SHADOWS;
+  static constexpr GLuint kPolygonBinding = GS_BINDING_EMITTER_POLYGONS;
 
  private:
   // Where each shadow map was drawn from: it stays valid while the
@@ -99,12 +101,15 @@ class DirectLighting {
     glm::vec4 normal_shadow;
     glm::vec4 radiance_far;
   };
+  GS_STD430_MIRROR(GpuPunctual, 64);    // render/direct_light.glsl PunctualLight
+  GS_STD430_MIRROR(GpuAreaSample, 48);  // AreaSample
   struct GpuPolygon {
     glm::vec4 radiance_count;   // rgb radiance, w: vertex count
     glm::vec4 normal;           // xyz emitting side
     glm::ivec4 samples;         // x: first area sample, y: how many
     glm::vec4 vertices[EmitterPolygon::kMaxVertices];
   };
+  GS_STD430_MIRROR(GpuPolygon, 48 + 16 * EmitterPolygon::kMaxVertices);  // EmitterPolygon
   static std::vector<GpuPolygon> PolygonsOf(const std::vector<EmitterTriangle>& emitters,
                                             std::vector<EmitterSample>& samples);
   // A light set: its buffers, where each map is drawn from, and the maps

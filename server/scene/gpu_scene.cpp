@@ -4,6 +4,7 @@
 
 #include <glm/gtc/matrix_inverse.hpp>
 
+#include "gl/buffers.h"
 #include "gl/fault_injection.h"
 
 namespace gistream {
@@ -99,12 +100,8 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
     }
   }
 
-  gpu->vertices_ = gl::Buffer::Create();
-  gpu->indices_ = gl::Buffer::Create();
-  glNamedBufferStorage(gpu->vertices_.id(), GLsizeiptr(std::max<size_t>(1, vertices.size()) * sizeof(Vertex)),
-                       vertices.empty() ? nullptr : vertices.data(), 0);
-  glNamedBufferStorage(gpu->indices_.id(), GLsizeiptr(std::max<size_t>(1, indices.size()) * sizeof(uint32_t)),
-                       indices.empty() ? nullptr : indices.data(), 0);
+  gpu->vertices_ = gl::StorageBuffer(vertices);
+  gpu->indices_ = gl::StorageBuffer(indices);
   gpu->gpu_bytes_ += vertices.size() * sizeof(Vertex) + indices.size() * sizeof(uint32_t);
 
   gpu->vao_ = gl::VertexArray::Create();

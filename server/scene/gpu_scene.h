@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gl/bindings.h"
+#include "gl/buffers.h"
 #include "gl/handle.h"
 #include "gl/program.h"
 #include "scene/scene_state.h"
@@ -22,6 +23,7 @@ struct GpuMaterial {
   glm::vec4 emission;        // rgb: emitted radiance (nits), a: unused
   glm::ivec4 textures;       // x: base colour unit or -1, y: emissive unit or -1
 };
+GS_STD430_MIRROR(GpuMaterial, 48);  // shaders/common/scene.glsl Material
 
 struct DrawItem {
   uint32_t first_index = 0;

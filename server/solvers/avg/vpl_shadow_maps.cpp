@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "gl/buffers.h"
 #include "gl/textures.h"
 #include "render/shadow_maps.h"
 
@@ -14,6 +15,7 @@ struct GpuVpl {
   glm::vec4 normal_layer;
   glm::vec4 flux;
 };
+GS_STD430_MIRROR(GpuVpl, 48);  // shaders/avg/vpl.glsl Vpl
 
 }  // namespace
 
@@ -36,10 +38,7 @@ void VplShadowMaps::Upload(const std::vector<Vpl>& vpls, const Bounds& bounds) {
                     glm::vec4(v.normal, float(i)), glm::vec4(v.flux, 0.0f)});
   }
   count_ = int(data.size());
-  vpls_ = gl::Buffer::Create();
-  const GpuVpl zero{};
-  glNamedBufferStorage(vpls_.id(), GLsizeiptr(std::max<size_t>(data.size(), 1) * sizeof(GpuVpl)),
-                       data.empty() ? &zero : data.data(), 0);
+  vpls_ = gl::StorageBuffer(data);
 }
 
 void VplShadowMaps::Allocate(int layers, int resolution) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "gl/buffers.h"
 #include "gl/textures.h"
 
 namespace gistream {
@@ -18,19 +19,13 @@ absl::StatusOr<Display> Display::Create() {
 }
 
 void Display::UploadTriangles(const std::vector<uint32_t>& triangles) {
-  indices_ = gl::Buffer::Create();
-  const uint32_t zero = 0;
-  glNamedBufferStorage(indices_.id(), GLsizeiptr(std::max<size_t>(triangles.size(), 1) * sizeof(uint32_t)),
-                       triangles.empty() ? &zero : triangles.data(), 0);
+  indices_ = gl::StorageBuffer(triangles);
   index_count_ = GLsizei(triangles.size());
   glVertexArrayElementBuffer(vao_.id(), indices_.id());
 }
 
 void Display::UploadVertices(const std::vector<glm::vec3>& world) {
-  positions_ = gl::Buffer::Create();
-  const glm::vec3 zero(0.0f);
-  glNamedBufferStorage(positions_.id(), GLsizeiptr(std::max<size_t>(world.size(), 1) * sizeof(glm::vec3)),
-                       world.empty() ? &zero : world.data(), 0);
+  positions_ = gl::StorageBuffer(world);
   glVertexArrayVertexBuffer(vao_.id(), 0, positions_.id(), 0, sizeof(glm::vec3));
   glEnableVertexArrayAttrib(vao_.id(), 0);
   glVertexArrayAttribFormat(vao_.id(), 0, 3, GL_FLOAT, GL_FALSE, 0);

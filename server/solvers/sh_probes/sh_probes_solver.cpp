@@ -6,6 +6,7 @@
 #include <cmath>
 #include <utility>
 
+#include "gl/buffers.h"
 #include "gl/compute.h"
 #include "solvers/sh_probes/spherical_harmonics.h"
 #include "solvers/sh_probes/tail_estimate.h"
@@ -159,23 +160,14 @@ absl::Status ShProbesSolver::SolveAll(SolverContext& ctx, ChangeMask changes, co
   {
     gl::StageTimer::Scope stage(ctx.timer, "rasterize_cubemaps");
     if (layout.probes() != layout_.probes() || !coefficients_) {
-      const GLsizeiptr coefficient_bytes = GLsizeiptr(sh::kMaxCoefficients) * layout.probes() * 16;
-      coefficients_ = gl::Buffer::Create();
-      shown_coefficients_ = gl::Buffer::Create();
-      previous_coefficients_ = gl::Buffer::Create();
-      probe_valid_ = gl::Buffer::Create();
-      batch_probes_ = gl::Buffer::Create();
-      sees_change_ = gl::Buffer::Create();
-      glNamedBufferStorage(coefficients_.id(), coefficient_bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
-      glNamedBufferStorage(shown_coefficients_.id(), coefficient_bytes, nullptr, GL_DYNAMIC_STORAGE_BIT);
-      glNamedBufferStorage(previous_coefficients_.id(), coefficient_bytes, nullptr,
-                           GL_DYNAMIC_STORAGE_BIT);
-      glNamedBufferStorage(probe_valid_.id(), GLsizeiptr(layout.probes()) * 4, nullptr,
-                           GL_DYNAMIC_STORAGE_BIT);
-      glNamedBufferStorage(batch_probes_.id(), GLsizeiptr(layout.probes()) * 4, nullptr,
-                           GL_DYNAMIC_STORAGE_BIT);
-      glNamedBufferStorage(sees_change_.id(), GLsizeiptr(layout.probes()) * 4, nullptr,
-                           GL_DYNAMIC_STORAGE_BIT);
+      const size_t coefficient_bytes = size_t(sh::kMaxCoefficients) * size_t(layout.probes()) * 16;
+      const size_t per_probe_bytes = size_t(layout.probes()) * 4;
+      coefficients_ = gl::ZeroedBuffer(coefficient_bytes);
+      shown_coefficients_ = gl::ZeroedBuffer(coefficient_bytes);
+      previous_coefficients_ = gl::ZeroedBuffer(coefficient_bytes);
+      probe_valid_ = gl::ZeroedBuffer(per_probe_bytes);
+      batch_probes_ = gl::ZeroedBuffer(per_probe_bytes);
+      sees_change_ = gl::ZeroedBuffer(per_probe_bytes);
     }
     layout_ = layout;
     atlas_.Allocate(layout_);
