@@ -1,5 +1,6 @@
 // Direct irradiance from every light, with shadows. Shared by every solver
 // that shades with direct light (std430 mirrors of render/direct_lighting.h).
+#include "bindings.glsl"
 #include "common/math.glsl"
 
 struct PunctualLight {
@@ -16,9 +17,9 @@ struct AreaSample {
   vec4 radiance_far;    // rgb emitted radiance, w: shadow far
 };
 
-layout(std430, binding = 1) readonly buffer PunctualLights { PunctualLight punctual[]; };
-layout(std430, binding = 2) readonly buffer AreaSamples { AreaSample area_samples[]; };
-layout(std430, binding = 3) readonly buffer DirShadowMatrices { mat4 dir_view_proj[]; };
+layout(std430, binding = GS_BINDING_PUNCTUAL_LIGHTS) readonly buffer PunctualLights { PunctualLight punctual[]; };
+layout(std430, binding = GS_BINDING_AREA_SAMPLES) readonly buffer AreaSamples { AreaSample area_samples[]; };
+layout(std430, binding = GS_BINDING_DIR_SHADOW_MATRICES) readonly buffer DirShadowMatrices { mat4 dir_view_proj[]; };
 
 // A uniformly emitting convex polygon (render/emitter_polygons.h) and the
 // range of area samples on it.
@@ -28,11 +29,11 @@ struct EmitterPolygon {
   ivec4 samples;        // x: first area sample, y: how many
   vec4 vertices[8];
 };
-layout(std430, binding = 12) readonly buffer EmitterPolygons { EmitterPolygon polygons[]; };
+layout(std430, binding = GS_BINDING_EMITTER_POLYGONS) readonly buffer EmitterPolygons { EmitterPolygon polygons[]; };
 uniform int uPolygonCount;  // 0: the discs' estimate alone
 
-layout(binding = 4) uniform samplerCubeArrayShadow uCubeShadows;
-layout(binding = 5) uniform sampler2DArrayShadow uDirShadows;
+layout(binding = GS_UNIT_CUBE_SHADOWS) uniform samplerCubeArrayShadow uCubeShadows;
+layout(binding = GS_UNIT_DIR_SHADOWS) uniform sampler2DArrayShadow uDirShadows;
 uniform int uPunctualCount;
 uniform int uAreaSampleCount;
 uniform float uShadowTexel;  // 2 / shadow resolution (texel size at unit distance)

@@ -24,7 +24,6 @@ absl::StatusOr<std::unique_ptr<Solver>> DirectSolver::Create(const ParamSet& par
   GS_ASSIGN_OR_RETURN(solver->shade_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "direct/shade.frag.glsl"}}));
-  solver->empty_vao_ = gl::VertexArray::Create();
   return solver;
 }
 
@@ -57,16 +56,10 @@ absl::Status DirectSolver::Update(SolverContext& ctx, ChangeMask changes) {
 absl::Status DirectSolver::Shade(SolverContext& ctx, const ViewCamera& /*camera*/,
                                  const GBuffer& gbuffer) {
   gl::StageTimer::Scope stage(ctx.timer, "shade");
-  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
-  glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
-  glDisable(GL_DEPTH_TEST);
-  gbuffer.BindTextures(8);
+  gbuffer.BeginShadePass();
   lighting_.Bind(shade_);
   shade_.Set("uBackground", glm::vec3(0.0f));
-  shade_.Use();
-  glBindVertexArray(empty_vao_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
+  fullscreen_.Draw(shade_);
   return absl::OkStatus();
 }
 
