@@ -286,7 +286,9 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
       std::lock_guard lock(mutex_);
       if (shut_down_) return Unavailable();
       for (auto& [id, record] : scenes_) {
-        if (record->source_name == source.name && record->tenant == source.tenant) existing = record;
+        if (record->source_name == source.name && record->tenant == source.tenant) {
+          existing = record;
+        }
       }
       if (existing) {
         existing->loads += 1;
@@ -730,7 +732,9 @@ Clock::time_point EngineImpl::Tick() {
     }
   }
   // Idle sessions and scenes are looked for at least every second.
-  if (options_.idle_timeout.count() > 0) next = std::min(next, Clock::now() + std::chrono::seconds(1));
+  if (options_.idle_timeout.count() > 0) {
+    next = std::min(next, Clock::now() + std::chrono::seconds(1));
+  }
   return next;
 }
 

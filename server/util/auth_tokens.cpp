@@ -47,8 +47,9 @@ absl::Status ParseQuota(std::string_view item, size_t line, TenantQuota& quota) 
   uint64_t value = 0;
   if (eq == std::string_view::npos ||
       !absl::SimpleAtoi(absl::string_view(item.data() + eq + 1, item.size() - eq - 1), &value)) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "auth tokens line ", line, ": expected quota=N (scenes, sessions, upload_bytes, gpu_bytes)"));
+    return absl::InvalidArgumentError(
+        absl::StrCat("auth tokens line ", line,
+                     ": expected quota=N (scenes, sessions, upload_bytes, gpu_bytes)"));
   }
   if (key == "scenes" || key == "sessions") {
     if (value > UINT32_MAX) {
@@ -62,9 +63,10 @@ absl::Status ParseQuota(std::string_view item, size_t line, TenantQuota& quota) 
   } else if (key == "gpu_bytes") {
     quota.gpu_bytes = value;
   } else {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "auth tokens line ", line, ": unknown quota '", absl::string_view(key.data(), std::min<size_t>(key.size(), 32)),
-        "' (scenes, sessions, upload_bytes, gpu_bytes)"));
+    const absl::string_view shown(key.data(), std::min<size_t>(key.size(), 32));
+    return absl::InvalidArgumentError(
+        absl::StrCat("auth tokens line ", line, ": unknown quota '", shown,
+                     "' (scenes, sessions, upload_bytes, gpu_bytes)"));
   }
   return absl::OkStatus();
 }
@@ -81,12 +83,13 @@ absl::StatusOr<AuthTokens> AuthTokens::Parse(std::string_view text) {
         absl::StrSplit(raw, absl::ByAnyChar(" \t\r"), absl::SkipEmpty());
     if (fields.empty() || fields[0].front() == '#') continue;
     if (fields.size() < 2) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("auth tokens line ", line_number, ": expected 'TOKEN TENANT [quota=N ...]'"));
+      return absl::InvalidArgumentError(absl::StrCat(
+          "auth tokens line ", line_number, ": expected 'TOKEN TENANT [quota=N ...]'"));
     }
     const std::string_view token(fields[0].data(), fields[0].size());
     const std::string_view tenant(fields[1].data(), fields[1].size());
-    if (token.size() < kMinTokenChars || token.size() > kMaxTokenChars || !All(token, IsTokenChar)) {
+    if (token.size() < kMinTokenChars || token.size() > kMaxTokenChars ||
+        !All(token, IsTokenChar)) {
       return absl::InvalidArgumentError(absl::StrCat(
           "auth tokens line ", line_number, ": a token is ", kMinTokenChars, " to ", kMaxTokenChars,
           " characters of A-Z a-z 0-9 . _ ~ + / = -"));

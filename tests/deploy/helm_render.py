@@ -103,7 +103,8 @@ def _split_args(expr):
 
 
 def _to_yaml(value):
-    return yaml.safe_dump(value, default_flow_style=False, sort_keys=True).rstrip("\n")  # as helm (keys sorted)
+    # Keys sorted, as helm's toYaml does.
+    return yaml.safe_dump(value, default_flow_style=False, sort_keys=True).rstrip("\n")
 
 
 _FUNCTIONS = {

@@ -25,7 +25,8 @@ namespace gistream::service {
 struct TlsFiles {
   std::string cert_chain_pem;  // the server's certificate chain
   std::string private_key_pem;
-  std::string client_ca_pem;   // non-empty: mutual TLS, clients must present a certificate it signed
+  // Non-empty: mutual TLS, clients must present a certificate this CA signed.
+  std::string client_ca_pem;
 };
 
 class TokenAuthProcessor final : public grpc::AuthMetadataProcessor {
