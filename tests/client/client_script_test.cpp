@@ -102,6 +102,13 @@ TEST(ScriptParse, HeaderFieldsAndDefaults) {
   EXPECT_EQ(defaults.encoding.format(), v1::IMAGE_FORMAT_JPEG);
 }
 
+TEST(ScriptParse, NumbersPastADoubleAreAnErrorNotAnException) {
+  // Found by tests/fuzz/script_fuzzer: nlohmann throws out_of_range (not a
+  // parse_error) for them, which ended the client.
+  EXPECT_NE(ParseError(R"({"scene": "x", "frames": 8e888})").find("test.json: not valid JSON: "),
+            std::string::npos);
+}
+
 TEST(ScriptParse, ErrorsNameTheJsonPath) {
   EXPECT_EQ(ParseError(R"({"frames": 3})"), "test.json: scene: required");
   EXPECT_EQ(ParseError(R"({"scene": "x"})"), "test.json: frames: required");

@@ -10,6 +10,8 @@
 #include <span>
 #include <string>
 
+#include <google/protobuf/stubs/logging.h>
+
 #include "fuzz/fuzz_check.h"
 #include "scene/gltf_import.h"
 #include "scene/scene_state.h"
@@ -66,6 +68,12 @@ const Scene& TheScene() {
 bool Finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 }  // namespace
+
+// Invalid UTF-8 in string fields is a parse failure; protobuf logs each one.
+extern "C" int LLVMFuzzerInitialize(int* /*argc*/, char*** /*argv*/) {
+  google::protobuf::SetLogHandler(nullptr);
+  return 0;
+}
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   v1::SessionRequest request;  // one or more updates, as a client sends them
