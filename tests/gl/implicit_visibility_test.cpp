@@ -57,14 +57,6 @@ TEST(ImplicitVisibility, StiffFurnaceStaysFiniteAndMonotone) {
   }
 }
 
-TEST(ImplicitVisibility, ExtremeScalesAndIntensitiesStayFiniteAndConserveEnergy) {
-  // Millimetres to kilometres and 1e-3 to 1e6 nits: solid angles, the
-  // coplanar test and the disc form factor are scale-free, so the furnace
-  // reads L / strength = 2 within the 5 % of the plain furnace test.
-  testing::ExpectFurnaceScaleInvariant("implicit_visibility",
-                                       {{"bounces", "12"}, {"bins_per_face", "8"}}, 0.1);
-}
-
 TEST(ImplicitVisibility, HierarchicalMatchesBruteForce) {
   // The paper's Fig. 10 b/c on the Cornell box at 48 px: relMSE between
   // the two linkings below 0.005 (measured 1.4e-4; the images differ where
@@ -93,20 +85,6 @@ TEST_F(ImplicitVisibilityAccuracy, CornellBoxBeatsDirect) {
   const double direct = ErrorOf("direct");
   const double iv = ErrorOf("implicit_visibility", {{"bins_per_face", "8"}});
   std::cout << "cornell direct " << direct << " implicit_visibility " << iv << "\n";
-  EXPECT_LT(iv, 0.35 * direct) << "direct " << direct << " implicit_visibility " << iv;
-}
-
-TEST_F(ImplicitVisibilityAccuracy, IndirectRoomMuchBetterThanDirect) {
-  // Direct renders room B black; the links carry the light through the
-  // door. Room B is lit only after two or more bounces at albedo 0.7, so 8
-  // bounces; the remaining error is mostly the bins' energy shortfall
-  // compounding over the bounces (room B about 20 % dark) and the
-  // discretization blotches. Measured: direct 0.145, implicit_visibility
-  // 0.034.
-  Reference("indirect_room.gltf", 1024);
-  const double direct = ErrorOf("direct");
-  const double iv = ErrorOf("implicit_visibility", {{"bins_per_face", "8"}, {"bounces", "8"}});
-  std::cout << "indirect_room direct " << direct << " implicit_visibility " << iv << "\n";
   EXPECT_LT(iv, 0.35 * direct) << "direct " << direct << " implicit_visibility " << iv;
 }
 

@@ -114,11 +114,6 @@ TEST_P(ShProbesStiffTail, BoundedMonotoneAndNotAboveTheExactValue) {
 
 INSTANTIATE_TEST_SUITE_P(Albedos, ShProbesStiffTail, ::testing::Values(0.99f, 0.999f));
 
-TEST(ShProbes, ExtremeScalesAndIntensitiesStayFiniteAndConserveEnergy) {
-  testing::ExpectFurnaceScaleInvariant(
-      "sh_probes", {{"grid", "4"}, {"bounces", "12"}, {"tolerance", "0"}}, 0.1);
-}
-
 // relMSE against a path-traced reference, 64 x 64.
 class ShProbesAccuracy : public testing::ReferenceFixture {};
 
@@ -127,15 +122,6 @@ TEST_F(ShProbesAccuracy, CornellBoxBeatsDirect) {
   const double direct = ErrorOf("direct");
   const double probes = ErrorOf("sh_probes");
   EXPECT_LT(probes, 0.5 * direct) << "direct " << direct << " sh_probes " << probes;
-}
-
-TEST_F(ShProbesAccuracy, IndirectRoomMuchBetterThanDirect) {
-  // Direct renders the room black; the probes carry the light through the
-  // doorway.
-  Reference("indirect_room.gltf", 1024);
-  const double direct = ErrorOf("direct");
-  const double probes = ErrorOf("sh_probes");
-  EXPECT_LT(probes, 0.25 * direct) << "direct " << direct << " sh_probes " << probes;
 }
 
 TEST(ShProbes, InvalidProbesInsideTheBlocks) {
