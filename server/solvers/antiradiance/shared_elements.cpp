@@ -7,6 +7,7 @@
 
 #include "solvers/antiradiance/scene_patches.h"
 #include "solvers/hierarchy/element_tree.h"
+#include "solvers/hierarchy/subdivide.h"
 #include "solvers/hierarchy/surfels.h"
 
 namespace gistream::antiradiance {
@@ -53,7 +54,10 @@ Patches SurfelPatches(const SceneState& state, const GpuScene& gpu, SurfelCache&
     auto& mesh = meshes[{d.mesh, d.primitive}];
     if (!mesh) {
       mesh = std::make_shared<hierarchy::ElementMesh>();
-      mesh->surfels = hierarchy::CreateSurfels(scene.meshes[size_t(d.mesh)].primitives[size_t(d.primitive)]);
+      // Long edges subdivided to the scene-sized limit (hierarchy/subdivide.h).
+      mesh->surfels = hierarchy::CreateSurfels(hierarchy::SubdivideLongEdges(
+          scene.meshes[size_t(d.mesh)].primitives[size_t(d.primitive)],
+          hierarchy::LocalMaxEdge(state, gpu, d.mesh, d.primitive)));
       mesh->tree = hierarchy::CreateHierarchy(mesh->surfels);
     }
     instances.push_back({mesh, 0, {}});

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solvers/hierarchy/subdivide.h"
 #include "util/parallel_for.h"
 
 namespace gistream {
@@ -32,18 +33,24 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
   const Scene& scene = state.scene();
   std::vector<std::pair<int, int>> keys;  // (mesh, primitive) in first-use order
   for (const DrawItem& d : gpu.draws()) {
-    sources_.push_back({d.node, d.mesh, d.primitive});
+    sources_.push_back({d.node, d.mesh, d.primitive, nullptr});
     if (std::find(keys.begin(), keys.end(), std::make_pair(d.mesh, d.primitive)) == keys.end()) {
       keys.emplace_back(d.mesh, d.primitive);
     }
   }
   std::vector<std::shared_ptr<hierarchy::ElementMesh>> meshes(keys.size());
+  std::vector<std::shared_ptr<const Primitive>> primitives(keys.size());
   {
     gl::StageTimer::Scope stage(timer, "create_surfels", /*cpu_stage=*/true);
+    std::vector<float> max_edge(keys.size());
+    for (size_t k = 0; k < keys.size(); ++k) {
+      max_edge[k] = hierarchy::LocalMaxEdge(state, gpu, keys[k].first, keys[k].second);
+    }
     ParallelFor(keys.size(), 1, [&](size_t k) {
+      primitives[k] = std::make_shared<const Primitive>(hierarchy::SubdivideLongEdges(
+          scene.meshes[size_t(keys[k].first)].primitives[size_t(keys[k].second)], max_edge[k]));
       meshes[k] = std::make_shared<hierarchy::ElementMesh>();
-      meshes[k]->surfels = hierarchy::CreateSurfels(
-          scene.meshes[size_t(keys[k].first)].primitives[size_t(keys[k].second)]);
+      meshes[k]->surfels = hierarchy::CreateSurfels(*primitives[k]);
     });
   }
   {
@@ -53,16 +60,17 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
     });
   }
   std::vector<hierarchy::ElementInstance> instances;
-  for (const InstanceSource& s : sources_) {
+  for (InstanceSource& s : sources_) {
     const size_t k = size_t(std::find(keys.begin(), keys.end(), std::make_pair(s.mesh, s.primitive)) -
                             keys.begin());
     instances.push_back({meshes[k], 0, {}});
+    s.elements = primitives[k];
   }
   elements_ = hierarchy::Elements(std::move(instances));
   // Display triangles over the leaves (one leaf per mesh vertex).
   triangles_.clear();
   for (size_t i = 0; i < sources_.size(); ++i) {
-    const Primitive& p = scene.meshes[size_t(sources_[i].mesh)].primitives[size_t(sources_[i].primitive)];
+    const Primitive& p = *sources_[i].elements;
     const uint32_t offset = uint32_t(elements_.instances()[i].leaf_offset);
     for (uint32_t index : p.indices) triangles_.push_back(offset + index);
   }
@@ -75,9 +83,8 @@ void SceneElements::UpdateGeometry(const SceneState& state) {
   world.reserve(sources_.size());
   for (const InstanceSource& s : sources_) world.push_back(state.world()[size_t(s.node)]);
   elements_.Update(world);
-  const Scene& scene = state.scene();
   ParallelFor(sources_.size(), 1, [&](size_t i) {
-    const Primitive& p = scene.meshes[size_t(sources_[i].mesh)].primitives[size_t(sources_[i].primitive)];
+    const Primitive& p = *sources_[i].elements;
     const size_t offset = size_t(elements_.instances()[i].leaf_offset);
     for (size_t v = 0; v < p.positions.size(); ++v) {
       vertex_world_[offset + v] = glm::vec3(world[i] * glm::vec4(p.positions[v], 1.0f));
@@ -89,7 +96,7 @@ void SceneElements::UpdateAlbedo(const SceneState& state) {
   const Scene& scene = state.scene();
   albedo_.assign(size_t(elements_.leaf_count()), glm::vec3(1.0f));
   for (size_t i = 0; i < sources_.size(); ++i) {
-    const Primitive& p = scene.meshes[size_t(sources_[i].mesh)].primitives[size_t(sources_[i].primitive)];
+    const Primitive& p = *sources_[i].elements;
     const Material* m = p.material >= 0 ? &state.materials()[size_t(p.material)] : nullptr;
     const glm::vec3 factor = m ? glm::vec3(m->base_color_factor) : glm::vec3(1.0f);
     const Image* texture = m && m->base_color_texture >= 0 ? &scene.images[size_t(m->base_color_texture)] : nullptr;

@@ -2,7 +2,9 @@
 // a SceneState's draw list, with the per-mesh preprocessing cached
 // (create_surfels and create_hierarchy run once per mesh primitive), and
 // keeps what the display and the illumination need per leaf: the mesh
-// vertex in world space, the triangle indices, the diffuse albedo.
+// vertex in world space, the triangle indices, the diffuse albedo. Meshes
+// with edges longer than the scene-sized limit are subdivided first
+// (hierarchy/subdivide.h), so a leaf is a vertex of that finer mesh.
 #pragma once
 
 #include <map>
@@ -36,6 +38,9 @@ class SceneElements {
  private:
   struct InstanceSource {
     int node = 0, mesh = 0, primitive = 0;
+    // The mesh primitive with its long edges subdivided
+    // (hierarchy/subdivide.h): the leaves are its vertices.
+    std::shared_ptr<const Primitive> elements;
   };
   bool built_ = false;
   std::vector<InstanceSource> sources_;

@@ -1,0 +1,33 @@
+// Elements sized from the scene: the vertex-based solvers (one element per
+// mesh vertex) subdivide triangles whose edges are longer than a target
+// size before making elements, so a coarse mesh (a Cornell box of 64
+// vertices, as the common OBJ versions are) gets elements as fine as a
+// tessellated one. Deviation from Dong et al. 2007 and Dachsbacher et al.
+// 2007, whose meshes come finely tessellated.
+#pragma once
+
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "scene/gpu_scene.h"
+#include "scene/scene.h"
+
+namespace gistream::hierarchy {
+
+// The longest element edge as a fraction of the scene's diagonal: the
+// bundled tessellated scenes (longest edges 0.03-0.08 of it) are left as
+// they are.
+inline constexpr float kMaxElementEdge = 0.1f;
+
+// `primitive` with every edge longer than `max_edge` (its local units)
+// split at its midpoint, repeatedly (edges are split, not triangles, so
+// the mesh stays free of T-junctions; positions, normals and uvs are
+// interpolated). Unchanged when no edge is that long or max_edge <= 0.
+Primitive SubdivideLongEdges(const Primitive& primitive, float max_edge);
+
+// The local-space edge limit for (mesh, primitive): kMaxElementEdge x the
+// current world diagonal over the largest scale of its instances.
+float LocalMaxEdge(const SceneState& state, const GpuScene& gpu, int mesh, int primitive);
+
+}  // namespace gistream::hierarchy
