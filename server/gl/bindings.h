@@ -3,4 +3,4 @@
 // shared shader declares.
 #pragma once
 
-#include "../../shaders/bindings.glsl"
+#include "bindings.glsl"  // shaders/ is on gistream_gl's include path

@@ -162,7 +162,7 @@ TEST_P(AllSolvers, StochasticFurnaceMeanPassesAZTest) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Registered, AllSolvers, ::testing::ValuesIn(RegisteredSolvers()),
-                         [](const ::testing::TestParamInfo<std::string>& info) { return info.param; });
+                         [](const ::testing::TestParamInfo<std::string>& param_info) { return param_info.param; });
 
 }  // namespace
 }  // namespace gistream
