@@ -186,7 +186,10 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
   }
   const antiradiance::DirectionalBins* bins = &bins_;
   const antiradiance::TransportSettings settings = settings_.transport;
-  solve_.Start(job, [bins, settings](SolveJob& j) {
+  // Section 3.3: iterate from the shown solution (same nodes; Solve checks
+  // the layout). The render thread does not change it before the job ends.
+  const antiradiance::Transport* warm = transport_.get();
+  solve_.Start(job, [bins, settings, warm](SolveJob& j) {
     using Clock = std::chrono::steady_clock;
     const auto t0 = Clock::now();
     if (j.relink) {
@@ -213,7 +216,7 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
       } else {
         j.stage_ms[stage] += std::chrono::duration<double, std::milli>(Clock::now() - begun).count();
       }
-    });
+    }, warm);
   });
   return absl::OkStatus();
 }

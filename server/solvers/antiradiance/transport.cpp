@@ -66,6 +66,18 @@ void Transport::Initialize(const std::vector<glm::vec3>& direct, const std::vect
   }
 }
 
+void Transport::WarmStart(const Transport& warm) {
+  // The source norm (the residual's denominator) stays the sources' own.
+  l_in_ = warm.l_in_;
+  indirect_ = warm.indirect_;
+  for (size_t k = 0; k < leaves_.size(); ++k) {
+    const size_t i = size_t(leaves_[k]);
+    radiosity_[k] = source_[k] + patches_.albedo[i] * indirect_[i];
+  }
+  LocalPass(/*update_radiance=*/false);  // I_ex = I_L - I_A of that state
+  Pull();
+}
+
 void Transport::GlobalPass() {
   // Operator U (Eq. 4) through the links: L_in(x_i, omega_j) += F I_ex(x_k, omega_l)
   // (Eqs. 16-17), spread over the receiver's bins by the cone's table (Section 3.1).
@@ -212,10 +224,13 @@ double Transport::RunScheme(Scheme scheme, const TransportSettings& s, const Sta
 
 TransportResult Transport::Solve(const std::vector<glm::vec3>& direct_irradiance,
                                  const std::vector<glm::vec3>& emitted, const TransportSettings& settings,
-                                 const StageHook& hook) {
+                                 const StageHook& hook, const Transport* warm) {
   TransportResult result;
   result.scheme_used = settings.scheme;
   Initialize(direct_irradiance, emitted);
+  if (warm != nullptr && warm->leaves_ == leaves_ && warm->l_in_.size() == l_in_.size()) {
+    WarmStart(*warm);
+  }
   double r = RunScheme(settings.scheme, settings, hook, &result,
                        /*watch_divergence=*/settings.scheme == Scheme::kSymmetric);
   if (!std::isfinite(r) && settings.scheme == Scheme::kSymmetric) {

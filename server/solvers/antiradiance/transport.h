@@ -60,9 +60,14 @@ class Transport {
   // Sources per node (leaves used): direct irradiance E_d (W/m^2, from the
   // shadow maps, Section 3.3, no antiradiance) and emitted radiance L_e
   // (nits) to transport (the solver leaves L_e to the direct term).
+  // `warm`: a solution of the same elements (same nodes and leaves; other
+  // positions, links or sources) to iterate from instead of from the
+  // sources alone (Section 3.3: "we iterate from the previous solution");
+  // ignored when its layout differs. The asymmetric fallback after a
+  // divergence starts from the sources, as without it.
   TransportResult Solve(const std::vector<glm::vec3>& direct_irradiance,
                         const std::vector<glm::vec3>& emitted, const TransportSettings& settings,
-                        const StageHook& hook = {});
+                        const StageHook& hook = {}, const Transport* warm = nullptr);
 
   // After Solve, per node (leaves): indirect irradiance
   // E = (pi / S(n)) sum_j omega_bin <n|omega_j>_+ L_in(j) of the last pass.
@@ -76,6 +81,9 @@ class Transport {
  private:
   size_t Index(int node, int bin) const { return size_t(node) * size_t(m_) + size_t(bin); }
   void Initialize(const std::vector<glm::vec3>& direct, const std::vector<glm::vec3>& emitted);
+  // After Initialize: start from `warm`'s incident radiance and indirect
+  // irradiance (the radiosity is this source plus albedo x that irradiance).
+  void WarmStart(const Transport& warm);
   void GlobalPass();
   void Push();
   // K (when update_radiance) and J at the leaves; returns |dI_ex|_1 or NaN.
