@@ -1,5 +1,6 @@
 #include "scene/gltf_accessors.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -58,6 +59,14 @@ float Component(const AccessorData& d, uint64_t i, int j) {
       uint16_t v;
       std::memcpy(&v, p + 2 * j, 2);
       return static_cast<float>(v) / 65535.0f;
+    }
+    // Signed normalized (animation outputs only): glTF 2.0 3.11.
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return std::max(static_cast<float>(static_cast<int8_t>(p[j])) / 127.0f, -1.0f);
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t v;
+      std::memcpy(&v, p + 2 * j, 2);
+      return std::max(static_cast<float>(v) / 32767.0f, -1.0f);
     }
   }
   CheckFailed(__FILE__, __LINE__, "component type not admitted by ValidateAccessor");
@@ -183,6 +192,29 @@ absl::StatusOr<std::vector<glm::vec2>> ReadVec2(const AccessorData& data) {
   GS_ASSIGN_OR_RETURN(const std::vector<float> f, ReadFloats(data, 2));
   std::vector<glm::vec2> out(data.count);
   for (uint64_t i = 0; i < data.count; ++i) out[i] = {f[2 * i], f[2 * i + 1]};
+  return out;
+}
+
+absl::StatusOr<std::vector<float>> ReadFloatComponents(const AccessorData& data) {
+  return ReadFloats(data, data.components);
+}
+
+std::vector<glm::u16vec4> ReadU16Vec4(const AccessorData& d) {
+  GS_CHECK(d.components == 4);
+  std::vector<glm::u16vec4> out(d.count);
+  for (uint64_t i = 0; i < d.count; ++i) {
+    const uint8_t* p = d.first + i * d.stride;
+    for (int j = 0; j < 4; ++j) {
+      if (d.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+        out[i][j] = p[j];
+      } else {
+        GS_CHECK(d.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+        uint16_t v;
+        std::memcpy(&v, p + 2 * j, 2);
+        out[i][j] = v;
+      }
+    }
+  }
   return out;
 }
 

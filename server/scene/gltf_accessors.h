@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <glm/gtc/type_precision.hpp>
 #include <vector>
 
 #include "scene/tinygltf.h"
@@ -44,6 +45,14 @@ absl::StatusOr<AccessorData> ValidateAccessor(const tinygltf::Model& model, int 
 // values are refused.
 absl::StatusOr<std::vector<glm::vec3>> ReadVec3(const AccessorData& data);
 absl::StatusOr<std::vector<glm::vec2>> ReadVec2(const AccessorData& data);
+
+// Every component of every element as floats, element after element:
+// FLOAT, or normalized integers (signed per glTF 2.0 3.11: max(c / 127, -1)).
+// Non-finite values are refused.
+absl::StatusOr<std::vector<float>> ReadFloatComponents(const AccessorData& data);
+
+// Unsigned byte/short VEC4 integers, not normalized (JOINTS_0).
+std::vector<glm::u16vec4> ReadU16Vec4(const AccessorData& data);
 
 // Indices, each below `vertex_count`.
 absl::StatusOr<std::vector<uint32_t>> ReadIndices(const AccessorData& data, uint64_t vertex_count,

@@ -97,8 +97,11 @@ absl::StatusOr<Scene> ImportGltf(std::span<const uint8_t> bytes, const ImportOpt
   GS_RETURN_IF_ERROR(gltf::CheckGeometryBudget(model, graph, limits));
   GS_RETURN_IF_ERROR(gltf::ImportMaterials(model, options, &budget, &scene));
   GS_ASSIGN_OR_RETURN(scene.meshes, gltf::ImportMeshes(model, scene.materials.size()));
+  GS_ASSIGN_OR_RETURN(scene.skins, gltf::ImportSkins(model));
   scene.nodes = std::move(graph.nodes);
   scene.roots = graph.roots;
+  GS_RETURN_IF_ERROR(gltf::CheckDeformers(scene));
+  GS_ASSIGN_OR_RETURN(scene.animations, gltf::ImportAnimations(model, scene));
   ComputeTotals(graph, &scene);
   GS_RETURN_IF_ERROR(CheckMagnitudes(scene));
   return scene;

@@ -131,6 +131,8 @@ absl::StatusOr<gistream::Primitive> ReadPrimitive(const tinygltf::Model& model, 
     std::iota(out.indices.begin(), out.indices.end(), 0u);
   }
 
+  GS_RETURN_IF_ERROR(ReadSkinAttributes(model, in, field, &out));
+  GS_RETURN_IF_ERROR(ReadMorphTargets(model, in, field, &out));
   if (!has_normals) GenerateNormals(&out);
   for (const glm::vec3& p : out.positions) out.bounds.Extend(p);
   return out;
@@ -197,6 +199,20 @@ absl::StatusOr<std::vector<Mesh>> ImportMeshes(const tinygltf::Model& model,
                           ReadPrimitive(model, prim, field, material_count));
       meshes[m].primitives.push_back(std::move(primitive));
     }
+    // Default morph weights (glTF 2.0 3.7.2.2); CheckDeformers compares
+    // every primitive's target count with them.
+    const std::vector<double>& weights = model.meshes[m].weights;
+    const size_t targets =
+        model.meshes[m].primitives.empty() ? 0 : model.meshes[m].primitives[0].targets.size();
+    const std::string weight_field = Item("meshes", m) + ".weights";
+    if (!weights.empty() && weights.size() != targets) {
+      return absl::InvalidArgumentError(absl::StrCat(weight_field, ": ", weights.size(),
+                                                     " weights but the mesh has ", targets,
+                                                     " morph targets"));
+    }
+    GS_RETURN_IF_ERROR(CheckFinite(weight_field, weights));
+    meshes[m].weights.assign(targets, 0.0f);
+    for (size_t k = 0; k < weights.size(); ++k) meshes[m].weights[k] = float(weights[k]);
   }
   return meshes;
 }

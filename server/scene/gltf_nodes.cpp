@@ -110,8 +110,13 @@ absl::Status ReadNode(const tinygltf::Model& model, size_t index,
     node->light = light;
   }
   if (in.skin != -1) {
-    LogOnce(LogLevel::kWarning, "gltf-skin", "glTF skins are not supported; meshes stay unskinned");
+    GS_RETURN_IF_ERROR(CheckIndex(field + ".skin", in.skin, model.skins.size(), "skins"));
+    node->skin = in.skin;
+    LogOnce(LogLevel::kWarning, "gltf-skin",
+            "glTF skins are imported but not yet applied; meshes render in their bind pose");
   }
+  GS_RETURN_IF_ERROR(CheckFinite(field + ".weights", in.weights));
+  node->weights.assign(in.weights.begin(), in.weights.end());
   if (!in.matrix.empty()) {
     GS_RETURN_IF_ERROR(CheckLength(field + ".matrix", in.matrix.size(), 16));
     if (!in.translation.empty() || !in.rotation.empty() || !in.scale.empty()) {

@@ -414,6 +414,18 @@ absl::Status CheckTextureInfo(const std::string& path, const json& info) {
   return CheckMembers(path, info, {{"index", Kind::kIndex}, {"texCoord", Kind::kIndex}});
 }
 
+absl::Status CheckNumberValue(const std::string& p, const json& v) {
+  return CheckValue(p, v, Kind::kNumber, 0);
+}
+
+absl::Status CheckMorphTarget(const std::string& p, const json& v) {
+  if (!v.is_object()) return TypeError(p, v, "an object");
+  for (const auto& [name, accessor] : v.items()) {
+    GS_RETURN_IF_ERROR(CheckValue(absl::StrCat(p, ".", name), accessor, Kind::kIndex, 0));
+  }
+  return absl::OkStatus();
+}
+
 absl::Status CheckScene(const std::string& p, const json& v) {
   return CheckMembers(p, v, {{"nodes", Kind::kIndices}, {"name", Kind::kString}});
 }
@@ -437,6 +449,7 @@ absl::Status CheckNode(const std::string& p, const json& v) {
                                    {"scale", Kind::kNumbers, 3},
                                    {"matrix", Kind::kNumbers, 16},
                                    {"name", Kind::kString}}));
+  GS_RETURN_IF_ERROR(ForEach(p, v, "weights", CheckNumberValue));
   return IfObject(p, v, "extensions", CheckNodeExtensions);
 }
 
@@ -452,16 +465,53 @@ absl::Status CheckPrimitive(const std::string& p, const json& v) {
     GS_RETURN_IF_ERROR(
         CheckValue(absl::StrCat(p, ".attributes.", name), accessor, Kind::kIndex, 0));
   }
-  return absl::OkStatus();
+  return ForEach(p, v, "targets", CheckMorphTarget);
 }
 
 absl::Status CheckMesh(const std::string& p, const json& v) {
   GS_RETURN_IF_ERROR(CheckMembers(p, v, {{"name", Kind::kString}}));
+  GS_RETURN_IF_ERROR(ForEach(p, v, "weights", CheckNumberValue));
   return ForEach(p, v, "primitives", CheckPrimitive);
 }
 
-absl::Status CheckNumberValue(const std::string& p, const json& v) {
-  return CheckValue(p, v, Kind::kNumber, 0);
+absl::Status CheckSkin(const std::string& p, const json& v) {
+  return CheckMembers(p, v,
+                      {{"joints", Kind::kIndices},
+                       {"inverseBindMatrices", Kind::kIndex},
+                       {"skeleton", Kind::kIndex},
+                       {"name", Kind::kString}});
+}
+
+// tinygltf drops a channel without a target node (and with it the numbering
+// our messages use), so every channel must name its sampler and node.
+absl::Status CheckChannelTarget(const std::string& p, const json& v) {
+  GS_RETURN_IF_ERROR(CheckMembers(p, v, {{"node", Kind::kIndex}, {"path", Kind::kString}}));
+  if (!v.contains("node")) return absl::InvalidArgumentError(p + ".node: missing");
+  if (!v.contains("path")) return absl::InvalidArgumentError(p + ".path: missing");
+  return absl::OkStatus();
+}
+
+absl::Status CheckChannel(const std::string& p, const json& v) {
+  GS_RETURN_IF_ERROR(CheckMembers(p, v, {{"sampler", Kind::kIndex}, {"target", Kind::kObject}}));
+  if (!v.contains("sampler")) return absl::InvalidArgumentError(p + ".sampler: missing");
+  if (!v.contains("target")) return absl::InvalidArgumentError(p + ".target: missing");
+  return CheckChannelTarget(p + ".target", v["target"]);
+}
+
+absl::Status CheckAnimationSampler(const std::string& p, const json& v) {
+  GS_RETURN_IF_ERROR(CheckMembers(p, v,
+                                  {{"input", Kind::kIndex},
+                                   {"output", Kind::kIndex},
+                                   {"interpolation", Kind::kString}}));
+  if (!v.contains("input")) return absl::InvalidArgumentError(p + ".input: missing");
+  if (!v.contains("output")) return absl::InvalidArgumentError(p + ".output: missing");
+  return absl::OkStatus();
+}
+
+absl::Status CheckAnimation(const std::string& p, const json& v) {
+  GS_RETURN_IF_ERROR(CheckMembers(p, v, {{"name", Kind::kString}}));
+  GS_RETURN_IF_ERROR(ForEach(p, v, "channels", CheckChannel));
+  return ForEach(p, v, "samplers", CheckAnimationSampler);
 }
 
 absl::Status CheckAccessor(const std::string& p, const json& v) {
@@ -582,6 +632,8 @@ absl::Status CheckTypes(const json& doc) {
   GS_RETURN_IF_ERROR(ForEach("", doc, "textures", CheckTexture));
   GS_RETURN_IF_ERROR(ForEach("", doc, "images", CheckImage));
   GS_RETURN_IF_ERROR(ForEach("", doc, "cameras", CheckCamera));
+  GS_RETURN_IF_ERROR(ForEach("", doc, "skins", CheckSkin));
+  GS_RETURN_IF_ERROR(ForEach("", doc, "animations", CheckAnimation));
   return IfObject("", doc, "extensions", CheckRootExtensions);
 }
 

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "scene/gltf_import.h"
@@ -37,6 +38,22 @@ absl::StatusOr<NodeGraph> ImportNodes(const tinygltf::Model& model,
 absl::Status CheckGeometryBudget(const tinygltf::Model& model, const NodeGraph& graph,
                                  const ImportLimits& limits);
 absl::StatusOr<std::vector<Mesh>> ImportMeshes(const tinygltf::Model& model, size_t material_count);
+
+// gltf_skins.cpp: a primitive's JOINTS_0/WEIGHTS_0 and morph targets
+// (called by ReadPrimitive once positions are read), the skins, and the
+// checks across them once nodes, meshes and skins are in `scene` (target
+// counts, node weights, joint indices against each skinned node's skin).
+absl::Status ReadSkinAttributes(const tinygltf::Model& model, const tinygltf::Primitive& in,
+                                const std::string& field, Primitive* out);
+absl::Status ReadMorphTargets(const tinygltf::Model& model, const tinygltf::Primitive& in,
+                              const std::string& field, Primitive* out);
+absl::StatusOr<std::vector<Skin>> ImportSkins(const tinygltf::Model& model);
+absl::Status CheckDeformers(const Scene& scene);
+
+// gltf_animations.cpp: animations, after CheckDeformers (weights channels
+// need their node's morph target count).
+absl::StatusOr<std::vector<Animation>> ImportAnimations(const tinygltf::Model& model,
+                                                        const Scene& scene);
 
 // gltf_materials.cpp: materials, and the images their textures use
 // (decoded, within the limits). `budget` as in ParseModel.

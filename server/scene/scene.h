@@ -11,6 +11,7 @@
 
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_precision.hpp>
 
 namespace gistream {
 
@@ -75,11 +76,61 @@ struct Primitive {
   std::vector<uint32_t> indices;  // triangle list, always indexed after import
   int material = -1;              // -1: the default material
   Bounds bounds;
+  // Skinning (glTF JOINTS_0 / WEIGHTS_0): both empty, or one entry per
+  // vertex. Joints index the skin's `joints`; weights are >= 0 and sum to 1.
+  std::vector<glm::u16vec4> joints;
+  std::vector<glm::vec4> weights;
+  // Morph targets: per target, POSITION and NORMAL deltas (each empty or
+  // one per vertex). Every primitive of a mesh has the same target count.
+  struct MorphTarget {
+    std::vector<glm::vec3> positions;
+    std::vector<glm::vec3> normals;
+  };
+  std::vector<MorphTarget> targets;
 };
 
 struct Mesh {
   std::string name;
   std::vector<Primitive> primitives;
+  std::vector<float> weights = {};  // default morph weights, one per target (zeros when not given)
+};
+
+// glTF skin: joints are node indices; inverse_bind_matrices has one matrix
+// per joint (identity when the file gives none).
+struct Skin {
+  std::string name;
+  std::vector<int> joints;
+  std::vector<glm::mat4> inverse_bind_matrices;
+  int skeleton = -1;  // the common root node, -1 when not given
+};
+
+// glTF animation data (see scene/animation.h for sampling).
+enum class AnimationPath { kTranslation, kRotation, kScale, kWeights };
+enum class Interpolation { kLinear, kStep, kCubicSpline };
+
+struct AnimationSampler {
+  std::vector<float> times;  // seconds, finite, strictly increasing, >= 0
+  Interpolation interpolation = Interpolation::kLinear;
+  // `components` floats per output element, elements in key order; for
+  // CUBICSPLINE each key has three elements: in-tangent, value,
+  // out-tangent. Rotations are x, y, z, w (glTF order), values unit length.
+  // Empty when no channel uses the sampler.
+  std::vector<float> values;
+  int components = 0;
+};
+
+struct AnimationChannel {
+  int sampler = -1;
+  int node = -1;
+  AnimationPath path = AnimationPath::kTranslation;
+};
+
+struct Animation {
+  std::string name;
+  std::vector<AnimationSampler> samplers;
+  std::vector<AnimationChannel> channels;
+  float start = 0.0f;  // earliest and latest key time over the samplers
+  float end = 0.0f;
 };
 
 enum class LightType { kPoint, kSpot, kDirectional };
@@ -114,6 +165,8 @@ struct Node {
   glm::vec3 translation{0.0f};
   glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};  // w, x, y, z
   glm::vec3 scale{1.0f};
+  int skin = -1;               // index into Scene::skins
+  std::vector<float> weights;  // morph weights overriding the mesh's; empty: the mesh's
 };
 
 struct Environment {
@@ -133,6 +186,10 @@ struct Scene {
   std::vector<Light> lights;
   std::vector<Camera> cameras;
   std::optional<Environment> environment;
+  // Imported and validated; not yet applied when rendering (the rigid
+  // bind-pose mesh is drawn with its node transform, as before).
+  std::vector<Skin> skins;
+  std::vector<Animation> animations;
 
   // Filled by import: totals over every node instance of every mesh.
   uint64_t triangle_count = 0;

@@ -15,7 +15,19 @@ SceneBytes CountSceneBytes(const Scene& scene) {
   for (const Mesh& mesh : scene.meshes) {
     for (const Primitive& p : mesh.primitives) {
       geometry += p.positions.size() * sizeof(glm::vec3) + p.normals.size() * sizeof(glm::vec3) +
-                  p.uvs.size() * sizeof(glm::vec2) + p.indices.size() * sizeof(uint32_t);
+                  p.uvs.size() * sizeof(glm::vec2) + p.indices.size() * sizeof(uint32_t) +
+                  p.joints.size() * sizeof(glm::u16vec4) + p.weights.size() * sizeof(glm::vec4);
+      for (const Primitive::MorphTarget& t : p.targets) {
+        geometry += (t.positions.size() + t.normals.size()) * sizeof(glm::vec3);
+      }
+    }
+  }
+  for (const Skin& skin : scene.skins) {
+    geometry += skin.joints.size() * (sizeof(int) + sizeof(glm::mat4));
+  }
+  for (const Animation& a : scene.animations) {
+    for (const AnimationSampler& s : a.samplers) {
+      geometry += (s.times.size() + s.values.size()) * sizeof(float);
     }
   }
   bytes.cpu = geometry + scene.nodes.size() * sizeof(Node);
