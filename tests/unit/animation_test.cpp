@@ -302,6 +302,58 @@ TEST(AnimationImport, OutputValuesRespectTheLimits) {
                "animations[0].samplers[0].output key 1: length 2 is not 1");
 }
 
+TEST(AnimationImport, CubicSplineAndWeightsChannels) {
+  TestGltf g = Animated("CUBICSPLINE");
+  // Three keys of (in-tangent, value, out-tangent); values 0, 1, 2 on x.
+  std::vector<float> cubic;
+  for (float v : {0.0f, 1.0f, 2.0f}) cubic.insert(cubic.end(), {9, 9, 9, v, 0, 0, -9, -9, -9});
+  g.doc["animations"][0]["samplers"][0]["output"] = AddFloats(&g, cubic, "VEC3", 3);
+  // A second node with two morph targets, its weights animated by STEP.
+  const int mesh = AddQuadMesh(&g);
+  const int d = g.AddVec3(std::vector<float>(12, 0.5f));
+  g.doc["meshes"][size_t(mesh)]["primitives"][0]["targets"] = {{{"POSITION", d}},
+                                                               {{"POSITION", d}}};
+  g.AddRoot({{"mesh", mesh}});
+  const int times = AddFloats(&g, {0.5f, 4}, "SCALAR", 1);
+  const int weights = AddFloats(&g, {1, 0, /**/ 0.25f, 0.75f}, "SCALAR", 1);
+  g.doc["animations"][0]["samplers"].push_back(
+      {{"input", times}, {"output", weights}, {"interpolation", "STEP"}});
+  g.doc["animations"][0]["channels"].push_back(
+      {{"sampler", 1}, {"target", {{"node", 1}, {"path", "weights"}}}});
+  absl::StatusOr<Scene> scene = Import(g.ToGltf());
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  const Animation& a = scene->animations[0];
+  EXPECT_EQ(a.start, 0.0f);
+  EXPECT_EQ(a.end, 4.0f);
+  ExpectNear(SampleSampler(a.samplers[0], AnimationPath::kTranslation, 1.0f), {1, 0, 0});
+  EXPECT_EQ(a.samplers[1].components, 2);
+  const std::vector<NodeOverride> o = SampleAnimation(a, 3.0f);
+  ASSERT_EQ(o.size(), 2u);
+  ExpectNear(o[1].weights, {1, 0});
+  ExpectNear(SampleAnimation(a, 4.0f)[1].weights, {0.25f, 0.75f});
+
+  // Three weights for two targets x two keys is one short.
+  g.doc["animations"][0]["samplers"][1]["output"] = AddFloats(&g, {1, 0, 0}, "SCALAR", 1);
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
+               "animations[0].samplers[1].output: 3 elements, expected 4 (2 keys x 2 morph "
+               "targets)");
+}
+
+TEST(AnimationImport, MemberTypesAreCheckedBeforeParsing) {
+  TestGltf g = Animated();
+  g.doc["animations"][0]["samplers"][0]["input"] = "a";
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
+               "animations[0].samplers[0].input: \"a\" is not an index");
+  g = Animated();
+  g.doc["animations"][0]["samplers"][0].erase("output");
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
+               "animations[0].samplers[0].output: missing");
+  g = Animated();
+  g.doc["animations"][0]["channels"][0]["target"]["node"] = 4294967295u;
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
+               "animations[0].channels[0].target.node: 4294967295 is not an index");
+}
+
 TEST(AnimationImport, FilesWithoutAnimationsHaveNone) {
   TestGltf g;
   g.AddRoot({{"mesh", AddQuadMesh(&g)}});
