@@ -30,7 +30,7 @@ SolverDescription AvgSolver::Describe() {
        "Virtual point lights placed per solution (16 subsets of vpls/16 for interleaved shading)"},
       {"grid", ParamType::kInt, "64", 8, 256, {},
        "Voxels per axis of the approximate visibility grid (fitted to the scene bounds)"},
-      {"bounces", ParamType::kInt, "64", 1, avg::VplTraceSettings::kMaxBounces, {},
+      {"bounces", ParamType::kInt, "8", 1, avg::VplTraceSettings::kMaxBounces, {},
        "VPL generations per light path at most (with roulette, paths end on their own)"},
       {"roulette", ParamType::kBool, "true", 0, 0, {},
        "Russian roulette after each VPL (continue with probability max albedo)"},
