@@ -1,22 +1,28 @@
 #include "gl/fault_injection.h"
 
+#include <atomic>
 #include <mutex>
 #include <system_error>
 
 namespace gistream::gl {
 namespace {
 
+// Never destroyed: render threads of engines that outlive main() (a test
+// fixture's static engine) still check for faults during static
+// destruction.
 std::mutex& Mutex() {
-  static std::mutex mutex;
-  return mutex;
+  static auto* mutex = new std::mutex;
+  return *mutex;
 }
 std::filesystem::path& Directory() {
-  static std::filesystem::path dir;
-  return dir;
+  static auto* dir = new std::filesystem::path;
+  return *dir;
 }
+std::atomic<bool> enabled{false};  // constant-initialised, trivially destroyed
 
 // Removes `name` from the fault directory; true when it was there.
 bool Take(const char* name) {
+  if (!enabled.load(std::memory_order_relaxed)) return false;
   std::lock_guard lock(Mutex());
   if (Directory().empty()) return false;
   std::error_code error;
@@ -28,6 +34,7 @@ bool Take(const char* name) {
 void SetFaultDirectory(const std::filesystem::path& dir) {
   std::lock_guard lock(Mutex());
   Directory() = dir;
+  enabled = !dir.empty();
 }
 
 InjectedReset TakeInjectedReset() {

@@ -15,7 +15,8 @@
 
 namespace gistream::gl {
 
-// Process-wide; empty turns injection off.
+// Process-wide (every engine in the process sees the same directory; the
+// last one set wins); empty turns injection off.
 void SetFaultDirectory(const std::filesystem::path& dir);
 
 enum class InjectedReset { kNone, kReset, kResetAndFailRecovery };
