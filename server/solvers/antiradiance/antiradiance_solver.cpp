@@ -9,6 +9,8 @@
 #include <utility>
 
 #include "absl/strings/str_cat.h"
+#include "gl/buffers.h"
+#include "gl/compute.h"
 #include "solvers/antiradiance/scene_patches.h"
 #include "solvers/antiradiance/shared_elements.h"
 
@@ -30,15 +32,8 @@ struct ElementGpu {
   glm::vec4 normal;
   glm::vec4 irradiance;
 };
+GS_STD430_MIRROR(ElementGpu, 48);
 
-GLuint Groups(size_t n, int size) { return GLuint((n + size_t(size) - 1) / size_t(size)); }
-
-gl::Buffer MakeBuffer(GLsizeiptr bytes, const void* data) {
-  gl::Buffer b = gl::Buffer::Create();
-  glNamedBufferStorage(b.id(), std::max<GLsizeiptr>(bytes, 16), nullptr, GL_DYNAMIC_STORAGE_BIT);
-  if (data != nullptr && bytes > 0) glNamedBufferSubData(b.id(), 0, bytes, data);
-  return b;
-}
 
 }  // namespace
 
@@ -93,7 +88,6 @@ absl::StatusOr<std::unique_ptr<Solver>> AntiradianceSolver::Create(const ParamSe
   GS_ASSIGN_OR_RETURN(solver->display_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "antiradiance/display.frag.glsl"}}));
-  solver->empty_vao_ = gl::VertexArray::Create();
   return solver;
 }
 
@@ -274,10 +268,10 @@ void AntiradianceSolver::BuildDisplay() {
   for (size_t k = 0; k < elements.size(); ++k) {
     grid[cells + 1 + fill[cell_of(glm::vec3(elements[k].position_radius))]++] = uint32_t(k);
   }
-  elements_ = MakeBuffer(GLsizeiptr(elements.size() * sizeof(ElementGpu)), elements.data());
+  elements_ = gl::StorageBuffer(elements, GL_DYNAMIC_STORAGE_BIT);
   element_data_.resize(elements.size() * 3);
   std::memcpy(element_data_.data(), elements.data(), elements.size() * sizeof(ElementGpu));
-  grid_ = MakeBuffer(GLsizeiptr(grid.size() * sizeof(uint32_t)), grid.data());
+  grid_ = gl::StorageBuffer(grid);
 }
 
 std::vector<glm::vec3> AntiradianceSolver::DirectAtLeaves(const antiradiance::Patches& patches,
@@ -292,14 +286,14 @@ std::vector<glm::vec3> AntiradianceSolver::DirectAtLeaves(const antiradiance::Pa
     elements[k].normal = glm::vec4(patches.normal[i], 0.0f);
     elements[k].irradiance = glm::vec4(0.0f);
   }
-  const gl::Buffer input = MakeBuffer(GLsizeiptr(elements.size() * sizeof(ElementGpu)), elements.data());
-  const gl::Buffer output = MakeBuffer(GLsizeiptr(leaves.size() * sizeof(glm::vec4)), nullptr);
+  const gl::Buffer input = gl::StorageBuffer(elements);
+  const gl::Buffer output = gl::ZeroedBuffer(leaves.size() * sizeof(glm::vec4));
   lighting_.Bind(direct_program_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kElementBinding, input.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGridBinding, output.id());
   direct_program_.Set("uCount", int(leaves.size()));
   direct_program_.Use();
-  glDispatchCompute(Groups(leaves.size(), 64), 1, 1);
+  glDispatchCompute(gl::GroupCount(leaves.size(), 64), 1, 1);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
   std::vector<glm::vec4> e(leaves.size());
   glGetNamedBufferSubData(output.id(), 0, GLsizeiptr(e.size() * sizeof(glm::vec4)), e.data());
@@ -375,10 +369,7 @@ absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) 
 absl::Status AntiradianceSolver::Shade(SolverContext& ctx, const ViewCamera& /*camera*/,
                                        const GBuffer& gbuffer) {
   gl::StageTimer::Scope stage(ctx.timer, "display");
-  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
-  glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
-  glDisable(GL_DEPTH_TEST);
-  gbuffer.BindTextures(8);
+  gbuffer.BeginShadePass();
   lighting_.Bind(display_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kElementBinding, elements_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGridBinding, grid_.id());
@@ -386,10 +377,7 @@ absl::Status AntiradianceSolver::Shade(SolverContext& ctx, const ViewCamera& /*c
   display_.Set("uGridDims", grid_dims_);
   display_.Set("uGridCell", grid_cell_);
   display_.Set("uIndirectScale", indirect_scale_);
-  display_.Use();
-  glBindVertexArray(empty_vao_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glBindVertexArray(0);
+  fullscreen_.Draw(display_);
   return absl::OkStatus();
 }
 

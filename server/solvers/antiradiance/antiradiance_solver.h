@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "gl/fullscreen_pass.h"
 #include "render/direct_lighting.h"
 #include "solvers/background_job.h"
 #include "solvers/emission_scale.h"
@@ -111,7 +112,7 @@ class AntiradianceSolver final : public Solver {
   glm::ivec3 grid_dims_{1};
   float grid_cell_ = 1.0f;
   gl::Program direct_program_, display_;
-  gl::VertexArray empty_vao_;
+  gl::FullscreenPass fullscreen_;
 
   // Stats of the last link / update
   antiradiance::LinkStats link_stats_;
