@@ -37,8 +37,9 @@ struct Fixture {
   }
 };
 
-// Created on first use and never destroyed (GL teardown at static
-// destruction time is not safe); its directory goes when the tests end.
+// Created on first use; its engine is shut down and its directory removed
+// when the tests end (RemoveSceneDir), the Fixture itself never destroyed
+// (GL teardown at static destruction time is not safe).
 Fixture* g_fixture = nullptr;
 
 Fixture& F() {
@@ -46,10 +47,15 @@ Fixture& F() {
   return *g_fixture;
 }
 
+// When the tests end (inside RUN_ALL_TESTS, before static destruction):
+// the engine shuts down, its render thread joined, so no deferred scene
+// drop runs while libraries' statics (Embree's, the GL driver's) are torn
+// down at exit; then its scene directory goes.
 class RemoveSceneDir : public ::testing::Environment {
  public:
   void TearDown() override {
     if (g_fixture == nullptr) return;
+    g_fixture->engine.reset();
     std::error_code ec;
     fs::remove_all(g_fixture->dir, ec);
   }

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <mutex>
 
 #include <gtest/gtest.h>
 
@@ -10,8 +11,28 @@
 
 namespace gistream::testing {
 
+namespace {
+
+// The shared engine is destroyed when the test program ends, before static
+// destruction: its render thread must not run (dropping scenes, releasing
+// Embree devices) while libraries' own statics are being torn down.
+std::unique_ptr<Engine>& SharedEngineSlot() {
+  static std::unique_ptr<Engine> engine;
+  return engine;
+}
+
+class ShutDownSharedEngine : public ::testing::EmptyTestEventListener {
+  void OnTestProgramEnd(const ::testing::UnitTest& /*unit_test*/) override {
+    SharedEngineSlot().reset();
+  }
+};
+
+}  // namespace
+
 Engine& SharedEngine() {
-  static std::unique_ptr<Engine> engine = [] {
+  std::unique_ptr<Engine>& engine = SharedEngineSlot();
+  static std::once_flag created_once;
+  std::call_once(created_once, [&engine] {
     EngineOptions options;
     options.scene_dir = std::string(GISTREAM_SOURCE_DIR) + "/scenes";
     auto created = Engine::Create(options);
@@ -19,8 +40,9 @@ Engine& SharedEngine() {
       ADD_FAILURE() << "Engine::Create: " << created.status();
       std::abort();
     }
-    return std::move(created).value();
-  }();
+    engine = std::move(created).value();
+    ::testing::UnitTest::GetInstance()->listeners().Append(new ShutDownSharedEngine);
+  });
   return *engine;
 }
 
