@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "gl/egl_context.h"
+#include "gl/program.h"
 #include "support/render_helpers.h"
 
 namespace gistream {
@@ -21,6 +23,25 @@ using testing::RelMse;
 using testing::GreyAlbedo;
 using testing::RenderRequestExr;
 using testing::SolverRequest;
+
+// Drivers without ARB_shader_viewport_layer_array take the geometry-shader
+// path (sh_probes_solver.cpp); llvmpipe has the extension, so the fallback
+// is at least compiled and linked here (both include face_projection.glsl).
+TEST(ShProbes, BothCubeMapRasterizationPathsBuild) {
+  auto context = gl::EglContext::Create(-1);
+  ASSERT_TRUE(context.ok()) << context.status();
+  ASSERT_TRUE((*context)->MakeCurrent().ok());
+  {
+    auto layered = gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize_layer.vert.glsl"},
+                                       {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}});
+    EXPECT_TRUE(layered.ok()) << layered.status();
+    auto geometry = gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize.vert.glsl"},
+                                        {GL_GEOMETRY_SHADER, "sh_probes/rasterize.geom.glsl"},
+                                        {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}});
+    EXPECT_TRUE(geometry.ok()) << geometry.status();
+  }
+  (*context)->ReleaseCurrent();
+}
 
 TEST(ShProbes, ToleranceStopsBouncingAndReportsTheChange) {
   const BundledCopy scene("furnace.gltf");
