@@ -3,6 +3,7 @@
 
 #include "solvers/antiradiance/antiradiance_solver.h"
 #include "solvers/antiradiance/scene_patches.h"
+#include "solvers/hierarchy/subdivide.h"
 
 namespace gistream {
 
@@ -13,8 +14,9 @@ MemoryEstimate AntiradianceSolver::EstimateMemory(const ParamSet& params, const 
   uint64_t leaves = 0;
   std::string driver;
   if (params.GetString("elements") == "surfels") {
-    // The shared hierarchy's vertex discs: one leaf per instanced vertex.
-    leaves = CountInstanced(state).vertices;
+    // The shared hierarchy's vertex discs: one leaf per instanced vertex
+    // after long edges are split (hierarchy/subdivide.h).
+    leaves = hierarchy::SubdividedVertexBound(state, gpu);
     driver = "bins";
   } else {
     // Counted, not split: a tiny patch_size makes up to 4^12 leaves per

@@ -88,6 +88,45 @@ Primitive SubdivideLongEdges(const Primitive& primitive, float max_edge) {
   return out;
 }
 
+uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu) {
+  const Bounds bounds = gpu.WorldBounds(state);
+  const float diagonal = glm::length(bounds.max - bounds.min);
+  // The largest scale of each (mesh, primitive)'s instances, in one pass.
+  std::map<std::pair<int, int>, float> scales;
+  for (const DrawItem& d : gpu.draws()) {
+    const glm::mat4& m = state.world()[size_t(d.node)];
+    float& scale = scales[{d.mesh, d.primitive}];
+    for (int k = 0; k < 3; ++k) scale = std::max(scale, glm::length(glm::vec3(m[k])));
+  }
+  const Scene& scene = state.scene();
+  uint64_t vertices = 0;
+  for (const Node& node : state.nodes()) {
+    if (node.mesh < 0 || size_t(node.mesh) >= scene.meshes.size()) continue;
+    const Mesh& mesh = scene.meshes[size_t(node.mesh)];
+    for (size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
+      const Primitive& p = mesh.primitives[pi];
+      vertices += p.positions.size();
+      const auto it = scales.find({node.mesh, int(pi)});
+      const float scale = it == scales.end() ? 0.0f : it->second;
+      if (bounds.empty() || !(diagonal > 0.0f) || !(scale > 0.0f)) continue;
+      const float max_edge = kMaxElementEdge * diagonal / scale;
+      if (!(max_edge > 0.0f) || !std::isfinite(max_edge)) continue;
+      for (size_t t = 0; t + 2 < p.indices.size(); t += 3) {
+        const glm::vec3& a = p.positions[p.indices[t]];
+        const glm::vec3& b = p.positions[p.indices[t + 1]];
+        const glm::vec3& c = p.positions[p.indices[t + 2]];
+        const float longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+        if (!(longest > max_edge)) continue;
+        // Midpoint splits halve edges: 2^k segments, 2^k >= longest / max_edge.
+        const double n = std::min(std::exp2(std::ceil(std::log2(double(longest) / double(max_edge)))),
+                                  double(1 << 20));
+        vertices += uint64_t((n + 1.0) * (n + 2.0) / 2.0);
+      }
+    }
+  }
+  return vertices;
+}
+
 float LocalMaxEdge(const SceneState& state, const GpuScene& gpu, int mesh, int primitive) {
   const Bounds bounds = gpu.WorldBounds(state);
   const float diagonal = glm::length(bounds.max - bounds.min);

@@ -6,6 +6,7 @@
 // 2007, whose meshes come finely tessellated.
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -29,5 +30,12 @@ Primitive SubdivideLongEdges(const Primitive& primitive, float max_edge);
 // The local-space edge limit for (mesh, primitive): kMaxElementEdge x the
 // current world diagonal over the largest scale of its instances.
 float LocalMaxEdge(const SceneState& state, const GpuScene& gpu, int mesh, int primitive);
+
+// An upper bound, computed without subdividing, on the vertices of every
+// instanced primitive after SubdivideLongEdges (memory estimates, before
+// anything is built): a triangle whose longest edge is L becomes at most
+// the (n + 1)(n + 2) / 2 points of its n-fold uniform subdivision, n the
+// power of two at or above L / max_edge (midpoint splits halve edges).
+uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu);
 
 }  // namespace gistream::hierarchy

@@ -1,0 +1,47 @@
+// hierarchy::SubdividedVertexBound, which the vertex-based solvers' memory
+// estimates use, is an upper bound on what SubdivideLongEdges makes.
+#include <gtest/gtest.h>
+
+#include "gl/egl_context.h"
+#include "scene/gltf_import.h"
+#include "scene/gpu_scene.h"
+#include "scene/scene_state.h"
+#include "solvers/hierarchy/subdivide.h"
+
+namespace gistream {
+namespace {
+
+TEST(SubdividedVertexBound, BoundsTheVerticesTheSubdivisionMakes) {
+  auto context = gl::EglContext::Create(-1);
+  ASSERT_TRUE(context.ok()) << context.status();
+  ASSERT_TRUE((*context)->MakeCurrent().ok());
+  for (const char* name : {"cornell_box_coarse", "cornell_box"}) {
+    SCOPED_TRACE(name);
+    auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR) + "/scenes", name, {});
+    ASSERT_TRUE(scene.ok()) << scene.status();
+    SceneState state(std::make_shared<const Scene>(*std::move(scene)));
+    auto gpu = GpuScene::Upload(state);
+    ASSERT_TRUE(gpu.ok()) << gpu.status();
+    uint64_t original = 0, subdivided = 0;
+    for (const Node& node : state.nodes()) {
+      if (node.mesh < 0) continue;
+      const Mesh& mesh = state.scene().meshes[size_t(node.mesh)];
+      for (size_t p = 0; p < mesh.primitives.size(); ++p) {
+        const float max_edge = hierarchy::LocalMaxEdge(state, **gpu, node.mesh, int(p));
+        original += mesh.primitives[p].positions.size();
+        subdivided += hierarchy::SubdivideLongEdges(mesh.primitives[p], max_edge).positions.size();
+      }
+    }
+    const uint64_t bound = hierarchy::SubdividedVertexBound(state, **gpu);
+    EXPECT_GE(bound, subdivided);
+    // Not a wild over-estimate: within 4x of the vertices really made.
+    EXPECT_LE(bound, 4 * subdivided);
+    if (std::string(name) == "cornell_box_coarse") {
+      EXPECT_GT(subdivided, original);
+    }
+  }
+  (*context)->ReleaseCurrent();
+}
+
+}  // namespace
+}  // namespace gistream
