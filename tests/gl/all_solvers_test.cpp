@@ -103,9 +103,11 @@ struct IndirectRoom {
   FloatImage reference;
   double direct_error = 0.0;
 };
+// Never destroyed: the shared engine goes first, when the test program
+// ends, and the scene with it.
 const IndirectRoom& Room() {
-  static const std::unique_ptr<IndirectRoom> room = [] {
-    auto r = std::make_unique<IndirectRoom>();
+  static const IndirectRoom* const room = [] {
+    auto* r = new IndirectRoom();
     r->reference = RenderRequestExr(SolverRequest(r->scene.id(), "pathtrace", {{"spp", "1024"}}, 64));
     r->direct_error =
         testing::RelMse(RenderRequestExr(SolverRequest(r->scene.id(), "direct", {}, 64)), r->reference);

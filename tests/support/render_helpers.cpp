@@ -115,7 +115,8 @@ BundledCopy::BundledCopy(const std::string& file) {
 }
 
 BundledCopy::~BundledCopy() {
-  if (id_.empty()) return;
+  // After the test program ended the engine is gone, and its scenes with it.
+  if (id_.empty() || !SharedEngineSlot()) return;
   const absl::Status status = SharedEngine().UnloadScene(id_);
   EXPECT_TRUE(status.ok()) << status;
 }
