@@ -17,7 +17,7 @@ IMAGE ?= gistream/gistreamd:latest
 CONTEXT ?= .
 ENGINE ?= $(shell command -v podman >/dev/null 2>&1 && echo podman || echo docker)
 
-.PHONY: all deps configure build run test clean image
+.PHONY: all deps configure build run test clean image format
 
 all: build
 
@@ -40,6 +40,10 @@ run: build
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+# Reformats our C++ with .clang-format (the `format` test checks it).
+format:
+	@bash scripts/format.sh --fix
 
 image:
 	$(ENGINE) $(ENGINE_OPTS) build $(BUILD_OPTS) -f $(CONTEXT)/deploy/Dockerfile -t $(IMAGE) $(CONTEXT)

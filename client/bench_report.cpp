@@ -21,7 +21,9 @@ nlohmann::json Number(const std::optional<double>& v) {
 }
 
 nlohmann::json QuantilesJson(const Quantiles& q) {
-  return {{"p50", Number(q.p50)}, {"p95", Number(q.p95)}, {"p99", Number(q.p99)},
+  return {{"p50", Number(q.p50)},
+          {"p95", Number(q.p95)},
+          {"p99", Number(q.p99)},
           {"max", Number(q.max)}};
 }
 
@@ -72,20 +74,20 @@ std::string FormatBenchTable(const std::vector<StepResult>& steps) {
                    {"CPU %", TextTable::Align::kRight}});
   for (const StepResult& s : steps) {
     const bool known = ServersKnown(s);
-    table.AddRow({absl::StrCat(s.sessions, s.failed_sessions ? absl::StrCat(" (", s.failed_sessions,
-                                                                            " failed)")
-                                                             : ""),
-                  FormatFixed(s.fps_mean, 1), FormatFixed(s.fps_min, 1), FormatFixed(s.fps_total, 1),
-                  absl::StrCat(Ms(s.interval_ms.p50), " / ", Ms(s.interval_ms.p95), " / ",
-                               Ms(s.interval_ms.max)),
-                  absl::StrCat(Ms(s.latency_ms.p50), " / ", Ms(s.latency_ms.p95), " / ",
-                               Ms(s.latency_ms.p99), " / ", Ms(s.latency_ms.max)),
-                  absl::StrCat(Ms(s.settle_ms.p50, 0), " / ", Ms(s.settle_ms.max, 0),
-                               s.unsettled ? absl::StrCat(" (", s.unsettled, " not)") : ""),
-                  absl::StrCat(s.updates_answered, "/", s.updates_sent), absl::StrCat(s.dropped),
-                  FormatFixed(s.bytes_per_s / 1e6, 2), FormatFixed(s.jain, 3),
-                  known ? FormatFixed(double(MaxRss(s)) / (1 << 20), 0) : "-",
-                  known ? FormatFixed(CpuPercent(s), 0) : "-"});
+    table.AddRow(
+        {absl::StrCat(s.sessions,
+                      s.failed_sessions ? absl::StrCat(" (", s.failed_sessions, " failed)") : ""),
+         FormatFixed(s.fps_mean, 1), FormatFixed(s.fps_min, 1), FormatFixed(s.fps_total, 1),
+         absl::StrCat(Ms(s.interval_ms.p50), " / ", Ms(s.interval_ms.p95), " / ",
+                      Ms(s.interval_ms.max)),
+         absl::StrCat(Ms(s.latency_ms.p50), " / ", Ms(s.latency_ms.p95), " / ",
+                      Ms(s.latency_ms.p99), " / ", Ms(s.latency_ms.max)),
+         absl::StrCat(Ms(s.settle_ms.p50, 0), " / ", Ms(s.settle_ms.max, 0),
+                      s.unsettled ? absl::StrCat(" (", s.unsettled, " not)") : ""),
+         absl::StrCat(s.updates_answered, "/", s.updates_sent), absl::StrCat(s.dropped),
+         FormatFixed(s.bytes_per_s / 1e6, 2), FormatFixed(s.jain, 3),
+         known ? FormatFixed(double(MaxRss(s)) / (1 << 20), 0) : "-",
+         known ? FormatFixed(CpuPercent(s), 0) : "-"});
   }
   return table.Render();
 }
@@ -128,30 +130,30 @@ nlohmann::json BenchJson(const std::vector<StepResult>& steps, const nlohmann::j
                          {"max_rss_bytes", v.max_rss_bytes},
                          {"cpu_percent", v.cpu_percent}});
     }
-    nlohmann::json step = {{"sessions", s.sessions},
-                           {"window_s", s.window_s},
-                           {"fps_mean", s.fps_mean},
-                           {"fps_min", s.fps_min},
-                           {"fps_total", s.fps_total},
-                           {"jain_fairness", s.jain},
-                           {"frames", s.frames},
-                           {"dropped_frames", s.dropped},
-                           {"updates_sent", s.updates_sent},
-                           {"updates_answered", s.updates_answered},
-                           {"updates_rejected", s.updates_rejected},
-                           {"updates_unanswered", s.updates_unanswered},
-                           {"bytes_per_s", s.bytes_per_s},
-                           {"failed_sessions", s.failed_sessions},
-                           {"latency_ms", QuantilesJson(s.latency_ms)},
-                           {"interval_ms", QuantilesJson(s.interval_ms)},
-                           {"settle_ms", QuantilesJson(s.settle_ms)},
-                           {"unsettled_sessions", s.unsettled},
-                           {"frame_total_ms",
-                            {{"median", Number(s.stages.total_median)},
-                             {"p95", Number(s.stages.total_p95)}}},
-                           {"stages", StagesJson(s.stages.stages)},
-                           {"servers", servers},
-                           {"per_session", sessions}};
+    nlohmann::json step = {
+        {"sessions", s.sessions},
+        {"window_s", s.window_s},
+        {"fps_mean", s.fps_mean},
+        {"fps_min", s.fps_min},
+        {"fps_total", s.fps_total},
+        {"jain_fairness", s.jain},
+        {"frames", s.frames},
+        {"dropped_frames", s.dropped},
+        {"updates_sent", s.updates_sent},
+        {"updates_answered", s.updates_answered},
+        {"updates_rejected", s.updates_rejected},
+        {"updates_unanswered", s.updates_unanswered},
+        {"bytes_per_s", s.bytes_per_s},
+        {"failed_sessions", s.failed_sessions},
+        {"latency_ms", QuantilesJson(s.latency_ms)},
+        {"interval_ms", QuantilesJson(s.interval_ms)},
+        {"settle_ms", QuantilesJson(s.settle_ms)},
+        {"unsettled_sessions", s.unsettled},
+        {"frame_total_ms",
+         {{"median", Number(s.stages.total_median)}, {"p95", Number(s.stages.total_p95)}}},
+        {"stages", StagesJson(s.stages.stages)},
+        {"servers", servers},
+        {"per_session", sessions}};
     if (!meta.value("interfere", std::string()).empty()) {
       step["interferer"] = {{"renders", s.interferer_renders},
                             {"median_ms", Number(s.interferer_median_ms)},
@@ -180,15 +182,15 @@ absl::Status WriteBenchOutputs(const std::filesystem::path& dir,
     csv << s.sessions << ',' << s.window_s << ',' << s.fps_mean << ',' << s.fps_min << ','
         << s.fps_total << ',' << s.jain << ',' << s.frames << ',' << s.dropped << ','
         << cell(s.interval_ms.p50) << ',' << cell(s.interval_ms.p95) << ','
-        << cell(s.interval_ms.max) << ',' << cell(s.latency_ms.p50) << ','
-        << cell(s.latency_ms.p95) << ',' << cell(s.latency_ms.p99) << ','
-        << cell(s.latency_ms.max) << ',' << cell(s.settle_ms.p50) << ',' << cell(s.settle_ms.max)
-        << ',' << s.unsettled << ',' << s.updates_sent << ',' << s.updates_answered << ','
-        << s.updates_rejected << ',' << s.updates_unanswered << ',' << s.bytes_per_s << ','
-        << MaxRss(s) << ',' << CpuPercent(s) << ',' << s.failed_sessions << ','
-        << s.interferer_renders << '\n';
+        << cell(s.interval_ms.max) << ',' << cell(s.latency_ms.p50) << ',' << cell(s.latency_ms.p95)
+        << ',' << cell(s.latency_ms.p99) << ',' << cell(s.latency_ms.max) << ','
+        << cell(s.settle_ms.p50) << ',' << cell(s.settle_ms.max) << ',' << s.unsettled << ','
+        << s.updates_sent << ',' << s.updates_answered << ',' << s.updates_rejected << ','
+        << s.updates_unanswered << ',' << s.bytes_per_s << ',' << MaxRss(s) << ',' << CpuPercent(s)
+        << ',' << s.failed_sessions << ',' << s.interferer_renders << '\n';
   }
-  if (!csv) return absl::UnavailableError(absl::StrCat("cannot write ", (dir / "results.csv").string()));
+  if (!csv)
+    return absl::UnavailableError(absl::StrCat("cannot write ", (dir / "results.csv").string()));
   std::ofstream(dir / "results.json") << BenchJson(steps, meta).dump(2) << '\n';
 
   // Latency CDF, one curve per step: x latency (ms, log), y fraction.
@@ -226,24 +228,26 @@ absl::Status WriteBenchOutputs(const std::filesystem::path& dir,
                                 .y_title = "frames per second",
                                 .x_scale = AxisScale::kLog,
                                 .y_scale = AxisScale::kLinear}));
-  GS_RETURN_IF_ERROR(WritePlot(dir / "latency_vs_sessions.png", {lat_p50, lat_p95, interval_p95, gap},
+  GS_RETURN_IF_ERROR(WritePlot(dir / "latency_vs_sessions.png",
+                               {lat_p50, lat_p95, interval_p95, gap},
                                {.x_title = "sessions",
                                 .y_title = "ms",
                                 .x_scale = AxisScale::kLog,
                                 .y_scale = AxisScale::kLog}));
 
   std::ofstream md(dir / "results.md");
-  md << "Measured " << meta.value("date", "") << " on " << meta.value("gl_renderer", "")
-     << " (CPU " << meta.value("cpu", "") << ") with `" << meta.value("command", "") << "`: "
-     << meta.value("scene", "") << ", " << meta.value("solver", "") << ", "
+  md << "Measured " << meta.value("date", "") << " on " << meta.value("gl_renderer", "") << " (CPU "
+     << meta.value("cpu", "") << ") with `" << meta.value("command", "")
+     << "`: " << meta.value("scene", "") << ", " << meta.value("solver", "") << ", "
      << meta.value("size", "") << ", workload " << meta.value("workload", "") << " ("
-     << meta.value("workload_description", "") << "), "
-     << meta.value("pacing", "") << ", fps cap " << meta.value("fps_cap", "") << ".\n\n";
-  for (const std::string& line : {std::string("| sessions | fps/session (min) | fps total | "
-                                               "interval p50 / p95 / max ms | latency p50 / p95 / "
-                                               "p99 / max ms | settle p50 / max ms | updates answered/sent | dropped | "
-                                               "MB/s | Jain | RSS MB | CPU % |"),
-                                  std::string("|---|---|---|---|---|---|---|---|---|---|---|---|")}) {
+     << meta.value("workload_description", "") << "), " << meta.value("pacing", "") << ", fps cap "
+     << meta.value("fps_cap", "") << ".\n\n";
+  for (const std::string& line :
+       {std::string("| sessions | fps/session (min) | fps total | "
+                    "interval p50 / p95 / max ms | latency p50 / p95 / "
+                    "p99 / max ms | settle p50 / max ms | updates answered/sent | dropped | "
+                    "MB/s | Jain | RSS MB | CPU % |"),
+        std::string("|---|---|---|---|---|---|---|---|---|---|---|---|")}) {
     md << line << "\n";
   }
   for (const StepResult& s : steps) {
@@ -254,9 +258,8 @@ absl::Status WriteBenchOutputs(const std::filesystem::path& dir,
        << " | " << Ms(s.latency_ms.p50) << " / " << Ms(s.latency_ms.p95) << " / "
        << Ms(s.latency_ms.p99) << " / " << Ms(s.latency_ms.max) << " | " << Ms(s.settle_ms.p50, 0)
        << " / " << Ms(s.settle_ms.max, 0) << (s.unsettled ? " (some did not)" : "") << " | "
-       << s.updates_answered
-       << "/" << s.updates_sent << " | " << s.dropped << " | " << FormatFixed(s.bytes_per_s / 1e6, 2)
-       << " | " << FormatFixed(s.jain, 3) << " | "
+       << s.updates_answered << "/" << s.updates_sent << " | " << s.dropped << " | "
+       << FormatFixed(s.bytes_per_s / 1e6, 2) << " | " << FormatFixed(s.jain, 3) << " | "
        << (known ? FormatFixed(double(MaxRss(s)) / (1 << 20), 0) : "-") << " | "
        << (known ? FormatFixed(CpuPercent(s), 0) : "-") << " |\n";
   }

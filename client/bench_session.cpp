@@ -14,7 +14,8 @@ BenchSession::~BenchSession() {
 }
 
 absl::Status BenchSession::Open(v1::Gistream::Stub& stub, const v1::SessionConfig& config) {
-  absl::StatusOr<std::unique_ptr<SessionStream>> stream = SessionStream::Open(stub, config, server_);
+  absl::StatusOr<std::unique_ptr<SessionStream>> stream =
+      SessionStream::Open(stub, config, server_);
   if (!stream.ok()) {
     std::lock_guard lock(mutex_);
     error_ = DescribeStatus(stream.status());

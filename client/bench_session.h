@@ -28,8 +28,7 @@ struct SharedStages {
 
 class BenchSession {
  public:
-  BenchSession(std::string server, const Workload& workload, double update_hz,
-               SharedStages& stages)
+  BenchSession(std::string server, const Workload& workload, double update_hz, SharedStages& stages)
       : server_(std::move(server)), workload_(workload), update_hz_(update_hz), stages_(stages) {}
   ~BenchSession();  // cancels and joins whatever still runs
   BenchSession(const BenchSession&) = delete;

@@ -117,7 +117,8 @@ StepResult AggregateStep(std::vector<SessionMeasurement> sessions, StatsSummary 
   step.latency_ms = Summarize(step.all_latencies_ms);
   step.interval_ms = Summarize(intervals);
   step.settle_ms = Summarize(settle);
-  if (!sessions.empty()) step.interval_ms.max = std::max(step.interval_ms.max.value_or(0.0), max_gap);
+  if (!sessions.empty())
+    step.interval_ms.max = std::max(step.interval_ms.max.value_or(0.0), max_gap);
   if (!fps.empty()) {
     step.fps_total = std::accumulate(fps.begin(), fps.end(), 0.0);
     step.fps_mean = step.fps_total / double(fps.size());

@@ -125,8 +125,8 @@ struct StepResult {
   uint64_t updates_answered = 0;
   uint64_t updates_rejected = 0;
   uint64_t updates_unanswered = 0;
-  Quantiles settle_ms;   // over the sessions that settled
-  int unsettled = 0;     // sessions that did not settle before the drain ended
+  Quantiles settle_ms;  // over the sessions that settled
+  int unsettled = 0;    // sessions that did not settle before the drain ended
   double bytes_per_s = 0.0;
   int failed_sessions = 0;
   StatsSummary stages;  // the server's per-stage timings, over all frames

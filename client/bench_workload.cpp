@@ -60,7 +60,8 @@ absl::StatusOr<v1::NodeInfo> PickNode(const v1::LoadSceneResponse& scene,
   }
   const v1::NodeInfo* pick = blocky != nullptr ? blocky : last_mesh;
   if (!wanted.empty()) {
-    return absl::InvalidArgumentError(absl::StrCat("--node: the scene has no node \"", wanted, "\""));
+    return absl::InvalidArgumentError(
+        absl::StrCat("--node: the scene has no node \"", wanted, "\""));
   }
   if (pick == nullptr) {
     return absl::FailedPreconditionError("workload object: the scene has no node with a mesh");
@@ -72,10 +73,14 @@ absl::StatusOr<v1::NodeInfo> PickNode(const v1::LoadSceneResponse& scene,
 
 absl::StatusOr<WorkloadSpec> ParseWorkload(const std::string& text) {
   WorkloadSpec spec;
-  if (text == "orbit") spec.kind = WorkloadKind::kOrbit;
-  else if (text == "light") spec.kind = WorkloadKind::kLight;
-  else if (text == "object") spec.kind = WorkloadKind::kObject;
-  else if (text == "mixed") spec.kind = WorkloadKind::kMixed;
+  if (text == "orbit")
+    spec.kind = WorkloadKind::kOrbit;
+  else if (text == "light")
+    spec.kind = WorkloadKind::kLight;
+  else if (text == "object")
+    spec.kind = WorkloadKind::kObject;
+  else if (text == "mixed")
+    spec.kind = WorkloadKind::kMixed;
   else if (absl::EndsWith(text, ".json")) {
     spec.kind = WorkloadKind::kScript;
     spec.script = text;
@@ -114,7 +119,8 @@ absl::StatusOr<Workload> Workload::Create(const WorkloadSpec& spec,
     GS_ASSIGN_OR_RETURN(Script script, LoadScriptFile(spec.script));
     GS_ASSIGN_OR_RETURN(Timeline timeline, Timeline::Build(script, scene));
     if (timeline.frames() <= 0) {
-      return absl::InvalidArgumentError(absl::StrCat(spec.script.string(), ": frames: must be > 0"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(spec.script.string(), ": frames: must be > 0"));
     }
     w.timeline_ = std::move(timeline);
     w.description_ = absl::StrCat("script ", spec.script.filename().string(), " (",
@@ -143,9 +149,9 @@ absl::StatusOr<Workload> Workload::Create(const WorkloadSpec& spec,
   if (light) {
     if (scene.lights_size() > 0) {
       w.light_ = scene.lights(0);
-      parts.push_back(absl::StrCat("light ", w.light_->id(), " (", w.light_->name(), ") intensity",
-                                   w.light_->type() == v1::LIGHT_TYPE_DIRECTIONAL ? ""
-                                                                                 : " and position"));
+      parts.push_back(
+          absl::StrCat("light ", w.light_->id(), " (", w.light_->name(), ") intensity",
+                       w.light_->type() == v1::LIGHT_TYPE_DIRECTIONAL ? "" : " and position"));
     } else {
       for (const v1::MaterialInfo& m : scene.materials()) {
         if (IsEmissive(m)) {
@@ -157,8 +163,8 @@ absl::StatusOr<Workload> Workload::Create(const WorkloadSpec& spec,
         return absl::FailedPreconditionError(
             "workload light: the scene has no punctual light and no emissive material");
       }
-      parts.push_back(absl::StrCat("emitter material ", w.emitter_->id(), " (",
-                                   w.emitter_->name(), ") strength"));
+      parts.push_back(absl::StrCat("emitter material ", w.emitter_->id(), " (", w.emitter_->name(),
+                                   ") strength"));
     }
   }
   if (object) {
@@ -166,7 +172,8 @@ absl::StatusOr<Workload> Workload::Create(const WorkloadSpec& spec,
     w.node_ = std::move(node);
     parts.push_back(absl::StrCat("node ", w.node_->id(), " (", w.node_->name(), ") translation"));
   }
-  for (size_t i = 0; i < parts.size(); ++i) absl::StrAppend(&w.description_, i ? ", " : "", parts[i]);
+  for (size_t i = 0; i < parts.size(); ++i)
+    absl::StrAppend(&w.description_, i ? ", " : "", parts[i]);
   return w;
 }
 
@@ -213,10 +220,14 @@ v1::Update Workload::Object(uint64_t tick) const {
   t->set_node(node_->id());
   const v1::Vec3& p = node_->translation();
   *t->mutable_translation() = Vec(p.x() + offset, p.y(), p.z());
-  if (node_->has_rotation()) *t->mutable_rotation() = node_->rotation();
-  else t->mutable_rotation()->set_w(1.0f);
-  if (node_->has_scale()) *t->mutable_scale() = node_->scale();
-  else *t->mutable_scale() = Vec(1, 1, 1);
+  if (node_->has_rotation())
+    *t->mutable_rotation() = node_->rotation();
+  else
+    t->mutable_rotation()->set_w(1.0f);
+  if (node_->has_scale())
+    *t->mutable_scale() = node_->scale();
+  else
+    *t->mutable_scale() = Vec(1, 1, 1);
   return u;
 }
 

@@ -172,9 +172,10 @@ std::string Canonical(const BenchOptions& o, const std::string& servers) {
   for (const auto& [k, v] : o.solver.params) absl::StrAppend(&cmd, " --param ", k, "=", v);
   absl::StrAppend(&cmd, " --size ", o.view.width, "x", o.view.height, " --workload ", o.workload);
   if (!o.node.empty()) absl::StrAppend(&cmd, " --node ", o.node);
-  absl::StrAppend(&cmd, " --update-hz ", o.update_hz, " --sessions ", absl::StrJoin(o.sessions, ","),
-                  " --duration ", o.duration_s, "s --warmup ", o.warmup_s, "s --channels ",
-                  o.channel_per_session ? "per-session" : "shared", " --fps ", o.fps);
+  absl::StrAppend(&cmd, " --update-hz ", o.update_hz, " --sessions ",
+                  absl::StrJoin(o.sessions, ","), " --duration ", o.duration_s, "s --warmup ",
+                  o.warmup_s, "s --channels ", o.channel_per_session ? "per-session" : "shared",
+                  " --fps ", o.fps);
   if (!o.interfere.empty()) absl::StrAppend(&cmd, " --interfere \"", o.interfere, "\"");
   return cmd;
 }
@@ -197,8 +198,8 @@ void FinishSample(BenchServer& server) {
   // A server that reports no RSS predates these fields.
   s.available = server.last.rss_bytes() > 0;
   const double wall = server.last.uptime_s() - server.first.uptime_s();
-  s.cpu_percent = wall > 0.0 ? 100.0 * (server.last.cpu_seconds() - server.first.cpu_seconds()) / wall
-                             : 0.0;
+  s.cpu_percent =
+      wall > 0.0 ? 100.0 * (server.last.cpu_seconds() - server.first.cpu_seconds()) / wall : 0.0;
 }
 
 // Runs one step with `count` sessions.
@@ -225,7 +226,8 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
         std::make_unique<BenchSession>(server.address, workload, options.update_hz, stages);
     progress.Show(absl::StrCat(label, " opening session ", i + 1, "/", count));
     const absl::Status opened = session->Open(channel->stub(), config);
-    if (!opened.ok()) Log(LogLevel::kWarning, absl::StrCat("session ", i + 1, ": ", DescribeStatus(opened)));
+    if (!opened.ok())
+      Log(LogLevel::kWarning, absl::StrCat("session ", i + 1, ": ", DescribeStatus(opened)));
     sessions.push_back(std::move(session));
   }
 
@@ -241,8 +243,9 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
     }
     if (ready == live) break;
     if (Clock::now() - wait_start > kFirstFrameTimeout) {
-      Log(LogLevel::kWarning, absl::StrCat(label, " ", live - ready,
-                                           " session(s) sent no frame in 5 minutes; measuring anyway"));
+      Log(LogLevel::kWarning,
+          absl::StrCat(label, " ", live - ready,
+                       " session(s) sent no frame in 5 minutes; measuring anyway"));
       break;
     }
     progress.Show(absl::StrCat(label, " waiting for first frames ", ready, "/", live, " (",
@@ -274,11 +277,10 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
       }
       const double elapsed = std::max(Seconds(Clock::now() - start), 1e-3);
       const std::optional<double> p95 = Percentile(latencies, 95);
-      progress.Show(absl::StrCat(label, " measuring ", FormatFixed(elapsed, 1), "/",
-                                 FormatFixed(options.duration_s, 1), " s  fps ",
-                                 FormatFixed(frames / elapsed / std::max<size_t>(sessions.size(), 1), 1),
-                                 "/session  p95 latency ",
-                                 p95 ? absl::StrCat(FormatFixed(*p95, 1), " ms") : "-"));
+      progress.Show(absl::StrCat(
+          label, " measuring ", FormatFixed(elapsed, 1), "/", FormatFixed(options.duration_s, 1),
+          " s  fps ", FormatFixed(frames / elapsed / std::max<size_t>(sessions.size(), 1), 1),
+          "/session  p95 latency ", p95 ? absl::StrCat(FormatFixed(*p95, 1), " ms") : "-"));
     }
     std::this_thread::sleep_until(std::min(Clock::now() + kPollPeriod, now < start ? start : end));
   }
@@ -303,11 +305,10 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
       unsettled += s->Settled() ? 0 : 1;
     }
     if (pending == 0 && unsettled == 0) break;
-    progress.Show(absl::StrCat(label, " waiting for ",
-                               pending > 0 ? absl::StrCat(pending, " update(s) to show") : "",
-                               pending > 0 && unsettled > 0 ? " and " : "",
-                               unsettled > 0 ? absl::StrCat(unsettled, " session(s) to converge")
-                                             : ""));
+    progress.Show(absl::StrCat(
+        label, " waiting for ", pending > 0 ? absl::StrCat(pending, " update(s) to show") : "",
+        pending > 0 && unsettled > 0 ? " and " : "",
+        unsettled > 0 ? absl::StrCat(unsettled, " session(s) to converge") : ""));
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
   progress.Show(absl::StrCat(label, " closing ", sessions.size(), " session(s)"));
@@ -353,8 +354,8 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
     ConnectionOptions one = connection;
     one.server = address;
     server.connection = std::make_unique<Connection>(one);
-    GS_ASSIGN_OR_RETURN(server.scene, LoadedScene::Load(*server.connection, load,
-                                                        options.scene.keep_scene));
+    GS_ASSIGN_OR_RETURN(server.scene,
+                        LoadedScene::Load(*server.connection, load, options.scene.keep_scene));
     servers.push_back(std::move(server));
   }
   std::cout << DescribeScene(options.scene.scene, servers[0].scene->info()) << std::endl;
@@ -366,8 +367,10 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
     v1::RenderRequest request;
     std::string scene_id = servers[0].scene->id();
     if (interferer_options->scene.scene != options.scene.scene) {
-      GS_ASSIGN_OR_RETURN(v1::LoadSceneRequest other, BuildLoadSceneRequest(interferer_options->scene));
-      GS_ASSIGN_OR_RETURN(interferer_scene, LoadedScene::Load(*servers[0].connection, other, false));
+      GS_ASSIGN_OR_RETURN(v1::LoadSceneRequest other,
+                          BuildLoadSceneRequest(interferer_options->scene));
+      GS_ASSIGN_OR_RETURN(interferer_scene,
+                          LoadedScene::Load(*servers[0].connection, other, false));
       scene_id = interferer_scene->id();
     }
     request.set_scene_id(scene_id);
@@ -388,10 +391,11 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
   const std::string pacing = options.update_hz > 0.0
                                  ? absl::StrCat("open loop at ", options.update_hz, " Hz")
                                  : "closed loop (one update per frame)";
-  std::cout << "workload " << WorkloadName(spec) << ": " << workload.description() << "; "
-            << pacing << "; " << options.solver.solver << " at " << options.view.width << "x"
+  std::cout << "workload " << WorkloadName(spec) << ": " << workload.description() << "; " << pacing
+            << "; " << options.solver.solver << " at " << options.view.width << "x"
             << options.view.height << ", fps cap "
-            << (options.fps > 0.0f ? FormatFixed(options.fps, 0) : std::string("server default")) << std::endl;
+            << (options.fps > 0.0f ? FormatFixed(options.fps, 0) : std::string("server default"))
+            << std::endl;
 
   std::atomic<bool> interrupted{false};
   ScopedInterruptHandler on_interrupt([&](int) { interrupted = true; });
@@ -402,9 +406,9 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
     const std::string label = absl::StrCat("[step ", i + 1, "/", options.sessions.size(), ": ",
                                            count, count == 1 ? " session]" : " sessions]");
     if (!StderrIsTty()) std::cout << label << " running" << std::endl;
-    GS_ASSIGN_OR_RETURN(StepResult step, RunStep(options, connection, servers, workload,
-                                                 interferer.get(), count, label, progress,
-                                                 interrupted));
+    GS_ASSIGN_OR_RETURN(StepResult step,
+                        RunStep(options, connection, servers, workload, interferer.get(), count,
+                                label, progress, interrupted));
     std::cout << label << " " << FormatFixed(step.fps_mean, 1) << " fps/session, latency p95 "
               << (step.latency_ms.p95 ? FormatFixed(*step.latency_ms.p95, 1) : "-")
               << " ms, longest frame interval "
@@ -412,7 +416,8 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
               << (step.failed_sessions ? absl::StrCat(", ", step.failed_sessions, " failed") : "")
               << std::endl;
     for (const SessionMeasurement& m : step.per_session) {
-      if (!m.error.empty()) Log(LogLevel::kWarning, absl::StrCat("session on ", m.server, ": ", m.error));
+      if (!m.error.empty())
+        Log(LogLevel::kWarning, absl::StrCat("session on ", m.server, ": ", m.error));
     }
     if (!step.interferer_error.empty()) {
       Log(LogLevel::kWarning, absl::StrCat("interferer: ", step.interferer_error));

@@ -387,7 +387,8 @@ absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOpti
         const double budget = spec.pathtrace_budgets_ms[i];
         std::ostringstream b;
         b << budget;
-        evaluator.progress().Wait(absl::StrCat(scene.name, "/", view.name, " pathtrace ", b.str(), " ms"));
+        evaluator.progress().Wait(
+            absl::StrCat(scene.name, "/", view.name, " pathtrace ", b.str(), " ms"));
         GS_ASSIGN_OR_RETURN(
             v1::Frame frame,
             evaluator.RenderOnce(loaded->id(), "pathtrace",

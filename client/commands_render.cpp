@@ -30,8 +30,9 @@ absl::Status RunRender(const ConnectionOptions& connection_options, const Render
   if (options.view.camera.ByteSizeLong() > 0) *request.mutable_camera() = options.view.camera;
 
   v1::Frame frame;
-  progress.Wait(absl::StrCat("rendering (", options.solver.solver.empty() ? "direct" : options.solver.solver,
-                             ", ", options.view.width, "x", options.view.height, ")"));
+  progress.Wait(absl::StrCat("rendering (",
+                             options.solver.solver.empty() ? "direct" : options.solver.solver, ", ",
+                             options.view.width, "x", options.view.height, ")"));
   GS_RETURN_IF_ERROR(connection.Call(&v1::Gistream::Stub::Render, request, &frame));
   progress.Done();
   if (frame.image().empty()) {

@@ -171,9 +171,9 @@ absl::Status RunScript(const ConnectionOptions& connection_options, const Script
                 std::chrono::duration<double, std::milli>(arrived - requested).count());
       GS_RETURN_IF_ERROR(writer.Write(static_cast<uint64_t>(i), frame));
       ++saved;
-      progress.Update(absl::StrCat("frame ", std::min(saved + 1, timeline->frames()), "/",
-                                   timeline->frames()),
-                      double(saved) / double(timeline->frames()));
+      progress.Update(
+          absl::StrCat("frame ", std::min(saved + 1, timeline->frames()), "/", timeline->frames()),
+          double(saved) / double(timeline->frames()));
     }
     if (!got_frame) call_ended = true;
   }

@@ -11,7 +11,9 @@
 namespace gistream::client {
 namespace {
 
-std::string Mib(uint64_t bytes) { return absl::StrCat(FormatFixed(double(bytes) / (1 << 20), 1), " MiB"); }
+std::string Mib(uint64_t bytes) {
+  return absl::StrCat(FormatFixed(double(bytes) / (1 << 20), 1), " MiB");
+}
 
 std::string Uptime(double seconds) {
   const uint64_t s = uint64_t(seconds);
@@ -50,9 +52,14 @@ absl::Status RunStatus(const ConnectionOptions& connection_options, const Status
             << "frames rendered  " << status.frames_rendered() << "\n"
             << "sessions         " << status.sessions() << "\n";
   if (status.session_status_size() > 0) {
-    TextTable table({{"session"}, {"scene"}, {"solver"}, {"size"},
-                     {"frames", TextTable::Align::kRight}, {"fps", TextTable::Align::kRight},
-                     {"dropped", TextTable::Align::kRight}, {"pending", TextTable::Align::kRight},
+    TextTable table({{"session"},
+                     {"scene"},
+                     {"solver"},
+                     {"size"},
+                     {"frames", TextTable::Align::kRight},
+                     {"fps", TextTable::Align::kRight},
+                     {"dropped", TextTable::Align::kRight},
+                     {"pending", TextTable::Align::kRight},
                      {"last seq", TextTable::Align::kRight}});
     for (const v1::SessionStatus& s : status.session_status()) {
       table.AddRow({s.session_id(), s.scene_id(), s.solver(),

@@ -86,8 +86,8 @@ absl::StatusOr<EvalSpec> ParseEvalSpec(const std::string& text) {
   }
   if (!doc.is_object()) return Bad("spec", "expected an object");
   EvalSpec spec;
-  static const std::set<std::string> kKeys = {"size", "reference", "timed_frames",
-                                              "pathtrace_budgets_ms", "scenes", "solvers"};
+  static const std::set<std::string> kKeys = {
+      "size", "reference", "timed_frames", "pathtrace_budgets_ms", "scenes", "solvers"};
   for (const auto& [key, value] : doc.items()) {
     if (!kKeys.count(key)) return Bad(key, "unknown key");
   }

@@ -49,8 +49,8 @@ absl::Status FrameWriter::Write(uint64_t index, const v1::Frame& frame) {
   }
   if (frame.image().empty()) {
     if (last_image_.empty()) {
-      return absl::InternalError(absl::StrCat(
-          "frame ", frame.frame_number(), " is unchanged but no picture came before it"));
+      return absl::InternalError(absl::StrCat("frame ", frame.frame_number(),
+                                              " is unchanged but no picture came before it"));
     }
     return WriteFile(PathFor(index, format), last_image_);
   }

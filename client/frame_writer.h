@@ -40,7 +40,7 @@ class FrameWriter {
       : dir_(std::move(dir)), requested_(requested) {}
   std::filesystem::path dir_;
   v1::ImageFormat requested_;
-  std::string last_image_;                  // image formats: the last picture
+  std::string last_image_;                 // image formats: the last picture
   std::unique_ptr<std::ofstream> stream_;  // video formats: the open stream file
 };
 

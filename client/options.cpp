@@ -55,15 +55,22 @@ std::optional<Command> CommandFromName(absl::string_view name) {
 }
 
 // Flags every command accepts, so `--server` may come after the command too.
-const std::vector<FlagSpec> kConnectionFlags = {{"server"}, {"timeout"}, {"tls", false},
-                                                {"ca"},     {"cert"},    {"key"},
-                                                {"token"}};
+const std::vector<FlagSpec> kConnectionFlags = {{"server"}, {"timeout"}, {"tls", false}, {"ca"},
+                                                {"cert"},   {"key"},     {"token"}};
 const std::vector<FlagSpec> kSceneFlags = {
     {"scene"}, {"environment"}, {"environment-intensity"}, {"keep-scene", false}};
 const std::vector<FlagSpec> kSolverFlags = {{"solver"}, {"param", true, true}};
-const std::vector<FlagSpec> kViewFlags = {
-    {"size"}, {"format"}, {"quality"}, {"exposure"}, {"camera-eye"}, {"camera-target"}, {"yfov"},
-    {"bitrate"}, {"crf"}, {"key-interval"}, {"send-unchanged", false}};
+const std::vector<FlagSpec> kViewFlags = {{"size"},
+                                          {"format"},
+                                          {"quality"},
+                                          {"exposure"},
+                                          {"camera-eye"},
+                                          {"camera-target"},
+                                          {"yfov"},
+                                          {"bitrate"},
+                                          {"crf"},
+                                          {"key-interval"},
+                                          {"send-unchanged", false}};
 
 std::vector<FlagSpec> Concat(std::initializer_list<const std::vector<FlagSpec>*> groups) {
   std::vector<FlagSpec> all;
@@ -82,9 +89,9 @@ absl::Status ApplyConnection(const ParsedFlags& flags, ConnectionOptions& connec
     connection.timeout_seconds = seconds;
   }
   if (flags.Has("tls")) connection.tls = true;
-  for (auto [flag, pem] : {std::pair{"ca", &connection.ca_pem},
-                           std::pair{"cert", &connection.cert_pem},
-                           std::pair{"key", &connection.key_pem}}) {
+  for (auto [flag, pem] :
+       {std::pair{"ca", &connection.ca_pem}, std::pair{"cert", &connection.cert_pem},
+        std::pair{"key", &connection.key_pem}}) {
     if (auto path = flags.Get(flag)) {
       GS_ASSIGN_OR_RETURN(*pem, ReadPem(absl::StrCat("--", flag), *path));
       connection.tls = true;
@@ -291,9 +298,12 @@ absl::StatusOr<BenchOptions> ParseBench(const ParsedFlags& flags) {
     GS_ASSIGN_OR_RETURN(options.warmup_s, ParseDuration("--warmup", *value));
   }
   if (auto value = flags.Get("channels")) {
-    if (*value == "shared") options.channel_per_session = false;
-    else if (*value == "per-session") options.channel_per_session = true;
-    else return Usage(absl::StrCat("--channels: \"", *value, "\" is not shared or per-session"));
+    if (*value == "shared")
+      options.channel_per_session = false;
+    else if (*value == "per-session")
+      options.channel_per_session = true;
+    else
+      return Usage(absl::StrCat("--channels: \"", *value, "\" is not shared or per-session"));
   }
   if (auto value = flags.Get("fps")) {
     if (*value == "uncapped") {
@@ -403,9 +413,12 @@ absl::StatusOr<std::pair<std::string, std::string>> ParseParam(absl::string_view
 absl::StatusOr<double> ParseDuration(absl::string_view flag, absl::string_view text) {
   double scale = 1.0;
   absl::string_view number = text;
-  if (absl::ConsumeSuffix(&number, "ms")) scale = 1e-3;
-  else if (absl::ConsumeSuffix(&number, "s")) scale = 1.0;
-  else if (absl::ConsumeSuffix(&number, "m")) scale = 60.0;
+  if (absl::ConsumeSuffix(&number, "ms"))
+    scale = 1e-3;
+  else if (absl::ConsumeSuffix(&number, "s"))
+    scale = 1.0;
+  else if (absl::ConsumeSuffix(&number, "m"))
+    scale = 60.0;
   double value = 0.0;
   if (!absl::SimpleAtod(number, &value) || !std::isfinite(value) || value < 0.0 ||
       value * scale > 86400.0) {
@@ -478,8 +491,16 @@ absl::StatusOr<CommandLine> ParseCommandLine(std::span<const std::string> args,
       break;
     case Command::kBench:
       specs = Concat({&kConnectionFlags, &kSceneFlags, &kSolverFlags, &kViewFlags});
-      specs.insert(specs.end(), {{"workload"}, {"node"}, {"update-hz"}, {"sessions"}, {"duration"},
-                                 {"warmup"}, {"channels"}, {"fps"}, {"interfere"}, {"out"}});
+      specs.insert(specs.end(), {{"workload"},
+                                 {"node"},
+                                 {"update-hz"},
+                                 {"sessions"},
+                                 {"duration"},
+                                 {"warmup"},
+                                 {"channels"},
+                                 {"fps"},
+                                 {"interfere"},
+                                 {"out"}});
       break;
   }
   GS_ASSIGN_OR_RETURN(ParsedFlags flags, ParseFlags(rest, specs));

@@ -99,7 +99,7 @@ struct EvalOptions {
 struct BenchOptions {
   SceneOptions scene;  // default cornell_box
   SolverOptions solver;
-  ViewOptions view;  // default 128x128 JPEG
+  ViewOptions view;                // default 128x128 JPEG
   std::string workload = "orbit";  // orbit | light | object | mixed | FILE.json
   std::string node;                // object/mixed: the node to move (name or id)
   double update_hz = 0.0;          // open loop at this rate; 0: one per received frame

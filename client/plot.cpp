@@ -18,7 +18,7 @@ constexpr std::array<std::array<uint8_t, 3>, 8> kPalette = {{{31, 119, 180},
                                                              {140, 86, 75},
                                                              {227, 119, 194},
                                                              {127, 127, 127}}};
-constexpr const char* kPaletteNames[] = {"blue", "red",    "green", "orange",
+constexpr const char* kPaletteNames[] = {"blue",   "red",   "green", "orange",
                                          "purple", "brown", "pink",  "grey"};
 
 // 3x5 glyphs for tick labels and the legend: digits, letters (drawn upper
@@ -88,8 +88,7 @@ void Box(Raster& r, int x, int y, int half, std::array<uint8_t, 3> c) {
 }
 
 // Each glyph bit is a scale x scale block; returns the x after the text.
-int Text(Raster& r, int x, int y, const std::string& s, std::array<uint8_t, 3> c,
-         int scale = 2) {
+int Text(Raster& r, int x, int y, const std::string& s, std::array<uint8_t, 3> c, int scale = 2) {
   for (char ch : s) {
     for (int row = 0; row < 5; ++row) {
       const uint8_t bits = GlyphRow(ch, row);
@@ -157,9 +156,7 @@ std::string TickLabel(double v, double step) {
 std::array<uint8_t, 3> SeriesColor(size_t i) { return kPalette[i % kPalette.size()]; }
 const char* SeriesColorName(size_t i) { return kPaletteNames[i % kPalette.size()]; }
 
-int LegendRowY(const LogAxes& axes, size_t i) {
-  return axes.bottom + 48 + int(i) * kLegendRow;
-}
+int LegendRowY(const LogAxes& axes, size_t i) { return axes.bottom + 48 + int(i) * kLegendRow; }
 
 int LogAxes::X(double x) const {
   const double u = x_log ? std::log10(x) : x;

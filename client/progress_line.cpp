@@ -26,10 +26,12 @@ std::string FormatProgressLine(const std::string& what, std::chrono::duration<do
     const double f = std::clamp(*fraction, 0.0, 1.0);
     constexpr int kBar = 20;
     const int filled = int(std::floor(f * kBar));
-    line = absl::StrCat("[", std::string(size_t(filled), '#'), std::string(size_t(kBar - filled), '.'),
-                        "] ", int(std::floor(f * 100.0)), "% ", what);
-    absl::StrAppend(&line, f > 0.0 ? absl::StrCat(", ETA ", Duration(elapsed.count() * (1.0 - f) / f))
-                                   : ", ETA ?");
+    line =
+        absl::StrCat("[", std::string(size_t(filled), '#'), std::string(size_t(kBar - filled), '.'),
+                     "] ", int(std::floor(f * 100.0)), "% ", what);
+    absl::StrAppend(&line, f > 0.0
+                               ? absl::StrCat(", ETA ", Duration(elapsed.count() * (1.0 - f) / f))
+                               : ", ETA ?");
   } else {
     line = absl::StrCat(what, "... ", Duration(elapsed.count()));
   }

@@ -15,6 +15,7 @@ PACKAGES=(
   python3 python3-grpcio python3-protobuf  # the Python client package (python/) and its test
   openssl python3-yaml  # test certificates (scripts/dev_certs.sh), the deployment test (tests/deploy)
   clang libclang-rt-14-dev  # CI's sanitizer and libFuzzer build (scripts/ci-sanitizers.sh)
+  clang-format  # the `format` test and `make format` (.clang-format)
 )
 
 missing=()
@@ -31,7 +32,7 @@ command -v npm >/dev/null 2>&1 || missing+=(npm)
 if [ "${GISTREAM_NO_TEST_DEPS:-0}" = 1 ]; then
   kept=()
   for p in "${missing[@]}"; do
-    case "$p" in chromium|nodejs|npm|clang|libclang-rt-14-dev) ;; *) kept+=("$p") ;; esac
+    case "$p" in chromium|nodejs|npm|clang|libclang-rt-14-dev|clang-format) ;; *) kept+=("$p") ;; esac
   done
   missing=("${kept[@]+"${kept[@]}"}")
 fi

@@ -51,7 +51,7 @@ struct Flags {
   uint64_t max_message_bytes = 0;  // 0: max_scene_bytes + 16 MiB
   double shutdown_deadline_s = 10.0;
   LogLevel log_level = LogLevel::kInfo;
-  unsigned cpu_threads = 0;  // 0: DefaultCpuThreads()
+  unsigned cpu_threads = 0;                      // 0: DefaultCpuThreads()
   std::string tls_cert, tls_key, tls_client_ca;  // PEM file paths
   bool insecure = false;
   std::string auth_tokens;  // token file path; empty: one default tenant
@@ -163,8 +163,8 @@ LogLevel ParseLogLevel(std::string_view flag, std::string_view value) {
   if (value == "info") return LogLevel::kInfo;
   if (value == "warning") return LogLevel::kWarning;
   if (value == "error") return LogLevel::kError;
-  UsageError(absl::StrCat(AV(flag), ": expected debug, info, warning or error, got '", AV(value),
-                          "'"));
+  UsageError(
+      absl::StrCat(AV(flag), ": expected debug, info, warning or error, got '", AV(value), "'"));
 }
 
 Flags ParseFlags(int argc, char** argv) {
@@ -182,23 +182,33 @@ Flags ParseFlags(int argc, char** argv) {
          f.metrics_listen = std::string(v);
        }},
       {"--scenes", [&](auto, auto v) { f.engine.scene_dir = std::string(v); }},
-      {"--egl-device", [&](auto flag, auto v) { f.engine.egl_device = ParseInt(flag, v, -1, 1024); }},
+      {"--egl-device",
+       [&](auto flag, auto v) { f.engine.egl_device = ParseInt(flag, v, -1, 1024); }},
       {"--max-sessions",
-       [&](auto flag, auto v) { f.engine.max_sessions = ParseUnsigned<uint32_t>(flag, v, 1, 100'000); }},
+       [&](auto flag, auto v) {
+         f.engine.max_sessions = ParseUnsigned<uint32_t>(flag, v, 1, 100'000);
+       }},
       {"--max-scenes",
-       [&](auto flag, auto v) { f.engine.max_scenes = ParseUnsigned<uint32_t>(flag, v, 1, 100'000); }},
+       [&](auto flag, auto v) {
+         f.engine.max_scenes = ParseUnsigned<uint32_t>(flag, v, 1, 100'000);
+       }},
       {"--max-memory-bytes",
        [&](auto flag, auto v) {
-         f.engine.max_memory_bytes = ParseUnsigned<uint64_t>(flag, v, uint64_t{1} << 20, UINT64_MAX);
+         f.engine.max_memory_bytes =
+             ParseUnsigned<uint64_t>(flag, v, uint64_t{1} << 20, UINT64_MAX);
        }},
       {"--max-solvers-per-scene",
        [&](auto flag, auto v) {
          f.engine.max_solvers_per_scene = ParseUnsigned<uint32_t>(flag, v, 1, 1'000);
        }},
       {"--max-width",
-       [&](auto flag, auto v) { f.engine.max_width = ParseUnsigned<uint32_t>(flag, v, 1, 65'536); }},
+       [&](auto flag, auto v) {
+         f.engine.max_width = ParseUnsigned<uint32_t>(flag, v, 1, 65'536);
+       }},
       {"--max-height",
-       [&](auto flag, auto v) { f.engine.max_height = ParseUnsigned<uint32_t>(flag, v, 1, 65'536); }},
+       [&](auto flag, auto v) {
+         f.engine.max_height = ParseUnsigned<uint32_t>(flag, v, 1, 65'536);
+       }},
       {"--max-scene-bytes",
        [&](auto flag, auto v) {
          f.engine.import_limits.max_scene_bytes =
@@ -206,7 +216,8 @@ Flags ParseFlags(int argc, char** argv) {
        }},
       {"--max-triangles",
        [&](auto flag, auto v) {
-         f.engine.import_limits.max_triangles = ParseUnsigned<uint64_t>(flag, v, 1, uint64_t{1} << 32);
+         f.engine.import_limits.max_triangles =
+             ParseUnsigned<uint64_t>(flag, v, 1, uint64_t{1} << 32);
        }},
       {"--max-image-pixels",
        [&](auto flag, auto v) {
@@ -253,7 +264,8 @@ Flags ParseFlags(int argc, char** argv) {
       std::exit(0);
     }
     if (arg == "--list-solvers") {
-      for (const SolverDescription& d : AllSolverDescriptions()) std::printf("%s\n", d.name.c_str());
+      for (const SolverDescription& d : AllSolverDescriptions())
+        std::printf("%s\n", d.name.c_str());
       std::exit(0);
     }
     if (arg == "--insecure") {
@@ -285,10 +297,11 @@ Flags ParseFlags(int argc, char** argv) {
   if (!f.tls_client_ca.empty() && f.tls_cert.empty()) {
     UsageError("--tls-client-ca: needs --tls-cert and --tls-key");
   }
-  f.engine.idle_timeout = std::chrono::milliseconds(static_cast<int64_t>(f.idle_timeout_s * 1000.0));
+  f.engine.idle_timeout =
+      std::chrono::milliseconds(static_cast<int64_t>(f.idle_timeout_s * 1000.0));
   if (f.max_message_bytes == 0) {
-    f.max_message_bytes = std::min<uint64_t>(f.engine.import_limits.max_scene_bytes + (16u << 20),
-                                             INT_MAX);
+    f.max_message_bytes =
+        std::min<uint64_t>(f.engine.import_limits.max_scene_bytes + (16u << 20), INT_MAX);
   }
   return f;
 }
@@ -374,9 +387,9 @@ int Main(int argc, char** argv) {
   }
   // The one CPU pool, sized before any CPU stage can start it.
   CpuPool::Configure(flags.cpu_threads);
-  Log(LogLevel::kInfo, absl::StrCat("CPU pool: ", CpuPool::Get().threads(), " threads",
-                                    flags.cpu_threads > 0 ? " (--cpu-threads)"
-                                                          : " (affinity and cgroup quota)"));
+  Log(LogLevel::kInfo,
+      absl::StrCat("CPU pool: ", CpuPool::Get().threads(), " threads",
+                   flags.cpu_threads > 0 ? " (--cpu-threads)" : " (affinity and cgroup quota)"));
   // Test-only GPU fault injection (gl/fault_injection.h), never a flag.
   if (const char* faults = std::getenv("GISTREAM_TEST_FAULT_DIR"); faults && *faults) {
     flags.engine.test_fault_dir = faults;
@@ -388,8 +401,8 @@ int Main(int argc, char** argv) {
     return 1;
   }
   const DeviceInfo device = (*engine)->device_info();
-  Log(LogLevel::kInfo, absl::StrCat("GL: ", device.vendor, " / ", device.renderer, " / ",
-                                    device.version));
+  Log(LogLevel::kInfo,
+      absl::StrCat("GL: ", device.vendor, " / ", device.renderer, " / ", device.version));
   Log(LogLevel::kInfo, absl::StrCat("EGL device: ", device.egl_device));
 
   if (metrics) {
@@ -399,7 +412,8 @@ int Main(int argc, char** argv) {
       return 1;
     }
     const std::string host = flags.metrics_listen.substr(0, flags.metrics_listen.rfind(':'));
-    Log(LogLevel::kInfo, absl::StrCat("metrics on http://", host, ":", metrics->port(), "/metrics"));
+    Log(LogLevel::kInfo,
+        absl::StrCat("metrics on http://", host, ":", metrics->port(), "/metrics"));
   }
 
   service::ServerOptions options;
@@ -447,7 +461,7 @@ int Main(int argc, char** argv) {
   Log(LogLevel::kInfo, absl::StrCat("received ", strsignal(signal_received)));
   const auto deadline = std::chrono::duration_cast<std::chrono::milliseconds>(
       std::chrono::duration<double>(flags.shutdown_deadline_s));
-  (*server)->Shutdown(deadline);  // health NOT_SERVING, drain calls, Engine::Shutdown
+  (*server)->Shutdown(deadline);        // health NOT_SERVING, drain calls, Engine::Shutdown
   if (metrics) metrics->StopServing();  // scrapes read the engine: stop them first
   server->reset();
   engine->reset();

@@ -57,12 +57,18 @@ int main(int argc, char** argv) {
     }
     if (i + 1 >= argc) return Usage();
     const std::string value = argv[++i];
-    if (flag == "--server") server = value;
-    else if (flag == "--listen") listen = value;
-    else if (flag == "--scene") scene = value;
-    else if (flag == "--scenes") scenes = value;
-    else if (flag == "--solver") solver = value;
-    else if (flag == "--fps") fps = std::stof(value);
+    if (flag == "--server")
+      server = value;
+    else if (flag == "--listen")
+      listen = value;
+    else if (flag == "--scene")
+      scene = value;
+    else if (flag == "--scenes")
+      scenes = value;
+    else if (flag == "--solver")
+      solver = value;
+    else if (flag == "--fps")
+      fps = std::stof(value);
     else if (flag == "--size") {
       if (std::sscanf(value.c_str(), "%ux%u", &width, &height) != 2) return Usage();
     } else if (flag == "--ca" || flag == "--cert" || flag == "--key") {
@@ -71,8 +77,9 @@ int main(int argc, char** argv) {
         std::cerr << "gistream-web: " << pem.status().message() << "\n";
         return 2;
       }
-      (flag == "--ca" ? upstream.ca_pem : flag == "--cert" ? upstream.cert_pem : upstream.key_pem) =
-          *pem;
+      (flag == "--ca"     ? upstream.ca_pem
+       : flag == "--cert" ? upstream.cert_pem
+                          : upstream.key_pem) = *pem;
       upstream.tls = true;
     } else if (flag == "--token") {
       upstream.token = value;
@@ -95,12 +102,14 @@ int main(int argc, char** argv) {
   grpc::ClientContext context;
   context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(120));
   if (grpc::Status s = options.stub->LoadScene(&context, load, &options.scene); !s.ok()) {
-    std::cerr << "error: LoadScene " << scene << " on " << server << ": " << s.error_message() << "\n";
+    std::cerr << "error: LoadScene " << scene << " on " << server << ": " << s.error_message()
+              << "\n";
     return 1;
   }
   grpc::ClientContext list_context;
   list_context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
-  if (grpc::Status s = options.stub->ListSolvers(&list_context, v1::ListSolversRequest(), &options.solvers);
+  if (grpc::Status s =
+          options.stub->ListSolvers(&list_context, v1::ListSolversRequest(), &options.solvers);
       !s.ok()) {
     std::cerr << "error: ListSolvers on " << server << ": " << s.error_message() << "\n";
     return 1;

@@ -65,13 +65,14 @@ json SolversJson(const v1::ListSolversResponse& list) {
   for (const v1::SolverInfo& s : list.solvers()) {
     json params = json::array();
     for (const v1::ParamSpec& p : s.params()) {
-      params.push_back({{"name", p.name()},
-                        {"type", v1::ParamType_Name(p.type())},
-                        {"default", p.default_value()},
-                        {"min", p.min()},
-                        {"max", p.max()},
-                        {"choices", std::vector<std::string>(p.choices().begin(), p.choices().end())},
-                        {"description", p.description()}});
+      params.push_back(
+          {{"name", p.name()},
+           {"type", v1::ParamType_Name(p.type())},
+           {"default", p.default_value()},
+           {"min", p.min()},
+           {"max", p.max()},
+           {"choices", std::vector<std::string>(p.choices().begin(), p.choices().end())},
+           {"description", p.description()}});
     }
     out.push_back({{"name", s.name()}, {"description", s.description()}, {"params", params}});
   }
@@ -101,8 +102,8 @@ json SceneJson(const v1::LoadSceneResponse& scene, const v1::SessionConfig& conf
               {"solvers", SolversJson(solvers)},
               {"scenes", names},
               {"scene_name", name},
-              {"params", std::map<std::string, std::string>(config.params().begin(),
-                                                             config.params().end())}};
+              {"params",
+               std::map<std::string, std::string>(config.params().begin(), config.params().end())}};
   if (scene.cameras_size() > 0) {
     out["camera"] = {{"position", Vec(scene.cameras(0).position())},
                      {"yfov_degrees", scene.cameras(0).yfov() * 57.29578f}};
@@ -115,14 +116,17 @@ std::string FrameMessage(const v1::Frame& f) {
   for (const v1::StageTiming& t : f.timings()) {
     timings.push_back({t.name(), t.cpu_ms(), t.gpu_ms(), t.skipped()});
   }
-  const std::string header =
-      json{{"frame", f.frame_number()},  {"seq", f.last_update_seq()},
-           {"width", f.width()},         {"height", f.height()},
-           {"format", f.format() == v1::IMAGE_FORMAT_H264 ? "h264" : "jpeg"},
-           {"key_frame", f.key_frame()}, {"unchanged", f.unchanged()},
-           {"total_ms", f.total_ms()},   {"dropped", f.dropped_frames()},
-           {"timings", timings}}
-          .dump();
+  const std::string header = json{
+      {"frame", f.frame_number()},
+      {"seq", f.last_update_seq()},
+      {"width", f.width()},
+      {"height", f.height()},
+      {"format", f.format() == v1::IMAGE_FORMAT_H264 ? "h264" : "jpeg"},
+      {"key_frame", f.key_frame()},
+      {"unchanged", f.unchanged()},
+      {"total_ms", f.total_ms()},
+      {"dropped", f.dropped_frames()},
+      {"timings", timings}}.dump();
   std::string out(4, '\0');
   const uint32_t n = uint32_t(header.size());
   for (int i = 0; i < 4; ++i) out[size_t(i)] = char((n >> (8 * i)) & 0xff);
@@ -148,7 +152,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   Viewer(tcp::socket socket, const ViewerOptions& options, bool h264)
       : ws_(std::move(socket)), options_(options), h264_(h264), link_(std::make_shared<Link>()) {
     options_.config.mutable_encoding()->set_format(h264 ? v1::IMAGE_FORMAT_H264
-                                                         : v1::IMAGE_FORMAT_JPEG);
+                                                        : v1::IMAGE_FORMAT_JPEG);
   }
   ~Viewer() { link_->context.TryCancel(); }
 
@@ -197,26 +201,31 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
           key = event.frame().key_frame();
           has_image = !event.frame().image().empty();
         } else if (event.has_rejected()) {
-          message = json{{"type", "rejected"}, {"seq", event.rejected().seq()},
-                         {"message", event.rejected().message()}}.dump();
+          message = json{{"type", "rejected"},
+                         {"seq", event.rejected().seq()},
+                         {"message", event.rejected().message()}}
+                        .dump();
         } else if (event.has_opened()) {
           message = json{{"type", "opened"}, {"session_id", event.opened().session_id()}}.dump();
         } else {
           continue;
         }
-        net::post(executor, [weak, link, message = std::move(message), binary, key, has_image]() mutable {
-          auto self = weak.lock();
-          if (self && self->link_ == link) {
-            self->OnServerMessage(std::move(message), binary, key, has_image);
-          }
-        });
+        net::post(executor,
+                  [weak, link, message = std::move(message), binary, key, has_image]() mutable {
+                    auto self = weak.lock();
+                    if (self && self->link_ == link) {
+                      self->OnServerMessage(std::move(message), binary, key, has_image);
+                    }
+                  });
       }
       const grpc::Status status = link->stream->Finish();
-      net::post(executor, [weak, link, text = status.error_message(), code = int(status.error_code())] {
-        if (auto self = weak.lock(); self && self->link_ == link) {
-          self->Send(json{{"type", "closed"}, {"code", code}, {"message", text}}.dump(), false, false);
-        }
-      });
+      net::post(executor,
+                [weak, link, text = status.error_message(), code = int(status.error_code())] {
+                  if (auto self = weak.lock(); self && self->link_ == link) {
+                    self->Send(json{{"type", "closed"}, {"code", code}, {"message", text}}.dump(),
+                               false, false);
+                  }
+                });
     }).detach();
   }
 
@@ -277,8 +286,10 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
         auto self = weak.lock();
         if (!self) return;
         if (!status.ok()) {
-          self->Send(json{{"type", "error"}, {"message", "scene " + name + ": " + status.error_message()}}.dump(),
-                     false, false);
+          self->Send(
+              json{{"type", "error"}, {"message", "scene " + name + ": " + status.error_message()}}
+                  .dump(),
+              false, false);
           return;
         }
         self->options_.scene = std::move(response);

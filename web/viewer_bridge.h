@@ -28,7 +28,7 @@ struct ViewerOptions {
   std::shared_ptr<v1::Gistream::Stub> stub;
   v1::LoadSceneResponse scene;
   v1::ListSolversResponse solvers;  // for the page's solver picker
-  v1::SessionConfig config;  // scene id, solver, params, size, pacing; encoding per browser
+  v1::SessionConfig config;         // scene id, solver, params, size, pacing; encoding per browser
   // The scene names (in the server's scene directory) the page's scene
   // picker offers; `scene_name` is the one loaded first.
   std::vector<std::string> scene_names;

@@ -28,8 +28,8 @@ bool ReadName(std::span<const uint8_t> bytes, size_t& pos, std::string* out) {
 
 absl::Status CheckExrHeader(std::span<const uint8_t> bytes, const std::string& field) {
   if (bytes.size() < 8 || std::memcmp(bytes.data(), kMagic, 4) != 0) return absl::OkStatus();
-  const uint32_t version = uint32_t(bytes[4]) | uint32_t(bytes[5]) << 8 |
-                           uint32_t(bytes[6]) << 16 | uint32_t(bytes[7]) << 24;
+  const uint32_t version = uint32_t(bytes[4]) | uint32_t(bytes[5]) << 8 | uint32_t(bytes[6]) << 16 |
+                           uint32_t(bytes[7]) << 24;
   const bool multi_part = (version & kMultiPartFlag) != 0;
   auto corrupt = [&](const std::string& why) {
     return absl::InvalidArgumentError(absl::StrCat(field, ": corrupt exr image: ", why));
@@ -52,7 +52,8 @@ absl::Status CheckExrHeader(std::span<const uint8_t> bytes, const std::string& f
         return corrupt(absl::StrCat("an attribute name or type of header ", part,
                                     " is longer than ", kMaxName, " bytes or not terminated"));
       }
-      if (bytes.size() - pos < 4) return corrupt(absl::StrCat("attribute '", name, "' has no size"));
+      if (bytes.size() - pos < 4)
+        return corrupt(absl::StrCat("attribute '", name, "' has no size"));
       const int32_t size = int32_t(uint32_t(bytes[pos]) | uint32_t(bytes[pos + 1]) << 8 |
                                    uint32_t(bytes[pos + 2]) << 16 | uint32_t(bytes[pos + 3]) << 24);
       pos += 4;

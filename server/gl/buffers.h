@@ -14,8 +14,8 @@
 // Checks a C++ mirror of a GLSL std430 struct: trivially copyable, the
 // size the shader's layout has, and a multiple of 16 bytes (std430 arrays
 // of structs with vec4 members stride by 16). Put it after the struct.
-#define GS_STD430_MIRROR(Type, bytes)                                           \
-  static_assert(std::is_trivially_copyable_v<Type>, #Type " is not plain data"); \
+#define GS_STD430_MIRROR(Type, bytes)                                                  \
+  static_assert(std::is_trivially_copyable_v<Type>, #Type " is not plain data");       \
   static_assert(sizeof(Type) == (bytes), #Type ": size differs from its GLSL struct"); \
   static_assert(sizeof(Type) % 16 == 0, #Type ": std430 array stride is a multiple of 16")
 

@@ -11,8 +11,8 @@ namespace gistream::gl {
 namespace {
 std::atomic<uint64_t> error_count{0};
 
-void OnMessage(GLenum /*source*/, GLenum type, GLuint id, GLenum severity,
-                          GLsizei length, const GLchar* message, const void* /*user*/) {
+void OnMessage(GLenum /*source*/, GLenum type, GLuint id, GLenum severity, GLsizei length,
+               const GLchar* message, const void* /*user*/) {
   if (severity == GL_DEBUG_SEVERITY_NOTIFICATION) return;
   if (type == GL_DEBUG_TYPE_ERROR) error_count.fetch_add(1, std::memory_order_relaxed);
   const LogLevel level = type == GL_DEBUG_TYPE_ERROR ? LogLevel::kError : LogLevel::kWarning;

@@ -97,15 +97,15 @@ absl::StatusOr<std::unique_ptr<EglContext>> EglContext::Create(int device_index)
   std::string why;
   if (device_index >= 0) {
     if (device_index >= int(devices.size())) {
-      return absl::InvalidArgumentError(absl::StrCat("--egl-device: ", device_index,
-                                                     " is out of range (", devices.size(),
-                                                     " EGL devices)"));
+      return absl::InvalidArgumentError(absl::StrCat(
+          "--egl-device: ", device_index, " is out of range (", devices.size(), " EGL devices)"));
     }
     chosen = device_index;
     why = "requested";
   } else {
     for (size_t i = 0; i < devices.size() && chosen < 0; ++i) {
-      if (!Describe(ext, devices[i], int(i)).software) chosen = int(i), why = "first hardware device";
+      if (!Describe(ext, devices[i], int(i)).software)
+        chosen = int(i), why = "first hardware device";
     }
     for (size_t i = 0; i < devices.size() && chosen < 0; ++i) {
       if (Describe(ext, devices[i], int(i)).software) chosen = int(i), why = "software device";
@@ -114,15 +114,16 @@ absl::StatusOr<std::unique_ptr<EglContext>> EglContext::Create(int device_index)
   }
   const EglDeviceInfo info = Describe(ext, devices[size_t(chosen)], chosen);
 
-  EGLDisplay display = ext.get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[size_t(chosen)], nullptr);
+  EGLDisplay display =
+      ext.get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[size_t(chosen)], nullptr);
   if (display == EGL_NO_DISPLAY) {
     return absl::FailedPreconditionError(
         absl::StrCat("EGL: no display for device ", chosen, ": ", EglErrorName(eglGetError())));
   }
   EGLint major = 0, minor = 0;
   if (!eglInitialize(display, &major, &minor)) {
-    return absl::FailedPreconditionError(
-        absl::StrCat("EGL: eglInitialize failed on device ", chosen, ": ", EglErrorName(eglGetError())));
+    return absl::FailedPreconditionError(absl::StrCat("EGL: eglInitialize failed on device ",
+                                                      chosen, ": ", EglErrorName(eglGetError())));
   }
   const std::string display_ext = eglQueryString(display, EGL_EXTENSIONS);
   if (!HasExtension(display_ext, "EGL_KHR_surfaceless_context")) {
@@ -135,8 +136,8 @@ absl::StatusOr<std::unique_ptr<EglContext>> EglContext::Create(int device_index)
   EGLConfig config = nullptr;
   EGLint num_configs = 0;
   const bool no_config = HasExtension(display_ext, "EGL_KHR_no_config_context");
-  if (!no_config && (!eglChooseConfig(display, config_attribs, &config, 1, &num_configs) ||
-                     num_configs == 0)) {
+  if (!no_config &&
+      (!eglChooseConfig(display, config_attribs, &config, 1, &num_configs) || num_configs == 0)) {
     return absl::FailedPreconditionError("EGL: no OpenGL-capable config");
   }
 
@@ -144,16 +145,17 @@ absl::StatusOr<std::unique_ptr<EglContext>> EglContext::Create(int device_index)
   self->display_ = display;
   // Robust context with reset notification first, a plain one as fallback.
   for (bool robust : {true, false}) {
-    std::vector<EGLint> attribs = {EGL_CONTEXT_MAJOR_VERSION, 4, EGL_CONTEXT_MINOR_VERSION, 5,
-                                   EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                   EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT};
+    std::vector<EGLint> attribs = {
+        EGL_CONTEXT_MAJOR_VERSION,       4,
+        EGL_CONTEXT_MINOR_VERSION,       5,
+        EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT};
 #ifndef NDEBUG
     attribs.insert(attribs.end(), {EGL_CONTEXT_OPENGL_DEBUG, EGL_TRUE});
 #endif
     if (robust) {
-      attribs.insert(attribs.end(), {EGL_CONTEXT_OPENGL_ROBUST_ACCESS, EGL_TRUE,
-                                     EGL_CONTEXT_OPENGL_RESET_NOTIFICATION_STRATEGY,
-                                     EGL_LOSE_CONTEXT_ON_RESET});
+      attribs.insert(attribs.end(),
+                     {EGL_CONTEXT_OPENGL_ROBUST_ACCESS, EGL_TRUE,
+                      EGL_CONTEXT_OPENGL_RESET_NOTIFICATION_STRATEGY, EGL_LOSE_CONTEXT_ON_RESET});
     }
     attribs.push_back(EGL_NONE);
     EGLContext ctx = eglCreateContext(display, no_config ? EGL_NO_CONFIG_KHR : config,
@@ -165,13 +167,12 @@ absl::StatusOr<std::unique_ptr<EglContext>> EglContext::Create(int device_index)
     }
   }
   if (!self->context_) {
-    return absl::FailedPreconditionError(absl::StrCat(
-        "EGL: could not create an OpenGL 4.5 core context on device ", chosen, ": ",
-        EglErrorName(eglGetError())));
+    return absl::FailedPreconditionError(
+        absl::StrCat("EGL: could not create an OpenGL 4.5 core context on device ", chosen, ": ",
+                     EglErrorName(eglGetError())));
   }
   self->description_ = absl::StrCat("EGL ", major, ".", minor, " device ", chosen, " of ",
-                                    devices.size(), " (", why,
-                                    info.software ? ", software" : "",
+                                    devices.size(), " (", why, info.software ? ", software" : "",
                                     info.drm_path.empty() ? "" : ", " + info.drm_path,
                                     self->robust_ ? ", robust" : "", ")");
   return self;

@@ -46,27 +46,51 @@ class Handle {
 };
 
 struct BufferTraits {
-  static GLuint Create() { GLuint id = 0; glCreateBuffers(1, &id); return id; }
+  static GLuint Create() {
+    GLuint id = 0;
+    glCreateBuffers(1, &id);
+    return id;
+  }
   static void Delete(GLuint id) { glDeleteBuffers(1, &id); }
 };
 struct TextureTraits {
-  static GLuint Create(GLenum target) { GLuint id = 0; glCreateTextures(target, 1, &id); return id; }
+  static GLuint Create(GLenum target) {
+    GLuint id = 0;
+    glCreateTextures(target, 1, &id);
+    return id;
+  }
   static void Delete(GLuint id) { glDeleteTextures(1, &id); }
 };
 struct FramebufferTraits {
-  static GLuint Create() { GLuint id = 0; glCreateFramebuffers(1, &id); return id; }
+  static GLuint Create() {
+    GLuint id = 0;
+    glCreateFramebuffers(1, &id);
+    return id;
+  }
   static void Delete(GLuint id) { glDeleteFramebuffers(1, &id); }
 };
 struct VertexArrayTraits {
-  static GLuint Create() { GLuint id = 0; glCreateVertexArrays(1, &id); return id; }
+  static GLuint Create() {
+    GLuint id = 0;
+    glCreateVertexArrays(1, &id);
+    return id;
+  }
   static void Delete(GLuint id) { glDeleteVertexArrays(1, &id); }
 };
 struct QueryTraits {
-  static GLuint Create(GLenum target) { GLuint id = 0; glCreateQueries(target, 1, &id); return id; }
+  static GLuint Create(GLenum target) {
+    GLuint id = 0;
+    glCreateQueries(target, 1, &id);
+    return id;
+  }
   static void Delete(GLuint id) { glDeleteQueries(1, &id); }
 };
 struct SamplerTraits {
-  static GLuint Create() { GLuint id = 0; glCreateSamplers(1, &id); return id; }
+  static GLuint Create() {
+    GLuint id = 0;
+    glCreateSamplers(1, &id);
+    return id;
+  }
   static void Delete(GLuint id) { glDeleteSamplers(1, &id); }
 };
 struct ShaderTraits {

@@ -7,9 +7,11 @@
 namespace gistream::gl {
 namespace {
 // Values from the extension specifications (not in glcorearb.h).
-constexpr GLenum kNvxTotalAvailableMemory = 0x9048;    // GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX, kB
-constexpr GLenum kNvxCurrentAvailableVidmem = 0x9049;  // GPU_MEMORY_INFO_CURRENT_AVAILABLE_VIDMEM_NVX, kB
-constexpr GLenum kAtiTextureFreeMemory = 0x87FC;       // TEXTURE_FREE_MEMORY_ATI, 4 ints, [0] kB
+constexpr GLenum kNvxTotalAvailableMemory =
+    0x9048;  // GPU_MEMORY_INFO_TOTAL_AVAILABLE_MEMORY_NVX, kB
+constexpr GLenum kNvxCurrentAvailableVidmem =
+    0x9049;  // GPU_MEMORY_INFO_CURRENT_AVAILABLE_VIDMEM_NVX, kB
+constexpr GLenum kAtiTextureFreeMemory = 0x87FC;  // TEXTURE_FREE_MEMORY_ATI, 4 ints, [0] kB
 
 uint64_t Kib(GLint kib) { return kib > 0 ? uint64_t(kib) * 1024 : 0; }
 }  // namespace

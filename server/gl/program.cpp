@@ -76,7 +76,8 @@ absl::StatusOr<Program> Program::Build(const std::vector<ShaderStage>& stages,
   GLint ok = GL_FALSE;
   glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
   if (!ok) {
-    return absl::InternalError(absl::StrCat("linking ", names, " failed:\n", ProgramLog(program.id())));
+    return absl::InternalError(
+        absl::StrCat("linking ", names, " failed:\n", ProgramLog(program.id())));
   }
   for (const ShaderObject& shader : shaders) glDetachShader(program.id(), shader.id());
   Label(GL_PROGRAM, program.id(), names.c_str());

@@ -44,12 +44,18 @@ class Program {
   void Set(const char* name, int v) { glProgramUniform1i(id(), Location(name), v); }
   void Set(const char* name, unsigned v) { glProgramUniform1ui(id(), Location(name), v); }
   void Set(const char* name, float v) { glProgramUniform1f(id(), Location(name), v); }
-  void Set(const char* name, const glm::vec2& v) { glProgramUniform2f(id(), Location(name), v.x, v.y); }
-  void Set(const char* name, const glm::vec3& v) { glProgramUniform3f(id(), Location(name), v.x, v.y, v.z); }
+  void Set(const char* name, const glm::vec2& v) {
+    glProgramUniform2f(id(), Location(name), v.x, v.y);
+  }
+  void Set(const char* name, const glm::vec3& v) {
+    glProgramUniform3f(id(), Location(name), v.x, v.y, v.z);
+  }
   void Set(const char* name, const glm::vec4& v) {
     glProgramUniform4f(id(), Location(name), v.x, v.y, v.z, v.w);
   }
-  void Set(const char* name, const glm::ivec2& v) { glProgramUniform2i(id(), Location(name), v.x, v.y); }
+  void Set(const char* name, const glm::ivec2& v) {
+    glProgramUniform2i(id(), Location(name), v.x, v.y);
+  }
   void Set(const char* name, const glm::ivec3& v) {
     glProgramUniform3i(id(), Location(name), v.x, v.y, v.z);
   }

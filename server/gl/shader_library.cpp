@@ -25,7 +25,8 @@ namespace {
 
 absl::Status Expand(std::string_view path, int depth, std::set<std::string>& seen,
                     ExpandedSource& out) {
-  if (depth > 16) return absl::InternalError(absl::StrCat(std::string(path), ": #include nested too deep"));
+  if (depth > 16)
+    return absl::InternalError(absl::StrCat(std::string(path), ": #include nested too deep"));
   GS_ASSIGN_OR_RETURN(std::string_view text, EmbeddedShaderSource(path));
   const int file_number = int(out.files.size());
   out.files.emplace_back(path);
@@ -39,7 +40,8 @@ absl::Status Expand(std::string_view path, int depth, std::set<std::string>& see
       const size_t open = line.find('"', start);
       const size_t close = open == std::string::npos ? open : line.find('"', open + 1);
       if (close == std::string::npos) {
-        return absl::InternalError(absl::StrCat(std::string(path), ":", line_number, ": malformed #include"));
+        return absl::InternalError(
+            absl::StrCat(std::string(path), ":", line_number, ": malformed #include"));
       }
       const std::string target = line.substr(open + 1, close - open - 1);
       if (seen.insert(target).second) {

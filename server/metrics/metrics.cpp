@@ -99,8 +99,8 @@ struct Metrics::Impl {
                          "Bytes held by the engine's GL objects (scenes, solvers, views)",
                          MetricType::Gauge, double(stats.gl_object_bytes)));
     out.push_back(Family("gistream_gpu_memory_total_bytes",
-                         "GPU memory as the driver reports it (0: not reported)",
-                         MetricType::Gauge, double(stats.gpu_memory_total_bytes)));
+                         "GPU memory as the driver reports it (0: not reported)", MetricType::Gauge,
+                         double(stats.gpu_memory_total_bytes)));
     out.push_back(Family("gistream_gpu_memory_available_bytes",
                          "GPU memory available as the driver reports it (0: not reported)",
                          MetricType::Gauge, double(stats.gpu_memory_available_bytes)));
@@ -118,8 +118,8 @@ struct Metrics::Impl {
     out.push_back(Family("process_cpu_seconds_total", "User and system CPU time of gistreamd",
                          MetricType::Counter, process.cpu_seconds));
     out.push_back(Family("process_start_time_seconds",
-                         "Start time of gistreamd, seconds since the Unix epoch",
-                         MetricType::Gauge, process.start_time_unix_s));
+                         "Start time of gistreamd, seconds since the Unix epoch", MetricType::Gauge,
+                         process.start_time_unix_s));
     out.push_back(Family("gistream_build_info", "Always 1; the version is the label",
                          MetricType::Gauge, 1.0, {{"version", std::string(Version())}}));
     return out;
@@ -150,7 +150,8 @@ void Metrics::OnFrameRendered(const EncodedFrame& frame) {
   for (const StageTiming& stage : frame.timings) {
     if (stage.skipped) continue;
     impl_->stage_seconds
-        .Add({{"solver", frame.solver}, {"stage", stage.name},
+        .Add({{"solver", frame.solver},
+              {"stage", stage.name},
               {"where", stage.cpu_stage ? "cpu" : "gpu"}},
              kStageBuckets)
         .Observe((stage.cpu_stage ? stage.cpu_ms : stage.gpu_ms) / 1e3);
@@ -197,6 +198,8 @@ void Metrics::StopServing() {
   impl_->engine = nullptr;
 }
 
-std::string Metrics::Text() const { return prometheus::TextSerializer().Serialize(impl_->Collect()); }
+std::string Metrics::Text() const {
+  return prometheus::TextSerializer().Serialize(impl_->Collect());
+}
 
 }  // namespace gistream::metrics

@@ -42,9 +42,9 @@ std::vector<EmitterTriangle> CollectEmitters(const SceneState& state) {
         t.area = 0.5f * len;
         t.normal = cross / len;
         // Emit on the side the authored vertex normals point to.
-        const glm::vec3 vn = glm::mat3(glm::transpose(glm::inverse(m))) *
-                             (p.normals[p.indices[i]] + p.normals[p.indices[i + 1]] +
-                              p.normals[p.indices[i + 2]]);
+        const glm::vec3 vn =
+            glm::mat3(glm::transpose(glm::inverse(m))) *
+            (p.normals[p.indices[i]] + p.normals[p.indices[i + 1]] + p.normals[p.indices[i + 2]]);
         if (glm::dot(vn, t.normal) < 0.0f) t.normal = -t.normal;
         t.radiance = mat.emission();
         out.push_back(t);

@@ -128,7 +128,8 @@ bool ApplyCameraUpdate(const SceneState& state, const CameraUpdate& update, View
     }
     camera.position = l.eye;
     // The inverse of a look-at view matrix is the camera's world rotation.
-    camera.rotation = glm::normalize(glm::quat_cast(glm::inverse(glm::lookAt(l.eye, l.target, up))));
+    camera.rotation =
+        glm::normalize(glm::quat_cast(glm::inverse(glm::lookAt(l.eye, l.target, up))));
     camera.scene_camera_node = -1;
   } else if (update.pose) {
     camera.position = update.pose->position;

@@ -18,9 +18,10 @@ std::vector<DirectLighting::GpuPolygon> DirectLighting::PolygonsOf(
   auto polygon_of = [&](const EmitterSample& s) {
     return merged.polygon_of_triangle[size_t(s.triangle)];
   };
-  std::stable_sort(samples.begin(), samples.end(), [&](const EmitterSample& a, const EmitterSample& b) {
-    return polygon_of(a) < polygon_of(b);
-  });
+  std::stable_sort(samples.begin(), samples.end(),
+                   [&](const EmitterSample& a, const EmitterSample& b) {
+                     return polygon_of(a) < polygon_of(b);
+                   });
   std::vector<GpuPolygon> with, without;
   size_t next = 0;
   for (size_t p = 0; p < merged.polygons.size(); ++p) {
@@ -31,7 +32,8 @@ std::vector<DirectLighting::GpuPolygon> DirectLighting::PolygonsOf(
     const size_t first = next;
     while (next < samples.size() && polygon_of(samples[next]) == int(p)) ++next;
     g.samples = glm::ivec4(int(first), int(next - first), 0, 0);
-    for (int v = 0; v < poly.vertex_count; ++v) g.vertices[v] = glm::vec4(poly.vertices[size_t(v)], 1.0f);
+    for (int v = 0; v < poly.vertex_count; ++v)
+      g.vertices[v] = glm::vec4(poly.vertices[size_t(v)], 1.0f);
     (next > first ? with : without).push_back(g);
   }
   with.insert(with.end(), without.begin(), without.end());
@@ -39,10 +41,12 @@ std::vector<DirectLighting::GpuPolygon> DirectLighting::PolygonsOf(
 }
 
 std::vector<ParamSpec> DirectLightingParams() {
+  // clang-format off
   return {{"area_samples", ParamType::kInt, "64", 1, 1024, {},
            "Stratified sample points over all emissive surfaces, each with a shadow map"},
           {"shadow_res", ParamType::kInt, "256", 16, 4096, {},
            "Shadow map resolution per cube face / directional map"}};
+  // clang-format on
 }
 
 DirectLightingSettings DirectLightingFromParams(const ParamSet& params) {
@@ -74,15 +78,16 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
   // refuse what the GL or memory cannot hold rather than render unshadowed.
   GLint max_layers = 0;
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
-  const uint64_t bytes = uint64_t(settings.shadow_resolution) * uint64_t(settings.shadow_resolution) *
-                         4 * (6 * uint64_t(cube_count) + uint64_t(dir_count));
+  const uint64_t bytes = uint64_t(settings.shadow_resolution) *
+                         uint64_t(settings.shadow_resolution) * 4 *
+                         (6 * uint64_t(cube_count) + uint64_t(dir_count));
   if (6 * int64_t(cube_count) > int64_t(max_layers) || bytes > kMaxShadowBytes) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "params.area_samples/params.shadow_res: ", cube_count, " shadow cubes (",
-        emitter_samples.size(), " area samples + point/spot lights) at ", settings.shadow_resolution,
-        "^2 need ", 6 * cube_count, " layers and ", bytes >> 20,
-        " MiB; this GL allows ", max_layers / 6, " cubes and the limit is ",
-        kMaxShadowBytes >> 20, " MiB"));
+    return absl::InvalidArgumentError(
+        absl::StrCat("params.area_samples/params.shadow_res: ", cube_count, " shadow cubes (",
+                     emitter_samples.size(), " area samples + point/spot lights) at ",
+                     settings.shadow_resolution, "^2 need ", 6 * cube_count, " layers and ",
+                     bytes >> 20, " MiB; this GL allows ", max_layers / 6,
+                     " cubes and the limit is ", kMaxShadowBytes >> 20, " MiB"));
   }
 
   // The light set to show next: buffers, and where every map is drawn from.
@@ -95,8 +100,9 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
   int cube = 0;
   for (const LightInstance& l : state.lights()) {
     GpuPunctual g{};
-    const float type = l.light.type == LightType::kPoint ? 0.0f
-                       : l.light.type == LightType::kSpot ? 1.0f : 2.0f;
+    const float type = l.light.type == LightType::kPoint  ? 0.0f
+                       : l.light.type == LightType::kSpot ? 1.0f
+                                                          : 2.0f;
     g.position_type = glm::vec4(l.position, type);
     g.direction = glm::vec4(l.direction, 0.0f);
     g.intensity = glm::vec4(l.light.color * l.light.intensity, 0.0f);
@@ -129,10 +135,9 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
   // range or direction moved.
   // A set still being drawn means the shown maps saw older geometry: all
   // of them are stale too.
-  const bool all_stale = (changes & kChangeGeometry) || pending_ != nullptr ||
-                         cube_count != int(cube_views_.size()) ||
-                         dir_count != int(dir_views_.size()) ||
-                         settings.shadow_resolution != shadow_resolution_;
+  const bool all_stale =
+      (changes & kChangeGeometry) || pending_ != nullptr || cube_count != int(cube_views_.size()) ||
+      dir_count != int(dir_views_.size()) || settings.shadow_resolution != shadow_resolution_;
   maps_redrawn_ = 0;
   pending_.reset();  // a newer light set replaces one still being drawn
   // The second set doubles the maps' memory: only when both fit the limit.
@@ -183,7 +188,8 @@ bool DirectLighting::Draw(const GpuScene& gpu, const SceneState& state, ShadowMa
   while (set.next_cube < set.cube_draws.size()) {
     if (drew && over()) return false;
     const int i = set.cube_draws[set.next_cube++];
-    target.RenderCube(gpu, state, i, set.cube_views[size_t(i)].origin, set.cube_views[size_t(i)].far);
+    target.RenderCube(gpu, state, i, set.cube_views[size_t(i)].origin,
+                      set.cube_views[size_t(i)].far);
     ++maps_redrawn_;
     drew = true;
     if (budget_ms > 0.0) glFinish();  // the budget counts the GPU's time too

@@ -104,9 +104,9 @@ class DirectLighting {
   GS_STD430_MIRROR(GpuPunctual, 64);    // render/direct_light.glsl PunctualLight
   GS_STD430_MIRROR(GpuAreaSample, 48);  // AreaSample
   struct GpuPolygon {
-    glm::vec4 radiance_count;   // rgb radiance, w: vertex count
-    glm::vec4 normal;           // xyz emitting side
-    glm::ivec4 samples;         // x: first area sample, y: how many
+    glm::vec4 radiance_count;  // rgb radiance, w: vertex count
+    glm::vec4 normal;          // xyz emitting side
+    glm::ivec4 samples;        // x: first area sample, y: how many
     glm::vec4 vertices[EmitterPolygon::kMaxVertices];
   };
   GS_STD430_MIRROR(GpuPolygon, 48 + 16 * EmitterPolygon::kMaxVertices);  // EmitterPolygon

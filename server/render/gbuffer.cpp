@@ -14,9 +14,9 @@ absl::Status GBuffer::Resize(uint32_t width, uint32_t height) {
   GLint max_size = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
   if (width == 0 || height == 0 || width > uint32_t(max_size) || height > uint32_t(max_size)) {
-    return absl::ResourceExhaustedError(absl::StrCat("width x height: ", width, "x", height,
-                                                     " is not a texture size this GPU offers (1 to ",
-                                                     max_size, " per side)"));
+    return absl::ResourceExhaustedError(
+        absl::StrCat("width x height: ", width, "x", height,
+                     " is not a texture size this GPU offers (1 to ", max_size, " per side)"));
   }
   // Only this function's errors below; earlier ones were reported already.
   while (glGetError() != GL_NO_ERROR) {
@@ -29,7 +29,8 @@ absl::Status GBuffer::Resize(uint32_t width, uint32_t height) {
   depth_ = gl::RenderTarget(GL_DEPTH_COMPONENT32F, w, h);
   hdr_ = gl::RenderTarget(GL_RGBA32F, w, h, /*linear=*/true);
   ldr_ = gl::RenderTarget(GL_RGBA8, w, h);
-  fbo_ = gl::FramebufferOf({position_.id(), normal_.id(), albedo_.id(), emission_.id()}, depth_.id());
+  fbo_ =
+      gl::FramebufferOf({position_.id(), normal_.id(), albedo_.id(), emission_.id()}, depth_.id());
   hdr_fbo_ = gl::FramebufferOf({hdr_.id()});
   ldr_fbo_ = gl::FramebufferOf({ldr_.id()});
 
@@ -44,8 +45,8 @@ absl::Status GBuffer::Resize(uint32_t width, uint32_t height) {
   if (error != GL_NO_ERROR || !complete) {
     *this = GBuffer();
     const std::string why = error == GL_OUT_OF_MEMORY ? "GL_OUT_OF_MEMORY"
-                            : error != GL_NO_ERROR    ? absl::StrCat("GL error 0x", absl::Hex(error))
-                                                      : "incomplete framebuffer";
+                            : error != GL_NO_ERROR ? absl::StrCat("GL error 0x", absl::Hex(error))
+                                                   : "incomplete framebuffer";
     return absl::ResourceExhaustedError(
         absl::StrCat("width x height: ", width, "x", height, " needs ",
                      (uint64_t(width) * height * kBytesPerPixel) >> 20,

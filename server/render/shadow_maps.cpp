@@ -47,10 +47,12 @@ absl::StatusOr<ShadowMaps> ShadowMaps::Create() {
 
 void ShadowMaps::Allocate(int cube_count, int directional_count, int resolution) {
   if (cube_count != cube_count_ || resolution != resolution_) {
-    cubes_ = gl::DepthCompareArray(GL_TEXTURE_CUBE_MAP_ARRAY, resolution, 6 * std::max(cube_count, 1));
+    cubes_ =
+        gl::DepthCompareArray(GL_TEXTURE_CUBE_MAP_ARRAY, resolution, 6 * std::max(cube_count, 1));
   }
   if (directional_count != dir_count_ || resolution != resolution_) {
-    directional_ = gl::DepthCompareArray(GL_TEXTURE_2D_ARRAY, resolution, std::max(directional_count, 1));
+    directional_ =
+        gl::DepthCompareArray(GL_TEXTURE_2D_ARRAY, resolution, std::max(directional_count, 1));
   }
   cube_count_ = cube_count;
   dir_count_ = directional_count;
@@ -65,8 +67,10 @@ uint64_t ShadowMaps::gpu_bytes() const {
 void ShadowMaps::RenderCube(const GpuScene& gpu, const SceneState& state, int index,
                             const glm::vec3& position, float far) {
   // GL cube-map face orientations (+X, -X, +Y, -Y, +Z, -Z).
-  static const glm::vec3 kDir[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  static const glm::vec3 kUp[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+  static const glm::vec3 kDir[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                    {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+  static const glm::vec3 kUp[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1},
+                                   {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
   const glm::mat4 proj = glm::perspective(glm::half_pi<float>(), 1.0f, far * 1e-5f, far);
   glm::mat4 view_proj[6];
   for (int f = 0; f < 6; ++f) {
@@ -75,8 +79,8 @@ void ShadowMaps::RenderCube(const GpuScene& gpu, const SceneState& state, int in
   glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, cubes_.id(), 0);
   BeginDepthPass(fbo_.id(), resolution_);
   cube_program_.Use();
-  glProgramUniformMatrix4fv(cube_program_.id(), cube_program_.Location("uFaceViewProj"), 6, GL_FALSE,
-                            &view_proj[0][0][0]);
+  glProgramUniformMatrix4fv(cube_program_.id(), cube_program_.Location("uFaceViewProj"), 6,
+                            GL_FALSE, &view_proj[0][0][0]);
   cube_program_.Set("uCube", index);
   cube_program_.Set("uLightPos", position);
   cube_program_.Set("uFar", far);

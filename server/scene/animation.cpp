@@ -99,8 +99,7 @@ std::vector<float> SampleSampler(const AnimationSampler& s, AnimationPath path, 
   return out;
 }
 
-std::vector<NodeOverride> SampleAnimation(const Animation& animation, float t,
-                                          AnimationTime mode) {
+std::vector<NodeOverride> SampleAnimation(const Animation& animation, float t, AnimationTime mode) {
   if (mode == AnimationTime::kLoop) {
     const float duration = animation.end - animation.start;
     if (duration > 0.0f && std::isfinite(t)) {

@@ -27,9 +27,8 @@ absl::StatusOr<AnimationPath> ParsePath(const std::string& path, const std::stri
   if (path == "rotation") return AnimationPath::kRotation;
   if (path == "scale") return AnimationPath::kScale;
   if (path == "weights") return AnimationPath::kWeights;
-  return absl::InvalidArgumentError(
-      absl::StrCat(field, ": '", path.substr(0, 40),
-                   "' is not translation, rotation, scale or weights"));
+  return absl::InvalidArgumentError(absl::StrCat(
+      field, ": '", path.substr(0, 40), "' is not translation, rotation, scale or weights"));
 }
 
 absl::StatusOr<Interpolation> ParseInterpolation(const std::string& name,
@@ -37,8 +36,8 @@ absl::StatusOr<Interpolation> ParseInterpolation(const std::string& name,
   if (name == "LINEAR") return Interpolation::kLinear;
   if (name == "STEP") return Interpolation::kStep;
   if (name == "CUBICSPLINE") return Interpolation::kCubicSpline;
-  return absl::InvalidArgumentError(absl::StrCat(
-      field, ": '", name.substr(0, 40), "' is not LINEAR, STEP or CUBICSPLINE"));
+  return absl::InvalidArgumentError(
+      absl::StrCat(field, ": '", name.substr(0, 40), "' is not LINEAR, STEP or CUBICSPLINE"));
 }
 
 absl::Status ReadTimes(const tinygltf::Model& model, int input, const std::string& field,
@@ -75,9 +74,7 @@ absl::Status CheckValues(AnimationPath path, const std::string& field, Animation
       case AnimationPath::kTranslation:
         GS_RETURN_IF_ERROR(CheckPosition(key, {v[0], v[1], v[2]}));
         break;
-      case AnimationPath::kScale:
-        GS_RETURN_IF_ERROR(CheckScale(key, {v[0], v[1], v[2]}));
-        break;
+      case AnimationPath::kScale: GS_RETURN_IF_ERROR(CheckScale(key, {v[0], v[1], v[2]})); break;
       case AnimationPath::kRotation: {
         GS_ASSIGN_OR_RETURN(const glm::quat q,
                             CheckUnitQuaternion(key, glm::quat(v[3], v[0], v[1], v[2])));
@@ -123,9 +120,9 @@ absl::StatusOr<Animation> ReadAnimation(const tinygltf::Model& model, size_t a,
   out.samplers.resize(in.samplers.size());
   for (size_t s = 0; s < in.samplers.size(); ++s) {
     const std::string sampler_field = absl::StrCat(field, ".", Item("samplers", s));
-    GS_ASSIGN_OR_RETURN(out.samplers[s].interpolation,
-                        ParseInterpolation(in.samplers[s].interpolation,
-                                           sampler_field + ".interpolation"));
+    GS_ASSIGN_OR_RETURN(
+        out.samplers[s].interpolation,
+        ParseInterpolation(in.samplers[s].interpolation, sampler_field + ".interpolation"));
     GS_RETURN_IF_ERROR(
         ReadTimes(model, in.samplers[s].input, sampler_field + ".input", &out.samplers[s]));
   }
@@ -149,9 +146,9 @@ absl::StatusOr<Animation> ReadAnimation(const tinygltf::Model& model, size_t a,
       const Node& node = scene.nodes[size_t(channel.node)];
       if (node.mesh >= 0) weights = scene.meshes[size_t(node.mesh)].weights.size();
       if (weights == 0) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            channel_field, ".target: weights of ", Item("nodes", channel.node),
-            ", which has no mesh with morph targets"));
+        return absl::InvalidArgumentError(absl::StrCat(channel_field, ".target: weights of ",
+                                                       Item("nodes", channel.node),
+                                                       ", which has no mesh with morph targets"));
       }
     }
     for (size_t e = 0; e < c; ++e) {

@@ -36,9 +36,8 @@ absl::StatusOr<std::vector<Camera>> ImportCameras(const tinygltf::Model& model,
     // extent limit (and its diagonal for zfar) like every other distance.
     const double max_far = 4.0 * double(kMaxCoordinate);
     if (!(p.znear > 0.0 && p.znear <= double(kMaxCoordinate))) {
-      return absl::InvalidArgumentError(absl::StrCat(field, ".perspective.znear: ", p.znear,
-                                                     " is out of range (0, ", kMaxCoordinate,
-                                                     "] m"));
+      return absl::InvalidArgumentError(absl::StrCat(
+          field, ".perspective.znear: ", p.znear, " is out of range (0, ", kMaxCoordinate, "] m"));
     }
     if (!(p.zfar == 0.0 || (p.zfar > p.znear && p.zfar <= max_far))) {
       return absl::InvalidArgumentError(absl::StrCat(field, ".perspective.zfar: ", p.zfar,

@@ -133,13 +133,11 @@ absl::StatusOr<Scene> ImportSceneByName(const std::filesystem::path& scene_dir,
     options.name = std::filesystem::path(file).stem().string();
     return ImportGltf(*bytes, options);
   }
-  return absl::NotFoundError(
-      absl::StrCat("name: no scene '", Echo(name), "' (tried ",
-                   absl::StrJoin(candidates, ", ",
-                                 [](std::string* out, const std::string& c) {
-                                   out->append(Echo(c));
-                                 }),
-                   ")"));
+  return absl::NotFoundError(absl::StrCat(
+      "name: no scene '", Echo(name), "' (tried ",
+      absl::StrJoin(candidates, ", ",
+                    [](std::string* out, const std::string& c) { out->append(Echo(c)); }),
+      ")"));
 }
 
 }  // namespace gistream

@@ -37,9 +37,9 @@ absl::StatusOr<std::vector<Light>> ImportLights(const tinygltf::Model& model) {
     light.intensity = static_cast<float>(in.intensity);
     light.range = static_cast<float>(in.range);
     if (MaxLightStrength(light) > kMaxRadiance) {
-      return absl::InvalidArgumentError(absl::StrCat(field, ".intensity: ", in.intensity,
-                                                     " x color ", MaxLightStrength(light) / light.intensity,
-                                                     " exceeds the limit of ", kMaxRadiance));
+      return absl::InvalidArgumentError(absl::StrCat(
+          field, ".intensity: ", in.intensity, " x color ",
+          MaxLightStrength(light) / light.intensity, " exceeds the limit of ", kMaxRadiance));
     }
     if (light.type == LightType::kSpot) {
       const double half_pi = std::numbers::pi / 2;

@@ -290,11 +290,11 @@ absl::Status CheckImageViews(const json& doc, const std::vector<uint64_t>& buffe
 // path.
 
 enum class Kind {
-  kIndex,    // integer in [0, 2^31 - 1] (tinygltf stores int)
-  kUint,     // integer in [0, 2^32] (byte offsets and lengths: a scene is < 4 GiB)
-  kCount,    // any non-negative integer (counts; the budgets bound them later)
-  kInt,      // any integer that fits an int (enums: componentType, mode, target)
-  kNumber,   // finite number that fits a float
+  kIndex,   // integer in [0, 2^31 - 1] (tinygltf stores int)
+  kUint,    // integer in [0, 2^32] (byte offsets and lengths: a scene is < 4 GiB)
+  kCount,   // any non-negative integer (counts; the budgets bound them later)
+  kInt,     // any integer that fits an int (enums: componentType, mode, target)
+  kNumber,  // finite number that fits a float
   kString,
   kBool,
   kObject,
@@ -320,14 +320,14 @@ absl::Status TypeError(const std::string& path, const json& value, const char* e
 absl::Status CheckValue(const std::string& path, const json& v, Kind kind, size_t count) {
   switch (kind) {
     case Kind::kIndex:
-      if (!v.is_number_integer() || (v.is_number_unsigned() ? v.get<uint64_t>() > kMaxIndex
-                                                            : v.get<int64_t>() < 0)) {
+      if (!v.is_number_integer() ||
+          (v.is_number_unsigned() ? v.get<uint64_t>() > kMaxIndex : v.get<int64_t>() < 0)) {
         return TypeError(path, v, "an index (an integer in [0, 2147483647])");
       }
       return absl::OkStatus();
     case Kind::kUint:
-      if (!v.is_number_integer() || (v.is_number_unsigned() ? v.get<uint64_t>() > kMaxUint
-                                                            : v.get<int64_t>() < 0)) {
+      if (!v.is_number_integer() ||
+          (v.is_number_unsigned() ? v.get<uint64_t>() > kMaxUint : v.get<int64_t>() < 0)) {
         return TypeError(path, v, "an integer in [0, 4294967296]");
       }
       return absl::OkStatus();
@@ -344,16 +344,13 @@ absl::Status CheckValue(const std::string& path, const json& v, Kind kind, size_
     case Kind::kNumber:
       if (!v.is_number()) return TypeError(path, v, "a number");
       if (!(std::abs(v.get<double>()) <= kMaxFloat)) {
-        return absl::InvalidArgumentError(absl::StrCat(path, ": ", v.dump(),
-                                                       " is out of range for a float"));
+        return absl::InvalidArgumentError(
+            absl::StrCat(path, ": ", v.dump(), " is out of range for a float"));
       }
       return absl::OkStatus();
-    case Kind::kString:
-      return v.is_string() ? absl::OkStatus() : TypeError(path, v, "a string");
-    case Kind::kBool:
-      return v.is_boolean() ? absl::OkStatus() : TypeError(path, v, "a boolean");
-    case Kind::kObject:
-      return v.is_object() ? absl::OkStatus() : TypeError(path, v, "an object");
+    case Kind::kString: return v.is_string() ? absl::OkStatus() : TypeError(path, v, "a string");
+    case Kind::kBool: return v.is_boolean() ? absl::OkStatus() : TypeError(path, v, "a boolean");
+    case Kind::kObject: return v.is_object() ? absl::OkStatus() : TypeError(path, v, "an object");
     case Kind::kNumbers:
       if (!v.is_array()) return TypeError(path, v, "an array of numbers");
       if (v.size() != count) {
@@ -499,10 +496,8 @@ absl::Status CheckChannel(const std::string& p, const json& v) {
 }
 
 absl::Status CheckAnimationSampler(const std::string& p, const json& v) {
-  GS_RETURN_IF_ERROR(CheckMembers(p, v,
-                                  {{"input", Kind::kIndex},
-                                   {"output", Kind::kIndex},
-                                   {"interpolation", Kind::kString}}));
+  GS_RETURN_IF_ERROR(CheckMembers(
+      p, v, {{"input", Kind::kIndex}, {"output", Kind::kIndex}, {"interpolation", Kind::kString}}));
   if (!v.contains("input")) return absl::InvalidArgumentError(p + ".input: missing");
   if (!v.contains("output")) return absl::InvalidArgumentError(p + ".output: missing");
   return absl::OkStatus();

@@ -13,10 +13,10 @@
 namespace gistream::gltf {
 namespace {
 
-const AccessorSpec kJoints{TINYGLTF_TYPE_VEC4,
-                           {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
-                            TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
-                           false};
+const AccessorSpec kJoints{
+    TINYGLTF_TYPE_VEC4,
+    {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
+    false};
 const AccessorSpec kWeights{TINYGLTF_TYPE_VEC4,
                             {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT},
@@ -72,8 +72,9 @@ absl::Status ReadSkinAttributes(const tinygltf::Model& model, const tinygltf::Pr
   }
   if (in.attributes.count("JOINTS_1") != 0 || in.attributes.count("WEIGHTS_1") != 0) {
     LogOnce(LogLevel::kWarning, "gltf-joints-1",
-            absl::StrCat(field, ".attributes: JOINTS_1/WEIGHTS_1 are ignored; the four "
-                                "influences of JOINTS_0/WEIGHTS_0 are renormalised"));
+            absl::StrCat(field,
+                         ".attributes: JOINTS_1/WEIGHTS_1 are ignored; the four "
+                         "influences of JOINTS_0/WEIGHTS_0 are renormalised"));
   }
   const uint64_t vertices = out->positions.size();
   const std::string joint_field = field + ".attributes.JOINTS_0";
@@ -106,8 +107,7 @@ absl::Status ReadMorphTargets(const tinygltf::Model& model, const tinygltf::Prim
       GS_ASSIGN_OR_RETURN(std::vector<glm::vec3> deltas, ReadVec3(d));
       if (std::string_view(name) == "POSITION") {
         for (size_t i = 0; i < deltas.size(); ++i) {
-          GS_RETURN_IF_ERROR(
-              CheckPosition(absl::StrCat(attr_field, " element ", i), deltas[i]));
+          GS_RETURN_IF_ERROR(CheckPosition(absl::StrCat(attr_field, " element ", i), deltas[i]));
         }
         target.positions = std::move(deltas);
       } else {
@@ -141,8 +141,7 @@ absl::StatusOr<std::vector<Skin>> ImportSkins(const tinygltf::Model& model) {
     }
     skin.joints = in.joints;
     if (in.skeleton != -1) {
-      GS_RETURN_IF_ERROR(
-          CheckIndex(field + ".skeleton", in.skeleton, model.nodes.size(), "nodes"));
+      GS_RETURN_IF_ERROR(CheckIndex(field + ".skeleton", in.skeleton, model.nodes.size(), "nodes"));
       skin.skeleton = in.skeleton;
     }
     skin.inverse_bind_matrices.assign(in.joints.size(), glm::mat4(1.0f));
@@ -151,8 +150,8 @@ absl::StatusOr<std::vector<Skin>> ImportSkins(const tinygltf::Model& model) {
     GS_ASSIGN_OR_RETURN(const AccessorData d,
                         ValidateAccessor(model, in.inverseBindMatrices, kMatrices, ibm_field));
     if (d.count < in.joints.size()) {
-      return absl::InvalidArgumentError(absl::StrCat(ibm_field, ": ", d.count, " matrices for ",
-                                                     in.joints.size(), " joints"));
+      return absl::InvalidArgumentError(
+          absl::StrCat(ibm_field, ": ", d.count, " matrices for ", in.joints.size(), " joints"));
     }
     GS_ASSIGN_OR_RETURN(const std::vector<float> f, ReadFloatComponents(d));
     for (size_t k = 0; k < in.joints.size(); ++k) {
@@ -165,11 +164,10 @@ absl::StatusOr<std::vector<Skin>> ImportSkins(const tinygltf::Model& model) {
             absl::StrCat(ibm_field, ": matrix ", k, " is not affine (bottom row not 0, 0, 0, 1)"));
       }
       if (!(std::abs(glm::determinant(glm::mat3(m))) > 1e-12f)) {
-        return absl::InvalidArgumentError(
-            absl::StrCat(ibm_field, ": matrix ", k, " is singular"));
+        return absl::InvalidArgumentError(absl::StrCat(ibm_field, ": matrix ", k, " is singular"));
       }
-      GS_RETURN_IF_ERROR(CheckPosition(absl::StrCat(ibm_field, " matrix ", k, " translation"),
-                                       glm::vec3(m[3])));
+      GS_RETURN_IF_ERROR(
+          CheckPosition(absl::StrCat(ibm_field, " matrix ", k, " translation"), glm::vec3(m[3])));
       skin.inverse_bind_matrices[k] = m;
     }
   }
@@ -182,9 +180,9 @@ absl::Status CheckDeformers(const Scene& scene) {
     for (size_t p = 0; p < mesh.primitives.size(); ++p) {
       if (mesh.primitives[p].targets.size() != mesh.weights.size()) {
         return absl::InvalidArgumentError(absl::StrCat(
-            Item("meshes", m), ".", Item("primitives", p), ".targets: ",
-            mesh.primitives[p].targets.size(), " targets but the mesh has ", mesh.weights.size(),
-            " (every primitive of a mesh has the same number of targets)"));
+            Item("meshes", m), ".", Item("primitives", p),
+            ".targets: ", mesh.primitives[p].targets.size(), " targets but the mesh has ",
+            mesh.weights.size(), " (every primitive of a mesh has the same number of targets)"));
       }
     }
   }

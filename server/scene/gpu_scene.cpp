@@ -82,8 +82,8 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
     for (const Primitive& p : scene.meshes[m].primitives) {
       Range r{uint32_t(indices.size()), uint32_t(p.indices.size()), int32_t(vertices.size())};
       for (size_t v = 0; v < p.positions.size(); ++v) {
-        vertices.push_back({p.positions[v], p.normals[v],
-                            p.uvs.empty() ? glm::vec2(0.0f) : p.uvs[v]});
+        vertices.push_back(
+            {p.positions[v], p.normals[v], p.uvs.empty() ? glm::vec2(0.0f) : p.uvs[v]});
       }
       indices.insert(indices.end(), p.indices.begin(), p.indices.end());
       ranges[m].push_back(r);
@@ -108,7 +108,8 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
   const GLuint vao = gpu->vao_.id();
   glVertexArrayVertexBuffer(vao, 0, gpu->vertices_.id(), 0, sizeof(Vertex));
   glVertexArrayElementBuffer(vao, gpu->indices_.id());
-  const GLuint offsets[3] = {offsetof(Vertex, position), offsetof(Vertex, normal), offsetof(Vertex, uv)};
+  const GLuint offsets[3] = {offsetof(Vertex, position), offsetof(Vertex, normal),
+                             offsetof(Vertex, uv)};
   const GLint sizes[3] = {3, 3, 2};
   for (GLuint a = 0; a < 3; ++a) {
     glEnableVertexArrayAttrib(vao, a);
@@ -118,7 +119,8 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
 
   for (const Image& image : scene.images) {
     gpu->textures_.push_back(UploadImage(image));
-    gpu->gpu_bytes_ += uint64_t(image.width) * uint64_t(image.height) * (image.is_float ? 16 : 4) * 4 / 3;
+    gpu->gpu_bytes_ +=
+        uint64_t(image.width) * uint64_t(image.height) * (image.is_float ? 16 : 4) * 4 / 3;
   }
   Image white;
   white.width = white.height = 1;
@@ -166,9 +168,10 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
     if (bind_textures) {
       const Material* m = d.material >= 0 ? &state.materials()[size_t(d.material)] : nullptr;
       const GLuint base = m && m->base_color_texture >= 0
-                              ? textures_[size_t(m->base_color_texture)].id() : white_.id();
-      const GLuint emissive = m && m->emissive_texture >= 0
-                                  ? textures_[size_t(m->emissive_texture)].id() : white_.id();
+                              ? textures_[size_t(m->base_color_texture)].id()
+                              : white_.id();
+      const GLuint emissive =
+          m && m->emissive_texture >= 0 ? textures_[size_t(m->emissive_texture)].id() : white_.id();
       glBindTextureUnit(kBaseColorUnit, base);
       glBindTextureUnit(kEmissiveUnit, emissive);
     }
@@ -183,7 +186,8 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
 Bounds GpuScene::WorldBounds(const SceneState& state) const {
   Bounds bounds;
   for (const DrawItem& d : draws_) {
-    const Bounds& local = state.scene().meshes[size_t(d.mesh)].primitives[size_t(d.primitive)].bounds;
+    const Bounds& local =
+        state.scene().meshes[size_t(d.mesh)].primitives[size_t(d.primitive)].bounds;
     if (local.empty()) continue;
     const glm::mat4& m = state.world()[size_t(d.node)];
     for (int corner = 0; corner < 8; ++corner) {

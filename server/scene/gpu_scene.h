@@ -19,9 +19,9 @@ namespace gistream {
 
 // std430 layout of shaders/common/scene.glsl's Material.
 struct GpuMaterial {
-  glm::vec4 base_color;      // linear RGBA
-  glm::vec4 emission;        // rgb: emitted radiance (nits), a: unused
-  glm::ivec4 textures;       // x: base colour unit or -1, y: emissive unit or -1
+  glm::vec4 base_color;  // linear RGBA
+  glm::vec4 emission;    // rgb: emitted radiance (nits), a: unused
+  glm::ivec4 textures;   // x: base colour unit or -1, y: emissive unit or -1
 };
 GS_STD430_MIRROR(GpuMaterial, 48);  // shaders/common/scene.glsl Material
 

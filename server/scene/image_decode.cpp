@@ -77,9 +77,8 @@ absl::Status CheckPlausibleSize(const OIIO::ImageSpec& spec, size_t encoded_byte
   const uint64_t most = uint64_t(encoded_bytes) * MaxPixelsPerByte(format);
   if (pixels > most) {
     return absl::InvalidArgumentError(absl::StrCat(
-        field, ": truncated ", format, " image: the header claims ", spec.width, "x",
-        spec.height, " pixels but the data is only ", encoded_bytes, " bytes (at most ", most,
-        " pixels)"));
+        field, ": truncated ", format, " image: the header claims ", spec.width, "x", spec.height,
+        " pixels but the data is only ", encoded_bytes, " bytes (at most ", most, " pixels)"));
   }
   return absl::OkStatus();
 }
@@ -93,8 +92,8 @@ absl::StatusOr<std::vector<T>> ReadRgba(OIIO::ImageInput* in, const OIIO::ImageS
                                         const std::string& field) {
   const size_t width = static_cast<size_t>(spec.width);
   const size_t row = width * 4;
-  const OIIO::TypeDesc type = std::is_same_v<T, float> ? OIIO::TypeDesc::FLOAT
-                                                       : OIIO::TypeDesc::UINT8;
+  const OIIO::TypeDesc type =
+      std::is_same_v<T, float> ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8;
   constexpr int kBand = 64;
   std::vector<T> out;
   // Address space only: pages are touched band by band as rows decode.
@@ -157,8 +156,8 @@ absl::StatusOr<Image> DecodeImage(std::span<const uint8_t> bytes, ImageKind kind
   image.height = spec.height;
   image.channels = 4;
   if (kind == ImageKind::kTexture) {
-    GS_ASSIGN_OR_RETURN(image.pixels8, ReadRgba<uint8_t>(in, spec, channels, uint8_t{255},
-                                                         format, field));
+    GS_ASSIGN_OR_RETURN(image.pixels8,
+                        ReadRgba<uint8_t>(in, spec, channels, uint8_t{255}, format, field));
     image.srgb = true;
     image.is_float = false;
   } else {
@@ -168,8 +167,8 @@ absl::StatusOr<Image> DecodeImage(std::span<const uint8_t> bytes, ImageKind kind
       for (int c = 0; c < 3; ++c) {  // RGB after expansion; alpha is no radiance
         float& v = rgba[p * 4 + size_t(c)];
         if (!std::isfinite(v)) {
-          return absl::InvalidArgumentError(absl::StrCat(
-              field, ": pixel ", p, " channel ", c, " is ", v, "; radiance must be finite"));
+          return absl::InvalidArgumentError(absl::StrCat(field, ": pixel ", p, " channel ", c,
+                                                         " is ", v, "; radiance must be finite"));
         }
         // Radiance cannot be negative: a map with negative pixels is broken.
         // Filtered HDR captures carry tiny negative ringing, which is clamped.

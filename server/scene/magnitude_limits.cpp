@@ -58,9 +58,9 @@ absl::StatusOr<glm::quat> CheckUnitQuaternion(const std::string& field, const gl
   const double len = glm::length(v);
   if (!(len > 0.0)) return absl::InvalidArgumentError(field + ": zero-length quaternion");
   if (std::abs(len - 1.0) > kQuaternionTolerance) {
-    return absl::InvalidArgumentError(
-        absl::StrCat(field, ": length ", len, " is not 1 (within ", kQuaternionTolerance,
-                     "); rotations must be unit quaternions"));
+    return absl::InvalidArgumentError(absl::StrCat(field, ": length ", len, " is not 1 (within ",
+                                                   kQuaternionTolerance,
+                                                   "); rotations must be unit quaternions"));
   }
   return glm::quat(float(v[0] / len), float(v[1] / len), float(v[2] / len), float(v[3] / len));
 }
@@ -73,12 +73,13 @@ absl::Status CheckWorldExtent(const Scene& scene, const std::vector<Node>& nodes
     for (int c = 0; c < 3; ++c) {
       const float s = glm::length(glm::vec3(m[c]));
       if (!(s >= kMinScale && s <= kMaxScale)) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            prefix, node, ": world scale ", Axis(c), " ", s, " is out of range [", kMinScale, ", ",
-            kMaxScale, "] (the product of its ancestors' scales)"));
+        return absl::InvalidArgumentError(
+            absl::StrCat(prefix, node, ": world scale ", Axis(c), " ", s, " is out of range [",
+                         kMinScale, ", ", kMaxScale, "] (the product of its ancestors' scales)"));
       }
     }
-    GS_RETURN_IF_ERROR(CheckPosition(absl::StrCat(prefix, node, ": world position"), glm::vec3(m[3])));
+    GS_RETURN_IF_ERROR(
+        CheckPosition(absl::StrCat(prefix, node, ": world position"), glm::vec3(m[3])));
     if (nodes[n].mesh < 0 || size_t(nodes[n].mesh) >= scene.meshes.size()) continue;
     for (const Primitive& p : scene.meshes[size_t(nodes[n].mesh)].primitives) {
       if (p.bounds.empty()) continue;

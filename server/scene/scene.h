@@ -172,7 +172,7 @@ struct Node {
 struct Environment {
   Image image;  // equirectangular, linear float RGBA
   float intensity = 1.0f;
-  float rotation = 0.0f;  // radians about +Y
+  float rotation = 0.0f;      // radians about +Y
   float max_radiance = 0.0f;  // largest channel of `image`, for the magnitude limits
 };
 

@@ -77,7 +77,8 @@ absl::StatusOr<fs::path> ResolveScenePath(const fs::path& base_dir, const std::s
   }
   const size_t colon = path.find(':');
   if (colon != std::string::npos && path.find('/') > colon) {
-    return absl::InvalidArgumentError(absl::StrCat(field, ": URI scheme '", Echo(path.substr(0, colon)),
+    return absl::InvalidArgumentError(absl::StrCat(field, ": URI scheme '",
+                                                   Echo(path.substr(0, colon)),
                                                    "' is not supported (only data: URIs"
                                                    " and relative paths)"));
   }
@@ -135,14 +136,13 @@ absl::StatusOr<std::vector<uint8_t>> ReadFileLimited(const fs::path& path, uint6
         absl::StrCat(field, ": cannot stat '", name, "': ", std::strerror(errno)));
   }
   if (!S_ISREG(st.st_mode)) {
-    return absl::InvalidArgumentError(
-        absl::StrCat(field, ": '", name, "' is not a regular file"));
+    return absl::InvalidArgumentError(absl::StrCat(field, ": '", name, "' is not a regular file"));
   }
   const uint64_t size = static_cast<uint64_t>(st.st_size);
   if (size > max_bytes) {
-    return absl::ResourceExhaustedError(
-        absl::StrCat(field, ": '", name, "' has ", size,
-                     " bytes, over the remaining scene budget of ", max_bytes, " bytes"));
+    return absl::ResourceExhaustedError(absl::StrCat(field, ": '", name, "' has ", size,
+                                                     " bytes, over the remaining scene budget of ",
+                                                     max_bytes, " bytes"));
   }
   std::vector<uint8_t> bytes(size);
   size_t done = 0;

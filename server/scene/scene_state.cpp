@@ -102,8 +102,7 @@ ChangeMask SceneState::Apply(const Change& change) {
       // Position and direction are world space: write them into the light
       // node's local transform so the scene graph stays the one truth.
       Node& node = nodes_[size_t(inst.node)];
-      const glm::mat4 parent =
-          node.parent >= 0 ? world_[size_t(node.parent)] : glm::mat4(1.0f);
+      const glm::mat4 parent = node.parent >= 0 ? world_[size_t(node.parent)] : glm::mat4(1.0f);
       const glm::mat4 inv_parent = glm::inverse(parent);
       if (l->position) node.translation = glm::vec3(inv_parent * glm::vec4(*l->position, 1.0f));
       if (l->direction) {
@@ -142,9 +141,9 @@ absl::Status SceneState::CheckMagnitudes(const std::string& prefix) const {
   for (size_t i = 0; i < lights_.size(); ++i) {
     const float strength = MaxLightStrength(lights_[i].light);
     if (!(strength <= kMaxRadiance)) {
-      return absl::InvalidArgumentError(
-          absl::StrCat(prefix, "lights[", i, "]: colour x intensity ", strength,
-                       " exceeds the limit of ", kMaxRadiance));
+      return absl::InvalidArgumentError(absl::StrCat(prefix, "lights[", i, "]: colour x intensity ",
+                                                     strength, " exceeds the limit of ",
+                                                     kMaxRadiance));
     }
   }
   for (size_t i = 0; i < materials_.size(); ++i) {
@@ -198,9 +197,9 @@ absl::Status SceneState::CheckApply(const Change& change) const {
     if (l->intensity) light.intensity = *l->intensity;
     const float strength = MaxLightStrength(light);
     if (!(strength <= kMaxRadiance)) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("update.light: after it, lights[", l->light, "]: colour x intensity ",
-                       strength, " exceeds the limit of ", kMaxRadiance));
+      return absl::InvalidArgumentError(absl::StrCat("update.light: after it, lights[", l->light,
+                                                     "]: colour x intensity ", strength,
+                                                     " exceeds the limit of ", kMaxRadiance));
     }
     return absl::OkStatus();
   }

@@ -62,8 +62,8 @@ struct EnvironmentUpdate {
   std::optional<float> intensity;
 };
 
-using Change = std::variant<NodeTransformUpdate, LightUpdate, CameraUpdate, MaterialUpdate,
-                            EnvironmentUpdate>;
+using Change =
+    std::variant<NodeTransformUpdate, LightUpdate, CameraUpdate, MaterialUpdate, EnvironmentUpdate>;
 
 struct Update {
   uint64_t seq = 0;

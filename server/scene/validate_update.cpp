@@ -86,10 +86,10 @@ absl::Status Check(const Scene& scene, const NodeTransformUpdate& u) {
       return Invalid("node_transform.matrix", "singular (zero scale)");
     }
     GS_RETURN_IF_ERROR(CheckPos("node_transform.matrix[3]", glm::vec3(m[3])));
-    GS_RETURN_IF_ERROR(CheckScale("update.node_transform.matrix.scale",
-                                  glm::vec3(glm::length(glm::vec3(m[0])),
-                                            glm::length(glm::vec3(m[1])),
-                                            glm::length(glm::vec3(m[2])))));
+    GS_RETURN_IF_ERROR(
+        CheckScale("update.node_transform.matrix.scale",
+                   glm::vec3(glm::length(glm::vec3(m[0])), glm::length(glm::vec3(m[1])),
+                             glm::length(glm::vec3(m[2])))));
     return absl::OkStatus();
   }
   GS_RETURN_IF_ERROR(CheckPos("node_transform.translation", u.translation));

@@ -71,7 +71,7 @@ struct EncodedFrame {
   std::string solver;
   double total_ms = 0.0;
   uint32_t dropped_frames = 0;  // filled in by the sink that dropped them
-  bool key_frame = true;  // decodable on its own (every JPEG/PNG/EXR frame)
+  bool key_frame = true;        // decodable on its own (every JPEG/PNG/EXR frame)
   // The pixels equal the last frame's: `image` is empty and the client keeps
   // showing what it has. A continuous session sends such frames only as
   // keep-alives (about once a second); an on-request one answers with them.
@@ -84,8 +84,8 @@ struct SceneSource {
   // Who loads it: the scene belongs to this tenant, other tenants' calls do
   // not find its id, and a named scene is shared only among its sessions.
   TenantId tenant{kDefaultTenant};
-  std::string name;   // scene in the scene directory, or
-  std::string bytes;  // a glb / self-contained gltf
+  std::string name;               // scene in the scene directory, or
+  std::string bytes;              // a glb / self-contained gltf
   std::string environment_name;   // optional, inside the scene directory, or
   std::string environment_bytes;  // optional HDR/EXR bytes
   float environment_intensity = 1.0f;
@@ -199,7 +199,7 @@ struct RenderRequest {
   uint32_t height = 480;
   EncodingOptions encoding;
   std::optional<CameraUpdate> camera;
-  std::vector<Update> updates;  // camera updates here change only this frame
+  std::vector<Update> updates;   // camera updates here change only this frame
   double frame_budget_ms = 0.0;  // per slice, as SessionConfig's (0: the default)
   // Polled while the frame is being made: true stops the work within one
   // slice and Render returns CANCELLED (the client left, its deadline
@@ -263,9 +263,9 @@ struct SessionStatus {
   std::string solver;
   uint32_t width = 0;  // of the last frame (the configured size before the first)
   uint32_t height = 0;
-  uint64_t frames = 0;          // frames rendered for this session
-  double fps = 0.0;             // frames per second over the last 5 s (or since it opened)
-  uint64_t dropped_frames = 0;  // its sink's FrameSink::dropped_frames()
+  uint64_t frames = 0;           // frames rendered for this session
+  double fps = 0.0;              // frames per second over the last 5 s (or since it opened)
+  uint64_t dropped_frames = 0;   // its sink's FrameSink::dropped_frames()
   uint32_t pending_updates = 0;  // queued, not yet applied
   uint64_t last_update_seq = 0;  // highest sequence number applied so far
 };
@@ -275,7 +275,7 @@ struct EngineStats {
   uint32_t scenes = 0;
   uint64_t frames_rendered = 0;
   std::vector<SceneId> scene_ids;
-  std::vector<TenantId> scene_tenants;  // the owner of each of scene_ids
+  std::vector<TenantId> scene_tenants;        // the owner of each of scene_ids
   std::vector<SessionStatus> session_status;  // by session id
   // Bytes held by the GL objects the engine accounts for: every scene's
   // GpuScene (vertex/index buffers, materials, textures), every cached

@@ -52,9 +52,9 @@ std::string RandomId(std::string_view prefix) {
 // How far a quota would be exceeded, as the message of RESOURCE_EXHAUSTED.
 absl::Status QuotaExceeded(const TenantId& tenant, std::string_view quota, uint64_t used,
                            uint64_t adding, uint64_t limit) {
-  return absl::ResourceExhaustedError(absl::StrCat(
-      "quota ", absl::string_view(quota.data(), quota.size()), " of tenant '", tenant, "': ", used,
-      " held + ", adding, " exceeds its limit of ", limit));
+  return absl::ResourceExhaustedError(
+      absl::StrCat("quota ", absl::string_view(quota.data(), quota.size()), " of tenant '", tenant,
+                   "': ", used, " held + ", adding, " exceeds its limit of ", limit));
 }
 
 std::string CpuModel() {
@@ -152,32 +152,34 @@ absl::StatusOr<std::unique_ptr<Engine>> Engine::Create(const EngineOptions& opti
 absl::Status EngineImpl::Start() {
   if (!options_.test_fault_dir.empty()) {
     gl::SetFaultDirectory(options_.test_fault_dir);
-    Log(LogLevel::kWarning, absl::StrCat("test fault injection is on: ",
-                                         options_.test_fault_dir.string()));
+    Log(LogLevel::kWarning,
+        absl::StrCat("test fault injection is on: ", options_.test_fault_dir.string()));
   }
   GS_ASSIGN_OR_RETURN(render_thread_,
                       RenderThread::Start(options_.egl_device, [this] { return Tick(); }));
-  return render_thread_->Call<absl::Status>([this]() -> absl::Status {
-    device_.vendor = GlString(GL_VENDOR);
-    device_.renderer = GlString(GL_RENDERER);
-    device_.version = GlString(GL_VERSION);
-    device_.egl_device = render_thread_->context().description();
-    device_.cpu_model = CpuModel();
-    device_.cpu_threads = std::thread::hardware_concurrency();
-    GLint major = 0, minor = 0;
-    glGetIntegerv(GL_MAJOR_VERSION, &major);
-    glGetIntegerv(GL_MINOR_VERSION, &minor);
-    if (major * 10 + minor < 45) {
-      return absl::FailedPreconditionError(
-          absl::StrCat("OpenGL 4.5 is required, the context offers ", major, ".", minor));
-    }
-    GS_ASSIGN_OR_RETURN(ViewPasses passes, ViewPasses::Create());
-    passes_ = std::make_unique<ViewPasses>(std::move(passes));
-    memory_query_.emplace();
-    RefreshMemoryStats(/*force=*/true);
-    started_ = true;
-    return absl::OkStatus();
-  }, Unavailable());
+  return render_thread_->Call<absl::Status>(
+      [this]() -> absl::Status {
+        device_.vendor = GlString(GL_VENDOR);
+        device_.renderer = GlString(GL_RENDERER);
+        device_.version = GlString(GL_VERSION);
+        device_.egl_device = render_thread_->context().description();
+        device_.cpu_model = CpuModel();
+        device_.cpu_threads = std::thread::hardware_concurrency();
+        GLint major = 0, minor = 0;
+        glGetIntegerv(GL_MAJOR_VERSION, &major);
+        glGetIntegerv(GL_MINOR_VERSION, &minor);
+        if (major * 10 + minor < 45) {
+          return absl::FailedPreconditionError(
+              absl::StrCat("OpenGL 4.5 is required, the context offers ", major, ".", minor));
+        }
+        GS_ASSIGN_OR_RETURN(ViewPasses passes, ViewPasses::Create());
+        passes_ = std::make_unique<ViewPasses>(std::move(passes));
+        memory_query_.emplace();
+        RefreshMemoryStats(/*force=*/true);
+        started_ = true;
+        return absl::OkStatus();
+      },
+      Unavailable());
 }
 
 EngineImpl::~EngineImpl() { Shutdown(); }
@@ -273,9 +275,8 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
                                                      options_.import_limits.max_scene_bytes));
   }
   if (!std::isfinite(source.environment_intensity) || source.environment_intensity < 0.0f) {
-    return absl::InvalidArgumentError(absl::StrCat("environment_intensity: ",
-                                                   source.environment_intensity,
-                                                   " must be finite and >= 0"));
+    return absl::InvalidArgumentError(absl::StrCat(
+        "environment_intensity: ", source.environment_intensity, " must be finite and >= 0"));
   }
   const bool has_env = !source.environment_name.empty() || !source.environment_bytes.empty();
   // A named scene loaded twice by one tenant is the same scene: its state
@@ -302,9 +303,9 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
           [this, existing]() -> absl::StatusOr<SceneInfo> {
             auto it = gpu_scenes_.find(existing->id);
             if (it == gpu_scenes_.end()) {
-              return absl::AbortedError(absl::StrCat(
-                  "name: scene '", Echo(existing->id),
-                  "' was unloaded or failed to load meanwhile; load it again"));
+              return absl::AbortedError(
+                  absl::StrCat("name: scene '", Echo(existing->id),
+                               "' was unloaded or failed to load meanwhile; load it again"));
             }
             return DescribeScene(existing->id, *it->second.state);
           },
@@ -328,9 +329,9 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
     std::vector<uint8_t> env_file;
     std::span<const uint8_t> env_bytes = Bytes(source.environment_bytes);
     if (!source.environment_name.empty()) {
-      GS_ASSIGN_OR_RETURN(std::filesystem::path path,
-                          ResolveSceneUri(options_.scene_dir, source.environment_name,
-                                          "environment_name"));
+      GS_ASSIGN_OR_RETURN(
+          std::filesystem::path path,
+          ResolveSceneUri(options_.scene_dir, source.environment_name, "environment_name"));
       // A regular file only, opened without blocking (a FIFO would wedge
       // this thread), and no larger than a scene may be.
       GS_ASSIGN_OR_RETURN(env_file, ReadFileLimited(path, options_.import_limits.max_scene_bytes,
@@ -343,9 +344,9 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
     env.intensity = source.environment_intensity > 0.0f ? source.environment_intensity : 1.0f;
     env.max_radiance = MaxPixel(env.image);
     if (env.intensity * env.max_radiance > kMaxRadiance) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "environment_intensity: ", env.intensity, " x the map's brightest pixel ",
-          env.max_radiance, " exceeds the limit of ", kMaxRadiance, " nits"));
+      return absl::InvalidArgumentError(
+          absl::StrCat("environment_intensity: ", env.intensity, " x the map's brightest pixel ",
+                       env.max_radiance, " exceeds the limit of ", kMaxRadiance, " nits"));
     }
     scene.environment = std::move(env);
   }
@@ -362,17 +363,18 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   // upload; held by its GPU record until the scene is freed.
   const SceneBytes scene_bytes = CountSceneBytes(*record->scene);
   auto memory = std::make_shared<MemoryBudget::Reservation>();
-  GS_ASSIGN_OR_RETURN(*memory, budget_.Reserve(scene_bytes.total(),
-                                               absl::StrCat("scene: its geometry and images (",
-                                                            FormatBytes(scene_bytes.cpu), " CPU, ",
-                                                            FormatBytes(scene_bytes.gpu), " GPU)")));
+  GS_ASSIGN_OR_RETURN(
+      *memory,
+      budget_.Reserve(scene_bytes.total(),
+                      absl::StrCat("scene: its geometry and images (", FormatBytes(scene_bytes.cpu),
+                                   " CPU, ", FormatBytes(scene_bytes.gpu), " GPU)")));
   {
     std::lock_guard lock(mutex_);
     if (shut_down_) return Unavailable();
     if (gpu_lost_) return GpuLost();
     if (scenes_.size() >= options_.max_scenes) {
-      return absl::ResourceExhaustedError(absl::StrCat(
-          "scenes: the server holds ", scenes_.size(), " scenes, the limit (--max-scenes)"));
+      return absl::ResourceExhaustedError(absl::StrCat("scenes: the server holds ", scenes_.size(),
+                                                       " scenes, the limit (--max-scenes)"));
     }
     GS_RETURN_IF_ERROR(CheckSceneQuotaLocked(record->tenant, record->upload_bytes));
     record->id = RandomId(source.name.empty() ? "upload" : source.name);
@@ -385,8 +387,8 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
           // may have come first: its GPU copy would then never be freed.
           std::lock_guard lock(mutex_);
           if (scenes_.count(record->id) == 0) {
-            return absl::AbortedError(absl::StrCat("scene_id: '", Echo(record->id),
-                                                   "' was unloaded while it loaded"));
+            return absl::AbortedError(
+                absl::StrCat("scene_id: '", Echo(record->id), "' was unloaded while it loaded"));
           }
         }
         GpuSceneRecord gpu;
@@ -421,9 +423,9 @@ absl::Status EngineImpl::UnloadScene(const SceneId& id, const TenantId& tenant) 
   if (shut_down_) return Unavailable();
   GS_ASSIGN_OR_RETURN(std::shared_ptr<SceneRecord> scene, FindSceneLocked(tenant, id));
   if (scene->loads == 0) {
-    return absl::FailedPreconditionError(absl::StrCat(
-        "scene_id: scene '", Echo(id), "' was unloaded already; it is freed when its ",
-        scene->sessions, " session(s) and render(s) end"));
+    return absl::FailedPreconditionError(
+        absl::StrCat("scene_id: scene '", Echo(id), "' was unloaded already; it is freed when its ",
+                     scene->sessions, " session(s) and render(s) end"));
   }
   scene->loads -= 1;
   if (DropIfUnreferencedLocked(scene)) {
@@ -507,12 +509,12 @@ absl::Status EngineImpl::ValidateConfig(const SessionConfig& c) const {
   GS_RETURN_IF_ERROR(ValidateEncoding(c.encoding));
   if (!std::isfinite(c.frame_budget_ms) || c.frame_budget_ms < 0.0 ||
       c.frame_budget_ms > kMaxFrameBudgetMs) {
-    return absl::InvalidArgumentError(absl::StrCat("frame_budget_ms: ", c.frame_budget_ms,
-                                                   " is out of range [0, ", kMaxFrameBudgetMs, "]"));
+    return absl::InvalidArgumentError(absl::StrCat(
+        "frame_budget_ms: ", c.frame_budget_ms, " is out of range [0, ", kMaxFrameBudgetMs, "]"));
   }
   if (!std::isfinite(c.max_fps) || c.max_fps < 0.0f || c.max_fps > options_.max_fps) {
-    return absl::InvalidArgumentError(absl::StrCat("max_fps: ", c.max_fps,
-                                                   " is out of range [0, ", options_.max_fps, "]"));
+    return absl::InvalidArgumentError(
+        absl::StrCat("max_fps: ", c.max_fps, " is out of range [0, ", options_.max_fps, "]"));
   }
   return absl::OkStatus();
 }
@@ -545,8 +547,8 @@ absl::StatusOr<std::shared_ptr<EngineImpl::SessionRecord>> EngineImpl::CreateSes
       tenant_open += !s->transient && s->config.tenant == config.tenant ? 1 : 0;
     }
     if (open >= options_.max_sessions) {
-      return absl::ResourceExhaustedError(absl::StrCat(
-          "sessions: ", open, " sessions are open, the limit (--max-sessions)"));
+      return absl::ResourceExhaustedError(
+          absl::StrCat("sessions: ", open, " sessions are open, the limit (--max-sessions)"));
     }
     if (const uint32_t limit = QuotaOf(config.tenant).sessions; limit > 0 && tenant_open >= limit) {
       return QuotaExceeded(config.tenant, "sessions", tenant_open, 1, limit);
@@ -576,10 +578,11 @@ absl::Status EngineImpl::PushUpdate(const SessionId& id, Update update) {
   std::lock_guard lock(mutex_);
   if (shut_down_) return Unavailable();
   auto it = sessions_.find(id);
-  if (it == sessions_.end()) return absl::NotFoundError(absl::StrCat("session: no session '", Echo(id), "'"));
+  if (it == sessions_.end())
+    return absl::NotFoundError(absl::StrCat("session: no session '", Echo(id), "'"));
   SessionRecord& session = *it->second;
-  GS_RETURN_IF_ERROR(ValidateUpdate(*session.scene->scene, update, options_.max_width,
-                                    options_.max_height));
+  GS_RETURN_IF_ERROR(
+      ValidateUpdate(*session.scene->scene, update, options_.max_width, options_.max_height));
   session.pending.push_back(std::move(update));
   session.last_request = Clock::now();
   // Continuous sessions pick updates up at their next frame; on-request
@@ -714,8 +717,8 @@ Clock::time_point EngineImpl::Tick() {
       if (session->config.pacing == Pacing::kContinuous) next = std::min(next, view.next_due);
       continue;
     }
-    const float fps = session->config.max_fps > 0.0f ? session->config.max_fps
-                                                     : options_.default_max_fps;
+    const float fps =
+        session->config.max_fps > 0.0f ? session->config.max_fps : options_.default_max_fps;
     const auto start = Clock::now();
     const uint64_t resets = gpu_resets_;
     RenderFrame(*session, view);
@@ -779,8 +782,8 @@ void EngineImpl::ExpireIdle() {
   const auto seconds = std::chrono::duration<double>(options_.idle_timeout).count();
   for (const auto& s : expired) {
     Log(LogLevel::kInfo, {s->id, s->config.scene}, "idle: ending the session");
-    s->sink->OnSessionFailed(absl::DeadlineExceededError(absl::StrCat(
-        "session: no request from the client for ", seconds, " s (--idle-timeout)")));
+    s->sink->OnSessionFailed(absl::DeadlineExceededError(
+        absl::StrCat("session: no request from the client for ", seconds, " s (--idle-timeout)")));
   }
   for (const SceneId& id : freed) {
     gpu_scenes_.erase(id);
@@ -835,8 +838,8 @@ void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
 }
 
 absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRecord& session,
-                                                                      ViewRecord& view,
-                                                                      std::deque<Update> updates) {
+                                                                       ViewRecord& view,
+                                                                       std::deque<Update> updates) {
   auto scene_it = gpu_scenes_.find(session.scene->id);
   if (scene_it == gpu_scenes_.end()) {
     return absl::InternalError(absl::StrCat("scene '", session.scene->id, "' has no GPU data"));
@@ -951,11 +954,11 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
           ? size_t(std::count_if(hdr.begin(), hdr.end(), [](float v) { return !std::isfinite(v); }))
           : size_t(passes_->NonFinitePixels());
   if (non_finite > 0) {
-    return absl::InternalError(absl::StrCat(
-        "solver '", session.config.solver, "' (stages ",
-        absl::StrJoin(entry.solver->Plan(changes), ", "), "): produced ", non_finite,
-        enc.format == ImageFormat::kExr ? " non-finite values" : " non-finite pixels",
-        "; the frame is not sent"));
+    return absl::InternalError(
+        absl::StrCat("solver '", session.config.solver, "' (stages ",
+                     absl::StrJoin(entry.solver->Plan(changes), ", "), "): produced ", non_finite,
+                     enc.format == ImageFormat::kExr ? " non-finite values" : " non-finite pixels",
+                     "; the frame is not sent"));
   }
   {
     // Pixels equal to the last frame's are not encoded again (the frame
@@ -978,8 +981,8 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
     } else {
       gl::StageTimer::Scope stage(timer_, "encode", /*cpu_stage=*/true);
       const int w = int(view.gbuffer.width()), h = int(view.gbuffer.height());
-      const float fps = session.config.max_fps > 0.0f ? session.config.max_fps
-                                                      : options_.default_max_fps;
+      const float fps =
+          session.config.max_fps > 0.0f ? session.config.max_fps : options_.default_max_fps;
       GS_ASSIGN_OR_RETURN(EncodedImage image,
                           view.encoder.Encode(enc, fps, ldr, hdr, w, h, key_frame));
       frame->image = std::move(image.bytes);
@@ -1032,8 +1035,7 @@ void EngineImpl::EvictIdleSolvers(GpuSceneRecord& scene, const SceneRecord* owne
       }
     }
     if (victim == scene.solvers.end()) return;  // every cached solver is in use
-    Log(LogLevel::kInfo, {"", owner->id},
-        absl::StrCat("dropping idle solver ", victim->first));
+    Log(LogLevel::kInfo, {"", owner->id}, absl::StrCat("dropping idle solver ", victim->first));
     scene.solvers.erase(victim);
   }
 }
@@ -1066,13 +1068,12 @@ bool EngineImpl::CheckGpuReset() {
     }
   }
   for (auto& s : sessions) {
-    s->sink->OnSessionFailed(absl::UnavailableError(
-        "GPU reset: the render context was lost; open a new session"));
+    s->sink->OnSessionFailed(
+        absl::UnavailableError("GPU reset: the render context was lost; open a new session"));
   }
-  const absl::Status recovered =
-      injected == gl::InjectedReset::kResetAndFailRecovery
-          ? absl::InternalError("injected failure (gpu_reset_fail)")
-          : RecoverFromGpuReset();
+  const absl::Status recovered = injected == gl::InjectedReset::kResetAndFailRecovery
+                                     ? absl::InternalError("injected failure (gpu_reset_fail)")
+                                     : RecoverFromGpuReset();
   if (!recovered.ok()) {
     // Nothing can render any more: exit so the orchestrator restarts us.
     Log(LogLevel::kError, absl::StrCat("GPU reset: recovery failed (", recovered.ToString(),
@@ -1105,8 +1106,9 @@ absl::Status EngineImpl::RecoverFromGpuReset() {
   for (auto& [id, scene] : gpu_scenes_) {
     auto uploaded = GpuScene::Upload(*scene.state);
     if (!uploaded.ok()) {
-      return absl::Status(uploaded.status().code(),
-                          absl::StrCat("re-uploading scene '", id, "': ", uploaded.status().message()));
+      return absl::Status(
+          uploaded.status().code(),
+          absl::StrCat("re-uploading scene '", id, "': ", uploaded.status().message()));
     }
     scene.gpu = std::move(uploaded).value();
   }
@@ -1134,12 +1136,12 @@ absl::Status EngineImpl::BuildSolver(const SessionRecord& session, const GpuScen
                                      SolverEntry& entry) {
   // One place for every solver: its estimate from the parameters and the
   // scene (solvers/memory_estimate.h) is reserved before anything is built.
-  GS_ASSIGN_OR_RETURN(MemoryEstimate estimate,
-                      EstimateSolverMemory(session.config.solver, session.params, *scene.state,
-                                           *scene.gpu));
-  GS_ASSIGN_OR_RETURN(MemoryBudget::Reservation memory,
-                      budget_.Reserve(estimate.bytes(),
-                                      estimate.Describe(session.config.solver, session.params)));
+  GS_ASSIGN_OR_RETURN(
+      MemoryEstimate estimate,
+      EstimateSolverMemory(session.config.solver, session.params, *scene.state, *scene.gpu));
+  GS_ASSIGN_OR_RETURN(
+      MemoryBudget::Reservation memory,
+      budget_.Reserve(estimate.bytes(), estimate.Describe(session.config.solver, session.params)));
   GS_ASSIGN_OR_RETURN(entry.solver, CreateSolver(session.config.solver, session.params));
   entry.memory = std::move(memory);
   return absl::OkStatus();

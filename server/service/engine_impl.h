@@ -60,8 +60,8 @@ class EngineImpl final : public Engine {
     uint32_t light_instances = 0;
     uint64_t upload_bytes = 0;  // glTF and environment bytes sent by the client
     // mutex-guarded: the references that keep the scene (engine.h).
-    int sessions = 0;  // open sessions and Render calls on it
-    int loads = 0;     // LoadScene calls not yet undone by UnloadScene
+    int sessions = 0;                             // open sessions and Render calls on it
+    int loads = 0;                                // LoadScene calls not yet undone by UnloadScene
     RenderThread::Clock::time_point last_used{};  // for idle_timeout
   };
   struct SessionRecord {
@@ -94,7 +94,7 @@ class EngineImpl final : public Engine {
     std::unique_ptr<Solver> solver;
     uint64_t version = 0;
     bool fresh = true;
-    uint64_t last_used = 0;  // solver_clock_ at its last frame
+    uint64_t last_used = 0;            // solver_clock_ at its last frame
     MemoryBudget::Reservation memory;  // its estimate, held while it lives
   };
   struct GpuSceneRecord {
@@ -102,7 +102,7 @@ class EngineImpl final : public Engine {
     std::unique_ptr<SceneState> state;
     std::unique_ptr<GpuScene> gpu;
     std::map<std::string, SolverEntry> solvers;  // by solver_key
-    MemoryBudget::Reservation memory;  // the scene's CPU copy and GPU upload
+    MemoryBudget::Reservation memory;            // the scene's CPU copy and GPU upload
   };
   // Drops least recently used solvers of `scene` beyond
   // options_.max_solvers_per_scene, sparing `keep` and those of open
@@ -120,10 +120,10 @@ class EngineImpl final : public Engine {
     // Render), summed into the frame that completes it.
     std::vector<StageTiming> carry;
     double carry_ms = 0.0;
-    std::vector<std::string> plan;  // the solver's plan, over the frame's slices
+    std::vector<std::string> plan;              // the solver's plan, over the frame's slices
     RenderThread::Clock::time_point poll_at{};  // next poll of a pending update
     RenderThread::Clock::time_point next_due{};
-    FrameEncoder encoder;  // image/video encoding, unchanged-frame detection
+    FrameEncoder encoder;              // image/video encoding, unchanged-frame detection
     MemoryBudget::Reservation memory;  // its G-buffer
   };
 

@@ -44,8 +44,8 @@ absl::Status ValidateEncoding(const EncodingOptions& e) {
         absl::StrCat("encoding.crf: ", e.crf, " is out of range [1, 51]"));
   }
   if (e.bitrate_kbps > 1'000'000) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "encoding.bitrate_kbps: ", e.bitrate_kbps, " is out of range [0, 1000000]"));
+    return absl::InvalidArgumentError(
+        absl::StrCat("encoding.bitrate_kbps: ", e.bitrate_kbps, " is out of range [0, 1000000]"));
   }
   if (e.key_frame_interval < 1 || e.key_frame_interval > 100'000) {
     return absl::InvalidArgumentError(absl::StrCat(
@@ -87,8 +87,8 @@ std::string FrameEncoder::video_encoder_name() const {
 
 absl::StatusOr<EncodedImage> FrameEncoder::Encode(const EncodingOptions& enc, float fps,
                                                   std::span<const uint8_t> ldr,
-                                                  std::span<const float> hdr, int width,
-                                                  int height, bool key_frame) {
+                                                  std::span<const float> hdr, int width, int height,
+                                                  bool key_frame) {
   EncodedImage out;
   switch (enc.format) {
     case ImageFormat::kExr: {

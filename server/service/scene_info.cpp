@@ -15,15 +15,15 @@ SceneInfo DescribeScene(const SceneId& id, const SceneState& state) {
   info.has_environment = scene.environment.has_value();
   for (size_t i = 0; i < state.nodes().size(); ++i) {
     const Node& n = state.nodes()[i];
-    info.nodes.push_back({uint32_t(i), n.name, n.parent, n.mesh, n.translation, n.rotation, n.scale});
+    info.nodes.push_back(
+        {uint32_t(i), n.name, n.parent, n.mesh, n.translation, n.rotation, n.scale});
   }
   for (size_t i = 0; i < state.lights().size(); ++i) {
     const LightInstance& l = state.lights()[i];
-    info.lights.push_back({uint32_t(i), l.light.name.empty() ? state.nodes()[size_t(l.node)].name
-                                                             : l.light.name,
-                           l.light.type, uint32_t(l.node), l.light.color, l.light.intensity,
-                           l.position, l.direction, l.light.inner_cone_angle,
-                           l.light.outer_cone_angle});
+    info.lights.push_back(
+        {uint32_t(i), l.light.name.empty() ? state.nodes()[size_t(l.node)].name : l.light.name,
+         l.light.type, uint32_t(l.node), l.light.color, l.light.intensity, l.position, l.direction,
+         l.light.inner_cone_angle, l.light.outer_cone_angle});
   }
   const std::vector<int> cameras = CameraInstanceNodes(scene);
   for (size_t i = 0; i < cameras.size(); ++i) {

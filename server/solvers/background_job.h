@@ -35,7 +35,8 @@ class BackgroundJob {
     done_ = CpuPool::Get().Async([j, ms, run = std::move(run)] {
       const auto start = std::chrono::steady_clock::now();
       run(*j);
-      *ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      *ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                .count();
     });
   }
   bool running() const { return job_ != nullptr; }
@@ -46,7 +47,8 @@ class BackgroundJob {
   // The finished job (no longer running()), or null while it runs or when
   // none was started.
   std::shared_ptr<Job> TakeIfDone() {
-    if (!job_ || done_.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return nullptr;
+    if (!job_ || done_.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
+      return nullptr;
     return std::exchange(job_, nullptr);
   }
   // Waits for the running job, then takes it.

@@ -57,7 +57,8 @@ std::optional<float> EmissionScale::Factor(const SceneState& state, ChangeMask c
   if (!std::isfinite(k) || k < 0.0f) return std::nullopt;
   for (size_t i = 0; i < radiometry_.size(); ++i) {
     const float expected = k * radiometry_[i];
-    if (std::fabs(radiometry[i] - expected) > kTolerance * std::max(std::fabs(expected), radiometry[ref])) {
+    if (std::fabs(radiometry[i] - expected) >
+        kTolerance * std::max(std::fabs(expected), radiometry[ref])) {
       return std::nullopt;
     }
   }

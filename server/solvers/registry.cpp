@@ -29,9 +29,10 @@ Registry& TheRegistry() {
 const Registry& Frozen() {
   Registry& r = TheRegistry();
   std::call_once(r.frozen, [&r] {
-    std::stable_sort(r.solvers.begin(), r.solvers.end(), [](const Registered& a, const Registered& b) {
-      return a.factory.list_order < b.factory.list_order;
-    });
+    std::stable_sort(r.solvers.begin(), r.solvers.end(),
+                     [](const Registered& a, const Registered& b) {
+                       return a.factory.list_order < b.factory.list_order;
+                     });
     for (const Registered& s : r.solvers) r.descriptions.push_back(s.description);
     r.is_frozen = true;
   });
@@ -69,8 +70,7 @@ absl::StatusOr<std::unique_ptr<Solver>> CreateSolver(const std::string& name,
   return FindSolver(name).status();
 }
 
-absl::StatusOr<MemoryEstimate> EstimateSolverMemory(const std::string& name,
-                                                    const ParamSet& params,
+absl::StatusOr<MemoryEstimate> EstimateSolverMemory(const std::string& name, const ParamSet& params,
                                                     const SceneState& state, const GpuScene& gpu) {
   for (const Registered& s : Frozen().solvers) {
     if (s.description.name == name) return s.factory.estimate(params, state, gpu);

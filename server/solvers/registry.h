@@ -33,10 +33,9 @@ struct SolverFactory {
 // on a duplicate name or a registration after the list was first read.
 bool RegisterSolver(const SolverFactory& factory);
 
-#define GISTREAM_REGISTER_SOLVER(Class, list_order)                      \
-  [[maybe_unused]] static const bool kRegistered##Class =                \
-      ::gistream::RegisterSolver(                                          \
-          {&Class::Describe, &Class::Create, (list_order), &Class::EstimateMemory})
+#define GISTREAM_REGISTER_SOLVER(Class, list_order)                                   \
+  [[maybe_unused]] static const bool kRegistered##Class = ::gistream::RegisterSolver( \
+      {&Class::Describe, &Class::Create, (list_order), &Class::EstimateMemory})
 
 // The registered solvers by list order.
 const std::vector<SolverDescription>& AllSolverDescriptions();
@@ -48,8 +47,7 @@ absl::StatusOr<std::unique_ptr<Solver>> CreateSolver(const std::string& name,
                                                      const ParamSet& params);
 // The solver's memory estimate for `params` on the scene as it is now;
 // NOT_FOUND as FindSolver.
-absl::StatusOr<MemoryEstimate> EstimateSolverMemory(const std::string& name,
-                                                    const ParamSet& params,
+absl::StatusOr<MemoryEstimate> EstimateSolverMemory(const std::string& name, const ParamSet& params,
                                                     const SceneState& state, const GpuScene& gpu);
 
 }  // namespace gistream

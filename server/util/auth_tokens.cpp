@@ -16,13 +16,13 @@ constexpr size_t kMaxTokenChars = 4096;
 constexpr size_t kMaxTenantChars = 64;
 
 bool IsTokenChar(char c) {
-  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
-         c == '.' || c == '_' || c == '~' || c == '+' || c == '/' || c == '=' || c == '-';
+  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '.' ||
+         c == '_' || c == '~' || c == '+' || c == '/' || c == '=' || c == '-';
 }
 
 bool IsTenantChar(char c) {
-  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') ||
-         c == '.' || c == '_' || c == '-';
+  return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '.' ||
+         c == '_' || c == '-';
 }
 
 template <typename Pred>
@@ -53,9 +53,9 @@ absl::Status ParseQuota(std::string_view item, size_t line, TenantQuota& quota) 
   }
   if (key == "scenes" || key == "sessions") {
     if (value > UINT32_MAX) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("auth tokens line ", line, ": ", absl::string_view(key.data(), key.size()),
-                       " = ", value, " is out of range"));
+      return absl::InvalidArgumentError(absl::StrCat("auth tokens line ", line, ": ",
+                                                     absl::string_view(key.data(), key.size()),
+                                                     " = ", value, " is out of range"));
     }
     (key == "scenes" ? quota.scenes : quota.sessions) = static_cast<uint32_t>(value);
   } else if (key == "upload_bytes") {
@@ -83,16 +83,16 @@ absl::StatusOr<AuthTokens> AuthTokens::Parse(std::string_view text) {
         absl::StrSplit(raw, absl::ByAnyChar(" \t\r"), absl::SkipEmpty());
     if (fields.empty() || fields[0].front() == '#') continue;
     if (fields.size() < 2) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "auth tokens line ", line_number, ": expected 'TOKEN TENANT [quota=N ...]'"));
+      return absl::InvalidArgumentError(absl::StrCat("auth tokens line ", line_number,
+                                                     ": expected 'TOKEN TENANT [quota=N ...]'"));
     }
     const std::string_view token(fields[0].data(), fields[0].size());
     const std::string_view tenant(fields[1].data(), fields[1].size());
     if (token.size() < kMinTokenChars || token.size() > kMaxTokenChars ||
         !All(token, IsTokenChar)) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "auth tokens line ", line_number, ": a token is ", kMinTokenChars, " to ", kMaxTokenChars,
-          " characters of A-Z a-z 0-9 . _ ~ + / = -"));
+      return absl::InvalidArgumentError(
+          absl::StrCat("auth tokens line ", line_number, ": a token is ", kMinTokenChars, " to ",
+                       kMaxTokenChars, " characters of A-Z a-z 0-9 . _ ~ + / = -"));
     }
     if (tenant.empty() || tenant.size() > kMaxTenantChars || !All(tenant, IsTenantChar)) {
       return absl::InvalidArgumentError(absl::StrCat("auth tokens line ", line_number,
@@ -108,9 +108,9 @@ absl::StatusOr<AuthTokens> AuthTokens::Parse(std::string_view text) {
     if (fields.size() > 2) {
       auto [it, first] = quota_line.emplace(TenantId(tenant), line_number);
       if (!first) {
-        return absl::InvalidArgumentError(absl::StrCat(
-            "auth tokens line ", line_number, ": tenant's quota was already given on line ",
-            it->second));
+        return absl::InvalidArgumentError(
+            absl::StrCat("auth tokens line ", line_number,
+                         ": tenant's quota was already given on line ", it->second));
       }
       for (size_t i = 2; i < fields.size(); ++i) {
         GS_RETURN_IF_ERROR(

@@ -2,8 +2,8 @@
 // belongs to which tenant, and that tenant's quota. One token per line:
 //
 //   # token                            tenant  [quota=value ...]
-//   9c1f0e6b2a7d4e58b3f1c0a9d8e7f6a5   alice   scenes=4 sessions=8 upload_bytes=268435456 gpu_bytes=2147483648
-//   3b8e5a7c9d1f2e4a6b8c0d2e4f6a8b0c   bob
+//   9c1f0e6b2a7d4e58b3f1c0a9d8e7f6a5   alice   scenes=4 sessions=8 upload_bytes=268435456
+//   gpu_bytes=2147483648 3b8e5a7c9d1f2e4a6b8c0d2e4f6a8b0c   bob
 //
 // Blank lines and lines starting with '#' are ignored. A token is at least
 // 16 characters of [A-Za-z0-9._~+/=-] (RFC 6750's b64token); a tenant name

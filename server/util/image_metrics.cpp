@@ -46,8 +46,8 @@ double Ssim(const std::vector<float>& a, const std::vector<float>& b, int width,
       va /= d;
       vb /= d;
       cov /= d;
-      sum += ((2 * ma * mb + kC1) * (2 * cov + kC2)) /
-             ((ma * ma + mb * mb + kC1) * (va + vb + kC2));
+      sum +=
+          ((2 * ma * mb + kC1) * (2 * cov + kC2)) / ((ma * ma + mb * mb + kC1) * (va + vb + kC2));
       ++windows;
     }
   }

@@ -17,9 +17,9 @@ struct RgbaImage {
 };
 
 struct ImageError {
-  double rel_mse = 0.0;         // mean over pixels and RGB of (x-r)^2 / (r^2 + 0.01)
-  double rmse = 0.0;            // sqrt of mean (x-r)^2 over pixels and RGB
-  double ssim = 1.0;            // SSIM of tone-mapped luminance (8x8 windows)
+  double rel_mse = 0.0;             // mean over pixels and RGB of (x-r)^2 / (r^2 + 0.01)
+  double rmse = 0.0;                // sqrt of mean (x-r)^2 over pixels and RGB
+  double ssim = 1.0;                // SSIM of tone-mapped luminance (8x8 windows)
   double nonfinite_fraction = 0.0;  // pixels with a NaN/Inf channel
 };
 

@@ -45,10 +45,12 @@ std::string FormatLogLine(std::chrono::system_clock::time_point time, LogLevel l
                 static_cast<int>(millis < 0 ? millis + 1000 : millis));
   std::string line = absl::StrCat(stamp, " ", Name(level), " ");
   if (!context.session.empty()) {
-    absl::StrAppend(&line, "session=", absl::string_view(context.session.data(), context.session.size()), " ");
+    absl::StrAppend(
+        &line, "session=", absl::string_view(context.session.data(), context.session.size()), " ");
   }
   if (!context.scene.empty()) {
-    absl::StrAppend(&line, "scene=", absl::string_view(context.scene.data(), context.scene.size()), " ");
+    absl::StrAppend(&line, "scene=", absl::string_view(context.scene.data(), context.scene.size()),
+                    " ");
   }
   line.append(message);
   return line;

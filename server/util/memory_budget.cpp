@@ -42,10 +42,10 @@ absl::StatusOr<MemoryBudget::Reservation> MemoryBudget::Reserve(uint64_t bytes,
   for (;;) {
     if (bytes > limit_ || used > limit_ - bytes) {
       const uint64_t left = used < limit_ ? limit_ - used : 0;
-      return absl::ResourceExhaustedError(absl::StrCat(
-          what, " needs ", FormatBytes(bytes), ", more than the ", FormatBytes(left),
-          " left of the server's memory budget (--max-memory-bytes ", FormatBytes(limit_), ", ",
-          FormatBytes(used), " in use)"));
+      return absl::ResourceExhaustedError(
+          absl::StrCat(what, " needs ", FormatBytes(bytes), ", more than the ", FormatBytes(left),
+                       " left of the server's memory budget (--max-memory-bytes ",
+                       FormatBytes(limit_), ", ", FormatBytes(used), " in use)"));
     }
     if (counter_->used.compare_exchange_weak(used, used + bytes)) break;
   }

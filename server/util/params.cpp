@@ -31,7 +31,8 @@ absl::StatusOr<std::string> Canonical(const ParamSpec& spec, const std::string& 
     case ParamType::kInt: {
       long long v = 0;
       if (!ParseWhole(value, &v)) {
-        return absl::InvalidArgumentError(absl::StrCat(field, ": '", Echo(value), "' is not an integer"));
+        return absl::InvalidArgumentError(
+            absl::StrCat(field, ": '", Echo(value), "' is not an integer"));
       }
       if (double(v) < spec.min || double(v) > spec.max || v < std::numeric_limits<int>::min() ||
           v > std::numeric_limits<int>::max()) {
@@ -48,10 +49,12 @@ absl::StatusOr<std::string> Canonical(const ParamSpec& spec, const std::string& 
     case ParamType::kFloat: {
       double v = 0.0;
       if (!ParseWhole(value, &v)) {
-        return absl::InvalidArgumentError(absl::StrCat(field, ": '", Echo(value), "' is not a number"));
+        return absl::InvalidArgumentError(
+            absl::StrCat(field, ": '", Echo(value), "' is not a number"));
       }
       if (!std::isfinite(v)) {
-        return absl::InvalidArgumentError(absl::StrCat(field, ": '", Echo(value), "' is not finite"));
+        return absl::InvalidArgumentError(
+            absl::StrCat(field, ": '", Echo(value), "' is not finite"));
       }
       if (v < spec.min || v > spec.max) {
         return absl::InvalidArgumentError(absl::StrCat(field, ": ", value, " is out of range [",
@@ -69,8 +72,8 @@ absl::StatusOr<std::string> Canonical(const ParamSpec& spec, const std::string& 
       for (const std::string& choice : spec.choices) {
         if (value == choice) return value;
       }
-      return absl::InvalidArgumentError(
-          absl::StrCat(field, ": '", Echo(value), "' is not one of ", absl::StrJoin(spec.choices, ", ")));
+      return absl::InvalidArgumentError(absl::StrCat(field, ": '", Echo(value), "' is not one of ",
+                                                     absl::StrJoin(spec.choices, ", ")));
   }
   return absl::InternalError(absl::StrCat(field, ": unknown parameter type"));
 }
@@ -84,7 +87,8 @@ const std::string& Value(const std::map<std::string, std::string>& values,
 
 }  // namespace
 
-absl::StatusOr<ParamSet> ValidateParams(const std::string& owner, const std::vector<ParamSpec>& schema,
+absl::StatusOr<ParamSet> ValidateParams(const std::string& owner,
+                                        const std::vector<ParamSpec>& schema,
                                         const std::map<std::string, std::string>& given) {
   for (const auto& [name, value] : given) {
     bool known = false;

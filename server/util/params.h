@@ -45,7 +45,8 @@ class ParamSet {
 // INVALID_ARGUMENT naming "params.NAME" for unknown names (the message
 // names `owner`, e.g. "solver 'avg'"), bad types, values out of range;
 // defaults fill what is not given.
-absl::StatusOr<ParamSet> ValidateParams(const std::string& owner, const std::vector<ParamSpec>& schema,
+absl::StatusOr<ParamSet> ValidateParams(const std::string& owner,
+                                        const std::vector<ParamSpec>& schema,
                                         const std::map<std::string, std::string>& given);
 
 }  // namespace gistream

@@ -41,8 +41,7 @@ ProcessStats ReadProcessStats() {
   }
   out.uptime_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - kStartSteady).count();
-  out.start_time_unix_s =
-      std::chrono::duration<double>(kStartSystem.time_since_epoch()).count();
+  out.start_time_unix_s = std::chrono::duration<double>(kStartSystem.time_since_epoch()).count();
   return out;
 }
 

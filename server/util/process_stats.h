@@ -12,7 +12,7 @@ struct ProcessStats {
   uint64_t rss_bytes = 0;
   uint64_t peak_rss_bytes = 0;
   double cpu_seconds = 0.0;
-  double uptime_s = 0.0;          // since the process started (steady clock)
+  double uptime_s = 0.0;           // since the process started (steady clock)
   double start_time_unix_s = 0.0;  // when it started, seconds since the epoch
 };
 

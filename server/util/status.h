@@ -23,9 +23,9 @@
   GS_ASSIGN_OR_RETURN_IMPL(GS_CONCAT(_statusor_, __LINE__), lhs, expr)
 
 // Invariant checks for our own code (not for bad input, which gets a Status).
-#define GS_CHECK(cond)                                                       \
-  do {                                                                       \
-    if (!(cond)) ::gistream::CheckFailed(__FILE__, __LINE__, #cond);         \
+#define GS_CHECK(cond)                                               \
+  do {                                                               \
+    if (!(cond)) ::gistream::CheckFailed(__FILE__, __LINE__, #cond); \
   } while (0)
 
 namespace gistream {

@@ -55,7 +55,7 @@ class FakeServer final : public v1::Gistream::Service {
     status->set_gl_renderer("fake");
     status->set_version("0.0-test");
     status->set_rss_bytes(rss_);
-    status->set_uptime_s(call);        // one "second" per call ...
+    status->set_uptime_s(call);           // one "second" per call ...
     status->set_cpu_seconds(0.5 * call);  // ... half of it on the CPU: 50 %
     return grpc::Status::OK;
   }

@@ -248,8 +248,11 @@ TEST(Workload, ErrorsNameWhatIsMissing) {
 
 TEST(Plot, LinearAxesPlaceValuesProportionally) {
   const std::vector<PlotSeries> series = {{"cdf", {{1.0, 0.0}, {10.0, 0.5}, {100.0, 1.0}}}};
-  PlotStyle style{.x_title = "ms", .y_title = "fraction", .x_scale = AxisScale::kLog,
-                  .y_scale = AxisScale::kLinear, .markers = false};
+  PlotStyle style{.x_title = "ms",
+                  .y_title = "fraction",
+                  .x_scale = AxisScale::kLog,
+                  .y_scale = AxisScale::kLinear,
+                  .markers = false};
   LogAxes axes;
   ASSERT_TRUE(ComputeAxes(series, style, 400, 300, axes));
   EXPECT_FALSE(axes.y_log);

@@ -155,7 +155,8 @@ TEST(ScriptParse, ErrorsNameTheJsonPath) {
   EXPECT_EQ(ParseError(R"({"scene": "x", "frames": 3, "size": [0, 10]})"),
             "test.json: size[0]: 0 is out of range [1, 16384]");
   EXPECT_EQ(ParseError(R"({"scene": "x", "frames": 3, "format": "gif"})"),
-            "test.json: format: unknown image format \"gif\" (expected jpeg, png, exr, h264, hevc or av1)");
+            "test.json: format: unknown image format \"gif\" (expected jpeg, png, exr, h264, hevc "
+            "or av1)");
   EXPECT_EQ(ParseError(R"({"scene": "x", "frames": 3, "events": [{"frame": 3,
       "update": {"environment": {"intensity": 2}}}]})"),
             "test.json: events[0].frame: 3 is out of range [0, 2]");

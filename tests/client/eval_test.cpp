@@ -168,8 +168,9 @@ TEST(Plot, DrawsTheSeriesWhereTheAxesPutThem) {
 }
 
 TEST(Plot, LegendNamesEachSeriesAndThePngHasTheRequestedSize) {
-  const std::vector<PlotSeries> series = {{"direct", {{20.0, 0.5}, {80.0, 0.2}}},
-                                          {"pathtrace (equal time)", {{10.0, 1.0}, {1000.0, 0.002}}}};
+  const std::vector<PlotSeries> series = {
+      {"direct", {{20.0, 0.5}, {80.0, 0.2}}},
+      {"pathtrace (equal time)", {{10.0, 1.0}, {1000.0, 0.002}}}};
   const Raster r = PlotLogLog(series, 400, 300);
   LogAxes axes;
   ASSERT_TRUE(ComputeAxes(series, 400, 300, axes));
@@ -190,8 +191,7 @@ TEST(Plot, LegendNamesEachSeriesAndThePngHasTheRequestedSize) {
   // Written as PNG, it decodes back at the requested size.
   auto png = EncodePng(r.rgba, r.width, r.height);
   ASSERT_TRUE(png.ok()) << png.status();
-  auto decoded = DecodeImageBytes(
-      {reinterpret_cast<const uint8_t*>(png->data()), png->size()});
+  auto decoded = DecodeImageBytes({reinterpret_cast<const uint8_t*>(png->data()), png->size()});
   ASSERT_TRUE(decoded.ok()) << decoded.status();
   EXPECT_EQ(decoded->width, 400);
   EXPECT_EQ(decoded->height, 300);

@@ -21,8 +21,9 @@ using std::chrono::duration;
 TEST(ProgressLine, FormatsWaitsBarsAndEtas) {
   EXPECT_EQ(FormatProgressLine("loading scene x", duration<double>(3.2), std::nullopt),
             "loading scene x... 3s");
-  EXPECT_EQ(FormatProgressLine("reference side: pathtrace 1024/4096 spp", duration<double>(30.0), 0.25),
-            "[#####...............] 25% reference side: pathtrace 1024/4096 spp, ETA 1m30s");
+  EXPECT_EQ(
+      FormatProgressLine("reference side: pathtrace 1024/4096 spp", duration<double>(30.0), 0.25),
+      "[#####...............] 25% reference side: pathtrace 1024/4096 spp, ETA 1m30s");
   EXPECT_EQ(FormatProgressLine("frame 1/36", duration<double>(2.0), 0.0),
             "[....................] 0% frame 1/36, ETA ?");
   EXPECT_EQ(FormatProgressLine("x", duration<double>(7300.0), std::nullopt), "x... 2h01m");

@@ -65,7 +65,9 @@ const Scene& TheScene() {
   return *scene;
 }
 
-bool Finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool Finite(const glm::vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 }  // namespace
 
@@ -91,7 +93,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     for (int c = 0; c < 4; ++c) FUZZ_CHECK(Finite(glm::vec3(m[c])) && std::isfinite(m[c][3]));
   }
   for (const LightInstance& l : state.lights()) {
-    FUZZ_CHECK(Finite(l.position) && Finite(l.direction) && Finite(l.light.color * l.light.intensity));
+    FUZZ_CHECK(Finite(l.position) && Finite(l.direction) &&
+               Finite(l.light.color * l.light.intensity));
   }
   for (const Material& m : state.materials()) FUZZ_CHECK(Finite(m.emission()));
   return 0;

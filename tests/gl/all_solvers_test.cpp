@@ -39,36 +39,46 @@ struct Declared {
 const std::map<std::string, Declared>& Table() {
   static const std::map<std::string, Declared> table = {
       {"direct",
-       {1.0, "direct light only: room B stays black, this is the baseline", 0.05,
+       {1.0,
+        "direct light only: room B stays black, this is the baseline",
+        0.05,
         "the exact unoccluded term of the emitter (a closed sphere): only float rounding",
-        {}, /*direct_only=*/true}},
+        {},
+        /*direct_only=*/true}},
       {"pathtrace",
-       {0.25, "the reference's own estimator at 256 spp: only its noise differs (relMSE of "
-              "noise ~ 1/spp: measured 0.021 against direct's 0.145)",
+       {0.25,
+        "the reference's own estimator at 256 spp: only its noise differs (relMSE of "
+        "noise ~ 1/spp: measured 0.021 against direct's 0.145)",
         0.1,
         "Monte Carlo noise of 64 spp at 16 x 16 (the z-test below is the real check)",
-        {{"spp", "64"}}, false, /*stochastic=*/true}},
+        {{"spp", "64"}},
+        false,
+        /*stochastic=*/true}},
       {"sh_probes",
-       {0.2, "probes carry the light through the doorway; SH l <= 2 and probe spacing blur room B "
-             "(measured 0.017 against direct's 0.145)",
+       {0.2,
+        "probes carry the light through the doorway; SH l <= 2 and probe spacing blur room B "
+        "(measured 0.017 against direct's 0.145)",
         0.1,
         "12 bounces of 0.5 (0.02 %) and the l <= 2 projection of a constant (exact)",
         {{"grid", "4"}, {"bounces", "12"}, {"tolerance", "0"}}}},
       {"avg",
-       {0.4, "VPLs light room B; 64^2 VPL maps and their shadow bias at the door reveals "
-             "(measured 0.043 against direct's 0.145)",
+       {0.4,
+        "VPLs light room B; 64^2 VPL maps and their shadow bias at the door reveals "
+        "(measured 0.043 against direct's 0.145)",
         0.2,
         "VPL splat normalisation on a closed scene (see the furnace test in avg_test)",
         {}}},
       {"implicit_visibility",
-       {0.2, "links carry the light through the door, bounces until the residual tolerance "
-             "(issue 14: at least 5x better than direct; measured 0.020 against 0.145)",
+       {0.2,
+        "links carry the light through the door, bounces until the residual tolerance "
+        "(issue 14: at least 5x better than direct; measured 0.020 against 0.145)",
         0.1,
         "solid angles and disc form factors are scale-free; 12 bounces of 0.5",
         {{"bounces", "12"}, {"bins_per_face", "8"}}}},
       {"antiradiance",
-       {0.2, "unoccluded transport minus antiradiance keeps the light out of the wall "
-             "(measured 0.019 against direct's 0.145)",
+       {0.2,
+        "unoccluded transport minus antiradiance keeps the light out of the wall "
+        "(measured 0.019 against direct's 0.145)",
         0.2,
         "Eq. 17's 1/r^2 scales, the answer does not; collocation loss of the elements",
         {{"iterations", "8"}}}},
@@ -84,7 +94,8 @@ std::vector<std::string> RegisteredSolvers() {
 
 TEST(AllSolversTable, DeclaresEveryRegisteredSolver) {
   for (const std::string& name : RegisteredSolvers()) {
-    EXPECT_TRUE(Table().contains(name)) << name << " declares no tolerances in all_solvers_test.cpp";
+    EXPECT_TRUE(Table().contains(name))
+        << name << " declares no tolerances in all_solvers_test.cpp";
   }
 }
 
@@ -108,9 +119,10 @@ struct IndirectRoom {
 const IndirectRoom& Room() {
   static const IndirectRoom* const room = [] {
     auto* r = new IndirectRoom();
-    r->reference = RenderRequestExr(SolverRequest(r->scene.id(), "pathtrace", {{"spp", "1024"}}, 64));
-    r->direct_error =
-        testing::RelMse(RenderRequestExr(SolverRequest(r->scene.id(), "direct", {}, 64)), r->reference);
+    r->reference =
+        RenderRequestExr(SolverRequest(r->scene.id(), "pathtrace", {{"spp", "1024"}}, 64));
+    r->direct_error = testing::RelMse(
+        RenderRequestExr(SolverRequest(r->scene.id(), "direct", {}, 64)), r->reference);
     return r;
   }();
   return *room;
@@ -164,7 +176,9 @@ TEST_P(AllSolvers, StochasticFurnaceMeanPassesAZTest) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Registered, AllSolvers, ::testing::ValuesIn(RegisteredSolvers()),
-                         [](const ::testing::TestParamInfo<std::string>& param_info) { return param_info.param; });
+                         [](const ::testing::TestParamInfo<std::string>& param_info) {
+                           return param_info.param;
+                         });
 
 }  // namespace
 }  // namespace gistream

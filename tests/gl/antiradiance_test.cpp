@@ -15,9 +15,9 @@ using testing::BundledCopy;
 using testing::FloatImage;
 using testing::FrameStage;
 using testing::FrameStat;
+using testing::GreyAlbedo;
 using testing::ImageMean;
 using testing::RelMse;
-using testing::GreyAlbedo;
 using testing::RenderRequestExr;
 using testing::SolverRequest;
 
@@ -28,7 +28,8 @@ TEST(Antiradiance, StiffFurnaceIsFiniteAndNotBrighterThanTheFixedPoint) {
   for (float rho : {0.5f, 0.9f, 0.99f}) {
     EncodedFrame frame;
     const FloatImage image =
-        RenderRequestExr(SolverRequest(scene.id(), "antiradiance", {{"iterations", "8"}}, 16, {{1, GreyAlbedo(rho)}}),
+        RenderRequestExr(SolverRequest(scene.id(), "antiradiance", {{"iterations", "8"}}, 16,
+                                       {{1, GreyAlbedo(rho)}}),
                          &frame);
     ASSERT_EQ(image.width, 16);
     EXPECT_EQ(image.non_finite(), 0u) << rho;
@@ -47,16 +48,16 @@ TEST(Antiradiance, ExtremeScalesAndIntensitiesStayFiniteAndConserveEnergy) {
   // scale, the answer L = E / (1 - rho) = 2 E does not. 10 %: 8 bounces of
   // 0.5 (0.4 %), the direct term's area samples and the elements'
   // collocation loss (see the furnace test above).
-  testing::ExpectFurnaceScaleInvariant("antiradiance", {{"iterations", "8"}}, 0.2,
-                                       [](const EncodedFrame& frame) {
-                                         EXPECT_EQ(FrameStat(frame, "fallback"), 0.0);
-                                       });
+  testing::ExpectFurnaceScaleInvariant(
+      "antiradiance", {{"iterations", "8"}}, 0.2,
+      [](const EncodedFrame& frame) { EXPECT_EQ(FrameStat(frame, "fallback"), 0.0); });
 }
 
 TEST(Antiradiance, StatsReportLinksAndBytes) {
   const BundledCopy scene("cornell_box.gltf");
   EncodedFrame frame;
-  const FloatImage image = RenderRequestExr(SolverRequest(scene.id(), "antiradiance", {}, 32), &frame);
+  const FloatImage image =
+      RenderRequestExr(SolverRequest(scene.id(), "antiradiance", {}, 32), &frame);
   EXPECT_EQ(image.non_finite(), 0u);
   EXPECT_GT(FrameStat(frame, "links"), 1000.0);
   EXPECT_GT(FrameStat(frame, "link_bytes"), 0.0);
@@ -81,7 +82,8 @@ TEST_F(AntiradianceAccuracy, TriangleElementsAlsoBeatDirect) {
 
 TEST(Antiradiance, StagePlanFollowsTheChange) {
   using testing::StageSkipped;
-  const testing::ChangeKindFrames f = testing::RenderEachChangeKind("antiradiance", {{"bins", "64"}});
+  const testing::ChangeKindFrames f =
+      testing::RenderEachChangeKind("antiradiance", {{"bins", "64"}});
   const std::vector<std::string> gi = {"link", "global_pass", "local_pass", "push_pull"};
   EXPECT_EQ(f.first_image.non_finite(), 0u);
   for (const std::string& s : gi) EXPECT_FALSE(StageSkipped(f.first, s)) << "first frame " << s;
@@ -92,7 +94,8 @@ TEST(Antiradiance, StagePlanFollowsTheChange) {
     EXPECT_FALSE(StageSkipped(f.light_only, s)) << "light-only " << s;
   }
   // Camera only: only display runs.
-  for (const std::string& s : gi) EXPECT_TRUE(StageSkipped(f.camera_only, s)) << "camera-only " << s;
+  for (const std::string& s : gi)
+    EXPECT_TRUE(StageSkipped(f.camera_only, s)) << "camera-only " << s;
   EXPECT_FALSE(StageSkipped(f.camera_only, "display"));
   // Geometry: relink.
   for (const std::string& s : gi) EXPECT_FALSE(StageSkipped(f.geometry, s)) << "geometry " << s;
@@ -113,7 +116,8 @@ TEST(Antiradiance, MovingAnObjectRelinksOnlyItsPairsAndMatchesAFullLink) {
   RenderRequestExr(SolverRequest(scene.id(), "antiradiance", params, 32), &frame);
   const double pairs = FrameStat(frame, "root_pairs");
   EXPECT_EQ(FrameStat(frame, "relinked_root_pairs"), pairs);
-  const FloatImage moved = RenderRequestExr(SolverRequest(scene.id(), "antiradiance", params, 32, {{1, move}}), &frame);
+  const FloatImage moved =
+      RenderRequestExr(SolverRequest(scene.id(), "antiradiance", params, 32, {{1, move}}), &frame);
   EXPECT_GT(FrameStat(frame, "relinked_root_pairs"), 0.0);
   // The block is six of the eight charts (roots): the pairs among the
   // floor's charts are kept.
@@ -121,7 +125,8 @@ TEST(Antiradiance, MovingAnObjectRelinksOnlyItsPairsAndMatchesAFullLink) {
   const double links = FrameStat(frame, "links");
 
   const BundledCopy fresh("dynamic_block.gltf");
-  const FloatImage full = RenderRequestExr(SolverRequest(fresh.id(), "antiradiance", params, 32, {{1, move}}), &frame);
+  const FloatImage full =
+      RenderRequestExr(SolverRequest(fresh.id(), "antiradiance", params, 32, {{1, move}}), &frame);
   EXPECT_EQ(FrameStat(frame, "relinked_root_pairs"), pairs);
   EXPECT_EQ(FrameStat(frame, "links"), links);
   EXPECT_NEAR(ImageMean(moved).g, ImageMean(full).g, 1e-5 * ImageMean(full).g);
@@ -129,7 +134,8 @@ TEST(Antiradiance, MovingAnObjectRelinksOnlyItsPairsAndMatchesAFullLink) {
 
 TEST(Antiradiance, OddBinCountIsRejectedNamingTheParameter) {
   const BundledCopy scene("furnace.gltf");
-  auto frame = testing::SharedEngine().Render(SolverRequest(scene.id(), "antiradiance", {{"bins", "33"}}, 8));
+  auto frame = testing::SharedEngine().Render(
+      SolverRequest(scene.id(), "antiradiance", {{"bins", "33"}}, 8));
   ASSERT_FALSE(frame.ok());
   EXPECT_EQ(frame.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_NE(frame.status().message().find("params.bins"), std::string::npos) << frame.status();

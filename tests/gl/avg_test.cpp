@@ -16,8 +16,8 @@ namespace {
 
 using testing::BundledCopy;
 using testing::FloatImage;
-using testing::RelMse;
 using testing::FrameStage;
+using testing::RelMse;
 glm::dvec3 Mean(const FloatImage& image) { return testing::ImageMean(image); }
 
 FloatImage Render(const std::string& scene, const std::string& solver,
@@ -127,8 +127,8 @@ TEST(AvgRender, CameraOnlyChangeSkipsViewIndependentStages) {
   const auto params = Small({{"vpls", "64"}});
   EncodedFrame first, camera_only, light_only, geometry;
   Render(id, "avg", params, kSize, {}, &first);
-  for (const char* stage : {"voxelize", "trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate",
-                            "filter"}) {
+  for (const char* stage :
+       {"voxelize", "trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate", "filter"}) {
     const StageTiming* t = FrameStage(first, stage);
     ASSERT_NE(t, nullptr) << stage;
     EXPECT_FALSE(t->skipped) << stage;

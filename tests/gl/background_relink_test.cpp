@@ -13,7 +13,6 @@ namespace {
 using testing::BundledCopy;
 using testing::FloatImage;
 
-
 double Stat(const EncodedFrame& frame, const std::string& name) {
   for (const auto& [k, v] : frame.stats) {
     if (k == name) return v;
@@ -61,16 +60,17 @@ TEST(BackgroundRelink, AStreamKeepsItsFramesAndConvergesToAFreshSolve) {
   ASSERT_NE(links, nullptr);
   // Every frame that showed the move while its links were pending said so.
   EXPECT_EQ(sink->Count([](const EncodedFrame& f) {
-              return f.last_update_seq >= 1 && Stat(f, "links_pending") == 1.0 &&
-                     Stat(f, "gi_versions_behind") == 0.0;
-            }),
+    return f.last_update_seq >= 1 && Stat(f, "links_pending") == 1.0 &&
+           Stat(f, "gi_versions_behind") == 0.0;
+  }),
             0u);
 
-  RenderRequest fresh =
-      testing::SolverRequest(fresh_scene.id(), "implicit_visibility", kParams, 32, {{1, MoveBlock()}});
+  RenderRequest fresh = testing::SolverRequest(fresh_scene.id(), "implicit_visibility", kParams, 32,
+                                               {{1, MoveBlock()}});
   EncodedFrame fresh_frame;
   // Same links, same gather: equal to float rounding (1e-4 relative).
-  testing::ExpectSameImage(testing::DecodeExr(*done), testing::RenderRequestExr(fresh, &fresh_frame));
+  testing::ExpectSameImage(testing::DecodeExr(*done),
+                           testing::RenderRequestExr(fresh, &fresh_frame));
 }
 
 TEST(BackgroundRelink, ARenderAfterAMoveIsComplete) {
@@ -80,9 +80,10 @@ TEST(BackgroundRelink, ARenderAfterAMoveIsComplete) {
   const FloatImage moved = testing::RenderRequestExr(
       testing::SolverRequest(scene.id(), "implicit_visibility", kParams, 32, {{1, MoveBlock()}}),
       &moved_frame);
-  const FloatImage fresh = testing::RenderRequestExr(
-      testing::SolverRequest(fresh_scene.id(), "implicit_visibility", kParams, 32, {{1, MoveBlock()}}),
-      &fresh_frame);
+  const FloatImage fresh =
+      testing::RenderRequestExr(testing::SolverRequest(fresh_scene.id(), "implicit_visibility",
+                                                       kParams, 32, {{1, MoveBlock()}}),
+                                &fresh_frame);
   EXPECT_EQ(Stat(moved_frame, "links_pending"), 0.0);
   EXPECT_FALSE(testing::FrameStage(moved_frame, "create_links")->skipped);
   testing::ExpectSameImage(moved, fresh);

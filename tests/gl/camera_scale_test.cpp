@@ -27,8 +27,8 @@ std::string LampScene(float s) {
   GltfBuilder b;
   const int lamp = b.AddMaterial("lamp", {0, 0, 0}, {1, 1, 1});
   const int grey = b.AddMaterial("grey", {0.5f, 0.5f, 0.5f});
-  b.AddQuad("floor", {0, 0, 0}, {0, 0, 0.5f * s}, {0.5f * s, 0, 0}, grey, 4);         // +Y
-  b.AddQuad("ceiling", {0, 0.55f * s, 0}, {0.5f * s, 0, 0}, {0, 0, 0.5f * s}, grey, 4);  // -Y
+  b.AddQuad("floor", {0, 0, 0}, {0, 0, 0.5f * s}, {0.5f * s, 0, 0}, grey, 4);             // +Y
+  b.AddQuad("ceiling", {0, 0.55f * s, 0}, {0.5f * s, 0, 0}, {0, 0, 0.5f * s}, grey, 4);   // -Y
   b.AddQuad("lamp", {0, kLamp.y * s, 0}, {0.065f * s, 0, 0}, {0, 0, 0.0525f * s}, lamp);  // -Y
   const glm::vec3 f = glm::normalize(kLamp - kEye);
   b.AddCamera("camera", {kEye.x * s, kEye.y * s, kEye.z * s}, {f.x, f.y, f.z}, {0, 1, 0},

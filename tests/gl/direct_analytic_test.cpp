@@ -50,7 +50,8 @@ TEST(DirectAnalytic, PointLightInverseSquare) {
   ASSERT_EQ(image.width, 64);
   ViewCamera camera;
   camera.position = {0.0f, 0.8f, 0.0f};
-  camera.rotation = glm::quat_cast(glm::mat3(glm::vec3(1, 0, 0), glm::vec3(0, 0, -1), glm::vec3(0, 1, 0)));
+  camera.rotation =
+      glm::quat_cast(glm::mat3(glm::vec3(1, 0, 0), glm::vec3(0, 0, -1), glm::vec3(0, 1, 0)));
   camera.yfov = 1.6f;
   camera.width = camera.height = 64;
   for (const glm::ivec2 px : {glm::ivec2(32, 32), glm::ivec2(10, 32), glm::ivec2(50, 12),
@@ -120,7 +121,8 @@ TEST(DirectAnalytic, FurnaceCornerIsExact) {
   const float exact = 1.0f + 128.0f / 255.0f;
   int close = 0;
   for (int y = 0; y < image.height; ++y) {
-    for (int x = 0; x < image.width; ++x) close += std::abs(image.at(x, y).g - exact) <= 1e-3f * exact;
+    for (int x = 0; x < image.width; ++x)
+      close += std::abs(image.at(x, y).g - exact) <= 1e-3f * exact;
   }
   EXPECT_GE(close, int(0.98 * 32 * 32));
   EXPECT_NEAR(testing::ImageMean(image).g, exact, 1e-3 * exact);

@@ -22,9 +22,8 @@ struct Rendered {
 // `budget_ms`: the frame budget; 10 s draws every stale map in one slice.
 Rendered RenderDirect(const std::string& scene, std::vector<Update> updates = {},
                       double budget_ms = 10'000.0) {
-  RenderRequest request =
-      testing::SolverRequest(scene, "direct", {{"area_samples", "16"}, {"shadow_res", "64"}}, 32,
-                             std::move(updates));
+  RenderRequest request = testing::SolverRequest(
+      scene, "direct", {{"area_samples", "16"}, {"shadow_res", "64"}}, 32, std::move(updates));
   request.frame_budget_ms = budget_ms;
   Rendered out;
   out.image = testing::RenderRequestExr(request, &out.frame);
@@ -120,8 +119,8 @@ TEST(DirectIncremental, AChangeWhileASlicedRedrawRunsStillEndsConsistent) {
     return -1.0;
   };
   ASSERT_NE(sink->WaitFor([&](const EncodedFrame& f) {
-              return f.last_update_seq >= 1 && stat(f, "shadow_maps_pending") == 1.0;
-            }),
+    return f.last_update_seq >= 1 && stat(f, "shadow_maps_pending") == 1.0;
+  }),
             nullptr);
   ASSERT_TRUE(testing::SharedEngine().PushUpdate(opened->id, Emission(17.0f, 2)).ok());
   auto done = sink->WaitFor([&](const EncodedFrame& f) {

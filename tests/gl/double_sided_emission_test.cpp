@@ -56,9 +56,9 @@ class DoubleSidedEmission : public ::testing::Test {
     const int lamp = b.AddMaterial("lamp", {0, 0, 0}, {1, 1, 1});
     b.SetDoubleSided(lamp);
     const int grey = b.AddMaterial("grey", {kAlbedo, kAlbedo, kAlbedo});
-    b.AddQuad("lamp", {0, 0, 0}, {0, 0, 0.5f}, {0.5f, 0, 0}, lamp, 2);   // faces +Y
-    b.AddQuad("top", {0, 0.5f, 0}, {2, 0, 0}, {0, 0, 2}, grey, 8);       // faces -Y
-    b.AddQuad("bottom", {0, -0.5f, 0}, {0, 0, 2}, {2, 0, 0}, grey, 8);   // faces +Y
+    b.AddQuad("lamp", {0, 0, 0}, {0, 0, 0.5f}, {0.5f, 0, 0}, lamp, 2);  // faces +Y
+    b.AddQuad("top", {0, 0.5f, 0}, {2, 0, 0}, {0, 0, 2}, grey, 8);      // faces -Y
+    b.AddQuad("bottom", {0, -0.5f, 0}, {0, 0, 2}, {2, 0, 0}, grey, 8);  // faces +Y
     b.AddCamera("camera", {0, 0.25f, 0}, {0, 1, 0}, {0, 0, 1}, 0.17453f);
     auto info = testing::SharedEngine().LoadScene(testing::SceneFromBytes(b.ToJson()));
     ASSERT_TRUE(info.ok()) << info.status();
@@ -142,8 +142,8 @@ TEST_P(DoubleSidedEmissionGi, BothPlanesAlike) {
     EXPECT_GE(v, 0.97 * expected) << solver;
     EXPECT_LE(v, 1.08 * expected) << solver;
   }
-  EXPECT_NEAR(top, bottom, 0.05 * std::max(top, bottom)) << solver << " top " << top
-                                                         << " bottom " << bottom;
+  EXPECT_NEAR(top, bottom, 0.05 * std::max(top, bottom))
+      << solver << " top " << top << " bottom " << bottom;
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, DoubleSidedEmissionGi,

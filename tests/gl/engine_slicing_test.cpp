@@ -19,8 +19,8 @@ using testing::FrameStat;
 using testing::SharedEngine;
 
 RenderRequest PathtraceRequest(const std::string& scene, int spp, double budget_ms) {
-  RenderRequest request = testing::SolverRequest(
-      scene, "pathtrace", {{"spp", std::to_string(spp)}, {"seed", "3"}}, 24);
+  RenderRequest request =
+      testing::SolverRequest(scene, "pathtrace", {{"spp", std::to_string(spp)}, {"seed", "3"}}, 24);
   request.encoding.format = ImageFormat::kExr;
   request.frame_budget_ms = budget_ms;
   return request;
@@ -54,11 +54,13 @@ TEST(EngineSlicing, ASplitPathtraceFrameEqualsAnUnsplitOne) {
 TEST(EngineSlicing, ASplitAvgRemapEqualsAnUnsplitOne) {
   const BundledCopy split_scene("cornell_box.gltf"), whole_scene("cornell_box.gltf");
   auto request = [](const std::string& scene, double budget_ms) {
-    RenderRequest r = testing::SolverRequest(
-        scene, "avg",
-        {{"vpls", "48"}, {"grid", "16"}, {"shadow_res", "16"}, {"area_samples", "4"},
-         {"direct_shadow_res", "32"}},
-        24);
+    RenderRequest r = testing::SolverRequest(scene, "avg",
+                                             {{"vpls", "48"},
+                                              {"grid", "16"},
+                                              {"shadow_res", "16"},
+                                              {"area_samples", "4"},
+                                              {"direct_shadow_res", "32"}},
+                                             24);
     r.encoding.format = ImageFormat::kExr;
     r.frame_budget_ms = budget_ms;
     return r;
@@ -70,8 +72,8 @@ TEST(EngineSlicing, ASplitAvgRemapEqualsAnUnsplitOne) {
   ASSERT_TRUE(whole.ok()) << whole.status();
   const double vpls = FrameStat(*whole, "vpls");
   ASSERT_GT(vpls, 1.0);
-  EXPECT_EQ(FrameStat(*whole, "vpl_maps_redrawn"), vpls);   // one slice drew all
-  EXPECT_LT(FrameStat(*split, "vpl_maps_redrawn"), vpls);   // the last of several
+  EXPECT_EQ(FrameStat(*whole, "vpl_maps_redrawn"), vpls);  // one slice drew all
+  EXPECT_LT(FrameStat(*split, "vpl_maps_redrawn"), vpls);  // the last of several
   EXPECT_EQ(FrameStat(*split, "vpl_maps_pending"), 0.0);
   EXPECT_EQ(FrameStat(*split, "vpls"), vpls);
   // Same VPLs, same maps layer by layer: the same pixels.
@@ -88,11 +90,13 @@ TEST(EngineSlicing, ASplitShProbesUpdateConvergesToAnUnsplitOne) {
   const BundledCopy split_scene("cornell_box.gltf"), whole_scene("cornell_box.gltf"),
       fresh_scene("cornell_box.gltf");
   auto request = [](const std::string& scene, double budget_ms, std::vector<Update> updates) {
-    RenderRequest r = testing::SolverRequest(
-        scene, "sh_probes",
-        {{"grid", "4"}, {"face_size", "8"}, {"area_samples", "4"}, {"shadow_res", "32"},
-         {"tolerance", "0.001"}},
-        24, std::move(updates));
+    RenderRequest r = testing::SolverRequest(scene, "sh_probes",
+                                             {{"grid", "4"},
+                                              {"face_size", "8"},
+                                              {"area_samples", "4"},
+                                              {"shadow_res", "32"},
+                                              {"tolerance", "0.001"}},
+                                             24, std::move(updates));
     r.frame_budget_ms = budget_ms;
     return r;
   };
@@ -193,8 +197,8 @@ TEST(EngineSlicing, PathtraceKeepsABoundedNumberOfViews) {
   for (int i = 0; i < 6; ++i) {
     RenderRequest request = PathtraceRequest(scene.id(), 1, 0.0);
     CameraUpdate camera;
-    camera.look_at = LookAt{{0.2f + 0.05f * float(i), 0.3f, -0.8f}, {0.28f, 0.27f, 0.28f},
-                            {0.0f, 1.0f, 0.0f}};
+    camera.look_at =
+        LookAt{{0.2f + 0.05f * float(i), 0.3f, -0.8f}, {0.28f, 0.27f, 0.28f}, {0.0f, 1.0f, 0.0f}};
     request.camera = camera;
     auto frame = SharedEngine().Render(request);
     ASSERT_TRUE(frame.ok()) << frame.status();

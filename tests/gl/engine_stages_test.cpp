@@ -53,8 +53,8 @@ TEST_F(EngineStagesTest, CameraOnlyChangeSkipsShadowMaps) {
   // First frame: everything runs.
   auto first = Frame(id, *sink);
   ASSERT_TRUE(first);
-  for (const char* stage : {"apply_updates", "shadow_maps", "gbuffer", "shade", "tonemap",
-                            "readback", "encode"}) {
+  for (const char* stage :
+       {"apply_updates", "shadow_maps", "gbuffer", "shade", "tonemap", "readback", "encode"}) {
     const StageTiming* t = FindStage(*first, stage);
     ASSERT_NE(t, nullptr) << stage;
     EXPECT_FALSE(t->skipped) << stage;
@@ -123,7 +123,8 @@ TEST(EngineSolverCache, IdleSolversBeyondTheCapAreDropped) {
     EncodedFrame frame;
     testing::RenderRequestExr(
         testing::SolverRequest(scene.id(), "direct",
-                               {{"area_samples", std::to_string(samples)}, {"shadow_res", "16"}}, 8),
+                               {{"area_samples", std::to_string(samples)}, {"shadow_res", "16"}},
+                               8),
         &frame);
     cached = testing::FrameStat(frame, "cached_solvers");
     EXPECT_LE(cached, 8.0) << samples;
@@ -132,7 +133,8 @@ TEST(EngineSolverCache, IdleSolversBeyondTheCapAreDropped) {
   // The most recent one is still cached: rendering it again skips its shadow maps.
   EncodedFrame again;
   testing::RenderRequestExr(
-      testing::SolverRequest(scene.id(), "direct", {{"area_samples", "12"}, {"shadow_res", "16"}}, 8),
+      testing::SolverRequest(scene.id(), "direct", {{"area_samples", "12"}, {"shadow_res", "16"}},
+                             8),
       &again);
   EXPECT_TRUE(testing::StageSkipped(again, "shadow_maps"));
 }

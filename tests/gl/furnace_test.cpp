@@ -45,13 +45,13 @@ TEST_P(Furnace, ConvergesToTheExactRadiance) {
   const double exact = one_bounce ? 1.0 + rho : 1.0 / (1.0 - rho);
   const BundledCopy scene("furnace.gltf");
   EncodedFrame frame;
-  const FloatImage image =
-      RenderRequestExr(SolverRequest(scene.id(), c.solver, c.params, 16, {{1, GreyAlbedo(c.rho)}}), &frame);
+  const FloatImage image = RenderRequestExr(
+      SolverRequest(scene.id(), c.solver, c.params, 16, {{1, GreyAlbedo(c.rho)}}), &frame);
   ASSERT_EQ(image.width, 16);
   EXPECT_EQ(image.non_finite(), 0u);
   const double mean = ImageMean(image).g;
-  std::printf("furnace %s rho %.2f: mean %.4f exact %.4f error %+.2f %%\n", c.solver, rho, mean, exact,
-              100.0 * (mean - exact) / exact);
+  std::printf("furnace %s rho %.2f: mean %.4f exact %.4f error %+.2f %%\n", c.solver, rho, mean,
+              exact, 100.0 * (mean - exact) / exact);
   EXPECT_NEAR(mean, exact, c.tolerance * exact);
   EXPECT_NEAR(ImageMean(image).r, mean, 1e-6 * exact);  // grey stays grey
 }
@@ -68,49 +68,51 @@ const std::map<std::string, std::string> kShProbes = {
 // avg: the most VPLs, and roulette paths capped only far out.
 const std::map<std::string, std::string> kAvg = {{"vpls", "2048"}, {"bounces", "1024"}};
 
-INSTANTIATE_TEST_SUITE_P(
-    EverySolver, Furnace,
-    ::testing::Values(
-        // direct: the exact polygon term times the samples' visibility
-        // ratio (render/direct_light.glsl) gives pi inside the closed box;
-        // 0.3 %: the G-buffer's 8-bit albedo (0.9 is shaded as 230/255,
-        // +0.2 %) and the few pixels a shadow lookup falsely occludes.
-        FurnaceCase{"direct", 0.5f, {}, 0.003}, FurnaceCase{"direct", 0.9f, {}, 0.003},
-        FurnaceCase{"direct", 0.99f, {}, 0.003},
-        // pathtrace: 16,384 paths (64 spp x 256 pixels) with Russian
-        // roulette; the per-path standard deviation is about L, so the
-        // standard error is ~0.8 % of L; 2 % is more than two of them
-        // (measured -0.1, -0.4, +0.1 %).
-        FurnaceCase{"pathtrace", 0.5f, {{"spp", "64"}}, 0.02},
-        FurnaceCase{"pathtrace", 0.9f, {{"spp", "64"}}, 0.02},
-        FurnaceCase{"pathtrace", 0.99f, {{"spp", "64"}}, 0.03},
-        // sh_probes: measured +0.1, -0.3, -3.1 %; the tail's ratio is capped
-        // at 0.99 (tail_estimate.h), which is what is left at 0.99.
-        FurnaceCase{"sh_probes", 0.5f, kShProbes, 0.01}, FurnaceCase{"sh_probes", 0.9f, kShProbes, 0.01},
-        FurnaceCase{"sh_probes", 0.99f, kShProbes, 0.05},
-        // implicit_visibility: measured +0.2, +0.1, -1.1 %. Each bounce
-        // gathers 99.99 % of what a closed box sends (bins that meet an
-        // element's disc count as covered, refine_push.cpp; it was 99.54 %,
-        // -36 % at 0.99), and 1 / (1 - rho k) multiplies what is left.
-        FurnaceCase{"implicit_visibility", 0.5f, kIterated, 0.01},
-        FurnaceCase{"implicit_visibility", 0.9f, kIterated, 0.01},
-        FurnaceCase{"implicit_visibility", 0.99f, kIterated, 0.03},
-        // antiradiance: measured -1.2, -19, -74 %. NOT the target: the
-        // leaf-centre collocation of Eq. 17 transports about 98 % per
-        // iteration (ARCHITECTURE.md, antiradiance).
-        FurnaceCase{"antiradiance", 0.5f, kAntiradiance, 0.02},
-        FurnaceCase{"antiradiance", 0.9f, kAntiradiance, 0.21},
-        FurnaceCase{"antiradiance", 0.99f, kAntiradiance, 0.76},
-        // avg: VPL paths end by roulette only; what is left is noise in
-        // the number of paths (2048 VPLs are ~1000, ~200 and ~20 paths at
-        // 0.5, 0.9, 0.99): measured -0.4, -1.5, -32 %. At 0.99 the VPL
-        // budget holds too few paths to converge.
-        FurnaceCase{"avg", 0.5f, kAvg, 0.02}, FurnaceCase{"avg", 0.9f, kAvg, 0.03},
-        FurnaceCase{"avg", 0.99f, kAvg, 0.35}),
-    [](const ::testing::TestParamInfo<FurnaceCase>& p) {
-      return std::string(p.param.solver) + "_rho" +
-             std::to_string(int(std::lround(double(p.param.rho) * 100.0)));
-    });
+INSTANTIATE_TEST_SUITE_P(EverySolver, Furnace,
+                         ::testing::Values(
+                             // direct: the exact polygon term times the samples' visibility
+                             // ratio (render/direct_light.glsl) gives pi inside the closed box;
+                             // 0.3 %: the G-buffer's 8-bit albedo (0.9 is shaded as 230/255,
+                             // +0.2 %) and the few pixels a shadow lookup falsely occludes.
+                             FurnaceCase{"direct", 0.5f, {}, 0.003},
+                             FurnaceCase{"direct", 0.9f, {}, 0.003},
+                             FurnaceCase{"direct", 0.99f, {}, 0.003},
+                             // pathtrace: 16,384 paths (64 spp x 256 pixels) with Russian
+                             // roulette; the per-path standard deviation is about L, so the
+                             // standard error is ~0.8 % of L; 2 % is more than two of them
+                             // (measured -0.1, -0.4, +0.1 %).
+                             FurnaceCase{"pathtrace", 0.5f, {{"spp", "64"}}, 0.02},
+                             FurnaceCase{"pathtrace", 0.9f, {{"spp", "64"}}, 0.02},
+                             FurnaceCase{"pathtrace", 0.99f, {{"spp", "64"}}, 0.03},
+                             // sh_probes: measured +0.1, -0.3, -3.1 %; the tail's ratio is capped
+                             // at 0.99 (tail_estimate.h), which is what is left at 0.99.
+                             FurnaceCase{"sh_probes", 0.5f, kShProbes, 0.01},
+                             FurnaceCase{"sh_probes", 0.9f, kShProbes, 0.01},
+                             FurnaceCase{"sh_probes", 0.99f, kShProbes, 0.05},
+                             // implicit_visibility: measured +0.2, +0.1, -1.1 %. Each bounce
+                             // gathers 99.99 % of what a closed box sends (bins that meet an
+                             // element's disc count as covered, refine_push.cpp; it was 99.54 %,
+                             // -36 % at 0.99), and 1 / (1 - rho k) multiplies what is left.
+                             FurnaceCase{"implicit_visibility", 0.5f, kIterated, 0.01},
+                             FurnaceCase{"implicit_visibility", 0.9f, kIterated, 0.01},
+                             FurnaceCase{"implicit_visibility", 0.99f, kIterated, 0.03},
+                             // antiradiance: measured -1.2, -19, -74 %. NOT the target: the
+                             // leaf-centre collocation of Eq. 17 transports about 98 % per
+                             // iteration (ARCHITECTURE.md, antiradiance).
+                             FurnaceCase{"antiradiance", 0.5f, kAntiradiance, 0.02},
+                             FurnaceCase{"antiradiance", 0.9f, kAntiradiance, 0.21},
+                             FurnaceCase{"antiradiance", 0.99f, kAntiradiance, 0.76},
+                             // avg: VPL paths end by roulette only; what is left is noise in
+                             // the number of paths (2048 VPLs are ~1000, ~200 and ~20 paths at
+                             // 0.5, 0.9, 0.99): measured -0.4, -1.5, -32 %. At 0.99 the VPL
+                             // budget holds too few paths to converge.
+                             FurnaceCase{"avg", 0.5f, kAvg, 0.02},
+                             FurnaceCase{"avg", 0.9f, kAvg, 0.03},
+                             FurnaceCase{"avg", 0.99f, kAvg, 0.35}),
+                         [](const ::testing::TestParamInfo<FurnaceCase>& p) {
+                           return std::string(p.param.solver) + "_rho" +
+                                  std::to_string(int(std::lround(double(p.param.rho) * 100.0)));
+                         });
 
 }  // namespace
 }  // namespace gistream

@@ -28,8 +28,10 @@ TEST(GlDebug, AnInvalidCallIsCountedAsAnError) {
 }
 
 TEST(GlDriverQuirks, LlvmpipeFlushesAfterEachStageHardwareDoesNot) {
-  EXPECT_TRUE(gl::DriverQuirks::Detect("llvmpipe (LLVM 15.0.6, 256 bits)", "Mesa").flush_after_gpu_stage);
-  EXPECT_FALSE(gl::DriverQuirks::Detect("NVIDIA H200/PCIe/SSE2", "NVIDIA Corporation").flush_after_gpu_stage);
+  EXPECT_TRUE(
+      gl::DriverQuirks::Detect("llvmpipe (LLVM 15.0.6, 256 bits)", "Mesa").flush_after_gpu_stage);
+  EXPECT_FALSE(gl::DriverQuirks::Detect("NVIDIA H200/PCIe/SSE2", "NVIDIA Corporation")
+                   .flush_after_gpu_stage);
 }
 
 TEST(GlDriverQuirks, MakeCurrentDetectsTheContextsDriver) {
@@ -38,7 +40,8 @@ TEST(GlDriverQuirks, MakeCurrentDetectsTheContextsDriver) {
   ASSERT_TRUE((*context)->MakeCurrent().ok());
   const std::string renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   EXPECT_EQ(gl::CurrentQuirks().flush_after_gpu_stage,
-            renderer.find("llvmpipe") != std::string::npos) << renderer;
+            renderer.find("llvmpipe") != std::string::npos)
+      << renderer;
   (*context)->ReleaseCurrent();
 }
 

@@ -18,9 +18,9 @@ using testing::BundledCopy;
 using testing::FloatImage;
 using testing::FrameStage;
 using testing::FrameStat;
+using testing::GreyAlbedo;
 using testing::ImageMean;
 using testing::RelMse;
-using testing::GreyAlbedo;
 using testing::RenderRequestExr;
 using testing::SolverRequest;
 
@@ -41,8 +41,8 @@ TEST(ImplicitVisibility, StiffFurnaceStaysFiniteAndMonotone) {
     EncodedFrame frame;
     const FloatImage image = RenderRequestExr(
         Request(scene.id(),
-                {{"bounces", std::to_string(bounces)}, {"tolerance", "0"}, {"bins_per_face", "8"}}, 16,
-                {{1, GreyAlbedo(0.99f)}}),
+                {{"bounces", std::to_string(bounces)}, {"tolerance", "0"}, {"bins_per_face", "8"}},
+                16, {{1, GreyAlbedo(0.99f)}}),
         &frame);
     EXPECT_EQ(image.non_finite(), 0u);
     const double mean = ImageMean(image).g;
@@ -52,7 +52,8 @@ TEST(ImplicitVisibility, StiffFurnaceStaysFiniteAndMonotone) {
     const double residual = FrameStat(frame, "residual");
     EXPECT_GT(residual, 0.0);
     EXPECT_LT(residual, 1.0);
-    std::cout << "rho 0.99 bounces " << bounces << " mean " << mean << " residual " << residual << "\n";
+    std::cout << "rho 0.99 bounces " << bounces << " mean " << mean << " residual " << residual
+              << "\n";
     previous = mean;
   }
 }
@@ -70,8 +71,9 @@ TEST(ImplicitVisibility, HierarchicalMatchesBruteForce) {
   EXPECT_EQ(hier.non_finite(), 0u);
   EXPECT_EQ(brute.non_finite(), 0u);
   const double error = RelMse(hier, brute);
-  std::cout << "hier vs brute relMSE " << error << " offered " << FrameStat(hier_frame, "links_offered")
-            << " vs " << FrameStat(brute_frame, "links_offered") << "\n";
+  std::cout << "hier vs brute relMSE " << error << " offered "
+            << FrameStat(hier_frame, "links_offered") << " vs "
+            << FrameStat(brute_frame, "links_offered") << "\n";
   EXPECT_LT(error, 0.005);
   EXPECT_LT(FrameStat(hier_frame, "links_offered"), FrameStat(brute_frame, "links_offered"));
 }
@@ -153,7 +155,8 @@ TEST(ImplicitVisibility, TooManyBinsAreRejectedNamingTheParameter) {
   auto frame = testing::SharedEngine().Render(Request(scene.id(), {{"bins_per_face", "33"}}, 8));
   ASSERT_FALSE(frame.ok());
   EXPECT_EQ(frame.status().code(), absl::StatusCode::kInvalidArgument);
-  EXPECT_NE(frame.status().message().find("params.bins_per_face"), std::string::npos) << frame.status();
+  EXPECT_NE(frame.status().message().find("params.bins_per_face"), std::string::npos)
+      << frame.status();
 }
 
 TEST(ImplicitVisibility, EnvironmentThroughEmptyBins) {
@@ -176,7 +179,8 @@ TEST(ImplicitVisibility, EnvironmentThroughEmptyBins) {
   auto info = testing::SharedEngine().LoadScene(source);
   ASSERT_TRUE(info.ok()) << info.status();
   EncodedFrame frame;
-  const FloatImage image = RenderRequestExr(Request(info->id, {{"bins_per_face", "8"}}, 16), &frame);
+  const FloatImage image =
+      RenderRequestExr(Request(info->id, {{"bins_per_face", "8"}}, 16), &frame);
   EXPECT_EQ(image.non_finite(), 0u);
   EXPECT_NEAR(ImageMean(image).g, 2.0 * albedo, 0.01);
   EXPECT_GT(FrameStat(frame, "empty_bins"), 0.0);

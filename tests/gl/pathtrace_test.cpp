@@ -23,7 +23,9 @@ constexpr float kPi = 3.14159265358979f;
 using testing::BundledCopy;
 using testing::FrameStage;
 
-double Stat(const EncodedFrame& frame, const std::string& name) { return testing::FrameStat(frame, name); }
+double Stat(const EncodedFrame& frame, const std::string& name) {
+  return testing::FrameStat(frame, name);
+}
 glm::dvec3 Mean(const FloatImage& image) { return testing::ImageMean(image); }
 
 // The view of a scene camera made by GltfBuilder::AddCamera looking down
@@ -64,7 +66,6 @@ FloatImage Render(const std::string& scene, std::map<std::string, std::string> p
   if (frame) *frame = *result;
   return testing::DecodeExr(*result);
 }
-
 
 TEST(Pathtrace, EmissionChangeKeepsTheBvh) {
   // Doubling the emission doubles L (4 at rho = 0.5): the emitter table is
@@ -110,8 +111,8 @@ TEST(Pathtrace, PointLightOverPlane) {
   ASSERT_EQ(image.width, 32);
   const ViewCamera camera = LookingDown({0.0f, 1.0f, 0.0f}, 1.2f, 32);
   const glm::mat4 inv = glm::inverse(camera.Projection() * camera.View());
-  for (const glm::ivec2 px : {glm::ivec2(16, 16), glm::ivec2(3, 16), glm::ivec2(28, 4),
-                              glm::ivec2(6, 27)}) {
+  for (const glm::ivec2 px :
+       {glm::ivec2(16, 16), glm::ivec2(3, 16), glm::ivec2(28, 4), glm::ivec2(6, 27)}) {
     const glm::vec2 ndc((float(px.x) + 0.5f) / 32.0f * 2.0f - 1.0f,
                         1.0f - (float(px.y) + 0.5f) / 32.0f * 2.0f);
     const glm::vec4 far = inv * glm::vec4(ndc, 0.5f, 1.0f);

@@ -14,13 +14,13 @@
 namespace gistream {
 namespace {
 
+using testing::BundledCopy;
 using testing::FloatImage;
 using testing::FrameStage;
 using testing::FrameStat;
-using testing::ImageMean;
-using testing::BundledCopy;
-using testing::RelMse;
 using testing::GreyAlbedo;
+using testing::ImageMean;
+using testing::RelMse;
 using testing::RenderRequestExr;
 using testing::SolverRequest;
 
@@ -47,8 +47,9 @@ TEST(ShProbes, ToleranceStopsBouncingAndReportsTheChange) {
   const BundledCopy scene("furnace.gltf");
   const std::string& id = scene.id();
   EncodedFrame frame;
-  RenderRequestExr(SolverRequest(id, "sh_probes", {{"grid", "4"}, {"bounces", "64"}, {"tolerance", "0.02"}}, 16),
-                   &frame);
+  RenderRequestExr(
+      SolverRequest(id, "sh_probes", {{"grid", "4"}, {"bounces", "64"}, {"tolerance", "0.02"}}, 16),
+      &frame);
   // Bounce k adds about rho^k of the total (rho = 0.5): the change falls
   // under 2 % after a handful of bounces, far before 64.
   const double bounces = FrameStat(frame, "bounces_run");
@@ -65,16 +66,19 @@ TEST(ShProbes, GeometricTailOnAStiffFurnace) {
   // measured, not the direct term's estimate of the walls' irradiance.
   const BundledCopy scene("furnace.gltf");
   const std::string& id = scene.id();
-  const std::map<std::string, std::string> four = {{"grid", "4"}, {"bounces", "4"}, {"tolerance", "0"}};
+  const std::map<std::string, std::string> four = {
+      {"grid", "4"}, {"bounces", "4"}, {"tolerance", "0"}};
   EncodedFrame plain_frame, tail_frame;
-  const FloatImage plain =
-      RenderRequestExr(SolverRequest(id, "sh_probes", four, 16, {{1, GreyAlbedo(0.9f)}}), &plain_frame);
+  const FloatImage plain = RenderRequestExr(
+      SolverRequest(id, "sh_probes", four, 16, {{1, GreyAlbedo(0.9f)}}), &plain_frame);
   auto with_tail = four;
   with_tail["tail_estimate"] = "true";
-  const FloatImage tail = RenderRequestExr(SolverRequest(id, "sh_probes", with_tail, 16), &tail_frame);
+  const FloatImage tail =
+      RenderRequestExr(SolverRequest(id, "sh_probes", with_tail, 16), &tail_frame);
   auto converged_params = four;
   converged_params["bounces"] = "64";
-  const FloatImage converged = RenderRequestExr(SolverRequest(id, "sh_probes", converged_params, 16));
+  const FloatImage converged =
+      RenderRequestExr(SolverRequest(id, "sh_probes", converged_params, 16));
   const double fixed_point = ImageMean(converged).g;
   EXPECT_NEAR(fixed_point, 10.0, 1.0);  // L = E / (1 - rho), within the direct term's 10 %
   const double plain_error = std::abs(ImageMean(plain).g - fixed_point);
@@ -114,10 +118,11 @@ TEST_P(ShProbesStiffTail, BoundedMonotoneAndNotAboveTheExactValue) {
     ASSERT_EQ(image.width, 16);
     EXPECT_EQ(image.non_finite(), 0u);
     const double mean = ImageMean(image).g;
-    std::printf("sh_probes rho %.3f bounces %s: mean %.3f exact %.3f tail_ratio %.5f spread %.4f "
-                "applied %.0f\n",
-                double(rho), bounces, mean, exact, FrameStat(frame, "tail_ratio"),
-                FrameStat(frame, "tail_ratio_spread"), FrameStat(frame, "tail_applied"));
+    std::printf(
+        "sh_probes rho %.3f bounces %s: mean %.3f exact %.3f tail_ratio %.5f spread %.4f "
+        "applied %.0f\n",
+        double(rho), bounces, mean, exact, FrameStat(frame, "tail_ratio"),
+        FrameStat(frame, "tail_ratio_spread"), FrameStat(frame, "tail_applied"));
     EXPECT_LE(mean, 1.01 * exact) << bounces << " bounces";
     EXPECT_LE(FrameStat(frame, "tail_ratio"), 0.99);
     // The probes keep the albedo in half floats: the measured bounce ratio
@@ -150,7 +155,8 @@ TEST(ShProbes, InvalidProbesInsideTheBlocks) {
   // see back faces and are marked invalid; the image stays finite.
   const BundledCopy scene("cornell_box.gltf");
   EncodedFrame frame;
-  const FloatImage image = RenderRequestExr(SolverRequest(scene.id(), "sh_probes", {{"grid", "8"}}, 32), &frame);
+  const FloatImage image =
+      RenderRequestExr(SolverRequest(scene.id(), "sh_probes", {{"grid", "8"}}, 32), &frame);
   EXPECT_EQ(image.non_finite(), 0u);
   EXPECT_GT(FrameStat(frame, "probes_invalid"), 0.0);
   EXPECT_LT(FrameStat(frame, "probes_invalid"), 0.25 * FrameStat(frame, "probes"));
@@ -171,7 +177,8 @@ TEST(ShProbes, StagePlanFollowsTheChange) {
     EXPECT_FALSE(StageSkipped(f.light_only, s)) << "light-only " << s;
   }
   // Camera only: every GI stage skipped, only final runs.
-  for (const std::string& s : gi) EXPECT_TRUE(StageSkipped(f.camera_only, s)) << "camera-only " << s;
+  for (const std::string& s : gi)
+    EXPECT_TRUE(StageSkipped(f.camera_only, s)) << "camera-only " << s;
   EXPECT_FALSE(StageSkipped(f.camera_only, "final"));
   // Geometry: everything again.
   for (const std::string& s : gi) EXPECT_FALSE(StageSkipped(f.geometry, s)) << "geometry " << s;
@@ -179,7 +186,8 @@ TEST(ShProbes, StagePlanFollowsTheChange) {
 
 TEST(ShProbes, GridOverBudgetIsResourceExhaustedNamingTheParameters) {
   const BundledCopy scene("cornell_box.gltf");
-  RenderRequest r = SolverRequest(scene.id(), "sh_probes", {{"grid", "32"}, {"face_size", "64"}}, 8);
+  RenderRequest r =
+      SolverRequest(scene.id(), "sh_probes", {{"grid", "32"}, {"face_size", "64"}}, 8);
   auto frame = testing::SharedEngine().Render(r);
   ASSERT_FALSE(frame.ok());
   EXPECT_EQ(frame.status().code(), absl::StatusCode::kResourceExhausted);

@@ -22,9 +22,13 @@ using testing::BundledCopy;
 std::map<std::string, std::string> CheapParams(const std::string& solver) {
   if (solver == "direct") return {{"area_samples", "4"}, {"shadow_res", "32"}};
   if (solver == "pathtrace") return {{"spp", "1"}};
-  if (solver == "sh_probes") return {{"grid", "3"}, {"face_size", "4"}, {"area_samples", "4"}, {"shadow_res", "32"}};
+  if (solver == "sh_probes")
+    return {{"grid", "3"}, {"face_size", "4"}, {"area_samples", "4"}, {"shadow_res", "32"}};
   if (solver == "avg")
-    return {{"vpls", "32"}, {"grid", "8"}, {"shadow_res", "8"}, {"area_samples", "4"},
+    return {{"vpls", "32"},
+            {"grid", "8"},
+            {"shadow_res", "8"},
+            {"area_samples", "4"},
             {"direct_shadow_res", "32"}};
   if (solver == "implicit_visibility")
     return {{"bins_per_face", "2"}, {"area_samples", "4"}, {"shadow_res", "32"}};
@@ -77,8 +81,8 @@ TEST_P(StagePlan, StagesThatRunAreThePlannedOnes) {
 
   const BundledCopy scene("dynamic_block.gltf");
   for (const Step& step : Steps()) {
-    RenderRequest request = testing::SolverRequest(scene.id(), solver, CheapParams(solver), 16,
-                                                   step.updates);
+    RenderRequest request =
+        testing::SolverRequest(scene.id(), solver, CheapParams(solver), 16, step.updates);
     // The camera step looks from elsewhere; the others from the default.
     if (step.camera) request.camera = step.camera;
     EncodedFrame frame;
@@ -97,7 +101,8 @@ TEST_P(StagePlan, StagesThatRunAreThePlannedOnes) {
       EXPECT_EQ(planned, std::set<std::string>(table.begin(), table.end())) << solver;
     } else {
       // No change needs more than the first frame did.
-      EXPECT_TRUE(std::includes(first_plan.begin(), first_plan.end(), planned.begin(), planned.end()))
+      EXPECT_TRUE(
+          std::includes(first_plan.begin(), first_plan.end(), planned.begin(), planned.end()))
           << solver << ", " << step.name;
     }
   }

@@ -68,8 +68,10 @@ class VideoFramesTest : public ::testing::Test {
 TEST_F(VideoFramesTest, H264DecodesCloseToThePngOfTheSameFrame) {
   auto h264_sink = std::make_shared<QueueSink>();
   auto png_sink = std::make_shared<QueueSink>();
-  auto h264 = SharedEngine().OpenSession(Config(scene_.id(), ImageFormat::kH264, Pacing::kOnRequest), h264_sink);
-  auto png = SharedEngine().OpenSession(Config(scene_.id(), ImageFormat::kPng, Pacing::kOnRequest), png_sink);
+  auto h264 = SharedEngine().OpenSession(
+      Config(scene_.id(), ImageFormat::kH264, Pacing::kOnRequest), h264_sink);
+  auto png = SharedEngine().OpenSession(Config(scene_.id(), ImageFormat::kPng, Pacing::kOnRequest),
+                                        png_sink);
   ASSERT_TRUE(h264.ok()) << h264.status();
   ASSERT_TRUE(png.ok()) << png.status();
   auto video_frame = Request(h264->id, *h264_sink);
@@ -93,15 +95,16 @@ TEST_F(VideoFramesTest, H264DecodesCloseToThePngOfTheSameFrame) {
   const double psnr = Psnr(decoded->rgba, reference->rgba);
   EXPECT_GE(psnr, 30.0);
   ::testing::Test::RecordProperty("h264_psnr_db", std::to_string(psnr));
-  std::cout << "H.264 vs PNG: " << psnr << " dB PSNR, " << video_frame->image.size()
-            << " bytes vs " << png_frame->image.size() << " bytes\n";
+  std::cout << "H.264 vs PNG: " << psnr << " dB PSNR, " << video_frame->image.size() << " bytes vs "
+            << png_frame->image.size() << " bytes\n";
   SharedEngine().CloseSession(h264->id);
   SharedEngine().CloseSession(png->id);
 }
 
 TEST_F(VideoFramesTest, AStillSceneSendsNoRepeatedImagesAndKeyFramesComeOnRequest) {
   auto sink = std::make_shared<QueueSink>();
-  auto session = SharedEngine().OpenSession(Config(scene_.id(), ImageFormat::kH264, Pacing::kOnRequest), sink);
+  auto session =
+      SharedEngine().OpenSession(Config(scene_.id(), ImageFormat::kH264, Pacing::kOnRequest), sink);
   ASSERT_TRUE(session.ok()) << session.status();
   auto decoder = VideoDecoder::Open(VideoCodec::kH264);
   ASSERT_TRUE(decoder.ok());

@@ -28,7 +28,9 @@ TEST(FiniteFrames, ToneMapCountsNonFinitePixels) {
     constexpr uint32_t kSize = 8;
     ASSERT_TRUE(gbuffer.Resize(kSize, kSize).ok());
     std::vector<float> hdr(kSize * kSize * 4, 0.5f);
-    const auto set = [&](int pixel, int channel, float v) { hdr[size_t(pixel) * 4 + size_t(channel)] = v; };
+    const auto set = [&](int pixel, int channel, float v) {
+      hdr[size_t(pixel) * 4 + size_t(channel)] = v;
+    };
 
     // Finite, including the largest float (which the exposure pushes to
     // +Inf only after the count): nothing counted.

@@ -212,7 +212,8 @@ TEST(GpuFaults, OverTheWireTheSessionEndsUnavailableAndTheServerGoesOn) {
     }
     const grpc::Status status = stream->Finish();
     EXPECT_EQ(status.error_code(), grpc::StatusCode::UNAVAILABLE) << status.error_message();
-    EXPECT_NE(status.error_message().find("GPU reset"), std::string::npos) << status.error_message();
+    EXPECT_NE(status.error_message().find("GPU reset"), std::string::npos)
+        << status.error_message();
 
     EXPECT_TRUE(Eventually([&] {
       grpc::ClientContext health_context;

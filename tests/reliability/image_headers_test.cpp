@@ -15,8 +15,8 @@ namespace gistream::reliability {
 namespace {
 
 std::string ForgedHdr(int width, int height) {
-  return absl::StrCat("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y ", height, " +X ", width,
-                      "\n", std::string(16, '\x02'));
+  return absl::StrCat("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y ", height, " +X ", width, "\n",
+                      std::string(16, '\x02'));
 }
 
 TEST(ImageHeaders, ForgedHdrHeaderIsRefusedBeforeAllocating) {
@@ -28,8 +28,9 @@ TEST(ImageHeaders, ForgedHdrHeaderIsRefusedBeforeAllocating) {
   const std::span<const uint8_t> bytes(reinterpret_cast<const uint8_t*>(hdr.data()), hdr.size());
   const bool can_measure = ResetPeakRss();
   const uint64_t before = StatusKiB("VmRSS");
-  EXPECT_STATUS(StatusOf(DecodeImage(bytes, ImageKind::kEnvironment, ImportLimits{}, "environment")),
-                kInvalidArgument, "environment: truncated hdr image: the header claims 16384x4096");
+  EXPECT_STATUS(
+      StatusOf(DecodeImage(bytes, ImageKind::kEnvironment, ImportLimits{}, "environment")),
+      kInvalidArgument, "environment: truncated hdr image: the header claims 16384x4096");
   if (can_measure) {
     // 64 MiB: far below the 1 GiB the claimed pixels would take as RGBA floats.
     EXPECT_LT(StatusKiB("VmHWM"), before + 64 * 1024) << "peak RSS grew while refusing";
@@ -72,17 +73,18 @@ TEST(ImageHeaders, ExrAttributeClaimingMoreThanTheFileIsRefusedBeforeAllocating)
                                        forged.size());
   const bool can_measure = ResetPeakRss();
   const uint64_t before = StatusKiB("VmRSS");
-  EXPECT_STATUS(StatusOf(DecodeImage(bytes, ImageKind::kEnvironment, ImportLimits{}, "environment")),
-                kInvalidArgument,
-                absl::StrCat("environment: corrupt exr image: attribute '", name,
-                             "' claims 1845493869 bytes"));
+  EXPECT_STATUS(
+      StatusOf(DecodeImage(bytes, ImageKind::kEnvironment, ImportLimits{}, "environment")),
+      kInvalidArgument,
+      absl::StrCat("environment: corrupt exr image: attribute '", name,
+                   "' claims 1845493869 bytes"));
   if (can_measure) {
     EXPECT_LT(StatusKiB("VmHWM"), before + 64 * 1024) << "peak RSS grew while refusing";
   }
   // The unforged file still decodes.
-  auto image = DecodeImage(std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(exr->data()),
-                                                    exr->size()),
-                           ImageKind::kEnvironment, ImportLimits{}, "environment");
+  auto image = DecodeImage(
+      std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(exr->data()), exr->size()),
+      ImageKind::kEnvironment, ImportLimits{}, "environment");
   ASSERT_TRUE(image.ok()) << image.status();
   EXPECT_EQ(image->width, 4);
 }

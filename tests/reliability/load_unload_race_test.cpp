@@ -106,9 +106,8 @@ TEST(LoadUnloadRace, LoadRacingShutdownFinishes) {
   const std::string bytes = QuadScene().dump();
   std::vector<std::future<absl::StatusOr<SceneInfo>>> loads;
   for (int i = 0; i < 4; ++i) {
-    loads.push_back(std::async(std::launch::async, [&] {
-      return (*engine)->LoadScene(testing::SceneFromBytes(bytes));
-    }));
+    loads.push_back(std::async(
+        std::launch::async, [&] { return (*engine)->LoadScene(testing::SceneFromBytes(bytes)); }));
   }
   (*engine)->Shutdown();
   for (auto& load : loads) {

@@ -22,7 +22,6 @@ NodeTransformUpdate Translate(uint32_t node, glm::vec3 t) {
   return u;
 }
 
-
 TEST(Magnitudes, HugeTranslationUpdateIsRejectedAndPathtraceStillRenders) {
   const QuadCopy scene;
   // Used to abort the process in Embree (ray.valid()) on the first frame.
@@ -79,8 +78,8 @@ TEST(Magnitudes, ScaleRotationAndFieldOfViewLimits) {
                 "update.node_transform.rotation: zero-length quaternion");
   NodeTransformUpdate doubled;
   doubled.rotation = glm::quat(2, 0, 0, 0);
-  EXPECT_STATUS(StatusOf(E().Render(Request(scene.id(), "direct", {U(doubled)}))),
-                kInvalidArgument, "update.node_transform.rotation: length 2 is not 1");
+  EXPECT_STATUS(StatusOf(E().Render(Request(scene.id(), "direct", {U(doubled)}))), kInvalidArgument,
+                "update.node_transform.rotation: length 2 is not 1");
   CameraUpdate narrow;
   narrow.yfov_degrees = 1e-6f;
   EXPECT_STATUS(StatusOf(E().Render(Request(scene.id(), "direct", {U(narrow)}))), kInvalidArgument,
@@ -92,7 +91,6 @@ TEST(Magnitudes, ScaleRotationAndFieldOfViewLimits) {
   ASSERT_TRUE(frame.ok()) << frame.status();
   ExpectRendersFinite(scene.id(), "direct");
 }
-
 
 TEST(Magnitudes, HugeEmissionAndIntensityAreRejected) {
   const QuadCopy scene;

@@ -157,8 +157,8 @@ TEST(MemoryBudget, ASceneOverTheBudgetIsRefusedAndHoldsNothing) {
   // VPLs of 256^2 are 1 GiB.
   auto info = (*engine)->LoadScene(testing::SceneFromBytes(QuadScene().dump()));
   ASSERT_TRUE(info.ok()) << info.status();
-  EXPECT_STATUS(StatusOf((*engine)->Render(Request(info->id, "avg", {},
-                                                   {{"vpls", "2048"}, {"shadow_res", "256"}}))),
+  EXPECT_STATUS(StatusOf((*engine)->Render(
+                    Request(info->id, "avg", {}, {{"vpls", "2048"}, {"shadow_res", "256"}}))),
                 kResourceExhausted, "avg: vpls=2048 shadow_res=256 (largest part: two atlases");
   auto frame = (*engine)->Render(
       Request(info->id, "direct", {}, {{"area_samples", "4"}, {"shadow_res", "64"}}));

@@ -36,8 +36,8 @@ TEST(SmallOnes, OddAntiradianceBinsAreRejectedWhenTheSessionOpens) {
 TEST(SmallOnes, OverBudgetParameterIsResourceExhausted) {
   const QuadCopy scene;
   // 2048 VPL maps of 512^2 need 2 GiB, over the 1 GiB atlas limit.
-  auto frame = E().Render(
-      Request(scene.id(), "avg", {}, {{"vpls", "2048"}, {"shadow_res", "512"}}));
+  auto frame =
+      E().Render(Request(scene.id(), "avg", {}, {{"vpls", "2048"}, {"shadow_res", "512"}}));
   EXPECT_STATUS(StatusOf(frame), kResourceExhausted, "params.shadow_res:");
   ExpectRendersFinite(scene.id(), "direct");
 }
@@ -100,8 +100,8 @@ TEST(SmallOnes, ZeroSizeIsRejected) {
   CameraUpdate resize;
   resize.width = 0;
   resize.height = 0;
-  EXPECT_STATUS(StatusOf(E().Render(Request(scene.id(), "direct", {U(resize)}))),
-                kInvalidArgument, "update.camera.width: 0 is out of range");
+  EXPECT_STATUS(StatusOf(E().Render(Request(scene.id(), "direct", {U(resize)}))), kInvalidArgument,
+                "update.camera.width: 0 is out of range");
 }
 
 }  // namespace

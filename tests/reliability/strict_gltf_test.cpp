@@ -12,7 +12,6 @@ namespace {
 
 using json = nlohmann::json;
 
-
 TEST(StrictGltf, WrongTypesAndRangesNameTheJsonPath) {
   const auto load = [](const json& doc) {
     return StatusOf(E().LoadScene(testing::SceneFromBytes(doc.dump())));

@@ -22,8 +22,8 @@ constexpr const char* kAliceToken = "alice-token-0123456789";
 constexpr const char* kBobToken = "bob-token-abcdefghijkl";
 
 std::shared_ptr<const AuthTokens> Tokens() {
-  absl::StatusOr<AuthTokens> tokens = AuthTokens::Parse(
-      absl::StrCat(kAliceToken, " alice scenes=2\n", kBobToken, " bob\n"));
+  absl::StatusOr<AuthTokens> tokens =
+      AuthTokens::Parse(absl::StrCat(kAliceToken, " alice scenes=2\n", kBobToken, " bob\n"));
   EXPECT_TRUE(tokens.ok()) << tokens.status();
   return std::make_shared<const AuthTokens>(*std::move(tokens));
 }
@@ -179,8 +179,8 @@ TEST_F(AuthTest, UnknownCallerIsRejectedBeforeTheBodyIsParsed) {
   options.service.tokens = Tokens();
   for (bool tls : {true, false}) {
     SCOPED_TRACE(tls ? "TLS" : "loopback");
-    options.tls = tls ? service::TlsFiles{Certs().server_cert, Certs().server_key, ""}
-                      : service::TlsFiles{};
+    options.tls =
+        tls ? service::TlsFiles{Certs().server_cert, Certs().server_key, ""} : service::TlsFiles{};
     Start(options);
     const auto channel = tls ? TlsChannel(false) : PlainChannel();
     EXPECT_EQ(SendGarbage(channel, "").error_code(), grpc::StatusCode::UNAUTHENTICATED);

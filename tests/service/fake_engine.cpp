@@ -146,7 +146,8 @@ absl::StatusOr<SceneInfo> FakeEngine::LoadScene(const SceneSource& source) {
 
 absl::Status FakeEngine::UnloadScene(const SceneId& id, const TenantId& /*tenant*/) {
   std::lock_guard lock(mutex_);
-  if (!scenes_.contains(id)) return absl::NotFoundError(absl::StrCat("scene_id: no scene '", id, "'"));
+  if (!scenes_.contains(id))
+    return absl::NotFoundError(absl::StrCat("scene_id: no scene '", id, "'"));
   for (const auto& [sid, s] : sessions_) {
     if (s.config.scene == id) {
       return absl::FailedPreconditionError(
@@ -203,8 +204,8 @@ absl::StatusOr<SessionOpenInfo> FakeEngine::OpenSession(const SessionConfig& con
     return absl::NotFoundError(absl::StrCat("scene_id: no scene '", config.scene, "'"));
   }
   if (sessions_.size() >= options_.max_sessions) {
-    return absl::ResourceExhaustedError(absl::StrCat("sessions: ", sessions_.size(),
-                                                     " open, the limit is ", options_.max_sessions));
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "sessions: ", sessions_.size(), " open, the limit is ", options_.max_sessions));
   }
   FakeSession session;
   session.id = absl::StrCat("session-", next_session_++);
@@ -418,8 +419,8 @@ void FakeEngine::FrameLoop(std::stop_token stop) {
           due = true;
         } else if (s.config.pacing == Pacing::kContinuous && now >= s.next_due) {
           const float fps = s.config.max_fps > 0.0f ? s.config.max_fps : options_.default_max_fps;
-          const auto period = std::chrono::duration_cast<Clock::duration>(
-              std::chrono::duration<double>(1.0 / fps));
+          const auto period =
+              std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(1.0 / fps));
           s.next_due = std::max(s.next_due + period, now);
           due = true;
         }
@@ -432,12 +433,11 @@ void FakeEngine::FrameLoop(std::stop_token stop) {
         s.rate.Add(now);
         if (options_.observer) options_.observer->OnFrameRendered(frame);
         live_frames_->fetch_add(1);
-        d.frame = std::shared_ptr<const EncodedFrame>(
-            new EncodedFrame(std::move(frame)),
-            [live = live_frames_](const EncodedFrame* f) {
-              live->fetch_sub(1);
-              delete f;
-            });
+        d.frame = std::shared_ptr<const EncodedFrame>(new EncodedFrame(std::move(frame)),
+                                                      [live = live_frames_](const EncodedFrame* f) {
+                                                        live->fetch_sub(1);
+                                                        delete f;
+                                                      });
         frames_rendered_.fetch_add(1);
         deliveries.push_back(std::move(d));
       }

@@ -100,8 +100,9 @@ class FakeEngine final : public Engine {
   };
 
   absl::Status ValidateUpdateLocked(const Update& update, absl::string_view field) const;
-  absl::Status ValidateView(const std::string& solver, const std::map<std::string, std::string>& params,
-                            uint32_t width, uint32_t height) const;
+  absl::Status ValidateView(const std::string& solver,
+                            const std::map<std::string, std::string>& params, uint32_t width,
+                            uint32_t height) const;
   EncodedFrame MakeFrameLocked(FakeSession& session, std::vector<Update>& applied,
                                std::vector<std::pair<uint64_t, absl::Status>>& rejected);
   void FrameLoop(std::stop_token stop);

@@ -63,7 +63,8 @@ class MetricsTest : public ::testing::Test {
     grpc::ClientContext context;
     SetDeadline(&context);
     pb::ServerStatus status;
-    const grpc::Status rpc = stub().GetServerStatus(&context, pb::GetServerStatusRequest(), &status);
+    const grpc::Status rpc =
+        stub().GetServerStatus(&context, pb::GetServerStatusRequest(), &status);
     EXPECT_TRUE(rpc.ok()) << rpc.error_message();
     return status;
   }
@@ -147,10 +148,12 @@ TEST_F(MetricsTest, ScrapeCountsFramesRejectionsAndFailedCallsByCodeName) {
 
   EXPECT_EQ(Sum(samples, "gistream_updates_rejected_total", {{"code", "NOT_FOUND"}}), 1.0);
   EXPECT_EQ(Sum(samples, "gistream_updates_rejected_total"), 1.0);
-  EXPECT_EQ(Sum(samples, "gistream_rpc_errors_total", {{"method", "LoadScene"}, {"code", "NOT_FOUND"}}),
-            1.0);
-  EXPECT_EQ(Sum(samples, "gistream_rpc_errors_total", {{"method", "Session"}, {"code", "NOT_FOUND"}}),
-            1.0);
+  EXPECT_EQ(
+      Sum(samples, "gistream_rpc_errors_total", {{"method", "LoadScene"}, {"code", "NOT_FOUND"}}),
+      1.0);
+  EXPECT_EQ(
+      Sum(samples, "gistream_rpc_errors_total", {{"method", "Session"}, {"code", "NOT_FOUND"}}),
+      1.0);
   EXPECT_EQ(Sum(samples, "gistream_rpc_errors_total"), 2.0);
   EXPECT_EQ(Sum(samples, "gistream_frames_dropped_total"), 0.0);
 
@@ -173,8 +176,8 @@ TEST_F(MetricsTest, DroppedFramesAreCountedInMetricsAndSessionStatus) {
   pb::SessionOpened opened;
   // Big frames at 240 fps that the test does not read: the service replaces
   // unsent frames and counts them.
-  auto stream = Open(&context, ConfigRequest(scene, 256, 256, /*on_request=*/false, 240.0f),
-                     &opened);
+  auto stream =
+      Open(&context, ConfigRequest(scene, 256, 256, /*on_request=*/false, 240.0f), &opened);
   uint64_t status_dropped = 0;
   ASSERT_TRUE(WaitFor([&] {
     for (const SessionStatus& s : engine_.stats().session_status) {
@@ -200,8 +203,7 @@ TEST_F(MetricsTest, EndpointAnswersOnlyMetricsPath) {
 
 TEST_F(MetricsTest, ServeOnABusyPortIsUnavailable) {
   metrics::Metrics second;
-  const absl::Status status =
-      second.Serve(absl::StrCat("127.0.0.1:", metrics_->port()), engine_);
+  const absl::Status status = second.Serve(absl::StrCat("127.0.0.1:", metrics_->port()), engine_);
   EXPECT_EQ(status.code(), absl::StatusCode::kUnavailable) << status;
   EXPECT_TRUE(absl::StrContains(status.message(), "--metrics-listen")) << status;
 }

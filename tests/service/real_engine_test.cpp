@@ -174,9 +174,9 @@ TEST_F(RealEngineTest, ServerStatusCountsSessionFramesAndGlObjectBytes) {
   // The scene's buffers and textures plus this view's G-buffer (68 bytes a pixel).
   EXPECT_GT(status.gl_object_bytes(), 64u * 48u * 68u);
   // llvmpipe reports no GPU memory; a driver that does reports both or the free part.
-  EXPECT_LE(status.gpu_memory_available_bytes(),
-            status.gpu_memory_total_bytes() > 0 ? status.gpu_memory_total_bytes()
-                                                : status.gpu_memory_available_bytes());
+  EXPECT_LE(status.gpu_memory_available_bytes(), status.gpu_memory_total_bytes() > 0
+                                                     ? status.gpu_memory_total_bytes()
+                                                     : status.gpu_memory_available_bytes());
   context.TryCancel();
   stream->Finish();
   EXPECT_TRUE(WaitFor([] { return Sessions() == 0; }, 10s));
@@ -190,8 +190,9 @@ TEST_F(RealEngineTest, InvalidConfigNamesTheField) {
     std::string solver, param, field;
     grpc::StatusCode code;
   };
-  for (const Case& c : {Case{"no_such_solver", "", "solver", grpc::StatusCode::NOT_FOUND},
-                        Case{"direct", "0", "params.area_samples", grpc::StatusCode::INVALID_ARGUMENT}}) {
+  for (const Case& c :
+       {Case{"no_such_solver", "", "solver", grpc::StatusCode::NOT_FOUND},
+        Case{"direct", "0", "params.area_samples", grpc::StatusCode::INVALID_ARGUMENT}}) {
     grpc::ClientContext context;
     SetDeadline(&context, 60s);
     auto stream = stub().Session(&context);

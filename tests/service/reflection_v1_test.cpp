@@ -17,7 +17,8 @@ namespace rpb = ::grpc::reflection::v1;
 class ReflectionV1Test : public ::testing::Test {
  protected:
   // Sends `requests` on one stream and returns the responses in order.
-  std::vector<rpb::ServerReflectionResponse> Ask(const std::vector<rpb::ServerReflectionRequest>& requests) {
+  std::vector<rpb::ServerReflectionResponse> Ask(
+      const std::vector<rpb::ServerReflectionRequest>& requests) {
     auto stub = rpb::ServerReflection::NewStub(server_.channel());
     grpc::ClientContext context;
     context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(30));
@@ -48,8 +49,8 @@ TEST_F(ReflectionV1Test, ListsServicesAndDescribesSymbols) {
 
   std::vector<std::string> names;
   for (const auto& s : responses[0].list_services_response().service()) names.push_back(s.name());
-  for (const char* expected : {"gistream.v1.Gistream", "grpc.health.v1.Health",
-                               "grpc.reflection.v1.ServerReflection"}) {
+  for (const char* expected :
+       {"gistream.v1.Gistream", "grpc.health.v1.Health", "grpc.reflection.v1.ServerReflection"}) {
     EXPECT_NE(std::find(names.begin(), names.end(), expected), names.end()) << expected;
   }
 

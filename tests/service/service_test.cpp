@@ -286,7 +286,8 @@ TEST_F(ServiceTest, TwoConcurrentSessionsApplyUpdatesInOrderAndEchoSeq) {
     grpc::ClientContext context;
     SetDeadline(&context);
     pb::SessionOpened opened;
-    auto stream = Open(&context, ConfigRequest(scene, 32, 32, /*on_request=*/false, 120.0f), &opened);
+    auto stream =
+        Open(&context, ConfigRequest(scene, 32, 32, /*on_request=*/false, 120.0f), &opened);
     id_b = opened.session_id();
     for (uint64_t seq = 100; seq <= 130; ++seq) {
       EXPECT_TRUE(stream->Write(NodeUpdate(seq, 1, 0.0f)));
@@ -331,7 +332,8 @@ TEST_F(ServiceTest, RejectedUpdatesAreEventsAndTheStreamGoesOn) {
 
   // Rejected by translation (wire form).
   pb::SessionRequest bad_matrix = NodeUpdate(1, 0, 0.0f);
-  for (int i = 0; i < 5; ++i) bad_matrix.mutable_update()->mutable_node_transform()->add_matrix(1.0f);
+  for (int i = 0; i < 5; ++i)
+    bad_matrix.mutable_update()->mutable_node_transform()->add_matrix(1.0f);
   ASSERT_TRUE(stream->Write(bad_matrix));
   ASSERT_TRUE(ReadNonFrame(*stream, &event));
   ASSERT_TRUE(event.has_rejected()) << event.DebugString();

@@ -36,9 +36,9 @@ std::string SceneFile(const std::string& name) {
 class TenancyTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    absl::StatusOr<AuthTokens> tokens = AuthTokens::Parse(absl::StrCat(
-        kAlice, " alice\n", kAliceToo, " alice\n", kBob, " bob\n", kQuota,
-        " tight scenes=2 sessions=1 upload_bytes=100000 gpu_bytes=100000\n"));
+    absl::StatusOr<AuthTokens> tokens = AuthTokens::Parse(
+        absl::StrCat(kAlice, " alice\n", kAliceToo, " alice\n", kBob, " bob\n", kQuota,
+                     " tight scenes=2 sessions=1 upload_bytes=100000 gpu_bytes=100000\n"));
     ASSERT_TRUE(tokens.ok()) << tokens.status();
     EngineOptions options;
     options.scene_dir = GISTREAM_SOURCE_DIR "/scenes";

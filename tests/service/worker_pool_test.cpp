@@ -26,7 +26,8 @@ TEST(WorkerPool, FullQueueIsResourceExhausted) {
   ASSERT_TRUE(pool.Submit([&] {
                     started.count_down();
                     release.wait();
-                  }).ok());
+                  })
+                  .ok());
   started.wait();  // the only thread is busy now
   EXPECT_TRUE(pool.Submit([] {}).ok());
   EXPECT_TRUE(pool.Submit([] {}).ok());

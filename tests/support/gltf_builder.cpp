@@ -125,7 +125,8 @@ int GltfBuilder::AddQuad(const std::string& name, Vec3 center, Vec3 u, Vec3 v, i
   for (int j = 0; j <= n; ++j) {
     for (int i = 0; i <= n; ++i) {
       const float s = 2.0f * float(i) / float(n) - 1.0f, t = 2.0f * float(j) / float(n) - 1.0f;
-      for (int k = 0; k < 3; ++k) positions.push_back(center[size_t(k)] + s * u[size_t(k)] + t * v[size_t(k)]);
+      for (int k = 0; k < 3; ++k)
+        positions.push_back(center[size_t(k)] + s * u[size_t(k)] + t * v[size_t(k)]);
       normals.insert(normals.end(), normal.begin(), normal.end());
     }
   }
@@ -148,7 +149,8 @@ int GltfBuilder::AddQuad(const std::string& name, Vec3 center, Vec3 u, Vec3 v, i
 
 int GltfBuilder::AddPointLight(const std::string& name, Vec3 position, Vec3 color,
                                float intensity) {
-  lights_.push_back({{"name", name}, {"type", "point"}, {"color", color}, {"intensity", intensity}});
+  lights_.push_back(
+      {{"name", name}, {"type", "point"}, {"color", color}, {"intensity", intensity}});
   return AddNode({{"name", name},
                   {"translation", position},
                   {"extensions", {{"KHR_lights_punctual", {{"light", lights_.size() - 1}}}}}});
@@ -174,8 +176,9 @@ int GltfBuilder::AddCamera(const std::string& name, Vec3 position, Vec3 forward,
   const Vec3 back = Normalize({-forward[0], -forward[1], -forward[2]});
   const Vec3 right = Normalize(Cross(up, back));
   const Vec3 true_up = Cross(back, right);
-  cameras_.push_back(
-      {{"name", name}, {"type", "perspective"}, {"perspective", {{"yfov", yfov}, {"znear", znear}}}});
+  cameras_.push_back({{"name", name},
+                      {"type", "perspective"},
+                      {"perspective", {{"yfov", yfov}, {"znear", znear}}}});
   return AddNode({{"name", name},
                   {"translation", position},
                   {"rotation", QuatFromBasis(right, true_up, back)},

@@ -67,8 +67,8 @@ size_t FloatImage::non_finite() const {
 }
 
 FloatImage DecodeExr(const EncodedFrame& frame) {
-  auto decoded = DecodeImageBytes(
-      {reinterpret_cast<const uint8_t*>(frame.image.data()), frame.image.size()});
+  auto decoded =
+      DecodeImageBytes({reinterpret_cast<const uint8_t*>(frame.image.data()), frame.image.size()});
   EXPECT_TRUE(decoded.ok()) << decoded.status();
   FloatImage image;
   if (!decoded.ok()) return image;
@@ -195,8 +195,7 @@ FloatImage RenderRequestExr(RenderRequest request, EncodedFrame* frame_out) {
 }
 
 void ExpectFurnaceScaleInvariant(const std::string& solver,
-                                 const std::map<std::string, std::string>& params,
-                                 double tolerance,
+                                 const std::map<std::string, std::string>& params, double tolerance,
                                  const std::function<void(const EncodedFrame&)>& check,
                                  double expected) {
   struct Case {
@@ -204,7 +203,8 @@ void ExpectFurnaceScaleInvariant(const std::string& solver,
   };
   for (const Case c : {Case{1e-4f, 1.0f}, Case{1e-3f, 1.0f}, Case{1e3f, 1.0f}, Case{1e5f, 1.0f},
                        Case{1.0f, 1e6f}, Case{1.0f, 1e-3f}}) {
-    SCOPED_TRACE(::testing::Message() << solver << " scale " << c.scale << " emission " << c.strength);
+    SCOPED_TRACE(::testing::Message()
+                 << solver << " scale " << c.scale << " emission " << c.strength);
     const BundledCopy scene("furnace.gltf");
     NodeTransformUpdate scale;
     scale.node = 0;
@@ -213,8 +213,8 @@ void ExpectFurnaceScaleInvariant(const std::string& solver,
     emission.material = 0;
     emission.emissive_strength = c.strength;
     EncodedFrame frame;
-    const FloatImage image =
-        RenderRequestExr(SolverRequest(scene.id(), solver, params, 16, {{1, scale}, {2, emission}}), &frame);
+    const FloatImage image = RenderRequestExr(
+        SolverRequest(scene.id(), solver, params, 16, {{1, scale}, {2, emission}}), &frame);
     ASSERT_EQ(image.width, 16);
     EXPECT_EQ(image.non_finite(), 0u);
     EXPECT_NEAR(ImageMean(image).g / c.strength, expected, tolerance);
@@ -258,7 +258,8 @@ void ReferenceFixture::Reference(const std::string& file, int spp) {
 
 double ReferenceFixture::ErrorOf(const std::string& solver,
                                  std::map<std::string, std::string> params) {
-  const FloatImage image = RenderRequestExr(SolverRequest(scene_, solver, std::move(params), kSize));
+  const FloatImage image =
+      RenderRequestExr(SolverRequest(scene_, solver, std::move(params), kSize));
   EXPECT_EQ(image.non_finite(), 0u) << solver;
   return RelMse(image, reference_);
 }

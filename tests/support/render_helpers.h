@@ -92,8 +92,7 @@ MaterialUpdate GreyAlbedo(float rho, uint32_t material = 0);
 // emission strength is `expected` (2; 1.5 for direct light alone: L_e plus
 // one bounce of 0.5) within `tolerance`; `check` sees every frame.
 void ExpectFurnaceScaleInvariant(const std::string& solver,
-                                 const std::map<std::string, std::string>& params,
-                                 double tolerance,
+                                 const std::map<std::string, std::string>& params, double tolerance,
                                  const std::function<void(const EncodedFrame&)>& check = {},
                                  double expected = 2.0);
 

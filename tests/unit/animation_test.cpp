@@ -46,8 +46,8 @@ TEST(AnimationSample, LinearAtKeysAndBetween) {
   ExpectNear(at(0), {0, 0, 0});
   ExpectNear(at(1), {2, 4, -2});
   ExpectNear(at(3), {2, 0, 0});
-  ExpectNear(at(0.5f), {1, 2, -1});   // halfway through [0, 1]
-  ExpectNear(at(2.0f), {2, 2, -1});   // halfway through [1, 3]
+  ExpectNear(at(0.5f), {1, 2, -1});    // halfway through [0, 1]
+  ExpectNear(at(2.0f), {2, 2, -1});    // halfway through [1, 3]
   ExpectNear(at(2.5f), {2, 1, -0.5});  // three quarters
 }
 
@@ -74,9 +74,8 @@ TEST(AnimationSample, StepHoldsTheEarlierKey) {
 //   p(u) = (2u^3 - 3u^2 + 1) v0 + td (u^3 - 2u^2 + u) b0
 //        + (-2u^3 + 3u^2) v1 + td (u^3 - u^2) a1.
 TEST(AnimationSample, CubicSplineHermiteWithTangentsScaledByTheInterval) {
-  const std::vector<float> values = {
-      0, 0, 0,  /**/ 0, 0, 5, /**/ 1, 0, 0,   // key 0: a0, v0, b0
-      0, 3, 0,  /**/ 1, 0, 5, /**/ 0, 0, 0};  // key 1: a1, v1, b1
+  const std::vector<float> values = {0, 0, 0, /**/ 0, 0, 5, /**/ 1, 0, 0,   // key 0: a0, v0, b0
+                                     0, 3, 0, /**/ 1, 0, 5, /**/ 0, 0, 0};  // key 1: a1, v1, b1
   const AnimationSampler s = Sampler(Interpolation::kCubicSpline, {0, 2}, values, 3);
   const auto at = [&](float t) { return SampleSampler(s, AnimationPath::kTranslation, t); };
   ExpectNear(at(0), {0, 0, 5});
@@ -180,8 +179,7 @@ TestGltf Animated(const std::string& interpolation = "LINEAR") {
   g.doc["animations"] = {
       {{"name", "move"},
        {"channels", {{{"sampler", 0}, {"target", {{"node", 0}, {"path", "translation"}}}}}},
-       {"samplers",
-        {{{"input", input}, {"output", output}, {"interpolation", interpolation}}}}}};
+       {"samplers", {{{"input", input}, {"output", output}, {"interpolation", interpolation}}}}}};
   return g;
 }
 
@@ -346,8 +344,7 @@ TEST(AnimationImport, MemberTypesAreCheckedBeforeParsing) {
                "animations[0].samplers[0].input: \"a\" is not an index");
   g = Animated();
   g.doc["animations"][0]["samplers"][0].erase("output");
-  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
-               "animations[0].samplers[0].output: missing");
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "animations[0].samplers[0].output: missing");
   g = Animated();
   g.doc["animations"][0]["channels"][0]["target"]["node"] = 4294967295u;
   EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,

@@ -22,7 +22,8 @@ namespace {
 constexpr float kPi = 3.14159265358979f;
 
 // A w x h rectangle centred at c spanned by unit u, v; it faces u x v.
-std::vector<SourceTriangle> Quad(glm::vec3 c, glm::vec3 u, glm::vec3 v, float w, float h, float rho) {
+std::vector<SourceTriangle> Quad(glm::vec3 c, glm::vec3 u, glm::vec3 v, float w, float h,
+                                 float rho) {
   const glm::vec3 a = c - 0.5f * w * u - 0.5f * h * v, b = a + w * u, d = a + h * v, e = b + h * v;
   const glm::vec3 n = glm::normalize(glm::cross(u, v));
   return {{{a, b, e}, n, glm::vec3(rho)}, {{a, e, d}, n, glm::vec3(rho)}};
@@ -135,7 +136,8 @@ TEST(AntiradianceTransport, TwoPatchExchangeMatchesTheAnalyticFormFactor) {
   // Two parallel unit squares one unit apart: F = 0.19982 (Howell's
   // catalogue, C-11). A Lambertian sender of radiance 1 puts
   // pi * L * A * F of flux on the receiver; one global pass carries it.
-  Solved s({Quad({0, 0, 0}, kX, kZ * -1.0f, 1, 1, 0), Quad({0, 1, 0}, kX, kZ, 1, 1, 0)}, 0.09f, 512);
+  Solved s({Quad({0, 0, 0}, kX, kZ * -1.0f, 1, 1, 0), Quad({0, 1, 0}, kX, kZ, 1, 1, 0)}, 0.09f,
+           512);
   // Both face each other: the first faces +y, the second -y.
   ASSERT_GT(s.patches.normal[size_t(s.patches.roots[0])].y, 0.9f);
   ASSERT_LT(s.patches.normal[size_t(s.patches.roots[1])].y, -0.9f);
@@ -230,7 +232,8 @@ TEST(AntiradianceStability, StiffFurnaceStaysFiniteAndBounded) {
     // -10 %); at rho 0.99 the loss compounds over 48 bounces (-38 %), so
     // only the bounds are checked there.
     if (rho < 0.95f) {
-      EXPECT_NEAR(s.MeanIrradiance(0) / truncated, 1.0, 0.15) << rho << " scheme " << int(r.scheme_used);
+      EXPECT_NEAR(s.MeanIrradiance(0) / truncated, 1.0, 0.15)
+          << rho << " scheme " << int(r.scheme_used);
     }
   }
 }
@@ -260,10 +263,12 @@ TEST(AntiradianceStability, DeepSlabStackNeedsManyAntiradianceSteps) {
       ASSERT_TRUE(std::isfinite(e));
       lo = std::min(lo, e), hi = std::max(hi, e);
     }
-    std::printf("slabs scheme %d used %d fallback %d passes %d residual %.3g min/max E %.3g\n", int(scheme),
-                int(r.scheme_used), int(r.fallback), r.global_passes, r.residual.back(), lo / hi);
+    std::printf("slabs scheme %d used %d fallback %d passes %d residual %.3g min/max E %.3g\n",
+                int(scheme), int(r.scheme_used), int(r.fallback), r.global_passes,
+                r.residual.back(), lo / hi);
     EXPECT_EQ(r.scheme_used, Scheme::kAsymmetric);
-    EXPECT_EQ(r.fallback, scheme == Scheme::kSymmetric);  // the symmetric residual grew twice in a row
+    EXPECT_EQ(r.fallback,
+              scheme == Scheme::kSymmetric);  // the symmetric residual grew twice in a row
     if (r.fallback) {
       EXPECT_FALSE(r.symmetric_residual.empty());
     }
@@ -280,7 +285,8 @@ TEST(AntiradianceStability, SurfacesAlmostTouching) {
   // Eq. 17 is huge, but the oracle subdivides to leaves and spreads them
   // over a hemisphere; nothing may blow up or exceed the furnace bound.
   const float rho = 0.9f;
-  Solved s({Quad({0, 0, 0}, kX, -kZ, 1, 1, rho), Quad({0, 1e-4f, 0}, kX, kZ, 1, 1, rho)}, 0.2f, 128);
+  Solved s({Quad({0, 0, 0}, kX, -kZ, 1, 1, rho), Quad({0, 1e-4f, 0}, kX, kZ, 1, 1, rho)}, 0.2f,
+           128);
   std::vector<glm::vec3> emit(size_t(s.patches.size()), glm::vec3(1.0f));
   TransportSettings settings;
   settings.iterations = 8;

@@ -129,9 +129,9 @@ TEST(AvgGrid, ThinSheetsNearlyParallelToAnAxisAreWatertight) {
   // lying exactly on a voxel boundary: no ray crosses either.
   const float tilt = glm::radians(0.5f);
   const glm::vec3 u(std::sin(tilt), std::cos(tilt), 0.0f);
-  const auto scene = QuadScene({{{0.0f, 0.0f, 0.0f}, u * 2.0f, {0, 0, 2}},
-                                {{0.5f, 0.0f, 0.0f}, {0, 2, 0}, {0, 0, 2}}},
-                               {Material{}});
+  const auto scene = QuadScene(
+      {{{0.0f, 0.0f, 0.0f}, u * 2.0f, {0, 0, 2}}, {{0.5f, 0.0f, 0.0f}, {0, 2, 0}, {0, 0, 2}}},
+      {Material{}});
   const SceneState state(scene);
   const VoxelGrid grid = VoxelGrid::Build(state, 32);
   int crossed = 0;
@@ -162,8 +162,8 @@ TEST(AvgGrid, MarchHitsTheKnownWallVoxel) {
   // The wall x = +1: the first filled voxel along +x from the centre is the
   // one whose x-range contains 1 (conservative: the voxel on the near side
   // when 1 lies on a boundary).
-  const auto hit = grid.March(glm::vec3(0.0f, 0.1f, -0.2f), glm::vec3(1, 0, 0), glm::vec3(0.0f),
-                              false);
+  const auto hit =
+      grid.March(glm::vec3(0.0f, 0.1f, -0.2f), glm::vec3(1, 0, 0), glm::vec3(0.0f), false);
   ASSERT_TRUE(hit);
   const float x0 = grid.origin().x + float(hit->voxel.x) * grid.voxel_size().x;
   EXPECT_LE(x0, 1.0f + 1e-5f);

@@ -62,7 +62,8 @@ TEST(BundledScenes, CornellBoxIsLitByItsCeilingQuadOnly) {
   auto scene = ImportSceneByName(kSceneDir, "cornell_box", {});
   ASSERT_TRUE(scene.ok()) << scene.status();
   const std::set<std::string> names = NodeNames(*scene);
-  for (const char* n : {"light", "tall_block", "short_block", "left_wall", "right_wall", "camera"}) {
+  for (const char* n :
+       {"light", "tall_block", "short_block", "left_wall", "right_wall", "camera"}) {
     EXPECT_TRUE(names.count(n)) << n;
   }
   EXPECT_TRUE(scene->lights.empty());

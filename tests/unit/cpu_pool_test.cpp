@@ -52,9 +52,7 @@ TEST(CpuPool, RunsOnAtMostItsThreadsAndVisitsEveryIndexOnce) {
 TEST(CpuPool, ConcurrentAndNestedLoopsEachFinishWhole) {
   CpuPool pool(3);
   std::atomic<size_t> sum_a{0}, sum_b{0};
-  std::thread other([&] {
-    pool.ParallelFor(1000, 7, [&](size_t i) { sum_b += i; });
-  });
+  std::thread other([&] { pool.ParallelFor(1000, 7, [&](size_t i) { sum_b += i; }); });
   pool.ParallelFor(100, 1, [&](size_t i) {
     // A nested loop drains on the calling worker if no one else helps.
     pool.ParallelFor(10, 1, [&](size_t j) { sum_a += i * 10 + j; });
@@ -96,9 +94,10 @@ TEST(CpuPool, EmptyAndTinyLoops) {
 class CgroupDir : public ::testing::Test {
  protected:
   void SetUp() override {
-    root_ = fs::temp_directory_path() /
-            ("gistream_cgroup_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-             "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    root_ =
+        fs::temp_directory_path() /
+        ("gistream_cgroup_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+         "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(root_);
     fs::create_directories(root_ / "cpu");
   }

@@ -13,8 +13,7 @@ using testing::TestGltf;
 class ExternalUri : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("gistream_uri_" + std::to_string(::getpid()));
+    dir_ = std::filesystem::temp_directory_path() / ("gistream_uri_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir_ / "scene");
     g_.AddRoot({{"mesh", testing::AddQuadMesh(&g_)}});
     // The quad's buffer as an external file next to the scene, and a
@@ -25,8 +24,8 @@ class ExternalUri : public ::testing::Test {
   void TearDown() override { std::filesystem::remove_all(dir_); }
 
   static void WriteFile(const std::filesystem::path& p, const std::vector<uint8_t>& bytes) {
-    std::ofstream(p, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()),
-                                             std::streamsize(bytes.size()));
+    std::ofstream(p, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
   }
   std::vector<uint8_t> WithUri(const std::string& uri) {
     nlohmann::json d = g_.doc;

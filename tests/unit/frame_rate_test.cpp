@@ -24,9 +24,9 @@ TEST(FrameRate, UsesTheLastFiveSeconds) {
   const Clock::time_point t0{};
   FrameRate rate(t0);
   for (int i = 1; i <= 100; ++i) rate.Add(t0 + i * 100ms);  // 10 fps for 10 s
-  EXPECT_DOUBLE_EQ(rate.PerSecond(t0 + 10s), 10.0);   // frames in (5 s, 10 s]
-  EXPECT_DOUBLE_EQ(rate.PerSecond(t0 + 12500ms), 5.0);  // 25 frames in (7.5 s, 12.5 s]
-  EXPECT_EQ(rate.PerSecond(t0 + 20s), 0.0);           // all fell out
+  EXPECT_DOUBLE_EQ(rate.PerSecond(t0 + 10s), 10.0);         // frames in (5 s, 10 s]
+  EXPECT_DOUBLE_EQ(rate.PerSecond(t0 + 12500ms), 5.0);      // 25 frames in (7.5 s, 12.5 s]
+  EXPECT_EQ(rate.PerSecond(t0 + 20s), 0.0);                 // all fell out
 }
 
 }  // namespace

@@ -120,7 +120,8 @@ TEST(BadGraph, TextureOnSecondUvSet) {
 
 TestGltf WithLight(nlohmann::json light) {
   TestGltf g;
-  g.doc["extensions"]["KHR_lights_punctual"]["lights"] = nlohmann::json::array({light});  // {light} is a copy under clang
+  g.doc["extensions"]["KHR_lights_punctual"]["lights"] =
+      nlohmann::json::array({light});  // {light} is a copy under clang
   g.AddRoot({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
   return g;
 }

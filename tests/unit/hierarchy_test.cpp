@@ -59,7 +59,8 @@ TEST(HierarchyBins, SolidAnglesSumToTheSphere) {
   }
   // The discrete cosine integral approaches pi for any normal.
   const CubeBins bins(12);
-  for (const glm::vec3 n : {glm::vec3(0, 1, 0), glm::normalize(glm::vec3(1, 2, 3)), glm::vec3(0, 0, -1)}) {
+  for (const glm::vec3 n :
+       {glm::vec3(0, 1, 0), glm::normalize(glm::vec3(1, 2, 3)), glm::vec3(0, 0, -1)}) {
     EXPECT_NEAR(bins.CosineSum(n), kPi, 0.02 * kPi);
   }
 }
@@ -70,7 +71,8 @@ std::shared_ptr<const ElementMesh> Patch(int n, float w) {
   Primitive p;
   for (int j = 0; j <= n; ++j) {
     for (int i = 0; i <= n; ++i) {
-      p.positions.emplace_back(w * (float(i) / float(n) - 0.5f), w * (float(j) / float(n) - 0.5f), 0.0f);
+      p.positions.emplace_back(w * (float(i) / float(n) - 0.5f), w * (float(j) / float(n) - 0.5f),
+                               0.0f);
       p.normals.emplace_back(0.0f, 0.0f, 1.0f);
     }
   }
@@ -147,8 +149,7 @@ class HierarchyBlocker : public ::testing::Test {
 
   // Number of A's leaf links whose source belongs to B.
   int LinksFromAToB(float blocker_x) {
-    elements_.Update({glm::mat4(1.0f), FacingDown(2.0f),
-                      FacingDown(1.0f, blocker_x)});
+    elements_.Update({glm::mat4(1.0f), FacingDown(2.0f), FacingDown(1.0f, blocker_x)});
     const Solution s = Solve(elements_, 12);
     const int a_leaves = 25;
     int count = 0;

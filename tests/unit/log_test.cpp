@@ -26,7 +26,8 @@ TEST(LogFormat, TimestampLevelIdsMessage) {
 }
 
 TEST(LogFormat, IdsAreLeftOutWhenEmpty) {
-  EXPECT_EQ(FormatLogLine(Example(), LogLevel::kWarning, {}, "x"), "2026-12-01T15:04:05.123Z warn  x");
+  EXPECT_EQ(FormatLogLine(Example(), LogLevel::kWarning, {}, "x"),
+            "2026-12-01T15:04:05.123Z warn  x");
   EXPECT_EQ(FormatLogLine(Example(), LogLevel::kError, {"", "furnace-2"}, "gone"),
             "2026-12-01T15:04:05.123Z error scene=furnace-2 gone");
   EXPECT_EQ(FormatLogLine(Example(), LogLevel::kDebug, {"session-9", ""}, "y"),

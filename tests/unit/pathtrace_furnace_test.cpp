@@ -93,12 +93,10 @@ TEST_P(PathtraceFurnace, UnbiasedAtAnyAlbedo) {
       << "variance larger than the argued sqrt(rho) E / (1 - rho) per path";
   EXPECT_NEAR(e.mean, exact, 4.0 * e.standard_error)
       << "rho " << rho << ": mean " << e.mean << " exact " << exact << " SE " << e.standard_error
-      << " (" << (e.mean / exact - 1.0) * 100.0 << " %), rays/path "
-      << double(e.rays) / kPaths;
+      << " (" << (e.mean / exact - 1.0) * 100.0 << " %), rays/path " << double(e.rays) / kPaths;
 }
 
-INSTANTIATE_TEST_SUITE_P(Albedos, PathtraceFurnace,
-                         ::testing::Values(0.5f, 0.9f, 0.99f, 0.999f));
+INSTANTIATE_TEST_SUITE_P(Albedos, PathtraceFurnace, ::testing::Values(0.5f, 0.9f, 0.99f, 0.999f));
 
 TEST(PathtraceFurnaceCap, OptInCapIsBiasedLowByTheMissingBounces) {
   // max_depth = 8 keeps emission + 8 bounces of NEE: L_8 = sum_{k<=8} rho^k

@@ -49,8 +49,8 @@ TEST(ProbeSchedule, BatchesHoldAboutTheBatchUnitsOfWork) {
   s.Prioritize(affected, positions, glm::vec3(0.0f));
   const ProbeSchedule::Batch first = s.Peek();
   // A rasterized probe costs raster + direct + bounce units.
-  const int per_raster = ProbeSchedule::kRasterUnits + ProbeSchedule::kDirectUnits +
-                         ProbeSchedule::kBounceUnits;
+  const int per_raster =
+      ProbeSchedule::kRasterUnits + ProbeSchedule::kDirectUnits + ProbeSchedule::kBounceUnits;
   EXPECT_EQ(int(first.probes.size()), ProbeSchedule::kBatchUnits / per_raster);
   EXPECT_EQ(first.raster, first.probes);
   EXPECT_EQ(first.direct, first.probes);
@@ -64,7 +64,8 @@ TEST(ProbeSchedule, BatchesHoldAboutTheBatchUnitsOfWork) {
 TEST(ProbeSchedule, SweepsRepeatUntilOneChangesLessThanTheTolerance) {
   ProbeSchedule s;
   s.Reset(4);
-  s.Prioritize(std::vector<uint8_t>(4, 0), std::vector<glm::vec3>(4, glm::vec3(0.0f)), glm::vec3(0.0f));
+  s.Prioritize(std::vector<uint8_t>(4, 0), std::vector<glm::vec3>(4, glm::vec3(0.0f)),
+               glm::vec3(0.0f));
   auto sweep = [&](double change_per_probe) {
     while (true) {
       const ProbeSchedule::Batch b = s.Peek();

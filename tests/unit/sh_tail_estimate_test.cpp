@@ -26,8 +26,8 @@ TEST(ShTailEstimate, ExactGeometricSeriesGivesItsRatio) {
 
 TEST(ShTailEstimate, TakesTheSmallestRecentRatio) {
   // Ratios 0.90, 0.92, 0.91 (within 5 %): the tail uses 0.90, never more.
-  const std::vector<double> d = {1.0, 0.9, 0.81, 0.81 * 0.90, 0.81 * 0.90 * 0.92,
-                                 0.81 * 0.90 * 0.92 * 0.91};
+  const std::vector<double> d = {
+      1.0, 0.9, 0.81, 0.81 * 0.90, 0.81 * 0.90 * 0.92, 0.81 * 0.90 * 0.92 * 0.91};
   const TailEstimate t = EstimateTail(d);
   EXPECT_TRUE(t.applied);
   EXPECT_NEAR(t.ratio, 0.90, 1e-12);
@@ -42,10 +42,10 @@ TEST(ShTailEstimate, RatioNearOneIsCapped) {
 }
 
 TEST(ShTailEstimate, UnstableOrDivergingOrTooFewRatiosGiveNoTail) {
-  EXPECT_FALSE(EstimateTail({1.0, 0.5, 0.25}).applied);          // one usable ratio
-  EXPECT_FALSE(EstimateTail({1.0, 0.5, 0.4, 0.2}).applied);      // 0.8 then 0.5
-  EXPECT_FALSE(EstimateTail({1.0, 0.9, 0.95, 0.97}).applied);    // growing: ratio >= 1
-  EXPECT_FALSE(EstimateTail({1.0, 0.0, 0.0, 0.0}).applied);      // converged to nothing
+  EXPECT_FALSE(EstimateTail({1.0, 0.5, 0.25}).applied);        // one usable ratio
+  EXPECT_FALSE(EstimateTail({1.0, 0.5, 0.4, 0.2}).applied);    // 0.8 then 0.5
+  EXPECT_FALSE(EstimateTail({1.0, 0.9, 0.95, 0.97}).applied);  // growing: ratio >= 1
+  EXPECT_FALSE(EstimateTail({1.0, 0.0, 0.0, 0.0}).applied);    // converged to nothing
   EXPECT_FALSE(EstimateTail({1.0, 0.5, NAN, 0.2}).applied);
   EXPECT_EQ(EstimateTail({1.0, 0.5, 0.4, 0.2}).ratio, 0.0);
 }

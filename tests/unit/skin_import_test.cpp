@@ -36,7 +36,7 @@ int AddFloats(TestGltf* g, const std::vector<float>& v, const std::string& type,
 TestGltf Skinned() {
   TestGltf g;
   const int mesh = AddQuadMesh(&g);
-  const std::vector<uint16_t> joints = {0, 1, 0, 0, /**/ 0, 1, 0, 0, /**/ 1, 0, 0, 0,
+  const std::vector<uint16_t> joints = {0,      1, 0, 0, /**/ 0, 1, 0, 0, /**/ 1, 0, 0, 0,
                                         /**/ 0, 0, 0, 0};
   const int j = g.AddAccessor(g.AddView(joints.data(), joints.size() * 2), kUShort, 4, "VEC4");
   // Vertex 0 sums to 2 (renormalised to 0.5 / 0.5).
@@ -45,9 +45,8 @@ TestGltf Skinned() {
   auto& attributes = g.doc["meshes"][size_t(mesh)]["primitives"][0]["attributes"];
   attributes["JOINTS_0"] = j;
   attributes["WEIGHTS_0"] = w;
-  const int ibm = AddFloats(&g,
-                            {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1,  //
-                             1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1},
+  const int ibm = AddFloats(&g, {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0,  0, 1,  //
+                                 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, -1, 0, 1},
                             "MAT4", 16);
   g.AddRoot({{"mesh", mesh}, {"skin", 0}});
   const int j1 = g.AddNode({{"name", "bone1"}, {"translation", {0, 1, 0}}});
@@ -85,8 +84,8 @@ TEST(SkinImport, InverseBindMatricesDefaultToIdentity) {
 TEST(SkinImport, InvalidSkinsNameTheirJsonPath) {
   TestGltf g = Skinned();
   auto& attributes = g.doc["meshes"][0]["primitives"][0]["attributes"];
-  attributes["WEIGHTS_0"] = AddFloats(&g, {1, 0, 0, 0, 1, 0, 0, 0, 1, -0.5f, 0, 0, 1, 0, 0, 0},
-                                      "VEC4", 4);
+  attributes["WEIGHTS_0"] =
+      AddFloats(&g, {1, 0, 0, 0, 1, 0, 0, 0, 1, -0.5f, 0, 0, 1, 0, 0, 0}, "VEC4", 4);
   EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
                "meshes[0].primitives[0].attributes.WEIGHTS_0: vertex 2 has negative weight -0.5");
 
@@ -121,8 +120,7 @@ TEST(SkinImport, InvalidSkinsNameTheirJsonPath) {
 
   g = Skinned();
   g.doc["skins"][0]["joints"] = {2, 2};
-  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
-               "skins[0].joints[1]: node 2 is listed twice");
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "skins[0].joints[1]: node 2 is listed twice");
 
   g = Skinned();
   g.doc["skins"][0]["skeleton"] = 5;
@@ -130,11 +128,11 @@ TEST(SkinImport, InvalidSkinsNameTheirJsonPath) {
 
   g = Skinned();
   g.doc["nodes"][0]["skin"] = 1;
-  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
-               "nodes[0].skin: 1 is out of range (1 skins)");
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "nodes[0].skin: 1 is out of range (1 skins)");
 
   g = Skinned();
-  g.doc["skins"][0]["inverseBindMatrices"] = AddFloats(&g, std::vector<float>(16, 0.0f), "MAT4", 16);
+  g.doc["skins"][0]["inverseBindMatrices"] =
+      AddFloats(&g, std::vector<float>(16, 0.0f), "MAT4", 16);
   EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
                "skins[0].inverseBindMatrices: 1 matrices for 2 joints");
 

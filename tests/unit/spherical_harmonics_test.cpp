@@ -47,8 +47,8 @@ TEST(SphericalHarmonics, IrradianceOfConstantRadianceIsPiL) {
 // max(0, dot(dir, axis)): Eq. 6's lobe with k_d = pi.
 Coefficients CosineLobe(const glm::dvec3& axis, int face_size) {
   return ProjectCube(
-      [&](const glm::dvec3& d) { return glm::dvec3(std::max(0.0, glm::dot(d, axis))); },
-      face_size, 3);
+      [&](const glm::dvec3& d) { return glm::dvec3(std::max(0.0, glm::dot(d, axis))); }, face_size,
+      3);
 }
 
 TEST(SphericalHarmonics, ClampedCosineLobeGivesEquationSix) {

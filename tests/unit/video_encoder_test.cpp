@@ -107,8 +107,8 @@ TEST(VideoEncoder, KeyFramesFirstAtTheIntervalAndOnRequest) {
   }
   // Frame 0 and every 4th after the last key frame; frame 6 on request
   // (which restarts the interval: 6, then 10 would be next).
-  EXPECT_EQ(keys, (std::vector<bool>{true, false, false, false, true, false, true, false, false,
-                                     false}));
+  EXPECT_EQ(keys,
+            (std::vector<bool>{true, false, false, false, true, false, true, false, false, false}));
 }
 
 TEST(VideoEncoder, OddSizesAndUnknownEncodersAreRefused) {

@@ -124,8 +124,8 @@ struct Row {
   double psnr = 0, ssim = 0, kbps = 0, median_ms = 0, p95_ms = 0;
 };
 
-absl::StatusOr<std::vector<Picture>> RenderOrbit(Engine& engine, const std::string& scene,
-                                                 int w, int h, int frames) {
+absl::StatusOr<std::vector<Picture>> RenderOrbit(Engine& engine, const std::string& scene, int w,
+                                                 int h, int frames) {
   auto sink = std::make_shared<QueueSink>();
   SessionConfig config;
   config.scene = scene;
@@ -145,9 +145,11 @@ absl::StatusOr<std::vector<Picture>> RenderOrbit(Engine& engine, const std::stri
     const glm::vec3 target{0.278f, 0.274f, 0.28f};
     CameraUpdate camera;
     camera.look_at = LookAt{target + glm::vec3(1.08f * std::cos(a), 0.0f, 1.08f * std::sin(a)),
-                            target, {0.0f, 1.0f, 0.0f}};
+                            target,
+                            {0.0f, 1.0f, 0.0f}};
     camera.yfov_degrees = 39.3f;
-    if (absl::Status s = engine.PushUpdate(session->id, {uint64_t(i + 1), camera}); !s.ok()) return s;
+    if (absl::Status s = engine.PushUpdate(session->id, {uint64_t(i + 1), camera}); !s.ok())
+      return s;
     if (absl::Status s = engine.RequestFrames(session->id, 1); !s.ok()) return s;
     auto frame = sink->Next();
     if (!frame.ok()) return frame.status();
@@ -156,7 +158,8 @@ absl::StatusOr<std::vector<Picture>> RenderOrbit(Engine& engine, const std::stri
     if (!decoded.ok()) return decoded.status();
     Picture p{decoded->width, decoded->height, {}};
     p.rgba.resize(decoded->rgba.size());
-    for (size_t k = 0; k < p.rgba.size(); ++k) p.rgba[k] = uint8_t(std::lround(decoded->rgba[k] * 255.0f));
+    for (size_t k = 0; k < p.rgba.size(); ++k)
+      p.rgba[k] = uint8_t(std::lround(decoded->rgba[k] * 255.0f));
     out.push_back(std::move(p));
   }
   engine.CloseSession(session->id);
@@ -177,9 +180,11 @@ Row MeasureImages(const std::string& name, const std::vector<Picture>& pics,
       return row;
     }
     bytes += double(encoded->size());
-    auto decoded = DecodeImageBytes({reinterpret_cast<const uint8_t*>(encoded->data()), encoded->size()});
+    auto decoded =
+        DecodeImageBytes({reinterpret_cast<const uint8_t*>(encoded->data()), encoded->size()});
     std::vector<uint8_t> rgba(decoded->rgba.size());
-    for (size_t k = 0; k < rgba.size(); ++k) rgba[k] = uint8_t(std::lround(decoded->rgba[k] * 255.0f));
+    for (size_t k = 0; k < rgba.size(); ++k)
+      rgba[k] = uint8_t(std::lround(decoded->rgba[k] * 255.0f));
     row.psnr += Psnr(p, rgba, p.w) / double(pics.size());
     row.ssim += Ssim(p, rgba, p.w) / double(pics.size());
   }
@@ -189,8 +194,8 @@ Row MeasureImages(const std::string& name, const std::vector<Picture>& pics,
   return row;
 }
 
-std::optional<Row> MeasureVideo(VideoCodec codec, const std::vector<std::string>& encoders,
-                                int crf, const std::vector<Picture>& pics) {
+std::optional<Row> MeasureVideo(VideoCodec codec, const std::vector<std::string>& encoders, int crf,
+                                const std::vector<Picture>& pics) {
   VideoEncoderOptions o;
   o.codec = codec;
   o.width = (pics[0].w + 1) & ~1;
@@ -204,7 +209,8 @@ std::optional<Row> MeasureVideo(VideoCodec codec, const std::vector<std::string>
   }
   auto decoder = VideoDecoder::Open(codec);
   if (!decoder.ok()) return std::nullopt;
-  Row row{absl::StrCat(VideoCodecName(codec), " (", (*encoder)->encoder_name(), ", CRF ", crf, ")")};
+  Row row{
+      absl::StrCat(VideoCodecName(codec), " (", (*encoder)->encoder_name(), ", CRF ", crf, ")")};
   std::vector<double> ms;
   double bytes = 0;
   for (const Picture& p : pics) {
@@ -216,7 +222,8 @@ std::optional<Row> MeasureVideo(VideoCodec codec, const std::vector<std::string>
       return std::nullopt;
     }
     bytes += double(unit->bytes.size());
-    auto decoded = (*decoder)->Decode({reinterpret_cast<const uint8_t*>(unit->bytes.data()), unit->bytes.size()});
+    auto decoded = (*decoder)->Decode(
+        {reinterpret_cast<const uint8_t*>(unit->bytes.data()), unit->bytes.size()});
     if (!decoded.ok()) {
       std::cerr << row.format << ": " << decoded.status() << "\n";
       return std::nullopt;
@@ -236,8 +243,10 @@ int Main(int argc, char** argv) {
   std::vector<std::pair<int, int>> sizes = {{320, 240}, {1280, 720}, {1920, 1080}};
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string flag = argv[i], value = argv[i + 1];
-    if (flag == "--scenes") scenes = value;
-    else if (flag == "--frames") frames = std::max(2, std::atoi(value.c_str()));
+    if (flag == "--scenes")
+      scenes = value;
+    else if (flag == "--frames")
+      frames = std::max(2, std::atoi(value.c_str()));
     else if (flag == "--sizes") {
       sizes.clear();
       for (const auto& s : absl::StrSplit(value, ',')) {
@@ -263,9 +272,10 @@ int Main(int argc, char** argv) {
     std::cerr << scene.status() << "\n";
     return 1;
   }
-  std::cout << "renderer: " << (*engine)->device_info().renderer << "; CPU: "
-            << (*engine)->device_info().cpu_model << " (" << (*engine)->device_info().cpu_threads
-            << " threads); " << frames << " frames of the Cornell box orbit, direct solver\n\n";
+  std::cout << "renderer: " << (*engine)->device_info().renderer
+            << "; CPU: " << (*engine)->device_info().cpu_model << " ("
+            << (*engine)->device_info().cpu_threads << " threads); " << frames
+            << " frames of the Cornell box orbit, direct solver\n\n";
   std::cout << "| size | format | PSNR dB | SSIM | kbit/s at 30 fps | encode ms median | p95 |\n"
             << "| --- | --- | ---: | ---: | ---: | ---: | ---: |\n";
   for (const auto& [w, h] : sizes) {
@@ -280,9 +290,8 @@ int Main(int argc, char** argv) {
         return EncodeJpeg(p.rgba, p.w, p.h, q);
       }));
     }
-    rows.push_back(MeasureImages("PNG", *pics, [](const Picture& p) {
-      return EncodePng(p.rgba, p.w, p.h);
-    }));
+    rows.push_back(
+        MeasureImages("PNG", *pics, [](const Picture& p) { return EncodePng(p.rgba, p.w, p.h); }));
     for (int crf : {18, 23, 28}) {
       if (auto r = MeasureVideo(VideoCodec::kH264, {"libx264"}, crf, *pics)) rows.push_back(*r);
     }

@@ -71,7 +71,8 @@ absl::StatusOr<DecodedVideoFrame> VideoDecoder::Decode(std::span<const uint8_t> 
   av_packet_unref(s.packet.get());
   if (sent < 0) return absl::InvalidArgumentError(absl::StrCat("decode: ", AvError(sent)));
   const int got = avcodec_receive_frame(s.ctx.get(), s.frame.get());
-  if (got < 0) return absl::InvalidArgumentError(absl::StrCat("decode: no picture: ", AvError(got)));
+  if (got < 0)
+    return absl::InvalidArgumentError(absl::StrCat("decode: no picture: ", AvError(got)));
   const AVFrame* f = s.frame.get();
   if (f->format != AV_PIX_FMT_YUV420P && f->format != AV_PIX_FMT_YUVJ420P) {
     av_frame_unref(s.frame.get());

@@ -160,9 +160,9 @@ absl::StatusOr<std::unique_ptr<VideoEncoder>> VideoEncoder::Open(
   RouteAvLogOnce();
   if (options.width <= 0 || options.height <= 0 || options.width % 2 != 0 ||
       options.height % 2 != 0) {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "width x height: ", options.width, "x", options.height, " must be even for ",
-        VideoCodecName(options.codec)));
+    return absl::InvalidArgumentError(absl::StrCat("width x height: ", options.width, "x",
+                                                   options.height, " must be even for ",
+                                                   VideoCodecName(options.codec)));
   }
   const std::vector<std::string> names =
       options.encoders.empty() ? VideoEncoderCandidates(options.codec) : options.encoders;
@@ -198,14 +198,14 @@ absl::StatusOr<std::unique_ptr<VideoEncoder>> VideoEncoder::Open(
       return absl::ResourceExhaustedError(absl::StrCat("video encoder frame: ", AvError(e)));
     }
     if (!failures.empty()) {
-      Log(LogLevel::kDebug, absl::StrCat("video encoder ", name, " opened after ",
-                                         absl::StrJoin(failures, "; ")));
+      Log(LogLevel::kDebug,
+          absl::StrCat("video encoder ", name, " opened after ", absl::StrJoin(failures, "; ")));
     }
     return std::unique_ptr<VideoEncoder>(new VideoEncoder(std::move(state)));
   }
-  return absl::FailedPreconditionError(
-      absl::StrCat("no ", VideoCodecName(options.codec), " encoder opens here (tried ",
-                   absl::StrJoin(failures, "; "), ")"));
+  return absl::FailedPreconditionError(absl::StrCat("no ", VideoCodecName(options.codec),
+                                                    " encoder opens here (tried ",
+                                                    absl::StrJoin(failures, "; "), ")"));
 }
 
 absl::StatusOr<EncodedAccessUnit> VideoEncoder::Encode(std::span<const uint8_t> rgba,
@@ -213,8 +213,8 @@ absl::StatusOr<EncodedAccessUnit> VideoEncoder::Encode(std::span<const uint8_t> 
   State& s = *state_;
   const size_t expected = size_t(s.options.width) * size_t(s.options.height) * 4;
   if (rgba.size() != expected) {
-    return absl::InternalError(absl::StrCat("video encoder: got ", rgba.size(),
-                                            " bytes, expected ", expected));
+    return absl::InternalError(
+        absl::StrCat("video encoder: got ", rgba.size(), " bytes, expected ", expected));
   }
   AVFrame* f = s.frame.get();
   if (int e = av_frame_make_writable(f); e < 0) {
@@ -267,9 +267,9 @@ absl::Status CheckVideoEncoderAvailable(VideoCodec codec, const std::string& fie
     it = cache.emplace(key, status).first;
   }
   if (it->second.ok()) return absl::OkStatus();
-  return absl::FailedPreconditionError(absl::StrCat(
-      field, ": ", VideoCodecName(codec), " is not available on this server: ",
-      it->second.message()));
+  return absl::FailedPreconditionError(
+      absl::StrCat(field, ": ", VideoCodecName(codec),
+                   " is not available on this server: ", it->second.message()));
 }
 
 }  // namespace gistream

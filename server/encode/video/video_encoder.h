@@ -25,8 +25,8 @@ const char* VideoCodecName(VideoCodec codec);  // "H264", "HEVC", "AV1"
 
 struct VideoEncoderOptions {
   VideoCodec codec = VideoCodec::kH264;
-  int width = 0;   // even
-  int height = 0;  // even
+  int width = 0;      // even
+  int height = 0;     // even
   float fps = 30.0f;  // nominal rate, for rate control
   // Target bitrate in kbit/s; 0: constant quality at `crf`.
   uint32_t bitrate_kbps = 0;

@@ -45,7 +45,8 @@ std::vector<uint8_t> Yuv420ToRgba(const uint8_t* y, int y_stride, const uint8_t*
   std::vector<uint8_t> rgba(size_t(width) * size_t(height) * 4);
   for (int py = 0; py < height; ++py) {
     for (int px = 0; px < width; ++px) {
-      const float luma = (float(y[size_t(py) * size_t(y_stride) + size_t(px)]) - 16.0f) * 255.0f / 219.0f;
+      const float luma =
+          (float(y[size_t(py) * size_t(y_stride) + size_t(px)]) - 16.0f) * 255.0f / 219.0f;
       const size_t c = size_t(py / 2) * size_t(c_stride) + size_t(px / 2);
       const float cb = (float(u[c]) - 128.0f) * 255.0f / 224.0f;
       const float cr = (float(v[c]) - 128.0f) * 255.0f / 224.0f;

@@ -19,8 +19,7 @@ GistreamService::Options WithSessionObserver(GistreamService::Options options) {
   return options;
 }
 // A Session call refused before it starts (no valid token).
-class RejectedSession final
-    : public grpc::ServerBidiReactor<pb::SessionRequest, pb::SessionEvent> {
+class RejectedSession final : public grpc::ServerBidiReactor<pb::SessionRequest, pb::SessionEvent> {
  public:
   explicit RejectedSession(const grpc::Status& status) { Finish(status); }
   void OnDone() override { delete this; }
@@ -51,9 +50,9 @@ void GistreamService::NoteFailure(std::string_view method, grpc::CallbackServerC
   const absl::StatusCode code = FromGrpcCode(status.error_code());
   if (options_.observer) options_.observer->OnRpcFailed(method, code);
   // The code's name and the message (which names the field); never the request.
-  Log(LogLevel::kInfo, absl::StrCat(absl::string_view(method.data(), method.size()), " from ",
-                                    context->peer(), " failed: ", absl::StatusCodeToString(code),
-                                    ": ", status.error_message()));
+  Log(LogLevel::kInfo,
+      absl::StrCat(absl::string_view(method.data(), method.size()), " from ", context->peer(),
+                   " failed: ", absl::StatusCodeToString(code), ": ", status.error_message()));
 }
 
 GistreamService::~GistreamService() { StopWorkers(); }
@@ -73,17 +72,17 @@ grpc::ServerUnaryReactor* GistreamService::RunOnPool(grpc::CallbackServerContext
     reactor->Finish(status);
     return reactor;
   }
-  absl::Status submitted = pool_.Submit([this, reactor, context, method, work,
-                                         tenant = *std::move(tenant)]() {
-    grpc::Status status;
-    if (context->IsCancelled()) {
-      status = grpc::Status(grpc::StatusCode::CANCELLED, "cancelled before it ran");
-    } else {
-      status = work(tenant);
-    }
-    if (!status.ok()) NoteFailure(method, context, status);
-    reactor->Finish(status);  // the last use of context/request/response
-  });
+  absl::Status submitted =
+      pool_.Submit([this, reactor, context, method, work, tenant = *std::move(tenant)]() {
+        grpc::Status status;
+        if (context->IsCancelled()) {
+          status = grpc::Status(grpc::StatusCode::CANCELLED, "cancelled before it ran");
+        } else {
+          status = work(tenant);
+        }
+        if (!status.ok()) NoteFailure(method, context, status);
+        reactor->Finish(status);  // the last use of context/request/response
+      });
   if (!submitted.ok()) {
     const grpc::Status status = ToGrpcStatus(submitted);
     NoteFailure(method, context, status);
@@ -102,8 +101,8 @@ grpc::ServerUnaryReactor* GistreamService::LoadScene(grpc::CallbackServerContext
     absl::StatusOr<SceneInfo> info = engine_.LoadScene(*source);
     if (!info.ok()) return ToGrpcStatus(info.status());
     Log(LogLevel::kInfo, {"", info->id},
-        absl::StrCat("loaded by tenant ", tenant, " (", info->triangle_count, " triangles, ", info->lights.size(),
-                     " lights)"));
+        absl::StrCat("loaded by tenant ", tenant, " (", info->triangle_count, " triangles, ",
+                     info->lights.size(), " lights)"));
     SceneInfoToProto(*info, response);
     return grpc::Status::OK;
   });

@@ -29,7 +29,8 @@ void Error(pb::ServerReflectionResponse& response, grpc::StatusCode code, std::s
 
 }  // namespace
 
-pb::ServerReflectionResponse ReflectionV1::Answer(const pb::ServerReflectionRequest& request) const {
+pb::ServerReflectionResponse ReflectionV1::Answer(
+    const pb::ServerReflectionRequest& request) const {
   pb::ServerReflectionResponse response;
   response.set_valid_host(request.host());
   *response.mutable_original_request() = request;
@@ -60,9 +61,11 @@ pb::ServerReflectionResponse ReflectionV1::Answer(const pb::ServerReflectionRequ
       break;
     }
     case pb::ServerReflectionRequest::kFileContainingExtension: {
-      const auto* type = pool->FindMessageTypeByName(request.file_containing_extension().containing_type());
+      const auto* type =
+          pool->FindMessageTypeByName(request.file_containing_extension().containing_type());
       const auto* extension =
-          type ? pool->FindExtensionByNumber(type, request.file_containing_extension().extension_number())
+          type ? pool->FindExtensionByNumber(type,
+                                             request.file_containing_extension().extension_number())
                : nullptr;
       if (extension == nullptr) {
         Error(response, grpc::StatusCode::NOT_FOUND, "extension not found");
@@ -85,9 +88,7 @@ pb::ServerReflectionResponse ReflectionV1::Answer(const pb::ServerReflectionRequ
       break;
     }
     case pb::ServerReflectionRequest::MESSAGE_REQUEST_NOT_SET:
-    default:
-      Error(response, grpc::StatusCode::INVALID_ARGUMENT, "message_request: not set");
-      break;
+    default: Error(response, grpc::StatusCode::INVALID_ARGUMENT, "message_request: not set"); break;
   }
   return response;
 }

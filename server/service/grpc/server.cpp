@@ -62,9 +62,8 @@ absl::StatusOr<std::unique_ptr<GistreamServer>> GistreamServer::Start(
   self->server_ = builder.BuildAndStart();
   if (self->server_ == nullptr || self->port_ == 0) {
     self->server_.reset();
-    return absl::UnavailableError(
-        absl::StrCat("cannot listen on ", options.listen,
-                     " (address in use, not local, or malformed)"));
+    return absl::UnavailableError(absl::StrCat("cannot listen on ", options.listen,
+                                               " (address in use, not local, or malformed)"));
   }
   self->address_ = WithPort(options.listen, self->port_);
 
@@ -78,8 +77,8 @@ absl::StatusOr<std::unique_ptr<GistreamServer>> GistreamServer::Start(
     if (self->health_server_ == nullptr || self->health_port_ == 0) {
       self->health_server_.reset();
       self->server_->Shutdown();
-      return absl::UnavailableError(absl::StrCat("cannot listen on ", options.health_listen,
-                                                 " (--health-listen)"));
+      return absl::UnavailableError(
+          absl::StrCat("cannot listen on ", options.health_listen, " (--health-listen)"));
     }
   }
   for (grpc::Server* server : {self->server_.get(), self->health_server_.get()}) {
@@ -122,8 +121,8 @@ void GistreamServer::Shutdown(std::chrono::milliseconds deadline) {
   if (server_ != nullptr) {
     engine_.SetServingListener({});  // a recovery must not turn it back on
     SetNotServing();
-    Log(LogLevel::kInfo, absl::StrCat("shutting down: calls have ", deadline.count(),
-                                      " ms to finish"));
+    Log(LogLevel::kInfo,
+        absl::StrCat("shutting down: calls have ", deadline.count(), " ms to finish"));
     server_->Shutdown(std::chrono::system_clock::now() + deadline);
     server_->Wait();
   }

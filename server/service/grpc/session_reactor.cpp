@@ -113,7 +113,8 @@ void SessionReactor::OnReadDone(bool ok) {
       break;
     }
     case pb::SessionRequest::kRequestFrame: {
-      const uint32_t count = request_.request_frame().count() == 0 ? 1 : request_.request_frame().count();
+      const uint32_t count =
+          request_.request_frame().count() == 0 ? 1 : request_.request_frame().count();
       if (request_.request_frame().key_frame()) status = engine_.RequestKeyFrame(id);
       if (status.ok()) status = engine_.RequestFrames(id, count);
       if (status.ok()) frames_requested = count;
@@ -142,7 +143,7 @@ void SessionReactor::OnReadDone(bool ok) {
 void SessionReactor::HandleConfig(const pb::SessionConfig& proto) {
   absl::StatusOr<SessionConfig> config = SessionConfigFromProto(proto);
   std::unique_lock lock(mutex_);
-  read_in_flight_ = false;  // the next read starts once the session is open
+  read_in_flight_ = false;                         // the next read starts once the session is open
   if (cancelled_ || finish_status_.has_value()) {  // OnCancel ran meanwhile
     state_ = State::kClosed;
     PumpLocked();
@@ -361,8 +362,8 @@ SessionId SessionReactor::TakeSessionToCloseLocked() {
 void SessionReactor::NoteRejectedLocked(uint64_t seq, const absl::Status& status) {
   observer().OnUpdateRejected(status.code());
   Log(LogLevel::kDebug, {session_id_, scene_id_},
-      absl::StrCat("update seq ", seq, " rejected: ", absl::StatusCodeToString(status.code()),
-                   ": ", status.message()));
+      absl::StrCat("update seq ", seq, " rejected: ", absl::StatusCodeToString(status.code()), ": ",
+                   status.message()));
 }
 
 ServerObserver& SessionReactor::observer() const {

@@ -53,7 +53,7 @@ class SessionSink final : public FrameSink {
  private:
   friend class SessionReactor;
   std::mutex mutex_;
-  SessionReactor* reactor_;  // null once detached
+  SessionReactor* reactor_;           // null once detached
   std::atomic<uint64_t> dropped_{0};  // the reactor's drops, over the session's life
 };
 

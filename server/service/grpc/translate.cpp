@@ -199,8 +199,9 @@ absl::StatusOr<Update> UpdateFromProto(const pb::Update& update, absl::string_vi
   out.seq = update.seq();
   switch (update.change_case()) {
     case pb::Update::kNodeTransform: {
-      GS_ASSIGN_OR_RETURN(out.change, NodeTransformFromProto(update.node_transform(),
-                                                             absl::StrCat(field, ".node_transform")));
+      GS_ASSIGN_OR_RETURN(
+          out.change,
+          NodeTransformFromProto(update.node_transform(), absl::StrCat(field, ".node_transform")));
       break;
     }
     case pb::Update::kLight: out.change = LightFromProto(update.light()); break;
@@ -251,8 +252,7 @@ absl::StatusOr<CameraUpdate> CameraFromProto(const pb::CameraChange& camera,
     default: break;
   }
   if (camera.has_yfov_degrees()) out.yfov_degrees = camera.yfov_degrees();
-  GS_RETURN_IF_ERROR(
-      CheckPair(field, "width", camera.has_width(), "height", camera.has_height()));
+  GS_RETURN_IF_ERROR(CheckPair(field, "width", camera.has_width(), "height", camera.has_height()));
   if (camera.has_width()) {
     out.width = camera.width();
     out.height = camera.height();
@@ -455,8 +455,7 @@ void SceneInfoToProto(const SceneInfo& info, pb::LoadSceneResponse* out) {
   out->set_version(info.version);
 }
 
-void SolversToProto(const std::vector<SolverDescription>& solvers,
-                    pb::ListSolversResponse* out) {
+void SolversToProto(const std::vector<SolverDescription>& solvers, pb::ListSolversResponse* out) {
   for (const SolverDescription& s : solvers) {
     pb::SolverInfo* p = out->add_solvers();
     p->set_name(s.name);

@@ -57,8 +57,7 @@ absl::StatusOr<RenderRequest> RenderRequestFromProto(const pb::RenderRequest& re
 
 pb::ImageFormat ToProto(ImageFormat format);
 void SceneInfoToProto(const SceneInfo& info, pb::LoadSceneResponse* out);
-void SolversToProto(const std::vector<SolverDescription>& solvers,
-                    pb::ListSolversResponse* out);
+void SolversToProto(const std::vector<SolverDescription>& solvers, pb::ListSolversResponse* out);
 void FrameToProto(const EncodedFrame& frame, pb::Frame* out);
 void SessionOpenedToProto(const SessionOpenInfo& info, pb::SessionOpened* out);
 void UpdateRejectedToProto(uint64_t seq, const absl::Status& status, pb::UpdateRejected* out);

@@ -7,7 +7,8 @@
 
 namespace gistream::service {
 
-WorkerPool::WorkerPool(const Options& options) : max_queued_(std::max<size_t>(options.max_queued, 1)) {
+WorkerPool::WorkerPool(const Options& options)
+    : max_queued_(std::max<size_t>(options.max_queued, 1)) {
   const size_t n = std::max<size_t>(options.threads, 1);
   threads_.reserve(n);
   for (size_t i = 0; i < n; ++i) {

@@ -34,15 +34,16 @@ struct ElementGpu {
 };
 GS_STD430_MIRROR(ElementGpu, 48);
 
-
 }  // namespace
 
 SolverDescription AntiradianceSolver::Describe() {
   SolverDescription d;
   d.name = "antiradiance";
   d.description =
-      "Dachsbacher et al. 2007: implicit visibility through antiradiance, hierarchical links, directional bins";
+      "Dachsbacher et al. 2007: implicit visibility through antiradiance, hierarchical links, "
+      "directional bins";
   d.stages = {"link", "global_pass", "local_pass", "push_pull", "display"};
+  // clang-format off
   d.params = {
       // Even: the bins come in opposite pairs (directional_bins.h).
       {"bins", ParamType::kInt, "128", 32, 512, {}, "Directional bins per element (even)", 2},
@@ -61,6 +62,7 @@ SolverDescription AntiradianceSolver::Describe() {
       {"patch_size", ParamType::kFloat, "0", 0, 1e9, {},
        "elements=triangles: longest leaf edge in metres, larger triangles are split (0: diagonal / 24)"},
   };
+  // clang-format on
   for (ParamSpec& spec : DirectLightingParams()) d.params.push_back(std::move(spec));
   return d;
 }
@@ -78,13 +80,15 @@ absl::StatusOr<std::unique_ptr<Solver>> AntiradianceSolver::Create(const ParamSe
   s.surfels = params.GetString("elements") == "surfels";
   s.transport.iterations = params.GetInt("iterations");
   s.transport.tolerance = params.GetFloat("tolerance");
-  s.transport.scheme = params.GetString("scheme") == "asymmetric" ? Scheme::kAsymmetric : Scheme::kSymmetric;
+  s.transport.scheme =
+      params.GetString("scheme") == "asymmetric" ? Scheme::kAsymmetric : Scheme::kSymmetric;
   s.transport.antiradiance_steps = params.GetInt("antiradiance_steps");
   s.direct = DirectLightingFromParams(params);
   GS_ASSIGN_OR_RETURN(solver->bins_, antiradiance::DirectionalBins::Create(s.bins));
   GS_ASSIGN_OR_RETURN(solver->lighting_, DirectLighting::Create());
-  GS_ASSIGN_OR_RETURN(solver->direct_program_,
-                      gl::Program::Build({{GL_COMPUTE_SHADER, "antiradiance/element_direct.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(
+      solver->direct_program_,
+      gl::Program::Build({{GL_COMPUTE_SHADER, "antiradiance/element_direct.comp.glsl"}}));
   GS_ASSIGN_OR_RETURN(solver->display_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "antiradiance/display.frag.glsl"}}));
@@ -131,11 +135,13 @@ absl::StatusOr<std::unique_ptr<antiradiance::Patches>> AntiradianceSolver::Patch
     *patches = antiradiance::BuildPatches(triangles, max_edge);
   }
   // I_ex and L_in: elements x bins x 2 x RGB floats.
-  const uint64_t table_bytes = uint64_t(patches->size()) * uint64_t(bins_.count()) * 2 * sizeof(glm::vec3);
+  const uint64_t table_bytes =
+      uint64_t(patches->size()) * uint64_t(bins_.count()) * 2 * sizeof(glm::vec3);
   if (table_bytes > kMaxTableBytes) {
-    return absl::ResourceExhaustedError(absl::StrCat(
-        "params.bins: ", bins_.count(), " bins x ", patches->size(), " elements need ", table_bytes >> 20,
-        " MiB of I_ex/L_in tables (limit ", kMaxTableBytes >> 20, " MiB); use fewer bins"));
+    return absl::ResourceExhaustedError(
+        absl::StrCat("params.bins: ", bins_.count(), " bins x ", patches->size(), " elements need ",
+                     table_bytes >> 20, " MiB of I_ex/L_in tables (limit ", kMaxTableBytes >> 20,
+                     " MiB); use fewer bins"));
   }
   return patches;
 }
@@ -148,7 +154,8 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
     // Section 3.3: relink only the pairs of roots (charts / mesh instances)
     // that touch a moved one; the layout is the same as long as the scene's
     // meshes are (only transforms change), which same_layout checks.
-    job->same_layout = transport_ && patches_ && p.roots == patches_->roots && p.size() == patches_->size();
+    job->same_layout =
+        transport_ && patches_ && p.roots == patches_->roots && p.size() == patches_->size();
     job->moved.assign(p.roots.size(), true);
     if (job->same_layout) {
       for (size_t r = 0; r < p.roots.size(); ++r) {
@@ -169,7 +176,8 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
   }
   job->leaves = job->patches->Leaves();
   for (int i : job->leaves) {
-    job->patches->albedo[size_t(i)] = antiradiance::MaterialAlbedo(ctx.state, job->patches->tag[size_t(i)]);
+    job->patches->albedo[size_t(i)] =
+        antiradiance::MaterialAlbedo(ctx.state, job->patches->tag[size_t(i)]);
   }
   if (!job->relink || job->same_layout) job->link_set = link_set_;  // (relinked in the job)
   {
@@ -204,13 +212,17 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
     j.transport = std::make_unique<antiradiance::Transport>(*j.patches, *bins, j.link_set.Sorted());
     // Emission is the direct term's (area-light samples), not transported again.
     Clock::time_point begun;
-    j.result = j.transport->Solve(j.direct, {}, settings, [&](const char* stage, bool begin) {
-      if (begin) {
-        begun = Clock::now();
-      } else {
-        j.stage_ms[stage] += std::chrono::duration<double, std::milli>(Clock::now() - begun).count();
-      }
-    }, warm);
+    j.result = j.transport->Solve(
+        j.direct, {}, settings,
+        [&](const char* stage, bool begin) {
+          if (begin) {
+            begun = Clock::now();
+          } else {
+            j.stage_ms[stage] +=
+                std::chrono::duration<double, std::milli>(Clock::now() - begun).count();
+          }
+        },
+        warm);
   });
   return absl::OkStatus();
 }
@@ -255,11 +267,13 @@ void AntiradianceSolver::BuildDisplay() {
   const float widest = std::max({extent.x, extent.y, extent.z});
   grid_cell_ = std::max({largest, widest / float(kMaxGridDim - 1), 1e-6f});
   grid_min_ = box.min;
-  grid_dims_ = glm::clamp(glm::ivec3(glm::floor(extent / grid_cell_)) + 1, glm::ivec3(1), glm::ivec3(kMaxGridDim));
+  grid_dims_ = glm::clamp(glm::ivec3(glm::floor(extent / grid_cell_)) + 1, glm::ivec3(1),
+                          glm::ivec3(kMaxGridDim));
   const size_t cells = size_t(grid_dims_.x) * size_t(grid_dims_.y) * size_t(grid_dims_.z);
   std::vector<uint32_t> grid(cells + 1 + leaves_.size(), 0);
   auto cell_of = [&](const glm::vec3& p) {
-    const glm::ivec3 c = glm::clamp(glm::ivec3((p - grid_min_) / grid_cell_), glm::ivec3(0), grid_dims_ - 1);
+    const glm::ivec3 c =
+        glm::clamp(glm::ivec3((p - grid_min_) / grid_cell_), glm::ivec3(0), grid_dims_ - 1);
     return size_t((c.z * grid_dims_.y + c.y) * grid_dims_.x + c.x);
   };
   for (const ElementGpu& e : elements) ++grid[cell_of(glm::vec3(e.position_radius)) + 1];
@@ -307,7 +321,8 @@ void AntiradianceSolver::UploadIrradiance() {
   negative_area_ = 0.0;
   for (size_t k = 0; k < leaves_.size(); ++k) {
     const glm::vec3 v = transport_->indirect_irradiance()[size_t(leaves_[k])];
-    if (v.r < 0.0f || v.g < 0.0f || v.b < 0.0f) negative_area_ += patches_->area[size_t(leaves_[k])];
+    if (v.r < 0.0f || v.g < 0.0f || v.b < 0.0f)
+      negative_area_ += patches_->area[size_t(leaves_[k])];
     element_data_[3 * k + 2] = glm::vec4(glm::max(v, glm::vec3(0.0f)), 0.0f);
   }
   if (!element_data_.empty()) {
@@ -319,11 +334,13 @@ void AntiradianceSolver::UploadIrradiance() {
 absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) {
   const bool first = !transport_;
   const bool geometry = (changes & kChangeGeometry) || first;
-  const bool light = geometry || (changes & (kChangeLights | kChangeEmission | kChangeMaterials |
-                                             kChangeEnvironment));
+  const bool light =
+      geometry ||
+      (changes & (kChangeLights | kChangeEmission | kChangeMaterials | kChangeEnvironment));
   const bool busy = solve_.running() || lighting_.pending() || stale_;
   if (!light && !busy) {
-    for (const char* stage : {"link", "global_pass", "local_pass", "push_pull"}) ctx.timer.Skip(stage);
+    for (const char* stage : {"link", "global_pass", "local_pass", "push_pull"})
+      ctx.timer.Skip(stage);
     return absl::OkStatus();
   }
   if (const std::optional<float> k =
@@ -352,7 +369,8 @@ absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) 
     if (light || (drawing && !lighting_.pending())) stale_ = true;
   }
   if (geometry) relink_due_ = true;
-  if (std::shared_ptr<SolveJob> done = solve_.TakeIfDone()) GS_RETURN_IF_ERROR(TakeSolve(ctx, *done));
+  if (std::shared_ptr<SolveJob> done = solve_.TakeIfDone())
+    GS_RETURN_IF_ERROR(TakeSolve(ctx, *done));
   if (stale_ && !solve_.running()) {
     // Link and transport run on the CPU pool on copies (links of the moved
     // roots only, Section 3.3); frames show the last solution meanwhile. A

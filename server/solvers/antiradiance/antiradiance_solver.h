@@ -32,9 +32,9 @@
 namespace gistream {
 
 struct AntiradianceSettings {
-  int bins = 128;             // directional bins per element
-  float patch_size = 0.0f;    // longest leaf edge (m); 0: scene diagonal / 24
-  bool surfels = true;        // elements from the shared hierarchy (vertex discs), else triangles
+  int bins = 128;           // directional bins per element
+  float patch_size = 0.0f;  // longest leaf edge (m); 0: scene diagonal / 24
+  bool surfels = true;      // elements from the shared hierarchy (vertex discs), else triangles
   antiradiance::TransportSettings transport;
   DirectLightingSettings direct;
 };
@@ -52,7 +52,9 @@ class AntiradianceSolver final : public Solver {
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
-  bool UpdateComplete() const override { return !solve_.running() && !stale_ && !lighting_.pending(); }
+  bool UpdateComplete() const override {
+    return !solve_.running() && !stale_ && !lighting_.pending();
+  }
   // Shadow maps and the display's element buffer (the transport is CPU memory).
   uint64_t gpu_bytes() const override {
     return lighting_.gpu_bytes() + element_data_.size() * sizeof(glm::vec4);
@@ -67,9 +69,9 @@ class AntiradianceSolver final : public Solver {
     std::unique_ptr<antiradiance::Patches> patches;  // its address is the transport's
     std::vector<int> leaves;
     antiradiance::LinkSet link_set;
-    bool relink = false;       // link the new patches (else keep the links)
-    bool same_layout = false;  // relink the moved roots' pairs only
-    std::vector<bool> moved;   // per root
+    bool relink = false;            // link the new patches (else keep the links)
+    bool same_layout = false;       // relink the moved roots' pairs only
+    std::vector<bool> moved;        // per root
     std::vector<glm::vec3> direct;  // E_d per node, at the leaves
     absl::Status status;            // a limit the links exceed
     std::unique_ptr<antiradiance::Transport> transport;
@@ -106,8 +108,8 @@ class AntiradianceSolver final : public Solver {
   float indirect_scale_ = 1.0f;
   gl::Buffer elements_;  // per leaf: position + splat radius, normal, indirect irradiance
   std::vector<glm::vec4> element_data_;  // its CPU copy, 3 vec4 per leaf
-  gl::Buffer grid_;      // uniform grid over the leaves: cell starts, then leaf ids
-  gl::Buffer direct_;    // per leaf direct irradiance (compute output)
+  gl::Buffer grid_;                      // uniform grid over the leaves: cell starts, then leaf ids
+  gl::Buffer direct_;                    // per leaf direct irradiance (compute output)
   glm::vec3 grid_min_{0.0f};
   glm::ivec3 grid_dims_{1};
   float grid_cell_ = 1.0f;

@@ -85,7 +85,8 @@ absl::StatusOr<DirectionalBins> DirectionalBins::Create(int m) {
   // bin's own radius to a hemisphere.
   const float bin_radius = std::sqrt(b.omega_bin_ / kPi);
   b.cone_angle_.push_back(bin_radius);
-  for (float a = bin_radius * std::sqrt(2.0f); b.cone_angle_.back() < 0.5f * kPi; a *= std::sqrt(2.0f)) {
+  for (float a = bin_radius * std::sqrt(2.0f); b.cone_angle_.back() < 0.5f * kPi;
+       a *= std::sqrt(2.0f)) {
     b.cone_angle_.push_back(std::min(a, 0.5f * kPi));
   }
   const int levels = int(b.cone_angle_.size());
@@ -101,13 +102,15 @@ absl::StatusOr<DirectionalBins> DirectionalBins::Create(int m) {
       } else {
         double sum = 0.0;
         for (int k = 0; k < m; ++k) {
-          const float a = std::acos(std::clamp(glm::dot(b.direction_[size_t(j)], b.direction_[size_t(k)]), -1.0f, 1.0f));
+          const float a = std::acos(
+              std::clamp(glm::dot(b.direction_[size_t(j)], b.direction_[size_t(k)]), -1.0f, 1.0f));
           if (a > support) continue;
           const float w = std::exp(-a * a / two_sigma2);
           b.taps_.push_back({uint16_t(k), w});
           sum += w;
         }
-        for (size_t t = begin; t < b.taps_.size(); ++t) b.taps_[t].weight = float(b.taps_[t].weight / sum);
+        for (size_t t = begin; t < b.taps_.size(); ++t)
+          b.taps_[t].weight = float(b.taps_[t].weight / sum);
       }
       b.row_.push_back(uint32_t(b.taps_.size()));
     }
@@ -128,8 +131,8 @@ int DirectionalBins::ConeLevel(float theta) const {
   return cone_levels() - 1;
 }
 
-std::pair<const DirectionalBins::Tap*, const DirectionalBins::Tap*> DirectionalBins::Row(int level,
-                                                                                        int j) const {
+std::pair<const DirectionalBins::Tap*, const DirectionalBins::Tap*> DirectionalBins::Row(
+    int level, int j) const {
   const size_t r = size_t(level) * direction_.size() + size_t(j);
   return {taps_.data() + row_[r], taps_.data() + row_[r + 1]};
 }

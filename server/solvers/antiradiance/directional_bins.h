@@ -48,7 +48,9 @@ class DirectionalBins {
   };
   // Taps of bin j at cone level l: [row_begin, row_end) of taps().
   std::pair<const Tap*, const Tap*> Row(int level, int j) const;
-  uint64_t table_bytes() const { return taps_.size() * sizeof(Tap) + row_.size() * sizeof(uint32_t); }
+  uint64_t table_bytes() const {
+    return taps_.size() * sizeof(Tap) + row_.size() * sizeof(uint32_t);
+  }
 
  private:
   std::vector<glm::vec3> direction_;

@@ -83,7 +83,8 @@ class Linker {
  private:
   // Whether any part of sender's bounding sphere is in front of leaf recv.
   bool SenderInFront(int recv, int send) const {
-    const float h = glm::dot(p_.normal[size_t(recv)], p_.position[size_t(send)] - p_.position[size_t(recv)]);
+    const float h =
+        glm::dot(p_.normal[size_t(recv)], p_.position[size_t(send)] - p_.position[size_t(recv)]);
     return h + p_.radius[size_t(send)] > 0.0f;
   }
 
@@ -95,7 +96,8 @@ class Linker {
 
 }  // namespace
 
-void LinkSet::LinkPairs(const Patches& patches, const DirectionalBins& bins, const std::vector<size_t>& pairs) {
+void LinkSet::LinkPairs(const Patches& patches, const DirectionalBins& bins,
+                        const std::vector<size_t>& pairs) {
   ParallelFor(pairs.size(), 1, [&](size_t k) {
     const size_t pair = pairs[k];
     std::vector<Link>& out = per_pair_[pair];
@@ -124,7 +126,8 @@ void LinkSet::Build(const Patches& patches, const DirectionalBins& bins) {
   LinkPairs(patches, bins, all);
 }
 
-void LinkSet::Relink(const Patches& patches, const DirectionalBins& bins, const std::vector<bool>& moved) {
+void LinkSet::Relink(const Patches& patches, const DirectionalBins& bins,
+                     const std::vector<bool>& moved) {
   if (patches.roots.size() != roots_ || moved.size() != roots_) {
     Build(patches, bins);
     return;
@@ -156,7 +159,8 @@ std::vector<Link> LinkSet::Sorted() const {
   return links;
 }
 
-std::vector<Link> CreateLinks(const Patches& patches, const DirectionalBins& bins, LinkStats* stats) {
+std::vector<Link> CreateLinks(const Patches& patches, const DirectionalBins& bins,
+                              LinkStats* stats) {
   LinkSet set;
   set.Build(patches, bins);
   if (stats != nullptr) *stats = set.stats();

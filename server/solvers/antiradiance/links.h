@@ -28,14 +28,15 @@ struct Link {
 };
 
 struct LinkStats {
-  uint64_t node_pairs = 0;  // oracle calls
-  uint64_t spread = 0;      // links with cone level > 0
-  uint64_t root_pairs = 0;  // (receiver root, sender root) pairs
+  uint64_t node_pairs = 0;           // oracle calls
+  uint64_t spread = 0;               // links with cone level > 0
+  uint64_t root_pairs = 0;           // (receiver root, sender root) pairs
   uint64_t relinked_root_pairs = 0;  // of those, linked by the last call
 };
 
 // Sorted by receiver. Multi-threaded over pairs of roots.
-std::vector<Link> CreateLinks(const Patches& patches, const DirectionalBins& bins, LinkStats* stats);
+std::vector<Link> CreateLinks(const Patches& patches, const DirectionalBins& bins,
+                              LinkStats* stats);
 
 // The links kept per pair of roots, so that moving objects relink only the
 // pairs that touch a moved root (Section 3.3: "we only have to update
@@ -53,7 +54,8 @@ class LinkSet {
   uint64_t size() const;
 
  private:
-  void LinkPairs(const Patches& patches, const DirectionalBins& bins, const std::vector<size_t>& pairs);
+  void LinkPairs(const Patches& patches, const DirectionalBins& bins,
+                 const std::vector<size_t>& pairs);
 
   size_t roots_ = 0;
   std::vector<std::vector<Link>> per_pair_;  // receiver root x roots + sender root

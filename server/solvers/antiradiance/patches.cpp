@@ -13,12 +13,14 @@ struct Leaf {
 };
 
 void Split(const SourceTriangle& t, float max_edge, int depth, std::vector<Leaf>& out) {
-  const float e = std::max({glm::length(t.p[1] - t.p[0]), glm::length(t.p[2] - t.p[1]),
-                            glm::length(t.p[0] - t.p[2])});
+  const float e = std::max(
+      {glm::length(t.p[1] - t.p[0]), glm::length(t.p[2] - t.p[1]), glm::length(t.p[0] - t.p[2])});
   if (e > max_edge && depth < 12) {
-    const glm::vec3 a = 0.5f * (t.p[0] + t.p[1]), b = 0.5f * (t.p[1] + t.p[2]), c = 0.5f * (t.p[2] + t.p[0]);
-    for (const auto& q : {std::array<glm::vec3, 3>{t.p[0], a, c}, std::array<glm::vec3, 3>{a, t.p[1], b},
-                          std::array<glm::vec3, 3>{c, b, t.p[2]}, std::array<glm::vec3, 3>{a, b, c}}) {
+    const glm::vec3 a = 0.5f * (t.p[0] + t.p[1]), b = 0.5f * (t.p[1] + t.p[2]),
+                    c = 0.5f * (t.p[2] + t.p[0]);
+    for (const auto& q :
+         {std::array<glm::vec3, 3>{t.p[0], a, c}, std::array<glm::vec3, 3>{a, t.p[1], b},
+          std::array<glm::vec3, 3>{c, b, t.p[2]}, std::array<glm::vec3, 3>{a, b, c}}) {
       Split({q, t.normal, t.albedo, t.tag}, max_edge, depth + 1, out);
     }
     return;
@@ -72,7 +74,8 @@ class Builder {
     float widest = -1.0f;
     for (int a = 0; a < 6; ++a) {
       float mn = 1e30f, mx = -1e30f;
-      for (size_t i = begin; i < end; ++i) mn = std::min(mn, key(idx[i], a)), mx = std::max(mx, key(idx[i], a));
+      for (size_t i = begin; i < end; ++i)
+        mn = std::min(mn, key(idx[i], a)), mx = std::max(mx, key(idx[i], a));
       if (mx - mn > widest) widest = mx - mn, axis = a;
     }
     const size_t mid = begin + (end - begin) / 2;
@@ -86,7 +89,8 @@ class Builder {
     const glm::vec3 p = (a0 * out_.position[size_t(c0)] + a1 * out_.position[size_t(c1)]) / a;
     const glm::vec3 n = a0 * out_.normal[size_t(c0)] + a1 * out_.normal[size_t(c1)];
     out_.position[size_t(node)] = p;
-    out_.normal[size_t(node)] = glm::length(n) > 1e-12f * a ? glm::normalize(n) : out_.normal[size_t(c0)];
+    out_.normal[size_t(node)] =
+        glm::length(n) > 1e-12f * a ? glm::normalize(n) : out_.normal[size_t(c0)];
     out_.area[size_t(node)] = a;
     out_.radius[size_t(node)] =
         std::max(glm::length(out_.position[size_t(c0)] - p) + out_.radius[size_t(c0)],

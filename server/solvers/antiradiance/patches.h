@@ -19,13 +19,14 @@ namespace gistream::antiradiance {
 struct Patches {
   // Per node (leaves and clusters).
   std::vector<glm::vec3> position;  // centre x_i (area-weighted)
-  std::vector<glm::vec3> normal;    // unit for leaves; clusters: area-weighted average (unused by K/J)
-  std::vector<float> area;          // a_i, the sum of the leaves' areas for a cluster
-  std::vector<float> radius;        // bounding sphere about position
-  std::vector<glm::vec3> albedo;    // leaves: diffuse reflectance rho
-  std::vector<int> tag;             // leaves: the source triangle's tag (e.g. its material)
+  std::vector<glm::vec3>
+      normal;                 // unit for leaves; clusters: area-weighted average (unused by K/J)
+  std::vector<float> area;    // a_i, the sum of the leaves' areas for a cluster
+  std::vector<float> radius;  // bounding sphere about position
+  std::vector<glm::vec3> albedo;  // leaves: diffuse reflectance rho
+  std::vector<int> tag;           // leaves: the source triangle's tag (e.g. its material)
   std::vector<std::array<int, 4>> children;  // up to four; -1 unused (all -1 for leaves)
-  std::vector<int> roots;           // one per mesh instance
+  std::vector<int> roots;                    // one per mesh instance
 
   int size() const { return int(position.size()); }
   bool is_leaf(int i) const { return children[size_t(i)][0] < 0; }

@@ -13,8 +13,8 @@
 namespace gistream::antiradiance {
 namespace {
 
-int Emit(const hierarchy::Elements& e, const std::vector<glm::vec3>& albedo, const std::vector<int>& tag,
-         int node, Patches& out) {
+int Emit(const hierarchy::Elements& e, const std::vector<glm::vec3>& albedo,
+         const std::vector<int>& tag, int node, Patches& out) {
   const int id = out.size();
   const size_t n = size_t(node);
   out.position.push_back(e.position[n]);
@@ -38,10 +38,12 @@ int Emit(const hierarchy::Elements& e, const std::vector<glm::vec3>& albedo, con
 
 }  // namespace
 
-Patches PatchesFromElements(const hierarchy::Elements& elements, const std::vector<glm::vec3>& leaf_albedo,
+Patches PatchesFromElements(const hierarchy::Elements& elements,
+                            const std::vector<glm::vec3>& leaf_albedo,
                             const std::vector<int>& leaf_tag) {
   Patches out;
-  for (int root : elements.roots()) out.roots.push_back(Emit(elements, leaf_albedo, leaf_tag, root, out));
+  for (int root : elements.roots())
+    out.roots.push_back(Emit(elements, leaf_albedo, leaf_tag, root, out));
   return out;
 }
 

@@ -17,7 +17,8 @@
 namespace gistream::antiradiance {
 
 // leaf_albedo / leaf_tag are indexed by the shared hierarchy's leaf ids.
-Patches PatchesFromElements(const hierarchy::Elements& elements, const std::vector<glm::vec3>& leaf_albedo,
+Patches PatchesFromElements(const hierarchy::Elements& elements,
+                            const std::vector<glm::vec3>& leaf_albedo,
                             const std::vector<int>& leaf_tag);
 
 // Per-mesh preprocessing kept between calls (meshes never change, only

@@ -12,7 +12,9 @@ namespace {
 constexpr float kPi = 3.14159265358979f;
 
 double Luminance(const glm::vec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
-bool Finite(const glm::vec3& c) { return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b); }
+bool Finite(const glm::vec3& c) {
+  return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b);
+}
 
 // Nodes of each root's subtree: [root, next root) in the depth-first layout.
 std::vector<std::pair<int, int>> RootRanges(const Patches& p) {
@@ -41,12 +43,14 @@ Transport::Transport(const Patches& patches, const DirectionalBins& bins, std::v
   }
   // Links are sorted by receiver: one range per receiver for the parallel gather.
   for (size_t i = 0; i < links_.size(); ++i) {
-    if (i == 0 || links_[i].receiver != links_[i - 1].receiver) receiver_begin_.push_back(uint32_t(i));
+    if (i == 0 || links_[i].receiver != links_[i - 1].receiver)
+      receiver_begin_.push_back(uint32_t(i));
   }
   receiver_begin_.push_back(uint32_t(links_.size()));
 }
 
-void Transport::Initialize(const std::vector<glm::vec3>& direct, const std::vector<glm::vec3>& emitted) {
+void Transport::Initialize(const std::vector<glm::vec3>& direct,
+                           const std::vector<glm::vec3>& emitted) {
   source_.assign(leaves_.size(), glm::vec3(0.0f));
   for (size_t k = 0; k < leaves_.size(); ++k) {
     const size_t i = size_t(leaves_[k]);
@@ -223,8 +227,9 @@ double Transport::RunScheme(Scheme scheme, const TransportSettings& s, const Sta
 }
 
 TransportResult Transport::Solve(const std::vector<glm::vec3>& direct_irradiance,
-                                 const std::vector<glm::vec3>& emitted, const TransportSettings& settings,
-                                 const StageHook& hook, const Transport* warm) {
+                                 const std::vector<glm::vec3>& emitted,
+                                 const TransportSettings& settings, const StageHook& hook,
+                                 const Transport* warm) {
   TransportResult result;
   result.scheme_used = settings.scheme;
   Initialize(direct_irradiance, emitted);

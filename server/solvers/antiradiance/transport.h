@@ -30,19 +30,19 @@ namespace gistream::antiradiance {
 enum class Scheme { kSymmetric = 0, kAsymmetric = 1 };
 
 struct TransportSettings {
-  int iterations = 4;          // most iterations (symmetric) or radiance steps (asymmetric)
+  int iterations = 4;  // most iterations (symmetric) or radiance steps (asymmetric)
   // Stop once an iteration's (radiance step's) residual is below this; 0:
   // run every iteration. The count above is then only a safety cap.
   double tolerance = 0.0;
   Scheme scheme = Scheme::kSymmetric;
-  int antiradiance_steps = 16;  // asymmetric: most Eq. 14 steps per radiance step
+  int antiradiance_steps = 16;           // asymmetric: most Eq. 14 steps per radiance step
   double antiradiance_tolerance = 1e-3;  // asymmetric: stop Eq. 14 below this residual
 };
 
 struct TransportResult {
   Scheme scheme_used = Scheme::kSymmetric;
-  bool fallback = false;         // symmetric diverged; redone asymmetrically
-  bool non_finite = false;       // even the asymmetric scheme produced NaN/Inf (output zeroed)
+  bool fallback = false;    // symmetric diverged; redone asymmetrically
+  bool non_finite = false;  // even the asymmetric scheme produced NaN/Inf (output zeroed)
   int global_passes = 0;
   int iterations = 0;            // iterations (radiance steps) of the scheme used
   bool cap_reached = false;      // stopped by `iterations` with residual >= tolerance

@@ -13,16 +13,18 @@ MemoryEstimate AvgSolver::EstimateMemory(const ParamSet& params, const SceneStat
   MemoryEstimate estimate;
   if (params.GetBool("visibility")) {
     // Two paraboloid atlases (shown and re-mapped), 32-bit depth.
-    estimate.items.push_back({"vpls, shadow_res",
-                              absl::StrCat("two atlases of ", vpls, " VPL shadow maps of ", res, "^2"),
-                              0, 2 * vpls * res * res * 4});
+    estimate.items.push_back(
+        {"vpls, shadow_res",
+         absl::StrCat("two atlases of ", vpls, " VPL shadow maps of ", res, "^2"), 0,
+         2 * vpls * res * res * 4});
   }
   // The approximate visibility grid: one 32-bit cell per voxel, on the CPU
   // for the VPL tracer and on the GPU.
   estimate.items.push_back({"grid", absl::StrCat("visibility grid of ", grid, "^3 voxels"),
                             grid * grid * grid * 4, grid * grid * grid * 4});
   estimate.items.push_back({"vpls", absl::StrCat(vpls, " VPLs"), vpls * 64, vpls * 64});
-  estimate.items.push_back(DirectLightingMemory(params, state, "area_samples", "direct_shadow_res"));
+  estimate.items.push_back(
+      DirectLightingMemory(params, state, "area_samples", "direct_shadow_res"));
   return estimate;
 }
 

@@ -25,6 +25,7 @@ SolverDescription AvgSolver::Describe() {
       "Instant radiosity: VPLs traced through an approximate visibility grid (Bashford-Rogers "
       "et al.), paraboloid VPL shadow maps, interleaved sampling with a geometry-aware filter";
   d.stages = {"voxelize", "trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
+  // clang-format off
   d.params = {
       {"vpls", ParamType::kInt, "1024", 16, 2048, {},
        "Virtual point lights placed per solution (16 subsets of vpls/16 for interleaved shading)"},
@@ -45,6 +46,7 @@ SolverDescription AvgSolver::Describe() {
       {"direct_shadow_res", ParamType::kInt, "256", 16, 4096, {},
        "Direct light: shadow map resolution per cube face / directional map"},
   };
+  // clang-format on
   return d;
 }
 
@@ -78,8 +80,8 @@ absl::StatusOr<std::unique_ptr<Solver>> AvgSolver::Create(const ParamSet& params
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
   if (solver->trace_settings_.vpls > max_layers) {
     return absl::ResourceExhaustedError(absl::StrCat("params.vpls: ", solver->trace_settings_.vpls,
-                                                   " exceeds this GPU's ", max_layers,
-                                                   " shadow-map array layers"));
+                                                     " exceeds this GPU's ", max_layers,
+                                                     " shadow-map array layers"));
   }
   GS_ASSIGN_OR_RETURN(solver->shadow_maps_, avg::VplShadowMaps::Create());
   GS_ASSIGN_OR_RETURN(solver->remap_, avg::VplShadowMaps::Create());
@@ -106,7 +108,8 @@ std::vector<std::string> AvgSolver::Plan(ChangeMask changes) const {
   if (NeedsVoxelize(changes)) {
     return {"voxelize", "trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
   }
-  if (NeedsTrace(changes)) return {"trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
+  if (NeedsTrace(changes))
+    return {"trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
   if (remap_pending_ || direct_.pending()) {
     return {"vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
   }
@@ -125,9 +128,8 @@ void AvgSolver::ContinueRemap(SolverContext& ctx) {
     if (ctx.budget_ms > 0.0 && remap_next_ > 0 && elapsed >= ctx.budget_ms) break;
     if (ctx.budget_ms > 0.0) {
       // No estimate yet: a few maps measure one.
-      count = ms_per_map_ > 0.0
-                  ? std::clamp(int((ctx.budget_ms - elapsed) / ms_per_map_), 1, count)
-                  : std::min(count, 4);
+      count = ms_per_map_ > 0.0 ? std::clamp(int((ctx.budget_ms - elapsed) / ms_per_map_), 1, count)
+                                : std::min(count, 4);
     }
     const auto slice = Clock::now();
     remap_.RenderRange(ctx.gpu, ctx.state, shadow_resolution_, remap_next_, count);
@@ -205,8 +207,8 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
     // geometry only: when a light change left every path where it was (a
     // dimmer, a colour; the paths are quasi-random in the path index), the
     // maps stay and only the VPLs' flux is new.
-    const bool same_placement = !voxelize && !(changes & kChangeGeometry) &&
-                                SamePlacement(mapped_vpls_, trace_.vpls);
+    const bool same_placement =
+        !voxelize && !(changes & kChangeGeometry) && SamePlacement(mapped_vpls_, trace_.vpls);
     vpl_maps_redrawn_ = 0;
     if (!visibility_ || same_placement) {
       shadow_maps_.Upload(trace_.vpls, grid_bounds);
@@ -256,8 +258,7 @@ absl::Status AvgSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
     filter_.Set("uImageSize", size);
     filter_.Set("uTileSize", split_.tile());
     filter_.Set("uCameraPos", camera.position);
-    filter_.Set("uPixelAngle",
-                2.0f * std::tan(0.5f * camera.yfov) / float(std::max(size.y, 1)));
+    filter_.Set("uPixelAngle", 2.0f * std::tan(0.5f * camera.yfov) / float(std::max(size.y, 1)));
     filter_.Set("uNormalCos", 0.9f);
     filter_.Set("uBackground", glm::vec3(0.0f));
     fullscreen_.Draw(filter_);

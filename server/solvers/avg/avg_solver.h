@@ -55,11 +55,11 @@ class AvgSolver final : public Solver {
   void ContinueRemap(SolverContext& ctx);
 
   // Configuration
-  int grid_resolution_ = 64;            ///< voxels per axis
+  int grid_resolution_ = 64;              ///< voxels per axis
   avg::VplTraceSettings trace_settings_;  ///< vpls, bounces, roulette
-  int shadow_resolution_ = 64;          ///< VPL paraboloid map size
-  bool visibility_ = true;              ///< false: VPLs unshadowed
-  float clamp_ = 0.0f;                  ///< geometry-term bias, fraction of the scene diagonal
+  int shadow_resolution_ = 64;            ///< VPL paraboloid map size
+  bool visibility_ = true;                ///< false: VPLs unshadowed
+  float clamp_ = 0.0f;                    ///< geometry-term bias, fraction of the scene diagonal
   DirectLightingSettings direct_settings_;
 
   // Runtime data

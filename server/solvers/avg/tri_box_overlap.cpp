@@ -8,8 +8,8 @@ namespace {
 
 // Projects the triangle (v0, v1, v2) and the box (half extents h) onto
 // `axis`; true when the projections are disjoint (a separating axis).
-bool Separated(const glm::vec3& axis, const glm::vec3& v0, const glm::vec3& v1,
-               const glm::vec3& v2, const glm::vec3& h) {
+bool Separated(const glm::vec3& axis, const glm::vec3& v0, const glm::vec3& v1, const glm::vec3& v2,
+               const glm::vec3& h) {
   const float p0 = glm::dot(axis, v0), p1 = glm::dot(axis, v1), p2 = glm::dot(axis, v2);
   const float r = h.x * std::abs(axis.x) + h.y * std::abs(axis.y) + h.z * std::abs(axis.z);
   const float lo = std::min({p0, p1, p2}), hi = std::max({p0, p1, p2});

@@ -117,10 +117,10 @@ void VoxelGrid::Add(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
   const float len = glm::length(cross);
   if (!(len > 0.0f) || !std::isfinite(len)) return;  // degenerate: no surface, no normal
   const glm::vec3 normal = cross / len;
-  const glm::ivec3 lo = glm::clamp(VoxelOf(glm::min(a, glm::min(b, c))), glm::ivec3(0),
-                                   glm::ivec3(n_ - 1));
-  const glm::ivec3 hi = glm::clamp(VoxelOf(glm::max(a, glm::max(b, c))), glm::ivec3(0),
-                                   glm::ivec3(n_ - 1));
+  const glm::ivec3 lo =
+      glm::clamp(VoxelOf(glm::min(a, glm::min(b, c))), glm::ivec3(0), glm::ivec3(n_ - 1));
+  const glm::ivec3 hi =
+      glm::clamp(VoxelOf(glm::max(a, glm::max(b, c))), glm::ivec3(0), glm::ivec3(n_ - 1));
   // A hair more than half a voxel, so a triangle on a voxel face marks the
   // voxels on both sides (conservative, never a gap from rounding).
   const glm::vec3 half = 0.5f * size_ * 1.0001f;

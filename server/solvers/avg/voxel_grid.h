@@ -41,7 +41,7 @@ class VoxelGrid {
   static VoxelGrid Build(const SceneState& state, int resolution);
 
   int resolution() const { return n_; }
-  const glm::vec3& origin() const { return origin_; }   // world min corner
+  const glm::vec3& origin() const { return origin_; }    // world min corner
   const glm::vec3& voxel_size() const { return size_; }  // per axis
   glm::vec3 extent() const { return size_ * float(n_); }
   size_t filled() const { return filled_; }
@@ -53,9 +53,7 @@ class VoxelGrid {
   const Voxel& at(const glm::ivec3& v) const { return voxels_[Index(v)]; }
   bool Filled(const glm::ivec3& v) const { return Inside(v) && at(v).count > 0; }
   glm::ivec3 VoxelOf(const glm::vec3& p) const;
-  glm::vec3 Center(const glm::ivec3& v) const {
-    return origin_ + (glm::vec3(v) + 0.5f) * size_;
-  }
+  glm::vec3 Center(const glm::ivec3& v) const { return origin_ + (glm::vec3(v) + 0.5f) * size_; }
 
   // Normalized voxel data (only for filled voxels). The normal is unit, or
   // zero when opposite sheets cancel inside the voxel.

@@ -51,8 +51,7 @@ std::vector<VplLight> CollectVplLights(const SceneState& state, const glm::vec3&
       case LightType::kSpot: {
         l.kind = VplLightKind::kSpot;
         l.cos_outer = std::cos(li.light.outer_cone_angle);
-        l.cone_scale =
-            1.0f / std::max(0.001f, std::cos(li.light.inner_cone_angle) - l.cos_outer);
+        l.cone_scale = 1.0f / std::max(0.001f, std::cos(li.light.inner_cone_angle) - l.cos_outer);
         l.cone_offset = -l.cos_outer * l.cone_scale;
         l.power = intensity * SpotSolidAngle(l.cone_scale, l.cone_offset, l.cos_outer);
         break;

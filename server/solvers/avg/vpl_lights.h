@@ -24,8 +24,8 @@ struct VplLight {
   glm::vec3 normal{0.0f, 0.0f, -1.0f};     // kArea: emitting side; others: shining direction
   glm::vec3 radiance{0.0f};                // kArea: nits; kPoint/kSpot: cd; kDirectional: lux
   float cone_scale = 0.0f, cone_offset = 0.0f, cos_outer = -1.0f;  // kSpot (KHR_lights_punctual)
-  float disc_radius = 0.0f;                                       // kDirectional
-  glm::vec3 power{0.0f};                                          // emitted flux (W)
+  float disc_radius = 0.0f;                                        // kDirectional
+  glm::vec3 power{0.0f};                                           // emitted flux (W)
 };
 
 // Every light of `state`: emissive triangles and punctual lights.

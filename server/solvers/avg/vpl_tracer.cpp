@@ -126,9 +126,9 @@ PathResult TracePath(const VoxelGrid& grid, const std::vector<VplLight>& lights,
   // Pick a light by power (dimension 0 is van der Corput, so any prefix of
   // paths splits between the lights in proportion to their power).
   const double u = double(h.Get(i, kDimLight)) * table.total;
-  const size_t k = std::min(size_t(std::upper_bound(table.cdf.begin(), table.cdf.end(), u) -
-                                   table.cdf.begin()) - 1,
-                            lights.size() - 1);
+  const size_t k = std::min(
+      size_t(std::upper_bound(table.cdf.begin(), table.cdf.end(), u) - table.cdf.begin()) - 1,
+      lights.size() - 1);
   const double pdf = (table.cdf[k + 1] - table.cdf[k]) / table.total;
   if (!(pdf > 0.0)) return result;
   PathStart s = StartPath(lights[k], pdf, i);
@@ -242,8 +242,8 @@ VplTraceResult TraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& lig
     }
     next += batch;
     if (result.vpls.size() == target) done = true;
-    vpls_per_path = std::max(
-        0.05, double(result.vpls.size()) / double(std::max<uint64_t>(result.paths, 1)));
+    vpls_per_path =
+        std::max(0.05, double(result.vpls.size()) / double(std::max<uint64_t>(result.paths, 1)));
   }
   // Each path carried power / pdf; the estimator averages over N paths.
   const float inv_n = result.paths > 0 ? 1.0f / float(result.paths) : 0.0f;

@@ -24,10 +24,10 @@ struct Vpl {
 };
 
 struct VplTraceSettings {
-  int vpls = 1024;         // VPLs to place (paths are added until there are this many)
-  int bounces = 8;         // VPL generations per path at most (1..kMaxBounces)
-  bool roulette = true;    // Russian roulette after each VPL
-  int threads = 0;         // 1: on the calling thread; else the CPU pool
+  int vpls = 1024;       // VPLs to place (paths are added until there are this many)
+  int bounces = 8;       // VPL generations per path at most (1..kMaxBounces)
+  bool roulette = true;  // Russian roulette after each VPL
+  int threads = 0;       // 1: on the calling thread; else the CPU pool
   // With roulette a path ends on its own (after 1 / (1 - albedo) VPLs on
   // average), so the cap only bounds stiff scenes' paths.
   static constexpr int kMaxBounces = 1024;

@@ -29,14 +29,15 @@ void BinTable::Offer(int node, int bin, float distance, int other, float coverag
   const uint64_t entry = (uint64_t(bits) << 32) | uint32_t(other);
   std::atomic<uint64_t>& slot = link_[Index(node, bin)];
   uint64_t current = slot.load(std::memory_order_relaxed);
-  while (entry < current && !slot.compare_exchange_weak(current, entry, std::memory_order_relaxed)) {
+  while (entry < current &&
+         !slot.compare_exchange_weak(current, entry, std::memory_order_relaxed)) {
   }
   if (!(coverage > 0.0f)) return;
   const uint32_t add = uint32_t(std::min(coverage, 1.0f) * float(kFullCoverage));
   std::atomic<uint32_t>& cov = coverage_[Index(node, bin)];
   uint32_t old = cov.load(std::memory_order_relaxed);
-  while (old < kFullCoverage &&
-         !cov.compare_exchange_weak(old, std::min(old + add, kFullCoverage), std::memory_order_relaxed)) {
+  while (old < kFullCoverage && !cov.compare_exchange_weak(old, std::min(old + add, kFullCoverage),
+                                                           std::memory_order_relaxed)) {
   }
 }
 

@@ -33,7 +33,9 @@ class BinTable {
   // `bin`, covering `coverage` (fraction of the bin's solid angle).
   void Offer(int node, int bin, float distance, int other, float coverage);
 
-  uint64_t Entry(int node, int bin) const { return link_[Index(node, bin)].load(std::memory_order_relaxed); }
+  uint64_t Entry(int node, int bin) const {
+    return link_[Index(node, bin)].load(std::memory_order_relaxed);
+  }
   uint32_t Coverage(int node, int bin) const {
     return coverage_[Index(node, bin)].load(std::memory_order_relaxed);
   }

@@ -35,8 +35,8 @@ CubeBins::CubeBins(int n) : n_(std::max(n, 1)) {
         const double v0 = -1.0 + j * step, v1 = v0 + step;
         const int bin = (face * n_ + j) * n_ + i;
         direction_[size_t(bin)] = FaceDirection(face, 0.5 * (u0 + u1), 0.5 * (v0 + v1));
-        const double omega = AreaElement(u1, v1) - AreaElement(u0, v1) - AreaElement(u1, v0) +
-                             AreaElement(u0, v0);
+        const double omega =
+            AreaElement(u1, v1) - AreaElement(u0, v1) - AreaElement(u1, v0) + AreaElement(u0, v0);
         solid_angle_[size_t(bin)] = float(omega);
         min_solid_angle_ = std::min(min_solid_angle_, float(omega));
       }
@@ -47,8 +47,10 @@ CubeBins::CubeBins(int n) : n_(std::max(n, 1)) {
 int CubeBins::Bin(const glm::vec3& dir) const {
   const glm::vec3 a = glm::abs(dir);
   int axis = 0;
-  if (a.y > a.x && a.y >= a.z) axis = 1;
-  else if (a.z > a.x && a.z > a.y) axis = 2;
+  if (a.y > a.x && a.y >= a.z)
+    axis = 1;
+  else if (a.z > a.x && a.z > a.y)
+    axis = 2;
   const float major = a[axis];
   if (!(major > 0.0f)) return 0;
   const int face = 2 * axis + (dir[axis] < 0.0f ? 1 : 0);

@@ -80,11 +80,13 @@ ElementTree CreateHierarchy(const Surfels& surfels) {
   Builder builder{surfels, {}};
   std::array<std::vector<int>, 6> charts;
   for (int i = 0; i < tree.leaf_count; ++i) {
-    if (surfels.area[size_t(i)] > 0.0f) charts[size_t(DominantAxis(surfels.normal[size_t(i)]))].push_back(i);
+    if (surfels.area[size_t(i)] > 0.0f)
+      charts[size_t(DominantAxis(surfels.normal[size_t(i)]))].push_back(i);
   }
   std::vector<int> raw_roots;
   for (std::vector<int>& chart : charts) {
-    if (!chart.empty()) raw_roots.push_back(builder.Build(chart.data(), chart.data() + chart.size()));
+    if (!chart.empty())
+      raw_roots.push_back(builder.Build(chart.data(), chart.data() + chart.size()));
   }
 
   // Heights (children are built before their parents), then renumber

@@ -34,7 +34,9 @@ struct ElementTree {
   std::vector<int> roots;          // one per chart
 
   int node_count() const { return leaf_count + int(internal.size()); }
-  int height(int node) const { return node < leaf_count ? 0 : internal[size_t(node - leaf_count)].height; }
+  int height(int node) const {
+    return node < leaf_count ? 0 : internal[size_t(node - leaf_count)].height;
+  }
 };
 
 ElementTree CreateHierarchy(const Surfels& surfels);

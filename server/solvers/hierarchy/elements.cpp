@@ -68,7 +68,8 @@ Elements::Elements(std::vector<ElementInstance> instances) : instances_(std::mov
       return local < tree.leaf_count ? inst.leaf_offset + local
                                      : inst.node_of_internal[size_t(local - tree.leaf_count)];
     };
-    for (int l = 0; l < tree.leaf_count; ++l) instance_of_leaf[size_t(inst.leaf_offset + l)] = int(i);
+    for (int l = 0; l < tree.leaf_count; ++l)
+      instance_of_leaf[size_t(inst.leaf_offset + l)] = int(i);
     for (size_t k = 0; k < tree.internal.size(); ++k) {
       const int id = inst.node_of_internal[k];
       for (size_t c = 0; c < 4; ++c) {

@@ -26,7 +26,7 @@ struct ElementMesh {
 // One placement of an ElementMesh (a glTF node instance of a primitive).
 struct ElementInstance {
   std::shared_ptr<const ElementMesh> mesh;
-  int leaf_offset = 0;  // its leaves are [leaf_offset, leaf_offset + leaf_count)
+  int leaf_offset = 0;                // its leaves are [leaf_offset, leaf_offset + leaf_count)
   std::vector<int> node_of_internal;  // global id of local internal node i
 };
 
@@ -54,10 +54,10 @@ class Elements {
   std::vector<glm::vec3> position;
   std::vector<glm::vec3> normal;  // unit (a cancelled average keeps the largest child's)
   std::vector<float> area;
-  std::vector<float> radius;      // bounding sphere of the leaves' discs
-  std::vector<float> cone;        // half-angle (radians) of the leaves' normals about normal
-  std::vector<glm::vec2> slab;    // min/max of n . p over the leaves (n = this node's normal)
-  std::vector<int> parent;        // -1 for roots
+  std::vector<float> radius;    // bounding sphere of the leaves' discs
+  std::vector<float> cone;      // half-angle (radians) of the leaves' normals about normal
+  std::vector<glm::vec2> slab;  // min/max of n . p over the leaves (n = this node's normal)
+  std::vector<int> parent;      // -1 for roots
   std::vector<std::array<int, 4>> children;  // internal nodes; -1 unused; leaves all -1
   std::vector<int> instance_of_leaf;
 

@@ -24,7 +24,8 @@ float SphereSolidAngle(float r, float d) {
 
 class Linker {
  public:
-  Linker(const Elements& e, const CubeBins& bins, BinTable& table) : e_(e), bins_(bins), table_(table) {}
+  Linker(const Elements& e, const CubeBins& bins, BinTable& table)
+      : e_(e), bins_(bins), table_(table) {}
 
   // Section 4.2.2: subdivide B while its solid angle from A exceeds the
   // bin's, then A seen from B likewise; else offer the link to both bins.
@@ -142,7 +143,7 @@ class Linker {
     }
     const int m = std::clamp(int(std::ceil(2.0f * angular)) + 1, 2, 16);
     const glm::vec3 t = std::abs(ns.x) < 0.9f ? glm::normalize(glm::cross(ns, glm::vec3(1, 0, 0)))
-                                             : glm::normalize(glm::cross(ns, glm::vec3(0, 1, 0)));
+                                              : glm::normalize(glm::cross(ns, glm::vec3(0, 1, 0)));
     const glm::vec3 u = glm::cross(ns, t);
     struct Hit {
       int bin;

@@ -18,10 +18,10 @@ enum class Linking {
 };
 
 struct LinkStats {
-  uint64_t offered = 0;       // links offered to bins (each stored in two bins)
-  uint64_t node_pairs = 0;    // Link(A, B) calls, subdivisions included
-  uint64_t stored = 0;        // non-empty bins after linking
-  uint64_t splats = 0;        // receiving ends spread over several bins (a leaf larger than a bin)
+  uint64_t offered = 0;     // links offered to bins (each stored in two bins)
+  uint64_t node_pairs = 0;  // Link(A, B) calls, subdivisions included
+  uint64_t stored = 0;      // non-empty bins after linking
+  uint64_t splats = 0;      // receiving ends spread over several bins (a leaf larger than a bin)
 };
 
 // Offers every link of the forest to `table` (reset to elements x bins).

@@ -117,7 +117,8 @@ LeafLinks RefinePush(const Elements& elements, const CubeBins& bins, const BinTa
     std::vector<uint8_t>& on_disc = scratch_on_disc;
     on_disc.assign(size_t(bins.count()), 0);
     for (int b = 0; b < bins.count(); ++b) {
-      if (glm::dot(n, bins.Direction(b)) > 0.0f && meets(b, best_of[size_t(b)])) on_disc[size_t(b)] = 1;
+      if (glm::dot(n, bins.Direction(b)) > 0.0f && meets(b, best_of[size_t(b)]))
+        on_disc[size_t(b)] = 1;
     }
     for (int pass = 0; pass < kDiscFillPasses; ++pass) {
       bool changed = false;
@@ -199,7 +200,8 @@ LeafLinks RefinePush(const Elements& elements, const CubeBins& bins, const BinTa
     std::copy(rows[i].source.begin(), rows[i].source.end(), out.source.begin() + out.offset[i]);
     std::copy(rows[i].weight.begin(), rows[i].weight.end(), out.weight.begin() + out.offset[i]);
     if (environment) {
-      std::copy(rows[i].env_bin.begin(), rows[i].env_bin.end(), out.env_bin.begin() + out.env_offset[i]);
+      std::copy(rows[i].env_bin.begin(), rows[i].env_bin.end(),
+                out.env_bin.begin() + out.env_offset[i]);
       std::copy(rows[i].env_weight.begin(), rows[i].env_weight.end(),
                 out.env_weight.begin() + out.env_offset[i]);
     }

@@ -30,9 +30,9 @@ struct LeafLinks {
 };
 
 struct RefineStats {
-  uint64_t leaf_links = 0;     // links gathered by the leaves
-  uint64_t blocked_bins = 0;   // bins whose shortest link is a back face (no light, no sky)
-  uint64_t empty_bins = 0;     // upper-hemisphere bins without a link
+  uint64_t leaf_links = 0;    // links gathered by the leaves
+  uint64_t blocked_bins = 0;  // bins whose shortest link is a back face (no light, no sky)
+  uint64_t empty_bins = 0;    // upper-hemisphere bins without a link
 };
 
 // Section 4.2.3 + 4.2.4 in one traversal: in every bin a leaf keeps the

@@ -32,7 +32,8 @@ Primitive SubdivideLongEdges(const Primitive& primitive, float max_edge) {
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoint;
     auto mid = [&](uint32_t a, uint32_t b) {
       const auto key = std::minmax(a, b);
-      auto [it, inserted] = midpoint.try_emplace({key.first, key.second}, uint32_t(out.positions.size()));
+      auto [it, inserted] =
+          midpoint.try_emplace({key.first, key.second}, uint32_t(out.positions.size()));
       if (inserted) {
         out.positions.push_back(0.5f * (out.positions[a] + out.positions[b]));
         if (has_normals) {
@@ -53,7 +54,8 @@ Primitive SubdivideLongEdges(const Primitive& primitive, float max_edge) {
       // Edge k runs from t[k] to t[k + 1].
       std::array<bool, 3> cut{};
       int cuts = 0;
-      for (int k = 0; k < 3; ++k) cuts += (cut[size_t(k)] = too_long(t[size_t(k)], t[size_t((k + 1) % 3)])) ? 1 : 0;
+      for (int k = 0; k < 3; ++k)
+        cuts += (cut[size_t(k)] = too_long(t[size_t(k)], t[size_t((k + 1) % 3)])) ? 1 : 0;
       if (cuts == 0) {
         indices.insert(indices.end(), t.begin(), t.end());
         continue;
@@ -115,11 +117,12 @@ uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu) {
         const glm::vec3& a = p.positions[p.indices[t]];
         const glm::vec3& b = p.positions[p.indices[t + 1]];
         const glm::vec3& c = p.positions[p.indices[t + 2]];
-        const float longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
+        const float longest =
+            std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
         if (!(longest > max_edge)) continue;
         // Midpoint splits halve edges: 2^k segments, 2^k >= longest / max_edge.
-        const double n = std::min(std::exp2(std::ceil(std::log2(double(longest) / double(max_edge)))),
-                                  double(1 << 20));
+        const double n = std::min(
+            std::exp2(std::ceil(std::log2(double(longest) / double(max_edge)))), double(1 << 20));
         vertices += uint64_t((n + 1.0) * (n + 2.0) / 2.0);
       }
     }
@@ -136,7 +139,8 @@ float LocalMaxEdge(const SceneState& state, const GpuScene& gpu, int mesh, int p
     const glm::mat4& m = state.world()[size_t(d.node)];
     for (int k = 0; k < 3; ++k) scale = std::max(scale, glm::length(glm::vec3(m[k])));
   }
-  if (bounds.empty() || !(diagonal > 0.0f) || !(scale > 0.0f) || !std::isfinite(diagonal / scale)) return 0.0f;
+  if (bounds.empty() || !(diagonal > 0.0f) || !(scale > 0.0f) || !std::isfinite(diagonal / scale))
+    return 0.0f;
   return kMaxElementEdge * diagonal / scale;
 }
 

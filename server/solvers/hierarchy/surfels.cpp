@@ -13,9 +13,11 @@ Surfels CreateSurfels(const Primitive& primitive) {
   std::vector<glm::vec3> face_normal_sum(n, glm::vec3(0.0f));
   std::vector<glm::vec3> centroid_sum(n, glm::vec3(0.0f));
   for (size_t i = 0; i + 2 < primitive.indices.size(); i += 3) {
-    const uint32_t a = primitive.indices[i], b = primitive.indices[i + 1], c = primitive.indices[i + 2];
+    const uint32_t a = primitive.indices[i], b = primitive.indices[i + 1],
+                   c = primitive.indices[i + 2];
     if (a >= n || b >= n || c >= n) continue;
-    const glm::vec3 cross = glm::cross(s.position[b] - s.position[a], s.position[c] - s.position[a]);
+    const glm::vec3 cross =
+        glm::cross(s.position[b] - s.position[a], s.position[c] - s.position[a]);
     const float area = 0.5f * glm::length(cross);
     if (!std::isfinite(area)) continue;
     const uint32_t tri[3] = {a, b, c};

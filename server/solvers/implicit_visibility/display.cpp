@@ -9,11 +9,14 @@ namespace gistream {
 
 absl::StatusOr<Display> Display::Create() {
   Display d;
-  GS_ASSIGN_OR_RETURN(d.vertex_irradiance_,
-                      gl::Program::Build({{GL_VERTEX_SHADER, "implicit_visibility/vertex_irradiance.vert.glsl"},
-                                          {GL_FRAGMENT_SHADER, "implicit_visibility/vertex_irradiance.frag.glsl"}}));
-  GS_ASSIGN_OR_RETURN(d.final_, gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
-                                                    {GL_FRAGMENT_SHADER, "implicit_visibility/final.frag.glsl"}}));
+  GS_ASSIGN_OR_RETURN(
+      d.vertex_irradiance_,
+      gl::Program::Build(
+          {{GL_VERTEX_SHADER, "implicit_visibility/vertex_irradiance.vert.glsl"},
+           {GL_FRAGMENT_SHADER, "implicit_visibility/vertex_irradiance.frag.glsl"}}));
+  GS_ASSIGN_OR_RETURN(
+      d.final_, gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                    {GL_FRAGMENT_SHADER, "implicit_visibility/final.frag.glsl"}}));
   d.vao_ = gl::VertexArray::Create();
   return d;
 }

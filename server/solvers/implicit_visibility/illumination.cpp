@@ -22,16 +22,19 @@ GS_STD430_MIRROR(GpuLeaf, 48);
 
 absl::StatusOr<Illumination> Illumination::Create() {
   Illumination il;
-  GS_ASSIGN_OR_RETURN(il.direct_,
-                      gl::Program::Build({{GL_COMPUTE_SHADER, "implicit_visibility/leaf_direct.comp.glsl"}}));
-  GS_ASSIGN_OR_RETURN(il.gather_,
-                      gl::Program::Build({{GL_COMPUTE_SHADER, "implicit_visibility/gather.comp.glsl"}}));
-  GS_ASSIGN_OR_RETURN(il.pull_,
-                      gl::Program::Build({{GL_COMPUTE_SHADER, "implicit_visibility/pull.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(
+      il.direct_,
+      gl::Program::Build({{GL_COMPUTE_SHADER, "implicit_visibility/leaf_direct.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(
+      il.gather_,
+      gl::Program::Build({{GL_COMPUTE_SHADER, "implicit_visibility/gather.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(
+      il.pull_, gl::Program::Build({{GL_COMPUTE_SHADER, "implicit_visibility/pull.comp.glsl"}}));
   return il;
 }
 
-void Illumination::UploadElements(const hierarchy::Elements& e, const std::vector<glm::vec3>& albedo) {
+void Illumination::UploadElements(const hierarchy::Elements& e,
+                                  const std::vector<glm::vec3>& albedo) {
   leaf_count_ = e.leaf_count();
   node_count_ = e.node_count();
   level_begin_ = e.level_begin();
@@ -74,7 +77,8 @@ void Illumination::UploadLinks(const hierarchy::LeafLinks& links) {
 
 void Illumination::UploadEnvironment(const std::vector<glm::vec3>& e_env) {
   std::vector<glm::vec4> data(size_t(leaf_count_), glm::vec4(0.0f));
-  for (size_t i = 0; i < std::min(data.size(), e_env.size()); ++i) data[i] = glm::vec4(e_env[i], 0.0f);
+  for (size_t i = 0; i < std::min(data.size(), e_env.size()); ++i)
+    data[i] = glm::vec4(e_env[i], 0.0f);
   glNamedBufferSubData(e_env_.id(), 0, GLsizeiptr(data.size() * sizeof(glm::vec4)), data.data());
 }
 
@@ -96,10 +100,12 @@ void Illumination::Pull(GLuint radiance) {
 std::vector<float> Illumination::ReadIndirectLuminance() const {
   std::vector<glm::vec4> e(static_cast<size_t>(leaf_count_));
   if (!e.empty()) {
-    glGetNamedBufferSubData(e_indirect_.id(), 0, GLsizeiptr(e.size() * sizeof(glm::vec4)), e.data());
+    glGetNamedBufferSubData(e_indirect_.id(), 0, GLsizeiptr(e.size() * sizeof(glm::vec4)),
+                            e.data());
   }
   std::vector<float> lum(e.size());
-  for (size_t i = 0; i < e.size(); ++i) lum[i] = 0.2126f * e[i].r + 0.7152f * e[i].g + 0.0722f * e[i].b;
+  for (size_t i = 0; i < e.size(); ++i)
+    lum[i] = 0.2126f * e[i].r + 0.7152f * e[i].g + 0.0722f * e[i].b;
   return lum;
 }
 

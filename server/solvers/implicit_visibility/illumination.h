@@ -29,8 +29,8 @@ class Illumination {
 
   struct Result {
     int bounces = 0;
-    double residual = 0.0;   // sum |dE| / sum |E| of the last bounce (luminance)
-    bool monotone = true;    // no leaf's indirect luminance fell between bounces
+    double residual = 0.0;     // sum |dE| / sum |E| of the last bounce (luminance)
+    bool monotone = true;      // no leaf's indirect luminance fell between bounces
     bool cap_reached = false;  // stopped by max_bounces with residual >= tolerance
   };
   // Direct light at the leaves, then gathers with pull-ups until a

@@ -18,6 +18,7 @@ SolverDescription ImplicitVisibilitySolver::Describe() {
       "link (implicit visibility), multi-bounce";
   d.stages = {"create_surfels", "create_hierarchy", "update_elements", "create_links",
               "refine_push",    "shadow_maps",      "illumination",    "display"};
+  // clang-format off
   d.params = {
       {"bins_per_face", ParamType::kInt, "12", 2, 32, {},
        "N: each element has 6 x N x N world-aligned cube-map bins (paper: 8, 12, 16)"},
@@ -29,6 +30,7 @@ SolverDescription ImplicitVisibilitySolver::Describe() {
       {"linking", ParamType::kEnum, "hierarchical", 0, 0, {"hierarchical", "brute_force"},
        "hierarchical (Section 4.2) or every pair of leaves (Section 3.1, for comparison)"},
   };
+  // clang-format on
   for (ParamSpec& spec : DirectLightingParams()) d.params.push_back(std::move(spec));
   return d;
 }
@@ -44,7 +46,7 @@ absl::StatusOr<std::unique_ptr<Solver>> ImplicitVisibilitySolver::Create(const P
   s.bounces = params.GetInt("bounces");
   s.tolerance = params.GetFloat("tolerance");
   s.linking = params.GetString("linking") == "brute_force" ? hierarchy::Linking::kBruteForce
-                                                            : hierarchy::Linking::kHierarchical;
+                                                           : hierarchy::Linking::kHierarchical;
   s.direct = DirectLightingFromParams(params);
   auto solver = std::unique_ptr<ImplicitVisibilitySolver>(new ImplicitVisibilitySolver(s));
   GS_ASSIGN_OR_RETURN(solver->lighting_, DirectLighting::Create());
@@ -58,7 +60,8 @@ std::vector<std::string> ImplicitVisibilitySolver::Plan(ChangeMask changes) cons
   if (!scene_.built()) plan = {"create_surfels", "create_hierarchy"};
   if (!scene_.built() || (changes & kChangeGeometry)) {
     // A moved node can hide or reveal any pair: every link is rebuilt.
-    for (const char* s : {"update_elements", "create_links", "refine_push", "shadow_maps", "illumination"}) {
+    for (const char* s :
+         {"update_elements", "create_links", "refine_push", "shadow_maps", "illumination"}) {
       plan.push_back(s);
     }
   } else {
@@ -124,7 +127,8 @@ absl::Status ImplicitVisibilitySolver::StartRelink(SolverContext& ctx) {
     const auto t0 = Clock::now();
     j.link_stats = hierarchy::CreateLinks(j.elements, *bins, linking, j.table);
     const auto t1 = Clock::now();
-    j.leaf_links = hierarchy::RefinePush(j.elements, *bins, j.table, j.environment, &j.refine_stats);
+    j.leaf_links =
+        hierarchy::RefinePush(j.elements, *bins, j.table, j.environment, &j.refine_stats);
     j.create_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
     j.refine_ms = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
   });
@@ -153,13 +157,14 @@ void ImplicitVisibilitySolver::UpdateEnvironment(const SceneState& state) {
   const hierarchy::Elements& e = scene_.elements();
   std::vector<glm::vec3> e_env(size_t(e.leaf_count()), glm::vec3(0.0f));
   const Scene& scene = state.scene();
-  if (scene.environment && !leaf_links_.env_offset.empty() && state.environment_intensity() > 0.0f) {
+  if (scene.environment && !leaf_links_.env_offset.empty() &&
+      state.environment_intensity() > 0.0f) {
     const pathtrace::EnvironmentLight env(scene.environment->image);
     // Radiance per bin direction once, then each leaf's open bins (4.4).
     std::vector<glm::vec3> bin_radiance(size_t(bins_.count()));
     for (int b = 0; b < bins_.count(); ++b) {
-      bin_radiance[size_t(b)] =
-          env.Radiance(bins_.Direction(b), state.environment_rotation()) * state.environment_intensity();
+      bin_radiance[size_t(b)] = env.Radiance(bins_.Direction(b), state.environment_rotation()) *
+                                state.environment_intensity();
     }
     ParallelFor(e_env.size(), 64, [&](size_t i) {
       glm::vec3 sum(0.0f);
@@ -286,28 +291,28 @@ absl::Status ImplicitVisibilitySolver::Shade(SolverContext& ctx, const ViewCamer
 
 SolverStats ImplicitVisibilitySolver::Stats() const {
   const hierarchy::Elements& e = scene_.elements();
-  return {{"elements", double(e.node_count())},
-          {"links_pending", relink_.running() ? 1.0 : 0.0},
-          {"gi_versions_behind",
-           double(latest_version_ - std::min(solved_version_, latest_version_))},
-          {"leaves", double(e.leaf_count())},
-          {"top_level_nodes", double(e.roots().size())},
-          {"bins_per_element", double(bins_.count())},
-          {"node_pairs", double(link_stats_.node_pairs)},
-          {"links_offered", double(link_stats_.offered)},
-          {"links_stored", double(link_stats_.stored)},
-          {"splats", double(link_stats_.splats)},
-          {"leaf_links", double(refine_stats_.leaf_links)},
-          {"empty_bins", double(refine_stats_.empty_bins)},
-          {"blocked_bins", double(refine_stats_.blocked_bins)},
-          {"bin_bytes", double(table_.bytes())},
-          {"link_gpu_bytes", double(illumination_.gpu_bytes())},
-          {"bounces_run", double(result_.bounces)},
-          {"residual", result_.residual},
-          {"cap_reached", result_.cap_reached ? 1.0 : 0.0},
-          {"monotone", result_.monotone ? 1.0 : 0.0},
-          {"area_samples", double(lighting_.area_samples().size())},
-          {"shadow_map_bytes", double(lighting_.gpu_bytes())}};
+  return {
+      {"elements", double(e.node_count())},
+      {"links_pending", relink_.running() ? 1.0 : 0.0},
+      {"gi_versions_behind", double(latest_version_ - std::min(solved_version_, latest_version_))},
+      {"leaves", double(e.leaf_count())},
+      {"top_level_nodes", double(e.roots().size())},
+      {"bins_per_element", double(bins_.count())},
+      {"node_pairs", double(link_stats_.node_pairs)},
+      {"links_offered", double(link_stats_.offered)},
+      {"links_stored", double(link_stats_.stored)},
+      {"splats", double(link_stats_.splats)},
+      {"leaf_links", double(refine_stats_.leaf_links)},
+      {"empty_bins", double(refine_stats_.empty_bins)},
+      {"blocked_bins", double(refine_stats_.blocked_bins)},
+      {"bin_bytes", double(table_.bytes())},
+      {"link_gpu_bytes", double(illumination_.gpu_bytes())},
+      {"bounces_run", double(result_.bounces)},
+      {"residual", result_.residual},
+      {"cap_reached", result_.cap_reached ? 1.0 : 0.0},
+      {"monotone", result_.monotone ? 1.0 : 0.0},
+      {"area_samples", double(lighting_.area_samples().size())},
+      {"shadow_map_bytes", double(lighting_.gpu_bytes())}};
 }
 
 GISTREAM_REGISTER_SOLVER(ImplicitVisibilitySolver, 50);

@@ -35,9 +35,9 @@
 namespace gistream {
 
 struct ImplicitVisibilitySettings {
-  int bins_per_face = 12;  // N: 6 x N x N bins per element
-  int bounces = 32;        // most indirect bounces (safety cap)
-  double tolerance = 0.01; // stop when a bounce's residual is below this
+  int bins_per_face = 12;   // N: 6 x N x N bins per element
+  int bounces = 32;         // most indirect bounces (safety cap)
+  double tolerance = 0.01;  // stop when a bounce's residual is below this
   hierarchy::Linking linking = hierarchy::Linking::kHierarchical;
   DirectLightingSettings direct;
 };
@@ -60,9 +60,7 @@ class ImplicitVisibilitySolver final : public Solver {
   }
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
-  uint64_t gpu_bytes() const override {
-    return illumination_.gpu_bytes() + lighting_.gpu_bytes();
-  }
+  uint64_t gpu_bytes() const override { return illumination_.gpu_bytes() + lighting_.gpu_bytes(); }
 
   // Bins of all elements may take at most this much memory.
   static constexpr uint64_t kMaxBinBytes = uint64_t(3) << 30;

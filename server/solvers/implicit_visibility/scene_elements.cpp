@@ -61,8 +61,8 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
   }
   std::vector<hierarchy::ElementInstance> instances;
   for (InstanceSource& s : sources_) {
-    const size_t k = size_t(std::find(keys.begin(), keys.end(), std::make_pair(s.mesh, s.primitive)) -
-                            keys.begin());
+    const size_t k = size_t(
+        std::find(keys.begin(), keys.end(), std::make_pair(s.mesh, s.primitive)) - keys.begin());
     instances.push_back({meshes[k], 0, {}});
     s.elements = primitives[k];
   }
@@ -99,7 +99,8 @@ void SceneElements::UpdateAlbedo(const SceneState& state) {
     const Primitive& p = *sources_[i].elements;
     const Material* m = p.material >= 0 ? &state.materials()[size_t(p.material)] : nullptr;
     const glm::vec3 factor = m ? glm::vec3(m->base_color_factor) : glm::vec3(1.0f);
-    const Image* texture = m && m->base_color_texture >= 0 ? &scene.images[size_t(m->base_color_texture)] : nullptr;
+    const Image* texture =
+        m && m->base_color_texture >= 0 ? &scene.images[size_t(m->base_color_texture)] : nullptr;
     const size_t offset = size_t(elements_.instances()[i].leaf_offset);
     for (size_t v = 0; v < p.positions.size(); ++v) {
       glm::vec3 a = factor;

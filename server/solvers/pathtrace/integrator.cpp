@@ -57,7 +57,7 @@ Integrator::Surface Integrator::Shade(const Hit& hit, const glm::vec3& dir) cons
   // faces when the material is doubleSided (glTF 2.0 3.9.2: the back face is
   // a surface with the flipped normal).
   s.emission = (m && (front || t.double_sided) && t.emitter >= 0) ? Emission(t, hit.u, hit.v)
-                                                                   : glm::vec3(0.0f);
+                                                                  : glm::vec3(0.0f);
   return s;
 }
 
@@ -90,8 +90,7 @@ float Integrator::AreaLightPdf(const Triangle& t, float distance, float cos_y) c
   // double-sided emitter, as it is chosen by power); to solid angle:
   // * d^2 / cos.
   const double faces = t.double_sided ? 2.0 : 1.0;
-  const float pdf_area =
-      float(double(Luminance(m.emission())) * faces / bvh_.emitter_total());
+  const float pdf_area = float(double(Luminance(m.emission())) * faces / bvh_.emitter_total());
   return pdf_area * distance * distance / cos_y;
 }
 
@@ -147,8 +146,7 @@ glm::vec3 Integrator::SamplePunctualLights(const Surface& s, PathStats& stats) c
     float cone = 1.0f;
     if (l.light.type == LightType::kSpot) {
       const float cos_outer = std::cos(l.light.outer_cone_angle);
-      const float scale =
-          1.0f / std::max(0.001f, std::cos(l.light.inner_cone_angle) - cos_outer);
+      const float scale = 1.0f / std::max(0.001f, std::cos(l.light.inner_cone_angle) - cos_outer);
       cone = std::clamp(glm::dot(l.direction, -d) * scale - cos_outer * scale, 0.0f, 1.0f);
       cone *= cone;
       if (cone <= 0.0f) continue;
@@ -192,8 +190,7 @@ glm::vec3 Integrator::Li(glm::vec3 origin, glm::vec3 dir, Rng& rng, PathStats& s
         radiance += beta * Environment(dir);
       } else {
         // Reached by BSDF sampling: weigh against environment sampling.
-        const float pdf_env =
-            env_->empty() ? 0.0f : env_->Pdf(dir, state_.environment_rotation());
+        const float pdf_env = env_->empty() ? 0.0f : env_->Pdf(dir, state_.environment_rotation());
         radiance += beta * Environment(dir) * PowerHeuristic(pdf_bsdf, pdf_env);
       }
       break;

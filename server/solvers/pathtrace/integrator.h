@@ -49,7 +49,7 @@ class Integrator {
  private:
   struct Surface {
     glm::vec3 position;
-    glm::vec3 normal;  // shading normal, facing the incoming ray
+    glm::vec3 normal;     // shading normal, facing the incoming ray
     glm::vec3 geometric;  // geometric normal, facing the incoming ray
     glm::vec3 albedo;
     glm::vec3 emission;  // emitted towards the incoming ray (one-sided)

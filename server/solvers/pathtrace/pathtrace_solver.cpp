@@ -19,6 +19,7 @@ SolverDescription PathtraceSolver::Describe() {
   d.name = "pathtrace";
   d.description = "Unbiased progressive reference path tracer (CPU, Embree 3)";
   d.stages = {"build_bvh", "trace", "accumulate"};
+  // clang-format off
   d.params = {
       {"spp", ParamType::kInt, "1", 1, 4096, {}, "Samples per pixel added each frame"},
       {"max_depth", ParamType::kInt, "0", 0, 65536, {},
@@ -27,6 +28,7 @@ SolverDescription PathtraceSolver::Describe() {
       {"time_budget_ms", ParamType::kFloat, "0", 0, 600000, {},
        "When > 0: add 1-spp rounds until this much trace time is spent (at least one)"},
   };
+  // clang-format on
   return d;
 }
 
@@ -90,7 +92,8 @@ PathtraceSolver::Accumulation& PathtraceSolver::ViewFor(const ViewCamera& camera
       for (const Accumulation& acc : views_) bytes += acc.accum.size() * sizeof(double);
       return bytes;
     };
-    while (!views_.empty() && (views_.size() >= kMaxViews || held() + need > kMaxAccumulationBytes)) {
+    while (!views_.empty() &&
+           (views_.size() >= kMaxViews || held() + need > kMaxAccumulationBytes)) {
       views_.erase(std::min_element(views_.begin(), views_.end(), [](const auto& a, const auto& b) {
         return a.last_used < b.last_used;
       }));
@@ -184,10 +187,10 @@ absl::Status PathtraceSolver::Shade(SolverContext& ctx, const ViewCamera& camera
       }
       const auto slice_start = std::chrono::steady_clock::now();
       TraceRows(ctx.state, acc, acc.pass_row, acc.pass_row + rows);
-      const double per_row = std::chrono::duration<double, std::milli>(
-                                 std::chrono::steady_clock::now() - slice_start)
-                                 .count() /
-                             double(rows);
+      const double per_row =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - slice_start)
+              .count() /
+          double(rows);
       ms_per_row_ = ms_per_row_ > 0.0 ? 0.5 * (ms_per_row_ + per_row) : per_row;
       acc.pass_row += rows;
       if (acc.pass_row >= h) {  // a pass is complete: every pixel has one more sample

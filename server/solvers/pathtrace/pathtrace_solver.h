@@ -49,7 +49,7 @@ class PathtraceSolver final : public Solver {
     int frame_passes = 0;
     uint64_t frame_rays = 0;
     int frame_slices = 0;  // Shade calls the frame took
-    uint64_t rays = 0;  // since the accumulation restarted
+    uint64_t rays = 0;     // since the accumulation restarted
     uint64_t nonfinite = 0;
     uint64_t last_used = 0;
   };
@@ -66,9 +66,9 @@ class PathtraceSolver final : public Solver {
   void TraceRows(const SceneState& state, Accumulation& acc, int row_begin, int row_end);
 
   // Configuration
-  int spp_per_frame_ = 1;         ///< Samples per pixel added each frame
-  double time_budget_ms_ = 0.0;   ///< When > 0: trace 1-spp rounds until spent
-  uint64_t seed_ = 0;             ///< Seed of every pixel's random sequence
+  int spp_per_frame_ = 1;        ///< Samples per pixel added each frame
+  double time_budget_ms_ = 0.0;  ///< When > 0: trace 1-spp rounds until spent
+  uint64_t seed_ = 0;            ///< Seed of every pixel's random sequence
   pathtrace::IntegratorSettings settings_;
 
   // Runtime data

@@ -69,8 +69,9 @@ absl::StatusOr<std::unique_ptr<SceneBvh>> SceneBvh::Build(const SceneState& stat
     RTCGeometry geom = rtcNewGeometry(bvh->device_, RTC_GEOMETRY_TYPE_TRIANGLE);
     auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
         geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), positions.size()));
-    auto* ib = static_cast<uint32_t*>(rtcSetNewGeometryBuffer(
-        geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(uint32_t), indices.size() / 3));
+    auto* ib = static_cast<uint32_t*>(
+        rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(uint32_t), indices.size() / 3));
     if (!vb || !ib) {
       rtcReleaseGeometry(geom);
       return absl::ResourceExhaustedError("pathtrace: Embree could not allocate geometry");

@@ -16,13 +16,13 @@
 namespace gistream::pathtrace {
 
 struct Triangle {
-  glm::vec3 p0, e1, e2;    // p0 and edges, world space
-  glm::vec3 n0, n1, n2;    // vertex normals, world space
+  glm::vec3 p0, e1, e2;  // p0 and edges, world space
+  glm::vec3 n0, n1, n2;  // vertex normals, world space
   glm::vec2 uv0, uv1, uv2;
-  glm::vec3 normal;        // unit geometric normal, oriented like the vertex normals
+  glm::vec3 normal;  // unit geometric normal, oriented like the vertex normals
   float area = 0.0f;
-  int material = -1;       // -1: default material
-  int emitter = -1;        // index into `emitters` or -1
+  int material = -1;  // -1: default material
+  int emitter = -1;   // index into `emitters` or -1
   // glTF doubleSided material: the back face is a surface with the flipped
   // normal, so an emitter emits from both faces (twice the power).
   bool double_sided = false;

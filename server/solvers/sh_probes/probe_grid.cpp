@@ -33,9 +33,9 @@ absl::StatusOr<ProbeLayout> FitProbeGrid(const Bounds& bounds, const ProbeGridSe
     if (settings.spacing > 0.0f) {
       const double n = std::ceil(double(extent[a]) / double(settings.spacing));
       if (!(n <= 256.0)) {
-        return absl::ResourceExhaustedError(
-            absl::StrCat("params.spacing: ", settings.spacing, " m gives more than 256 probes along ",
-                         std::string(1, "xyz"[a]), " (scene extent ", extent[a], " m)"));
+        return absl::ResourceExhaustedError(absl::StrCat(
+            "params.spacing: ", settings.spacing, " m gives more than 256 probes along ",
+            std::string(1, "xyz"[a]), " (scene extent ", extent[a], " m)"));
       }
       layout.dims[a] = std::max(1, int(n));
     } else {

@@ -27,14 +27,12 @@ struct ProbeLayout {
   int width() const { return tiles_x * face_size; }
   int height() const { return tiles_y * face_size; }
   uint64_t texels() const { return uint64_t(width()) * uint64_t(height()) * 6; }
-  glm::vec3 position(const glm::ivec3& c) const {
-    return origin + (glm::vec3(c) + 0.5f) * spacing;
-  }
+  glm::vec3 position(const glm::ivec3& c) const { return origin + (glm::vec3(c) + 0.5f) * spacing; }
 };
 
 struct ProbeGridSettings {
-  int grid = 8;         // probes per axis, when spacing == 0
-  float spacing = 0.0f; // metres between probes; > 0 overrides grid
+  int grid = 8;          // probes per axis, when spacing == 0
+  float spacing = 0.0f;  // metres between probes; > 0 overrides grid
   int face_size = 16;
 };
 

@@ -59,7 +59,7 @@ class ProbeSchedule {
 
   int probes() const { return int(order_.size()); }
   int remaining() const { return pending_ ? probes() - next_ : 0; }
-  int sweeps() const { return sweeps_; }  // since the last change
+  int sweeps() const { return sweeps_; }                     // since the last change
   double last_sweep_change() const { return last_change_; }  // relative
   bool cap_reached() const { return cap_reached_; }
 

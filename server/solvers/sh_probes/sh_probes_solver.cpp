@@ -15,12 +15,11 @@ namespace gistream {
 namespace {
 
 constexpr GLbitfield kComputeBarrier = GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
-                                       GL_SHADER_STORAGE_BARRIER_BIT | GL_TEXTURE_FETCH_BARRIER_BIT |
-                                       GL_BUFFER_UPDATE_BARRIER_BIT;
+                                       GL_SHADER_STORAGE_BARRIER_BIT |
+                                       GL_TEXTURE_FETCH_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT;
 constexpr GLuint kCoefficientBinding = 6, kValidBinding = 7, kPreviousBinding = 8,
-                kShownBinding = 9, kBatchBinding = 10, kSeesBinding = 11;
+                 kShownBinding = 9, kBatchBinding = 10, kSeesBinding = 11;
 constexpr GLuint kDistanceUnit = 12, kNormalUnit = 13, kAlbedoUnit = 14;
-
 
 float Luminance(const glm::vec4& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
@@ -32,6 +31,7 @@ SolverDescription ShProbesSolver::Describe() {
   d.description =
       "Nijasure et al. 2005: cube-map probe grid projected to spherical harmonics, multi-bounce";
   d.stages = {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate", "final"};
+  // clang-format off
   d.params = {
       {"grid", ParamType::kInt, "8", 1, 32, {}, "Probes along each axis of the scene bounds"},
       {"spacing", ParamType::kFloat, "0", 0, 1e9, {},
@@ -51,6 +51,7 @@ SolverDescription ShProbesSolver::Describe() {
        "While probes update after a change: fraction of the shown SH kept per frame (0: show "
        "each update at once); the converged solution is shown as it is"},
   };
+  // clang-format on
   for (ParamSpec& spec : DirectLightingParams()) d.params.push_back(std::move(spec));
   return d;
 }
@@ -87,13 +88,15 @@ absl::StatusOr<std::unique_ptr<Solver>> ShProbesSolver::Create(const ParamSet& p
     solver->rasterize_ = *std::move(layered);
     solver->instances_per_probe_ = 6;
   } else {
-    GS_ASSIGN_OR_RETURN(solver->rasterize_,
-                        gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize.vert.glsl"},
-                                            {GL_GEOMETRY_SHADER, "sh_probes/rasterize.geom.glsl"},
-                                            {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}}));
+    GS_ASSIGN_OR_RETURN(
+        solver->rasterize_,
+        gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize.vert.glsl"},
+                            {GL_GEOMETRY_SHADER, "sh_probes/rasterize.geom.glsl"},
+                            {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}}));
   }
-  GS_ASSIGN_OR_RETURN(solver->render_,
-                      gl::Program::Build({{GL_COMPUTE_SHADER, "sh_probes/render_cubemaps.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(
+      solver->render_,
+      gl::Program::Build({{GL_COMPUTE_SHADER, "sh_probes/render_cubemaps.comp.glsl"}}));
   GS_ASSIGN_OR_RETURN(solver->project_,
                       gl::Program::Build({{GL_COMPUTE_SHADER, "sh_probes/sh_project.comp.glsl"}}));
   GS_ASSIGN_OR_RETURN(solver->interpolate_,
@@ -131,7 +134,8 @@ absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
   const bool lights = changes & (kChangeGeometry | kChangeLights | kChangeEmission);
   const bool busy = schedule_.pending() || lighting_.pending();
   if (!geometry && !lights && !busy) {
-    for (const char* stage : {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate"}) {
+    for (const char* stage :
+         {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate"}) {
       ctx.timer.Skip(stage);
     }
     return absl::OkStatus();
@@ -139,7 +143,8 @@ absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
   if (const std::optional<float> k = busy ? std::nullopt : emission_.Factor(ctx.state, changes)) {
     // A dimmer: the probes' indirect light scales with the lights
     // (solvers/emission_scale.h); only the direct light's buffers change.
-    for (const char* stage : {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate"}) {
+    for (const char* stage :
+         {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate"}) {
       ctx.timer.Skip(stage);
     }
     gl::StageTimer::Scope stage(ctx.timer, "final");
@@ -148,7 +153,8 @@ absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
     return absl::OkStatus();
   }
   if (geometry || !solved_) {
-    GS_ASSIGN_OR_RETURN(ProbeLayout layout, FitProbeGrid(ctx.gpu.WorldBounds(ctx.state), settings_.grid));
+    GS_ASSIGN_OR_RETURN(ProbeLayout layout,
+                        FitProbeGrid(ctx.gpu.WorldBounds(ctx.state), settings_.grid));
     const bool same = layout.dims == layout_.dims && layout.origin == layout_.origin &&
                       layout.spacing == layout_.spacing && layout.face_size == layout_.face_size;
     if (!solved_ || !same) return SolveAll(ctx, changes, layout);
@@ -156,7 +162,8 @@ absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
   return Progress(ctx, changes);
 }
 
-absl::Status ShProbesSolver::SolveAll(SolverContext& ctx, ChangeMask changes, const ProbeLayout& layout) {
+absl::Status ShProbesSolver::SolveAll(SolverContext& ctx, ChangeMask changes,
+                                      const ProbeLayout& layout) {
   {
     gl::StageTimer::Scope stage(ctx.timer, "rasterize_cubemaps");
     if (layout.probes() != layout_.probes() || !coefficients_) {
@@ -341,7 +348,8 @@ std::vector<uint8_t> ShProbesSolver::SeesChange(const Bounds& moved) {
   return affected;
 }
 
-double ShProbesSolver::RunBatch(SolverContext& ctx, const ProbeSchedule::Batch& batch, double* total) {
+double ShProbesSolver::RunBatch(SolverContext& ctx, const ProbeSchedule::Batch& batch,
+                                double* total) {
   if (!batch.raster.empty()) {
     gl::StageTimer::Scope stage(ctx.timer, "rasterize_cubemaps");
     RasterizeCubemaps(ctx, &batch.raster);
@@ -418,8 +426,8 @@ void ShProbesSolver::RasterizeCubemaps(const SolverContext& ctx, const std::vect
     // Only the batch's tiles (every layer: a layered attachment clears whole).
     glEnable(GL_SCISSOR_TEST);
     for (int p : *probes) {
-      glScissor((p % layout_.tiles_x) * layout_.face_size, (p / layout_.tiles_x) * layout_.face_size,
-                layout_.face_size, layout_.face_size);
+      glScissor((p % layout_.tiles_x) * layout_.face_size,
+                (p / layout_.tiles_x) * layout_.face_size, layout_.face_size, layout_.face_size);
       clear();
     }
     glDisable(GL_SCISSOR_TEST);
@@ -453,10 +461,11 @@ void ShProbesSolver::RenderCubemaps(bool compute_direct, bool use_indirect,
 
 void ShProbesSolver::DispatchTexels(const std::vector<int>* probes) const {
   if (probes) {
-    glDispatchCompute(gl::GroupCount(size_t(layout_.face_size), 8), gl::GroupCount(size_t(layout_.face_size), 8),
-                      GLuint(6 * probes->size()));
+    glDispatchCompute(gl::GroupCount(size_t(layout_.face_size), 8),
+                      gl::GroupCount(size_t(layout_.face_size), 8), GLuint(6 * probes->size()));
   } else {
-    glDispatchCompute(gl::GroupCount(size_t(layout_.width()), 8), gl::GroupCount(size_t(layout_.height()), 8), 6);
+    glDispatchCompute(gl::GroupCount(size_t(layout_.width()), 8),
+                      gl::GroupCount(size_t(layout_.height()), 8), 6);
   }
   glMemoryBarrier(kComputeBarrier);
 }

@@ -74,7 +74,8 @@ class ShProbesSolver final : public Solver {
 
   // `probes` null: every probe; else the listed ones (a batch).
   void RasterizeCubemaps(const SolverContext& ctx, const std::vector<int>* probes = nullptr);
-  void RenderCubemaps(bool compute_direct, bool use_indirect, const std::vector<int>* probes = nullptr);
+  void RenderCubemaps(bool compute_direct, bool use_indirect,
+                      const std::vector<int>* probes = nullptr);
   // Projects, then returns the change of this bounce: the sum over valid
   // probes (of the batch, when given) of |luminance of L_00 - its previous
   // value|; *total gets the sum over all valid probes of |luminance of L_00|.
@@ -108,11 +109,11 @@ class ShProbesSolver final : public Solver {
   gl::Program rasterize_, render_, project_, interpolate_, tail_, final_, sees_, blend_;
   gl::FullscreenPass fullscreen_;
   int instances_per_probe_ = 1;  // 6: rasterize_ is the layered vertex-shader variant
-  bool solved_ = false;      // SolveAll ran for layout_
-  ProbeSchedule schedule_;   // the progressive update's probes and sweeps
-  MovedBounds moved_;        // the transforms the probes' cube maps saw
-  glm::vec3 eye_{0.0f};      // the last shaded camera (probes near it first)
-  double ms_per_unit_ = 0.3; // running cost of a ProbeSchedule unit
+  bool solved_ = false;          // SolveAll ran for layout_
+  ProbeSchedule schedule_;       // the progressive update's probes and sweeps
+  MovedBounds moved_;            // the transforms the probes' cube maps saw
+  glm::vec3 eye_{0.0f};          // the last shaded camera (probes near it first)
+  double ms_per_unit_ = 0.3;     // running cost of a ProbeSchedule unit
 
   // Stats of the last update
   int bounces_run_ = 0;

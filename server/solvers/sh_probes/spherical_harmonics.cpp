@@ -8,8 +8,8 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 // Face table: +X, -X, +Y, -Y, +Z, -Z, each with an up vector orthogonal to it.
-constexpr double kForward[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
-                                   {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+constexpr double kForward[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                   {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
 constexpr double kUp[6][3] = {{0, 1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}, {0, 1, 0}, {0, 1, 0}};
 
 // The integral of the cube face's solid-angle density from (0,0) to (x, y).
