@@ -1,5 +1,4 @@
 #version 450 core
-#include "common/scene.glsl"
-layout(location = 0) in vec3 aPosition;
+#include "common/scene_vertex.glsl"
 uniform mat4 uViewProj;
-void main() { gl_Position = uViewProj * uModel * vec4(aPosition, 1.0); }
+void main() { gl_Position = uViewProj * WorldPosition(); }

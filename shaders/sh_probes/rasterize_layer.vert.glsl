@@ -5,10 +5,7 @@
 // uBatchCount > 0) and writes gl_Layer itself; clip distances keep each
 // triangle inside the probe's tile, and the clipper drops the triangles a
 // face cannot see. Same output as rasterize.geom.glsl.
-#include "common/scene.glsl"
-layout(location = 0) in vec3 aPosition;
-layout(location = 1) in vec3 aNormal;
-layout(location = 2) in vec2 aUv;
+#include "common/scene_vertex.glsl"
 out vec3 gWorld;
 out vec3 gNormal;
 out vec2 gUv;
@@ -21,10 +18,10 @@ void main() {
   int slot = gl_InstanceID / 6, face = gl_InstanceID % 6;
   int probe = uBatchCount > 0 ? batch_probes[slot] : slot;
   vec3 center = ProbeCenter(probe);
-  vec3 world = (uModel * vec4(aPosition, 1.0)).xyz;
+  vec3 world = WorldPosition().xyz;
   gl_Position = IntoTile(FaceClip(world, center, face), probe);
   gWorld = world;
-  gNormal = uNormalMatrix * aNormal;
+  gNormal = WorldNormal();
   gUv = aUv;
   gProbe = center;
   gl_Layer = face;
