@@ -121,7 +121,7 @@ std::vector<std::string> AvgSolver::Plan(ChangeMask changes) const {
 void AvgSolver::ContinueRemap(SolverContext& ctx) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  const int total = remap_.count();
+  const int total = int(remap_layers_.size());
   while (remap_next_ < total) {
     int count = total - remap_next_;
     const double elapsed = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -132,7 +132,16 @@ void AvgSolver::ContinueRemap(SolverContext& ctx) {
                                 : std::min(count, 4);
     }
     const auto slice = Clock::now();
-    remap_.RenderRange(ctx.gpu, ctx.state, shadow_resolution_, remap_next_, count);
+    // Consecutive layers in one instanced draw each.
+    for (int i = remap_next_; i < remap_next_ + count;) {
+      int j = i + 1;
+      while (j < remap_next_ + count &&
+             remap_layers_[size_t(j)] == remap_layers_[size_t(j - 1)] + 1) {
+        ++j;
+      }
+      remap_.RenderRange(ctx.gpu, ctx.state, shadow_resolution_, remap_layers_[size_t(i)], j - i);
+      i = j;
+    }
     glFinish();  // the slice's GPU time sizes the next slice
     const double per_map =
         std::chrono::duration<double, std::milli>(Clock::now() - slice).count() / double(count);
@@ -147,9 +156,68 @@ void AvgSolver::ContinueRemap(SolverContext& ctx) {
   if (remap_next_ >= total) {
     std::swap(shadow_maps_, remap_);  // the old atlas is the next re-map's target
     mapped_vpls_ = std::move(remap_vpls_);
+    mapped_path_first_ = std::move(remap_path_first_);
+    mapped_bounds_ = remap_bounds_;
     remap_vpls_.clear();
+    remap_path_first_.clear();
+    remap_layers_.clear();
+    // Every change restarts the re-map: the shown maps saw the current geometry.
+    unmapped_change_ = Bounds{};
+    unmapped_all_ = false;
     remap_pending_ = false;
   }
+}
+
+void AvgSolver::StartRemap(SolverContext& ctx, const Bounds& grid_bounds) {
+  remap_.Upload(trace_.vpls, grid_bounds);
+  remap_vpls_ = trace_.vpls;
+  remap_path_first_ = trace_.path_first;
+  remap_bounds_ = grid_bounds;
+  remap_layers_.clear();
+  remap_next_ = 0;
+  remap_pending_ = true;
+  vpl_maps_kept_ = 0;
+  // A map depends on its VPL's position and normal, its far plane (from
+  // the grid box) and the geometry in its hemisphere (z >= 0 in the VPL's
+  // frame, shaders/avg/vpl_shadow.geom.glsl). Path i's k-th VPL is looked
+  // up where the shown set held path i's k-th VPL.
+  const bool comparable = !unmapped_all_ && !(mapped_bounds_.min != grid_bounds.min) &&
+                          !(mapped_bounds_.max != grid_bounds.max);
+  const float margin = 1e-4f * glm::length(grid_bounds.extent());
+  auto sees_change = [&](const avg::Vpl& v) {
+    if (unmapped_change_.empty()) return false;
+    for (int corner = 0; corner < 8; ++corner) {
+      const glm::vec3 c((corner & 1) ? unmapped_change_.max.x : unmapped_change_.min.x,
+                        (corner & 2) ? unmapped_change_.max.y : unmapped_change_.min.y,
+                        (corner & 4) ? unmapped_change_.max.z : unmapped_change_.min.z);
+      if (glm::dot(c - v.position, v.normal) > -margin) return true;
+    }
+    return false;  // wholly behind the VPL: never drawn into its map
+  };
+  std::vector<std::pair<int, int>> copies;
+  const size_t paths = trace_.path_first.size();
+  for (size_t i = 0; i < paths; ++i) {
+    const uint32_t first = trace_.path_first[i];
+    const uint32_t end = i + 1 < paths ? trace_.path_first[i + 1] : uint32_t(trace_.vpls.size());
+    const bool shown = comparable && i < mapped_path_first_.size();
+    const uint32_t old_first = shown ? mapped_path_first_[i] : 0;
+    const uint32_t old_end = !shown                              ? 0
+                             : i + 1 < mapped_path_first_.size() ? mapped_path_first_[i + 1]
+                                                                 : uint32_t(mapped_vpls_.size());
+    for (uint32_t j = first; j < end; ++j) {
+      const avg::Vpl& v = trace_.vpls[j];
+      const uint32_t old = old_first + (j - first);
+      if (shown && old < old_end && mapped_vpls_[old].position == v.position &&
+          mapped_vpls_[old].normal == v.normal && !sees_change(v)) {
+        copies.emplace_back(int(old), int(j));
+      } else {
+        remap_layers_.push_back(int(j));
+      }
+    }
+  }
+  if (!copies.empty()) remap_.CopyLayers(shadow_maps_, copies, shadow_resolution_);
+  vpl_maps_kept_ = int(copies.size());
+  ContinueRemap(ctx);
 }
 
 bool AvgSolver::SamePlacement(const std::vector<avg::Vpl>& a, const std::vector<avg::Vpl>& b) {
@@ -160,12 +228,40 @@ bool AvgSolver::SamePlacement(const std::vector<avg::Vpl>& a, const std::vector<
   return true;
 }
 
+bool AvgSolver::Voxelize(SolverContext& ctx, ChangeMask changes) {
+  gl::StageTimer::Scope stage(ctx.timer, "voxelize", /*cpu_stage=*/true);
+  const Bounds moved = moved_.Since(ctx.gpu, ctx.state);
+  moved_.Solved(ctx.state);
+  // Only moved nodes (a material change alters albedo everywhere; a
+  // geometry change with no moved box is a change MovedBounds cannot see).
+  const bool partial = grid_ && !(changes & kChangeMaterials) && !moved.empty() &&
+                       grid_->Revoxelize(ctx.state, moved);
+  if (partial) {
+    const glm::vec3 cells = grid_->rewritten().extent() / grid_->voxel_size();
+    voxels_rewritten_ =
+        std::round(double(cells.x)) * std::round(double(cells.y)) * std::round(double(cells.z));
+    unmapped_change_.Extend(moved);
+  } else {
+    grid_ = avg::VoxelGrid::Build(ctx.state, grid_resolution_);
+    voxels_rewritten_ = std::pow(double(grid_->resolution()), 3.0);
+    // A material change alone leaves the maps' geometry as it was.
+    if ((changes & kChangeGeometry) && moved.empty()) {
+      unmapped_all_ = true;
+    } else {
+      unmapped_change_.Extend(moved);
+    }
+  }
+  voxels_partial_ = partial;
+  return partial;
+}
+
 absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
   const bool voxelize = NeedsVoxelize(changes) || !grid_;
   const bool trace = voxelize || NeedsTrace(changes);
+  if (!grid_) unmapped_all_ = true;
+  bool partial = false;
   if (voxelize) {
-    gl::StageTimer::Scope stage(ctx.timer, "voxelize", /*cpu_stage=*/true);
-    grid_ = avg::VoxelGrid::Build(ctx.state, grid_resolution_);
+    partial = Voxelize(ctx, changes);
   } else {
     ctx.timer.Skip("voxelize");
   }
@@ -193,7 +289,11 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
     gl::StageTimer::Scope stage(ctx.timer, "trace_vpls", /*cpu_stage=*/true);
     const std::vector<avg::VplLight> lights = avg::CollectVplLights(
         ctx.state, grid_bounds.center(), 0.5f * glm::length(grid_bounds.extent()));
-    trace_ = avg::TraceVpls(*grid_, lights, trace_settings_);
+    // After moved nodes only the paths whose rays cross the rewritten
+    // voxels are traced again (Laine et al. 2007); the VPLs equal a full
+    // trace's.
+    trace_ = partial ? avg::RetraceVpls(*grid_, lights, trace_settings_, grid_->rewritten(), paths_)
+                     : avg::TraceVpls(*grid_, lights, trace_settings_, &paths_);
   }
   {
     // The direct lights' shadow maps are drawn here too: they are the
@@ -207,21 +307,22 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
     // geometry only: when a light change left every path where it was (a
     // dimmer, a colour; the paths are quasi-random in the path index), the
     // maps stay and only the VPLs' flux is new.
-    const bool same_placement =
-        !voxelize && !(changes & kChangeGeometry) && SamePlacement(mapped_vpls_, trace_.vpls);
+    const bool same_placement = !voxelize && !(changes & kChangeGeometry) && !unmapped_all_ &&
+                                unmapped_change_.empty() && !remap_pending_ &&
+                                SamePlacement(mapped_vpls_, trace_.vpls);
     vpl_maps_redrawn_ = 0;
+    vpl_maps_kept_ = 0;
     if (!visibility_ || same_placement) {
       shadow_maps_.Upload(trace_.vpls, grid_bounds);
       mapped_vpls_ = trace_.vpls;
+      mapped_path_first_ = trace_.path_first;
+      mapped_bounds_ = grid_bounds;
       remap_pending_ = false;  // a re-map of older VPLs is moot
+      vpl_maps_kept_ = same_placement ? int(trace_.vpls.size()) : 0;
     } else {
       // New maps are drawn into the other atlas in slices of the frame
       // budget; frames show the last VPLs and maps until all are drawn.
-      remap_.Upload(trace_.vpls, grid_bounds);
-      remap_vpls_ = trace_.vpls;
-      remap_next_ = 0;
-      remap_pending_ = true;
-      ContinueRemap(ctx);
+      StartRemap(ctx, grid_bounds);
     }
   }
   return absl::OkStatus();
@@ -279,7 +380,15 @@ SolverStats AvgSolver::Stats() const {
           {"voxel_bytes", double(grid_ ? grid_->bytes() : 0)},
           {"vpl_shadow_bytes", double(shadow_maps_.gpu_bytes())},
           {"vpl_maps_redrawn", double(vpl_maps_redrawn_)},
-          {"vpl_maps_pending", remap_pending_ ? double(remap_.count() - remap_next_) : 0.0},
+          {"vpl_maps_kept", double(vpl_maps_kept_)},
+          {"vpl_maps_pending",
+           remap_pending_ ? double(remap_layers_.size()) - double(remap_next_) : 0.0},
+          {"vpls_kept", double(trace_.kept_vpls)},
+          {"vpls_retraced", double(trace_.vpls.size() - trace_.kept_vpls)},
+          {"vpl_paths_kept", double(trace_.kept_paths)},
+          {"vpl_paths_retraced", double(trace_.retraced_paths)},
+          {"voxels_rewritten", voxels_rewritten_},
+          {"voxelize_partial", voxels_partial_ ? 1.0 : 0.0},
           {"direct_area_samples", double(direct_.area_samples().size())},
           {"direct_shadow_bytes", double(direct_.gpu_bytes())},
           {"split_bytes", double(split_.gpu_bytes())}};

@@ -15,6 +15,7 @@
 #include "solvers/avg/vpl_shadow_maps.h"
 #include "solvers/avg/vpl_tracer.h"
 #include "solvers/memory_estimate.h"
+#include "solvers/moved_bounds.h"
 #include "solvers/solver.h"
 
 namespace gistream {
@@ -43,6 +44,7 @@ class AvgSolver final : public Solver {
   // For tests: the current grid and VPLs.
   const avg::VoxelGrid* grid() const { return grid_ ? &*grid_ : nullptr; }
   const avg::VplTraceResult& vpls() const { return trace_; }
+  const avg::VplPathCache& paths() const { return paths_; }
 
  private:
   static bool SamePlacement(const std::vector<avg::Vpl>& a, const std::vector<avg::Vpl>& b);
@@ -50,6 +52,14 @@ class AvgSolver final : public Solver {
   // What a change set needs, as flags.
   static bool NeedsVoxelize(ChangeMask changes);
   static bool NeedsTrace(ChangeMask changes);
+  // Voxelizes what moved (the whole grid when its placement changed, on
+  // a material change or the first solve); returns whether it was
+  // incremental (then grid_->rewritten() is what changed).
+  bool Voxelize(SolverContext& ctx, ChangeMask changes);
+  // Starts drawing trace_'s VPL maps into remap_: the maps of shown VPLs
+  // that stayed where they were and cannot see geometry changed since the
+  // shown maps were drawn are copied, the others queued for drawing.
+  void StartRemap(SolverContext& ctx, const Bounds& grid_bounds);
   // Draws the next slice of the re-map (as many maps as the budget allows,
   // at least one); when the last is drawn, the new VPLs and maps are shown.
   void ContinueRemap(SolverContext& ctx);
@@ -64,14 +74,29 @@ class AvgSolver final : public Solver {
 
   // Runtime data
   std::optional<avg::VoxelGrid> grid_;
+  MovedBounds moved_;  // the transforms grid_ was voxelized with
   avg::VplTraceResult trace_;
-  // The VPLs whose paraboloid maps are drawn, and how many the last update drew.
+  avg::VplPathCache paths_;  // trace_'s paths, for the next incremental trace
+  // The VPLs whose paraboloid maps are drawn (each path's first layer, the
+  // grid box their far planes came from), and how many the last update drew.
   std::vector<avg::Vpl> mapped_vpls_;
+  std::vector<uint32_t> mapped_path_first_;
+  Bounds mapped_bounds_;
+  // Geometry changed since the shown maps were drawn (`unmapped_all_`: by
+  // more than a known box).
+  Bounds unmapped_change_;
+  bool unmapped_all_ = true;
   int vpl_maps_redrawn_ = 0;
+  int vpl_maps_kept_ = 0;           // copied from the shown atlas by the last re-map
+  bool voxels_partial_ = false;     // the last voxelize rewrote a box only
+  double voxels_rewritten_ = 0;     // voxels it cleared and re-rasterized
   avg::VplShadowMaps shadow_maps_;  // shown: VPLs and maps that agree
   // New VPLs whose maps are being drawn, in slices of the frame budget.
   avg::VplShadowMaps remap_;
   std::vector<avg::Vpl> remap_vpls_;
+  std::vector<uint32_t> remap_path_first_;
+  Bounds remap_bounds_;
+  std::vector<int> remap_layers_;  // the layers to draw, in order
   bool remap_pending_ = false;
   int remap_next_ = 0;
   double ms_per_map_ = 0.0;  // running estimate, sizes the slices

@@ -59,11 +59,9 @@ glm::vec3 MeanTextureColor(const Scene& scene, int image) {
   return glm::clamp(glm::vec3(sum / double(texels)), 0.0f, 1.0f);
 }
 
-VoxelGrid VoxelGrid::Build(const SceneState& state, int resolution) {
-  VoxelGrid grid;
-  grid.n_ = std::clamp(resolution, 4, 1024);
+void VoxelGrid::Place(const SceneState& state, int resolution) {
+  n_ = std::clamp(resolution, 4, 1024);
   const Scene& scene = state.scene();
-
   // Bounds of the current (moved) geometry.
   Bounds bounds;
   for (size_t n = 0; n < scene.nodes.size(); ++n) {
@@ -78,17 +76,76 @@ VoxelGrid VoxelGrid::Build(const SceneState& state, int resolution) {
   // inside the grid; flat axes get a minimum thickness.
   const glm::vec3 ext = bounds.extent();
   const float largest = std::max({ext.x, ext.y, ext.z, 1e-20f});
-  const glm::vec3 padded = glm::max(ext, glm::vec3(largest / float(grid.n_)));
-  grid.size_ = padded / float(grid.n_ - 2);
-  grid.origin_ = bounds.center() - 0.5f * padded - grid.size_;
-  grid.voxels_.assign(size_t(grid.n_) * size_t(grid.n_) * size_t(grid.n_), Voxel{});
+  const glm::vec3 padded = glm::max(ext, glm::vec3(largest / float(n_)));
+  size_ = padded / float(n_ - 2);
+  origin_ = bounds.center() - 0.5f * padded - size_;
+}
 
+VoxelGrid VoxelGrid::Build(const SceneState& state, int resolution) {
+  VoxelGrid grid;
+  grid.Place(state, resolution);
+  grid.voxels_.assign(size_t(grid.n_) * size_t(grid.n_) * size_t(grid.n_), Voxel{});
+  grid.Rasterize(state, glm::ivec3(0), glm::ivec3(grid.n_ - 1));
+  for (const Voxel& v : grid.voxels_) grid.filled_ += v.count > 0 ? 1 : 0;
+  return grid;
+}
+
+bool VoxelGrid::Revoxelize(const SceneState& state, const Bounds& moved) {
+  VoxelGrid placed;
+  placed.Place(state, n_);
+  if (placed.n_ != n_ || placed.origin_ != origin_ || placed.size_ != size_) return false;
+  rewritten_ = Bounds{};
+  if (moved.empty()) return true;
+  // One voxel of padding: a vertex transformed on its own may round
+  // outside the transformed box corners.
+  const glm::ivec3 lo = glm::clamp(VoxelOf(moved.min) - 1, glm::ivec3(0), glm::ivec3(n_ - 1));
+  const glm::ivec3 hi = glm::clamp(VoxelOf(moved.max) + 1, glm::ivec3(0), glm::ivec3(n_ - 1));
+  glm::ivec3 v;
+  for (v.z = lo.z; v.z <= hi.z; ++v.z) {
+    for (v.y = lo.y; v.y <= hi.y; ++v.y) {
+      for (v.x = lo.x; v.x <= hi.x; ++v.x) {
+        Voxel& voxel = voxels_[Index(v)];
+        filled_ -= voxel.count > 0 ? 1 : 0;
+        voxel = Voxel{};
+      }
+    }
+  }
+  Rasterize(state, lo, hi);
+  for (v.z = lo.z; v.z <= hi.z; ++v.z) {
+    for (v.y = lo.y; v.y <= hi.y; ++v.y) {
+      for (v.x = lo.x; v.x <= hi.x; ++v.x) filled_ += voxels_[Index(v)].count > 0 ? 1 : 0;
+    }
+  }
+  rewritten_.Extend(origin_ + glm::vec3(lo) * size_);
+  rewritten_.Extend(origin_ + glm::vec3(hi + 1) * size_);
+  return true;
+}
+
+void VoxelGrid::Rasterize(const SceneState& state, const glm::ivec3& lo, const glm::ivec3& hi) {
+  const Scene& scene = state.scene();
+  // The voxels' world box, padded by a voxel, to skip primitives far away.
+  const glm::vec3 box_min = origin_ + glm::vec3(lo - 1) * size_;
+  const glm::vec3 box_max = origin_ + glm::vec3(hi + 2) * size_;
+  const bool whole = lo == glm::ivec3(0) && hi == glm::ivec3(n_ - 1);
   std::vector<glm::vec3> texture_means(scene.images.size(), glm::vec3(-1.0f));
   for (size_t n = 0; n < scene.nodes.size(); ++n) {
     const int mesh = scene.nodes[n].mesh;
     if (mesh < 0) continue;
     const glm::mat4& m = state.world()[n];
     for (const Primitive& p : scene.meshes[size_t(mesh)].primitives) {
+      if (!whole && !p.bounds.empty()) {
+        Bounds world;
+        for (int corner = 0; corner < 8; ++corner) {
+          const glm::vec3 c((corner & 1) ? p.bounds.max.x : p.bounds.min.x,
+                            (corner & 2) ? p.bounds.max.y : p.bounds.min.y,
+                            (corner & 4) ? p.bounds.max.z : p.bounds.min.z);
+          world.Extend(glm::vec3(m * glm::vec4(c, 1.0f)));
+        }
+        if (glm::any(glm::lessThan(world.max, box_min)) ||
+            glm::any(glm::greaterThan(world.min, box_max))) {
+          continue;
+        }
+      }
       glm::vec3 albedo(1.0f);
       if (p.material >= 0) {
         const Material& mat = state.materials()[size_t(p.material)];
@@ -101,26 +158,27 @@ VoxelGrid VoxelGrid::Build(const SceneState& state, int resolution) {
       }
       albedo = glm::clamp(albedo, 0.0f, 1.0f);  // as the G-buffer stores it
       for (size_t i = 0; i + 2 < p.indices.size(); i += 3) {
-        grid.Add(glm::vec3(m * glm::vec4(p.positions[p.indices[i]], 1.0f)),
-                 glm::vec3(m * glm::vec4(p.positions[p.indices[i + 1]], 1.0f)),
-                 glm::vec3(m * glm::vec4(p.positions[p.indices[i + 2]], 1.0f)), albedo);
+        Add(glm::vec3(m * glm::vec4(p.positions[p.indices[i]], 1.0f)),
+            glm::vec3(m * glm::vec4(p.positions[p.indices[i + 1]], 1.0f)),
+            glm::vec3(m * glm::vec4(p.positions[p.indices[i + 2]], 1.0f)), albedo, lo, hi);
       }
     }
   }
-  for (const Voxel& v : grid.voxels_) grid.filled_ += v.count > 0 ? 1 : 0;
-  return grid;
 }
 
 void VoxelGrid::Add(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
-                    const glm::vec3& albedo) {
+                    const glm::vec3& albedo, const glm::ivec3& lo_clip, const glm::ivec3& hi_clip) {
   const glm::vec3 cross = glm::cross(b - a, c - a);
   const float len = glm::length(cross);
   if (!(len > 0.0f) || !std::isfinite(len)) return;  // degenerate: no surface, no normal
   const glm::vec3 normal = cross / len;
-  const glm::ivec3 lo =
-      glm::clamp(VoxelOf(glm::min(a, glm::min(b, c))), glm::ivec3(0), glm::ivec3(n_ - 1));
-  const glm::ivec3 hi =
-      glm::clamp(VoxelOf(glm::max(a, glm::max(b, c))), glm::ivec3(0), glm::ivec3(n_ - 1));
+  // The triangle's voxel range as Build sees it, then only the part inside
+  // [lo_clip, hi_clip].
+  const glm::ivec3 lo = glm::max(
+      glm::clamp(VoxelOf(glm::min(a, glm::min(b, c))), glm::ivec3(0), glm::ivec3(n_ - 1)), lo_clip);
+  const glm::ivec3 hi = glm::min(
+      glm::clamp(VoxelOf(glm::max(a, glm::max(b, c))), glm::ivec3(0), glm::ivec3(n_ - 1)), hi_clip);
+  if (glm::any(glm::greaterThan(lo, hi))) return;
   // A hair more than half a voxel, so a triangle on a voxel face marks the
   // voxels on both sides (conservative, never a gap from rounding).
   const glm::vec3 half = 0.5f * size_ * 1.0001f;

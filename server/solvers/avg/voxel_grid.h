@@ -40,6 +40,18 @@ class VoxelGrid {
   // one voxel. Resolution 1..1024.
   static VoxelGrid Build(const SceneState& state, int resolution);
 
+  // Voxelizes only what moved (materials unchanged): `moved` is a world box
+  // holding every moved triangle's old and new place (solvers/moved_bounds.h).
+  // The voxels it touches, padded by one, are cleared and every triangle
+  // that overlaps them is rasterized again into them alone, in Build's
+  // order, so each voxel ends bitwise equal to Build's. Returns false and
+  // changes nothing when the grid fitted to the current geometry lies
+  // elsewhere (the scene's bounds changed): then Build.
+  bool Revoxelize(const SceneState& state, const Bounds& moved);
+  // The voxels the last Revoxelize rewrote, as a world box (empty after
+  // Build); a ray that misses it marches as it did before.
+  const Bounds& rewritten() const { return rewritten_; }
+
   int resolution() const { return n_; }
   const glm::vec3& origin() const { return origin_; }    // world min corner
   const glm::vec3& voxel_size() const { return size_; }  // per axis
@@ -71,13 +83,20 @@ class VoxelGrid {
   size_t Index(const glm::ivec3& v) const {
     return (size_t(v.z) * size_t(n_) + size_t(v.y)) * size_t(n_) + size_t(v.x);
   }
-  void Add(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec3& albedo);
+  // Origin and voxel size of a `resolution`^3 grid over the current geometry.
+  void Place(const SceneState& state, int resolution);
+  // Rasterizes every triangle of `state` (Build's order) into the voxels
+  // [lo, hi]; primitives whose world box misses them are skipped.
+  void Rasterize(const SceneState& state, const glm::ivec3& lo, const glm::ivec3& hi);
+  void Add(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec3& albedo,
+           const glm::ivec3& lo, const glm::ivec3& hi);
 
   int n_ = 0;
   glm::vec3 origin_{0.0f};
   glm::vec3 size_{1.0f};
   std::vector<Voxel> voxels_;
   size_t filled_ = 0;
+  Bounds rewritten_;
 };
 
 // The mean linear colour of a base-colour texture (the paper uses the

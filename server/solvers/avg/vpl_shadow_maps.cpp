@@ -80,6 +80,24 @@ void VplShadowMaps::RenderRange(const GpuScene& gpu, const SceneState& state, in
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
+void VplShadowMaps::CopyLayers(const VplShadowMaps& from,
+                               const std::vector<std::pair<int, int>>& layers, int resolution) {
+  Allocate(std::max(count_, 1), resolution);
+  if (!from.maps_ || from.resolution_ != resolution) return;
+  // Runs of consecutive layers (a kept path's VPLs move together) in one copy each.
+  for (size_t i = 0; i < layers.size();) {
+    size_t j = i + 1;
+    while (j < layers.size() && layers[j].first == layers[j - 1].first + 1 &&
+           layers[j].second == layers[j - 1].second + 1) {
+      ++j;
+    }
+    glCopyImageSubData(from.maps_.id(), GL_TEXTURE_2D_ARRAY, 0, 0, 0, layers[i].first, maps_.id(),
+                       GL_TEXTURE_2D_ARRAY, 0, 0, 0, layers[i].second, resolution, resolution,
+                       GLsizei(j - i));
+    i = j;
+  }
+}
+
 void VplShadowMaps::Bind() {
   // Without visibility no map is drawn; a 1-texel stand-in keeps the
   // sampler complete.

@@ -4,6 +4,7 @@
 // one instanced draw per scene draw item covers every VPL.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 #include "gl/handle.h"
@@ -25,6 +26,11 @@ class VplShadowMaps {
   // re-map spread over frames); the other layers keep what they hold.
   void RenderRange(const GpuScene& gpu, const SceneState& state, int resolution, int first,
                    int count);
+  // Copies map layers of `from` (drawn for the same far planes) into this
+  // atlas, (source layer, destination layer) pairs: the maps of VPLs an
+  // incremental update kept (needs Upload first).
+  void CopyLayers(const VplShadowMaps& from, const std::vector<std::pair<int, int>>& layers,
+                  int resolution);
   // Binds the VPL buffer, and the maps to kShadowUnit.
   void Bind();
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <glm/gtc/constants.hpp>
 
@@ -114,15 +115,10 @@ PathStart StartPath(const VplLight& l, double pdf, uint64_t i) {
   return s;
 }
 
-struct PathResult {
-  std::vector<Vpl> vpls;
-  bool escaped = false;
-};
-
-PathResult TracePath(const VoxelGrid& grid, const std::vector<VplLight>& lights,
-                     const LightTable& table, const VplTraceSettings& settings, uint64_t i) {
+VplPath TracePath(const VoxelGrid& grid, const std::vector<VplLight>& lights,
+                  const LightTable& table, const VplTraceSettings& settings, uint64_t i) {
   const ScrambledHalton& h = ScrambledHalton::Instance();
-  PathResult result;
+  VplPath result;
   // Pick a light by power (dimension 0 is van der Corput, so any prefix of
   // paths splits between the lights in proportion to their power).
   const double u = double(h.Get(i, kDimLight)) * table.total;
@@ -137,6 +133,8 @@ PathResult TracePath(const VoxelGrid& grid, const std::vector<VplLight>& lights,
   const float nudge = 0.05f * glm::length(grid.voxel_size());
   for (int bounce = 0; bounce < settings.bounces; ++bounce) {
     const std::optional<GridHit> hit = grid.March(origin, dir, normal, on_surface);
+    result.rays.push_back(
+        {origin, dir, hit ? hit->t_exit : std::numeric_limits<float>::infinity()});
     if (!hit) {
       result.escaped = bounce == 0;
       break;
@@ -198,57 +196,158 @@ glm::vec3 SampleCosine(const glm::vec3& n, float u1, float u2) {
   return glm::normalize(t * (r * std::cos(phi)) + b * (r * std::sin(phi)) + n * z);
 }
 
-VplTraceResult TraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& lights,
-                         const VplTraceSettings& settings) {
-  VplTraceResult result;
+namespace {
+
+bool SameLights(const std::vector<VplLight>& a, const std::vector<VplLight>& b) {
+  if (a.size() != b.size()) return false;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const VplLight &x = a[i], &y = b[i];
+    if (x.kind != y.kind || x.p0 != y.p0 || x.p1 != y.p1 || x.p2 != y.p2 ||
+        x.position != y.position || x.normal != y.normal || x.radiance != y.radiance ||
+        x.cone_scale != y.cone_scale || x.cone_offset != y.cone_offset ||
+        x.cos_outer != y.cos_outer || x.disc_radius != y.disc_radius || x.power != y.power) {
+      return false;
+    }
+  }
+  return true;
+}
+
+LightTable MakeTable(const std::vector<VplLight>& lights) {
   LightTable table;
   table.cdf.push_back(0.0);
   for (const VplLight& l : lights) {
-    result.light_power += l.power;
     table.cdf.push_back(table.cdf.back() + double(std::max(Luminance(l.power), 0.0f)));
   }
   table.total = table.cdf.back();
-  const size_t target = size_t(std::max(settings.vpls, 0));
-  if (lights.empty() || !(table.total > 0.0) || target == 0) return result;
+  return table;
+}
 
-  // Paths are traced in batches (in parallel) and appended whole, in index
-  // order, while their VPLs fit into `vpls`; the first path that does not
-  // fit ends the walk (it is not counted in N). The result does not depend
-  // on the thread count and never exceeds `vpls` VPLs (shadow-map layers).
+// Traces the paths `indices` into `out` (in parallel when many;
+// each path depends on its index only, so not on the split).
+void TraceRange(const VoxelGrid& grid, const std::vector<VplLight>& lights, const LightTable& table,
+                const VplTraceSettings& settings, const std::vector<uint64_t>& indices,
+                std::vector<VplPath>& out) {
+  auto trace = [&](size_t j) { out[j] = TracePath(grid, lights, table, settings, indices[j]); };
+  if (indices.size() < 64 || settings.threads == 1) {
+    for (size_t j = 0; j < indices.size(); ++j) trace(j);
+  } else {
+    ParallelFor(indices.size(), 16, trace);
+  }
+}
+
+// Packs paths in index order while their VPLs fit into `vpls`: the first
+// path that does not fit ends the walk (it is not counted in N). Paths in
+// `paths` are used as they are; more are traced (in batches) as needed and
+// appended. The result does not depend on the thread count and never
+// exceeds `vpls` VPLs (shadow-map layers).
+VplTraceResult Pack(const VoxelGrid& grid, const std::vector<VplLight>& lights,
+                    const VplTraceSettings& settings, std::vector<VplPath>& paths,
+                    const std::vector<uint8_t>& retraced) {
+  VplTraceResult result;
+  for (const VplLight& l : lights) result.light_power += l.power;
+  const LightTable table = MakeTable(lights);
+  const size_t target = size_t(std::max(settings.vpls, 0));
+  if (lights.empty() || !(table.total > 0.0) || target == 0) {
+    paths.clear();
+    return result;
+  }
   const uint64_t max_paths = uint64_t(target) * 16;  // open scenes: most paths escape
+  const size_t cached = paths.size();
   double vpls_per_path = 1.0;
   uint64_t next = 0;
-  bool done = false;
-  while (!done && next < max_paths) {
-    const uint64_t want = uint64_t(double(target - result.vpls.size()) / vpls_per_path) + 8;
-    const uint64_t batch = std::min(want, max_paths - next);
-    std::vector<PathResult> paths(batch);
-    // Each path depends on its index only, so the result does not depend on
-    // how the pool splits the batch; a few paths stay on this thread.
-    auto trace = [&](size_t j) { paths[j] = TracePath(grid, lights, table, settings, next + j); };
-    if (batch < 64 || settings.threads == 1) {
-      for (size_t j = 0; j < batch; ++j) trace(j);
+  while (next < max_paths) {
+    if (next >= paths.size()) {
+      const uint64_t want = uint64_t(double(target - result.vpls.size()) / vpls_per_path) + 8;
+      const uint64_t batch = std::min(want, max_paths - next);
+      std::vector<uint64_t> indices(batch);
+      for (uint64_t j = 0; j < batch; ++j) indices[j] = next + j;
+      std::vector<VplPath> traced(batch);
+      TraceRange(grid, lights, table, settings, indices, traced);
+      for (VplPath& p : traced) paths.push_back(std::move(p));
+    }
+    const VplPath& p = paths[next];
+    if (result.vpls.size() + p.vpls.size() > target) break;
+    result.path_first.push_back(uint32_t(result.vpls.size()));
+    if (next >= cached) {
+      ++result.new_paths;
+    } else if (next < retraced.size() && retraced[next]) {
+      ++result.retraced_paths;
+      result.retraced_vpls += p.vpls.size();
     } else {
-      ParallelFor(batch, 16, trace);
+      ++result.kept_paths;
+      result.kept_vpls += p.vpls.size();
     }
-    for (PathResult& p : paths) {
-      if (result.vpls.size() + p.vpls.size() > target) {
-        done = true;
-        break;
-      }
-      ++result.paths;
-      result.escaped += p.escaped ? 1 : 0;
-      result.vpls.insert(result.vpls.end(), p.vpls.begin(), p.vpls.end());
-    }
-    next += batch;
-    if (result.vpls.size() == target) done = true;
+    ++result.paths;
+    result.escaped += p.escaped ? 1 : 0;
+    result.vpls.insert(result.vpls.end(), p.vpls.begin(), p.vpls.end());
+    ++next;
+    if (result.vpls.size() == target) break;
     vpls_per_path =
         std::max(0.05, double(result.vpls.size()) / double(std::max<uint64_t>(result.paths, 1)));
   }
+  // Keep the used paths and the one that did not fit.
+  paths.resize(std::min<size_t>(paths.size(), size_t(next) + 1));
   // Each path carried power / pdf; the estimator averages over N paths.
   const float inv_n = result.paths > 0 ? 1.0f / float(result.paths) : 0.0f;
   for (Vpl& v : result.vpls) v.flux *= inv_n;
   return result;
+}
+
+}  // namespace
+
+bool PathTouches(const VplPath& path, const Bounds& box, const glm::vec3& pad) {
+  if (box.empty()) return false;
+  const glm::vec3 lo = box.min - pad, hi = box.max + pad;
+  for (const VplRay& r : path.rays) {
+    // Slab test of the segment [0, t_end].
+    float t0 = 0.0f, t1 = r.t_end;
+    bool miss = false;
+    for (int i = 0; i < 3 && !miss; ++i) {
+      if (std::abs(r.dir[i]) < 1e-30f) {
+        miss = r.origin[i] < lo[i] || r.origin[i] > hi[i];
+        continue;
+      }
+      float a = (lo[i] - r.origin[i]) / r.dir[i], b = (hi[i] - r.origin[i]) / r.dir[i];
+      if (a > b) std::swap(a, b);
+      t0 = std::max(t0, a);
+      t1 = std::min(t1, b);
+      miss = !(t0 <= t1);
+    }
+    if (!miss) return true;
+  }
+  return false;
+}
+
+VplTraceResult TraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& lights,
+                         const VplTraceSettings& settings, VplPathCache* cache) {
+  std::vector<VplPath> paths;
+  VplTraceResult result = Pack(grid, lights, settings, paths, {});
+  if (cache) {
+    cache->paths = std::move(paths);
+    cache->lights = lights;
+  }
+  return result;
+}
+
+VplTraceResult RetraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& lights,
+                           const VplTraceSettings& settings, const Bounds& changed,
+                           VplPathCache& cache) {
+  if (!SameLights(lights, cache.lights)) return TraceVpls(grid, lights, settings, &cache);
+  // A voxel of padding: the DDA's steps may round into a voxel the segment
+  // only grazes.
+  const glm::vec3 pad = grid.voxel_size();
+  std::vector<uint64_t> invalid;
+  for (size_t i = 0; i < cache.paths.size(); ++i) {
+    if (PathTouches(cache.paths[i], changed, pad)) invalid.push_back(i);
+  }
+  std::vector<VplPath> traced(invalid.size());
+  TraceRange(grid, lights, MakeTable(lights), settings, invalid, traced);
+  std::vector<uint8_t> retraced(cache.paths.size(), 0);
+  for (size_t j = 0; j < invalid.size(); ++j) {
+    cache.paths[invalid[j]] = std::move(traced[j]);
+    retraced[invalid[j]] = 1;
+  }
+  return Pack(grid, lights, settings, cache.paths, retraced);
 }
 
 }  // namespace gistream::avg

@@ -38,10 +38,53 @@ struct VplTraceResult {
   uint64_t paths = 0;    // light paths used (the estimator's N)
   uint64_t escaped = 0;  // paths whose first ray left the grid
   glm::vec3 light_power{0.0f};
+  std::vector<uint32_t> path_first;  // per used path, the index of its first VPL
+  // An incremental trace (RetraceVpls): cached paths kept and retraced,
+  // the VPLs of the used paths among each, and new paths traced.
+  uint64_t kept_paths = 0, retraced_paths = 0, new_paths = 0;
+  uint64_t kept_vpls = 0, retraced_vpls = 0;
 };
 
+// One ray of a light path as marched: from `origin` along `dir` to the far
+// side of the voxel it hit (t_end), or out of the grid (t_end infinite).
+struct VplRay {
+  glm::vec3 origin{0.0f}, dir{0.0f};
+  float t_end = 0.0f;
+};
+
+// One light path as traced, with what it depends on.
+struct VplPath {
+  std::vector<Vpl> vpls;     // flux not yet divided by the path count
+  std::vector<VplRay> rays;  // every ray it marched
+  bool escaped = false;      // its first ray left the grid
+};
+
+// The paths behind the last trace (paths 0.. in index order, up to the
+// first one that did not fit), and the lights they started from: an
+// incremental trace keeps the ones the change left valid.
+struct VplPathCache {
+  std::vector<VplPath> paths;
+  std::vector<VplLight> lights;
+};
+
+// Traces from scratch; with `cache`, it keeps the paths.
 VplTraceResult TraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& lights,
-                         const VplTraceSettings& settings);
+                         const VplTraceSettings& settings, VplPathCache* cache = nullptr);
+
+// Incremental instant radiosity (Laine et al. 2007, Sec. 3, for moving
+// geometry): `grid` differs from the one `cache` was traced on only inside
+// `changed` (VoxelGrid::rewritten()). A cached path none of whose rays
+// comes within a voxel of `changed` marches through the same voxels to the
+// same hits, so it is kept as it is; the others are retraced (same path
+// index, same random numbers) and the paths packed again in index order.
+// The result equals TraceVpls on `grid` bitwise. Different lights (an
+// emitter moved) retrace everything.
+VplTraceResult RetraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& lights,
+                           const VplTraceSettings& settings, const Bounds& changed,
+                           VplPathCache& cache);
+
+// Whether a ray of `path` passes within `pad` of `box`.
+bool PathTouches(const VplPath& path, const Bounds& box, const glm::vec3& pad);
 
 // Cosine-distributed direction around unit n from (u1, u2).
 glm::vec3 SampleCosine(const glm::vec3& n, float u1, float u2);
