@@ -51,15 +51,25 @@ class ShProbesSolver final : public Solver {
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
-  bool UpdateComplete() const override { return !schedule_.pending() && !lighting_.pending(); }
+  // False while the full solve (first, or after a new layout) or a
+  // progressive update runs; frames show the latest complete bounce.
+  bool UpdateComplete() const override {
+    return !full_.active && deferred_ == 0 && !schedule_.pending() && !lighting_.pending();
+  }
   uint64_t gpu_bytes() const override { return atlas_.gpu_bytes() + lighting_.gpu_bytes(); }
 
  private:
   ShProbesSolver() = default;
 
   // The first solve, and one after the grid's layout changed: every probe,
-  // bounce after bounce (Section 3), in one frame.
-  absl::Status SolveAll(SolverContext& ctx, ChangeMask changes, const ProbeLayout& layout);
+  // bounce after bounce (Section 3, Jacobi: a bounce reads the previous
+  // one's coefficients), in batches of probes spread over frames by the
+  // budget (every batch in one Update when the budget is 0). The batches
+  // do what one unsplit pass over all probes does, so the solution does not
+  // depend on the split.
+  absl::Status StartSolve(SolverContext& ctx, ChangeMask changes, const ProbeLayout& layout);
+  absl::Status ContinueSolve(SolverContext& ctx);
+  void FinishSolve(SolverContext& ctx);
   // After that: marks what `changes` makes stale and re-renders batches of
   // probes for about the frame budget (ProbeSchedule).
   absl::Status Progress(SolverContext& ctx, ChangeMask changes);
@@ -109,11 +119,24 @@ class ShProbesSolver final : public Solver {
   gl::Program rasterize_, render_, project_, interpolate_, tail_, final_, sees_, blend_;
   gl::FullscreenPass fullscreen_;
   int instances_per_probe_ = 1;  // 6: rasterize_ is the layered vertex-shader variant
-  bool solved_ = false;          // SolveAll ran for layout_
-  ProbeSchedule schedule_;       // the progressive update's probes and sweeps
-  MovedBounds moved_;            // the transforms the probes' cube maps saw
-  glm::vec3 eye_{0.0f};          // the last shaded camera (probes near it first)
-  double ms_per_unit_ = 0.3;     // running cost of a ProbeSchedule unit
+  bool solved_ = false;          // a full solve ran (or runs) for layout_
+  // The full solve's progress: phase, bounce, next probe of the phase, the
+  // bounce's sums so far and each bounce's change (for the tail).
+  struct FullSolve {
+    enum class Phase { kRaster, kInterpolate, kRender };
+    bool active = false;
+    Phase phase = Phase::kRaster;
+    int bounce = 1;
+    int next = 0;
+    double change = 0.0, total = 0.0;
+    std::vector<double> deltas;
+    bool lights = false;  // the direct light's maps are redrawn first
+  } full_;
+  ChangeMask deferred_ = 0;   // changes during a full solve, for Progress after it
+  ProbeSchedule schedule_;    // the progressive update's probes and sweeps
+  MovedBounds moved_;         // the transforms the probes' cube maps saw
+  glm::vec3 eye_{0.0f};       // the last shaded camera (probes near it first)
+  double ms_per_unit_ = 0.3;  // running cost of a ProbeSchedule unit
 
   // Stats of the last update
   int bounces_run_ = 0;
