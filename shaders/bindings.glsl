@@ -4,9 +4,9 @@
 // lines here: the file is read by both preprocessors.
 //
 // Shared slots (render/ and scene/: every solver's programs see them):
-//   shader storage buffers 0-3 and 12, texture units 0-1, 4-5 and 8-11.
+//   shader storage buffers 0-3 and 12, texture units 0-2, 4-5 and 8-11.
 // Free for a solver's own resources: buffers 4-11 and 13-15, texture units
-// 2-3, 6-7 and 12-15; a solver's own table lives beside its shaders.
+// 3, 6-7 and 12-15; a solver's own table lives beside its shaders.
 
 #ifndef GS_BINDINGS_GLSL
 #define GS_BINDINGS_GLSL
@@ -19,9 +19,13 @@
 #define GS_BINDING_EMITTER_POLYGONS 12    // render/direct_lighting
 #define GS_BINDING_NON_FINITE 7           // render/tonemap (view pass only)
 
+// Uniform blocks.
+#define GS_UBO_VIEW 0  // render/gbuffer: the view's eye (render/shade_surface.glsl)
+
 // Texture units.
 #define GS_UNIT_BASE_COLOR 0     // scene material textures (G-buffer pass)
 #define GS_UNIT_EMISSIVE 1
+#define GS_UNIT_METALLIC_ROUGHNESS 2  // linear: B metallic, G roughness
 #define GS_UNIT_HDR 0            // tone map input (view pass only)
 #define GS_UNIT_CUBE_SHADOWS 4   // render/direct_lighting
 #define GS_UNIT_DIR_SHADOWS 5

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "gl/buffers.h"
 #include "gl/fault_injection.h"
 #include "gl/textures.h"
 #include "util/status.h"
@@ -33,6 +34,7 @@ absl::Status GBuffer::Resize(uint32_t width, uint32_t height) {
       gl::FramebufferOf({position_.id(), normal_.id(), albedo_.id(), emission_.id()}, depth_.id());
   hdr_fbo_ = gl::FramebufferOf({hdr_.id()});
   ldr_fbo_ = gl::FramebufferOf({ldr_.id()});
+  view_ = gl::ZeroedBuffer(sizeof(glm::vec4));
 
   // Allocation failures are the client's size meeting this GPU's memory,
   // not a bug: an error status for the session, never an abort.
@@ -57,11 +59,18 @@ absl::Status GBuffer::Resize(uint32_t width, uint32_t height) {
   return absl::OkStatus();
 }
 
+void GBuffer::SetEye(const glm::vec3& eye) {
+  if (!view_) return;  // no targets (Resize failed or never ran)
+  const glm::vec4 block(eye, 1.0f);
+  gl::Upload(view_, std::span<const glm::vec4>(&block, 1));
+}
+
 void GBuffer::BeginShadePass() const {
   glBindFramebuffer(GL_FRAMEBUFFER, hdr_fbo_.id());
   glViewport(0, 0, GLsizei(width_), GLsizei(height_));
   glDisable(GL_DEPTH_TEST);
   BindTextures();
+  glBindBufferBase(GL_UNIFORM_BUFFER, GS_UBO_VIEW, view_.id());
 }
 
 void GBuffer::BindTextures(GLuint first_unit) const {

@@ -1,9 +1,12 @@
-// Per-view G-buffer: world position (w = 1 on geometry), normal, albedo,
-// emission, depth; plus the HDR radiance target the solvers shade into and
+// Per-view G-buffer: world position (w = 1 on geometry), normal, albedo
+// (a: metallic), emission (a: roughness), depth, and the eye it was drawn
+// from; plus the HDR radiance target the solvers shade into and
 // the 8-bit target tone mapping writes.
 #pragma once
 
 #include <cstdint>
+
+#include <glm/glm.hpp>
 
 #include "gl/bindings.h"
 #include "gl/handle.h"
@@ -38,15 +41,19 @@ class GBuffer {
   // Binds position/normal/albedo/emission to texture units first..first+3
   // (shaders/render/gbuffer_read.glsl reads them at GS_UNIT_GBUFFER).
   void BindTextures(GLuint first_unit = GS_UNIT_GBUFFER) const;
+  // The eye the G-buffer was drawn from (glossy surfaces' view direction;
+  // render/view_passes sets it with each G-buffer pass).
+  void SetEye(const glm::vec3& eye);
   // Starts a solver's final shading pass: the HDR target bound with the
-  // view's viewport, no depth test, the G-buffer textures bound. The pass
-  // itself is a gl::FullscreenPass draw.
+  // view's viewport, no depth test, the G-buffer textures bound and the eye
+  // as uniform block GS_UBO_VIEW. The pass itself is a gl::FullscreenPass draw.
   void BeginShadePass() const;
 
  private:
   uint32_t width_ = 0, height_ = 0;
   gl::Texture position_, normal_, albedo_, emission_, depth_, hdr_, ldr_;
   gl::Framebuffer fbo_, hdr_fbo_, ldr_fbo_;
+  gl::Buffer view_;  // std140 { vec4 eye; }
 };
 
 }  // namespace gistream

@@ -44,6 +44,7 @@ absl::StatusOr<ViewPasses> ViewPasses::Create() {
 absl::Status ViewPasses::DrawGBuffer(const SceneState& state, const GpuScene& gpu,
                                      const ViewCamera& camera, GBuffer& gbuffer) {
   GS_RETURN_IF_ERROR(gbuffer.Resize(camera.width, camera.height));
+  gbuffer.SetEye(camera.position);
   glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.fbo());
   glViewport(0, 0, GLsizei(camera.width), GLsizei(camera.height));
   const float zero[4] = {0, 0, 0, 0};

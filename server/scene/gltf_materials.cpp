@@ -1,4 +1,5 @@
 #include <map>
+#include <utility>
 #include <string>
 
 #include "scene/gltf_stages.h"
@@ -18,8 +19,11 @@ class ImageLoader {
               std::vector<Image>* images)
       : model_(model), options_(options), budget_(budget), images_(images) {}
 
-  // Scene image index for the texture `info` names; -1 when none.
-  absl::StatusOr<int> Texture(const tinygltf::TextureInfo& info, const std::string& field) {
+  // Scene image index for the texture `info` names; -1 when none. `srgb`:
+  // colour (sRGB-encoded) or data (linear, e.g. metallic-roughness); an image
+  // used both ways is decoded once per way.
+  absl::StatusOr<int> Texture(const tinygltf::TextureInfo& info, const std::string& field,
+                              bool srgb = true) {
     if (info.index == -1) return -1;
     GS_RETURN_IF_ERROR(
         CheckIndex(field + ".index", info.index, model_.textures.size(), "textures"));
@@ -32,12 +36,13 @@ class ImageLoader {
               field + ": KHR_texture_transform is ignored");
     }
     const int source = model_.textures[size_t(info.index)].source;
-    const auto known = decoded_.find(source);
+    const auto known = decoded_.find({source, srgb});
     if (known != decoded_.end()) return known->second;
     GS_ASSIGN_OR_RETURN(Image image, Decode(source));
+    image.srgb = srgb;
     const int index = static_cast<int>(images_->size());
     images_->push_back(std::move(image));
-    decoded_[source] = index;
+    decoded_[{source, srgb}] = index;
     return index;
   }
 
@@ -80,7 +85,7 @@ class ImageLoader {
   const ImportOptions& options_;
   uint64_t* budget_;
   std::vector<Image>* images_;
-  std::map<int, int> decoded_;  // glTF image -> scene image
+  std::map<std::pair<int, bool>, int> decoded_;  // (glTF image, srgb) -> scene image
   uint64_t total_pixels_ = 0;
 };
 
@@ -120,6 +125,9 @@ absl::StatusOr<Material> ReadMaterial(const tinygltf::Material& in, const std::s
   GS_RETURN_IF_ERROR(CheckNumber(pbr_field + ".roughnessFactor", pbr.roughnessFactor, 0.0, 1.0));
   out.metallic_factor = static_cast<float>(pbr.metallicFactor);
   out.roughness_factor = static_cast<float>(pbr.roughnessFactor);
+  GS_ASSIGN_OR_RETURN(out.metallic_roughness_texture,
+                      images->Texture(pbr.metallicRoughnessTexture,
+                                      pbr_field + ".metallicRoughnessTexture", /*srgb=*/false));
 
   if (!in.emissiveFactor.empty()) {
     if (in.emissiveFactor.size() != 3) {

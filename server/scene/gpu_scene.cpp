@@ -21,7 +21,9 @@ GpuMaterial ToGpu(const Material& m) {
   GpuMaterial g;
   g.base_color = m.base_color_factor;
   g.emission = glm::vec4(m.emission(), 0.0f);
-  g.textures = glm::ivec4(m.base_color_texture, m.emissive_texture, m.double_sided ? 1 : 0, 0);
+  g.textures = glm::ivec4(m.base_color_texture, m.emissive_texture, m.double_sided ? 1 : 0,
+                          m.metallic_roughness_texture);
+  g.pbr = glm::vec4(m.metallic_factor, m.roughness_factor, 0.0f, 0.0f);
   return g;
 }
 
@@ -172,8 +174,12 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
                               : white_.id();
       const GLuint emissive =
           m && m->emissive_texture >= 0 ? textures_[size_t(m->emissive_texture)].id() : white_.id();
+      const GLuint metallic_roughness = m && m->metallic_roughness_texture >= 0
+                                            ? textures_[size_t(m->metallic_roughness_texture)].id()
+                                            : white_.id();
       glBindTextureUnit(kBaseColorUnit, base);
       glBindTextureUnit(kEmissiveUnit, emissive);
+      glBindTextureUnit(kMetallicRoughnessUnit, metallic_roughness);
     }
     glDrawElementsInstancedBaseVertex(
         GL_TRIANGLES, GLsizei(d.index_count), GL_UNSIGNED_INT,

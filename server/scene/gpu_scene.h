@@ -21,9 +21,11 @@ namespace gistream {
 struct GpuMaterial {
   glm::vec4 base_color;  // linear RGBA
   glm::vec4 emission;    // rgb: emitted radiance (nits), a: unused
-  glm::ivec4 textures;   // x: base colour unit or -1, y: emissive unit or -1
+  glm::ivec4 textures;   // x: base colour, y: emissive, w: metallic-roughness texture or -1;
+                         // z: 1 when double-sided
+  glm::vec4 pbr;         // x: metallic factor, y: roughness factor
 };
-GS_STD430_MIRROR(GpuMaterial, 48);  // shaders/common/scene.glsl Material
+GS_STD430_MIRROR(GpuMaterial, 64);  // shaders/common/scene.glsl Material
 
 struct DrawItem {
   uint32_t first_index = 0;
@@ -43,7 +45,8 @@ class GpuScene {
   void UpdateMaterials(const SceneState& state);
 
   // Issues every draw with `program`: sets uModel, uNormalMatrix, uMaterial,
-  // binds the material textures (units kBaseColorUnit, kEmissiveUnit) when
+  // binds the material textures (units kBaseColorUnit, kEmissiveUnit,
+  // kMetallicRoughnessUnit) when
   // `bind_textures`. Materials are bound as SSBO binding kMaterialBinding.
   // `instances` > 1 draws each item that many times (gl_InstanceID).
   void Draw(gl::Program& program, const SceneState& state, bool bind_textures,
@@ -59,6 +62,7 @@ class GpuScene {
   static constexpr GLuint kMaterialBinding = GS_BINDING_MATERIALS;
   static constexpr GLuint kBaseColorUnit = GS_UNIT_BASE_COLOR;
   static constexpr GLuint kEmissiveUnit = GS_UNIT_EMISSIVE;
+  static constexpr GLuint kMetallicRoughnessUnit = GS_UNIT_METALLIC_ROUGHNESS;
 
  private:
   gl::VertexArray vao_;

@@ -54,8 +54,14 @@ struct Material {
   glm::vec3 emissive_factor{0.0f};    // linear
   float emissive_strength = 1.0f;     // KHR_materials_emissive_strength
   int emissive_texture = -1;
-  float metallic_factor = 1.0f;  // kept for later solvers
+  // glTF metallic-roughness (the GGX BRDF, shaders/common/brdf.glsl and
+  // solvers/pathtrace/ggx.h). Import sets both from the file (absent: 1 and
+  // 1, glTF 2.0 5.22); this default, metallic 0 and roughness 1, is the
+  // Lambertian surface that the default material and scenes built in code
+  // have always been.
+  float metallic_factor = 0.0f;
   float roughness_factor = 1.0f;
+  int metallic_roughness_texture = -1;  // linear; B: metallic, G: roughness
   bool double_sided = false;
 
   // Emitted radiance (nits) of an untextured texel.

@@ -1,16 +1,26 @@
 // A drawn surface's material as rasterizing passes read it (the view's
-// G-buffer, the probes' cube maps): base colour and emission, each times
-// its texture when it has one (scene/gpu_scene binds them per draw).
+// G-buffer, the probes' cube maps): base colour, emission, metallic and
+// roughness, each times its texture when it has one (scene/gpu_scene binds
+// them per draw).
 #include "bindings.glsl"
 #include "common/scene.glsl"
 layout(binding = GS_UNIT_BASE_COLOR) uniform sampler2D uBaseColorTex;
 layout(binding = GS_UNIT_EMISSIVE) uniform sampler2D uEmissiveTex;
+layout(binding = GS_UNIT_METALLIC_ROUGHNESS) uniform sampler2D uMetallicRoughnessTex;
 
 // Linear albedo in [0, 1].
 vec3 SurfaceAlbedo(Material m, vec2 uv) {
   vec3 albedo = m.base_color.rgb;
   if (m.textures.x >= 0) albedo *= texture(uBaseColorTex, uv).rgb;
   return clamp(albedo, 0.0, 1.0);
+}
+
+// x: metallic, y: roughness, both in [0, 1] (glTF 2.0 3.9.2: the texture's
+// B and G channels, linear, times the factors).
+vec2 SurfaceMetallicRoughness(Material m, vec2 uv) {
+  vec2 mr = m.pbr.xy;
+  if (m.textures.w >= 0) mr *= texture(uMetallicRoughnessTex, uv).bg;
+  return clamp(mr, 0.0, 1.0);
 }
 
 // Emitted radiance (nits).

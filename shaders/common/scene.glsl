@@ -4,7 +4,9 @@
 struct Material {
   vec4 base_color;  // linear RGBA
   vec4 emission;    // rgb: emitted radiance (nits)
-  ivec4 textures;   // x: base colour texture or -1, y: emissive texture or -1
+  ivec4 textures;   // x: base colour, y: emissive, w: metallic-roughness texture or -1;
+                    // z: 1 when double-sided
+  vec4 pbr;         // x: metallic factor, y: roughness factor
 };
 
 layout(std430, binding = GS_BINDING_MATERIALS) readonly buffer Materials { Material materials[]; };

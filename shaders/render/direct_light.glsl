@@ -1,6 +1,8 @@
-// Direct irradiance from every light, with shadows. Shared by every solver
-// that shades with direct light (std430 mirrors of render/direct_lighting.h).
+// Direct irradiance from every light, with shadows, and the radiance a
+// glossy BRDF reflects of it. Shared by every solver that shades with
+// direct light (std430 mirrors of render/direct_lighting.h).
 #include "bindings.glsl"
+#include "common/brdf.glsl"
 #include "common/math.glsl"
 
 struct PunctualLight {
@@ -100,26 +102,74 @@ float PolygonIrradianceFactor(int k, vec3 p, vec3 n) {
   return 0.5 * abs(sum);
 }
 
+// Unshadowed irradiance at p (normal n) from area sample i, the direction
+// wi towards it; 0 when either side faces away.
+vec3 AreaSampleIrradiance(int i, vec3 p, vec3 n, out vec3 wi) {
+  AreaSample s = area_samples[i];
+  vec3 d = s.position_area.xyz - p;
+  float r2 = dot(d, d);
+  wi = d * inversesqrt(max(r2, 1e-30));
+  float cx = dot(n, wi);
+  float cy = -dot(s.normal_shadow.xyz, wi);
+  if (cx <= 0.0 || cy <= 0.0) return vec3(0.0);
+  float a = s.position_area.w;
+  // Point-to-disc form factor F = A cx cy / (pi r^2 + A), so E = pi L F:
+  // finite as r -> 0, and the point estimate L A cx cy / r^2 as A -> 0.
+  return s.radiance_far.rgb * (a * cx * cy / (r2 + a * INV_PI));
+}
+
+float AreaSampleVisibility(int i, vec3 p, vec3 n) {
+  AreaSample s = area_samples[i];
+  return CubeVisibility(int(s.normal_shadow.w), s.position_area.xyz, s.radiance_far.w, p, n);
+}
+
 // The discs' estimate of E from area samples [first, last): rgb shadowed,
 // a: the unshadowed luminance (the visibility ratio's denominator).
 vec4 AreaSamplesIrradiance(int first, int last, vec3 p, vec3 n) {
   vec4 e = vec4(0.0);
   for (int i = first; i < last; ++i) {
-    AreaSample s = area_samples[i];
-    vec3 d = s.position_area.xyz - p;
-    float r2 = dot(d, d);
-    vec3 wi = d * inversesqrt(max(r2, 1e-30));
-    float cx = dot(n, wi);
-    float cy = -dot(s.normal_shadow.xyz, wi);
-    if (cx <= 0.0 || cy <= 0.0) continue;
-    float a = s.position_area.w;
-    float v = CubeVisibility(int(s.normal_shadow.w), s.position_area.xyz, s.radiance_far.w, p, n);
-    // Point-to-disc form factor F = A cx cy / (pi r^2 + A), so E = pi L F:
-    // finite as r -> 0, and the point estimate L A cx cy / r^2 as A -> 0.
-    vec3 unshadowed = s.radiance_far.rgb * (a * cx * cy / (r2 + a * INV_PI));
-    e += vec4(unshadowed * v, dot(unshadowed, vec3(0.2126, 0.7152, 0.0722)));
+    vec3 wi;
+    vec3 unshadowed = AreaSampleIrradiance(i, p, n, wi);
+    if (unshadowed == vec3(0.0)) continue;
+    float v = AreaSampleVisibility(i, p, n);
+    e += vec4(unshadowed * v, Luminance(unshadowed));
   }
   return e;
+}
+
+// Irradiance at p (normal n) from punctual light i, unshadowed, and the
+// direction wi towards it; 0 when the light is behind or outside its cone.
+vec3 PunctualIrradiance(int i, vec3 p, vec3 n, out vec3 wi) {
+  PunctualLight L = punctual[i];
+  int type = int(L.position_type.w);
+  if (type == 2) {
+    // Directional: illuminance (lux) times cos(theta).
+    wi = -L.direction.xyz;
+    float c = dot(n, wi);
+    return c <= 0.0 ? vec3(0.0) : L.intensity.rgb * c;
+  }
+  vec3 d = L.position_type.xyz - p;
+  float r2 = max(dot(d, d), 1e-30);
+  wi = d * inversesqrt(r2);
+  float c = dot(n, wi);
+  if (c <= 0.0) return vec3(0.0);
+  float cone = 1.0;
+  if (type == 1) {
+    // KHR_lights_punctual spot falloff.
+    float cd = dot(L.direction.xyz, -wi);
+    cone = clamp(cd * L.cone_shadow.x + L.cone_shadow.y, 0.0, 1.0);
+    cone *= cone;
+  }
+  // Inverse-square law: E = I cos(theta) / r^2.
+  return L.intensity.rgb * (cone * c / r2);
+}
+
+// Shadow-map visibility of p (normal n) from punctual light i towards wi.
+float PunctualVisibility(int i, vec3 p, vec3 n, vec3 wi) {
+  PunctualLight L = punctual[i];
+  if (L.cone_shadow.z < 0.0) return 1.0;
+  if (int(L.position_type.w) == 2) return DirVisibility(int(L.cone_shadow.z), p, n, wi);
+  return CubeVisibility(int(L.cone_shadow.z), L.position_type.xyz, L.cone_shadow.w, p, n);
 }
 
 // Irradiance E at p with normal n (W/m^2 in glTF units, i.e. the outgoing
@@ -127,35 +177,10 @@ vec4 AreaSamplesIrradiance(int first, int last, vec3 p, vec3 n) {
 vec3 DirectIrradiance(vec3 p, vec3 n) {
   vec3 e = vec3(0.0);
   for (int i = 0; i < uPunctualCount; ++i) {
-    PunctualLight L = punctual[i];
-    int type = int(L.position_type.w);
-    if (type == 2) {
-      // Directional: illuminance (lux) times cos(theta).
-      vec3 wi = -L.direction.xyz;
-      float c = dot(n, wi);
-      if (c <= 0.0) continue;
-      float v = L.cone_shadow.z >= 0.0 ? DirVisibility(int(L.cone_shadow.z), p, n, wi) : 1.0;
-      e += L.intensity.rgb * c * v;
-      continue;
-    }
-    vec3 d = L.position_type.xyz - p;
-    float r2 = max(dot(d, d), 1e-30);
-    vec3 wi = d * inversesqrt(r2);
-    float c = dot(n, wi);
-    if (c <= 0.0) continue;
-    float cone = 1.0;
-    if (type == 1) {
-      // KHR_lights_punctual spot falloff.
-      float cd = dot(L.direction.xyz, -wi);
-      cone = clamp(cd * L.cone_shadow.x + L.cone_shadow.y, 0.0, 1.0);
-      cone *= cone;
-      if (cone <= 0.0) continue;
-    }
-    float v = L.cone_shadow.z >= 0.0
-                  ? CubeVisibility(int(L.cone_shadow.z), L.position_type.xyz, L.cone_shadow.w, p, n)
-                  : 1.0;
-    // Inverse-square law: E = I cos(theta) / r^2.
-    e += L.intensity.rgb * (cone * c * v / r2);
+    vec3 wi;
+    vec3 ei = PunctualIrradiance(i, p, n, wi);
+    if (ei == vec3(0.0)) continue;
+    e += ei * PunctualVisibility(i, p, n, wi);
   }
   if (uPolygonCount == 0) return e + AreaSamplesIrradiance(0, uAreaSampleCount, p, n).rgb;
   // Exact unoccluded polygons times their samples' visibility ratio
@@ -174,4 +199,52 @@ vec3 DirectIrradiance(vec3 p, vec3 n) {
     e += polygons[k].radiance_count.rgb * (f * clamp(visible, 0.0, 1.0));
   }
   return e;
+}
+
+// Radiance that BRDF b reflects towards v (unit, from p to the eye) of the
+// direct light at p (normal n): each punctual light's and area sample's
+// irradiance times f(v, l). Emitter polygons keep their exact unoccluded
+// irradiance (as DirectIrradiance) times the BRDF averaged over their
+// samples, weighted by each sample's share of that irradiance and its
+// visibility: exact for Lambert; a glossy lobe narrower than the samples'
+// spacing shows the polygon as spots (the samples are its only directions).
+// Lambertian surfaces: baseColor / pi x DirectIrradiance.
+vec3 DirectReflected(vec3 p, vec3 n, vec3 v, SurfaceBrdf b) {
+  if (BrdfLambertian(b)) return b.base_color * INV_PI * DirectIrradiance(p, n);
+  vec3 l = vec3(0.0);
+  for (int i = 0; i < uPunctualCount; ++i) {
+    vec3 wi;
+    vec3 ei = PunctualIrradiance(i, p, n, wi);
+    if (ei == vec3(0.0)) continue;
+    l += BrdfEval(b, n, v, wi) * ei * PunctualVisibility(i, p, n, wi);
+  }
+  if (uPolygonCount == 0) {
+    for (int i = 0; i < uAreaSampleCount; ++i) {
+      vec3 wi;
+      vec3 ei = AreaSampleIrradiance(i, p, n, wi);
+      if (ei == vec3(0.0)) continue;
+      l += BrdfEval(b, n, v, wi) * ei * AreaSampleVisibility(i, p, n);
+    }
+    return l;
+  }
+  for (int k = 0; k < uPolygonCount; ++k) {
+    float f = PolygonIrradianceFactor(k, p, n);
+    if (f <= 0.0) continue;
+    ivec4 range = polygons[k].samples;
+    vec3 weighted = vec3(0.0);  // sum f(v, l_i) V_i E_i / L
+    float total = 0.0;          // sum E_i / L (unshadowed)
+    for (int i = range.x; i < range.x + range.y; ++i) {
+      vec3 wi;
+      vec3 ei = AreaSampleIrradiance(i, p, n, wi);
+      if (ei == vec3(0.0)) continue;
+      float share = Luminance(ei);
+      weighted += BrdfEval(b, n, v, wi) * (share * AreaSampleVisibility(i, p, n));
+      total += share;
+    }
+    // No sample in view: the BRDF towards the polygon's first vertex, unshadowed.
+    vec3 brdf = total > 0.0 ? weighted / total
+                            : BrdfEval(b, n, v, normalize(polygons[k].vertices[0].xyz - p));
+    l += polygons[k].radiance_count.rgb * f * brdf;
+  }
+  return l;
 }

@@ -1,6 +1,6 @@
 #version 450 core
 // G-buffer: world position (w = 1 where geometry), shading normal facing the
-// viewer, linear albedo, emitted radiance.
+// viewer, linear albedo (a: metallic), emitted radiance (a: roughness).
 #include "common/material.glsl"
 #include "common/math.glsl"
 in vec3 vWorld;
@@ -17,6 +17,7 @@ void main() {
   if (!gl_FrontFacing) n = -n;
   oPosition = vec4(vWorld, 1.0);
   oNormal = vec4(n, 0.0);
-  oAlbedo = vec4(SurfaceAlbedo(m, vUv), 1.0);
-  oEmission = vec4(SurfaceEmission(m, vUv), 0.0);
+  vec2 mr = SurfaceMetallicRoughness(m, vUv);
+  oAlbedo = vec4(SurfaceAlbedo(m, vUv), mr.x);
+  oEmission = vec4(SurfaceEmission(m, vUv), mr.y);
 }

@@ -3,5 +3,5 @@
 #include "bindings.glsl"
 layout(binding = GS_UNIT_GBUFFER_POSITION) uniform sampler2D uGPosition;   // w = 0: background
 layout(binding = GS_UNIT_GBUFFER_NORMAL) uniform sampler2D uGNormal;
-layout(binding = GS_UNIT_GBUFFER_ALBEDO) uniform sampler2D uGAlbedo;
-layout(binding = GS_UNIT_GBUFFER_EMISSION) uniform sampler2D uGEmission;
+layout(binding = GS_UNIT_GBUFFER_ALBEDO) uniform sampler2D uGAlbedo;      // a: metallic
+layout(binding = GS_UNIT_GBUFFER_EMISSION) uniform sampler2D uGEmission;  // a: roughness

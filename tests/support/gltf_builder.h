@@ -20,6 +20,11 @@ class GltfBuilder {
                   float emissive_strength = 1.0f);
   // Marks material `material` doubleSided (glTF: both faces are surfaces).
   void SetDoubleSided(int material) { materials_[size_t(material)]["doubleSided"] = true; }
+  // Makes material `material` glossy (glTF metallicFactor, roughnessFactor).
+  void SetMetallicRoughness(int material, float metallic, float roughness) {
+    materials_[size_t(material)]["pbrMetallicRoughness"]["metallicFactor"] = metallic;
+    materials_[size_t(material)]["pbrMetallicRoughness"]["roughnessFactor"] = roughness;
+  }
   // A rectangle centred at `center` spanned by half-vectors u and v, facing
   // along normalize(cross(u, v)), tessellated n x n. Returns the node index.
   int AddQuad(const std::string& name, Vec3 center, Vec3 u, Vec3 v, int material, int n = 1);

@@ -46,19 +46,47 @@ Integrator::Surface Integrator::Shade(const Hit& hit, const glm::vec3& dir) cons
   const bool front = glm::dot(t.normal, dir) < 0.0f;
   s.geometric = front ? t.normal : -t.normal;
   s.normal = glm::dot(n, s.geometric) < 0.0f ? -n : n;
+  s.wo = -dir;
+  Basis(s.normal, s.tangent, s.bitangent);
   const Material* m = t.material >= 0 ? &state_.materials()[size_t(t.material)] : nullptr;
-  s.albedo = m ? glm::vec3(m->base_color_factor) : glm::vec3(1.0f);
+  glm::vec3 albedo = m ? glm::vec3(m->base_color_factor) : glm::vec3(1.0f);
+  const glm::vec2 uv = w * t.uv0 + hit.u * t.uv1 + hit.v * t.uv2;
   if (m && m->base_color_texture >= 0) {
-    const glm::vec2 uv = w * t.uv0 + hit.u * t.uv1 + hit.v * t.uv2;
-    s.albedo *= SampleTexture(state_.scene().images[size_t(m->base_color_texture)], uv);
+    albedo *= SampleTexture(state_.scene().images[size_t(m->base_color_texture)], uv);
   }
-  s.albedo = glm::clamp(s.albedo, 0.0f, 1.0f);
+  s.brdf.base_color = glm::clamp(albedo, 0.0f, 1.0f);
+  if (m) {
+    s.brdf.metallic = m->metallic_factor;
+    s.brdf.roughness = m->roughness_factor;
+    if (m->metallic_roughness_texture >= 0) {
+      // glTF 2.0 3.9.2: B metallic, G roughness, linear.
+      const glm::vec3 mr =
+          SampleTexture(state_.scene().images[size_t(m->metallic_roughness_texture)], uv);
+      s.brdf.metallic = std::clamp(s.brdf.metallic * mr.b, 0.0f, 1.0f);
+      s.brdf.roughness = std::clamp(s.brdf.roughness * mr.g, 0.0f, 1.0f);
+    }
+  }
   // Emitters emit on the side their authored normals face, and from both
   // faces when the material is doubleSided (glTF 2.0 3.9.2: the back face is
   // a surface with the flipped normal).
   s.emission = (m && (front || t.double_sided) && t.emitter >= 0) ? Emission(t, hit.u, hit.v)
                                                                   : glm::vec3(0.0f);
   return s;
+}
+
+glm::vec3 Integrator::Surface::ToLocal(const glm::vec3& w) const {
+  return glm::vec3(glm::dot(w, tangent), glm::dot(w, bitangent), glm::dot(w, normal));
+}
+
+glm::vec3 Integrator::Surface::FCos(const glm::vec3& wi) const {
+  const float cos_i = glm::dot(normal, wi);
+  if (brdf.Lambertian()) return brdf.base_color / kPi * cos_i;
+  return Eval(brdf, ToLocal(wo), ToLocal(wi)) * cos_i;
+}
+
+float Integrator::Surface::Pdf(const glm::vec3& wi) const {
+  if (brdf.Lambertian()) return glm::dot(normal, wi) / kPi;
+  return pathtrace::Pdf(brdf, ToLocal(wo), ToLocal(wi));
 }
 
 glm::vec3 Integrator::Emission(const Triangle& t, float u, float v) const {
@@ -117,10 +145,10 @@ glm::vec3 Integrator::SampleAreaLights(const Surface& s, Rng& rng, PathStats& st
   const glm::vec3 origin = Offset(s, d);
   ++stats.rays;
   if (bvh_.Occluded(origin, d, glm::length(y - origin) * (1.0f - 1e-4f))) return glm::vec3(0.0f);
-  const float pdf_bsdf = cos_x / kPi;
+  const float pdf_bsdf = s.Pdf(d);
   const glm::vec3 le = Emission(t, a, b);
-  // f L cos / p, f = albedo / pi, weighted by the power heuristic.
-  return s.albedo / kPi * le * (cos_x / pdf_light * PowerHeuristic(pdf_light, pdf_bsdf));
+  // f L cos / p, weighted by the power heuristic.
+  return s.FCos(d) * le * (PowerHeuristic(pdf_light, pdf_bsdf) / pdf_light);
 }
 
 glm::vec3 Integrator::SamplePunctualLights(const Surface& s, PathStats& stats) const {
@@ -133,7 +161,7 @@ glm::vec3 Integrator::SamplePunctualLights(const Surface& s, PathStats& stats) c
       if (c <= 0.0f || glm::dot(s.geometric, wi) <= 0.0f) continue;
       ++stats.rays;
       if (bvh_.Occluded(Offset(s, wi), wi, kInfinity)) continue;
-      sum += intensity * c;  // illuminance (lux) x cos
+      sum += intensity * s.FCos(wi);  // f x illuminance (lux) x cos
       continue;
     }
     glm::vec3 d = l.position - s.position;
@@ -154,9 +182,9 @@ glm::vec3 Integrator::SamplePunctualLights(const Surface& s, PathStats& stats) c
     const glm::vec3 origin = Offset(s, d);
     ++stats.rays;
     if (bvh_.Occluded(origin, d, glm::length(l.position - origin))) continue;
-    sum += intensity * (cone * c / r2);  // E = I cos / r^2
+    sum += intensity * s.FCos(d) * (cone / r2);  // f I cos / r^2
   }
-  return s.albedo / kPi * sum;
+  return sum;
 }
 
 glm::vec3 Integrator::SampleEnvironment(const Surface& s, Rng& rng, PathStats& stats) const {
@@ -175,8 +203,8 @@ glm::vec3 Integrator::SampleEnvironment(const Surface& s, Rng& rng, PathStats& s
   }
   ++stats.rays;
   if (bvh_.Occluded(Offset(s, d), d, kInfinity)) return glm::vec3(0.0f);
-  const float pdf_bsdf = cos_x / kPi;
-  return s.albedo / kPi * Environment(d) * (cos_x / pdf_env * PowerHeuristic(pdf_env, pdf_bsdf));
+  const float pdf_bsdf = s.Pdf(d);
+  return s.FCos(d) * Environment(d) * (PowerHeuristic(pdf_env, pdf_bsdf) / pdf_env);
 }
 
 glm::vec3 Integrator::Li(glm::vec3 origin, glm::vec3 dir, Rng& rng, PathStats& stats) const {
@@ -213,12 +241,24 @@ glm::vec3 Integrator::Li(glm::vec3 origin, glm::vec3 dir, Rng& rng, PathStats& s
     radiance += beta * (SampleAreaLights(s, rng, stats) + SamplePunctualLights(s, stats) +
                         SampleEnvironment(s, rng, stats));
 
-    // Cosine sampling of the Lambertian BSDF: f cos / p = albedo.
-    const glm::vec3 next = SampleCosine(s.normal, rng.Uniform(), rng.Uniform());
-    const float cos_next = glm::dot(next, s.normal);
-    if (cos_next <= 0.0f || glm::dot(next, s.geometric) <= 0.0f) break;
-    beta *= s.albedo;
-    pdf_bsdf = cos_next / kPi;
+    glm::vec3 next;
+    if (s.brdf.Lambertian()) {
+      // Cosine sampling of the Lambertian BSDF: f cos / p = albedo.
+      next = SampleCosine(s.normal, rng.Uniform(), rng.Uniform());
+      const float cos_next = glm::dot(next, s.normal);
+      if (cos_next <= 0.0f || glm::dot(next, s.geometric) <= 0.0f) break;
+      beta *= s.brdf.base_color;
+      pdf_bsdf = cos_next / kPi;
+    } else {
+      // Visible-normal or cosine sampling of the glossy BRDF (ggx.h).
+      const float u1 = rng.Uniform(), u2 = rng.Uniform(), u3 = rng.Uniform();
+      const BrdfSample b = Sample(s.brdf, s.ToLocal(s.wo), glm::vec3(u1, u2, u3));
+      if (!(b.pdf > 0.0f)) break;
+      next = glm::normalize(b.wi.x * s.tangent + b.wi.y * s.bitangent + b.wi.z * s.normal);
+      if (glm::dot(next, s.geometric) <= 0.0f) break;
+      beta *= b.weight;
+      pdf_bsdf = b.pdf;
+    }
     if (depth >= 3) {
       // Russian roulette, survival q = max(beta) (at most 1; after the
       // division beta's largest component is 1, so from then on q is the

@@ -3,8 +3,10 @@
 // power and combined with BSDF sampling by multiple importance sampling;
 // punctual lights are sampled directly (they cannot be hit); the
 // environment is importance-sampled by luminance and combined with the
-// BSDF-sampled paths that escape, also by MIS. Lambertian surfaces, lit on
-// the side the ray arrives from. Paths end only by Russian roulette (after
+// BSDF-sampled paths that escape, also by MIS. Surfaces reflect with the
+// glTF metallic-roughness BRDF (ggx.h; Lambertian at metallic 0 and
+// roughness 1, sampled exactly as before it existed), lit on the side the
+// ray arrives from. Paths end only by Russian roulette (after
 // three bounces, survival = the throughput's largest component, no cap
 // below 1), which keeps the estimator unbiased at any albedo < 1; a bounce
 // cap is opt-in (`max_depth`), and kSafetyDepth bounds the work of a path
@@ -15,6 +17,7 @@
 
 #include "scene/scene_state.h"
 #include "solvers/pathtrace/env_light.h"
+#include "solvers/pathtrace/ggx.h"
 #include "solvers/pathtrace/sampling.h"
 #include "solvers/pathtrace/scene_bvh.h"
 
@@ -51,8 +54,16 @@ class Integrator {
     glm::vec3 position;
     glm::vec3 normal;     // shading normal, facing the incoming ray
     glm::vec3 geometric;  // geometric normal, facing the incoming ray
-    glm::vec3 albedo;
+    Brdf brdf;
+    glm::vec3 wo;        // towards where the ray came from
     glm::vec3 emission;  // emitted towards the incoming ray (one-sided)
+
+    // The BRDF times cos at the shading normal, and its sampling pdf, for
+    // light arriving from world direction wi.
+    glm::vec3 FCos(const glm::vec3& wi) const;
+    float Pdf(const glm::vec3& wi) const;
+    glm::vec3 ToLocal(const glm::vec3& w) const;
+    glm::vec3 tangent, bitangent;  // with `normal`, the BRDF's local frame
   };
   // Emitted radiance of emitter triangle `t` at barycentrics (u, v), front side.
   glm::vec3 Emission(const Triangle& t, float u, float v) const;
