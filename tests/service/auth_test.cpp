@@ -1,8 +1,9 @@
 // Transport security and bearer tokens at the gRPC boundary, against
 // FakeEngine: TLS and mutual TLS round trips with certificates made for the
 // test, plaintext refused off loopback, UNAUTHENTICATED for a missing or
-// unknown token before the request body is parsed (over TLS, loopback and
-// --insecure), health open without a token and on its own plaintext port.
+// unknown token before the request body is parsed, however malformed or
+// large (over TLS, loopback and --insecure), health open without a token
+// and on its own plaintext port.
 #include <absl/strings/match.h>
 #include <gtest/gtest.h>
 #include <grpcpp/generic/generic_stub.h>
@@ -103,13 +104,13 @@ class AuthTest : public ::testing::Test {
 
   // Bytes that are no LoadSceneRequest, sent to LoadScene: the status says
   // whether the body was parsed before the token was checked.
-  static grpc::Status SendGarbage(const std::shared_ptr<grpc::Channel>& channel,
-                                  const std::string& header) {
+  static grpc::Status SendGarbage(
+      const std::shared_ptr<grpc::Channel>& channel, const std::string& header,
+      const std::string& junk = "\xff\xff\xff\xff\xff\xff\xff\xff\x0f") {
     grpc::GenericStub stub(channel);
     grpc::ClientContext context;
     SetDeadline(&context, 10s);
     if (!header.empty()) context.AddMetadata("authorization", header);
-    const std::string junk = "\xff\xff\xff\xff\xff\xff\xff\xff\x0f";
     grpc::Slice slice(junk);
     grpc::ByteBuffer request(&slice, 1);
     grpc::ByteBuffer response;
@@ -177,19 +178,34 @@ TEST_F(AuthTest, TokensOverInsecureListener) {
 TEST_F(AuthTest, UnknownCallerIsRejectedBeforeTheBodyIsParsed) {
   service::ServerOptions options;
   options.service.tokens = Tokens();
-  for (bool tls : {true, false}) {
-    SCOPED_TRACE(tls ? "TLS" : "loopback");
-    options.tls =
-        tls ? service::TlsFiles{Certs().server_cert, Certs().server_key, ""} : service::TlsFiles{};
-    Start(options);
-    const auto channel = tls ? TlsChannel(false) : PlainChannel();
+  options.max_receive_message_bytes = 1 << 20;
+  enum class Listener { kTls, kLoopback, kInsecure };
+  for (Listener listener : {Listener::kTls, Listener::kLoopback, Listener::kInsecure}) {
+    SCOPED_TRACE(listener == Listener::kTls        ? "TLS"
+                 : listener == Listener::kLoopback ? "loopback"
+                                                   : "--insecure on 0.0.0.0");
+    options.tls = listener == Listener::kTls
+                      ? service::TlsFiles{Certs().server_cert, Certs().server_key, ""}
+                      : service::TlsFiles{};
+    options.allow_insecure = listener == Listener::kInsecure;
+    Start(options, listener == Listener::kInsecure ? "0.0.0.0:0" : "127.0.0.1:0");
+    const auto channel = listener == Listener::kTls ? TlsChannel(false) : PlainChannel();
     EXPECT_EQ(SendGarbage(channel, "").error_code(), grpc::StatusCode::UNAUTHENTICATED);
     EXPECT_EQ(SendGarbage(channel, "Bearer unknown-token-0123456789").error_code(),
               grpc::StatusCode::UNAUTHENTICATED);
+    // A body over the message limit: refused for its token, not its size.
+    const std::string large(2 << 20, '\x01');
+    EXPECT_EQ(SendGarbage(channel, "", large).error_code(), grpc::StatusCode::UNAUTHENTICATED);
+    const grpc::Status too_large =
+        SendGarbage(channel, absl::StrCat("Bearer ", kAliceToken), large);
+    EXPECT_EQ(too_large.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED)
+        << too_large.error_message();
     // With a token the same bytes reach the parser, which refuses them.
     const grpc::Status parsed = SendGarbage(channel, absl::StrCat("Bearer ", kAliceToken));
     EXPECT_NE(parsed.error_code(), grpc::StatusCode::UNAUTHENTICATED);
     EXPECT_NE(parsed.error_code(), grpc::StatusCode::OK);
+    // Health stays open without a token on every listener.
+    EXPECT_EQ(Health(channel), HealthCheckResponse::SERVING);
     server_.reset();
   }
 }

@@ -3,7 +3,12 @@
 #include <absl/strings/match.h>
 #include <absl/strings/str_cat.h>
 
+#include <grpc/grpc.h>
+#include <grpc/grpc_security.h>
 #include <grpc/grpc_security_constants.h>
+#include <grpc/slice.h>
+
+#include <optional>
 
 namespace gistream::service {
 namespace {
@@ -37,6 +42,75 @@ grpc::Status ToGrpc(const absl::Status& status) {
   return grpc::Status(static_cast<grpc::StatusCode>(status.code()), std::string(status.message()));
 }
 
+// The check of both processors: open methods pass, every other call needs a
+// listed bearer token.
+absl::Status CheckCall(std::string_view path, const std::optional<std::string_view>& header,
+                       const AuthTokens& tokens) {
+  if (IsOpenMethod(path)) return absl::OkStatus();
+  // The header stays in the call's metadata: CallerTenant reads the tenant
+  // from it (an AuthContext property would be shared by the calls of one
+  // connection, which may carry different tokens).
+  return TenantOfHeader(header ? &*header : nullptr, tokens).status();
+}
+
+std::string_view View(const grpc_slice& s) {
+  return {reinterpret_cast<const char*>(GRPC_SLICE_START_PTR(s)), GRPC_SLICE_LENGTH(s)};
+}
+
+// TokenAuthProcessor's check as gRPC core's C processor, for the insecure
+// credentials below (grpc_security.h: non-blocking, answered synchronously).
+void ProcessInCore(void* state, grpc_auth_context* /*context*/, const grpc_metadata* md,
+                   size_t num_md, grpc_process_auth_metadata_done_cb done, void* user_data) {
+  const AuthTokens& tokens = **static_cast<std::shared_ptr<const AuthTokens>*>(state);
+  std::optional<std::string_view> header;
+  std::string_view path;
+  for (size_t i = 0; i < num_md; ++i) {
+    if (View(md[i].key) == "authorization") header = View(md[i].value);
+    if (View(md[i].key) == ":path") path = View(md[i].value);
+  }
+  const absl::Status status = CheckCall(path, header, tokens);
+  const std::string message(status.message());
+  done(user_data, nullptr, 0, nullptr, 0, static_cast<grpc_status_code>(status.code()),
+       status.ok() ? nullptr : message.c_str());
+}
+
+// Plaintext credentials (--insecure) that run the token check in gRPC's
+// server auth filter, before any request message is read, as TLS and local
+// credentials do. libgrpc++ 1.51's InsecureServerCredentials() refuses an
+// AuthMetadataProcessor (it asserts), but core's insecure server
+// credentials carry one: they install a security connector (no handshake),
+// so the server auth filter is on the channel stack and calls the
+// processor with each call's initial metadata.
+class InsecureTokenCredentials final : public grpc::ServerCredentials {
+ public:
+  explicit InsecureTokenCredentials(std::shared_ptr<const AuthTokens> tokens)
+      : tokens_(std::move(tokens)) {}
+
+  // The token processor is built in (ProcessInCore); a C++ processor has no
+  // place here, as on libgrpc++'s own insecure credentials.
+  void SetAuthMetadataProcessor(
+      const std::shared_ptr<grpc::AuthMetadataProcessor>& /*processor*/) override {
+    GS_CHECK(false && "InsecureTokenCredentials has its token processor built in");
+  }
+
+ private:
+  int AddPortToServer(const std::string& addr, grpc_server* server) override {
+    grpc_server_credentials* credentials = grpc_insecure_server_credentials_create();
+    grpc_auth_metadata_processor processor;
+    processor.process = ProcessInCore;
+    processor.destroy = [](void* state) {
+      delete static_cast<std::shared_ptr<const AuthTokens>*>(state);
+    };
+    processor.state = new std::shared_ptr<const AuthTokens>(tokens_);
+    grpc_server_credentials_set_auth_metadata_processor(credentials, processor);
+    const int port = grpc_server_add_http2_port(server, addr.c_str(), credentials);
+    grpc_server_credentials_release(credentials);
+    return port;
+  }
+
+  std::shared_ptr<const AuthTokens> tokens_;
+};
+
 }  // namespace
 
 bool IsOpenMethod(std::string_view path) {
@@ -55,18 +129,14 @@ grpc::Status TokenAuthProcessor::Process(const InputMetadata& auth_metadata,
     if (View(key) == "authorization") header = View(value);
     if (View(key) == ":path") path = View(value);
   }
-  if (IsOpenMethod(path)) return grpc::Status::OK;
-  // The header stays in the call's metadata: CallerTenant reads the tenant
-  // from it (an AuthContext property would be shared by the calls of one
-  // connection, which may carry different tokens).
-  return ToGrpc(TenantOfHeader(header ? &*header : nullptr, *tokens_).status());
+  return ToGrpc(CheckCall(path, header, *tokens_));
 }
 
 absl::StatusOr<TenantId> CallerTenant(const grpc::ServerContextBase& context,
                                       const AuthTokens* tokens) {
   if (tokens == nullptr) return TenantId(kDefaultTenant);
-  // TokenAuthProcessor has checked the header already where an auth filter
-  // runs; on an --insecure listener this is the check.
+  // The auth filter has checked the header already (TokenAuthProcessor, or
+  // ProcessInCore on an --insecure listener); this maps it to its tenant.
   const auto& metadata = context.client_metadata();
   const auto it = metadata.find("authorization");
   std::string_view header;
@@ -97,7 +167,8 @@ absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> MakeServerCredentials(
     // InsecureServerCredentials it runs the auth filter (tokens).
     credentials = grpc::experimental::LocalServerCredentials(LOCAL_TCP);
   } else if (allow_insecure) {
-    return grpc::InsecureServerCredentials();  // CallerTenant checks tokens
+    if (tokens) return std::make_shared<InsecureTokenCredentials>(std::move(tokens));
+    return grpc::InsecureServerCredentials();
   } else {
     return absl::FailedPreconditionError(absl::StrCat(
         "refusing to serve plaintext on ", listen,

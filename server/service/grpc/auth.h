@@ -2,13 +2,14 @@
 // token file, and the server's transport credentials (TLS, mutual TLS,
 // plaintext only on loopback or when asked for).
 //
-// With TLS (and on loopback, whose plaintext is gRPC's local credentials),
-// TokenAuthProcessor runs in gRPC's auth filter on the call's metadata: a
-// missing or unknown token fails the call with UNAUTHENTICATED before any
-// request message is read. Health and reflection stay open (probes carry no
-// token). CallerTenant() maps the call's token to its tenant, first thing in
-// every handler; on a plaintext listener started with --insecure (no auth
-// filter) that is also the check. Tokens never reach a log line; tenants do.
+// On every listener (TLS, loopback plaintext through gRPC's local
+// credentials, and --insecure plaintext through core's insecure credentials
+// with a C processor, auth.cpp) the token check runs in gRPC's server auth
+// filter on the call's metadata: a missing or unknown token fails the call
+// with UNAUTHENTICATED before any request message is read. Health and
+// reflection stay open (probes carry no token). CallerTenant() maps the
+// call's token to its tenant, first thing in every handler. Tokens never
+// reach a log line; tenants do.
 #pragma once
 
 #include <memory>
@@ -55,7 +56,8 @@ absl::StatusOr<TenantId> CallerTenant(const grpc::ServerContextBase& context,
 // Transport credentials for `listen`: TLS when `tls` has a certificate,
 // else gRPC's local credentials on a loopback address, else plaintext when
 // `allow_insecure`; FAILED_PRECONDITION otherwise, saying what to pass.
-// Installs TokenAuthProcessor when `tokens` is set.
+// Checks `tokens` in the auth filter when set (TokenAuthProcessor; on
+// plaintext with `allow_insecure`, the same check in core's processor).
 absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> MakeServerCredentials(
     const std::string& listen, const TlsFiles& tls, bool allow_insecure,
     std::shared_ptr<const AuthTokens> tokens);
