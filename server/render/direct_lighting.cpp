@@ -45,7 +45,10 @@ std::vector<ParamSpec> DirectLightingParams() {
   return {{"area_samples", ParamType::kInt, "64", 1, 1024, {},
            "Stratified sample points over all emissive surfaces, each with a shadow map"},
           {"shadow_res", ParamType::kInt, "256", 16, 4096, {},
-           "Shadow map resolution per cube face / directional map"}};
+           "Shadow map resolution per cube face / directional map"},
+          {"full_detail", ParamType::kBool, "false", 0, 0, {},
+           "Draw the shadow maps from the full meshes instead of their simplified proxies "
+           "(docs/ARCHITECTURE.md, Proxy geometry)"}};
   // clang-format on
 }
 
@@ -53,6 +56,7 @@ DirectLightingSettings DirectLightingFromParams(const ParamSet& params) {
   DirectLightingSettings settings;
   settings.area_samples = params.GetInt("area_samples");
   settings.shadow_resolution = params.GetInt("shadow_res");
+  settings.full_detail = params.GetBool("full_detail");
   return settings;
 }
 
@@ -96,6 +100,7 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
   next.samples = std::move(emitter_samples);
   next.polygons = PolygonsOf(next.emitters, next.samples);
   next.resolution = settings.shadow_resolution;
+  next.full_detail = settings.full_detail;
   const Bounds bounds = gpu.WorldBounds(state);  // follows moved nodes
   int cube = 0;
   for (const LightInstance& l : state.lights()) {
@@ -137,7 +142,8 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
   // of them are stale too.
   const bool all_stale =
       (changes & kChangeGeometry) || pending_ != nullptr || cube_count != int(cube_views_.size()) ||
-      dir_count != int(dir_views_.size()) || settings.shadow_resolution != shadow_resolution_;
+      dir_count != int(dir_views_.size()) || settings.shadow_resolution != shadow_resolution_ ||
+      settings.full_detail != full_detail_;
   maps_redrawn_ = 0;
   pending_.reset();  // a newer light set replaces one still being drawn
   // The second set doubles the maps' memory: only when both fit the limit.
@@ -180,8 +186,8 @@ bool DirectLighting::Draw(const GpuScene& gpu, const SceneState& state, ShadowMa
   while (set.next_dir < set.dir_draws.size()) {
     if (drew && over()) return false;
     const int i = set.dir_draws[set.next_dir++];
-    set.dir_views[size_t(i)].view_proj =
-        target.RenderDirectional(gpu, state, i, set.dir_views[size_t(i)].direction);
+    set.dir_views[size_t(i)].view_proj = target.RenderDirectional(
+        gpu, state, i, set.dir_views[size_t(i)].direction, set.full_detail);
     ++maps_redrawn_;
     drew = true;
   }
@@ -189,7 +195,7 @@ bool DirectLighting::Draw(const GpuScene& gpu, const SceneState& state, ShadowMa
     if (drew && over()) return false;
     const int i = set.cube_draws[set.next_cube++];
     target.RenderCube(gpu, state, i, set.cube_views[size_t(i)].origin,
-                      set.cube_views[size_t(i)].far);
+                      set.cube_views[size_t(i)].far, set.full_detail);
     ++maps_redrawn_;
     drew = true;
     if (budget_ms > 0.0) glFinish();  // the budget counts the GPU's time too
@@ -212,6 +218,7 @@ void DirectLighting::Commit(Pending set) {
   emitters_ = std::move(set.emitters);
   samples_ = std::move(set.samples);
   shadow_resolution_ = set.resolution;
+  full_detail_ = set.full_detail;
   cube_views_ = std::move(set.cube_views);
   dir_views_ = std::move(set.dir_views);
   std::vector<glm::mat4> dir_matrices;

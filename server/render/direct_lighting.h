@@ -25,10 +25,12 @@ namespace gistream {
 struct DirectLightingSettings {
   int area_samples = 64;  // stratified points over all emissive surfaces
   int shadow_resolution = 256;
+  // Shadow maps from the full meshes instead of proxies (issue 19).
+  bool full_detail = false;
 };
 
 // The parameters every solver that uses DirectLighting offers
-// (`area_samples`, `shadow_res`), and the settings they give.
+// (`area_samples`, `shadow_res`, `full_detail`), and the settings they give.
 std::vector<ParamSpec> DirectLightingParams();
 DirectLightingSettings DirectLightingFromParams(const ParamSet& params);
 
@@ -118,6 +120,7 @@ class DirectLighting {
     std::vector<EmitterTriangle> emitters;
     std::vector<EmitterSample> samples;
     int resolution = 0;
+    bool full_detail = false;
     std::vector<GpuPunctual> punctual;
     std::vector<GpuAreaSample> area;
     std::vector<GpuPolygon> polygons;
@@ -149,6 +152,7 @@ class DirectLighting {
   std::vector<EmitterSample> samples_;
   int punctual_count_ = 0;
   int shadow_resolution_ = 0;
+  bool full_detail_ = false;
 };
 
 }  // namespace gistream

@@ -5,6 +5,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "gl/textures.h"
+#include "render/proxy_filters.h"
 
 namespace gistream {
 namespace {
@@ -65,7 +66,7 @@ uint64_t ShadowMaps::gpu_bytes() const {
 }
 
 void ShadowMaps::RenderCube(const GpuScene& gpu, const SceneState& state, int index,
-                            const glm::vec3& position, float far) {
+                            const glm::vec3& position, float far, bool full_detail) {
   // GL cube-map face orientations (+X, -X, +Y, -Y, +Z, -Z).
   static const glm::vec3 kDir[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
                                     {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
@@ -88,11 +89,23 @@ void ShadowMaps::RenderCube(const GpuScene& gpu, const SceneState& state, int in
   const float one = 1.0f;
   glClearTexSubImage(cubes_.id(), 0, 0, 0, 6 * index, resolution_, resolution_, 6,
                      GL_DEPTH_COMPONENT, GL_FLOAT, &one);
-  gpu.Draw(cube_program_, state, false);
+  if (full_detail) {
+    cube_program_.Set("uFaceMask", 0x3f);
+    gpu.Draw(cube_program_, state, false);
+    return;
+  }
+  const DrawFilter filter = [&](const DrawItem& item, const glm::mat4& model) {
+    const Bounds box = ItemWorldBounds(state, item, model);
+    const int faces = CubeFaceMask(box, position);
+    if (faces == 0) return -1.0f;
+    cube_program_.Set("uFaceMask", faces);
+    return CubeTexelTolerance(box, position, resolution_);
+  };
+  gpu.Draw(cube_program_, state, false, 1, &filter);
 }
 
 glm::mat4 ShadowMaps::RenderDirectional(const GpuScene& gpu, const SceneState& state, int index,
-                                        const glm::vec3& direction) {
+                                        const glm::vec3& direction, bool full_detail) {
   const Bounds b = gpu.WorldBounds(state);
   const glm::vec3 center = b.empty() ? glm::vec3(0.0f) : b.center();
   const float radius = b.empty() ? 1.0f : std::max(0.5f * glm::length(b.extent()), 1e-6f);
@@ -107,7 +120,10 @@ glm::mat4 ShadowMaps::RenderDirectional(const GpuScene& gpu, const SceneState& s
   glClear(GL_DEPTH_BUFFER_BIT);
   dir_program_.Set("uViewProj", view_proj);
   dir_program_.Use();
-  gpu.Draw(dir_program_, state, false);
+  // An orthographic texel is 2 radius / resolution wide everywhere.
+  const float texel = 2.0f * radius / float(resolution_);
+  const DrawFilter filter = [texel](const DrawItem&, const glm::mat4&) { return texel; };
+  gpu.Draw(dir_program_, state, false, 1, full_detail ? nullptr : &filter);
   return view_proj;
 }
 

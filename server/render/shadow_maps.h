@@ -18,17 +18,22 @@ class ShadowMaps {
   // (Re)allocates storage when the counts or the resolution change.
   void Allocate(int cube_count, int directional_count, int resolution);
 
-  // Renders cube `index` around `position`; depth = distance / far.
+  // Renders cube `index` around `position`; depth = distance / far. Each
+  // item draws its coarsest proxy level within one texel's world size at
+  // its distance, into the faces that can see it (render/proxy_filters.h);
+  // `full_detail` draws every item in full into every face.
   void RenderCube(const GpuScene& gpu, const SceneState& state, int index,
-                  const glm::vec3& position, float far);
-  // Renders directional map `index`; returns its view-projection matrix.
+                  const glm::vec3& position, float far, bool full_detail = false);
+  // Renders directional map `index` (proxies within one texel unless
+  // `full_detail`); returns its view-projection matrix.
   glm::mat4 RenderDirectional(const GpuScene& gpu, const SceneState& state, int index,
-                              const glm::vec3& direction);
+                              const glm::vec3& direction, bool full_detail = false);
 
   // Binds the cube array to `cube_unit` and the 2D array to `dir_unit`.
   void Bind(GLuint cube_unit, GLuint dir_unit) const;
 
   int resolution() const { return resolution_; }
+  const gl::Texture& cubes() const { return cubes_; }  // depth, 6 layers per cube
   uint64_t gpu_bytes() const;
 
  private:

@@ -10,6 +10,7 @@
 #include "scene/gltf_preflight.h"
 #include "scene/gltf_stages.h"
 #include "scene/magnitude_limits.h"
+#include "scene/proxy_levels.h"
 #include "scene/scene_files.h"
 #include "util/user_string.h"
 
@@ -104,6 +105,7 @@ absl::StatusOr<Scene> ImportGltf(std::span<const uint8_t> bytes, const ImportOpt
   GS_ASSIGN_OR_RETURN(scene.animations, gltf::ImportAnimations(model, scene));
   ComputeTotals(graph, &scene);
   GS_RETURN_IF_ERROR(CheckMagnitudes(scene));
+  BuildSceneProxies(&scene);
   return scene;
 }
 

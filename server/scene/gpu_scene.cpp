@@ -6,6 +6,7 @@
 
 #include "gl/buffers.h"
 #include "gl/fault_injection.h"
+#include "scene/proxy_levels.h"
 
 namespace gistream {
 namespace {
@@ -91,6 +92,19 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
       ranges[m].push_back(r);
     }
   }
+  // Proxy levels after every full mesh, each drawn with its primitive's
+  // base vertex; (first level, count) per mesh and primitive.
+  std::vector<std::vector<std::pair<int, int>>> level_ranges(scene.meshes.size());
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    for (const Primitive& p : scene.meshes[m].primitives) {
+      level_ranges[m].push_back({int(gpu->levels_.size()), int(p.proxies.size())});
+      for (const ProxyLevel& level : p.proxies) {
+        gpu->levels_.push_back(
+            {uint32_t(indices.size()), uint32_t(level.indices.size()), level.error});
+        indices.insert(indices.end(), level.indices.begin(), level.indices.end());
+      }
+    }
+  }
   for (size_t n = 0; n < scene.nodes.size(); ++n) {
     const int mesh = scene.nodes[n].mesh;
     if (mesh < 0) continue;
@@ -99,6 +113,8 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
       gpu->draws_.push_back({r.first_index, r.index_count, r.base_vertex,
                              scene.meshes[size_t(mesh)].primitives[p].material, int(n), mesh,
                              int(p)});
+      std::tie(gpu->draws_.back().first_level, gpu->draws_.back().level_count) =
+          level_ranges[size_t(mesh)][p];
     }
   }
 
@@ -157,12 +173,19 @@ void GpuScene::UpdateMaterials(const SceneState& state) {
 }
 
 void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_textures,
-                    int instances) const {
+                    int instances, const DrawFilter* filter) const {
   glBindVertexArray(vao_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMaterialBinding, materials_.id());
   const int default_material = int(state.materials().size());
   for (const DrawItem& d : draws_) {
     const glm::mat4& model = state.world()[size_t(d.node)];
+    DrawLevel range{d.first_index, d.index_count, 0.0f};
+    if (filter) {
+      const float tolerance = (*filter)(d, model);
+      if (tolerance < 0.0f) continue;
+      const int level = PickLevel(d, MaxScale(model), tolerance);
+      if (level >= 0) range = levels_[size_t(d.first_level + level)];
+    }
     program.Set("uModel", model);
     program.SetOptional("uNormalMatrix", glm::inverseTranspose(glm::mat3(model)));
     const int material = d.material >= 0 ? d.material : default_material;
@@ -182,11 +205,17 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
       glBindTextureUnit(kMetallicRoughnessUnit, metallic_roughness);
     }
     glDrawElementsInstancedBaseVertex(
-        GL_TRIANGLES, GLsizei(d.index_count), GL_UNSIGNED_INT,
-        reinterpret_cast<const void*>(uintptr_t(d.first_index) * sizeof(uint32_t)),
+        GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
+        reinterpret_cast<const void*>(uintptr_t(range.first_index) * sizeof(uint32_t)),
         std::max(instances, 1), d.base_vertex);
   }
   glBindVertexArray(0);
+}
+
+int GpuScene::PickLevel(const DrawItem& item, float scale, float tolerance) const {
+  return PickProxyLevel(std::span<const DrawLevel>(levels_).subspan(size_t(item.first_level),
+                                                                    size_t(item.level_count)),
+                        scale, tolerance);
 }
 
 Bounds GpuScene::WorldBounds(const SceneState& state) const {

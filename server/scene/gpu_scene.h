@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "gl/bindings.h"
@@ -35,7 +36,25 @@ struct DrawItem {
   int node = 0;
   int mesh = 0;
   int primitive = 0;
+  // Its proxy levels (scene/proxy_levels.h): levels()[first_level ..
+  // first_level + level_count), finest first.
+  int first_level = 0;
+  int level_count = 0;
 };
+
+// One simplified level of a primitive in the index buffer (drawn with the
+// item's base vertex) and its geometric error bound, local units.
+struct DrawLevel {
+  uint32_t first_index = 0;
+  uint32_t index_count = 0;
+  float error = 0.0f;
+};
+
+// How a view-independent pass draws each item: called right before the
+// item is drawn (it may set per-item uniforms), it returns the largest
+// world-space geometric error the pass tolerates there; the coarsest proxy
+// level within it is drawn, the full mesh when none is; < 0 skips the item.
+using DrawFilter = std::function<float(const DrawItem& item, const glm::mat4& model)>;
 
 class GpuScene {
  public:
@@ -49,10 +68,16 @@ class GpuScene {
   // kMetallicRoughnessUnit) when
   // `bind_textures`. Materials are bound as SSBO binding kMaterialBinding.
   // `instances` > 1 draws each item that many times (gl_InstanceID).
-  void Draw(gl::Program& program, const SceneState& state, bool bind_textures,
-            int instances = 1) const;
+  // With `filter`, each item's level comes from it (see DrawFilter);
+  // without, every item is drawn in full, as before proxies.
+  void Draw(gl::Program& program, const SceneState& state, bool bind_textures, int instances = 1,
+            const DrawFilter* filter = nullptr) const;
 
   const std::vector<DrawItem>& draws() const { return draws_; }
+  const std::vector<DrawLevel>& levels() const { return levels_; }
+  // The coarsest of `item`'s levels whose error times `scale` is within
+  // `tolerance` (world units); -1: the full mesh.
+  int PickLevel(const DrawItem& item, float scale, float tolerance) const;
   // Bounds of what Draw draws under the current transforms (the 8 corners
   // of each primitive's box: never smaller than the truth). Unlike
   // Scene::bounds, follows moved nodes.
@@ -72,6 +97,7 @@ class GpuScene {
   std::vector<gl::Texture> textures_;  // per scene image
   gl::Texture white_;                  // 1x1 fallback
   std::vector<DrawItem> draws_;
+  std::vector<DrawLevel> levels_;
   uint64_t gpu_bytes_ = 0;
 };
 

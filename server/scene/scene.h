@@ -72,6 +72,14 @@ struct Material {
   }
 };
 
+// A simplified copy of a primitive's triangles for the view-independent GI
+// passes (scene/proxy_levels.h): indices into the primitive's own vertices
+// and an upper bound of its symmetric Hausdorff distance to the full mesh.
+struct ProxyLevel {
+  std::vector<uint32_t> indices;  // triangle list, a subset of the primitive's vertices
+  float error = 0.0f;             // local units
+};
+
 // One draw: triangles with one material. Attributes are in the mesh's
 // local space; normals are always present after import (generated when the
 // file has none), uvs may be empty.
@@ -93,6 +101,9 @@ struct Primitive {
     std::vector<glm::vec3> normals;
   };
   std::vector<MorphTarget> targets;
+  // Simplified levels, finest first (each at most half the triangles of
+  // the one before); empty when the primitive is small or deforms.
+  std::vector<ProxyLevel> proxies;
 };
 
 struct Mesh {

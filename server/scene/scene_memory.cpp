@@ -17,6 +17,7 @@ SceneBytes CountSceneBytes(const Scene& scene) {
       geometry += p.positions.size() * sizeof(glm::vec3) + p.normals.size() * sizeof(glm::vec3) +
                   p.uvs.size() * sizeof(glm::vec2) + p.indices.size() * sizeof(uint32_t) +
                   p.joints.size() * sizeof(glm::u16vec4) + p.weights.size() * sizeof(glm::vec4);
+      for (const ProxyLevel& level : p.proxies) geometry += level.indices.size() * sizeof(uint32_t);
       for (const Primitive::MorphTarget& t : p.targets) {
         geometry += (t.positions.size() + t.normals.size()) * sizeof(glm::vec3);
       }
@@ -32,12 +33,14 @@ SceneBytes CountSceneBytes(const Scene& scene) {
   }
   bytes.cpu = geometry + scene.nodes.size() * sizeof(Node);
   // The GPU copy: the same vertex and index data (position, normal, uv per
-  // vertex even where the file has none), textures with mips (x 4/3).
+  // vertex even where the file has none; proxy levels add indices only),
+  // textures with mips (x 4/3).
   uint64_t vertices = 0, indices = 0;
   for (const Mesh& mesh : scene.meshes) {
     for (const Primitive& p : mesh.primitives) {
       vertices += p.positions.size();
       indices += p.indices.size();
+      for (const ProxyLevel& level : p.proxies) indices += level.indices.size();  // proxies
     }
   }
   bytes.gpu = vertices * (12 + 12 + 8) + indices * 4;

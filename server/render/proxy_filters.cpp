@@ -1,0 +1,53 @@
+#include "render/proxy_filters.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace gistream {
+
+Bounds ItemWorldBounds(const SceneState& state, const DrawItem& item, const glm::mat4& model) {
+  const Primitive& primitive =
+      state.scene().meshes[size_t(item.mesh)].primitives[size_t(item.primitive)];
+  Bounds world;
+  if (!primitive.joints.empty() || !primitive.targets.empty()) {
+    // Skinned or morphed: its posed shape may leave the rest-pose box.
+    world.Extend(glm::vec3(std::numeric_limits<float>::lowest()));
+    world.Extend(glm::vec3(std::numeric_limits<float>::max()));
+    return world;
+  }
+  const Bounds& local = primitive.bounds;
+  if (local.empty()) return world;
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::vec3 p((corner & 1) ? local.max.x : local.min.x,
+                      (corner & 2) ? local.max.y : local.min.y,
+                      (corner & 4) ? local.max.z : local.min.z);
+    world.Extend(glm::vec3(model * glm::vec4(p, 1.0f)));
+  }
+  return world;
+}
+
+int CubeFaceMask(const Bounds& box, const glm::vec3& origin) {
+  if (box.empty()) return 0;
+  const glm::vec3 lo = box.min - origin, hi = box.max - origin;
+  // Smallest |coordinate| over the box per axis (0 when it spans 0).
+  const glm::vec3 least = glm::max(glm::max(lo, -hi), glm::vec3(0.0f));
+  int mask = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    // Face +axis sees points with x_axis >= |x_u| and x_axis >= |x_v|: it
+    // can only when the box's largest x_axis reaches both smallest
+    // magnitudes; -axis likewise with -x_axis.
+    if (hi[axis] >= least[u] && hi[axis] >= least[v]) mask |= 1 << (2 * axis);
+    if (-lo[axis] >= least[u] && -lo[axis] >= least[v]) mask |= 1 << (2 * axis + 1);
+  }
+  return mask;
+}
+
+float CubeTexelTolerance(const Bounds& box, const glm::vec3& origin, int resolution) {
+  if (box.empty() || resolution <= 0) return 0.0f;
+  const glm::vec3 outside = glm::max(glm::max(box.min - origin, origin - box.max), glm::vec3(0.0f));
+  return 2.0f * glm::length(outside) / float(resolution);
+}
+
+}  // namespace gistream
