@@ -18,13 +18,13 @@
 // Before the fix the plane behind the quad's authored normal got no
 // direct light at all.
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <string>
 
 #include <gtest/gtest.h>
 
 #include "support/gltf_builder.h"
+#include "support/measurement.h"
 #include "support/render_helpers.h"
 
 namespace gistream {
@@ -101,7 +101,9 @@ TEST_F(DoubleSidedEmission, DirectLightsBothPlanesAsTheFormFactorSays) {
   const std::map<std::string, std::string> params = {{"area_samples", "256"}};
   const double top = PlaneCentre("direct", params, +1);
   const double bottom = PlaneCentre("direct", params, -1);
-  std::printf("direct: top %.5f bottom %.5f analytic %.5f\n", top, bottom, expected);
+  testing::RecordMeasurement("top", top);
+  testing::RecordMeasurement("bottom", bottom);
+  testing::RecordMeasurement("analytic", expected);
   EXPECT_NEAR(top, expected, 0.03 * expected);
   EXPECT_NEAR(bottom, expected, 0.03 * expected);
 }
@@ -116,7 +118,9 @@ TEST_F(DoubleSidedEmission, PathtraceDirectLightsBothPlanesAsTheFormFactorSays) 
   const std::map<std::string, std::string> params = {{"spp", "256"}, {"max_depth", "1"}};
   const double top = PlaneCentre("pathtrace", params, +1);
   const double bottom = PlaneCentre("pathtrace", params, -1);
-  std::printf("pathtrace: top %.5f bottom %.5f analytic %.5f\n", top, bottom, expected);
+  testing::RecordMeasurement("top", top);
+  testing::RecordMeasurement("bottom", bottom);
+  testing::RecordMeasurement("analytic", expected);
   EXPECT_NEAR(top, expected, 0.02 * expected);
   EXPECT_NEAR(bottom, expected, 0.02 * expected);
 }
@@ -137,7 +141,9 @@ TEST_P(DoubleSidedEmissionGi, BothPlanesAlike) {
   const std::map<std::string, std::string> params = {{"area_samples", "256"}};
   const double top = PlaneCentre(solver, params, +1);
   const double bottom = PlaneCentre(solver, params, -1);
-  std::printf("%s: top %.5f bottom %.5f direct %.5f\n", solver.c_str(), top, bottom, expected);
+  testing::RecordMeasurement("top", top);
+  testing::RecordMeasurement("bottom", bottom);
+  testing::RecordMeasurement("direct", expected);
   for (const double v : {top, bottom}) {
     EXPECT_GE(v, 0.97 * expected) << solver;
     EXPECT_LE(v, 1.08 * expected) << solver;

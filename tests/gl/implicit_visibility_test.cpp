@@ -4,11 +4,12 @@
 // reference on the Cornell box and the indirect-only room, and which
 // stages each kind of change runs.
 #include <cmath>
-#include <iostream>
+#include <absl/strings/str_cat.h>
 
 #include <gtest/gtest.h>
 
 #include "support/gltf_builder.h"
+#include "support/measurement.h"
 #include "support/render_helpers.h"
 
 namespace gistream {
@@ -52,8 +53,8 @@ TEST(ImplicitVisibility, StiffFurnaceStaysFiniteAndMonotone) {
     const double residual = FrameStat(frame, "residual");
     EXPECT_GT(residual, 0.0);
     EXPECT_LT(residual, 1.0);
-    std::cout << "rho 0.99 bounces " << bounces << " mean " << mean << " residual " << residual
-              << "\n";
+    testing::RecordMeasurement(absl::StrCat("mean_bounces_", bounces), mean);
+    testing::RecordMeasurement(absl::StrCat("residual_bounces_", bounces), residual);
     previous = mean;
   }
 }
@@ -71,9 +72,9 @@ TEST(ImplicitVisibility, HierarchicalMatchesBruteForce) {
   EXPECT_EQ(hier.non_finite(), 0u);
   EXPECT_EQ(brute.non_finite(), 0u);
   const double error = RelMse(hier, brute);
-  std::cout << "hier vs brute relMSE " << error << " offered "
-            << FrameStat(hier_frame, "links_offered") << " vs "
-            << FrameStat(brute_frame, "links_offered") << "\n";
+  testing::RecordMeasurement("relmse_hierarchical_vs_brute", error);
+  testing::RecordMeasurement("links_offered_hierarchical", FrameStat(hier_frame, "links_offered"));
+  testing::RecordMeasurement("links_offered_brute", FrameStat(brute_frame, "links_offered"));
   EXPECT_LT(error, 0.005);
   EXPECT_LT(FrameStat(hier_frame, "links_offered"), FrameStat(brute_frame, "links_offered"));
 }
@@ -86,7 +87,8 @@ TEST_F(ImplicitVisibilityAccuracy, CornellBoxBeatsDirect) {
   Reference("cornell_box.gltf", 512);
   const double direct = ErrorOf("direct");
   const double iv = ErrorOf("implicit_visibility", {{"bins_per_face", "8"}});
-  std::cout << "cornell direct " << direct << " implicit_visibility " << iv << "\n";
+  testing::RecordMeasurement("relmse_direct", direct);
+  testing::RecordMeasurement("relmse_implicit_visibility", iv);
   EXPECT_LT(iv, 0.35 * direct) << "direct " << direct << " implicit_visibility " << iv;
 }
 
@@ -103,7 +105,7 @@ TEST(ImplicitVisibility, StagePlanFollowsTheChange) {
                         "refine_push", "shadow_maps", "illumination", "display"}) {
     EXPECT_FALSE(StageSkipped(frame, s)) << "first frame " << s;
     const StageTiming* t = FrameStage(frame, s);
-    if (t) std::cout << "stage " << s << " " << t->cpu_ms << " ms\n";
+    if (t) testing::RecordMeasurement(absl::StrCat("cpu_ms_", s), t->cpu_ms);
   }
 
   // Light only: links reused, only illumination runs.

@@ -14,6 +14,7 @@
 #include "encode/encode.h"
 #include "encode/video/video_decoder.h"
 #include "support/frame_queue.h"
+#include "support/measurement.h"
 #include "support/render_helpers.h"
 
 namespace gistream {
@@ -94,9 +95,9 @@ TEST_F(VideoFramesTest, H264DecodesCloseToThePngOfTheSameFrame) {
   // of 8/255, about what JPEG quality 75 gives on this picture.
   const double psnr = Psnr(decoded->rgba, reference->rgba);
   EXPECT_GE(psnr, 30.0);
-  ::testing::Test::RecordProperty("h264_psnr_db", std::to_string(psnr));
-  std::cout << "H.264 vs PNG: " << psnr << " dB PSNR, " << video_frame->image.size() << " bytes vs "
-            << png_frame->image.size() << " bytes\n";
+  testing::RecordMeasurement("h264_psnr_db", psnr);
+  testing::RecordMeasurement("h264_bytes", double(video_frame->image.size()));
+  testing::RecordMeasurement("png_bytes", double(png_frame->image.size()));
   SharedEngine().CloseSession(h264->id);
   SharedEngine().CloseSession(png->id);
 }
