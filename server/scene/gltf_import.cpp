@@ -82,6 +82,12 @@ absl::StatusOr<Scene> ImportGltf(std::span<const uint8_t> bytes, const ImportOpt
         absl::StrCat("scene: ", bytes.size(), " bytes exceed the limit of ",
                      std::min<uint64_t>(limits.max_scene_bytes, UINT32_MAX), " bytes"));
   }
+  if (options.memory != nullptr) {
+    // The bytes and the parser's copy of their buffers (a .glb's binary
+    // chunk, base64 data: URIs decoded).
+    GS_RETURN_IF_ERROR(options.memory->Reserve(
+        2 * uint64_t(bytes.size()), absl::StrCat("gltf: ", bytes.size(), " bytes while parsing")));
+  }
   uint64_t budget = limits.max_scene_bytes - bytes.size();  // for external files
   GS_ASSIGN_OR_RETURN(const gltf::Container container, gltf::SplitContainer(bytes));
   GS_RETURN_IF_ERROR(gltf::PreflightJson(container, options));
@@ -110,7 +116,8 @@ absl::StatusOr<Scene> ImportGltf(std::span<const uint8_t> bytes, const ImportOpt
 }
 
 absl::StatusOr<Scene> ImportSceneByName(const std::filesystem::path& scene_dir,
-                                        const std::string& name, const ImportLimits& limits) {
+                                        const std::string& name, const ImportLimits& limits,
+                                        ImportMemory* memory) {
   if (!IsSceneName(name)) {
     return absl::InvalidArgumentError(
         absl::StrCat("name: '", Echo(name), "' is not a scene name ([A-Za-z0-9_.-]+, at most ",
@@ -133,6 +140,7 @@ absl::StatusOr<Scene> ImportSceneByName(const std::filesystem::path& scene_dir,
     options.limits = limits;
     options.base_dir = scene_dir;
     options.name = std::filesystem::path(file).stem().string();
+    options.memory = memory;
     return ImportGltf(*bytes, options);
   }
   return absl::NotFoundError(absl::StrCat(

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "scene/import_limits.h"
+#include "scene/import_memory.h"
 #include "scene/scene.h"
 #include "util/status.h"
 
@@ -19,6 +20,10 @@ struct ImportOptions {
   // URIs are refused. Absolute paths and ".." are refused always.
   std::filesystem::path base_dir;
   std::string name;  // scene name for messages and Scene::name
+  // When set: the glTF bytes, external files and decoded images are
+  // reserved here before they are parsed or decoded (held by the caller
+  // until the scene itself is reserved).
+  ImportMemory* memory = nullptr;
 };
 
 // Imports a .glb or a .gltf (JSON) held in memory. Errors:
@@ -30,7 +35,8 @@ absl::StatusOr<Scene> ImportGltf(std::span<const uint8_t> bytes, const ImportOpt
 // `scene_dir`, trying .glb then .gltf, and imports it with external URIs
 // resolved inside `scene_dir`. NOT_FOUND when no such scene.
 absl::StatusOr<Scene> ImportSceneByName(const std::filesystem::path& scene_dir,
-                                        const std::string& name, const ImportLimits& limits);
+                                        const std::string& name, const ImportLimits& limits,
+                                        ImportMemory* memory = nullptr);
 
 // Resolves a relative URI against `base_dir`, refusing absolute paths, "..",
 // and anything that leaves `base_dir` through symlinks.

@@ -64,12 +64,16 @@ class ImageLoader {
                           ResolveSceneUri(options_.base_dir, in.uri, field + ".uri"));
       GS_ASSIGN_OR_RETURN(file, ReadFileLimited(path, *budget_, field + ".uri"));
       *budget_ -= file.size();
+      if (options_.memory != nullptr) {
+        GS_RETURN_IF_ERROR(options_.memory->Reserve(
+            file.size(), absl::StrCat(field, ".uri: ", file.size(), " bytes read")));
+      }
       bytes = file;
     } else {
       bytes = in.image;  // a data: URI, decoded by tinygltf
     }
-    GS_ASSIGN_OR_RETURN(Image image,
-                        DecodeImage(bytes, ImageKind::kTexture, options_.limits, field));
+    GS_ASSIGN_OR_RETURN(Image image, DecodeImage(bytes, ImageKind::kTexture, options_.limits, field,
+                                                 options_.memory));
     image.name = in.name;
     const uint64_t pixels = uint64_t(image.width) * uint64_t(image.height);
     if (pixels > options_.limits.max_total_image_pixels - total_pixels_) {

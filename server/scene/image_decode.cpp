@@ -128,7 +128,8 @@ std::string DetectImageFormat(std::span<const uint8_t> bytes) {
 }
 
 absl::StatusOr<Image> DecodeImage(std::span<const uint8_t> bytes, ImageKind kind,
-                                  const ImportLimits& limits, const std::string& field) {
+                                  const ImportLimits& limits, const std::string& field,
+                                  ImportMemory* memory) {
   ConfigureOpenImageIO();
   const std::string format = DetectImageFormat(bytes);
   if (format.empty()) {
@@ -150,6 +151,13 @@ absl::StatusOr<Image> DecodeImage(std::span<const uint8_t> bytes, ImageKind kind
   GS_RETURN_IF_ERROR(CheckPlausibleSize(spec, bytes.size(), format, field));
 
   const size_t pixels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
+  if (memory != nullptr) {
+    // RGBA, 8-bit or float (ReadRgba's one buffer).
+    const uint64_t decoded =
+        uint64_t(pixels) * 4 * (kind == ImageKind::kTexture ? sizeof(uint8_t) : sizeof(float));
+    GS_RETURN_IF_ERROR(memory->Reserve(
+        decoded, absl::StrCat(field, ": ", spec.width, "x", spec.height, " decoded pixels")));
+  }
   const int channels = std::min(spec.nchannels, 4);
   Image image;
   image.width = spec.width;

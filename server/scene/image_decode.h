@@ -7,6 +7,7 @@
 #include <string>
 
 #include "scene/import_limits.h"
+#include "scene/import_memory.h"
 #include "scene/scene.h"
 #include "util/status.h"
 
@@ -22,8 +23,11 @@ std::string DetectImageFormat(std::span<const uint8_t> bytes);
 
 // Decodes `bytes`. `field` names the source in error messages
 // ("images[2]"). INVALID_ARGUMENT for a format the kind does not allow or a
-// corrupt file; RESOURCE_EXHAUSTED for an image over the limits.
+// corrupt file; RESOURCE_EXHAUSTED for an image over the limits, or whose
+// decoded pixels `memory` (when given) cannot reserve, checked from the
+// header before any pixel is decoded.
 absl::StatusOr<Image> DecodeImage(std::span<const uint8_t> bytes, ImageKind kind,
-                                  const ImportLimits& limits, const std::string& field);
+                                  const ImportLimits& limits, const std::string& field,
+                                  ImportMemory* memory = nullptr);
 
 }  // namespace gistream

@@ -236,8 +236,8 @@ EngineStats EngineImpl::stats() const {
   out.gl_object_bytes = gl_object_bytes_.load();
   out.gpu_memory_total_bytes = gpu_memory_total_.load();
   out.gpu_memory_available_bytes = gpu_memory_available_.load();
-  out.memory_used_bytes = budget_.used();
-  out.memory_limit_bytes = budget_.limit();
+  out.memory_used_bytes = accounts_.server().used();
+  out.memory_limit_bytes = accounts_.server().limit();
   return out;
 }
 
@@ -315,14 +315,18 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
 
   // Parse and validate on this thread: nothing reaches the GPU before this
   // has passed.
+  // What the import reads and decodes is reserved before it is decoded
+  // (scene/import_memory.h), and held until the scene itself is.
+  ImportMemory transient(accounts_.server());
   Scene scene;
   if (!source.name.empty()) {
-    GS_ASSIGN_OR_RETURN(scene,
-                        ImportSceneByName(options_.scene_dir, source.name, options_.import_limits));
+    GS_ASSIGN_OR_RETURN(scene, ImportSceneByName(options_.scene_dir, source.name,
+                                                 options_.import_limits, &transient));
   } else {
     ImportOptions import;
     import.limits = options_.import_limits;
     import.name = "upload";
+    import.memory = &transient;
     GS_ASSIGN_OR_RETURN(scene, ImportGltf(Bytes(source.bytes), import));
   }
   if (has_env) {
@@ -336,11 +340,13 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
       // this thread), and no larger than a scene may be.
       GS_ASSIGN_OR_RETURN(env_file, ReadFileLimited(path, options_.import_limits.max_scene_bytes,
                                                     "environment_name"));
+      GS_RETURN_IF_ERROR(transient.Reserve(
+          env_file.size(), absl::StrCat("environment_name: ", env_file.size(), " bytes read")));
       env_bytes = env_file;
     }
     Environment env;
     GS_ASSIGN_OR_RETURN(env.image, DecodeImage(env_bytes, ImageKind::kEnvironment,
-                                               options_.import_limits, "environment"));
+                                               options_.import_limits, "environment", &transient));
     env.intensity = source.environment_intensity > 0.0f ? source.environment_intensity : 1.0f;
     env.max_radiance = MaxPixel(env.image);
     if (env.intensity * env.max_radiance > kMaxRadiance) {
@@ -361,13 +367,16 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   record->light_instances = uint32_t(LightInstanceNodes(*record->scene).size());
   // Its CPU copy (decoded images included) and its GPU upload, before the
   // upload; held by its GPU record until the scene is freed.
+  // The files and the parser's copies are gone and the decoded images are
+  // the scene's now: its own reservation takes over from the import's.
+  transient.Release();
   const SceneBytes scene_bytes = CountSceneBytes(*record->scene);
   auto memory = std::make_shared<MemoryBudget::Reservation>();
   GS_ASSIGN_OR_RETURN(
-      *memory,
-      budget_.Reserve(scene_bytes.total(),
-                      absl::StrCat("scene: its geometry and images (", FormatBytes(scene_bytes.cpu),
-                                   " CPU, ", FormatBytes(scene_bytes.gpu), " GPU)")));
+      *memory, accounts_.server().Reserve(
+                   scene_bytes.total(),
+                   absl::StrCat("scene: its geometry and images (", FormatBytes(scene_bytes.cpu),
+                                " CPU, ", FormatBytes(scene_bytes.gpu), " GPU)")));
   {
     std::lock_guard lock(mutex_);
     if (shut_down_) return Unavailable();
@@ -392,19 +401,15 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
           }
         }
         GpuSceneRecord gpu;
-        gpu.memory = std::move(*memory);
+        gpu.memory.server = std::move(*memory);
         gpu.tenant = record->tenant;
         gpu.state = std::make_unique<SceneState>(record->scene);
         GS_ASSIGN_OR_RETURN(gpu.gpu, GpuScene::Upload(*gpu.state));
-        if (const uint64_t limit = QuotaOf(record->tenant).gpu_bytes; limit > 0) {
-          uint64_t held = 0;
-          for (const auto& [id, other] : gpu_scenes_) {
-            if (other.tenant == record->tenant && other.gpu) held += other.gpu->gpu_bytes();
-          }
-          if (held + gpu.gpu->gpu_bytes() > limit) {
-            return QuotaExceeded(record->tenant, "gpu_bytes", held, gpu.gpu->gpu_bytes(), limit);
-          }
-        }
+        // The tenant's gpu_bytes quota counts the upload as measured, with
+        // its solvers' estimates and its views (MemoryAccounts).
+        GS_ASSIGN_OR_RETURN(gpu.memory.tenant_gpu,
+                            accounts_.ReserveTenantGpu(record->tenant, gpu.gpu->gpu_bytes(),
+                                                       "scene: its GPU upload"));
         SceneInfo described = DescribeScene(record->id, *gpu.state);
         gpu_scenes_[record->id] = std::move(gpu);
         RefreshMemoryStats(/*force=*/true);
@@ -850,11 +855,6 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   timer_.Reset();
 
   if (!view.initialized) {
-    GS_ASSIGN_OR_RETURN(view.memory,
-                        budget_.Reserve(uint64_t(session.config.width) * session.config.height *
-                                            GBuffer::kBytesPerPixel,
-                                        absl::StrCat("width x height: ", session.config.width, "x",
-                                                     session.config.height, " (its G-buffer)")));
     view.initialized = true;
     view.camera = DefaultCamera(state, session.config.width, session.config.height);
     if (session.config.camera) ApplyCameraUpdate(state, *session.config.camera, view.camera);
@@ -877,6 +877,7 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
     }
     if (materials) scene.gpu->UpdateMaterials(state);
   }
+  GS_RETURN_IF_ERROR(ReserveView(session, scene, view));
 
   SolverEntry& entry = scene.solvers[session.solver_key];
   if (!entry.solver) {
@@ -896,6 +897,7 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
     }
   }
   SolverContext ctx{state, *scene.gpu, timer_};
+  ctx.reserve = accounts_.ReserverFor(scene.tenant);
   ctx.budget_ms = session.config.frame_budget_ms > 0.0 ? session.config.frame_budget_ms
                                                        : options_.frame_budget_ms;
   GS_RETURN_IF_ERROR(entry.solver->Update(ctx, changes));
@@ -1132,6 +1134,24 @@ void EngineImpl::NotifyServing(bool serving) {
   if (listener) listener(serving);
 }
 
+absl::Status EngineImpl::ReserveView(const SessionRecord& session, const GpuSceneRecord& scene,
+                                     ViewRecord& view) {
+  const uint32_t w = view.camera.width, h = view.camera.height;
+  if (w == view.memory_width && h == view.memory_height) return absl::OkStatus();
+  // The old size's buffers go with the resize (G-buffer, encoder reopened).
+  view.memory.Release();
+  view.memory_width = view.memory_height = 0;
+  GS_ASSIGN_OR_RETURN(
+      view.memory,
+      accounts_.Reserve(scene.tenant, EstimateFrameBytes(w, h, session.config.encoding.format),
+                        uint64_t(w) * h * GBuffer::kBytesPerPixel,
+                        absl::StrCat("width x height: ", w, "x", h,
+                                     " (its G-buffer, readback and encoder buffers)")));
+  view.memory_width = w;
+  view.memory_height = h;
+  return absl::OkStatus();
+}
+
 absl::Status EngineImpl::BuildSolver(const SessionRecord& session, const GpuSceneRecord& scene,
                                      SolverEntry& entry) {
   // One place for every solver: its estimate from the parameters and the
@@ -1139,9 +1159,9 @@ absl::Status EngineImpl::BuildSolver(const SessionRecord& session, const GpuScen
   GS_ASSIGN_OR_RETURN(
       MemoryEstimate estimate,
       EstimateSolverMemory(session.config.solver, session.params, *scene.state, *scene.gpu));
-  GS_ASSIGN_OR_RETURN(
-      MemoryBudget::Reservation memory,
-      budget_.Reserve(estimate.bytes(), estimate.Describe(session.config.solver, session.params)));
+  GS_ASSIGN_OR_RETURN(MemoryCharge memory,
+                      accounts_.Reserve(scene.tenant, estimate.cpu_bytes(), estimate.gpu_bytes(),
+                                        estimate.Describe(session.config.solver, session.params)));
   GS_ASSIGN_OR_RETURN(entry.solver, CreateSolver(session.config.solver, session.params));
   entry.memory = std::move(memory);
   return absl::OkStatus();

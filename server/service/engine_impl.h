@@ -23,14 +23,14 @@
 #include "service/frame_rate.h"
 #include "service/render_thread.h"
 #include "solvers/solver.h"
-#include "util/memory_budget.h"
+#include "util/memory_accounts.h"
 
 namespace gistream {
 
 class EngineImpl final : public Engine {
  public:
   explicit EngineImpl(const EngineOptions& options)
-      : options_(options), budget_(options.max_memory_bytes) {}
+      : options_(options), accounts_(options.max_memory_bytes, options.quotas) {}
   ~EngineImpl() override;
   absl::Status Start();
 
@@ -94,15 +94,17 @@ class EngineImpl final : public Engine {
     std::unique_ptr<Solver> solver;
     uint64_t version = 0;
     bool fresh = true;
-    uint64_t last_used = 0;            // solver_clock_ at its last frame
-    MemoryBudget::Reservation memory;  // its estimate, held while it lives
+    uint64_t last_used = 0;  // solver_clock_ at its last frame
+    MemoryCharge memory;     // its estimate, held while it lives
   };
   struct GpuSceneRecord {
     TenantId tenant;
     std::unique_ptr<SceneState> state;
     std::unique_ptr<GpuScene> gpu;
     std::map<std::string, SolverEntry> solvers;  // by solver_key
-    MemoryBudget::Reservation memory;            // the scene's CPU copy and GPU upload
+    // The scene's CPU copy and GPU upload (estimated before it), and the
+    // upload's measured GPU bytes in the tenant's gpu_bytes quota.
+    MemoryCharge memory;
   };
   // Drops least recently used solvers of `scene` beyond
   // options_.max_solvers_per_scene, sparing `keep` and those of open
@@ -123,8 +125,11 @@ class EngineImpl final : public Engine {
     std::vector<std::string> plan;              // the solver's plan, over the frame's slices
     RenderThread::Clock::time_point poll_at{};  // next poll of a pending update
     RenderThread::Clock::time_point next_due{};
-    FrameEncoder encoder;              // image/video encoding, unchanged-frame detection
-    MemoryBudget::Reservation memory;  // its G-buffer
+    FrameEncoder encoder;  // image/video encoding, unchanged-frame detection
+    // Its G-buffer, readback and encoder buffers at memory_width x
+    // memory_height (ReserveView).
+    MemoryCharge memory;
+    uint32_t memory_width = 0, memory_height = 0;
   };
 
   absl::StatusOr<std::shared_ptr<SessionRecord>> CreateSession(const SessionConfig& config,
@@ -150,8 +155,12 @@ class EngineImpl final : public Engine {
                                                              ViewRecord& view,
                                                              std::deque<Update> updates);
   void ReleaseSessionGpu(const SessionId& id);
+  // Reserves `view`'s G-buffer, readback and encoder buffers for its
+  // camera's size, again when that changes (a camera update resizes it).
+  absl::Status ReserveView(const SessionRecord& session, const GpuSceneRecord& scene,
+                           ViewRecord& view);
   // Estimates the session's solver (solvers/memory_estimate.h), reserves it
-  // from budget_ and creates it into `entry`; on failure nothing is held.
+  // from accounts_ and creates it into `entry`; on failure nothing is held.
   absl::Status BuildSolver(const SessionRecord& session, const GpuSceneRecord& scene,
                            SolverEntry& entry);
   // A lost context (or an injected reset): fails every session and Render
@@ -168,7 +177,7 @@ class EngineImpl final : public Engine {
   void RefreshMemoryStats(bool force);
 
   EngineOptions options_;
-  MemoryBudget budget_;
+  MemoryAccounts accounts_;  // the server's budget and tenants' gpu_bytes quotas
   DeviceInfo device_;
   std::unique_ptr<RenderThread> render_thread_;
 

@@ -37,6 +37,27 @@ bool IsVideoFormat(ImageFormat format) {
          format == ImageFormat::kAv1;
 }
 
+uint64_t EstimateFrameBytes(uint32_t width, uint32_t height, ImageFormat format) {
+  uint64_t per_pixel = 0;
+  switch (format) {
+    case ImageFormat::kJpeg:  // readback 4, copy 4, JpegBound's 6, the output 6
+      per_pixel = 20;
+      break;
+    case ImageFormat::kPng:  // readback 4, copy 4, the output (raw size and deflate's margin)
+      per_pixel = 16;
+      break;
+    case ImageFormat::kExr:  // readback 16, copy 16, RGB for the writer 12, output 12 twice
+      per_pixel = 72;
+      break;
+    case ImageFormat::kH264:
+    case ImageFormat::kHevc:
+    case ImageFormat::kAv1:  // readback, copy, padded copy 4 each; 4:2:0 input 1.5; frames
+      per_pixel = 40;
+      break;
+  }
+  return uint64_t(width) * uint64_t(height) * per_pixel;
+}
+
 absl::Status ValidateEncoding(const EncodingOptions& e) {
   if (!IsVideoFormat(e.format)) return absl::OkStatus();
   if (e.crf < 1 || e.crf > 51) {

@@ -33,6 +33,13 @@ bool IsVideoFormat(ImageFormat format);
 // naming encoding.format when it has none).
 absl::Status ValidateEncoding(const EncodingOptions& encoding);
 
+// CPU bytes a view of `width` x `height` holds at most to produce a frame
+// in `format`: the readback and the copy SameAsLast keeps (RGBA8, or RGBA
+// float for EXR), the encoder's output buffers, and for video the padded
+// copy and the encoder's own frames (an estimate for libx264 at veryfast
+// with zerolatency: about six 4:2:0 frames with their lowres planes).
+uint64_t EstimateFrameBytes(uint32_t width, uint32_t height, ImageFormat format);
+
 struct EncodedImage {
   std::string bytes;
   bool key_frame = true;  // every JPEG/PNG/EXR frame is one

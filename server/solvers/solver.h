@@ -19,6 +19,7 @@
 #include "scene/gpu_scene.h"
 #include "scene/scene_state.h"
 #include "solvers/solver_params.h"
+#include "util/memory_accounts.h"
 
 namespace gistream {
 
@@ -31,6 +32,10 @@ struct SolverContext {
   // the engine then runs the rest in later slices, other sessions' frames
   // in between.
   double budget_ms = 0.0;
+  // Reserves view-dependent state before a solver allocates it (its
+  // estimate covers the rest): the server's memory budget and the scene's
+  // tenant's gpu_bytes quota (solvers/view_memory.h). Empty: not counted.
+  MemoryReserver reserve{};
 };
 
 using SolverStats = std::vector<std::pair<std::string, double>>;

@@ -30,8 +30,18 @@ void MemoryBudget::Reservation::Release() {
   bytes_ = 0;
 }
 
-MemoryBudget::MemoryBudget(uint64_t limit_bytes)
+void MemoryBudget::Reservation::Merge(Reservation&& other) {
+  if (other.bytes_ == 0) return;
+  GS_CHECK(!counter_ || bytes_ == 0 || counter_ == other.counter_);
+  if (bytes_ == 0) counter_ = other.counter_;
+  bytes_ += std::exchange(other.bytes_, 0);
+  other.counter_.reset();
+}
+
+MemoryBudget::MemoryBudget(uint64_t limit_bytes, std::string name, std::string limit_name)
     : limit_(limit_bytes > 0 ? limit_bytes : DefaultMemoryLimit()),
+      name_(std::move(name)),
+      limit_name_(std::move(limit_name)),
       counter_(std::make_shared<Reservation::Counter>()) {}
 
 uint64_t MemoryBudget::used() const { return counter_->used.load(); }
@@ -42,10 +52,9 @@ absl::StatusOr<MemoryBudget::Reservation> MemoryBudget::Reserve(uint64_t bytes,
   for (;;) {
     if (bytes > limit_ || used > limit_ - bytes) {
       const uint64_t left = used < limit_ ? limit_ - used : 0;
-      return absl::ResourceExhaustedError(
-          absl::StrCat(what, " needs ", FormatBytes(bytes), ", more than the ", FormatBytes(left),
-                       " left of the server's memory budget (--max-memory-bytes ",
-                       FormatBytes(limit_), ", ", FormatBytes(used), " in use)"));
+      return absl::ResourceExhaustedError(absl::StrCat(
+          what, " needs ", FormatBytes(bytes), ", more than the ", FormatBytes(left), " left of ",
+          name_, " (", limit_name_, " ", FormatBytes(limit_), ", ", FormatBytes(used), " in use)"));
     }
     if (counter_->used.compare_exchange_weak(used, used + bytes)) break;
   }

@@ -34,6 +34,9 @@ class MemoryBudget {
 
     uint64_t bytes() const { return bytes_; }
     void Release();
+    // Takes `other`'s bytes into this one (both of one budget, or this one
+    // empty).
+    void Merge(Reservation&& other);
 
    private:
     friend class MemoryBudget;
@@ -44,8 +47,10 @@ class MemoryBudget {
     uint64_t bytes_ = 0;
   };
 
-  // limit_bytes 0: DefaultMemoryLimit().
-  explicit MemoryBudget(uint64_t limit_bytes);
+  // limit_bytes 0: DefaultMemoryLimit(). `name` and `limit_name` word the
+  // refusal; the defaults are the server's budget's.
+  explicit MemoryBudget(uint64_t limit_bytes, std::string name = "the server's memory budget",
+                        std::string limit_name = "--max-memory-bytes");
 
   // RESOURCE_EXHAUSTED when `bytes` do not fit in what is left:
   // "<what> needs 5.1 GiB, more than the 3.0 GiB left of the server's memory
@@ -57,6 +62,8 @@ class MemoryBudget {
 
  private:
   uint64_t limit_;
+  std::string name_;
+  std::string limit_name_;
   std::shared_ptr<Reservation::Counter> counter_;
 };
 

@@ -143,15 +143,24 @@ TEST(MemoryBudget, ASceneOverTheBudgetIsRefusedAndHoldsNothing) {
   options.max_memory_bytes = 8 << 20;
   auto engine = Engine::Create(options);
   ASSERT_TRUE(engine.ok()) << engine.status();
-  // A 2048 x 2048 texture decodes to 16 MiB (and 21 MiB on the GPU).
-  auto png = EncodePng(std::vector<uint8_t>(2048 * 2048 * 4, 200), 2048, 2048);
-  ASSERT_TRUE(png.ok()) << png.status();
-  nlohmann::json doc = QuadScene();
-  doc["images"] = {{{"uri", "data:image/png;base64," + absl::Base64Escape(*png)}}};
-  doc["textures"] = {{{"source", 0}}};
-  doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
-  EXPECT_STATUS(StatusOf((*engine)->LoadScene(testing::SceneFromBytes(doc.dump()))),
-                kResourceExhausted, "scene: its geometry and images (");
+  auto textured = [](int side) {
+    auto png = EncodePng(std::vector<uint8_t>(size_t(side) * side * 4, 200), side, side);
+    EXPECT_TRUE(png.ok()) << png.status();
+    nlohmann::json doc = QuadScene();
+    doc["images"] = {{{"uri", "data:image/png;base64," + absl::Base64Escape(*png)}}};
+    doc["textures"] = {{{"source", 0}}};
+    doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
+    return testing::SceneFromBytes(doc.dump());
+  };
+  // A 2048 x 2048 texture decodes to 16 MiB: refused from its header by the
+  // import (scene/import_memory.h), before a pixel is decoded.
+  EXPECT_STATUS(StatusOf((*engine)->LoadScene(textured(2048))), kResourceExhausted,
+                "images[0]: 2048x2048 decoded pixels needs 16.0 MiB");
+  EXPECT_EQ((*engine)->stats().memory_used_bytes, 0u);
+  // 1024 x 1024 decodes (4 MiB), but with its GPU copy (5.3 MiB with mips)
+  // the scene does not fit.
+  EXPECT_STATUS(StatusOf((*engine)->LoadScene(textured(1024))), kResourceExhausted,
+                "scene: its geometry and images (");
   EXPECT_EQ((*engine)->stats().memory_used_bytes, 0u);
   // A solver whose estimate exceeds what is left: avg's atlases at 2048
   // VPLs of 256^2 are 1 GiB.

@@ -25,6 +25,7 @@ constexpr const char* kAlice = "alice-token-0123456789";
 constexpr const char* kAliceToo = "alice-second-token-0123";  // a collaborator
 constexpr const char* kBob = "bob-token-abcdefghijkl";
 constexpr const char* kQuota = "quota-token-abcdefghij";  // tenant "tight"
+constexpr const char* kGpu = "gpu-quota-token-abcdefg";   // tenant "gpu", 1 MiB of GPU
 
 std::string SceneFile(const std::string& name) {
   std::ifstream in(std::string(GISTREAM_SOURCE_DIR "/scenes/") + name, std::ios::binary);
@@ -38,7 +39,8 @@ class TenancyTest : public ::testing::Test {
   static void SetUpTestSuite() {
     absl::StatusOr<AuthTokens> tokens = AuthTokens::Parse(
         absl::StrCat(kAlice, " alice\n", kAliceToo, " alice\n", kBob, " bob\n", kQuota,
-                     " tight scenes=2 sessions=1 upload_bytes=100000 gpu_bytes=100000\n"));
+                     " tight scenes=2 sessions=1 upload_bytes=100000 gpu_bytes=150000\n", kGpu,
+                     " gpu gpu_bytes=1048576\n"));
     ASSERT_TRUE(tokens.ok()) << tokens.status();
     EngineOptions options;
     options.scene_dir = GISTREAM_SOURCE_DIR "/scenes";
@@ -256,8 +258,9 @@ TEST_F(TenancyTest, QuotasGiveResourceExhaustedNamingTheQuota) {
         << status.error_message();
   };
   std::string id;
-  // gpu_bytes=100000: cornell_box takes 193824 bytes on the GPU (frame
-  // stat scene_gpu_bytes), furnace 92352 and cornell_box_coarse 2432.
+  // gpu_bytes=150000: cornell_box takes 193824 bytes on the GPU (frame
+  // stat scene_gpu_bytes), furnace and cornell_box_coarse together about
+  // 100 KiB (94784; sessions that render nothing hold no G-buffer).
   pb::LoadSceneRequest big;
   big.set_name("cornell_box");
   expect_quota(Load(kQuota, big, &id), "gpu_bytes");
@@ -297,6 +300,50 @@ TEST_F(TenancyTest, QuotasGiveResourceExhaustedNamingTheQuota) {
   EXPECT_TRUE(Unload(kQuota, a).ok());
   EXPECT_TRUE(Unload(kQuota, b).ok());
   EXPECT_TRUE(Unload(kBob, bob_scene).ok());
+}
+
+// gpu_bytes counts all a tenant's scenes hold on the GPU: the uploads, each
+// solver's estimate and each view's G-buffer (the reservations of the
+// server's memory budget, attributed to the scene's tenant:
+// util/memory_accounts.h). Another tenant is not held to it.
+TEST_F(TenancyTest, GpuBytesQuotaCountsSolverEstimatesAndViews) {
+  auto render = [](const char* token, const std::string& id, const std::string& solver,
+                   uint32_t side) {
+    grpc::ClientContext context;
+    Auth(&context, token);
+    pb::RenderRequest request;
+    request.set_scene_id(id);
+    request.set_solver(solver);
+    request.set_width(side);
+    request.set_height(side);
+    request.mutable_encoding()->set_format(pb::IMAGE_FORMAT_PNG);
+    pb::Frame frame;
+    return stub().Render(&context, request, &frame);
+  };
+  auto expect_quota = [](const grpc::Status& status, const std::string& what) {
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << status.error_message();
+    EXPECT_TRUE(absl::StrContains(status.error_message(), "quota gpu_bytes of tenant 'gpu'"))
+        << status.error_message();
+    EXPECT_TRUE(absl::StrContains(status.error_message(), what)) << status.error_message();
+  };
+  // furnace: 92352 bytes uploaded. pathtrace holds nothing on the GPU but
+  // the view's G-buffer (32x32: 69632 bytes): within 1 MiB.
+  const std::string mine = LoadByName(kGpu, "furnace");
+  const grpc::Status fits = render(kGpu, mine, "pathtrace", 32);
+  EXPECT_TRUE(fits.ok()) << fits.error_message();
+  // sh_probes' estimate at its defaults (shadow maps for the emitter's area
+  // samples and a probe atlas: hundreds of MiB) is not; nor a 512x512
+  // G-buffer (17 MiB).
+  expect_quota(render(kGpu, mine, "sh_probes", 32), "sh_probes: ");
+  expect_quota(render(kGpu, mine, "pathtrace", 512), "width x height: 512x512");
+  // Another tenant renders the same; the refusals held nothing back.
+  const std::string bobs = LoadByName(kBob, "furnace");
+  const grpc::Status bob = render(kBob, bobs, "sh_probes", 32);
+  EXPECT_TRUE(bob.ok()) << bob.error_message();
+  const grpc::Status again = render(kGpu, mine, "pathtrace", 32);
+  EXPECT_TRUE(again.ok()) << again.error_message();
+  EXPECT_TRUE(Unload(kGpu, mine).ok());
+  EXPECT_TRUE(Unload(kBob, bobs).ok());
 }
 
 // A sink that records how its session ended; with `drop` set it reports

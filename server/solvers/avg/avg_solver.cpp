@@ -331,6 +331,13 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
 absl::Status AvgSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
                               const GBuffer& gbuffer) {
   const glm::ivec2 size(int(gbuffer.width()), int(gbuffer.height()));
+  // Two RGBA32F targets over the view rounded up to whole 4x4 tiles.
+  constexpr uint64_t kSide = avg::InterleavedBuffer::kSide;
+  GS_RETURN_IF_ERROR(split_memory_.Fit(
+      ctx, 0,
+      (uint64_t(size.x) + kSide - 1) / kSide * kSide * ((uint64_t(size.y) + kSide - 1) / kSide) *
+          kSide * 32,
+      absl::StrCat("avg: width x height ", size.x, "x", size.y, " (its interleaved buffers)")));
   split_.Resize(gbuffer.width(), gbuffer.height());
   {
     gl::StageTimer::Scope stage(ctx.timer, "illuminate");

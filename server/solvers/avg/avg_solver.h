@@ -17,6 +17,7 @@
 #include "solvers/memory_estimate.h"
 #include "solvers/moved_bounds.h"
 #include "solvers/solver.h"
+#include "solvers/view_memory.h"
 
 namespace gistream {
 
@@ -102,6 +103,7 @@ class AvgSolver final : public Solver {
   double ms_per_map_ = 0.0;  // running estimate, sizes the slices
   DirectLighting direct_;
   avg::InterleavedBuffer split_;
+  ViewScratch split_memory_;  // split_'s bytes, reserved before it grows
   gl::Program illuminate_;
   gl::Program filter_;
   gl::FullscreenPass fullscreen_;

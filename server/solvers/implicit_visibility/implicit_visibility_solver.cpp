@@ -283,6 +283,11 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
 absl::Status ImplicitVisibilitySolver::Shade(SolverContext& ctx, const ViewCamera& camera,
                                              const GBuffer& gbuffer) {
   gl::StageTimer::Scope stage(ctx.timer, "display");
+  // Display's irradiance (RGBA32F) and depth (32F) targets: 20 bytes a pixel.
+  GS_RETURN_IF_ERROR(
+      display_memory_.Fit(ctx, 0, uint64_t(gbuffer.width()) * gbuffer.height() * 20,
+                          absl::StrCat("implicit_visibility: width x height ", gbuffer.width(), "x",
+                                       gbuffer.height(), " (its display targets)")));
   // The G-buffer's clip planes (render/camera.h), so both depth tests agree.
   display_.Draw(WithDepthRange(camera, ctx.state, ctx.gpu.WorldBounds(ctx.state)), gbuffer,
                 illumination_.indirect(), lighting_, indirect_scale_);

@@ -31,6 +31,7 @@
 #include "solvers/implicit_visibility/scene_elements.h"
 #include "solvers/memory_estimate.h"
 #include "solvers/solver.h"
+#include "solvers/view_memory.h"
 
 namespace gistream {
 
@@ -104,6 +105,7 @@ class ImplicitVisibilitySolver final : public Solver {
   float indirect_scale_ = 1.0f;
   Illumination illumination_;
   Display display_;
+  ViewScratch display_memory_;  // display_'s view-sized targets
 
   bool illumination_stale_ = false;  // an illumination waits for the links
   uint64_t solved_version_ = 0;      // scene version the shown GI reflects

@@ -16,8 +16,10 @@ MemoryEstimate PathtraceSolver::EstimateMemory(const ParamSet& /*params*/, const
     const uint64_t pixels = uint64_t(env->image.width) * uint64_t(env->image.height);
     estimate.items.push_back({"", "environment sampling tables", pixels * 8, 0});
   }
-  // The per-view accumulation buffers are view-dependent and capped by the
-  // solver itself (kMaxViews, kMaxAccumulationBytes), not estimated here.
+  // The per-view accumulation buffers (24 bytes a pixel) and the image
+  // upload buffer (16 bytes a pixel) are view-dependent: the solver reserves
+  // them when a view needs them (SolverContext::reserve), and its caps
+  // (kMaxViews, kMaxAccumulationBytes) still apply.
   return estimate;
 }
 

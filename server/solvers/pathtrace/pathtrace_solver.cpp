@@ -78,7 +78,8 @@ bool PathtraceSolver::SameView(const ViewCamera& a, const ViewCamera& b) {
          a.width == b.width && a.height == b.height;
 }
 
-PathtraceSolver::Accumulation& PathtraceSolver::ViewFor(const ViewCamera& camera) {
+absl::StatusOr<PathtraceSolver::Accumulation*> PathtraceSolver::ViewFor(const SolverContext& ctx,
+                                                                        const ViewCamera& camera) {
   Accumulation* pick = nullptr;
   for (Accumulation& acc : views_) {
     if (SameView(acc.view, camera)) pick = &acc;
@@ -99,12 +100,18 @@ PathtraceSolver::Accumulation& PathtraceSolver::ViewFor(const ViewCamera& camera
       }));
     }
     current_ = nullptr;  // it may have pointed at a view just dropped or moved
+    GS_ASSIGN_OR_RETURN(
+        MemoryCharge memory,
+        ReserveViewMemory(ctx, need, 0,
+                          absl::StrCat("pathtrace: width x height ", camera.width, "x",
+                                       camera.height, " (its accumulation buffer)")));
     pick = &views_.emplace_back();
     pick->view = camera;
     pick->accum.assign(size_t(camera.width) * size_t(camera.height) * 3, 0.0);
+    pick->memory = std::move(memory);
   }
   pick->last_used = ++clock_;
-  return *pick;
+  return pick;
 }
 
 void PathtraceSolver::TraceRows(const SceneState& state, Accumulation& acc, int row_begin,
@@ -148,7 +155,11 @@ absl::Status PathtraceSolver::Shade(SolverContext& ctx, const ViewCamera& camera
                                     const GBuffer& gbuffer) {
   const size_t pixels = size_t(camera.width) * size_t(camera.height);
   const int h = int(camera.height);
-  Accumulation& acc = ViewFor(camera);
+  GS_RETURN_IF_ERROR(image_memory_.Fit(ctx, pixels * 4 * sizeof(float), 0,
+                                       absl::StrCat("pathtrace: width x height ", camera.width, "x",
+                                                    camera.height, " (its image upload buffer)")));
+  GS_ASSIGN_OR_RETURN(Accumulation * view, ViewFor(ctx, camera));
+  Accumulation& acc = *view;
   current_ = &acc;
   if (acc.frame_complete) {  // a new frame: what it owes
     acc.frame_complete = false;

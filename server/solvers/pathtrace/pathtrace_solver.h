@@ -12,6 +12,7 @@
 #include "solvers/pathtrace/scene_bvh.h"
 #include "solvers/memory_estimate.h"
 #include "solvers/solver.h"
+#include "solvers/view_memory.h"
 
 namespace gistream {
 
@@ -52,6 +53,7 @@ class PathtraceSolver final : public Solver {
     uint64_t rays = 0;     // since the accumulation restarted
     uint64_t nonfinite = 0;
     uint64_t last_used = 0;
+    MemoryCharge memory;  // `accum`'s bytes, reserved before it is allocated
   };
   static constexpr size_t kMaxViews = 4;
   // Accumulations of all views together (doubles: 24 bytes a pixel); a
@@ -60,8 +62,10 @@ class PathtraceSolver final : public Solver {
 
   PathtraceSolver() = default;
   static bool SameView(const ViewCamera& a, const ViewCamera& b);
-  // The accumulation of `camera`'s view (least recently used one replaced).
-  Accumulation& ViewFor(const ViewCamera& camera);
+  // The accumulation of `camera`'s view (least recently used one replaced);
+  // a new one is reserved through ctx.reserve first (RESOURCE_EXHAUSTED
+  // naming the view's size when refused).
+  absl::StatusOr<Accumulation*> ViewFor(const SolverContext& ctx, const ViewCamera& camera);
   // Traces sample `acc.spp_total` of rows [row_begin, row_end).
   void TraceRows(const SceneState& state, Accumulation& acc, int row_begin, int row_end);
 
@@ -78,6 +82,7 @@ class PathtraceSolver final : public Solver {
   Accumulation* current_ = nullptr;  // the last shaded view
   uint64_t clock_ = 0;
   std::vector<float> image_;  // RGBA averages for upload
+  ViewScratch image_memory_;  // image_'s bytes
   double ms_per_row_ = 0.0;   // per pixel row of a pass, a running estimate; sizes slices
 };
 
