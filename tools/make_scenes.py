@@ -142,9 +142,10 @@ class Gltf:
         self.doc["accessors"].append(acc)
         return len(self.doc["accessors"]) - 1
 
-    def material(self, name, albedo, emissive=None, strength=None):
+    def material(self, name, albedo, emissive=None, strength=None, metallic=0.0, roughness=1.0):
         mat = {"name": name, "pbrMetallicRoughness": {
-            "baseColorFactor": list(albedo) + [1.0], "metallicFactor": 0.0, "roughnessFactor": 1.0}}
+            "baseColorFactor": list(albedo) + [1.0], "metallicFactor": metallic,
+            "roughnessFactor": roughness}}
         if emissive:
             mat["emissiveFactor"] = list(emissive)
             mat["extensions"] = {"KHR_materials_emissive_strength": {"emissiveStrength": strength}}
@@ -397,6 +398,39 @@ def furnace(out):
     g.write(os.path.join(out, "furnace.gltf"))
 
 
+def glossy_box(out):
+    """After the antiradiance paper's glossy box (Dachsbacher et al. 2007,
+    Fig. 15): a glossy gold cube (metallic 1, roughness 0.3) turned 30
+    degrees on the floor of a closed diffuse room (4 x 3 x 4 m, grey 0.6,
+    a red and a green side wall), lit by one spot light from the ceiling
+    aimed at the cube. Materials with metallic 0 and roughness 1 are
+    Lambertian (README, material model)."""
+    g = Gltf("glossy_box")
+    grey = g.material("grey", (0.6, 0.6, 0.6))
+    red = g.material("red", (0.6, 0.15, 0.12))
+    green = g.material("green", (0.15, 0.5, 0.15))
+    gold = g.material("gold", (1.0, 0.78, 0.34), metallic=1.0, roughness=0.3)
+    x0, x1, y1, z0, z1, n = -2.0, 2.0, 3.0, -2.0, 2.0, 12
+    inside = (0.0, 1.5, 0.0)
+    walls = (("floor", grey, [(x0, 0, z1), (x1, 0, z1), (x1, 0, z0), (x0, 0, z0)]),
+             ("ceiling", grey, [(x0, y1, z0), (x1, y1, z0), (x1, y1, z1), (x0, y1, z1)]),
+             ("back", grey, [(x0, 0, z0), (x1, 0, z0), (x1, y1, z0), (x0, y1, z0)]),
+             ("front", grey, [(x1, 0, z1), (x0, 0, z1), (x0, y1, z1), (x1, y1, z1)]),
+             ("left", red, [(x0, 0, z1), (x0, 0, z0), (x0, y1, z0), (x0, y1, z1)]),
+             ("right", green, [(x1, 0, z0), (x1, 0, z1), (x1, y1, z1), (x1, y1, z0)]))
+    for name, mat, q in walls:
+        g.node(name, Mesh().quad(*q, n, n, toward=inside), mat)
+    half = math.radians(30.0) / 2.0
+    g.node("cube", Mesh().box((-0.5, 0.0, -0.5), (0.5, 1.0, 0.5), 6), gold,
+           translation=(0.0, 0.0, -0.3), rotation=(0.0, math.sin(half), 0.0, math.cos(half)))
+    lamp, aim = (0.6, 2.9, 1.2), (0.0, 0.5, -0.3)
+    g.light("spot", "spot", 80.0, lamp, look_at(lamp, aim),
+            spot={"innerConeAngle": 0.35, "outerConeAngle": 0.5})
+    eye = (0.0, 1.5, 1.9)
+    g.camera("camera", eye, look_at(eye, (0.0, 0.6, -0.5)), math.radians(60.0), 0.01)
+    g.write(os.path.join(out, "glossy_box.gltf"))
+
+
 def dynamic_block(out):
     """6 x 6 m floor, back wall, a movable 0.5 m block, a point light and a sun."""
     g = Gltf("dynamic_block")
@@ -454,8 +488,8 @@ def main():
     out = sys.argv[1] if len(sys.argv) > 1 else os.path.join(
         os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scenes")
     os.makedirs(out, exist_ok=True)
-    for make in (cornell_box, cornell_box_coarse, indirect_room, furnace, dynamic_block,
-                 cornell_orbit):
+    for make in (cornell_box, cornell_box_coarse, indirect_room, furnace, glossy_box,
+                 dynamic_block, cornell_orbit):
         make(out)
 
 

@@ -39,7 +39,26 @@ TEST_P(BundledScene, Imports) {
 
 INSTANTIATE_TEST_SUITE_P(All, BundledScene,
                          ::testing::Values("cornell_box", "cornell_box_coarse", "indirect_room",
-                                           "furnace", "dynamic_block"));
+                                           "furnace", "dynamic_block", "glossy_box"));
+
+TEST(BundledScenes, GlossyBoxHasOneGlossyMaterial) {
+  // Every material Lambertian (metallic 0, roughness 1) but the gold cube's.
+  auto scene = ImportSceneByName(kSceneDir, "glossy_box", {});
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  int glossy = 0;
+  for (const Material& m : scene->materials) {
+    if (m.name != "gold") {
+      EXPECT_EQ(m.metallic_factor, 0.0f) << m.name;
+      EXPECT_EQ(m.roughness_factor, 1.0f) << m.name;
+      continue;
+    }
+    ++glossy;
+    EXPECT_EQ(m.metallic_factor, 1.0f);
+    EXPECT_FLOAT_EQ(m.roughness_factor, 0.3f);
+  }
+  EXPECT_EQ(glossy, 1);
+  EXPECT_EQ(scene->lights.size(), 1u);
+}
 
 TEST(BundledScenes, CoarseCornellBoxIsTheSameBoxInOneQuadPerFace) {
   // 64 vertices like the common OBJ versions; the same measured corners,

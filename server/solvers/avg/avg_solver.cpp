@@ -45,6 +45,9 @@ SolverDescription AvgSolver::Describe() {
        "Direct light: stratified samples over emissive surfaces, each with a shadow map"},
       {"direct_shadow_res", ParamType::kInt, "256", 16, 4096, {},
        "Direct light: shadow map resolution per cube face / directional map"},
+      {"full_detail", ParamType::kBool, "false", 0, 0, {},
+       "Voxelize and draw the direct-light shadow maps from the full meshes instead of their "
+       "simplified proxies (docs/ARCHITECTURE.md, Proxy geometry)"},
   };
   // clang-format on
   return d;
@@ -66,6 +69,8 @@ absl::StatusOr<std::unique_ptr<Solver>> AvgSolver::Create(const ParamSet& params
   solver->clamp_ = float(params.GetFloat("clamp"));
   solver->direct_settings_.area_samples = params.GetInt("area_samples");
   solver->direct_settings_.shadow_resolution = params.GetInt("direct_shadow_res");
+  solver->full_detail_ = params.GetBool("full_detail");
+  solver->direct_settings_.full_detail = solver->full_detail_;
   // Two atlases: the shown one and the one a re-map draws into.
   const double atlas = 2.0 * double(solver->trace_settings_.vpls) * solver->shadow_resolution_ *
                        solver->shadow_resolution_ * 4.0;
@@ -242,7 +247,7 @@ bool AvgSolver::Voxelize(SolverContext& ctx, ChangeMask changes) {
         std::round(double(cells.x)) * std::round(double(cells.y)) * std::round(double(cells.z));
     unmapped_change_.Extend(moved);
   } else {
-    grid_ = avg::VoxelGrid::Build(ctx.state, grid_resolution_);
+    grid_ = avg::VoxelGrid::Build(ctx.state, grid_resolution_, full_detail_);
     voxels_rewritten_ = std::pow(double(grid_->resolution()), 3.0);
     // A material change alone leaves the maps' geometry as it was.
     if ((changes & kChangeGeometry) && moved.empty()) {

@@ -100,7 +100,8 @@ class AvgSolver final : public Solver {
   std::vector<int> remap_layers_;  // the layers to draw, in order
   bool remap_pending_ = false;
   int remap_next_ = 0;
-  double ms_per_map_ = 0.0;  // running estimate, sizes the slices
+  double ms_per_map_ = 0.0;   // running estimate, sizes the slices
+  bool full_detail_ = false;  // voxelize and draw shadow maps from the full meshes
   DirectLighting direct_;
   avg::InterleavedBuffer split_;
   ViewScratch split_memory_;  // split_'s bytes, reserved before it grows

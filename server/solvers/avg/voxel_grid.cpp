@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "scene/proxy_levels.h"
 #include "solvers/avg/tri_box_overlap.h"
 
 namespace gistream::avg {
@@ -81,8 +82,9 @@ void VoxelGrid::Place(const SceneState& state, int resolution) {
   origin_ = bounds.center() - 0.5f * padded - size_;
 }
 
-VoxelGrid VoxelGrid::Build(const SceneState& state, int resolution) {
+VoxelGrid VoxelGrid::Build(const SceneState& state, int resolution, bool full_detail) {
   VoxelGrid grid;
+  grid.full_detail_ = full_detail;
   grid.Place(state, resolution);
   grid.voxels_.assign(size_t(grid.n_) * size_t(grid.n_) * size_t(grid.n_), Voxel{});
   grid.Rasterize(state, glm::ivec3(0), glm::ivec3(grid.n_ - 1));
@@ -128,6 +130,10 @@ void VoxelGrid::Rasterize(const SceneState& state, const glm::ivec3& lo, const g
   const glm::vec3 box_max = origin_ + glm::vec3(hi + 2) * size_;
   const bool whole = lo == glm::ivec3(0) && hi == glm::ivec3(n_ - 1);
   std::vector<glm::vec3> texture_means(scene.images.size(), glm::vec3(-1.0f));
+  // Proxies within half the smallest voxel side (issue 19): moving a
+  // surface by less changes which voxels it touches by at most one voxel at
+  // its edges, where the conservative test already reaches.
+  const float tolerance = full_detail_ ? -1.0f : 0.5f * std::min({size_.x, size_.y, size_.z});
   for (size_t n = 0; n < scene.nodes.size(); ++n) {
     const int mesh = scene.nodes[n].mesh;
     if (mesh < 0) continue;
@@ -157,10 +163,13 @@ void VoxelGrid::Rasterize(const SceneState& state, const glm::ivec3& lo, const g
         }
       }
       albedo = glm::clamp(albedo, 0.0f, 1.0f);  // as the G-buffer stores it
-      for (size_t i = 0; i + 2 < p.indices.size(); i += 3) {
-        Add(glm::vec3(m * glm::vec4(p.positions[p.indices[i]], 1.0f)),
-            glm::vec3(m * glm::vec4(p.positions[p.indices[i + 1]], 1.0f)),
-            glm::vec3(m * glm::vec4(p.positions[p.indices[i + 2]], 1.0f)), albedo, lo, hi);
+      const int level = PickProxyLevel<ProxyLevel>(p.proxies, MaxScale(m), tolerance);
+      const std::vector<uint32_t>& indices =
+          level >= 0 ? p.proxies[size_t(level)].indices : p.indices;
+      for (size_t i = 0; i + 2 < indices.size(); i += 3) {
+        Add(glm::vec3(m * glm::vec4(p.positions[indices[i]], 1.0f)),
+            glm::vec3(m * glm::vec4(p.positions[indices[i + 1]], 1.0f)),
+            glm::vec3(m * glm::vec4(p.positions[indices[i + 2]], 1.0f)), albedo, lo, hi);
       }
     }
   }

@@ -38,7 +38,9 @@ class VoxelGrid {
   // Voxelizes every mesh instance of `state` (current transforms and
   // materials) into a `resolution`^3 grid over the scene's bounds padded by
   // one voxel. Resolution 1..1024.
-  static VoxelGrid Build(const SceneState& state, int resolution);
+  // Each primitive is drawn from its coarsest proxy level within half a
+  // voxel (scene/proxy_levels.h), or in full with `full_detail`.
+  static VoxelGrid Build(const SceneState& state, int resolution, bool full_detail = false);
 
   // Voxelizes only what moved (materials unchanged): `moved` is a world box
   // holding every moved triangle's old and new place (solvers/moved_bounds.h).
@@ -96,6 +98,7 @@ class VoxelGrid {
   glm::vec3 size_{1.0f};
   std::vector<Voxel> voxels_;
   size_t filled_ = 0;
+  bool full_detail_ = false;
   Bounds rewritten_;
 };
 
