@@ -78,6 +78,7 @@ void BenchSession::SendTick() {
       if (stop_updates_) return;
       seq = next_seq_++;
       last_seq_sent_ = seq;
+      last_tick_sent_ = tick_ - 1;
       const BenchClock::time_point now = BenchClock::now();
       const bool measured = window_set_ && now >= window_start_ && now < window_end_;
       // Registered before the send: the answering frame may come back
@@ -124,12 +125,16 @@ void BenchSession::ReadLoop() {
     const v1::Frame& frame = event.frame();
     {
       std::lock_guard lock(mutex_);
+      if (keep_settle_frames_ && !frame.image().empty()) last_image_ = frame.image();
       tracker_.OnFrame(frame.last_update_seq(), now);
       if (stop_updates_ && !settle_ms_ && frame.last_update_seq() >= last_seq_sent_) {
-        const auto complete = frame.stats().find("update_complete");
-        if (complete == frame.stats().end() || complete->second != 0.0) {
-          settle_ms_ = std::chrono::duration<double, std::milli>(now - stopped_at_).count();
+        const double ms = std::chrono::duration<double, std::milli>(now - stopped_at_).count();
+        // A still frame (no image: the pixels did not change) shows the last.
+        if (keep_settle_frames_) {
+          settle_frames_.push_back({ms, frame.image().empty() ? last_image_ : frame.image()});
         }
+        const auto complete = frame.stats().find("update_complete");
+        if (complete == frame.stats().end() || complete->second != 0.0) settle_ms_ = ms;
       }
       if (window_set_ && intervals_->Add(now)) {
         ++live_frames_;
@@ -156,6 +161,17 @@ void BenchSession::Close() {
   if (sender_.joinable()) sender_.join();
   if (stream_) stream_->CloseWrites(std::chrono::seconds(10));
   if (reader_.joinable()) reader_.join();
+}
+
+std::vector<BenchSession::SettleFrame> BenchSession::SettleFrames() const {
+  std::lock_guard lock(mutex_);
+  return settle_frames_;
+}
+
+std::vector<v1::Update> BenchSession::LastUpdates() const {
+  std::lock_guard lock(mutex_);
+  if (!last_tick_sent_) return {};
+  return workload_.UpdatesForTick(*last_tick_sent_);
 }
 
 SessionMeasurement BenchSession::Result() const {

@@ -12,6 +12,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "bench_stats.h"
 #include "bench_workload.h"
@@ -55,6 +56,19 @@ class BenchSession {
   // After Close.
   SessionMeasurement Result() const;
 
+  // Keeps the images of the frames that show the last update (from the
+  // first such frame after StopUpdates to the settled one), for the time
+  // to converge against a reference (bench --reference-spp).
+  void KeepSettleFrames() { keep_settle_frames_ = true; }
+  struct SettleFrame {
+    double ms = 0.0;  // after StopUpdates
+    std::string image;
+  };
+  // After Close: those frames, and the updates of the last tick sent (the
+  // scene state they show).
+  std::vector<SettleFrame> SettleFrames() const;
+  std::vector<v1::Update> LastUpdates() const;
+
   // Live figures for the progress line: frames inside the window so far,
   // and a copy of the latencies measured so far.
   int LiveFrames() const;
@@ -87,6 +101,10 @@ class BenchSession {
   uint64_t last_seq_sent_ = 0;
   BenchClock::time_point stopped_at_{};
   std::optional<double> settle_ms_;
+  std::atomic<bool> keep_settle_frames_{false};
+  std::vector<SettleFrame> settle_frames_;
+  std::string last_image_;  // the last frame's that had one
+  std::optional<uint64_t> last_tick_sent_;
   uint64_t dropped_ = 0;
   uint64_t bytes_ = 0;
   int live_frames_ = 0;

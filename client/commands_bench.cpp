@@ -22,10 +22,12 @@
 #include "bench_workload.h"
 #include "commands.h"
 #include "connection.h"
+#include "encode/encode.h"
 #include "interrupt.h"
 #include "scene_loader.h"
 #include "session_common.h"
 #include "text_table.h"
+#include "util/image_metrics.h"
 #include "util/log.h"
 
 namespace gistream::client {
@@ -177,6 +179,7 @@ std::string Canonical(const BenchOptions& o, const std::string& servers) {
                   o.warmup_s, "s --channels ", o.channel_per_session ? "per-session" : "shared",
                   " --fps ", o.fps);
   if (!o.interfere.empty()) absl::StrAppend(&cmd, " --interfere \"", o.interfere, "\"");
+  if (o.reference_spp > 0) absl::StrAppend(&cmd, " --reference-spp ", o.reference_spp);
   return cmd;
 }
 
@@ -202,11 +205,95 @@ void FinishSample(BenchServer& server) {
       wall > 0.0 ? 100.0 * (server.last.cpu_seconds() - server.first.cpu_seconds()) / wall : 0.0;
 }
 
+// What the first session showed after the updates stopped (--reference-spp).
+struct SettleTrace {
+  std::vector<BenchSession::SettleFrame> frames;
+  std::vector<v1::Update> last_updates;
+};
+
+absl::StatusOr<RgbaImage> DecodeRgba(const std::string& bytes) {
+  GS_ASSIGN_OR_RETURN(
+      DecodedImage d,
+      DecodeImageBytes({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}));
+  return RgbaImage{d.width, d.height, std::move(d.rgba)};
+}
+
+// The time to converge (issue 12's figure of merit): on a fresh copy of the
+// scene in the final state, a full solve of the solver and a pathtrace
+// reference of `reference_spp`; the first frame after the stop from which
+// on every frame's relMSE stays within 5 % of the full solve's.
+absl::StatusOr<nlohmann::json> TimeToConverge(Connection& connection,
+                                              const v1::LoadSceneRequest& load,
+                                              const BenchOptions& options,
+                                              const SettleTrace& trace) {
+  if (trace.frames.empty()) return absl::FailedPreconditionError("no frame after the stop");
+  GS_ASSIGN_OR_RETURN(std::unique_ptr<LoadedScene> copy,
+                      LoadedScene::Load(connection, load, false));
+  auto request = [&](const std::string& solver, const std::map<std::string, std::string>& params,
+                     bool updates) {
+    v1::RenderRequest r;
+    r.set_scene_id(copy->id());
+    r.set_solver(solver);
+    for (const auto& [k, v] : params) (*r.mutable_params())[k] = v;
+    r.set_width(options.view.width);
+    r.set_height(options.view.height);
+    r.mutable_encoding()->set_format(v1::IMAGE_FORMAT_EXR);
+    if (options.view.camera.ByteSizeLong() > 0) *r.mutable_camera() = options.view.camera;
+    if (updates) {
+      for (const v1::Update& u : trace.last_updates) *r.add_updates() = u;
+    }
+    return r;
+  };
+  v1::Frame full_frame;
+  GS_RETURN_IF_ERROR(connection.Call(&v1::Gistream::Stub::Render,
+                                     request(options.solver.solver, options.solver.params, true),
+                                     &full_frame, 600.0));
+  // Progressive: the server keeps the pathtrace accumulation between calls.
+  const int chunk = std::min(options.reference_spp, 64);
+  v1::Frame reference_frame;
+  for (int spp = 0; spp < options.reference_spp; spp += chunk) {
+    GS_RETURN_IF_ERROR(connection.Call(
+        &v1::Gistream::Stub::Render,
+        request("pathtrace", {{"spp", std::to_string(chunk)}, {"seed", "1"}}, false),
+        &reference_frame, 600.0));
+  }
+  GS_ASSIGN_OR_RETURN(const RgbaImage reference, DecodeRgba(reference_frame.image()));
+  GS_ASSIGN_OR_RETURN(const RgbaImage full, DecodeRgba(full_frame.image()));
+  GS_ASSIGN_OR_RETURN(const ImageError full_error, CompareImages(full, reference));
+  std::vector<double> errors;  // per frame after the stop
+  for (const BenchSession::SettleFrame& f : trace.frames) {
+    if (f.image.empty()) return absl::FailedPreconditionError("a frame without an image");
+    GS_ASSIGN_OR_RETURN(const RgbaImage image, DecodeRgba(f.image));
+    GS_ASSIGN_OR_RETURN(const ImageError e, CompareImages(image, reference));
+    errors.push_back(e.rel_mse);
+  }
+  const double bound = 1.05 * full_error.rel_mse;
+  std::optional<size_t> first;
+  for (size_t i = errors.size(); i-- > 0;) {
+    if (!(errors[i] <= bound)) break;
+    first = i;
+  }
+  nlohmann::json out = {{"reference_spp", options.reference_spp},
+                        {"full_solve_rel_mse", full_error.rel_mse},
+                        {"first_frame_rel_mse", errors.front()},
+                        {"last_frame_rel_mse", errors.back()},
+                        {"frames_after_stop", errors.size()}};
+  if (first) {
+    out["frames"] = *first + 1;
+    out["ms"] = trace.frames[*first].ms;
+  } else {
+    out["frames"] = nullptr;
+    out["ms"] = nullptr;
+  }
+  return out;
+}
+
 // Runs one step with `count` sessions.
 absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const ConnectionOptions& connection,
                                    std::vector<BenchServer>& servers, const Workload& workload,
                                    Interferer* interferer, int count, const std::string& label,
-                                   Progress& progress, const std::atomic<bool>& interrupted) {
+                                   Progress& progress, const std::atomic<bool>& interrupted,
+                                   SettleTrace* trace) {
   SharedStages stages;
   std::vector<std::unique_ptr<Connection>> own_connections;
   std::vector<std::unique_ptr<BenchSession>> sessions;
@@ -225,6 +312,7 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
     auto session =
         std::make_unique<BenchSession>(server.address, workload, options.update_hz, stages);
     progress.Show(absl::StrCat(label, " opening session ", i + 1, "/", count));
+    if (trace && i == 0) session->KeepSettleFrames();
     const absl::Status opened = session->Open(channel->stub(), config);
     if (!opened.ok())
       Log(LogLevel::kWarning, absl::StrCat("session ", i + 1, ": ", DescribeStatus(opened)));
@@ -316,6 +404,10 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
   for (auto& s : sessions) s->StopUpdates();
   for (auto& s : sessions) s->Close();
   for (auto& s : sessions) measured.push_back(s->Result());
+  if (trace && !sessions.empty()) {
+    trace->frames = sessions[0]->SettleFrames();
+    trace->last_updates = sessions[0]->LastUpdates();
+  }
   progress.Clear();
 
   StatsSummary stage_summary;
@@ -346,6 +438,20 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
                         ParseInterferer(options.interfere, options.scene.scene, addresses[0]));
   }
   GS_ASSIGN_OR_RETURN(v1::LoadSceneRequest load, BuildLoadSceneRequest(options.scene));
+  if (options.reference_spp > 0) {
+    if (spec.kind != WorkloadKind::kObject) {
+      return absl::InvalidArgumentError(
+          "--reference-spp: needs --workload object (its updates set the node's whole pose)");
+    }
+    if (options.view.encoding.format() != v1::IMAGE_FORMAT_EXR) {
+      return absl::InvalidArgumentError("--reference-spp: needs --format exr (linear frames)");
+    }
+    if (load.has_name()) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "--reference-spp: --scene \"", options.scene.scene,
+          "\" is a server scene name; give a local file (its fresh copy gets fresh solvers)"));
+    }
+  }
 
   std::vector<BenchServer> servers;
   for (const std::string& address : addresses) {
@@ -401,14 +507,28 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
   ScopedInterruptHandler on_interrupt([&](int) { interrupted = true; });
   Progress progress(StderrIsTty());
   std::vector<StepResult> steps;
+  nlohmann::json converge = nlohmann::json::array();  // per step, with --reference-spp
   for (size_t i = 0; i < options.sessions.size() && !interrupted; ++i) {
     const int count = options.sessions[i];
     const std::string label = absl::StrCat("[step ", i + 1, "/", options.sessions.size(), ": ",
                                            count, count == 1 ? " session]" : " sessions]");
     if (!StderrIsTty()) std::cout << label << " running" << std::endl;
-    GS_ASSIGN_OR_RETURN(StepResult step,
-                        RunStep(options, connection, servers, workload, interferer.get(), count,
-                                label, progress, interrupted));
+    SettleTrace trace;
+    GS_ASSIGN_OR_RETURN(
+        StepResult step,
+        RunStep(options, connection, servers, workload, interferer.get(), count, label, progress,
+                interrupted, options.reference_spp > 0 ? &trace : nullptr));
+    if (options.reference_spp > 0 && !interrupted) {
+      absl::StatusOr<nlohmann::json> figure =
+          TimeToConverge(*servers[0].connection, load, options, trace);
+      if (figure.ok()) {
+        std::cout << label << " converge: " << figure->dump() << std::endl;
+        converge.push_back(*figure);
+      } else {
+        Log(LogLevel::kWarning, absl::StrCat("time to converge: ", figure.status().message()));
+        converge.push_back(nullptr);
+      }
+    }
     std::cout << label << " " << FormatFixed(step.fps_mean, 1) << " fps/session, latency p95 "
               << (step.latency_ms.p95 ? FormatFixed(*step.latency_ms.p95, 1) : "-")
               << " ms, longest frame interval "
@@ -450,7 +570,9 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
       {"duration_s", options.duration_s},
       {"warmup_s", options.warmup_s},
       {"channels", options.channel_per_session ? "per-session" : "shared"},
-      {"interfere", options.interfere}};
+      {"interfere", options.interfere},
+      {"reference_spp", options.reference_spp},
+      {"converge", converge}};
   std::cout << "\n" << FormatBenchTable(steps);
   for (const StepResult& s : steps) {
     std::cout << "stages (" << s.sessions << "): " << FormatStageMedians(s.stages) << "\n";

@@ -317,6 +317,10 @@ absl::StatusOr<BenchOptions> ParseBench(const ParsedFlags& flags) {
     }
   }
   if (auto value = flags.Get("interfere")) options.interfere = *value;
+  if (auto value = flags.Get("reference-spp")) {
+    GS_ASSIGN_OR_RETURN(int64_t spp, ParseInt("--reference-spp", *value, 0, 1 << 20));
+    options.reference_spp = int(spp);
+  }
   if (auto value = flags.Get("out")) {
     if (value->empty()) return Usage("--out: empty directory name");
     options.out_dir = *value;
@@ -500,6 +504,7 @@ absl::StatusOr<CommandLine> ParseCommandLine(std::span<const std::string> args,
                                  {"channels"},
                                  {"fps"},
                                  {"interfere"},
+                                 {"reference-spp"},
                                  {"out"}});
       break;
   }

@@ -109,6 +109,7 @@ struct BenchOptions {
   bool channel_per_session = false;  // else one channel per server
   float fps = 30.0f;                 // session frame cap; 0: the server's default
   std::string interfere;             // a `render ...` command line run in a loop
+  int reference_spp = 0;             // > 0: time to converge against a pathtrace reference
   std::filesystem::path out_dir = "out/bench";
 };
 

@@ -151,6 +151,7 @@ constexpr absl::string_view kBench =
                 [--duration T] [--warmup T] [--workload orbit|light|object|mixed|FILE.json]
                 [--node NAME_OR_ID] [--update-hz HZ] [--channels shared|per-session]
                 [--fps F|uncapped] [--interfere "render ..."] [--out DIR]
+                [--reference-spp N]
                 [--scene NAME_OR_FILE] [--solver NAME] [--param KEY=VALUE]...
                 [--size WxH] [--format jpeg|png|exr] [--quality Q]
 
@@ -185,6 +186,12 @@ fps_vs_sessions.png and latency_vs_sessions.png into DIR.
                        loop by an extra client during warmup and measurement,
                        on the first server, to measure isolation
   --out DIR            output directory (default out/bench)
+  --reference-spp N    object workload, --format exr: after each step, the
+                       time to converge of the first session: the frames
+                       and ms after the updates stop until relMSE against
+                       a pathtrace reference of N spp stays within 5 % of a
+                       full solve's (both rendered on a fresh copy of the
+                       scene in the final state); in the output as converge
   --scene, --solver, --param, --size, --format, --quality, --exposure as
   for stream (defaults: cornell_box, direct, 128x128, jpeg).
 With several servers (--server a,b) sessions are placed round-robin and
