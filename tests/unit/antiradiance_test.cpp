@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "solvers/antiradiance/directional_bins.h"
+#include "solvers/antiradiance/form_factor.h"
 #include "solvers/antiradiance/links.h"
 #include "solvers/antiradiance/patches.h"
 #include "solvers/antiradiance/shared_elements.h"
@@ -207,6 +208,133 @@ std::vector<std::vector<SourceTriangle>> Box(float rho) {
           Quad({0, 0, -0.5f}, kX, kY, 1, 1, rho),  Quad({0, 0, 0.5f}, kX, -kY, 1, 1, rho)};
 }
 
+TEST(AntiradianceFormFactor, PointToPolygonMatchesTheAnalyticValues) {
+  const glm::vec3 x(0.0f), up(0, 1, 0);
+  // A unit square one unit above, corner over the point (Howell's
+  // catalogue, B-3): (1 / pi) (1 / sqrt 2) atan(1 / sqrt 2) = 0.138527.
+  const CellQuad corner = {glm::vec3(0, 1, 0), glm::vec3(1, 1, 0), glm::vec3(1, 1, 1),
+                           glm::vec3(0, 1, 1)};
+  EXPECT_NEAR(PointToQuadsFormFactor({&corner, 1}, x, up), 0.138527, 1e-5);
+  // As two triangles (a repeated corner): the same.
+  const CellQuad halves[2] = {{corner[0], corner[1], corner[2], corner[2]},
+                              {corner[0], corner[2], corner[3], corner[3]}};
+  EXPECT_NEAR(PointToQuadsFormFactor(halves, x, up), 0.138527, 1e-5);
+  // A huge square above covers the hemisphere: 1.
+  const CellQuad sky = {glm::vec3(-1e4f, 1, -1e4f), glm::vec3(1e4f, 1, -1e4f),
+                        glm::vec3(1e4f, 1, 1e4f), glm::vec3(-1e4f, 1, 1e4f)};
+  EXPECT_NEAR(PointToQuadsFormFactor({&sky, 1}, x, up), 1.0, 1e-3);
+  // A wall through the point's plane: only the part in front counts; a
+  // half-infinite wall beside the point gives 1/2 (its horizon to zenith).
+  const CellQuad wall = {glm::vec3(-1e4f, -1e4f, 1e-3f), glm::vec3(1e4f, -1e4f, 1e-3f),
+                         glm::vec3(1e4f, 1e4f, 1e-3f), glm::vec3(-1e4f, 1e4f, 1e-3f)};
+  EXPECT_NEAR(PointToQuadsFormFactor({&wall, 1}, x, up), 0.5, 1e-3);
+  // Behind the point: nothing.
+  const CellQuad below = {sky[0] - glm::vec3(0, 2, 0), sky[1] - glm::vec3(0, 2, 0),
+                          sky[2] - glm::vec3(0, 2, 0), sky[3] - glm::vec3(0, 2, 0)};
+  EXPECT_EQ(PointToQuadsFormFactor({&below, 1}, x, up), 0.0);
+}
+
+// The bundled furnace's mesh: a closed 2 m cube of six walls of n x n
+// quads (separate vertices per wall), facing in, through the shared vertex
+// hierarchy with each vertex's cell, as SurfelPatches builds it.
+Patches VertexFurnace(int n, float rho) {
+  Primitive p;
+  for (int axis = 0; axis < 3; ++axis) {
+    for (int side = -1; side <= 1; side += 2) {
+      const uint32_t base = uint32_t(p.positions.size());
+      glm::vec3 normal(0.0f);
+      normal[axis] = -float(side);
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      for (int y = 0; y <= n; ++y) {
+        for (int x = 0; x <= n; ++x) {
+          glm::vec3 q(0.0f);
+          q[axis] = float(side);
+          q[u] = -1.0f + 2.0f * float(x) / float(n);
+          q[v] = -1.0f + 2.0f * float(y) / float(n);
+          p.positions.push_back(q);
+          p.normals.push_back(normal);
+        }
+      }
+      for (int y = 0; y < n; ++y) {
+        for (int x = 0; x < n; ++x) {
+          const uint32_t a = base + uint32_t(y * (n + 1) + x), b = a + 1, c = a + uint32_t(n + 1),
+                         d = c + 1;
+          p.indices.insert(p.indices.end(), {a, b, c, b, d, c});
+        }
+      }
+    }
+  }
+  auto mesh = std::make_shared<hierarchy::ElementMesh>();
+  mesh->surfels = hierarchy::CreateSurfels(p);
+  mesh->tree = hierarchy::CreateHierarchy(mesh->surfels);
+  hierarchy::Elements elements({{mesh, 0, {}}});
+  elements.Update({glm::mat4(1.0f)});
+  const std::vector<glm::vec3> albedo(size_t(elements.leaf_count()), glm::vec3(rho));
+  const std::vector<int> tag(size_t(elements.leaf_count()), 0);
+  const std::vector<std::vector<CellQuad>> cells = VertexCells(p);
+  return PatchesFromElements(elements, albedo, tag, &cells);
+}
+
+// Area-weighted mean of the leaves' indirect irradiance (green).
+double MeanLeafIrradiance(const Patches& p, const Transport& t) {
+  double e = 0.0, a = 0.0;
+  for (int i : p.Leaves()) {
+    e += double(p.area[size_t(i)]) * t.indirect_irradiance()[size_t(i)].g;
+    a += p.area[size_t(i)];
+  }
+  return e / a;
+}
+
+TEST(AntiradianceEnergy, ClosedBoxGathersWhatItSends) {
+  // One global pass in the furnace (every leaf's radiosity pi, L = 1):
+  // every leaf should gather E = pi. Before the exact near-field form
+  // factor and the bins' cosine correction (links.cpp) the mean was 2.9 %
+  // low (edge leaves 12 to 20 % low), and every bounce lost that.
+  const DirectionalBins bins = *DirectionalBins::Create(128);
+  const Patches p = VertexFurnace(16, 0.0f);
+  ASSERT_EQ(p.Cell(p.Leaves()[0]).empty(), false);
+  LinkStats stats;
+  Transport t(p, bins, CreateLinks(p, bins, &stats));
+  EXPECT_GT(stats.exact, 0u);
+  const std::vector<glm::vec3> emit(size_t(p.size()), glm::vec3(1.0f));
+  TransportSettings settings;
+  settings.iterations = 1;
+  t.Solve({}, emit, settings);
+  const double mean = MeanLeafIrradiance(p, t) / kPi;
+  double lo = 1e30;
+  for (int i : p.Leaves()) lo = std::min(lo, double(t.indirect_irradiance()[size_t(i)].g) / kPi);
+  std::printf("closed box, one pass: mean E / pi %.5f, lowest leaf %.4f, %llu exact links\n", mean,
+              lo, static_cast<unsigned long long>(stats.exact));
+  // Measured 0.99878 (the clusters' Eq. 17 kernel with r^2 + a / pi is the
+  // rest); never above 1 (no energy created), 0.3 % below at most.
+  EXPECT_LE(mean, 1.0 + 1e-4);
+  EXPECT_GE(mean, 0.997);
+  EXPECT_GE(lo, 0.85);  // measured 0.92 (was 0.77)
+}
+
+TEST(AntiradianceEnergy, StiffFurnaceConvergesNearTheExactValue) {
+  // The same box emitting L_e = 1 through the direct term (E_d = pi) with
+  // albedo rho, iterated to 1e-5: E = pi rho / (1 - rho). Measured -0.2 %
+  // (0.5), -0.5 % (0.9), -4.4 % (0.99) of E: k ~ 0.9988 per bounce.
+  const DirectionalBins bins = *DirectionalBins::Create(128);
+  for (float rho : {0.5f, 0.9f, 0.99f}) {
+    const Patches p = VertexFurnace(8, rho);
+    Transport t(p, bins, CreateLinks(p, bins, nullptr));
+    const std::vector<glm::vec3> direct(size_t(p.size()), glm::vec3(kPi));
+    TransportSettings settings;
+    settings.iterations = 4096;
+    settings.tolerance = 1e-5;
+    const TransportResult r = t.Solve(direct, {}, settings);
+    EXPECT_FALSE(r.cap_reached) << rho;
+    const double exact = kPi * rho / (1.0 - rho);
+    const double ratio = MeanLeafIrradiance(p, t) / exact;
+    std::printf("furnace rho %.2f: E / exact %.4f after %d iterations (scheme %d)\n", rho, ratio,
+                r.iterations, int(r.scheme_used));
+    EXPECT_LE(ratio, 1.0 + 1e-4) << rho;
+    EXPECT_GE(ratio, rho < 0.95f ? 0.99 : 0.94) << rho;
+  }
+}
+
 TEST(AntiradianceStability, StiffFurnaceStaysFiniteAndBounded) {
   for (float rho : {0.9f, 0.99f}) {
     Solved s(Box(rho), 0.2f, 128);
@@ -215,26 +343,35 @@ TEST(AntiradianceStability, StiffFurnaceStaysFiniteAndBounded) {
     settings.iterations = 48;
     const TransportResult r = s.transport->Solve({}, emit, settings);
     EXPECT_FALSE(r.non_finite);
-    // Indirect irradiance after n iterations: pi L_e (rho + ... + rho^n)
-    // at most; the fixed point pi L_e rho / (1 - rho) bounds every leaf.
-    const double bound = kPi * rho / (1.0 - rho);
-    const double truncated = kPi * (rho - std::pow(rho, 49)) / (1.0 - rho);
+    // The emission is transported (source B = pi L_e): the indirect
+    // irradiance after n iterations is pi L_e (1 + rho + ... + rho^(n-1)),
+    // the fixed point pi L_e / (1 - rho). (This test used rho times these,
+    // which only the former ~10 % loss let pass.)
+    const double bound = kPi / (1.0 - rho);
+    const double truncated = kPi * (1.0 - std::pow(rho, 48)) / (1.0 - rho);
     double lo = 1e30, hi = -1e30;
     for (int i : s.patches.Leaves()) {
       const glm::vec3 e = s.transport->indirect_irradiance()[size_t(i)];
       ASSERT_TRUE(std::isfinite(e.g));
       lo = std::min(lo, double(e.g)), hi = std::max(hi, double(e.g));
     }
-    EXPECT_LE(hi, bound) << rho;
+    const double mean = MeanLeafIrradiance(s.patches, *s.transport);
+    std::printf(
+        "box rho %.2f, 48 iterations: mean / truncated %.4f, leaves %.3f .. %.3f of the "
+        "fixed point (scheme %d, fallback %d)\n",
+        double(rho), mean / truncated, lo / bound, hi / bound, int(r.scheme_used), int(r.fallback));
+    // No energy made over the box; a leaf may pass the fixed point by the
+    // hierarchy's per-leaf error (a cluster's light is pushed to its leaves
+    // unchanged; measured +3.7 % at 0.9).
+    EXPECT_LE(mean, bound) << rho;
+    EXPECT_LE(hi, 1.1 * bound) << rho;
     EXPECT_GE(lo, 0.0) << rho;
-    // 15 % at rho 0.9: leaf-centre collocation and the disc form factor
-    // lose ~1 % of the light per bounce near the box's edges (measured
-    // -10 %); at rho 0.99 the loss compounds over 48 bounces (-38 %), so
-    // only the bounds are checked there.
-    if (rho < 0.95f) {
-      EXPECT_NEAR(s.MeanIrradiance(0) / truncated, 1.0, 0.15)
-          << rho << " scheme " << int(r.scheme_used);
-    }
+    // The near leaves' exact form factors and the bins' cosine correction
+    // (links.cpp) carry what a closed box sends: after 48 bounces within
+    // 2 % of the truncated series at 0.9 and 5 % at 0.99 (measured -1.2 %
+    // and -2.8 %; it was about -11 % and -39 %).
+    EXPECT_NEAR(mean / truncated, 1.0, rho < 0.95f ? 0.02 : 0.05)
+        << rho << " scheme " << int(r.scheme_used);
   }
 }
 

@@ -8,10 +8,46 @@
 namespace gistream::antiradiance {
 namespace {
 
+// Leaf pairs closer than this many times the sum of their bounding radii
+// take the exact point-to-polygon form factor of the sender's cell.
+constexpr float kNearLink = 8.0f;
+constexpr float kPi = 3.14159265358979f;
+
+// Per node: whether all its leaves share its normal (a leaf always), so one
+// cosine holds for the whole node; per leaf: S(n) = omega sum_j <n|omega_j>_+.
+struct NodeGeometry {
+  std::vector<uint8_t> flat;
+  std::vector<float> cosine_sum;
+};
+
+NodeGeometry Geometry(const Patches& p, const DirectionalBins& b) {
+  NodeGeometry g;
+  g.flat.assign(size_t(p.size()), 1);
+  g.cosine_sum.assign(size_t(p.size()), 0.0f);
+  for (int i = p.size() - 1; i >= 0; --i) {  // children follow their parent
+    const glm::vec3& n = p.normal[size_t(i)];
+    if (p.is_leaf(i)) {
+      double s = 0.0;
+      for (int j = 0; j < b.count(); ++j) s += std::max(0.0f, glm::dot(n, b.direction(j)));
+      g.cosine_sum[size_t(i)] = float(s * b.omega_bin());
+      continue;
+    }
+    for (int c : p.children[size_t(i)]) {
+      if (c >= 0 && (!g.flat[size_t(c)] || glm::dot(p.normal[size_t(c)], n) < 0.99999f))
+        g.flat[size_t(i)] = 0;
+    }
+  }
+  return g;
+}
+
 class Linker {
  public:
-  Linker(const Patches& p, const DirectionalBins& b, std::vector<Link>& out)
-      : p_(p), bins_(b), out_(out), bin_radius_(std::sqrt(b.omega_bin() / 3.14159265f)) {}
+  Linker(const Patches& p, const DirectionalBins& b, const NodeGeometry& g, std::vector<Link>& out)
+      : p_(p),
+        bins_(b),
+        geometry_(g),
+        out_(out),
+        bin_radius_(std::sqrt(b.omega_bin() / 3.14159265f)) {}
 
   void Refine(int recv, int send) {
     ++pairs_;
@@ -58,29 +94,88 @@ class Linker {
     l.sender_bin = uint16_t(bins_.Find(-w));
     l.receiver_bin = uint16_t(bins_.Find(w));
     l.cone = uint16_t(bins_.ConeLevel(ts));
+    // The bins' main directions stand for the true ones: their cosines
+    // differ, and near a node's horizon the nearest bin can lie on the
+    // other side (a sender's radiance read from its antiradiance bins, a
+    // receiver's light put where it never gathers). For a node whose
+    // leaves share one normal (`flat`), the link takes the nearest bin on
+    // the true side and is scaled by true / bin cosine on both ends, so it
+    // carries the cosines of Eq. 17 exactly.
+    float sender_cos = 0.0f, sender_bin_cos = 0.0f;  // flat senders: |cosines|
+    const bool flat_send = geometry_.flat[size_t(send)] != 0;
+    if (flat_send) {
+      const glm::vec3& n = p_.normal[size_t(send)];
+      const float c = glm::dot(n, -w);
+      if (c == 0.0f) return;  // in the sender's plane: nothing leaves that way
+      l.sender_bin = uint16_t(BinOnSide(-w, n, c > 0.0f, l.sender_bin));
+      sender_cos = std::abs(c);
+      sender_bin_cos = std::abs(glm::dot(n, bins_.direction(l.sender_bin)));
+      if (!(sender_bin_cos > 1e-6f)) return;
+    }
+    // What the receiver's leaves gather of a unit L_in spread from
+    // receiver_bin: sum of tap weight x cosine over the front taps.
+    float receiver_cos = 1.0f, gathered = 1.0f;
+    const bool flat_recv = geometry_.flat[size_t(recv)] != 0;
+    if (flat_recv) {
+      const glm::vec3& n = p_.normal[size_t(recv)];
+      receiver_cos = glm::dot(n, w);
+      if (receiver_cos <= 0.0f) return;  // behind every leaf of it
+      if (l.cone == 0) l.receiver_bin = uint16_t(BinOnSide(w, n, true, l.receiver_bin));
+      gathered = 0.0f;
+      const auto [begin, end] = bins_.Row(l.cone, l.receiver_bin);
+      for (auto* t = begin; t != end; ++t)
+        gathered += t->weight * std::max(0.0f, glm::dot(n, bins_.direction(t->bin)));
+      if (!(gathered > 1e-6f)) return;
+    }
+    if (l.cone > 0) ++spread_;
+    const std::span<const CellQuad> cell = p_.Cell(send);
+    if (p_.is_leaf(recv) && p_.is_leaf(send) && !cell.empty() && r < kNearLink * (rs + rr)) {
+      // Near leaves: the exact form factor F_pt of the sender's cell, so the
+      // receiver gathers E = pi L F_pt. The global pass gives
+      // E = (pi / S_r) omega_bin gathered F I_ex with I_ex = a |c_bin| B / S_s
+      // (radiance, L = B / pi) or a |c_bin| L (antiradiance).
+      const glm::vec3& nr = p_.normal[size_t(recv)];
+      const double f = PointToQuadsFormFactor(cell, p_.position[size_t(recv)], nr);
+      const bool radiance = glm::dot(p_.normal[size_t(send)], -w) > 0.0f;
+      double k = f * geometry_.cosine_sum[size_t(recv)] /
+                 (double(bins_.omega_bin()) * gathered * p_.area[size_t(send)] * sender_bin_cos);
+      if (radiance) k *= geometry_.cosine_sum[size_t(send)] / kPi;
+      if (!(k > 0.0) || !std::isfinite(k)) return;
+      l.form_factor = float(k);
+      ++exact_;
+      out_.push_back(l);
+      return;
+    }
     // Eq. 17, with the sender as a disc of its area: r^2 + a_k / pi keeps the
     // exchange finite (point-to-disc form factor) where leaves almost touch.
     l.form_factor = 1.0f / ((r * r + p_.area[size_t(send)] / 3.14159265f) * bins_.omega_bin());
-    if (l.cone > 0) {
-      ++spread_;
-      // A leaf gathers only over its positive hemisphere: scale the link so
-      // that the part of the spread that lands there carries all the flux.
-      if (p_.is_leaf(recv)) {
-        float front = 0.0f;
-        const auto [begin, end] = bins_.Row(l.cone, l.receiver_bin);
-        for (auto* t = begin; t != end; ++t) {
-          if (glm::dot(p_.normal[size_t(recv)], bins_.direction(t->bin)) > 0.0f) front += t->weight;
-        }
-        if (front <= 0.0f) return;
-        l.form_factor /= front;
-      }
-    }
+    if (flat_send) l.form_factor *= sender_cos / sender_bin_cos;
+    // A flat receiver gathers `gathered` where the true cosine is due; the
+    // spread part behind it is lost (scaling by the front share, as before
+    // for leaves, is the special case of equal cosines).
+    if (flat_recv) l.form_factor *= receiver_cos / gathered;
     out_.push_back(l);
   }
 
-  uint64_t pairs_ = 0, spread_ = 0;
+  uint64_t pairs_ = 0, spread_ = 0, exact_ = 0;
 
  private:
+  // Find(d), or when that bin is not on the wanted side of normal n (or
+  // in its plane), the nearest bin that is.
+  int BinOnSide(const glm::vec3& d, const glm::vec3& n, bool front, int found) const {
+    const float c = glm::dot(n, bins_.direction(found));
+    if (front ? c > 0.0f : c < 0.0f) return found;
+    int best = found;
+    float best_dot = -2.0f;
+    for (int j = 0; j < bins_.count(); ++j) {
+      const float cj = glm::dot(n, bins_.direction(j));
+      if (!(front ? cj > 0.0f : cj < 0.0f)) continue;
+      const float dj = glm::dot(d, bins_.direction(j));
+      if (dj > best_dot) best_dot = dj, best = j;
+    }
+    return best;
+  }
+
   // Whether any part of sender's bounding sphere is in front of leaf recv.
   bool SenderInFront(int recv, int send) const {
     const float h =
@@ -90,6 +185,7 @@ class Linker {
 
   const Patches& p_;
   const DirectionalBins& bins_;
+  const NodeGeometry& geometry_;
   std::vector<Link>& out_;
   float bin_radius_;
 };
@@ -98,19 +194,22 @@ class Linker {
 
 void LinkSet::LinkPairs(const Patches& patches, const DirectionalBins& bins,
                         const std::vector<size_t>& pairs) {
+  const NodeGeometry geometry = Geometry(patches, bins);
   ParallelFor(pairs.size(), 1, [&](size_t k) {
     const size_t pair = pairs[k];
     std::vector<Link>& out = per_pair_[pair];
     out.clear();
-    Linker linker(patches, bins, out);
+    Linker linker(patches, bins, geometry, out);
     linker.Refine(patches.roots[pair / roots_], patches.roots[pair % roots_]);
     pair_node_pairs_[pair] = linker.pairs_;
     pair_spread_[pair] = linker.spread_;
+    pair_exact_[pair] = linker.exact_;
   });
   stats_ = {};
   for (size_t p = 0; p < per_pair_.size(); ++p) {
     stats_.node_pairs += pair_node_pairs_[p];
     stats_.spread += pair_spread_[p];
+    stats_.exact += pair_exact_[p];
   }
   stats_.root_pairs = per_pair_.size();
   stats_.relinked_root_pairs = pairs.size();
@@ -121,6 +220,7 @@ void LinkSet::Build(const Patches& patches, const DirectionalBins& bins) {
   per_pair_.assign(roots_ * roots_, {});
   pair_node_pairs_.assign(per_pair_.size(), 0);
   pair_spread_.assign(per_pair_.size(), 0);
+  pair_exact_.assign(per_pair_.size(), 0);
   std::vector<size_t> all(per_pair_.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = i;
   LinkPairs(patches, bins, all);

@@ -24,12 +24,15 @@ struct Link {
   uint16_t sender_bin = 0;    // omega_l: direction receiver - sender
   uint16_t receiver_bin = 0;  // omega_j: direction sender - receiver (incident, "from")
   uint16_t cone = 0;          // spreading level (DirectionalBins::Row)
-  float form_factor = 0.0f;   // Eq. 17: 1 / (|x_i - x_k|^2 omega_bin)
+  // Eq. 17: 1 / (|x_i - x_k|^2 omega_bin), times the true / bin cosines;
+  // near leaves: from the sender cell's exact form factor (links.cpp).
+  float form_factor = 0.0f;
 };
 
 struct LinkStats {
   uint64_t node_pairs = 0;           // oracle calls
   uint64_t spread = 0;               // links with cone level > 0
+  uint64_t exact = 0;                // near leaf links with the cell's exact form factor
   uint64_t root_pairs = 0;           // (receiver root, sender root) pairs
   uint64_t relinked_root_pairs = 0;  // of those, linked by the last call
 };
@@ -59,7 +62,7 @@ class LinkSet {
 
   size_t roots_ = 0;
   std::vector<std::vector<Link>> per_pair_;  // receiver root x roots + sender root
-  std::vector<uint64_t> pair_node_pairs_, pair_spread_;
+  std::vector<uint64_t> pair_node_pairs_, pair_spread_, pair_exact_;
   LinkStats stats_;
 };
 

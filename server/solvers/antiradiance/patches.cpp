@@ -7,6 +7,7 @@ namespace gistream::antiradiance {
 namespace {
 
 struct Leaf {
+  CellQuad cell;  // the triangle, its last corner repeated
   glm::vec3 centre, normal, albedo;
   float area, radius;
   int tag;
@@ -26,6 +27,7 @@ void Split(const SourceTriangle& t, float max_edge, int depth, std::vector<Leaf>
     return;
   }
   Leaf l;
+  l.cell = {t.p[0], t.p[1], t.p[2], t.p[2]};
   l.centre = (t.p[0] + t.p[1] + t.p[2]) / 3.0f;
   l.normal = t.normal;
   l.albedo = t.albedo;
@@ -50,8 +52,10 @@ class Builder {
     out_.albedo.emplace_back(0.0f);
     out_.tag.push_back(-1);
     out_.children.push_back({-1, -1, -1, -1});
+    out_.cell_begin.push_back(uint32_t(out_.cell.size()));
     if (end - begin == 1) {
       const Leaf& l = leaves_[size_t(idx[begin])];
+      out_.cell.push_back(l.cell);
       out_.position[size_t(node)] = l.centre;
       out_.normal[size_t(node)] = l.normal;
       out_.area[size_t(node)] = l.area;
@@ -141,6 +145,7 @@ Patches BuildPatches(const std::vector<std::vector<SourceTriangle>>& groups, flo
     Builder builder(leaves, out);
     out.roots.push_back(builder.Build(idx, 0, idx.size()));
   }
+  out.cell_begin.push_back(uint32_t(out.cell.size()));
   return out;
 }
 

@@ -10,9 +10,13 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
+
+#include "solvers/antiradiance/form_factor.h"
 
 namespace gistream::antiradiance {
 
@@ -27,10 +31,21 @@ struct Patches {
   std::vector<int> tag;           // leaves: the source triangle's tag (e.g. its material)
   std::vector<std::array<int, 4>> children;  // up to four; -1 unused (all -1 for leaves)
   std::vector<int> roots;                    // one per mesh instance
+  // Leaves: the surface each stands for, as planar quads (world space): a
+  // triangle patch its triangle, a vertex disc its vertex's third of each
+  // adjacent triangle. Quads of node i are cell[cell_begin[i] ..
+  // cell_begin[i + 1]); cell_begin is empty when no cells are known (links
+  // then use Eq. 17's kernel only).
+  std::vector<CellQuad> cell;
+  std::vector<uint32_t> cell_begin;
 
   int size() const { return int(position.size()); }
   bool is_leaf(int i) const { return children[size_t(i)][0] < 0; }
   std::vector<int> Leaves() const;
+  std::span<const CellQuad> Cell(int i) const {
+    if (cell_begin.size() != size_t(size()) + 1) return {};
+    return {cell.data() + cell_begin[size_t(i)], cell.data() + cell_begin[size_t(i) + 1]};
+  }
 };
 
 // One world-space triangle of the scene with its material's albedo.

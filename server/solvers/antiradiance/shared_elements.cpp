@@ -1,6 +1,7 @@
 #include "solvers/antiradiance/shared_elements.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <memory>
 #include <utility>
@@ -14,9 +15,14 @@ namespace gistream::antiradiance {
 namespace {
 
 int Emit(const hierarchy::Elements& e, const std::vector<glm::vec3>& albedo,
-         const std::vector<int>& tag, int node, Patches& out) {
+         const std::vector<int>& tag, const std::vector<std::vector<CellQuad>>* cells, int node,
+         Patches& out) {
   const int id = out.size();
   const size_t n = size_t(node);
+  out.cell_begin.push_back(uint32_t(out.cell.size()));
+  if (cells != nullptr && e.is_leaf(node) && n < cells->size()) {
+    out.cell.insert(out.cell.end(), (*cells)[n].begin(), (*cells)[n].end());
+  }
   out.position.push_back(e.position[n]);
   out.normal.push_back(e.normal[n]);
   out.area.push_back(e.area[n]);
@@ -29,7 +35,7 @@ int Emit(const hierarchy::Elements& e, const std::vector<glm::vec3>& albedo,
     int k = 0;
     for (int c : e.children[n]) {
       if (c < 0) continue;
-      const int child = Emit(e, albedo, tag, c, out);
+      const int child = Emit(e, albedo, tag, cells, c, out);
       out.children[size_t(id)][size_t(k++)] = child;
     }
   }
@@ -40,11 +46,35 @@ int Emit(const hierarchy::Elements& e, const std::vector<glm::vec3>& albedo,
 
 Patches PatchesFromElements(const hierarchy::Elements& elements,
                             const std::vector<glm::vec3>& leaf_albedo,
-                            const std::vector<int>& leaf_tag) {
+                            const std::vector<int>& leaf_tag,
+                            const std::vector<std::vector<CellQuad>>* leaf_cells) {
   Patches out;
   for (int root : elements.roots())
-    out.roots.push_back(Emit(elements, leaf_albedo, leaf_tag, root, out));
+    out.roots.push_back(Emit(elements, leaf_albedo, leaf_tag, leaf_cells, root, out));
+  out.cell_begin.push_back(uint32_t(out.cell.size()));
+  if (leaf_cells == nullptr) out.cell_begin.clear();
   return out;
+}
+
+std::vector<std::vector<CellQuad>> VertexCells(const Primitive& primitive) {
+  // As hierarchy::CreateSurfels: the same triangles, the same thirds.
+  const size_t n = primitive.positions.size();
+  std::vector<std::vector<CellQuad>> cells(n);
+  for (size_t i = 0; i + 2 < primitive.indices.size(); i += 3) {
+    const uint32_t t[3] = {primitive.indices[i], primitive.indices[i + 1],
+                           primitive.indices[i + 2]};
+    if (t[0] >= n || t[1] >= n || t[2] >= n) continue;
+    const glm::vec3 centroid =
+        (primitive.positions[t[0]] + primitive.positions[t[1]] + primitive.positions[t[2]]) / 3.0f;
+    if (!std::isfinite(centroid.x + centroid.y + centroid.z)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const glm::vec3& v = primitive.positions[t[k]];
+      const glm::vec3& q = primitive.positions[t[(k + 1) % 3]];
+      const glm::vec3& r = primitive.positions[t[(k + 2) % 3]];
+      cells[t[k]].push_back({v, 0.5f * (v + q), centroid, 0.5f * (v + r)});
+    }
+  }
+  return cells;
 }
 
 Patches SurfelPatches(const SceneState& state, const GpuScene& gpu, SurfelCache& meshes) {
@@ -52,17 +82,22 @@ Patches SurfelPatches(const SceneState& state, const GpuScene& gpu, SurfelCache&
   std::vector<hierarchy::ElementInstance> instances;
   std::vector<glm::mat4> world;
   std::vector<int> materials;
+  std::vector<const std::vector<std::vector<CellQuad>>*> cells_of_instance;
   for (const DrawItem& d : gpu.draws()) {
-    auto& mesh = meshes[{d.mesh, d.primitive}];
-    if (!mesh) {
-      mesh = std::make_shared<hierarchy::ElementMesh>();
+    SurfelMesh& cached = meshes[{d.mesh, d.primitive}];
+    if (!cached.elements) {
+      auto mesh = std::make_shared<hierarchy::ElementMesh>();
       // Long edges subdivided to the scene-sized limit (hierarchy/subdivide.h).
-      mesh->surfels = hierarchy::CreateSurfels(hierarchy::SubdivideLongEdges(
+      const Primitive subdivided = hierarchy::SubdivideLongEdges(
           scene.meshes[size_t(d.mesh)].primitives[size_t(d.primitive)],
-          hierarchy::LocalMaxEdge(state, gpu, d.mesh, d.primitive)));
+          hierarchy::LocalMaxEdge(state, gpu, d.mesh, d.primitive));
+      mesh->surfels = hierarchy::CreateSurfels(subdivided);
       mesh->tree = hierarchy::CreateHierarchy(mesh->surfels);
+      cached.cells = VertexCells(subdivided);
+      cached.elements = std::move(mesh);
     }
-    instances.push_back({mesh, 0, {}});
+    instances.push_back({cached.elements, 0, {}});
+    cells_of_instance.push_back(&cached.cells);
     world.push_back(state.world()[size_t(d.node)]);
     materials.push_back(d.material);
   }
@@ -75,7 +110,21 @@ Patches SurfelPatches(const SceneState& state, const GpuScene& gpu, SurfelCache&
     albedo[size_t(leaf)] = MaterialAlbedo(state, m);
     tag[size_t(leaf)] = m;
   }
-  return PatchesFromElements(elements, albedo, tag);
+  // The cells in world space, per leaf (instance by instance, vertex order).
+  std::vector<std::vector<CellQuad>> cells(size_t(elements.leaf_count()));
+  for (size_t k = 0; k < elements.instances().size(); ++k) {
+    const auto& local = *cells_of_instance[k];
+    const int offset = elements.instances()[k].leaf_offset;
+    for (size_t v = 0; v < local.size() && offset + int(v) < elements.leaf_count(); ++v) {
+      auto& out = cells[size_t(offset) + v];
+      for (const CellQuad& q : local[v]) {
+        CellQuad w;
+        for (size_t c = 0; c < q.size(); ++c) w[c] = glm::vec3(world[k] * glm::vec4(q[c], 1.0f));
+        out.push_back(w);
+      }
+    }
+  }
+  return PatchesFromElements(elements, albedo, tag, &cells);
 }
 
 }  // namespace gistream::antiradiance

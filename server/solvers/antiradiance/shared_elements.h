@@ -16,14 +16,25 @@
 
 namespace gistream::antiradiance {
 
-// leaf_albedo / leaf_tag are indexed by the shared hierarchy's leaf ids.
+// leaf_albedo / leaf_tag (and leaf_cells, world space, when given) are
+// indexed by the shared hierarchy's leaf ids.
 Patches PatchesFromElements(const hierarchy::Elements& elements,
                             const std::vector<glm::vec3>& leaf_albedo,
-                            const std::vector<int>& leaf_tag);
+                            const std::vector<int>& leaf_tag,
+                            const std::vector<std::vector<CellQuad>>* leaf_cells = nullptr);
+
+// Each vertex's third of its triangles, (v, mid(v, q), centroid, mid(v, r))
+// per adjacent triangle (v, q, r): the area a surfel stands for
+// (hierarchy/surfels.h), in the primitive's space, per vertex.
+std::vector<std::vector<CellQuad>> VertexCells(const Primitive& primitive);
 
 // Per-mesh preprocessing kept between calls (meshes never change, only
-// their placement).
-using SurfelCache = std::map<std::pair<int, int>, std::shared_ptr<hierarchy::ElementMesh>>;
+// their placement): the shared hierarchy and the surfels' cells.
+struct SurfelMesh {
+  std::shared_ptr<hierarchy::ElementMesh> elements;
+  std::vector<std::vector<CellQuad>> cells;  // local space, per vertex
+};
+using SurfelCache = std::map<std::pair<int, int>, SurfelMesh>;
 
 // create_surfels + create_hierarchy (shared, once per mesh primitive via
 // `cache`) for every draw of the scene, placed by the current transforms;
