@@ -31,10 +31,12 @@ MemoryEstimate AntiradianceSolver::EstimateMemory(const ParamSet& params, const 
   // A binary tree over the leaves: about as many clusters as leaves.
   const uint64_t nodes = 2 * leaves;
   // I_ex and L_in: nodes x bins x 2 x RGB floats (Section 3.1), plus the
-  // per-node geometry (Patches: ~80 bytes).
+  // per-node geometry (Patches: ~80 bytes) and each leaf's cell (a
+  // vertex's third of up to ~6 triangles, 48-byte quads; links.cpp's exact
+  // near form factors).
   estimate.items.push_back(
       {driver, absl::StrCat("I_ex/L_in tables of ", leaves, " leaves x ", bins, " bins"),
-       nodes * bins * 2 * 12 + nodes * 80, 0});
+       nodes * bins * 2 * 12 + nodes * 80 + leaves * 6 * 48, 0});
   // Links: at least one per node and bin pair row; the link pass keeps a
   // sorted copy (Transport).
   estimate.items.push_back({driver, absl::StrCat("links of ", nodes, " elements"),
