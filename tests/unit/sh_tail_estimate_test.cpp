@@ -34,11 +34,23 @@ TEST(ShTailEstimate, TakesTheSmallestRecentRatio) {
 }
 
 TEST(ShTailEstimate, RatioNearOneIsCapped) {
-  // rho = 0.9999: r / (1 - r) would be 9999 x the last increment; capped at
-  // 0.99, i.e. 99 x.
-  const TailEstimate t = EstimateTail(Geometric(1.0, 0.9999, 5));
+  // rho = 0.99999: r / (1 - r) would be 99999 x the last increment; capped
+  // at 0.9999, i.e. 9999 x.
+  const TailEstimate t = EstimateTail(Geometric(1.0, 0.99999, 5));
   EXPECT_TRUE(t.applied);
   EXPECT_DOUBLE_EQ(t.ratio, kMaxTailRatio);
+}
+
+TEST(ShTailEstimate, RatioIsNeverAboveTheScenesLargestAlbedo) {
+  // Measured ratios 0.9995 (rounding) in a scene whose largest albedo is
+  // 0.999: the tail takes 0.999 (999 x, not 1999 x the last increment).
+  const TailEstimate t = EstimateTail(Geometric(1.0, 0.9995, 6), 0.999);
+  EXPECT_TRUE(t.applied);
+  EXPECT_DOUBLE_EQ(t.ratio, 0.999);
+  // Below the bound the measured ratio stands.
+  EXPECT_NEAR(EstimateTail(Geometric(1.0, 0.9, 6), 0.999).ratio, 0.9, 1e-12);
+  // A black scene has no tail to add.
+  EXPECT_EQ(EstimateTail(Geometric(1.0, 0.9, 6), 0.0).ratio, 0.0);
 }
 
 TEST(ShTailEstimate, UnstableOrDivergingOrTooFewRatiosGiveNoTail) {
@@ -53,7 +65,8 @@ TEST(ShTailEstimate, UnstableOrDivergingOrTooFewRatiosGiveNoTail) {
 TEST(ShTailEstimate, FixedPointIsNeverOvershotForAnySeriesBelowTheCap) {
   // For a geometric series of ratio rho, partial sum + tail must not exceed
   // the exact sum d_1 / (1 - rho) for any number of bounces >= 2, and must
-  // grow with the number of bounces (monotone).
+  // grow with the number of bounces (monotone); the scene's albedo bound is
+  // rho itself.
   for (double rho : {0.5, 0.9, 0.99, 0.999}) {
     const double exact = 1.0 / (1.0 - rho);
     double previous = 0.0;
@@ -61,7 +74,7 @@ TEST(ShTailEstimate, FixedPointIsNeverOvershotForAnySeriesBelowTheCap) {
       const std::vector<double> d = Geometric(1.0, rho, n);
       double sum = 0.0;
       for (double x : d) sum += x;
-      const TailEstimate t = EstimateTail(d);
+      const TailEstimate t = EstimateTail(d, rho);
       const double total = sum + (t.applied ? t.ratio / (1.0 - t.ratio) * d.back() : 0.0);
       EXPECT_LE(total, exact * (1.0 + 1e-9)) << "rho " << rho << " n " << n;
       EXPECT_GE(total, previous * (1.0 - 1e-12)) << "rho " << rho << " n " << n;

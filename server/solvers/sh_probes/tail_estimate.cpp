@@ -5,7 +5,7 @@
 
 namespace gistream::sh {
 
-TailEstimate EstimateTail(const std::vector<double>& deltas) {
+TailEstimate EstimateTail(const std::vector<double>& deltas, double albedo_bound) {
   TailEstimate t;
   const int n = int(deltas.size());
   // Ratios r_k = d_k / d_{k-1} for bounces k >= 3 (indices k - 1 >= 2),
@@ -23,7 +23,7 @@ TailEstimate EstimateTail(const std::vector<double>& deltas) {
   }
   if (t.ratios < 2) return t;
   t.spread = (hi - lo) / hi;
-  t.ratio = std::min(lo, kMaxTailRatio);
+  t.ratio = std::min({lo, albedo_bound, kMaxTailRatio});
   t.applied = t.spread <= kTailStability;
   if (!t.applied) t.ratio = 0.0;
   return t;

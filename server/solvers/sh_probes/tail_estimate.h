@@ -13,9 +13,9 @@ struct TailEstimate {
   int ratios = 0;       // how many ratios were considered
 };
 
-// The most a ratio may imply: the tail is at most r / (1 - r) = 99 x the
-// last increment ("albedo" 0.99), however close to 1 the ratios are.
-inline constexpr double kMaxTailRatio = 0.99;
+// The most a ratio may imply whatever the scene: r / (1 - r) = 9999 x the
+// last increment (float sums of the probes carry no more digits).
+inline constexpr double kMaxTailRatio = 0.9999;
 // Ratios that differ by more than this fraction are not a geometric series
 // (yet): no tail.
 inline constexpr double kTailStability = 0.05;
@@ -26,7 +26,14 @@ inline constexpr double kTailStability = 0.05;
 // from the direct one), the last three at most; the tail needs at least two
 // of them, each finite in (0, 1), within kTailStability of each other. It
 // uses the smallest (the series' ratio is never taken above any measured
-// one), capped at kMaxTailRatio. Otherwise no tail (applied = false).
-TailEstimate EstimateTail(const std::vector<double>& deltas);
+// one), capped at `albedo_bound` and kMaxTailRatio. Otherwise no tail
+// (applied = false).
+//
+// albedo_bound: the scene's largest albedo. Each bounce multiplies the
+// light by the albedo and by form factors whose rows sum to at most 1
+// (closed scene: exactly 1), so the increments' ratio never exceeds it;
+// a measured ratio above it is rounding (the probes' half-float albedo,
+// float sums), and taking it would overshoot by r / (1 - r).
+TailEstimate EstimateTail(const std::vector<double>& deltas, double albedo_bound = kMaxTailRatio);
 
 }  // namespace gistream::sh
