@@ -130,6 +130,22 @@ std::vector<std::string> ShProbesSolver::Plan(ChangeMask changes) const {
 }
 
 absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
+  if (full_.active) {
+    // A full solve under way goes on; a new layout restarts it, any other
+    // change is solved progressively once it is done (the probes' cube
+    // maps drawn meanwhile may have seen part of it).
+    if (changes & (kChangeGeometry | kChangeMaterials)) {
+      GS_ASSIGN_OR_RETURN(ProbeLayout layout,
+                          FitProbeGrid(ctx.gpu.WorldBounds(ctx.state), settings_.grid));
+      if (!(layout.dims == layout_.dims && layout.origin == layout_.origin &&
+            layout.spacing == layout_.spacing && layout.face_size == layout_.face_size)) {
+        return StartSolve(ctx, changes | deferred_, layout);
+      }
+    }
+    deferred_ |= changes;
+    return ContinueSolve(ctx);
+  }
+  changes |= std::exchange(deferred_, ChangeMask(0));
   const bool geometry = changes & (kChangeGeometry | kChangeMaterials);
   const bool lights = changes & (kChangeGeometry | kChangeLights | kChangeEmission);
   const bool busy = schedule_.pending() || lighting_.pending();
@@ -157,13 +173,13 @@ absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
                         FitProbeGrid(ctx.gpu.WorldBounds(ctx.state), settings_.grid));
     const bool same = layout.dims == layout_.dims && layout.origin == layout_.origin &&
                       layout.spacing == layout_.spacing && layout.face_size == layout_.face_size;
-    if (!solved_ || !same) return SolveAll(ctx, changes, layout);
+    if (!solved_ || !same) return StartSolve(ctx, changes, layout);
   }
   return Progress(ctx, changes);
 }
 
-absl::Status ShProbesSolver::SolveAll(SolverContext& ctx, ChangeMask changes,
-                                      const ProbeLayout& layout) {
+absl::Status ShProbesSolver::StartSolve(SolverContext& ctx, ChangeMask changes,
+                                        const ProbeLayout& layout) {
   {
     gl::StageTimer::Scope stage(ctx.timer, "rasterize_cubemaps");
     if (layout.probes() != layout_.probes() || !coefficients_) {
@@ -178,46 +194,129 @@ absl::Status ShProbesSolver::SolveAll(SolverContext& ctx, ChangeMask changes,
     }
     layout_ = layout;
     atlas_.Allocate(layout_);
-    RasterizeCubemaps(ctx);
   }
-  const bool lights = changes & (kChangeGeometry | kChangeLights | kChangeEmission);
-
+  full_ = FullSolve{};
+  full_.active = true;
+  full_.lights = changes & (kChangeGeometry | kChangeLights | kChangeEmission);
+  deferred_ = 0;
   // Section 3: start from L_indirect = 0 and bounce until the change is
   // insignificant or the budget of bounces is spent.
   dc_luminance_.assign(size_t(layout_.probes()), 0.0f);
-  std::vector<double> deltas;  // each bounce's change, for the tail
   bounces_run_ = 0;
+  bounce_change_ = 0.0;
+  cap_reached_ = false;
   tail_applied_ = false;
   tail_ratio_ = 0.0;
   tail_spread_ = 0.0;
-  for (int bounce = 1; bounce <= settings_.bounces; ++bounce) {
-    if (bounce > 1) {
-      gl::StageTimer::Scope stage(ctx.timer, "interpolate");
-      Interpolate();
-    }
-    {
-      gl::StageTimer::Scope stage(ctx.timer, "render_cubemaps");
-      if (bounce == 1 && lights) {
-        GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes));
-      }
-      RenderCubemaps(/*compute_direct=*/bounce == 1, /*use_indirect=*/bounce > 1);
-    }
-    gl::StageTimer::Scope stage(ctx.timer, "sh_project");
-    if (settings_.tail_estimate) {
-      glCopyNamedBufferSubData(coefficients_.id(), previous_coefficients_.id(), 0, 0,
-                               GLsizeiptr(sh::kMaxCoefficients) * layout_.probes() * 16);
-    }
-    double sum = 0.0;
-    const double change = ProjectToSh(&sum);
-    bounces_run_ = bounce;
-    deltas.push_back(change);
-    bounce_change_ = sum > 0.0 ? change / sum : 0.0;
-    if (bounce >= 2 && bounce_change_ < settings_.tolerance) break;
+  probes_updated_ = 0;
+  batches_run_ = 0;
+  // What the solve sees from here on; later changes are deferred.
+  emission_.Solved(ctx.state);
+  moved_.Solved(ctx.state);
+  schedule_.Reset(layout_.probes());
+  solved_ = true;
+  indirect_scale_ = 1.0f;
+  if (full_.lights) {
+    // The direct light's maps, in slices of half the budget while the
+    // cube maps are rasterized; the texels' direct light waits for them.
+    gl::StageTimer::Scope stage(ctx.timer, "render_cubemaps");
+    GS_RETURN_IF_ERROR(
+        lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes, 0.5 * ctx.budget_ms));
   }
+  return ContinueSolve(ctx);
+}
+
+absl::Status ShProbesSolver::ContinueSolve(SolverContext& ctx) {
+  using Clock = std::chrono::steady_clock;
+  using Phase = FullSolve::Phase;
+  const auto start = Clock::now();
+  const int probes = layout_.probes();
+  auto elapsed = [&] {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  };
+  probes_updated_ = 0;
+  batches_run_ = 0;
+  if (lighting_.pending()) {
+    gl::StageTimer::Scope stage(ctx.timer, "render_cubemaps");
+    lighting_.Continue(ctx.gpu, ctx.state, 0.5 * ctx.budget_ms);
+  }
+  bool ran = false;
+  while (full_.active) {
+    // A probe's work in this phase, in ProbeSchedule's units.
+    int units = ProbeSchedule::kBounceUnits;
+    if (full_.phase == Phase::kRaster) units = ProbeSchedule::kRasterUnits;
+    if (full_.phase == Phase::kRender && full_.bounce == 1) units += ProbeSchedule::kDirectUnits;
+    // The texels' direct light needs every shadow map.
+    if (full_.phase == Phase::kRender && full_.bounce == 1 && lighting_.pending()) break;
+    const int count =
+        std::min(std::max(ProbeSchedule::kBatchUnits / units, 1), probes - full_.next);
+    if (ran && ctx.budget_ms > 0.0 && elapsed() + ms_per_unit_ * units * count > ctx.budget_ms) {
+      break;
+    }
+    std::vector<int> batch(static_cast<size_t>(count));
+    for (int i = 0; i < count; ++i) batch[size_t(i)] = full_.next + i;
+    const auto batch_start = Clock::now();
+    switch (full_.phase) {
+      case Phase::kRaster: {
+        gl::StageTimer::Scope stage(ctx.timer, "rasterize_cubemaps");
+        RasterizeCubemaps(ctx, &batch);
+        break;
+      }
+      case Phase::kInterpolate: {
+        gl::StageTimer::Scope stage(ctx.timer, "interpolate");
+        Interpolate(&batch);
+        break;
+      }
+      case Phase::kRender: {
+        if (full_.next == 0 && settings_.tail_estimate) {
+          glCopyNamedBufferSubData(coefficients_.id(), previous_coefficients_.id(), 0, 0,
+                                   GLsizeiptr(sh::kMaxCoefficients) * probes * 16);
+        }
+        {
+          gl::StageTimer::Scope stage(ctx.timer, "render_cubemaps");
+          RenderCubemaps(/*compute_direct=*/full_.bounce == 1, /*use_indirect=*/full_.bounce > 1,
+                         &batch);
+        }
+        gl::StageTimer::Scope stage(ctx.timer, "sh_project");
+        full_.change += ProjectToSh(&full_.total, &batch);
+        break;
+      }
+    }
+    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - batch_start).count();
+    ms_per_unit_ = 0.7 * ms_per_unit_ + 0.3 * ms / double(std::max(units * count, 1));
+    probes_updated_ += count;
+    ++batches_run_;
+    ran = true;
+    full_.next += count;
+    if (full_.next < probes) continue;
+    // The end of a phase.
+    full_.next = 0;
+    if (full_.phase == Phase::kRaster || full_.phase == Phase::kInterpolate) {
+      full_.phase = Phase::kRender;
+      continue;
+    }
+    // The end of a bounce: frames show the solution so far.
+    bounces_run_ = full_.bounce;
+    full_.deltas.push_back(full_.change);
+    bounce_change_ = full_.total > 0.0 ? full_.change / full_.total : 0.0;
+    full_.change = full_.total = 0.0;
+    glCopyNamedBufferSubData(coefficients_.id(), shown_coefficients_.id(), 0, 0,
+                             GLsizeiptr(sh::kMaxCoefficients) * probes * 16);
+    if ((full_.bounce >= 2 && bounce_change_ < settings_.tolerance) ||
+        full_.bounce >= settings_.bounces) {
+      FinishSolve(ctx);
+    } else {
+      ++full_.bounce;
+      full_.phase = Phase::kInterpolate;
+    }
+  }
+  return absl::OkStatus();
+}
+
+void ShProbesSolver::FinishSolve(SolverContext& ctx) {
+  full_.active = false;
   // Stopped by the count, not by the tolerance (a count of 1 cannot test).
   cap_reached_ = bounces_run_ >= 2 && !(bounce_change_ < settings_.tolerance);
-  if (bounces_run_ == 1) ctx.timer.Skip("interpolate");
-
   if (settings_.tail_estimate) {
     // Geometric tail: increments shrink by r per bounce, so the bounces not
     // run add sum_{j>=1} r^j = r / (1 - r) times the last one. r is the
@@ -232,7 +331,7 @@ absl::Status ShProbesSolver::SolveAll(SolverContext& ctx, ChangeMask changes,
       const glm::vec3 c = glm::clamp(glm::vec3(m.base_color_factor), 0.0f, 1.0f);
       albedo_bound = std::max(albedo_bound, double(std::max({c.r, c.g, c.b})));
     }
-    const sh::TailEstimate tail = sh::EstimateTail(deltas, albedo_bound);
+    const sh::TailEstimate tail = sh::EstimateTail(full_.deltas, albedo_bound);
     tail_ratio_ = tail.ratio;
     tail_spread_ = tail.spread;
     if (tail.applied) {
@@ -243,12 +342,6 @@ absl::Status ShProbesSolver::SolveAll(SolverContext& ctx, ChangeMask changes,
   }
   glCopyNamedBufferSubData(coefficients_.id(), shown_coefficients_.id(), 0, 0,
                            GLsizeiptr(sh::kMaxCoefficients) * layout_.probes() * 16);
-  emission_.Solved(ctx.state);
-  moved_.Solved(ctx.state);
-  schedule_.Reset(layout_.probes());
-  solved_ = true;
-  indirect_scale_ = 1.0f;
-  return absl::OkStatus();
 }
 
 absl::Status ShProbesSolver::Progress(SolverContext& ctx, ChangeMask changes) {
@@ -556,7 +649,9 @@ SolverStats ShProbesSolver::Stats() const {
           {"bounce_change", bounce_change_},
           {"residual", bounce_change_},
           {"cap_reached", cap_reached_ ? 1.0 : 0.0},
-          {"probes_pending", double(schedule_.remaining())},
+          {"probes_pending",
+           full_.active ? double(layout_.probes() - full_.next) : double(schedule_.remaining())},
+          {"full_solve_pending", full_.active ? 1.0 : 0.0},
           {"probe_sweeps", double(schedule_.sweeps())},
           {"probes_affected", double(probes_affected_)},
           {"probes_updated", double(probes_updated_)},
