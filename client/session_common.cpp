@@ -77,6 +77,12 @@ std::string DescribeUpdate(const v1::Update& update) {
     case v1::Update::kMaterial:
       return absl::StrCat("material (material ", update.material().material(), ")");
     case v1::Update::kEnvironment: return "environment";
+    case v1::Update::kAnimation:
+      return update.animation().which_case() == v1::AnimationChange::kName
+                 ? absl::StrCat("animation (", update.animation().name(), ")")
+                 : absl::StrCat("animation (animation ", update.animation().animation(), ")");
+    case v1::Update::kMorphWeights:
+      return absl::StrCat("morph_weights (node ", update.morph_weights().node(), ")");
     case v1::Update::CHANGE_NOT_SET: break;
   }
   return "empty update";

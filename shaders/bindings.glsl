@@ -18,6 +18,12 @@
 #define GS_BINDING_DIR_SHADOW_MATRICES 3  // render/direct_lighting
 #define GS_BINDING_EMITTER_POLYGONS 12    // render/direct_lighting
 #define GS_BINDING_NON_FINITE 7           // render/tonemap (view pass only)
+// scene/gpu_deform (its own pass before the solvers, which bind their own).
+#define GS_BINDING_DEFORM_VERTICES 4
+#define GS_BINDING_DEFORM_SKIN 5
+#define GS_BINDING_DEFORM_MORPH 6
+#define GS_BINDING_DEFORM_JOINTS 8
+#define GS_BINDING_DEFORM_WEIGHTS 9
 
 // Uniform blocks.
 #define GS_UBO_VIEW 0  // render/gbuffer: the view's eye (render/shade_surface.glsl)

@@ -110,7 +110,14 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
     if (mesh < 0) continue;
     for (size_t p = 0; p < ranges[size_t(mesh)].size(); ++p) {
       const Range& r = ranges[size_t(mesh)][p];
-      gpu->draws_.push_back({r.first_index, r.index_count, r.base_vertex,
+      const uint32_t count = uint32_t(scene.meshes[size_t(mesh)].primitives[p].positions.size());
+      int32_t base = r.base_vertex;
+      if (state.Deforms(n)) {  // its own copy, which the deformation pass poses
+        base = int32_t(vertices.size());
+        vertices.resize(vertices.size() + count);
+        std::copy_n(vertices.begin() + r.base_vertex, count, vertices.begin() + base);
+      }
+      gpu->draws_.push_back({r.first_index, r.index_count, base, r.base_vertex, count,
                              scene.meshes[size_t(mesh)].primitives[p].material, int(n), mesh,
                              int(p)});
       std::tie(gpu->draws_.back().first_level, gpu->draws_.back().level_count) =
@@ -134,6 +141,13 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
     glVertexArrayAttribFormat(vao, a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
     glVertexArrayAttribBinding(vao, a, 0);
   }
+
+  if (!state.deforming_nodes().empty()) {
+    GS_ASSIGN_OR_RETURN(gpu->deform_, GpuDeform::Create(state, gpu->draws_));
+    gpu->gpu_bytes_ += gpu->deform_->gpu_bytes();
+    gpu->deform_->Run(state, gpu->vertices_.id());
+  }
+  gpu->deformed_version_ = state.version();
 
   for (const Image& image : scene.images) {
     gpu->textures_.push_back(UploadImage(image));
@@ -170,6 +184,16 @@ void GpuScene::UpdateMaterials(const SceneState& state) {
   table.push_back(ToGpu(Material{}));  // the default material, last
   glNamedBufferSubData(materials_.id(), 0, GLsizeiptr(table.size() * sizeof(GpuMaterial)),
                        table.data());
+}
+
+bool GpuScene::DeformPending(const SceneState& state) const {
+  return deform_ && state.version() != deformed_version_ &&
+         (state.ChangesSince(deformed_version_) & kChangeDeformation);
+}
+
+void GpuScene::Deform(const SceneState& state) {
+  if (DeformPending(state)) deform_->Run(state, vertices_.id());
+  deformed_version_ = state.version();
 }
 
 void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_textures,
@@ -221,8 +245,7 @@ int GpuScene::PickLevel(const DrawItem& item, float scale, float tolerance) cons
 Bounds GpuScene::WorldBounds(const SceneState& state) const {
   Bounds bounds;
   for (const DrawItem& d : draws_) {
-    const Bounds& local =
-        state.scene().meshes[size_t(d.mesh)].primitives[size_t(d.primitive)].bounds;
+    const Bounds& local = state.NodeMesh(size_t(d.node)).primitives[size_t(d.primitive)].bounds;
     if (local.empty()) continue;
     const glm::mat4& m = state.world()[size_t(d.node)];
     for (int corner = 0; corner < 8; ++corner) {

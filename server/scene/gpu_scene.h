@@ -13,6 +13,7 @@
 #include "gl/buffers.h"
 #include "gl/handle.h"
 #include "gl/program.h"
+#include "scene/gpu_deform.h"
 #include "scene/scene_state.h"
 #include "util/status.h"
 
@@ -32,6 +33,10 @@ struct DrawItem {
   uint32_t first_index = 0;
   uint32_t index_count = 0;
   int32_t base_vertex = 0;
+  // The primitive's rest-pose vertices: base_vertex, unless the node
+  // deforms (SceneState::Deforms) and draws its own posed copy.
+  int32_t rest_vertex = 0;
+  uint32_t vertex_count = 0;
   int material = -1;  // -1: default material
   int node = 0;
   int mesh = 0;
@@ -62,6 +67,12 @@ class GpuScene {
 
   // Refreshes materials from the state (cheap; call after material changes).
   void UpdateMaterials(const SceneState& state);
+  // Whether the scene has deforming node instances (gpu_deform.h), and
+  // whether `state` changed their shape since they were last posed.
+  bool deforms() const { return deform_ != nullptr; }
+  bool DeformPending(const SceneState& state) const;
+  // Re-poses the deforming node instances when DeformPending.
+  void Deform(const SceneState& state);
 
   // Issues every draw with `program`: sets uModel, uNormalMatrix, uMaterial,
   // binds the material textures (units kBaseColorUnit, kEmissiveUnit,
@@ -83,6 +94,8 @@ class GpuScene {
   // Scene::bounds, follows moved nodes.
   Bounds WorldBounds(const SceneState& state) const;
   uint64_t gpu_bytes() const { return gpu_bytes_; }
+  // The interleaved vertex buffer (position, normal, uv: 8 floats each).
+  GLuint vertex_buffer() const { return vertices_.id(); }
 
   static constexpr GLuint kMaterialBinding = GS_BINDING_MATERIALS;
   static constexpr GLuint kBaseColorUnit = GS_UNIT_BASE_COLOR;
@@ -98,6 +111,8 @@ class GpuScene {
   gl::Texture white_;                  // 1x1 fallback
   std::vector<DrawItem> draws_;
   std::vector<DrawLevel> levels_;
+  std::unique_ptr<GpuDeform> deform_;  // null when nothing deforms
+  uint64_t deformed_version_ = 0;      // the state version deform_ last posed
   uint64_t gpu_bytes_ = 0;
 };
 

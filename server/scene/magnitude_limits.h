@@ -55,6 +55,14 @@ inline constexpr float kMaxYfovDegrees = 179.0f;
 // negative radiance is a broken map. Filtered HDR captures carry tiny
 // negative ringing, which is clamped to 0.
 inline constexpr float kNegativeRadianceTolerance = 1e-3f;
+// Animation updates: a seek within +-1e6 s keeps float key times exact to
+// about 0.06 s; a playback rate beyond +-1000 is not an animation any more.
+inline constexpr float kMaxAnimationTime = 1e6f;
+inline constexpr float kMaxAnimationSpeed = 1e3f;
+// A morph weight beyond +-100 scales a target's deltas (held to
+// kMaxCoordinate) past anything an exporter writes (glTF weights are
+// usually in [0, 1]).
+inline constexpr float kMaxMorphWeight = 100.0f;
 
 // `field: v is out of range [lo, hi]` for a value outside [lo, hi] or NaN.
 absl::Status CheckMagnitude(const std::string& field, double v, double lo, double hi);

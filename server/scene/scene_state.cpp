@@ -28,12 +28,31 @@ SceneState::SceneState(std::shared_ptr<const Scene> scene)
     env_intensity_ = scene_->environment->intensity;
     env_rotation_ = scene_->environment->rotation;
   }
+  playback_.resize(scene_->animations.size());
+  joint_.assign(nodes_.size(), false);
+  for (const Skin& skin : scene_->skins) {
+    for (int j : skin.joints) joint_[size_t(j)] = true;
+  }
+  posed_.resize(nodes_.size());
+  for (size_t n = 0; n < nodes_.size(); ++n) {
+    const Node& node = nodes_[n];
+    if (node.mesh < 0) continue;
+    const Mesh& mesh = scene_->meshes[size_t(node.mesh)];
+    bool deforms = false;
+    for (const Primitive& p : mesh.primitives) {
+      deforms |= !p.targets.empty() || (node.skin >= 0 && !p.joints.empty());
+    }
+    if (!deforms) continue;
+    posed_[n] = std::make_shared<Mesh>(mesh);
+    deforming_.push_back(int(n));
+  }
   lights_.resize(light_nodes_.size());
   for (size_t i = 0; i < light_nodes_.size(); ++i) {
     lights_[i].node = light_nodes_[i];
     lights_[i].light = scene_->lights[size_t(nodes_[size_t(light_nodes_[i])].light)];
   }
   Recompute();
+  Redeform();
 }
 
 void SceneState::Recompute() {
@@ -51,10 +70,14 @@ ChangeMask SceneState::SubtreeKinds(int node) const {
   ChangeMask mask = kChangeNone;
   std::vector<int> stack{node};
   while (!stack.empty()) {
-    const Node& n = nodes_[size_t(stack.back())];
+    const size_t index = size_t(stack.back());
+    const Node& n = nodes_[index];
     stack.pop_back();
     if (n.mesh >= 0) mask |= kChangeGeometry;
     if (n.light >= 0) mask |= kChangeLights;
+    // A joint reshapes the meshes its skin deforms; a skinned mesh's own
+    // node changes its deformed local positions (glTF 2.0 3.7.3.3).
+    if (joint_[index] || (n.skin >= 0 && n.mesh >= 0)) mask |= kChangeDeformation;
     for (int c : n.children) stack.push_back(c);
   }
   return mask;
@@ -92,6 +115,7 @@ ChangeMask SceneState::Apply(const Change& change) {
     }
     mask = SubtreeKinds(int(t->node));
     Recompute();
+    if (mask & kChangeDeformation) Redeform();
   } else if (const auto* l = std::get_if<LightUpdate>(&change)) {
     LightInstance& inst = lights_[l->light];
     if (l->color) inst.light.color = *l->color;
@@ -111,6 +135,7 @@ ChangeMask SceneState::Apply(const Change& change) {
       }
       mask |= SubtreeKinds(inst.node);
       Recompute();
+      if (mask & kChangeDeformation) Redeform();
     }
     mask |= kChangeLights;
   } else if (const auto* m = std::get_if<MaterialUpdate>(&change)) {
@@ -131,6 +156,10 @@ ChangeMask SceneState::Apply(const Change& change) {
     if (e->intensity) env_intensity_ = *e->intensity;
     if (e->rotation) env_rotation_ = *e->rotation;
     if (scene_->environment) mask |= kChangeEnvironment;
+  } else if (const auto* a = std::get_if<AnimationUpdate>(&change)) {
+    mask = ApplyAnimation(*a);
+  } else if (const auto* w = std::get_if<MorphWeightsUpdate>(&change)) {
+    mask = ApplyMorphWeights(*w);
   }
   Record(mask);
   return mask;
@@ -190,6 +219,12 @@ absl::Status SceneState::CheckApply(const Change& change) const {
     }
     return absl::OkStatus();
   }
+  // Animation keys were held to the import's limits; morph weights to
+  // validation's.
+  if (std::holds_alternative<AnimationUpdate>(change) ||
+      std::holds_alternative<MorphWeightsUpdate>(change)) {
+    return absl::OkStatus();
+  }
   const auto* l = std::get_if<LightUpdate>(&change);
   if (l != nullptr && !l->position && !l->direction) {
     Light light = lights_[l->light].light;
@@ -206,6 +241,7 @@ absl::Status SceneState::CheckApply(const Change& change) const {
   // A transform (a node's, or a light's position/direction) moves a
   // subtree: recompute and check the whole state on a copy.
   SceneState trial = *this;
+  trial.deform_ = false;
   trial.Apply(change);
   return trial.CheckMagnitudes(
       absl::StrCat("update.", l != nullptr ? "light" : "node_transform", ": after it, "));

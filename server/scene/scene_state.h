@@ -18,6 +18,15 @@
 
 namespace gistream {
 
+// Playback of one glTF animation on this scene's clock.
+struct AnimationPlayback {
+  bool active = false;   // played or seeked at least once: its pose applies
+  bool playing = false;  // the clock advances it
+  bool loop = true;      // wraps at the end; else stops there
+  float speed = 1.0f;
+  double time = 0.0;  // seconds, on the animation's keys
+};
+
 struct LightInstance {
   int node = -1;
   Light light;  // current parameters
@@ -38,6 +47,22 @@ class SceneState {
   const std::vector<Material>& materials() const { return materials_; }
   float environment_intensity() const { return env_intensity_; }
   float environment_rotation() const { return env_rotation_; }
+  const std::vector<AnimationPlayback>& animations() const { return playback_; }
+
+  // The mesh node `node` draws as currently posed: for a node whose mesh
+  // deforms (a skin, morph targets), its copy morphed and skinned by
+  // scene/deform.h's DeformPrimitive (positions, normals and bounds in the
+  // node's local space, as the scene's); else the scene's own mesh.
+  const Mesh& NodeMesh(size_t node) const;
+  // Whether `node` draws a mesh that deforms (skinned, or with morph targets).
+  bool Deforms(size_t node) const { return node < posed_.size() && posed_[node] != nullptr; }
+  // Nodes that draw deforming meshes, in node order.
+  const std::vector<int>& deforming_nodes() const { return deforming_; }
+
+  // Advances the playing animations by `seconds` of the scene's clock
+  // (x each one's speed), poses their nodes and returns what changed;
+  // bumps the version unless nothing did.
+  ChangeMask Advance(double seconds);
 
   // Applies a validated scene update (not camera updates) and returns what
   // changed; bumps the version unless nothing changed.
@@ -60,6 +85,13 @@ class SceneState {
   void Recompute();
   ChangeMask SubtreeKinds(int node) const;
   void Record(ChangeMask mask);
+  // Samples every active animation into nodes_ (scene/animation.h);
+  // returns what the posed nodes carry.
+  ChangeMask PoseAnimations();
+  // Re-deforms every deforming node's mesh from nodes_ and world_.
+  void Redeform();
+  ChangeMask ApplyAnimation(const AnimationUpdate& update);
+  ChangeMask ApplyMorphWeights(const MorphWeightsUpdate& update);
 
   std::shared_ptr<const Scene> scene_;
   std::vector<Node> nodes_;
@@ -69,6 +101,13 @@ class SceneState {
   std::vector<Material> materials_;
   float env_intensity_ = 1.0f;
   float env_rotation_ = 0.0f;
+  std::vector<AnimationPlayback> playback_;  // per scene animation
+  std::vector<bool> joint_;                  // per node: a joint of some skin
+  // Per node: its posed mesh when it deforms, else null. Copied on write,
+  // so copies of the state (CheckApply's trial) share them until they change.
+  std::vector<std::shared_ptr<Mesh>> posed_;
+  std::vector<int> deforming_;
+  bool deform_ = true;  // false on CheckApply's trial copy (it checks nodes only)
   uint64_t version_ = 1;
   std::deque<std::pair<uint64_t, ChangeMask>> log_;  // (version, what changed)
 };

@@ -5,7 +5,9 @@
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <variant>
+#include <vector>
 
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -62,8 +64,27 @@ struct EnvironmentUpdate {
   std::optional<float> intensity;
 };
 
-using Change =
-    std::variant<NodeTransformUpdate, LightUpdate, CameraUpdate, MaterialUpdate, EnvironmentUpdate>;
+// Playback of one of the scene's glTF animations (by index or by name,
+// exactly one): play or pause, seek, speed, looping. The scene's animation
+// clock advances playing animations with the time between frames.
+struct AnimationUpdate {
+  std::optional<uint32_t> animation;  // index into the scene's animations
+  std::optional<std::string> name;    // or its name
+  std::optional<bool> playing;        // true: play, false: pause
+  std::optional<float> time;          // seek (seconds, on the animation's keys)
+  std::optional<float> speed;         // playback rate; negative plays backwards
+  std::optional<bool> loop;           // wrap at the end (default) or stop there
+};
+
+// Morph weights of one node that draws a mesh with morph targets; one per
+// target (glTF node.weights). Joints are nodes: NodeTransformUpdate poses them.
+struct MorphWeightsUpdate {
+  uint32_t node = 0;
+  std::vector<float> weights;
+};
+
+using Change = std::variant<NodeTransformUpdate, LightUpdate, CameraUpdate, MaterialUpdate,
+                            EnvironmentUpdate, AnimationUpdate, MorphWeightsUpdate>;
 
 struct Update {
   uint64_t seq = 0;
@@ -79,8 +100,12 @@ enum ChangeBits : uint32_t {
   kChangeMaterials = 1u << 3,    // base colour changed
   kChangeEnvironment = 1u << 4,  // environment rotation/intensity
   kChangeCamera = 1u << 5,       // view only (per session)
+  kChangeDeformation = 1u << 6,  // a skinned or morphed mesh changed shape (joints, weights)
   kChangeAll = 0xffffffffu,
 };
 using ChangeMask = uint32_t;
+// Where the surfaces are: a rigid move or a deformation. Solvers that keep
+// geometry (a BVH, voxels, elements, cube maps) redo it for either.
+inline constexpr ChangeMask kChangeShape = kChangeGeometry | kChangeDeformation;
 
 }  // namespace gistream

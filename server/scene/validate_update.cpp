@@ -235,6 +235,65 @@ absl::Status Check(const Scene& scene, const EnvironmentUpdate& u) {
   return absl::OkStatus();
 }
 
+absl::Status Check(const Scene& scene, const AnimationUpdate& u) {
+  if (u.animation.has_value() == u.name.has_value()) {
+    return Invalid("animation", "give exactly one of animation (an index) and name");
+  }
+  if (u.animation) {
+    GS_RETURN_IF_ERROR(
+        CheckId("animation.animation", *u.animation, scene.animations.size(), "animations"));
+  } else {
+    const bool found = std::any_of(scene.animations.begin(), scene.animations.end(),
+                                   [&](const Animation& a) { return a.name == *u.name; });
+    if (!found) {
+      return Invalid("animation.name", absl::StrCat("'", *u.name, "' names none of the scene's ",
+                                                    scene.animations.size(), " animations"));
+    }
+  }
+  if (!u.playing && !u.time && !u.speed && !u.loop) {
+    return Invalid("animation", "sets none of playing, time, speed, loop");
+  }
+  if (u.time) {
+    GS_RETURN_IF_ERROR(CheckFinite("animation.time", *u.time));
+    if (std::abs(*u.time) > kMaxAnimationTime) {
+      return Invalid("animation.time",
+                     absl::StrCat(*u.time, " exceeds the limit of +-", kMaxAnimationTime, " s"));
+    }
+  }
+  if (u.speed) {
+    GS_RETURN_IF_ERROR(CheckFinite("animation.speed", *u.speed));
+    if (std::abs(*u.speed) > kMaxAnimationSpeed) {
+      return Invalid("animation.speed",
+                     absl::StrCat(*u.speed, " exceeds the limit of +-", kMaxAnimationSpeed));
+    }
+  }
+  return absl::OkStatus();
+}
+
+absl::Status Check(const Scene& scene, const MorphWeightsUpdate& u) {
+  GS_RETURN_IF_ERROR(CheckId("morph_weights.node", u.node, scene.nodes.size(), "nodes"));
+  const Node& node = scene.nodes[u.node];
+  const size_t targets = node.mesh >= 0 && !scene.meshes[size_t(node.mesh)].primitives.empty()
+                             ? scene.meshes[size_t(node.mesh)].primitives.front().targets.size()
+                             : 0;
+  if (targets == 0) {
+    return Invalid("morph_weights.node", absl::StrCat(u.node, " draws no mesh with morph targets"));
+  }
+  if (u.weights.size() != targets) {
+    return Invalid("morph_weights.weights",
+                   absl::StrCat(u.weights.size(), " weights for ", targets, " morph targets"));
+  }
+  for (size_t i = 0; i < u.weights.size(); ++i) {
+    const std::string field = absl::StrCat("morph_weights.weights[", i, "]");
+    GS_RETURN_IF_ERROR(CheckFinite(field, u.weights[i]));
+    if (std::abs(u.weights[i]) > kMaxMorphWeight) {
+      return Invalid(field,
+                     absl::StrCat(u.weights[i], " exceeds the limit of +-", kMaxMorphWeight));
+    }
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 absl::Status ValidateUpdate(const Scene& scene, const Update& update, uint32_t max_width,

@@ -130,12 +130,21 @@ struct MaterialSummary {
   glm::vec3 emissive{0.0f};  // factor x strength
 };
 
+// One of the scene's glTF animations (AnimationUpdate plays it).
+struct AnimationSummary {
+  uint32_t id = 0;
+  std::string name;
+  float start = 0.0f;  // seconds: its first and last key
+  float end = 0.0f;
+};
+
 struct SceneInfo {
   SceneId id;
   std::vector<NodeSummary> nodes;
   std::vector<LightSummary> lights;
   std::vector<CameraSummary> cameras;
   std::vector<MaterialSummary> materials;
+  std::vector<AnimationSummary> animations;
   Bounds bounds;
   uint64_t triangle_count = 0;
   uint64_t vertex_count = 0;

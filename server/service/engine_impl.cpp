@@ -861,6 +861,12 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   }
   {
     gl::StageTimer::Scope stage(timer_, "apply_updates", /*cpu_stage=*/true);
+    // The animation clock first, so that a seek among the updates is exact.
+    const auto now = Clock::now();
+    if (scene.animation_tick) {
+      state.Advance(std::chrono::duration<double>(now - *scene.animation_tick).count());
+    }
+    scene.animation_tick = now;
     ChangeMask materials = kChangeNone;
     for (const Update& u : updates) {
       if (const auto* camera = std::get_if<CameraUpdate>(&u.change)) {
@@ -878,6 +884,15 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
     if (materials) scene.gpu->UpdateMaterials(state);
   }
   GS_RETURN_IF_ERROR(ReserveView(session, scene, view));
+  // Skinned and morphed meshes are posed on the GPU once per scene version,
+  // for every rasterising pass of every session; a scene without them has
+  // no deform stage.
+  if (scene.gpu->DeformPending(state)) {
+    gl::StageTimer::Scope stage(timer_, "deform");
+    scene.gpu->Deform(state);
+  } else if (scene.gpu->deforms()) {
+    timer_.Skip("deform");
+  }
 
   SolverEntry& entry = scene.solvers[session.solver_key];
   if (!entry.solver) {

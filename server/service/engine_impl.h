@@ -105,6 +105,9 @@ class EngineImpl final : public Engine {
     // The scene's CPU copy and GPU upload (estimated before it), and the
     // upload's measured GPU bytes in the tenant's gpu_bytes quota.
     MemoryCharge memory;
+    // The scene's animation clock: when its playing animations last
+    // advanced (SceneState::Advance, by the time between frames).
+    std::optional<RenderThread::Clock::time_point> animation_tick;
   };
   // Drops least recently used solvers of `scene` beyond
   // options_.max_solvers_per_scene, sparing `keep` and those of open

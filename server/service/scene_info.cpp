@@ -13,6 +13,10 @@ SceneInfo DescribeScene(const SceneId& id, const SceneState& state) {
   info.triangle_count = scene.triangle_count;
   info.vertex_count = scene.vertex_count;
   info.has_environment = scene.environment.has_value();
+  for (size_t i = 0; i < scene.animations.size(); ++i) {
+    const Animation& a = scene.animations[i];
+    info.animations.push_back({uint32_t(i), a.name, a.start, a.end});
+  }
   for (size_t i = 0; i < state.nodes().size(); ++i) {
     const Node& n = state.nodes()[i];
     info.nodes.push_back(

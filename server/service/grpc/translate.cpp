@@ -182,6 +182,21 @@ EnvironmentUpdate EnvironmentFromProto(const pb::EnvironmentChange& e) {
   return out;
 }
 
+AnimationUpdate AnimationFromProto(const pb::AnimationChange& a) {
+  AnimationUpdate out;
+  if (a.which_case() == pb::AnimationChange::kAnimation) out.animation = a.animation();
+  if (a.which_case() == pb::AnimationChange::kName) out.name = a.name();
+  if (a.has_playing()) out.playing = a.playing();
+  if (a.has_time()) out.time = a.time();
+  if (a.has_speed()) out.speed = a.speed();
+  if (a.has_loop()) out.loop = a.loop();
+  return out;
+}
+
+MorphWeightsUpdate MorphWeightsFromProto(const pb::MorphWeightsChange& m) {
+  return {m.node(), std::vector<float>(m.weights().begin(), m.weights().end())};
+}
+
 absl::Status ResolutionFromProto(absl::string_view field, uint32_t width, uint32_t height,
                                  uint32_t* out_width, uint32_t* out_height) {
   GS_RETURN_IF_ERROR(CheckPair(field, "width", width != 0, "height", height != 0));
@@ -216,12 +231,17 @@ absl::StatusOr<Update> UpdateFromProto(const pb::Update& update, absl::string_vi
       break;
     }
     case pb::Update::kEnvironment: out.change = EnvironmentFromProto(update.environment()); break;
+    case pb::Update::kAnimation: out.change = AnimationFromProto(update.animation()); break;
+    case pb::Update::kMorphWeights:
+      out.change = MorphWeightsFromProto(update.morph_weights());
+      break;
     case pb::Update::CHANGE_NOT_SET:
     default:
       return FieldError(
           absl::StrCat(field, ".change"),
           absl::StrCat("no change set (seq ", update.seq(),
-                       "); expected one of node_transform, light, camera, material, environment"));
+                       "); expected one of node_transform, light, camera, material, environment, "
+                       "animation, morph_weights"));
   }
   return out;
 }
@@ -452,6 +472,13 @@ void SceneInfoToProto(const SceneInfo& info, pb::LoadSceneResponse* out) {
   out->set_vertex_count(info.vertex_count);
   out->set_emissive_triangle_count(info.emissive_triangle_count);
   out->set_has_environment(info.has_environment);
+  for (const AnimationSummary& a : info.animations) {
+    pb::AnimationInfo* p = out->add_animations();
+    p->set_id(a.id);
+    p->set_name(a.name);
+    p->set_start(a.start);
+    p->set_end(a.end);
+  }
   out->set_version(info.version);
 }
 
