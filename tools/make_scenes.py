@@ -176,6 +176,62 @@ class Gltf:
         self.stats[1] += len(mesh.idx) // 3
         return len(self.doc["meshes"]) - 1
 
+    def floats(self, values, kind, target=None, bounds=False):
+        """An accessor of float32 `values` (flat) of glTF type `kind` (SCALAR, VEC3,
+        VEC4, MAT4); bounds: min/max (required for POSITION and animation input)."""
+        width = {"SCALAR": 1, "VEC3": 3, "VEC4": 4, "MAT4": 16}[kind]
+        data = struct.pack("<%df" % len(values), *values)
+        f32 = struct.unpack("<%df" % len(values), data)
+        acc = {"bufferView": self._view(data, target) if target else self._view_plain(data),
+               "componentType": 5126, "count": len(values) // width, "type": kind}
+        if bounds:
+            acc["min"] = [min(f32[k::width]) for k in range(width)]
+            acc["max"] = [max(f32[k::width]) for k in range(width)]
+        return self._accessor(acc)
+
+    def _view_plain(self, data):
+        """A buffer view without a target (skins, animations)."""
+        view = self._view(data, 0)
+        del self.doc["bufferViews"][view]["target"]
+        return view
+
+    def deforming_mesh(self, name, mesh, material, joints=None, weights=None, targets=(),
+                       target_names=()):
+        """A mesh like mesh(), plus JOINTS_0 (unsigned short) / WEIGHTS_0 per vertex and
+        morph targets [(position deltas, normal deltas or None)], default weights 0."""
+        index = self.mesh(name, mesh, material)
+        prim = self.doc["meshes"][index]["primitives"][0]
+        if joints is not None:
+            data = struct.pack("<%dH" % (4 * len(joints)), *[j for js in joints for j in js])
+            prim["attributes"]["JOINTS_0"] = self._accessor({
+                "bufferView": self._view(data, 34962), "componentType": 5123,
+                "count": len(joints), "type": "VEC4"})
+            prim["attributes"]["WEIGHTS_0"] = self.floats(
+                [w for ws in weights for w in ws], "VEC4", 34962)
+        if targets:
+            prim["targets"] = []
+            for dp, dn in targets:
+                t = {"POSITION": self.floats([c for v in dp for c in v], "VEC3", 34962, True)}
+                if dn is not None:
+                    t["NORMAL"] = self.floats([c for v in dn for c in v], "VEC3", 34962)
+                prim["targets"].append(t)
+            self.doc["meshes"][index]["weights"] = [0.0] * len(targets)
+            self.doc["meshes"][index]["extras"] = {"targetNames": list(target_names)}
+        return index
+
+    def animation(self, name, channels):
+        """channels: [(node index, path, key times, flat output values)], LINEAR."""
+        anim = {"name": name, "samplers": [], "channels": []}
+        for node, path, times, values in channels:
+            kind = {"rotation": "VEC4", "translation": "VEC3", "scale": "VEC3",
+                    "weights": "SCALAR"}[path]
+            anim["samplers"].append({"input": self.floats(times, "SCALAR", bounds=True),
+                                     "output": self.floats(values, kind),
+                                     "interpolation": "LINEAR"})
+            anim["channels"].append({"sampler": len(anim["samplers"]) - 1,
+                                     "target": {"node": node, "path": path}})
+        self.doc.setdefault("animations", []).append(anim)
+
     def node(self, name, mesh=None, material=None, translation=None, rotation=None, **extra):
         assert all(n["name"] != name for n in self.doc["nodes"]), name
         node = {"name": name}
@@ -229,17 +285,13 @@ CORNELL_LIGHT_T = (0.278, 0.5483, 0.2795)
 CORNELL_LIGHT_HALF = (0.065, 0.0525)
 
 
-def cornell_box(out, walls_n=24, blocks_n=6, scene_name="cornell_box", light_n=2):
-    """Cornell University Program of Computer Graphics "Cornell Box Data" (mm -> m).
-
-    walls_n / blocks_n / light_n: quads per wall / block face / light edge
-    (tools/make_tessellations.py writes other tessellations of the same box under
-    other names; cornell_box_coarse is the one-quad-per-face version)."""
-    g = Gltf(scene_name)
+def cornell_room(g, walls_n):
+    """The Cornell box's materials and five walls (the light and camera come after
+    the contents, cornell_light_and_camera); returns the white material."""
     white = g.material("white", (0.725, 0.71, 0.68))
     red = g.material("red", (0.63, 0.065, 0.05))
     green = g.material("green", (0.14, 0.45, 0.091))
-    lamp = g.material("light", (0.78, 0.78, 0.78), emissive=(1.0, 0.85, 0.43), strength=17.0)
+    g.material("light", (0.78, 0.78, 0.78), emissive=(1.0, 0.85, 0.43), strength=17.0)
 
     inside = mm(278.0, 274.4, 279.6)
     walls = [  # name, material, measured corners (mm)
@@ -251,7 +303,27 @@ def cornell_box(out, walls_n=24, blocks_n=6, scene_name="cornell_box", light_n=2
     ]
     for name, mat, q in walls:
         g.node(name, Mesh().quad(*[mm(*p) for p in q], walls_n, walls_n, toward=inside), mat)
+    return white
 
+
+def cornell_light_and_camera(g, light_n):
+    """The Cornell box's ceiling light quad and published camera."""
+    lamp = 3   # the "light" material, fourth of cornell_room's
+    hx, hz = CORNELL_LIGHT_HALF   # local coordinates around the node origin, facing down
+    g.node("light", Mesh().quad((-hx, 0, -hz), (hx, 0, -hz), (hx, 0, hz), (-hx, 0, hz), light_n,
+                                light_n, toward=(0, -1, 0)), lamp, translation=CORNELL_LIGHT_T)
+    # Published camera: (278, 273, -800) mm looking along +Z, 35 mm lens, 25 mm film.
+    g.camera("camera", (0.278, 0.273, -0.800), (0.0, 1.0, 0.0, 0.0), math.radians(39.3), 0.01)
+
+
+def cornell_box(out, walls_n=24, blocks_n=6, scene_name="cornell_box", light_n=2):
+    """Cornell University Program of Computer Graphics "Cornell Box Data" (mm -> m).
+
+    walls_n / blocks_n / light_n: quads per wall / block face / light edge
+    (tools/make_tessellations.py writes other tessellations of the same box under
+    other names; cornell_box_coarse is the one-quad-per-face version)."""
+    g = Gltf(scene_name)
+    white = cornell_room(g, walls_n)
     blocks = [  # measured faces: top, then the four sides
         ("short_block", [
             [(130, 165, 65), (82, 165, 225), (240, 165, 272), (290, 165, 114)],
@@ -275,11 +347,7 @@ def cornell_box(out, walls_n=24, blocks_n=6, scene_name="cornell_box", light_n=2
             m.quad(*[mm(*p) for p in q], blocks_n, blocks_n, away=centre)
         g.node(block, m, white)
 
-    hx, hz = CORNELL_LIGHT_HALF   # local coordinates around the node origin, facing down
-    g.node("light", Mesh().quad((-hx, 0, -hz), (hx, 0, -hz), (hx, 0, hz), (-hx, 0, hz), light_n,
-                                light_n, toward=(0, -1, 0)), lamp, translation=CORNELL_LIGHT_T)
-    # Published camera: (278, 273, -800) mm looking along +Z, 35 mm lens, 25 mm film.
-    g.camera("camera", (0.278, 0.273, -0.800), (0.0, 1.0, 0.0, 0.0), math.radians(39.3), 0.01)
+    cornell_light_and_camera(g, light_n)
     g.write(os.path.join(out, scene_name + ".gltf"))
 
 
@@ -452,6 +520,137 @@ def dynamic_block(out):
     g.write(os.path.join(out, "dynamic_block.gltf"))
 
 
+def tube_mesh(base, length, radius, rings, sides):
+    """An open tube along +Y from `base` with a capped top: ring r at height
+    length * r / (rings - 1), outward normals; the cap's centre vertex last."""
+    m = Mesh()
+    for r in range(rings):
+        y = length * r / (rings - 1)
+        for k in range(sides):
+            a = 2.0 * math.pi * k / sides
+            n = (math.cos(a), 0.0, math.sin(a))
+            m.pos.append(add(base, (radius * n[0], y, radius * n[2])))
+            m.nrm.append(n)
+    for r in range(rings - 1):
+        for k in range(sides):
+            a, b = r * sides + k, r * sides + (k + 1) % sides
+            m.idx.extend((a, a + sides, b, b, a + sides, b + sides))
+    top = len(m.pos)
+    m.pos.append(add(base, (0.0, length, 0.0)))
+    m.nrm.append((0.0, 1.0, 0.0))
+    for k in range(sides):
+        a, b = (rings - 1) * sides + k, (rings - 1) * sides + (k + 1) % sides
+        m.idx.extend((a, top, b))
+    return m
+
+
+def bending_tube(out):
+    """A skinned, segmented tube standing in a Cornell box (walls, light and camera
+    of cornell_box, no blocks), bending back and forth: issue 18's deforming scene
+    after the papers' animated characters.
+
+    The tube (radius 7 cm, 33 cm tall, 16 rings of 20 sides, capped) is skinned to
+    three joints along its axis (base, 1/3, 2/3 of the height); each vertex blends
+    the two joints around its height linearly (JOINTS_0 / WEIGHTS_0). Animation
+    "bend": the middle and upper joints turn about Z by 0, +30, 0, -30, 0 degrees
+    at 0, 1, 2, 3, 4 s (LINEAR), so the tube sways left and right every 4 s."""
+    g = Gltf("bending_tube")
+    cornell_room(g, 12)
+    tube = g.material("tube", (0.8, 0.45, 0.15))
+    base, length, radius, rings, sides = (0.278, 0.0, 0.30), 0.33, 0.07, 16, 20
+    m = tube_mesh(base, length, radius, rings, sides)
+    seg = length / 3.0
+    joints, weights = [], []
+    for p in m.pos:
+        h = min(max((p[1] - base[1]) / seg, 0.0), 2.0)   # joint coordinate 0..2
+        j = min(int(h), 1)
+        t = h - j
+        joints.append((j, j + 1, 0, 0))
+        weights.append((1.0 - t, t, 0.0, 0.0))
+    nodes = g.doc["nodes"]
+    mesh = g.deforming_mesh("tube", m, tube, joints, weights)
+    # Joint nodes: the root at the tube's base (a scene root), the others its
+    # descendants, seg apart; the skinned mesh node stays at the origin (glTF
+    # ignores its transform) and its vertices are in world space at bind time.
+    first = len(nodes)
+    nodes.append({"name": "joint_base", "translation": list(base), "children": [first + 1]})
+    nodes.append({"name": "joint_middle", "translation": [0.0, seg, 0.0], "children": [first + 2]})
+    nodes.append({"name": "joint_upper", "translation": [0.0, seg, 0.0]})
+    g.doc["scenes"][0]["nodes"].append(first)
+    ibm = []
+    for k in range(3):   # inverse of each joint's bind (world) transform: a translation
+        ibm += [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, -base[0], -(base[1] + k * seg), -base[2], 1]
+    g.doc["skins"] = [{"name": "tube_skin", "joints": [first, first + 1, first + 2],
+                       "skeleton": first, "inverseBindMatrices": g.floats(ibm, "MAT4")}]
+    nodes.append({"name": "tube", "mesh": mesh, "skin": 0})
+    g.doc["scenes"][0]["nodes"].append(len(nodes) - 1)
+    times = [0.0, 1.0, 2.0, 3.0, 4.0]
+    rot = []
+    for deg in (0.0, 30.0, 0.0, -30.0, 0.0):
+        h = math.radians(deg) / 2.0
+        rot += [0.0, 0.0, round(math.sin(h), 9), round(math.cos(h), 9)]
+    g.animation("bend", [(first + 1, "rotation", times, rot), (first + 2, "rotation", times, rot)])
+    cornell_light_and_camera(g, 2)
+    g.write(os.path.join(out, "bending_tube.gltf"))
+
+
+def morph_blob(out):
+    """A morph-target sphere in a Cornell box (walls, light and camera of
+    cornell_box): issue 18's morphing scene.
+
+    The sphere (radius 10 cm, 24 x 16 segments) rests on the floor. Target 0
+    "squash" makes it an ellipsoid 1.25 x 0.7 x 1.25 (position and normal deltas,
+    the normals exact for the ellipsoid); target 1 "ripple" pushes it out by
+    2 cm x cos(4 phi) sin(theta)^2 (positions only). Animation "pulse" drives the
+    weights: (0, 0), (1, 0.5), (0, 1), (0, 0) at 0, 1, 2, 3 s (LINEAR)."""
+    g = Gltf("morph_blob")
+    cornell_room(g, 12)
+    blob = g.material("blob", (0.25, 0.45, 0.8))
+    r, c, nu, nv = 0.1, (0.30, 0.1, 0.27), 24, 16
+    m = Mesh()
+    grid = {}
+    for j in range(nv + 1):
+        theta = math.pi * j / nv
+        for i in range(nu + 1):
+            if (j in (0, nv)) and i > 0:
+                grid[(i, j)] = grid[(0, j)]   # one pole vertex
+                continue
+            phi = 2.0 * math.pi * i / nu
+            n = (math.sin(theta) * math.cos(phi), math.cos(theta), math.sin(theta) * math.sin(phi))
+            if i == nu:
+                grid[(i, j)] = grid[(0, j)]   # the seam closes
+                continue
+            grid[(i, j)] = len(m.pos)
+            m.pos.append(add(c, mul(n, r)))
+            m.nrm.append(n)
+    for j in range(nv):
+        for i in range(nu):
+            a, b, d, e = grid[(i, j)], grid[(i + 1, j)], grid[(i, j + 1)], grid[(i + 1, j + 1)]
+            if a != b:
+                m.idx.extend((a, b, d))
+            if d != e:
+                m.idx.extend((b, e, d))
+    sx, sy = 1.25, 0.7
+    squash_p, squash_n, ripple_p = [], [], []
+    for p, n in zip(m.pos, m.nrm):
+        # The ellipsoid keeps the bottom on the floor: y scales about the sphere's base.
+        q = (c[0] + (p[0] - c[0]) * sx, (c[1] - r) + (p[1] - (c[1] - r)) * sy,
+             c[2] + (p[2] - c[2]) * sx)
+        squash_p.append(sub(q, p))
+        squash_n.append(sub(normalize((n[0] / sx, n[1] / sy, n[2] / sx)), n))
+        phi = math.atan2(n[2], n[0])
+        ripple_p.append(mul(n, 0.02 * math.cos(4.0 * phi) * (1.0 - n[1] * n[1])))
+    mesh = g.deforming_mesh("blob", m, blob, targets=[(squash_p, squash_n), (ripple_p, None)],
+                            target_names=["squash", "ripple"])
+    node = g.node("blob")
+    node["mesh"] = mesh
+    index = len(g.doc["nodes"]) - 1
+    g.animation("pulse", [(index, "weights", [0.0, 1.0, 2.0, 3.0],
+                           [0.0, 0.0, 1.0, 0.5, 0.0, 1.0, 0.0, 0.0])])
+    cornell_light_and_camera(g, 2)
+    g.write(os.path.join(out, "morph_blob.gltf"))
+
+
 def cornell_orbit(out):
     """`make run` demo script: orbit outside the open front, light loops under the ceiling."""
     x, y, z = CORNELL_LIGHT_T
@@ -489,7 +688,7 @@ def main():
         os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "scenes")
     os.makedirs(out, exist_ok=True)
     for make in (cornell_box, cornell_box_coarse, indirect_room, furnace, glossy_box,
-                 dynamic_block, cornell_orbit):
+                 dynamic_block, bending_tube, morph_blob, cornell_orbit):
         make(out)
 
 

@@ -27,7 +27,7 @@ std::vector<EmitterTriangle> CollectEmitters(const SceneState& state) {
     const int mesh = scene.nodes[n].mesh;
     if (mesh < 0) continue;
     const glm::mat4& m = state.world()[n];
-    for (const Primitive& p : scene.meshes[size_t(mesh)].primitives) {
+    for (const Primitive& p : state.NodeMesh(n).primitives) {  // posed when it deforms
       if (p.material < 0) continue;
       const Material& mat = state.materials()[size_t(p.material)];
       if (!mat.emissive()) continue;

@@ -141,7 +141,7 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
   // A set still being drawn means the shown maps saw older geometry: all
   // of them are stale too.
   const bool all_stale =
-      (changes & kChangeGeometry) || pending_ != nullptr || cube_count != int(cube_views_.size()) ||
+      (changes & kChangeShape) || pending_ != nullptr || cube_count != int(cube_views_.size()) ||
       dir_count != int(dir_views_.size()) || settings.shadow_resolution != shadow_resolution_ ||
       settings.full_detail != full_detail_;
   maps_redrawn_ = 0;

@@ -15,16 +15,19 @@ namespace gistream {
 
 class MovedBounds {
  public:
-  // The current transforms are the solved ones.
-  void Solved(const SceneState& state) { solved_ = state.world(); }
+  // The current transforms (and deformed shapes) are the solved ones.
+  void Solved(const SceneState& state);
   // The union of the old and new world boxes (8 transformed corners, as
   // GpuScene::WorldBounds) of every drawn primitive whose node's world
-  // transform differs from the solved one; empty when none does. Every
+  // transform differs from the solved one, or whose deformed mesh
+  // (SceneState::NodeMesh) changed its box; empty when none does. Every
   // primitive counts as moved before the first Solved.
   Bounds Since(const GpuScene& gpu, const SceneState& state) const;
 
  private:
   std::vector<glm::mat4> solved_;
+  // Per node: the local primitive boxes of a deforming node's posed mesh.
+  std::vector<std::vector<Bounds>> solved_shapes_;
 };
 
 }  // namespace gistream

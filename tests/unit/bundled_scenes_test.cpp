@@ -39,7 +39,8 @@ TEST_P(BundledScene, Imports) {
 
 INSTANTIATE_TEST_SUITE_P(All, BundledScene,
                          ::testing::Values("cornell_box", "cornell_box_coarse", "indirect_room",
-                                           "furnace", "dynamic_block", "glossy_box"));
+                                           "furnace", "dynamic_block", "glossy_box", "bending_tube",
+                                           "morph_blob"));
 
 TEST(BundledScenes, GlossyBoxHasOneGlossyMaterial) {
   // Every material Lambertian (metallic 0, roughness 1) but the gold cube's.

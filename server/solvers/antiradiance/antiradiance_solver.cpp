@@ -101,7 +101,7 @@ std::vector<std::string> AntiradianceSolver::Plan(ChangeMask changes) const {
   // redisplays.
   // A solve under way (a background job, shadow-map slices) may end or
   // start in any frame: its stages may run (link when it relinks).
-  if ((changes & kChangeGeometry) || relink_due_ || (solve_.running() && relinking_)) {
+  if ((changes & kChangeShape) || relink_due_ || (solve_.running() && relinking_)) {
     return {"link", "global_pass", "local_pass", "push_pull", "display"};
   }
   if (!UpdateComplete()) return {"global_pass", "local_pass", "push_pull", "display"};
@@ -333,7 +333,7 @@ void AntiradianceSolver::UploadIrradiance() {
 
 absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) {
   const bool first = !transport_;
-  const bool geometry = (changes & kChangeGeometry) || first;
+  const bool geometry = (changes & kChangeShape) || first;
   const bool light =
       geometry ||
       (changes & (kChangeLights | kChangeEmission | kChangeMaterials | kChangeEnvironment));

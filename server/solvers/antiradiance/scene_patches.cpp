@@ -12,14 +12,13 @@ glm::vec3 MaterialAlbedo(const SceneState& state, int material) {
 }
 
 std::vector<std::vector<SourceTriangle>> SceneTriangles(const SceneState& state) {
-  const Scene& scene = state.scene();
   std::vector<std::vector<SourceTriangle>> groups;
   for (size_t n = 0; n < state.nodes().size(); ++n) {
     const Node& node = state.nodes()[n];
     if (node.mesh < 0) continue;
     const glm::mat4& world = state.world()[n];
     const glm::mat3 normal_matrix = glm::inverseTranspose(glm::mat3(world));
-    for (const Primitive& prim : scene.meshes[size_t(node.mesh)].primitives) {
+    for (const Primitive& prim : state.NodeMesh(n).primitives) {  // posed when it deforms
       std::vector<SourceTriangle> group;
       group.reserve(prim.indices.size() / 3);
       const glm::vec3 albedo = MaterialAlbedo(state, prim.material);

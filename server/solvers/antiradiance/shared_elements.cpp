@@ -78,18 +78,20 @@ std::vector<std::vector<CellQuad>> VertexCells(const Primitive& primitive) {
 }
 
 Patches SurfelPatches(const SceneState& state, const GpuScene& gpu, SurfelCache& meshes) {
-  const Scene& scene = state.scene();
   std::vector<hierarchy::ElementInstance> instances;
   std::vector<glm::mat4> world;
   std::vector<int> materials;
   std::vector<const std::vector<std::vector<CellQuad>>*> cells_of_instance;
   for (const DrawItem& d : gpu.draws()) {
-    SurfelMesh& cached = meshes[{d.mesh, d.primitive}];
-    if (!cached.elements) {
+    // A deforming instance's surfels follow its posed mesh: its own entry,
+    // rebuilt every time.
+    const bool deforms = state.Deforms(size_t(d.node));
+    SurfelMesh& cached = meshes[{deforms ? -1 - d.node : d.mesh, d.primitive}];
+    if (!cached.elements || deforms) {
       auto mesh = std::make_shared<hierarchy::ElementMesh>();
       // Long edges subdivided to the scene-sized limit (hierarchy/subdivide.h).
       const Primitive subdivided = hierarchy::SubdivideLongEdges(
-          scene.meshes[size_t(d.mesh)].primitives[size_t(d.primitive)],
+          state.NodeMesh(size_t(d.node)).primitives[size_t(d.primitive)],
           hierarchy::LocalMaxEdge(state, gpu, d.mesh, d.primitive));
       mesh->surfels = hierarchy::CreateSurfels(subdivided);
       mesh->tree = hierarchy::CreateHierarchy(mesh->surfels);

@@ -102,7 +102,7 @@ absl::StatusOr<std::unique_ptr<Solver>> AvgSolver::Create(const ParamSet& params
 
 bool AvgSolver::NeedsVoxelize(ChangeMask changes) {
   // The grid holds geometry and albedo.
-  return (changes & (kChangeGeometry | kChangeMaterials)) != 0;
+  return (changes & (kChangeShape | kChangeMaterials)) != 0;
 }
 
 bool AvgSolver::NeedsTrace(ChangeMask changes) {
@@ -250,7 +250,7 @@ bool AvgSolver::Voxelize(SolverContext& ctx, ChangeMask changes) {
     grid_ = avg::VoxelGrid::Build(ctx.state, grid_resolution_, full_detail_);
     voxels_rewritten_ = std::pow(double(grid_->resolution()), 3.0);
     // A material change alone leaves the maps' geometry as it was.
-    if ((changes & kChangeGeometry) && moved.empty()) {
+    if ((changes & kChangeShape) && moved.empty()) {
       unmapped_all_ = true;
     } else {
       unmapped_change_.Extend(moved);
@@ -312,7 +312,7 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
     // geometry only: when a light change left every path where it was (a
     // dimmer, a colour; the paths are quasi-random in the path index), the
     // maps stay and only the VPLs' flux is new.
-    const bool same_placement = !voxelize && !(changes & kChangeGeometry) && !unmapped_all_ &&
+    const bool same_placement = !voxelize && !(changes & kChangeShape) && !unmapped_all_ &&
                                 unmapped_change_.empty() && !remap_pending_ &&
                                 SamePlacement(mapped_vpls_, trace_.vpls);
     vpl_maps_redrawn_ = 0;

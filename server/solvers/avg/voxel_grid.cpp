@@ -68,7 +68,7 @@ void VoxelGrid::Place(const SceneState& state, int resolution) {
   for (size_t n = 0; n < scene.nodes.size(); ++n) {
     if (scene.nodes[n].mesh < 0) continue;
     const glm::mat4& m = state.world()[n];
-    for (const Primitive& p : scene.meshes[size_t(scene.nodes[n].mesh)].primitives) {
+    for (const Primitive& p : state.NodeMesh(n).primitives) {  // posed when it deforms
       for (const glm::vec3& v : p.positions) bounds.Extend(glm::vec3(m * glm::vec4(v, 1.0f)));
     }
   }
@@ -138,7 +138,7 @@ void VoxelGrid::Rasterize(const SceneState& state, const glm::ivec3& lo, const g
     const int mesh = scene.nodes[n].mesh;
     if (mesh < 0) continue;
     const glm::mat4& m = state.world()[n];
-    for (const Primitive& p : scene.meshes[size_t(mesh)].primitives) {
+    for (const Primitive& p : state.NodeMesh(n).primitives) {  // posed when it deforms
       if (!whole && !p.bounds.empty()) {
         Bounds world;
         for (int corner = 0; corner < 8; ++corner) {

@@ -30,14 +30,14 @@ absl::StatusOr<std::unique_ptr<Solver>> DirectSolver::Create(const ParamSet& par
 std::vector<std::string> DirectSolver::Plan(ChangeMask changes) const {
   // Shadow maps depend on geometry, lights and emission; base colour and
   // camera changes only need the view-dependent stages.
-  if ((changes & (kChangeGeometry | kChangeLights | kChangeEmission)) || lighting_.pending()) {
+  if ((changes & (kChangeShape | kChangeLights | kChangeEmission)) || lighting_.pending()) {
     return {"shadow_maps", "gbuffer", "shade"};
   }
   return {"gbuffer", "shade"};
 }
 
 absl::Status DirectSolver::Update(SolverContext& ctx, ChangeMask changes) {
-  if (!(changes & (kChangeGeometry | kChangeLights | kChangeEmission))) {
+  if (!(changes & (kChangeShape | kChangeLights | kChangeEmission))) {
     if (!lighting_.pending()) {
       ctx.timer.Skip("shadow_maps");
       return absl::OkStatus();

@@ -57,8 +57,12 @@ absl::StatusOr<std::unique_ptr<Solver>> ImplicitVisibilitySolver::Create(const P
 
 std::vector<std::string> ImplicitVisibilitySolver::Plan(ChangeMask changes) const {
   std::vector<std::string> plan;
-  if (!scene_.built()) plan = {"create_surfels", "create_hierarchy"};
-  if (!scene_.built() || (changes & kChangeGeometry)) {
+  // A deformed mesh's elements are rebuilt from its posed mesh (its
+  // hierarchy follows the new shape) and relinked at once.
+  if (!scene_.built() || (changes & kChangeDeformation)) {
+    plan = {"create_surfels", "create_hierarchy"};
+  }
+  if (!scene_.built() || (changes & kChangeShape)) {
     // A moved node can hide or reveal any pair: every link is rebuilt.
     for (const char* s :
          {"update_elements", "create_links", "refine_push", "shadow_maps", "illumination"}) {
@@ -178,8 +182,13 @@ void ImplicitVisibilitySolver::UpdateEnvironment(const SceneState& state) {
 }
 
 absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask changes) {
-  const bool first = !scene_.built();
-  const bool geometry = first || (changes & kChangeGeometry);
+  // `first` also after a deformation: the deformed instances' elements are
+  // rebuilt (their subdivision and hierarchy follow the posed mesh, so the
+  // leaf layout may change) and linked on this thread; a background relink
+  // of the old layout is dropped.
+  const bool first = !scene_.built() || (changes & kChangeDeformation);
+  if (first && relink_.running()) relink_.TakeWhenDone();
+  const bool geometry = first || (changes & kChangeShape);
   const bool materials = first || (changes & kChangeMaterials);
   bool lights = geometry || (changes & (kChangeLights | kChangeEmission));
   const bool environment = geometry || (changes & kChangeEnvironment);

@@ -30,12 +30,25 @@ glm::vec3 Texel(const Image& image, glm::vec2 uv) {
 }  // namespace
 
 void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::StageTimer& timer) {
-  const Scene& scene = state.scene();
-  std::vector<std::pair<int, int>> keys;  // (mesh, primitive) in first-use order
+  sources_.clear();
+  // (mesh, primitive) in first-use order; a deforming node's instance is
+  // keyed (-1 - node, primitive): its elements follow its posed mesh
+  // (SceneState::NodeMesh), shared with no other instance.
+  std::vector<std::pair<int, int>> keys;
+  auto key_of = [&](const DrawItem& d) {
+    return std::make_pair(state.Deforms(size_t(d.node)) ? -1 - d.node : d.mesh, d.primitive);
+  };
+  auto primitive_of = [&](const std::pair<int, int>& key) -> const Primitive& {
+    const size_t p = size_t(key.second);
+    return key.first < 0 ? state.NodeMesh(size_t(-1 - key.first)).primitives[p]
+                         : state.scene().meshes[size_t(key.first)].primitives[p];
+  };
+  std::vector<int> key_mesh;  // the scene mesh of each key
   for (const DrawItem& d : gpu.draws()) {
     sources_.push_back({d.node, d.mesh, d.primitive, nullptr});
-    if (std::find(keys.begin(), keys.end(), std::make_pair(d.mesh, d.primitive)) == keys.end()) {
-      keys.emplace_back(d.mesh, d.primitive);
+    if (std::find(keys.begin(), keys.end(), key_of(d)) == keys.end()) {
+      keys.push_back(key_of(d));
+      key_mesh.push_back(d.mesh);
     }
   }
   std::vector<std::shared_ptr<hierarchy::ElementMesh>> meshes(keys.size());
@@ -44,11 +57,11 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
     gl::StageTimer::Scope stage(timer, "create_surfels", /*cpu_stage=*/true);
     std::vector<float> max_edge(keys.size());
     for (size_t k = 0; k < keys.size(); ++k) {
-      max_edge[k] = hierarchy::LocalMaxEdge(state, gpu, keys[k].first, keys[k].second);
+      max_edge[k] = hierarchy::LocalMaxEdge(state, gpu, key_mesh[k], keys[k].second);
     }
     ParallelFor(keys.size(), 1, [&](size_t k) {
-      primitives[k] = std::make_shared<const Primitive>(hierarchy::SubdivideLongEdges(
-          scene.meshes[size_t(keys[k].first)].primitives[size_t(keys[k].second)], max_edge[k]));
+      primitives[k] = std::make_shared<const Primitive>(
+          hierarchy::SubdivideLongEdges(primitive_of(keys[k]), max_edge[k]));
       meshes[k] = std::make_shared<hierarchy::ElementMesh>();
       meshes[k]->surfels = hierarchy::CreateSurfels(*primitives[k]);
     });
@@ -60,9 +73,10 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
     });
   }
   std::vector<hierarchy::ElementInstance> instances;
-  for (InstanceSource& s : sources_) {
-    const size_t k = size_t(
-        std::find(keys.begin(), keys.end(), std::make_pair(s.mesh, s.primitive)) - keys.begin());
+  for (size_t i = 0; i < sources_.size(); ++i) {
+    InstanceSource& s = sources_[i];
+    const size_t k =
+        size_t(std::find(keys.begin(), keys.end(), key_of(gpu.draws()[i])) - keys.begin());
     instances.push_back({meshes[k], 0, {}});
     s.elements = primitives[k];
   }

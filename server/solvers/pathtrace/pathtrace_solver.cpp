@@ -47,12 +47,12 @@ absl::StatusOr<std::unique_ptr<Solver>> PathtraceSolver::Create(const ParamSet& 
 }
 
 std::vector<std::string> PathtraceSolver::Plan(ChangeMask changes) const {
-  if (changes & kChangeGeometry) return {"build_bvh", "trace", "accumulate"};
+  if (changes & kChangeShape) return {"build_bvh", "trace", "accumulate"};
   return {"trace", "accumulate"};
 }
 
 absl::Status PathtraceSolver::Update(SolverContext& ctx, ChangeMask changes) {
-  if (!bvh_ || (changes & kChangeGeometry)) {
+  if (!bvh_ || (changes & kChangeShape)) {
     gl::StageTimer::Scope stage(ctx.timer, "build_bvh", /*cpu_stage=*/true);
     GS_ASSIGN_OR_RETURN(bvh_, pathtrace::SceneBvh::Build(ctx.state));
     // The environment map never changes after load (only its rotation and

@@ -20,7 +20,7 @@ absl::StatusOr<std::unique_ptr<SceneBvh>> SceneBvh::Build(const SceneState& stat
     if (mesh < 0) continue;
     const glm::mat4& m = state.world()[n];
     const glm::mat3 nm = glm::transpose(glm::inverse(glm::mat3(m)));
-    for (const Primitive& p : scene.meshes[size_t(mesh)].primitives) {
+    for (const Primitive& p : state.NodeMesh(n).primitives) {  // posed when it deforms
       for (size_t i = 0; i + 2 < p.indices.size(); i += 3) {
         Triangle t;
         const uint32_t a = p.indices[i], b = p.indices[i + 1], c = p.indices[i + 2];

@@ -116,7 +116,7 @@ absl::StatusOr<std::unique_ptr<Solver>> ShProbesSolver::Create(const ParamSet& p
 std::vector<std::string> ShProbesSolver::Plan(ChangeMask changes) const {
   // Albedo is baked into the probes' G-buffer, so a base colour change
   // re-rasterizes like a geometry change; lights and emission only re-shade.
-  if (changes & (kChangeGeometry | kChangeMaterials)) {
+  if (changes & (kChangeShape | kChangeMaterials)) {
     return {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate", "final"};
   }
   // A progressive update under way may run any stage (a batch of probes).
@@ -134,7 +134,7 @@ absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
     // A full solve under way goes on; a new layout restarts it, any other
     // change is solved progressively once it is done (the probes' cube
     // maps drawn meanwhile may have seen part of it).
-    if (changes & (kChangeGeometry | kChangeMaterials)) {
+    if (changes & (kChangeShape | kChangeMaterials)) {
       GS_ASSIGN_OR_RETURN(ProbeLayout layout,
                           FitProbeGrid(ctx.gpu.WorldBounds(ctx.state), settings_.grid));
       if (!(layout.dims == layout_.dims && layout.origin == layout_.origin &&
@@ -146,8 +146,8 @@ absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
     return ContinueSolve(ctx);
   }
   changes |= std::exchange(deferred_, ChangeMask(0));
-  const bool geometry = changes & (kChangeGeometry | kChangeMaterials);
-  const bool lights = changes & (kChangeGeometry | kChangeLights | kChangeEmission);
+  const bool geometry = changes & (kChangeShape | kChangeMaterials);
+  const bool lights = changes & (kChangeShape | kChangeLights | kChangeEmission);
   const bool busy = schedule_.pending() || lighting_.pending();
   if (!geometry && !lights && !busy) {
     for (const char* stage :
@@ -197,7 +197,7 @@ absl::Status ShProbesSolver::StartSolve(SolverContext& ctx, ChangeMask changes,
   }
   full_ = FullSolve{};
   full_.active = true;
-  full_.lights = changes & (kChangeGeometry | kChangeLights | kChangeEmission);
+  full_.lights = changes & (kChangeShape | kChangeLights | kChangeEmission);
   deferred_ = 0;
   // Section 3: start from L_indirect = 0 and bounce until the change is
   // insignificant or the budget of bounces is spent.
@@ -347,8 +347,8 @@ void ShProbesSolver::FinishSolve(SolverContext& ctx) {
 absl::Status ShProbesSolver::Progress(SolverContext& ctx, ChangeMask changes) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
-  const bool geometry = changes & (kChangeGeometry | kChangeMaterials);
-  const bool lights = changes & (kChangeGeometry | kChangeLights | kChangeEmission);
+  const bool geometry = changes & (kChangeShape | kChangeMaterials);
+  const bool lights = changes & (kChangeShape | kChangeLights | kChangeEmission);
   if ((geometry || lights) && indirect_scale_ != 1.0f) {
     // The shown solution was a dimmer's k x the solved one: make that the
     // solution, and the texels' direct light the current one.
