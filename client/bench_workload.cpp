@@ -21,6 +21,10 @@ constexpr double kOrbitPeriodTicks = 60.0;
 constexpr double kMotionPeriodTicks = 40.0;
 constexpr float kMotionFraction = 0.03f;
 constexpr double kIntensitySwing = 0.3;  // intensity × (1 ± 0.3)
+// The animation workload seeks the scene's animation 1/30 s further each
+// tick (looped by the server): the animation at 30 ticks a second, and the
+// same poses in every run whatever the update rate.
+constexpr double kAnimationSecondsPerTick = 1.0 / 30.0;
 
 double Phase(uint64_t tick, double period) {
   return std::sin(2.0 * std::numbers::pi * double(tick % uint64_t(period)) / period);
@@ -81,12 +85,15 @@ absl::StatusOr<WorkloadSpec> ParseWorkload(const std::string& text) {
     spec.kind = WorkloadKind::kObject;
   else if (text == "mixed")
     spec.kind = WorkloadKind::kMixed;
+  else if (text == "animation")
+    spec.kind = WorkloadKind::kAnimation;
   else if (absl::EndsWith(text, ".json")) {
     spec.kind = WorkloadKind::kScript;
     spec.script = text;
   } else {
-    return absl::InvalidArgumentError(absl::StrCat(
-        "--workload: \"", text, "\" is not orbit, light, object, mixed or a script .json file"));
+    return absl::InvalidArgumentError(
+        absl::StrCat("--workload: \"", text,
+                     "\" is not orbit, light, object, mixed, animation or a script .json file"));
   }
   return spec;
 }
@@ -97,6 +104,7 @@ std::string WorkloadName(const WorkloadSpec& spec) {
     case WorkloadKind::kLight: return "light";
     case WorkloadKind::kObject: return "object";
     case WorkloadKind::kMixed: return "mixed";
+    case WorkloadKind::kAnimation: return "animation";
     case WorkloadKind::kScript: return spec.script.filename().string();
   }
   return "?";
@@ -125,6 +133,17 @@ absl::StatusOr<Workload> Workload::Create(const WorkloadSpec& spec,
     w.timeline_ = std::move(timeline);
     w.description_ = absl::StrCat("script ", spec.script.filename().string(), " (",
                                   w.timeline_->frames(), " frames, looped)");
+    return w;
+  }
+
+  if (spec.kind == WorkloadKind::kAnimation) {
+    if (scene.animations_size() == 0) {
+      return absl::FailedPreconditionError("workload animation: the scene has no animation");
+    }
+    w.animation_ = scene.animations(0);
+    w.description_ = absl::StrCat("animation ", w.animation_->id(), " (", w.animation_->name(),
+                                  ", ", w.animation_->end() - w.animation_->start(),
+                                  " s) seeked 1/30 s a tick, looped");
     return w;
   }
 
@@ -231,11 +250,21 @@ v1::Update Workload::Object(uint64_t tick) const {
   return u;
 }
 
+v1::Update Workload::Animation(uint64_t tick) const {
+  v1::Update u;
+  v1::AnimationChange* change = u.mutable_animation();
+  change->set_animation(animation_->id());
+  change->set_playing(false);  // the ticks are the clock: every run sees the same poses
+  change->set_time(float(double(animation_->start()) + double(tick) * kAnimationSecondsPerTick));
+  return u;
+}
+
 std::vector<v1::Update> Workload::UpdatesForTick(uint64_t tick) const {
   switch (kind_) {
     case WorkloadKind::kOrbit: return {Orbit(tick)};
     case WorkloadKind::kLight: return {Light(tick)};
     case WorkloadKind::kObject: return {Object(tick)};
+    case WorkloadKind::kAnimation: return {Animation(tick)};
     case WorkloadKind::kMixed: {
       // One kind per tick, in turn; each advances on its own tick count.
       const uint64_t own = tick / 3;

@@ -1,7 +1,8 @@
 // The updates a `gistream bench` session sends, tick by tick, derived from
 // the loaded scene: orbit (camera only), light (a light's or an emitter's
 // intensity, and a punctual light's position), object (a mesh node moves),
-// mixed (the three in turn), or a script file's timeline. Deterministic in
+// mixed (the three in turn), animation (the scene's own glTF animation,
+// sampled tick by tick), or a script file's timeline. Deterministic in
 // the tick number, so every session and every run sends the same sequence.
 #pragma once
 
@@ -17,7 +18,7 @@
 
 namespace gistream::client {
 
-enum class WorkloadKind { kOrbit, kLight, kObject, kMixed, kScript };
+enum class WorkloadKind { kOrbit, kLight, kObject, kMixed, kAnimation, kScript };
 
 struct WorkloadSpec {
   WorkloadKind kind = WorkloadKind::kOrbit;
@@ -25,14 +26,16 @@ struct WorkloadSpec {
   std::string node;              // kObject/kMixed: node name or id; empty: pick one
 };
 
-// "orbit", "light", "object", "mixed", or a path to a script JSON file.
+// "orbit", "light", "object", "mixed", "animation", or a path to a script
+// JSON file.
 absl::StatusOr<WorkloadSpec> ParseWorkload(const std::string& text);
 std::string WorkloadName(const WorkloadSpec& spec);
 
 class Workload {
  public:
   // FAILED_PRECONDITION when the scene has nothing the workload can change
-  // (no light or emitter for `light`, no mesh node for `object`).
+  // (no light or emitter for `light`, no mesh node for `object`, no
+  // animation for `animation`).
   static absl::StatusOr<Workload> Create(const WorkloadSpec& spec,
                                          const v1::LoadSceneResponse& scene);
 
@@ -46,6 +49,7 @@ class Workload {
   v1::Update Orbit(uint64_t tick) const;
   v1::Update Light(uint64_t tick) const;
   v1::Update Object(uint64_t tick) const;
+  v1::Update Animation(uint64_t tick) const;
 
   WorkloadKind kind_ = WorkloadKind::kOrbit;
   std::string description_;
@@ -58,6 +62,8 @@ class Workload {
   float amplitude_ = 0.01f;  // of positional motion, metres
   // object
   std::optional<v1::NodeInfo> node_;
+  // animation
+  std::optional<v1::AnimationInfo> animation_;
   std::optional<Timeline> timeline_;
 };
 

@@ -148,7 +148,8 @@ See scenes/eval_default.json and README.md for the spec format.
 
 constexpr absl::string_view kBench =
     R"(usage: gistream [--server ADDR[,ADDR...]] bench [--sessions N,N,...]
-                [--duration T] [--warmup T] [--workload orbit|light|object|mixed|FILE.json]
+                [--duration T] [--warmup T]
+                [--workload orbit|light|object|mixed|animation|FILE.json]
                 [--node NAME_OR_ID] [--update-hz HZ] [--channels shared|per-session]
                 [--fps F|uncapped] [--interfere "render ..."] [--out DIR]
                 [--reference-spp N]
@@ -171,8 +172,10 @@ fps_vs_sessions.png and latency_vs_sessions.png into DIR.
   --warmup T           unmeasured time after the first frames (default 2s)
   --workload W         orbit (camera only), light (a light's intensity and
                        position, or an emitter's strength), object (a mesh
-                       node moves), mixed (the three in turn), or a script
-                       JSON file whose tracks and events loop (default orbit)
+                       node moves), mixed (the three in turn), animation
+                       (the scene's own glTF animation, 1/30 s a tick), or
+                       a script JSON file whose tracks and events loop
+                       (default orbit)
   --node NAME_OR_ID    the node object/mixed move (default: a "block"/"box"
                        node, else the last mesh node)
   --update-hz HZ       open loop: updates at this rate; 0 (default): closed
