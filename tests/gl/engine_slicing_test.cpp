@@ -105,7 +105,8 @@ TEST(EngineSlicing, ASplitShProbesUpdateConvergesToAnUnsplitOne) {
   NodeTransformUpdate move;
   move.node = 6;  // tall_block
   move.translation = glm::vec3(-0.05f, 0.0f, 0.05f);
-  // The first solve is whole in both.
+  // The first solve: in batches of probes over many slices in the first,
+  // in one in the second; the same solution (ShProbesFirstSolve.*).
   testing::RenderRequestExr(request(split_scene.id(), 0.01, {}));
   testing::RenderRequestExr(request(whole_scene.id(), 10'000.0, {}));
   EncodedFrame split_frame, whole_frame, fresh_frame;
