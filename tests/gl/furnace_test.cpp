@@ -96,16 +96,20 @@ INSTANTIATE_TEST_SUITE_P(EverySolver, Furnace,
                              FurnaceCase{"implicit_visibility", 0.5f, kIterated, 0.01},
                              FurnaceCase{"implicit_visibility", 0.9f, kIterated, 0.01},
                              FurnaceCase{"implicit_visibility", 0.99f, kIterated, 0.03},
-                             // antiradiance: measured -1.2, -19, -74 %. NOT the target: the
-                             // leaf-centre collocation of Eq. 17 transports about 98 % per
-                             // iteration (ARCHITECTURE.md, antiradiance).
-                             FurnaceCase{"antiradiance", 0.5f, kAntiradiance, 0.02},
-                             FurnaceCase{"antiradiance", 0.9f, kAntiradiance, 0.21},
-                             FurnaceCase{"antiradiance", 0.99f, kAntiradiance, 0.76},
+                             // antiradiance: measured -0.1, -1.4, -9.0 % (were -1.2, -19,
+                             // -74 %): one pass now carries 99.88 % of what a closed box
+                             // sends (the bins' true cosines and the near leaves' exact form
+                             // factors, links.cpp); the rest, the clusters' r^2 + a / pi
+                             // kernel, is what 1 / (1 - rho k) makes -9 % at 0.99 (the
+                             // issue's 5 % is not reached there; ARCHITECTURE.md).
+                             FurnaceCase{"antiradiance", 0.5f, kAntiradiance, 0.01},
+                             FurnaceCase{"antiradiance", 0.9f, kAntiradiance, 0.02},
+                             FurnaceCase{"antiradiance", 0.99f, kAntiradiance, 0.10},
                              // avg: VPL paths end by roulette only; what is left is noise in
                              // the number of paths (2048 VPLs are ~1000, ~200 and ~20 paths at
                              // 0.5, 0.9, 0.99): measured -0.4, -1.5, -32 %. At 0.99 the VPL
-                             // budget holds too few paths to converge.
+                             // budget holds too few paths to converge (unbiased over paths:
+                             // unit test AvgStiffFurnace).
                              FurnaceCase{"avg", 0.5f, kAvg, 0.02},
                              FurnaceCase{"avg", 0.9f, kAvg, 0.03},
                              FurnaceCase{"avg", 0.99f, kAvg, 0.35}),
