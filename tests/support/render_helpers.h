@@ -86,11 +86,13 @@ RenderRequest SolverRequest(const std::string& scene, const std::string& solver,
 // Sets material `material`'s base colour to grey `rho`.
 MaterialUpdate GreyAlbedo(float rho, uint32_t material = 0);
 
-// The white furnace (albedo 0.5: L = 2 x emission) scaled to millimetres
-// and kilometres and with emission 1e-3 and 1e6 nits: renders `solver`
-// at 16 x 16 for each case and expects a finite image whose mean over the
-// emission strength is `expected` (2; 1.5 for direct light alone: L_e plus
-// one bounce of 0.5) within `tolerance`; `check` sees every frame.
+// The white furnace (albedo 0.5: L = 2 x emission) scaled from 1e-4 to
+// 1e5 and with emission 1e-6 to 1e6 nits: renders `solver` at 16 x 16 for
+// each case and expects a finite image whose mean over the emission
+// strength is `expected` (2; 1.5 for direct light alone: L_e plus one
+// bounce of 0.5) within `tolerance`, and which over the strength is the
+// image at scale 1 and emission 1 (relMSE at most tolerance^2); `check`
+// sees every frame.
 void ExpectFurnaceScaleInvariant(const std::string& solver,
                                  const std::map<std::string, std::string>& params, double tolerance,
                                  const std::function<void(const EncodedFrame&)>& check = {},
