@@ -124,7 +124,8 @@ TEST_P(ShProbesStiffTail, BoundedMonotoneAndNotAboveTheExactValue) {
         double(rho), bounces, mean, exact, FrameStat(frame, "tail_ratio"),
         FrameStat(frame, "tail_ratio_spread"), FrameStat(frame, "tail_applied"));
     EXPECT_LE(mean, 1.01 * exact) << bounces << " bounces";
-    EXPECT_LE(FrameStat(frame, "tail_ratio"), 0.99);
+    // Never above the scene's largest albedo (tail_estimate.h).
+    EXPECT_LE(FrameStat(frame, "tail_ratio"), double(rho) + 1e-6);
     // The probes keep the albedo in half floats: the measured bounce ratio
     // is the albedo within 0.1 % (an 8-bit atlas made it 252/255 = 0.98824
     // at 0.99, and 1.0 at 0.999, where the ratios then never settled and
