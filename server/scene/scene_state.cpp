@@ -144,6 +144,14 @@ ChangeMask SceneState::Apply(const Change& change) {
       mat.base_color_factor = *m->base_color;
       mask |= kChangeMaterials;
     }
+    if (m->metallic) {
+      mat.metallic_factor = *m->metallic;
+      mask |= kChangeMaterials;
+    }
+    if (m->roughness) {
+      mat.roughness_factor = *m->roughness;
+      mask |= kChangeMaterials;
+    }
     if (m->emissive) {
       mat.emissive_factor = *m->emissive;
       mask |= kChangeEmission;

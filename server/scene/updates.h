@@ -57,6 +57,8 @@ struct MaterialUpdate {
   std::optional<glm::vec4> base_color;
   std::optional<glm::vec3> emissive;
   std::optional<float> emissive_strength;
+  std::optional<float> metallic;   // [0, 1] (glTF metallicFactor)
+  std::optional<float> roughness;  // [0, 1] (glTF roughnessFactor)
 };
 
 struct EnvironmentUpdate {
@@ -97,7 +99,7 @@ enum ChangeBits : uint32_t {
   kChangeGeometry = 1u << 0,     // a node carrying a mesh moved
   kChangeLights = 1u << 1,       // punctual light moved/recoloured/dimmed
   kChangeEmission = 1u << 2,     // emissive material changed (area lights)
-  kChangeMaterials = 1u << 3,    // base colour changed
+  kChangeMaterials = 1u << 3,    // base colour, metallic or roughness changed
   kChangeEnvironment = 1u << 4,  // environment rotation/intensity
   kChangeCamera = 1u << 5,       // view only (per session)
   kChangeDeformation = 1u << 6,  // a skinned or morphed mesh changed shape (joints, weights)

@@ -204,6 +204,14 @@ absl::Status Check(const Scene& scene, const MaterialUpdate& u) {
     GS_RETURN_IF_ERROR(CheckVec<3>("material.emissive", *u.emissive, "rgb", 0.0f));
     GS_RETURN_IF_ERROR(CheckAtMost("material.emissive", MaxComponent(*u.emissive), kMaxRadiance));
   }
+  if (u.metallic) {
+    GS_RETURN_IF_ERROR(CheckAtLeast("material.metallic", *u.metallic, 0.0f));
+    GS_RETURN_IF_ERROR(CheckAtMost("material.metallic", *u.metallic, 1.0f));
+  }
+  if (u.roughness) {
+    GS_RETURN_IF_ERROR(CheckAtLeast("material.roughness", *u.roughness, 0.0f));
+    GS_RETURN_IF_ERROR(CheckAtMost("material.roughness", *u.roughness, 1.0f));
+  }
   if (u.emissive_strength) {
     GS_RETURN_IF_ERROR(CheckAtLeast("material.emissive_strength", *u.emissive_strength, 0.0f));
     GS_RETURN_IF_ERROR(

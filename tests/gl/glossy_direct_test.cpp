@@ -125,6 +125,39 @@ TEST_P(GlossyDirect, PathtraceMatchesTheBrdf) {
   }
 }
 
+// A material update makes a Lambertian plane glossy: `direct` then shows
+// the BRDF of the new metallic and roughness (the case's), as in
+// DirectSolverMatchesTheBrdf.
+TEST_P(GlossyDirect, MaterialUpdateSetsMetallicAndRoughness) {
+  const GlossyCase& c = GetParam();
+  GltfBuilder b;
+  const int mat = b.AddMaterial("plane", {c.base_color.r, c.base_color.g, c.base_color.b});
+  b.AddQuad("plane", {0, 0, 0}, {0, 0, 4}, {4, 0, 0}, mat, 4);
+  b.AddPointLight("lamp", {kLight.x, kLight.y, kLight.z}, {1, 1, 1}, kIntensity);
+  b.AddCamera("camera", {0.0f, kHeight, 0.0f}, {0, -1, 0}, {0, 0, -1}, 1.6f);
+  auto info = testing::SharedEngine().LoadScene(testing::SceneFromBytes(b.ToJson()));
+  ASSERT_TRUE(info.ok()) << info.status();
+  MaterialUpdate update;
+  update.material = uint32_t(mat);
+  update.metallic = c.metallic;
+  update.roughness = c.roughness;
+  RenderRequest request;
+  request.scene = info->id;
+  request.solver = "direct";
+  request.width = request.height = kSize;
+  request.updates = {Update{1, update}};
+  const testing::FloatImage image = testing::RenderRequestExr(request);
+  ASSERT_EQ(image.width, int(kSize));
+  const ViewCamera camera = Camera();
+  for (const glm::ivec2 px : kPixels) {
+    const glm::vec3 expected = Expected(c, PlanePoint(camera, px, {0.5f, 0.5f}), camera.position);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(image.at(px.x, px.y)[k], expected[k], 0.01f * expected[k] + 1e-6f)
+          << "pixel " << px.x << "," << px.y << " channel " << k;
+    }
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Materials, GlossyDirect,
     ::testing::Values(GlossyCase{"gold_metal", {1.0f, 0.8f, 0.4f}, 1.0f, 0.4f},

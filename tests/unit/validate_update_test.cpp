@@ -184,6 +184,18 @@ TEST(ValidateUpdate, MaterialNumbers) {
   u = MaterialUpdate{};
   u.emissive_strength = kInf;
   EXPECT_ERROR(Validate(u), kInvalidArgument, "update.material.emissive_strength: inf");
+  u = MaterialUpdate{};
+  u.metallic = 1.5f;
+  EXPECT_ERROR(Validate(u), kInvalidArgument,
+               "update.material.metallic: 1.5 exceeds the limit of 1");
+  u = MaterialUpdate{};
+  u.roughness = -0.5f;
+  EXPECT_ERROR(Validate(u), kInvalidArgument, "update.material.roughness: -0.5 is below 0");
+  u.roughness = kNaN;
+  EXPECT_ERROR(Validate(u), kInvalidArgument, "update.material.roughness: nan is not finite");
+  u.roughness = 0.25f;
+  u.metallic = 1.0f;
+  EXPECT_TRUE(Validate(u).ok());
 }
 
 TEST(ValidateUpdate, Environment) {

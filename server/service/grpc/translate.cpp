@@ -172,6 +172,8 @@ absl::StatusOr<MaterialUpdate> MaterialFromProto(const pb::MaterialChange& m,
   }
   if (m.has_emissive()) out.emissive = FromProto(m.emissive());
   if (m.has_emissive_strength()) out.emissive_strength = m.emissive_strength();
+  if (m.has_metallic()) out.metallic = m.metallic();
+  if (m.has_roughness()) out.roughness = m.roughness();
   return out;
 }
 
