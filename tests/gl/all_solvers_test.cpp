@@ -7,9 +7,11 @@
 #include <map>
 #include <memory>
 
+#include <absl/strings/str_cat.h>
 #include <gtest/gtest.h>
 
 #include "solvers/registry.h"
+#include "support/measurement.h"
 #include "support/render_helpers.h"
 
 namespace gistream {
@@ -142,8 +144,8 @@ TEST_P(AllSolvers, IndirectRoomAgainstTheReference) {
   const FloatImage image = RenderRequestExr(SolverRequest(room.scene.id(), GetParam(), params, 64));
   EXPECT_EQ(image.non_finite(), 0u);
   const double error = testing::RelMse(image, room.reference);
-  std::cout << GetParam() << " indirect_room relMSE " << error << " (direct " << room.direct_error
-            << ")\n";
+  testing::RecordMeasurement("relmse", error);
+  testing::RecordMeasurement("relmse_direct", room.direct_error);
   EXPECT_LE(error, declared().indirect_room_vs_direct * room.direct_error * (1.0 + 1e-9))
       << declared().indirect_room_reason;
 }
@@ -176,8 +178,9 @@ TEST_P(AllSolvers, StochasticFurnaceMeanPassesAZTest) {
   const double standard_error = std::sqrt(std::max(variance, 0.0) / double(n));
   ASSERT_GT(standard_error, 0.0) << "no noise at all: not a per-pixel estimate";
   const double z = (mean - 2.0) / standard_error;
-  std::cout << GetParam() << " furnace mean " << mean << " standard error " << standard_error
-            << " z " << z << "\n";
+  testing::RecordMeasurement("mean", mean);
+  testing::RecordMeasurement("standard_error", standard_error);
+  testing::RecordMeasurement("z", z);
   EXPECT_LT(std::abs(z), 4.0);
 }
 

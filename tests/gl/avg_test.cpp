@@ -6,9 +6,11 @@
 // references are rendered here by `pathtrace`.
 #include <cmath>
 
+#include <absl/strings/str_cat.h>
 #include <gtest/gtest.h>
 
 #include "support/gltf_builder.h"
+#include "support/measurement.h"
 #include "support/render_helpers.h"
 
 namespace gistream {
@@ -54,8 +56,9 @@ TEST(AvgRender, CornellErrorFallsAsVplsGrow) {
   EXPECT_EQ(many.non_finite(), 0u);
   const double e_few = RelMse(few, reference), e_many = RelMse(many, reference);
   const double e_direct = RelMse(direct, reference);
-  std::cout << "cornell relMSE: direct " << e_direct << ", avg 64 VPLs " << e_few
-            << ", avg 1024 VPLs " << e_many << "\n";
+  testing::RecordMeasurement("relmse_direct", e_direct);
+  testing::RecordMeasurement("relmse_64_vpls", e_few);
+  testing::RecordMeasurement("relmse_1024_vpls", e_many);
   EXPECT_LT(e_many, 0.7 * e_few);
   EXPECT_LT(e_many, 0.5 * e_direct);
 }
@@ -71,7 +74,8 @@ TEST(AvgRender, BeatsDirectOnTheIndirectOnlyRoom) {
   ASSERT_EQ(avg.width, int(kSize));
   EXPECT_EQ(avg.non_finite(), 0u);
   const double e_avg = RelMse(avg, reference), e_direct = RelMse(direct, reference);
-  std::cout << "indirect_room relMSE: direct " << e_direct << ", avg " << e_avg << "\n";
+  testing::RecordMeasurement("relmse_direct", e_direct);
+  testing::RecordMeasurement("relmse_avg", e_avg);
   // `direct` renders room B black; avg must at least halve its error.
   EXPECT_LT(e_avg, 0.5 * e_direct);
 }
@@ -110,8 +114,9 @@ TEST(AvgRender, ThinWallDoesNotLeak) {
   const FloatImage leaky = Render(info->id, "avg", unshadowed, kSize, {{3, dark_view}});
   ASSERT_EQ(dark.width, int(kSize));
   const double lit_mean = Mean(lit).g, dark_mean = Mean(dark).g, leak_nv = Mean(leaky).g;
-  std::cout << "thin wall: lit side " << lit_mean << ", dark side " << dark_mean
-            << ", dark side without VPL visibility " << leak_nv << "\n";
+  testing::RecordMeasurement("lit_side", lit_mean);
+  testing::RecordMeasurement("dark_side", dark_mean);
+  testing::RecordMeasurement("dark_side_without_visibility", leak_nv);
   // Measured: dark / lit = 1.7 % with visibility, 12 % without. What is
   // left comes from VPLs in the voxels the sheet shares with the ceiling
   // and floor, whose mean plane can lie on the dark side (ARCHITECTURE.md).

@@ -3,12 +3,13 @@
 // iterations) stop when an iteration's residual falls below `tolerance`
 // (default 0.01); the count parameter is only a safety cap. Stats:
 // `residual`, the iterations used and `cap_reached`.
-#include <cstdio>
 #include <map>
 #include <string>
 
+#include <absl/strings/str_cat.h>
 #include <gtest/gtest.h>
 
+#include "support/measurement.h"
 #include "support/render_helpers.h"
 
 namespace gistream {
@@ -39,8 +40,9 @@ TEST_P(Convergence, ToleranceStopsBeforeTheCapOnTheFurnace) {
   EncodedFrame frame;
   RenderRequestExr(SolverRequest(scene.id(), it.solver, {}, 16), &frame);
   const double used = FrameStat(frame, it.used_stat);
-  std::printf("%s furnace: %s %.0f residual %.4g cap_reached %.0f\n", it.solver, it.used_stat, used,
-              FrameStat(frame, "residual"), FrameStat(frame, "cap_reached"));
+  testing::RecordMeasurement(it.used_stat, used);
+  testing::RecordMeasurement("residual", FrameStat(frame, "residual"));
+  testing::RecordMeasurement("cap_reached", FrameStat(frame, "cap_reached"));
   EXPECT_GE(used, 2.0);
   EXPECT_LT(used, 16.0);
   EXPECT_LT(FrameStat(frame, "residual"), 0.01);
@@ -70,9 +72,9 @@ TEST_P(Convergence, DefaultsConvergeOnTheBundledScenes) {
     const BundledCopy scene(file);
     EncodedFrame frame;
     RenderRequestExr(SolverRequest(scene.id(), it.solver, {}, 16), &frame);
-    std::printf("%s %s: %s %.0f residual %.4g cap_reached %.0f\n", it.solver, file, it.used_stat,
-                FrameStat(frame, it.used_stat), FrameStat(frame, "residual"),
-                FrameStat(frame, "cap_reached"));
+    testing::RecordMeasurement(absl::StrCat(file, "_", it.used_stat),
+                               FrameStat(frame, it.used_stat));
+    testing::RecordMeasurement(absl::StrCat(file, "_residual"), FrameStat(frame, "residual"));
     EXPECT_EQ(FrameStat(frame, "cap_reached"), 0.0) << file;
     EXPECT_LT(FrameStat(frame, "residual"), 0.01) << file;
   }

@@ -3,12 +3,13 @@
 // intensities, error against the path-traced reference on the Cornell box
 // and the indirect-only room, and which stages each kind of change runs.
 #include <cmath>
-#include <cstdio>
 
+#include <absl/strings/str_cat.h>
 #include <gtest/gtest.h>
 
 #include "gl/egl_context.h"
 #include "gl/program.h"
+#include "support/measurement.h"
 #include "support/render_helpers.h"
 
 namespace gistream {
@@ -118,11 +119,9 @@ TEST_P(ShProbesStiffTail, BoundedMonotoneAndNotAboveTheExactValue) {
     ASSERT_EQ(image.width, 16);
     EXPECT_EQ(image.non_finite(), 0u);
     const double mean = ImageMean(image).g;
-    std::printf(
-        "sh_probes rho %.3f bounces %s: mean %.3f exact %.3f tail_ratio %.5f spread %.4f "
-        "applied %.0f\n",
-        double(rho), bounces, mean, exact, FrameStat(frame, "tail_ratio"),
-        FrameStat(frame, "tail_ratio_spread"), FrameStat(frame, "tail_applied"));
+    testing::RecordMeasurement(absl::StrCat("mean_rho_", rho, "_bounces_", bounces), mean);
+    testing::RecordMeasurement(absl::StrCat("tail_ratio_rho_", rho, "_bounces_", bounces),
+                               FrameStat(frame, "tail_ratio"));
     EXPECT_LE(mean, 1.01 * exact) << bounces << " bounces";
     // Never above the scene's largest albedo (tail_estimate.h).
     EXPECT_LE(FrameStat(frame, "tail_ratio"), double(rho) + 1e-6);

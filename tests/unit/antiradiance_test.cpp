@@ -6,7 +6,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include <absl/strings/str_cat.h>
 #include <gtest/gtest.h>
+
+#include "support/measurement.h"
 
 #include "solvers/antiradiance/directional_bins.h"
 #include "solvers/antiradiance/form_factor.h"
@@ -185,11 +188,11 @@ TEST(AntiradianceTransport, BlockerIsCancelledByAntiradiance) {
     }
     EXPECT_FALSE(r.fallback);
     ASSERT_EQ(r.residual.size(), 4u);
-    std::printf("bins %d: E behind the blocker / unblocked per iteration:", m);
-    for (double x : behind) std::printf(" %.4f", x);
-    std::printf("; residual per iteration:");
-    for (double x : r.residual) std::printf(" %.3g", x);
-    std::printf("\n");
+    for (size_t k = 0; k < behind.size(); ++k) {
+      testing::RecordMeasurement(absl::StrCat("behind_bins_", m, "_iteration_", k + 1), behind[k]);
+      testing::RecordMeasurement(absl::StrCat("residual_bins_", m, "_iteration_", k + 1),
+                                 r.residual[k]);
+    }
     EXPECT_NEAR(behind[0], 1.0, 0.02) << m;  // no shadow after one iteration
     final_behind[m == 512] = behind[3];
     // Converged after two iterations (one layer of occlusion).
@@ -303,8 +306,8 @@ TEST(AntiradianceEnergy, ClosedBoxGathersWhatItSends) {
   const double mean = MeanLeafIrradiance(p, t) / kPi;
   double lo = 1e30;
   for (int i : p.Leaves()) lo = std::min(lo, double(t.indirect_irradiance()[size_t(i)].g) / kPi);
-  std::printf("closed box, one pass: mean E / pi %.5f, lowest leaf %.4f, %llu exact links\n", mean,
-              lo, static_cast<unsigned long long>(stats.exact));
+  testing::RecordMeasurement("mean_e_over_pi", mean);
+  testing::RecordMeasurement("lowest_leaf", lo);
   // Measured 0.99878 (the clusters' Eq. 17 kernel with r^2 + a / pi is the
   // rest); never above 1 (no energy created), 0.3 % below at most.
   EXPECT_LE(mean, 1.0 + 1e-4);
@@ -328,8 +331,8 @@ TEST(AntiradianceEnergy, StiffFurnaceConvergesNearTheExactValue) {
     EXPECT_FALSE(r.cap_reached) << rho;
     const double exact = kPi * rho / (1.0 - rho);
     const double ratio = MeanLeafIrradiance(p, t) / exact;
-    std::printf("furnace rho %.2f: E / exact %.4f after %d iterations (scheme %d)\n", rho, ratio,
-                r.iterations, int(r.scheme_used));
+    testing::RecordMeasurement(absl::StrCat("ratio_rho_", rho), ratio);
+    testing::RecordMeasurement(absl::StrCat("iterations_rho_", rho), r.iterations);
     EXPECT_LE(ratio, 1.0 + 1e-4) << rho;
     EXPECT_GE(ratio, rho < 0.95f ? 0.99 : 0.94) << rho;
   }
@@ -356,10 +359,7 @@ TEST(AntiradianceStability, StiffFurnaceStaysFiniteAndBounded) {
       lo = std::min(lo, double(e.g)), hi = std::max(hi, double(e.g));
     }
     const double mean = MeanLeafIrradiance(s.patches, *s.transport);
-    std::printf(
-        "box rho %.2f, 48 iterations: mean / truncated %.4f, leaves %.3f .. %.3f of the "
-        "fixed point (scheme %d, fallback %d)\n",
-        double(rho), mean / truncated, lo / bound, hi / bound, int(r.scheme_used), int(r.fallback));
+    testing::RecordMeasurement(absl::StrCat("mean_over_truncated_rho_", rho), mean / truncated);
     // No energy made over the box; a leaf may pass the fixed point by the
     // hierarchy's per-leaf error (a cluster's light is pushed to its leaves
     // unchanged; measured +3.7 % at 0.9).
@@ -400,9 +400,8 @@ TEST(AntiradianceStability, DeepSlabStackNeedsManyAntiradianceSteps) {
       ASSERT_TRUE(std::isfinite(e));
       lo = std::min(lo, e), hi = std::max(hi, e);
     }
-    std::printf("slabs scheme %d used %d fallback %d passes %d residual %.3g min/max E %.3g\n",
-                int(scheme), int(r.scheme_used), int(r.fallback), r.global_passes,
-                r.residual.back(), lo / hi);
+    testing::RecordMeasurement(absl::StrCat("passes_scheme_", int(scheme)), r.global_passes);
+    testing::RecordMeasurement(absl::StrCat("residual_scheme_", int(scheme)), r.residual.back());
     EXPECT_EQ(r.scheme_used, Scheme::kAsymmetric);
     EXPECT_EQ(r.fallback,
               scheme == Scheme::kSymmetric);  // the symmetric residual grew twice in a row

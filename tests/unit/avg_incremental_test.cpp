@@ -3,7 +3,10 @@
 // paths whose rays avoid the rewritten voxels are kept as they were, the
 // others retraced, and the VPLs equal a full trace of the moved scene
 // bitwise (same path indices, same random numbers).
+#include <absl/strings/str_cat.h>
 #include <gtest/gtest.h>
+
+#include "support/measurement.h"
 
 #include "scene/gltf_import.h"
 #include "solvers/avg/voxel_grid.h"
@@ -144,9 +147,9 @@ TEST(AvgIncremental, PathsAvoidingTheMoveAreKeptAndTheResultEqualsAFullTrace) {
   // Some paths crossed the block's old or new place, most did not; long
   // paths bounce around the closed box and mostly cross it, so about a
   // third of the VPLs are kept (358 of 1024 here).
-  std::cout << "paths kept " << incremental.kept_paths << ", retraced "
-            << incremental.retraced_paths << ", new " << incremental.new_paths << "; VPLs kept "
-            << incremental.kept_vpls << " of " << incremental.vpls.size() << "\n";
+  testing::RecordMeasurement("paths_kept", double(incremental.kept_paths));
+  testing::RecordMeasurement("paths_retraced", double(incremental.retraced_paths));
+  testing::RecordMeasurement("vpls_kept", double(incremental.kept_vpls));
   EXPECT_GT(incremental.retraced_paths, 0u);
   EXPECT_GT(incremental.kept_paths, incremental.retraced_paths);
   EXPECT_EQ(incremental.kept_paths + incremental.retraced_paths + incremental.new_paths,

@@ -10,11 +10,13 @@
 // image's error at 0.99 (docs/RESULTS.md) is the path count, not an energy
 // loss in the tracer.
 #include <cmath>
-#include <cstdio>
 #include <memory>
 #include <string>
 
+#include <absl/strings/str_cat.h>
 #include <gtest/gtest.h>
+
+#include "support/measurement.h"
 
 #include "scene/gltf_import.h"
 #include "solvers/avg/voxel_grid.h"
@@ -61,11 +63,9 @@ TEST(AvgStiffFurnace, TotalVplFluxIsUnbiasedUpToThePathCountNoise) {
     const double standard_error = std::sqrt((sum_sq - n * mean * mean) / (n - 1.0) / n);
     const double expected = double(rho) / (1.0 - double(rho));
     const double z = (mean - expected) / standard_error;
-    std::printf(
-        "rho %.2f: %llu paths, %.1f VPLs per path, flux / power %.3f (expected %.3f, "
-        "standard error %.1f %%, z %.2f)\n",
-        double(rho), static_cast<unsigned long long>(r.paths), double(r.vpls.size()) / n, mean,
-        expected, 100.0 * standard_error / expected, z);
+    testing::RecordMeasurement(absl::StrCat("paths_rho_", rho), double(r.paths));
+    testing::RecordMeasurement(absl::StrCat("flux_over_power_rho_", rho), mean);
+    testing::RecordMeasurement(absl::StrCat("z_rho_", rho), z);
     // No escapes from the closed shell, and no bias beyond 4 standard
     // errors of the paths' noise (a false alarm once in ~16,000 runs).
     EXPECT_EQ(r.escaped, 0u) << rho;

@@ -3,14 +3,16 @@
 #include "solvers/pathtrace/ggx.h"
 
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include <absl/strings/str_cat.h>
 #include <gtest/gtest.h>
+
+#include "support/measurement.h"
 
 #include "solvers/pathtrace/sampling.h"
 
@@ -131,15 +133,17 @@ TEST(Ggx, SampleWeightsAverageToTheAlbedo) {
 // The white furnace of one bounce: a white metal (F0 = 1) and a white
 // dielectric reflect at most all the light, never more, from any view; what
 // is missing is the multiple scattering this single-scattering model drops
-// (ggx.h). The table is printed for docs/ARCHITECTURE.md.
+// (ggx.h). The albedos are recorded as test properties (docs/ARCHITECTURE.md quotes them).
 TEST(Ggx, WhiteFurnaceAlbedoNeverExceedsOne) {
-  std::printf("roughness  cos_o  albedo(metal)  albedo(dielectric)\n");
   for (float roughness : {1.0f, 0.75f, 0.5f, 0.25f}) {
     for (float cos_o : {1.0f, 0.5f, 0.1f}) {
       const glm::vec3 wo = Direction(cos_o, 0.0);
       const double metal = Albedo({glm::vec3(1.0f), 1.0f, roughness}, wo).x;
       const double dielectric = Albedo({glm::vec3(1.0f), 0.0f, roughness * 0.999f}, wo).x;
-      std::printf("%9.2f  %5.2f  %13.4f  %18.4f\n", roughness, cos_o, metal, dielectric);
+      testing::RecordMeasurement(absl::StrCat("metal_albedo_roughness_", roughness, "_cos_", cos_o),
+                                 metal);
+      testing::RecordMeasurement(
+          absl::StrCat("dielectric_albedo_roughness_", roughness, "_cos_", cos_o), dielectric);
       EXPECT_LE(metal, 1.0 + 2e-3) << "roughness " << roughness << " cos_o " << cos_o;
       EXPECT_LE(dielectric, 1.0 + 2e-3) << "roughness " << roughness << " cos_o " << cos_o;
       // Single scattering loses light, most at roughness 1 seen head-on,
@@ -179,9 +183,7 @@ TEST(Ggx, MetallicZeroRoughnessOneIsLambert) {
   const double documented[] = {0.71, 0.70, 0.34};
   for (int i = 0; i < 3; ++i) {
     const double a = Albedo(gltf, Direction(cosines[i], 0.0)).x;
-    std::printf(
-        "glossy formula at metallic 0, roughness 1, cos_o %.1f: albedo %.4f (Lambert 0.8)\n",
-        cosines[i], a);
+    testing::RecordMeasurement(absl::StrCat("albedo_cos_", cosines[i]), a);
     EXPECT_LT(a, 0.8) << "cos_o " << cosines[i];
     EXPECT_NEAR(a, documented[i], 0.01) << "cos_o " << cosines[i];
   }

@@ -13,11 +13,13 @@
 // of 64 was -94 % at rho = 0.999 and -52 % at rho = 0.99, a 64-bounce-capped
 // or 0.95-survival-capped integrator fails here.
 #include <cmath>
-#include <cstdio>
 #include <memory>
 #include <vector>
 
+#include <absl/strings/str_cat.h>
 #include <gtest/gtest.h>
+
+#include "support/measurement.h"
 
 #include "scene/gltf_import.h"
 #include "scene/scene_state.h"
@@ -86,9 +88,9 @@ TEST_P(PathtraceFurnace, UnbiasedAtAnyAlbedo) {
   const double exact = 1.0 / (1.0 - double(rho));  // E = 1
   const FurnaceEstimate e = TraceFurnace(rho, kPaths);
   ASSERT_TRUE(std::isfinite(e.mean));
-  std::printf("furnace rho %.3f: mean %.4f exact %.4f (%+.2f %%), SE %.4f, rays/path %.1f\n",
-              double(rho), e.mean, exact, (e.mean / exact - 1.0) * 100.0, e.standard_error,
-              double(e.rays) / kPaths);
+  testing::RecordMeasurement(absl::StrCat("mean_rho_", rho), e.mean);
+  testing::RecordMeasurement(absl::StrCat("standard_error_rho_", rho), e.standard_error);
+  testing::RecordMeasurement(absl::StrCat("rays_per_path_rho_", rho), double(e.rays) / kPaths);
   EXPECT_LE(e.standard_error, 1.5 / std::sqrt(double(kPaths)) * exact)
       << "variance larger than the argued sqrt(rho) E / (1 - rho) per path";
   EXPECT_NEAR(e.mean, exact, 4.0 * e.standard_error)

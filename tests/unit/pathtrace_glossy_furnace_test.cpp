@@ -15,11 +15,13 @@
 // Both with N paths along one direction from one point: |mean - exact| <=
 // 4 standard errors (p < 1e-4 of a false alarm).
 #include <cmath>
-#include <cstdio>
 #include <memory>
 #include <vector>
 
+#include <absl/strings/str_cat.h>
 #include <gtest/gtest.h>
+
+#include "support/measurement.h"
 
 #include "scene/gltf_import.h"
 #include "scene/scene_state.h"
@@ -102,8 +104,8 @@ TEST(PathtraceGlossyFurnace, OneBounceIsOnePlusTheAlbedo) {
     for (double cos_o : {1.0, 0.75}) {
       const double exact = 1.0 + MetalAlbedo(roughness, cos_o);
       const Estimate e = Trace(roughness, TowardsFloor(cos_o), 16384, 1);
-      std::printf("glossy furnace, 1 bounce, roughness %.1f cos %.1f: %.4f exact %.4f SE %.4f\n",
-                  double(roughness), cos_o, e.mean, exact, e.standard_error);
+      testing::RecordMeasurement(absl::StrCat("mean_roughness_", roughness, "_cos_", cos_o),
+                                 e.mean);
       EXPECT_NEAR(e.mean, exact, 4.0 * e.standard_error + 1e-3)
           << "roughness " << roughness << " cos_o " << cos_o;
     }
@@ -123,8 +125,7 @@ TEST(PathtraceGlossyFurnace, AllBouncesBoundedByTheAlbedo) {
     hi = std::min(1.0, hi * 1.01);
     ASSERT_LT(hi, 1.0);
     const Estimate e = Trace(roughness, TowardsFloor(0.8), 8192, 0);
-    std::printf("glossy furnace, roughness %.1f: L %.4f (SE %.4f) in [%.4f, %.4f]\n",
-                double(roughness), e.mean, e.standard_error, 1.0 / (1.0 - lo), 1.0 / (1.0 - hi));
+    testing::RecordMeasurement(absl::StrCat("mean_roughness_", roughness), e.mean);
     EXPECT_GE(e.mean + 4.0 * e.standard_error, 1.0 / (1.0 - lo)) << "roughness " << roughness;
     EXPECT_LE(e.mean - 4.0 * e.standard_error, 1.0 / (1.0 - hi)) << "roughness " << roughness;
   }
