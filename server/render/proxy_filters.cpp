@@ -16,15 +16,7 @@ Bounds ItemWorldBounds(const SceneState& state, const DrawItem& item, const glm:
     world.Extend(glm::vec3(std::numeric_limits<float>::max()));
     return world;
   }
-  const Bounds& local = primitive.bounds;
-  if (local.empty()) return world;
-  for (int corner = 0; corner < 8; ++corner) {
-    const glm::vec3 p((corner & 1) ? local.max.x : local.min.x,
-                      (corner & 2) ? local.max.y : local.min.y,
-                      (corner & 4) ? local.max.z : local.min.z);
-    world.Extend(glm::vec3(model * glm::vec4(p, 1.0f)));
-  }
-  return world;
+  return primitive.bounds.Transformed(model);
 }
 
 int CubeFaceMask(const Bounds& box, const glm::vec3& origin) {

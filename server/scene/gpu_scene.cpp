@@ -246,14 +246,7 @@ Bounds GpuScene::WorldBounds(const SceneState& state) const {
   Bounds bounds;
   for (const DrawItem& d : draws_) {
     const Bounds& local = state.NodeMesh(size_t(d.node)).primitives[size_t(d.primitive)].bounds;
-    if (local.empty()) continue;
-    const glm::mat4& m = state.world()[size_t(d.node)];
-    for (int corner = 0; corner < 8; ++corner) {
-      const glm::vec3 p((corner & 1) ? local.max.x : local.min.x,
-                        (corner & 2) ? local.max.y : local.min.y,
-                        (corner & 4) ? local.max.z : local.min.z);
-      bounds.Extend(glm::vec3(m * glm::vec4(p, 1.0f)));
-    }
+    bounds.Extend(local.Transformed(state.world()[size_t(d.node)]));
   }
   return bounds;
 }

@@ -6,6 +6,17 @@
 
 namespace gistream {
 
+Bounds Bounds::Transformed(const glm::mat4& m) const {
+  Bounds world;
+  if (empty()) return world;
+  for (int corner = 0; corner < 8; ++corner) {
+    const glm::vec3 p((corner & 1) ? max.x : min.x, (corner & 2) ? max.y : min.y,
+                      (corner & 4) ? max.z : min.z);
+    world.Extend(glm::vec3(m * glm::vec4(p, 1.0f)));
+  }
+  return world;
+}
+
 std::vector<int> LightInstanceNodes(const Scene& scene) {
   std::vector<int> out;
   for (size_t i = 0; i < scene.nodes.size(); ++i) {

@@ -32,6 +32,9 @@ struct Bounds {
   }
   glm::vec3 center() const { return 0.5f * (min + max); }
   glm::vec3 extent() const { return max - min; }
+  // The world box of this (local) box's eight corners under `m`; empty
+  // stays empty.
+  Bounds Transformed(const glm::mat4& m) const;
 };
 
 // Decoded texture. 8-bit textures keep their encoding (`srgb` says whether

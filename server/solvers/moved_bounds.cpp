@@ -1,20 +1,6 @@
 #include "solvers/moved_bounds.h"
 
 namespace gistream {
-namespace {
-
-Bounds Transformed(const Bounds& local, const glm::mat4& m) {
-  Bounds world;
-  for (int corner = 0; corner < 8; ++corner) {
-    const glm::vec3 p((corner & 1) ? local.max.x : local.min.x,
-                      (corner & 2) ? local.max.y : local.min.y,
-                      (corner & 4) ? local.max.z : local.min.z);
-    world.Extend(glm::vec3(m * glm::vec4(p, 1.0f)));
-  }
-  return world;
-}
-
-}  // namespace
 
 void MovedBounds::Solved(const SceneState& state) {
   solved_ = state.world();
@@ -40,8 +26,8 @@ Bounds MovedBounds::Since(const GpuScene& gpu, const SceneState& state) const {
         known && prim < solved_shapes_[node].size() ? solved_shapes_[node][prim] : local;
     const bool reshaped = old_local.min != local.min || old_local.max != local.max;
     if (known && solved_[node] == world[node] && !reshaped) continue;
-    moved.Extend(Transformed(local, world[node]));
-    if (known && !old_local.empty()) moved.Extend(Transformed(old_local, solved_[node]));
+    moved.Extend(local.Transformed(world[node]));
+    if (known && !old_local.empty()) moved.Extend(old_local.Transformed(solved_[node]));
   }
   return moved;
 }
