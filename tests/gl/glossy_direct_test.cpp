@@ -27,6 +27,8 @@ struct GlossyCase {
   float metallic;
   float roughness;
 };
+// ctest's test names show the case, not its bytes.
+void PrintTo(const GlossyCase& c, std::ostream* os) { *os << c.name; }
 
 ViewCamera Camera() {
   ViewCamera camera;
