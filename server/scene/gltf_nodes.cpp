@@ -5,7 +5,6 @@
 #include "scene/gltf_stages.h"
 #include "scene/gltf_util.h"
 #include "scene/magnitude_limits.h"
-#include "util/log.h"
 
 namespace gistream::gltf {
 namespace {
@@ -112,8 +111,6 @@ absl::Status ReadNode(const tinygltf::Model& model, size_t index,
   if (in.skin != -1) {
     GS_RETURN_IF_ERROR(CheckIndex(field + ".skin", in.skin, model.skins.size(), "skins"));
     node->skin = in.skin;
-    LogOnce(LogLevel::kWarning, "gltf-skin",
-            "glTF skins are imported but not yet applied; meshes render in their bind pose");
   }
   GS_RETURN_IF_ERROR(CheckFinite(field + ".weights", in.weights));
   node->weights.assign(in.weights.begin(), in.weights.end());

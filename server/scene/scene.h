@@ -206,8 +206,9 @@ struct Scene {
   std::vector<Light> lights;
   std::vector<Camera> cameras;
   std::optional<Environment> environment;
-  // Imported and validated; not yet applied when rendering (the rigid
-  // bind-pose mesh is drawn with its node transform, as before).
+  // Skins and animations: posed by SceneState::NodeMesh on the CPU and by
+  // scene/gpu_deform on the GPU (docs/ARCHITECTURE.md, "Deformation at run
+  // time").
   std::vector<Skin> skins;
   std::vector<Animation> animations;
 
