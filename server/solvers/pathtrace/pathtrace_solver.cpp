@@ -54,7 +54,19 @@ std::vector<std::string> PathtraceSolver::Plan(ChangeMask changes) const {
 absl::Status PathtraceSolver::Update(SolverContext& ctx, ChangeMask changes) {
   if (!bvh_ || (changes & kChangeShape)) {
     gl::StageTimer::Scope stage(ctx.timer, "build_bvh", /*cpu_stage=*/true);
-    GS_ASSIGN_OR_RETURN(bvh_, pathtrace::SceneBvh::Build(ctx.state));
+    // A deformation alone refits the deforming meshes' BVH when its
+    // topology and quality allow (scene_bvh.h); anything else rebuilds.
+    const bool deformation_only = bvh_ && (changes & kChangeShape) == kChangeDeformation;
+    const pathtrace::RefitResult refit =
+        deformation_only ? bvh_->Refit(ctx.state) : pathtrace::RefitResult::kNothingDeforms;
+    if (refit == pathtrace::RefitResult::kRefit) {
+      ++bvh_refits_;
+    } else {
+      // Declined for the topology or the quality (refit_quality.h).
+      if (refit != pathtrace::RefitResult::kNothingDeforms) ++bvh_refits_declined_;
+      GS_ASSIGN_OR_RETURN(bvh_, pathtrace::SceneBvh::Build(ctx.state));
+      ++bvh_rebuilds_;
+    }
     // The environment map never changes after load (only its rotation and
     // intensity do), so its sampling distribution is built once.
     if (!env_ && ctx.state.scene().environment) {
@@ -246,6 +258,10 @@ SolverStats PathtraceSolver::Stats() const {
           {"nonfinite_samples", double(acc.nonfinite)},
           {"triangles", bvh_ ? double(bvh_->triangles().size()) : 0.0},
           {"emitter_triangles", bvh_ ? double(bvh_->emitters().size()) : 0.0},
+          {"bvh_rebuilds", double(bvh_rebuilds_)},
+          {"bvh_refits", double(bvh_refits_)},
+          {"bvh_refit_growth", bvh_ ? bvh_->refit_growth() : 1.0},
+          {"bvh_refits_declined", double(bvh_refits_declined_)},
           {"pass_rows", double(acc.pass_row)},
           {"slices", double(acc.frame_slices)},
           {"views", double(views_.size())},

@@ -77,6 +77,9 @@ class PathtraceSolver final : public Solver {
 
   // Runtime data
   std::unique_ptr<pathtrace::SceneBvh> bvh_;
+  uint64_t bvh_rebuilds_ = 0;         // BVH builds since creation (the first included)
+  uint64_t bvh_refits_ = 0;           // deformations handled by a refit instead
+  uint64_t bvh_refits_declined_ = 0;  // deformations rebuilt: topology or quality
   std::unique_ptr<pathtrace::EnvironmentLight> env_;  // null: the scene has none
   std::vector<Accumulation> views_;
   Accumulation* current_ = nullptr;  // the last shaded view
