@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <utility>
 
 #include <glm/gtc/constants.hpp>
 
@@ -110,10 +111,14 @@ bool AvgSolver::NeedsTrace(ChangeMask changes) {
 }
 
 std::vector<std::string> AvgSolver::Plan(ChangeMask changes) const {
-  if (NeedsVoxelize(changes)) {
+  // A background trace under way (or due) may be taken, or the next one
+  // started, in any frame: its stages are reported in the frame that
+  // takes it, and the re-map starts there.
+  const bool busy = trace_job_.running() || trace_job_.again();
+  if (NeedsVoxelize(changes) || (trace_job_.running() && job_voxelizes_) || NeedsVoxelize(due_)) {
     return {"voxelize", "trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
   }
-  if (NeedsTrace(changes))
+  if (NeedsTrace(changes) || busy)
     return {"trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
   if (remap_pending_ || direct_.pending()) {
     return {"vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
@@ -166,9 +171,11 @@ void AvgSolver::ContinueRemap(SolverContext& ctx) {
     remap_vpls_.clear();
     remap_path_first_.clear();
     remap_layers_.clear();
-    // Every change restarts the re-map: the shown maps saw the current geometry.
-    unmapped_change_ = Bounds{};
-    unmapped_all_ = false;
+    // The shown maps saw the geometry as it was when the re-map started,
+    // and any change noted since (a background trace of it is under way).
+    unmapped_change_ = std::exchange(remap_change_, Bounds{});
+    unmapped_all_ = std::exchange(remap_all_, false);
+    shown_version_ = remap_version_;
     remap_pending_ = false;
   }
 }
@@ -181,6 +188,8 @@ void AvgSolver::StartRemap(SolverContext& ctx, const Bounds& grid_bounds) {
   remap_layers_.clear();
   remap_next_ = 0;
   remap_pending_ = true;
+  remap_change_ = Bounds{};
+  remap_all_ = false;
   vpl_maps_kept_ = 0;
   // A map depends on its VPL's position and normal, its far plane (from
   // the grid box) and the geometry in its hemisphere (z >= 0 in the VPL's
@@ -233,103 +242,154 @@ bool AvgSolver::SamePlacement(const std::vector<avg::Vpl>& a, const std::vector<
   return true;
 }
 
-bool AvgSolver::Voxelize(SolverContext& ctx, ChangeMask changes) {
-  gl::StageTimer::Scope stage(ctx.timer, "voxelize", /*cpu_stage=*/true);
-  const Bounds moved = moved_.Since(ctx.gpu, ctx.state);
-  moved_.Solved(ctx.state);
-  // Only moved nodes (a material change alters albedo everywhere; a
-  // geometry change with no moved box is a change MovedBounds cannot see).
-  const bool partial = grid_ && !(changes & kChangeMaterials) && !moved.empty() &&
-                       grid_->Revoxelize(ctx.state, moved);
-  if (partial) {
-    const glm::vec3 cells = grid_->rewritten().extent() / grid_->voxel_size();
-    voxels_rewritten_ =
-        std::round(double(cells.x)) * std::round(double(cells.y)) * std::round(double(cells.z));
-    unmapped_change_.Extend(moved);
+void AvgSolver::NoteGeometryChange(const Bounds& moved, bool everywhere) {
+  if (everywhere) {
+    unmapped_all_ = true;
+    if (remap_pending_) remap_all_ = true;
   } else {
-    grid_ = avg::VoxelGrid::Build(ctx.state, grid_resolution_, full_detail_);
-    voxels_rewritten_ = std::pow(double(grid_->resolution()), 3.0);
-    // A material change alone leaves the maps' geometry as it was.
-    if ((changes & kChangeShape) && moved.empty()) {
-      unmapped_all_ = true;
-    } else {
-      unmapped_change_.Extend(moved);
-    }
+    unmapped_change_.Extend(moved);
+    if (remap_pending_) remap_change_.Extend(moved);
   }
-  voxels_partial_ = partial;
-  return partial;
 }
 
-absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
-  const bool voxelize = NeedsVoxelize(changes) || !grid_;
-  const bool trace = voxelize || NeedsTrace(changes);
-  if (!grid_) unmapped_all_ = true;
-  bool partial = false;
-  if (voxelize) {
-    partial = Voxelize(ctx, changes);
-  } else {
-    ctx.timer.Skip("voxelize");
-  }
-  if (!trace) {
-    ctx.timer.Skip("trace_vpls");
-    if (remap_pending_ || direct_.pending()) {
-      gl::StageTimer::Scope stage(ctx.timer, "vpl_shadow_maps");
-      vpl_maps_redrawn_ = 0;
-      if (direct_.pending()) direct_.Continue(ctx.gpu, ctx.state, ctx.budget_ms);
-      if (remap_pending_) ContinueRemap(ctx);
-    } else {
-      ctx.timer.Skip("vpl_shadow_maps");
-    }
-    return absl::OkStatus();
+void AvgSolver::StartTrace(const SolverContext& ctx) {
+  auto job = std::make_shared<TraceJob>(ctx.state);
+  job->changes = std::exchange(due_, ChangeMask(kChangeNone));
+  job->voxelize = NeedsVoxelize(job->changes) || !grid_;
+  if (job->voxelize) {
+    job->moved = moved_.Since(ctx.gpu, ctx.state);
+    moved_.Solved(ctx.state);
+    // Only moved nodes (a material change alters albedo everywhere; a
+    // geometry change with no moved box is a change MovedBounds cannot see).
+    job->rebuild = !grid_ || (job->changes & kChangeMaterials) || job->moved.empty();
+    // The maps' geometry: a material change alone leaves it as it was.
+    NoteGeometryChange(job->moved, (job->changes & kChangeShape) && job->moved.empty());
   }
   // The clamp scales with the current geometry (moved or scaled nodes), not
   // the load-time Scene::bounds: a scene scaled to millimetres would
   // otherwise keep a metre-sized d and lose all indirect light.
   const Bounds scene_bounds = ctx.gpu.WorldBounds(ctx.state);
-  clamp_distance_ = clamp_ * (scene_bounds.empty() ? 0.0f : glm::length(scene_bounds.extent()));
-  Bounds grid_bounds;
-  grid_bounds.Extend(grid_->origin());
-  grid_bounds.Extend(grid_->origin() + grid_->extent());
-  {
-    gl::StageTimer::Scope stage(ctx.timer, "trace_vpls", /*cpu_stage=*/true);
+  job->clamp_distance = clamp_ * (scene_bounds.empty() ? 0.0f : glm::length(scene_bounds.extent()));
+  job->grid = std::exchange(grid_, std::nullopt);
+  job->paths = std::move(paths_);
+  paths_ = avg::VplPathCache{};
+  job_voxelizes_ = job->voxelize;
+  const int resolution = grid_resolution_;
+  const bool full_detail = full_detail_;
+  const avg::VplTraceSettings settings = trace_settings_;
+  trace_job_.Start(std::move(job), [resolution, full_detail, settings](TraceJob& j) {
+    using Clock = std::chrono::steady_clock;
+    const auto t0 = Clock::now();
+    if (j.voxelize) {
+      j.partial = !j.rebuild && j.grid && j.grid->Revoxelize(j.state, j.moved);
+      if (j.partial) {
+        const glm::vec3 cells = j.grid->rewritten().extent() / j.grid->voxel_size();
+        j.voxels_rewritten =
+            std::round(double(cells.x)) * std::round(double(cells.y)) * std::round(double(cells.z));
+      } else {
+        j.grid = avg::VoxelGrid::Build(j.state, resolution, full_detail);
+        j.voxels_rewritten = std::pow(double(j.grid->resolution()), 3.0);
+      }
+    }
+    const auto t1 = Clock::now();
+    j.grid_bounds.Extend(j.grid->origin());
+    j.grid_bounds.Extend(j.grid->origin() + j.grid->extent());
     const std::vector<avg::VplLight> lights = avg::CollectVplLights(
-        ctx.state, grid_bounds.center(), 0.5f * glm::length(grid_bounds.extent()));
+        j.state, j.grid_bounds.center(), 0.5f * glm::length(j.grid_bounds.extent()));
     // After moved nodes only the paths whose rays cross the rewritten
     // voxels are traced again (Laine et al. 2007); the VPLs equal a full
     // trace's.
-    trace_ = partial ? avg::RetraceVpls(*grid_, lights, trace_settings_, grid_->rewritten(), paths_)
-                     : avg::TraceVpls(*grid_, lights, trace_settings_, &paths_);
+    j.trace = j.partial ? avg::RetraceVpls(*j.grid, lights, settings, j.grid->rewritten(), j.paths)
+                        : avg::TraceVpls(*j.grid, lights, settings, &j.paths);
+    j.voxelize_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    j.trace_ms = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
+  });
+}
+
+void AvgSolver::TakeTrace(SolverContext& ctx, TraceJob& job) {
+  // The job's CPU time is reported in the frame that takes its VPLs.
+  if (job.voxelize) {
+    ctx.timer.Record("voxelize", job.voxelize_ms);
+    voxels_partial_ = job.partial;
+    voxels_rewritten_ = job.voxels_rewritten;
+  } else {
+    ctx.timer.Skip("voxelize");
   }
-  {
-    // The direct lights' shadow maps are drawn here too: they are the
-    // shadow maps of the path's first vertices, and change when VPLs do.
+  ctx.timer.Record("trace_vpls", job.trace_ms);
+  grid_ = std::move(job.grid);
+  voxels_filled_ = grid_->filled();
+  voxel_bytes_ = grid_->bytes();
+  paths_ = std::move(job.paths);
+  trace_ = std::move(job.trace);
+  clamp_distance_ = job.clamp_distance;
+  traced_ = true;
+  gl::StageTimer::Scope stage(ctx.timer, "vpl_shadow_maps");
+  // A VPL's paraboloid map depends on its position, its normal and the
+  // geometry only: when a light change left every path where it was (a
+  // dimmer, a colour; the paths are quasi-random in the path index), the
+  // maps stay and only the VPLs' flux is new.
+  const bool same_placement = !job.voxelize && !(job.changes & kChangeShape) && !unmapped_all_ &&
+                              unmapped_change_.empty() && !remap_pending_ &&
+                              SamePlacement(mapped_vpls_, trace_.vpls);
+  vpl_maps_kept_ = 0;
+  if (!visibility_ || same_placement) {
+    shadow_maps_.Upload(trace_.vpls, job.grid_bounds);
+    mapped_vpls_ = trace_.vpls;
+    mapped_path_first_ = trace_.path_first;
+    mapped_bounds_ = job.grid_bounds;
+    remap_pending_ = false;  // a re-map of older VPLs is moot
+    vpl_maps_kept_ = same_placement ? int(trace_.vpls.size()) : 0;
+    shown_version_ = job.state.version();
+  } else {
+    // New maps are drawn into the other atlas in slices of the frame
+    // budget; frames show the last VPLs and maps until all are drawn.
+    remap_version_ = job.state.version();
+    StartRemap(ctx, job.grid_bounds);
+  }
+}
+
+absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
+  const bool first = !traced_;
+  latest_version_ = ctx.state.version();
+  if (first) unmapped_all_ = true;
+  vpl_maps_redrawn_ = 0;
+  if (first || NeedsTrace(changes)) {
+    // The next job covers it; a running one traces older data.
+    due_ |= first ? ChangeMask(kChangeAll) : changes;
+    if (trace_job_.running()) trace_job_.Again();
+    // The direct lights' shadow maps are drawn on this thread, sliced by
+    // the frame budget like the VPL maps (they do not feed the VPLs).
     gl::StageTimer::Scope stage(ctx.timer, "vpl_shadow_maps");
-    // Sliced by the frame budget, like the VPL maps below (the direct
-    // light's maps do not feed the VPLs).
     GS_RETURN_IF_ERROR(
         direct_.Update(ctx.state, ctx.gpu, direct_settings_, changes, ctx.budget_ms));
-    // A VPL's paraboloid map depends on its position, its normal and the
-    // geometry only: when a light change left every path where it was (a
-    // dimmer, a colour; the paths are quasi-random in the path index), the
-    // maps stay and only the VPLs' flux is new.
-    const bool same_placement = !voxelize && !(changes & kChangeShape) && !unmapped_all_ &&
-                                unmapped_change_.empty() && !remap_pending_ &&
-                                SamePlacement(mapped_vpls_, trace_.vpls);
-    vpl_maps_redrawn_ = 0;
-    vpl_maps_kept_ = 0;
-    if (!visibility_ || same_placement) {
-      shadow_maps_.Upload(trace_.vpls, grid_bounds);
-      mapped_vpls_ = trace_.vpls;
-      mapped_path_first_ = trace_.path_first;
-      mapped_bounds_ = grid_bounds;
-      remap_pending_ = false;  // a re-map of older VPLs is moot
-      vpl_maps_kept_ = same_placement ? int(trace_.vpls.size()) : 0;
-    } else {
-      // New maps are drawn into the other atlas in slices of the frame
-      // budget; frames show the last VPLs and maps until all are drawn.
-      StartRemap(ctx, grid_bounds);
+  } else if (direct_.pending()) {
+    gl::StageTimer::Scope stage(ctx.timer, "vpl_shadow_maps");
+    direct_.Continue(ctx.gpu, ctx.state, ctx.budget_ms);
+  }
+  bool taken = false;
+  if (std::shared_ptr<TraceJob> job = trace_job_.TakeIfDone()) {
+    TakeTrace(ctx, *job);
+    taken = true;
+  } else if (remap_pending_) {
+    gl::StageTimer::Scope stage(ctx.timer, "vpl_shadow_maps");
+    ContinueRemap(ctx);
+  }
+  if (due_ != kChangeNone && !trace_job_.running()) {
+    // Voxelize and trace run on the CPU pool on a copy of the scene state;
+    // frames show the last VPLs and maps meanwhile. The first solve waits
+    // for its job: there is nothing to show before it.
+    StartTrace(ctx);
+    if (first) {
+      TakeTrace(ctx, *trace_job_.TakeWhenDone());
+      taken = true;
     }
   }
+  if (!taken) {
+    ctx.timer.Skip("voxelize");
+    ctx.timer.Skip("trace_vpls");
+  }
+  ctx.timer.Skip("vpl_shadow_maps");  // reported run when any part above ran
+  if (UpdateComplete()) shown_version_ = latest_version_;
   return absl::OkStatus();
 }
 
@@ -382,28 +442,31 @@ absl::Status AvgSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
 SolverStats AvgSolver::Stats() const {
   glm::vec3 flux(0.0f);
   for (const avg::Vpl& v : trace_.vpls) flux += v.flux;
-  return {{"vpls", double(trace_.vpls.size())},
-          {"vpl_paths", double(trace_.paths)},
-          {"vpl_paths_escaped", double(trace_.escaped)},
-          {"light_power", double(Luminance(trace_.light_power))},
-          {"vpl_flux", double(Luminance(flux))},
-          {"grid", double(grid_ ? grid_->resolution() : 0)},
-          {"voxels_filled", double(grid_ ? grid_->filled() : 0)},
-          {"voxel_bytes", double(grid_ ? grid_->bytes() : 0)},
-          {"vpl_shadow_bytes", double(shadow_maps_.gpu_bytes())},
-          {"vpl_maps_redrawn", double(vpl_maps_redrawn_)},
-          {"vpl_maps_kept", double(vpl_maps_kept_)},
-          {"vpl_maps_pending",
-           remap_pending_ ? double(remap_layers_.size()) - double(remap_next_) : 0.0},
-          {"vpls_kept", double(trace_.kept_vpls)},
-          {"vpls_retraced", double(trace_.vpls.size() - trace_.kept_vpls)},
-          {"vpl_paths_kept", double(trace_.kept_paths)},
-          {"vpl_paths_retraced", double(trace_.retraced_paths)},
-          {"voxels_rewritten", voxels_rewritten_},
-          {"voxelize_partial", voxels_partial_ ? 1.0 : 0.0},
-          {"direct_area_samples", double(direct_.area_samples().size())},
-          {"direct_shadow_bytes", double(direct_.gpu_bytes())},
-          {"split_bytes", double(split_.gpu_bytes())}};
+  return {
+      {"vpls", double(trace_.vpls.size())},
+      {"vpl_paths", double(trace_.paths)},
+      {"vpl_paths_escaped", double(trace_.escaped)},
+      {"light_power", double(Luminance(trace_.light_power))},
+      {"vpl_flux", double(Luminance(flux))},
+      {"grid", double(traced_ ? grid_resolution_ : 0)},
+      {"voxels_filled", double(voxels_filled_)},
+      {"voxel_bytes", double(voxel_bytes_)},
+      {"trace_pending", trace_job_.running() || trace_job_.again() ? 1.0 : 0.0},
+      {"gi_versions_behind", double(latest_version_ - std::min(shown_version_, latest_version_))},
+      {"vpl_shadow_bytes", double(shadow_maps_.gpu_bytes())},
+      {"vpl_maps_redrawn", double(vpl_maps_redrawn_)},
+      {"vpl_maps_kept", double(vpl_maps_kept_)},
+      {"vpl_maps_pending",
+       remap_pending_ ? double(remap_layers_.size()) - double(remap_next_) : 0.0},
+      {"vpls_kept", double(trace_.kept_vpls)},
+      {"vpls_retraced", double(trace_.vpls.size() - trace_.kept_vpls)},
+      {"vpl_paths_kept", double(trace_.kept_paths)},
+      {"vpl_paths_retraced", double(trace_.retraced_paths)},
+      {"voxels_rewritten", voxels_rewritten_},
+      {"voxelize_partial", voxels_partial_ ? 1.0 : 0.0},
+      {"direct_area_samples", double(direct_.area_samples().size())},
+      {"direct_shadow_bytes", double(direct_.gpu_bytes())},
+      {"split_bytes", double(split_.gpu_bytes())}};
 }
 
 GISTREAM_REGISTER_SOLVER(AvgSolver, 40);

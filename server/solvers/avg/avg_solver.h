@@ -4,12 +4,17 @@
 // trace_vpls (CPU), vpl_shadow_maps, gbuffer (the engine's), illuminate,
 // filter. Direct light comes from the shared DirectLighting (shadow-mapped
 // punctual lights and area-light samples); VPLs carry the indirect bounces.
+// After the first solve, voxelize and trace_vpls run as a background job on
+// the CPU pool, on a copy of the scene state, while frames show the last
+// VPLs and maps; the frame that takes the job starts the (sliced) re-map.
 #pragma once
 
+#include <memory>
 #include <optional>
 
 #include "gl/fullscreen_pass.h"
 #include "render/direct_lighting.h"
+#include "solvers/background_job.h"
 #include "solvers/avg/interleaved_buffer.h"
 #include "solvers/avg/voxel_grid.h"
 #include "solvers/avg/vpl_shadow_maps.h"
@@ -34,15 +39,20 @@ class AvgSolver final : public Solver {
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
-  // False while new VPLs' maps are drawn in slices (frames show the last
-  // VPLs and maps meanwhile).
-  bool UpdateComplete() const override { return !remap_pending_ && !direct_.pending(); }
+  // False while a background voxelize + trace runs (or another is due) and
+  // while new VPLs' maps are drawn in slices (frames show the last VPLs
+  // and maps meanwhile).
+  bool UpdateComplete() const override {
+    return !trace_job_.running() && !trace_job_.again() && !remap_pending_ && !direct_.pending();
+  }
   // VPL and direct-light shadow maps, both atlases (the voxel grid is CPU memory).
   uint64_t gpu_bytes() const override {
     return shadow_maps_.gpu_bytes() + remap_.gpu_bytes() + direct_.gpu_bytes();
   }
 
-  // For tests: the current grid and VPLs.
+  // For tests: the current grid and VPLs (the grid and paths are the
+  // running job's, so null and empty, while a background trace runs; the
+  // VPLs are the last taken trace's).
   const avg::VoxelGrid* grid() const { return grid_ ? &*grid_ : nullptr; }
   const avg::VplTraceResult& vpls() const { return trace_; }
   const avg::VplPathCache& paths() const { return paths_; }
@@ -53,10 +63,35 @@ class AvgSolver final : public Solver {
   // What a change set needs, as flags.
   static bool NeedsVoxelize(ChangeMask changes);
   static bool NeedsTrace(ChangeMask changes);
-  // Voxelizes what moved (the whole grid when its placement changed, on
-  // a material change or the first solve); returns whether it was
-  // incremental (then grid_->rewritten() is what changed).
-  bool Voxelize(SolverContext& ctx, ChangeMask changes);
+
+  // Voxelize (what moved, or the whole grid) and trace_vpls of one scene
+  // state, on a copy of it, on the CPU pool while frames are shaded from
+  // the last VPLs and maps. The grid and path cache move into the job and
+  // back when it is taken (nothing else reads them meanwhile).
+  struct TraceJob {
+    explicit TraceJob(const SceneState& s) : state(s) {}
+    SceneState state;        // the snapshot (posed meshes shared copy-on-write)
+    ChangeMask changes = 0;  // what changed since the last job's snapshot
+    bool voxelize = false;
+    bool rebuild = false;  // Build the whole grid (else Revoxelize `moved`)
+    Bounds moved;          // moved primitives' old and new boxes
+    float clamp_distance = 0.0f;
+    std::optional<avg::VoxelGrid> grid;  // in: the last grid (none at first); out: the new one
+    avg::VplPathCache paths;             // in: the last trace's paths; out: this trace's
+    // Results
+    bool partial = false;  // only the moved box was voxelized (grid->rewritten())
+    double voxels_rewritten = 0;
+    Bounds grid_bounds;
+    avg::VplTraceResult trace;
+    double voxelize_ms = 0.0, trace_ms = 0.0;  // CPU wall time per stage
+  };
+  // Starts a job for the changes due (the caller checks that none runs).
+  void StartTrace(const SolverContext& ctx);
+  // Shows a finished job's VPLs (their maps drawn in slices from this
+  // frame on); its stage times go to this frame.
+  void TakeTrace(SolverContext& ctx, TraceJob& job);
+  // Notes geometry changed since the shown maps (and a re-map's) were drawn.
+  void NoteGeometryChange(const Bounds& moved, bool everywhere);
   // Starts drawing trace_'s VPL maps into remap_: the maps of shown VPLs
   // that stayed where they were and cannot see geometry changed since the
   // shown maps were drawn are copied, the others queued for drawing.
@@ -75,7 +110,15 @@ class AvgSolver final : public Solver {
 
   // Runtime data
   std::optional<avg::VoxelGrid> grid_;
-  MovedBounds moved_;  // the transforms grid_ was voxelized with
+  MovedBounds moved_;            // the transforms the last job voxelized
+  bool traced_ = false;          // the first solve is done
+  ChangeMask due_ = 0;           // changes the next job must cover
+  bool job_voxelizes_ = false;   // the running job voxelizes
+  uint64_t latest_version_ = 0;  // newest scene version seen
+  uint64_t shown_version_ = 0;   // scene version the shown VPLs and maps reflect
+  uint64_t remap_version_ = 0;   // ... and the ones being re-mapped
+  size_t voxels_filled_ = 0;     // the last taken grid's
+  uint64_t voxel_bytes_ = 0;
   avg::VplTraceResult trace_;
   avg::VplPathCache paths_;  // trace_'s paths, for the next incremental trace
   // The VPLs whose paraboloid maps are drawn (each path's first layer, the
@@ -87,6 +130,9 @@ class AvgSolver final : public Solver {
   // more than a known box).
   Bounds unmapped_change_;
   bool unmapped_all_ = true;
+  // ... since the re-map under way started: its maps may predate it.
+  Bounds remap_change_;
+  bool remap_all_ = false;
   int vpl_maps_redrawn_ = 0;
   int vpl_maps_kept_ = 0;           // copied from the shown atlas by the last re-map
   bool voxels_partial_ = false;     // the last voxelize rewrote a box only
@@ -109,6 +155,10 @@ class AvgSolver final : public Solver {
   gl::Program filter_;
   gl::FullscreenPass fullscreen_;
   float clamp_distance_ = 0.0f;  // world units
+
+  // The background voxelize + trace; last, so that it is waited for
+  // before the rest of the solver is destroyed.
+  BackgroundJob<TraceJob> trace_job_;
 };
 
 }  // namespace gistream

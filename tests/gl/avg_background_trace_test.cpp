@@ -1,0 +1,211 @@
+// `avg`'s voxelize and trace run as a background job on the CPU pool
+// (issue 12). With the pool's workers held busy, the Update of a moved
+// node returns without having run either stage: UpdateComplete is false,
+// the frame reports both skipped and the shown VPLs are the last ones.
+// Once the job is taken the VPLs equal a synchronous full voxelization and
+// trace of the moved scene bitwise; a move while the job runs is traced by
+// one more job, with the newest transforms.
+#include <chrono>
+#include <future>
+#include <latch>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "gl/stage_timer.h"
+#include "scene/gltf_import.h"
+#include "scene/gpu_scene.h"
+#include "solvers/avg/avg_solver.h"
+#include "support/gl_context.h"
+#include "util/cpu_pool.h"
+
+namespace gistream {
+namespace {
+
+constexpr int kVpls = 256, kGrid = 32;
+
+// Every worker of the CPU pool runs a task that waits for Release(), so a
+// job started meanwhile cannot run. With a pool of one thread Async runs
+// inline (a job runs before Start returns); nothing is held then.
+class HeldPool {
+ public:
+  HeldPool() {
+    const unsigned workers = CpuPool::Get().threads() - 1;
+    std::latch started(workers);
+    const std::shared_future<void> gate = release_.get_future().share();
+    for (unsigned i = 0; i < workers; ++i) {
+      held_.push_back(CpuPool::Get().Async([&started, gate] {
+        started.count_down();
+        gate.wait();
+      }));
+    }
+    started.wait();
+  }
+  ~HeldPool() { Release(); }
+  void Release() {
+    if (released_) return;
+    released_ = true;
+    release_.set_value();
+    for (const std::shared_future<void>& f : held_) f.wait();
+  }
+
+ private:
+  std::promise<void> release_;
+  std::vector<std::shared_future<void>> held_;
+  bool released_ = false;
+};
+
+class AvgBackgroundTrace : public testing::GlContextTest {
+ protected:
+  void SetUp() override {
+    testing::GlContextTest::SetUp();
+    auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR) + "/scenes", "cornell_box", {});
+    ASSERT_TRUE(scene.ok()) << scene.status();
+    state_ = std::make_unique<SceneState>(std::make_shared<const Scene>(*std::move(scene)));
+    auto gpu = GpuScene::Upload(*state_);
+    ASSERT_TRUE(gpu.ok()) << gpu.status();
+    gpu_ = *std::move(gpu);
+    auto params = ValidateParams(AvgSolver::Describe(), {{"vpls", std::to_string(kVpls)},
+                                                         {"grid", std::to_string(kGrid)},
+                                                         {"shadow_res", "16"},
+                                                         {"area_samples", "4"},
+                                                         {"direct_shadow_res", "32"}});
+    ASSERT_TRUE(params.ok()) << params.status();
+    auto solver = AvgSolver::Create(*params);
+    ASSERT_TRUE(solver.ok()) << solver.status();
+    solver_.reset(static_cast<AvgSolver*>(solver->release()));
+    // The first solve waits for its job: complete after one Update.
+    Update(kChangeAll);
+    ASSERT_TRUE(solver_->UpdateComplete());
+  }
+
+  // One frame's Update (no budget: a re-map is drawn whole); its stage
+  // timings in timings_.
+  void Update(ChangeMask changes) {
+    gl::StageTimer timer;
+    SolverContext ctx{*state_, *gpu_, timer};
+    const absl::Status status = solver_->Update(ctx, changes);
+    EXPECT_TRUE(status.ok()) << status;
+    timings_ = timer.Finish();
+  }
+  bool Ran(const std::string& stage) const {
+    for (const StageTiming& t : timings_) {
+      if (t.name == stage) return !t.skipped;
+    }
+    ADD_FAILURE() << "stage " << stage << " not reported";
+    return false;
+  }
+  double Stat(const std::string& name) const {
+    for (const auto& [k, v] : solver_->Stats()) {
+      if (k == name) return v;
+    }
+    ADD_FAILURE() << "stat " << name << " not reported";
+    return -1.0;
+  }
+  // Moves the tall block (node 6) inside the walls: the grid keeps its
+  // place, so the job voxelizes the moved box only.
+  ChangeMask MoveTallBlock(const glm::vec3& translation) {
+    NodeTransformUpdate move;
+    move.node = 6;
+    move.translation = translation;
+    return state_->Apply(move);
+  }
+  // Frames until the background work is taken and drawn; returns how many
+  // of them ran trace_vpls. Polled as the engine polls a Render.
+  int UpdateUntilComplete() {
+    int traces = 0;
+    while (!solver_->UpdateComplete()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      Update(kChangeNone);
+      if (Ran("trace_vpls")) {
+        ++traces;
+        EXPECT_TRUE(Ran("voxelize"));  // the job's stages reported in the frame that takes it
+      }
+    }
+    return traces;
+  }
+  // The VPLs equal a synchronous full voxelization and trace of the scene
+  // as it is now, bitwise.
+  void ExpectFullTrace() const {
+    const avg::VoxelGrid grid = avg::VoxelGrid::Build(*state_, kGrid);
+    const glm::vec3 center = grid.origin() + 0.5f * grid.extent();
+    const auto lights = avg::CollectVplLights(*state_, center, 0.5f * glm::length(grid.extent()));
+    avg::VplTraceSettings settings;
+    settings.vpls = kVpls;
+    const avg::VplTraceResult full = avg::TraceVpls(grid, lights, settings);
+    const avg::VplTraceResult& shown = solver_->vpls();
+    EXPECT_EQ(shown.paths, full.paths);
+    EXPECT_EQ(shown.path_first, full.path_first);
+    ExpectSameVpls(shown.vpls, full.vpls);
+  }
+  static void ExpectSameVpls(const std::vector<avg::Vpl>& a, const std::vector<avg::Vpl>& b) {
+    ASSERT_EQ(a.size(), b.size());
+    ASSERT_GT(a.size(), 1u);
+    for (size_t i = 0; i < a.size(); ++i) {
+      ASSERT_EQ(a[i].position, b[i].position) << i;
+      ASSERT_EQ(a[i].normal, b[i].normal) << i;
+      ASSERT_EQ(a[i].flux, b[i].flux) << i;
+      ASSERT_EQ(a[i].bounce, b[i].bounce) << i;
+    }
+  }
+
+  std::unique_ptr<SceneState> state_;
+  std::unique_ptr<GpuScene> gpu_;
+  std::unique_ptr<AvgSolver> solver_;
+  std::vector<StageTiming> timings_;
+};
+
+TEST_F(AvgBackgroundTrace, AMoveReturnsBeforeTheTraceAndEndsAsAFullTrace) {
+  const std::vector<avg::Vpl> before = solver_->vpls().vpls;
+  const ChangeMask changes = MoveTallBlock({-0.05f, 0.0f, 0.05f});
+  {
+    HeldPool held;
+    Update(changes);
+    // The job cannot have run: this Update did not wait for it.
+    EXPECT_FALSE(solver_->UpdateComplete());
+    EXPECT_FALSE(Ran("voxelize"));
+    EXPECT_FALSE(Ran("trace_vpls"));
+    EXPECT_EQ(Stat("trace_pending"), 1.0);
+    EXPECT_EQ(Stat("gi_versions_behind"), 1.0);
+    // Frames shade the last VPLs and their maps.
+    ExpectSameVpls(solver_->vpls().vpls, before);
+    EXPECT_EQ(Stat("vpl_maps_pending"), 0.0);
+    Update(kChangeNone);  // a frame while the job waits changes none of it
+    EXPECT_FALSE(solver_->UpdateComplete());
+    EXPECT_FALSE(Ran("trace_vpls"));
+    ExpectSameVpls(solver_->vpls().vpls, before);
+  }
+  EXPECT_EQ(UpdateUntilComplete(), 1);
+  EXPECT_EQ(Stat("voxelize_partial"), 1.0);
+  EXPECT_GT(Stat("vpl_paths_kept"), 0.0);
+  EXPECT_EQ(Stat("trace_pending"), 0.0);
+  EXPECT_EQ(Stat("gi_versions_behind"), 0.0);
+  ExpectFullTrace();
+}
+
+TEST_F(AvgBackgroundTrace, AMoveWhileTheJobRunsIsTracedByTheNextJob) {
+  // (A pool of one thread ran the first job inline: the second Update takes it.)
+  const bool held_workers = CpuPool::Get().threads() > 1;
+  {
+    HeldPool held;
+    Update(MoveTallBlock({-0.05f, 0.0f, 0.05f}));
+    EXPECT_FALSE(solver_->UpdateComplete());
+    // The running job has the first move's snapshot; the second is due.
+    Update(MoveTallBlock({0.03f, 0.0f, -0.02f}));
+    EXPECT_FALSE(solver_->UpdateComplete());
+    if (held_workers) {
+      EXPECT_FALSE(Ran("trace_vpls"));
+      EXPECT_EQ(Stat("gi_versions_behind"), 2.0);
+    }
+  }
+  // The first job is taken, the second started with the newest transforms
+  // in the same frame, then taken too.
+  EXPECT_EQ(UpdateUntilComplete(), held_workers ? 2 : 1);
+  EXPECT_EQ(Stat("gi_versions_behind"), 0.0);
+  ExpectFullTrace();
+}
+
+}  // namespace
+}  // namespace gistream
