@@ -94,14 +94,20 @@ void ShadowMaps::RenderCube(const GpuScene& gpu, const SceneState& state, int in
     gpu.Draw(cube_program_, state, false);
     return;
   }
-  const DrawFilter filter = [&](const DrawItem& item, const glm::mat4& model) {
-    const Bounds box = ItemWorldBounds(state, item, model);
+  // Per item, and per node of an item's cluster tree at the node's own box
+  // (a node near the light keeps its detail, the rest of its primitive
+  // need not): the faces that may see the box, and a texel at its nearest
+  // distance.
+  const ClusterFilter cluster_filter = [&](const Bounds& box) {
     const int faces = CubeFaceMask(box, position);
     if (faces == 0) return -1.0f;
     cube_program_.Set("uFaceMask", faces);
     return CubeTexelTolerance(box, position, resolution_);
   };
-  gpu.Draw(cube_program_, state, false, 1, &filter);
+  const DrawFilter filter = [&](const DrawItem& item, const glm::mat4& model) {
+    return cluster_filter(ItemWorldBounds(state, item, model));
+  };
+  gpu.Draw(cube_program_, state, false, 1, &filter, &cluster_filter);
 }
 
 glm::mat4 ShadowMaps::RenderDirectional(const GpuScene& gpu, const SceneState& state, int index,

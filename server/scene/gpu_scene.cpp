@@ -105,6 +105,27 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
       }
     }
   }
+  // Cluster trees after the levels: each leaf's full triangles and each
+  // node's copy; (first cluster, count) per mesh and primitive.
+  std::vector<std::vector<std::pair<int, int>>> cluster_ranges(scene.meshes.size());
+  const auto append = [&](const std::vector<uint32_t>& list, float error) {
+    const DrawLevel range{uint32_t(indices.size()), uint32_t(list.size()), error};
+    indices.insert(indices.end(), list.begin(), list.end());
+    return range;
+  };
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    for (const Primitive& p : scene.meshes[m].primitives) {
+      cluster_ranges[m].push_back({int(gpu->clusters_.size()), int(p.clusters.size())});
+      for (const ProxyCluster& c : p.clusters) {
+        DrawCluster& d = gpu->clusters_.emplace_back();
+        d.bounds = c.bounds;
+        d.full = append(c.indices, 0.0f);
+        d.level = append(c.level.indices, c.level.error);
+        d.children[0] = c.children[0];
+        d.children[1] = c.children[1];
+      }
+    }
+  }
   for (size_t n = 0; n < scene.nodes.size(); ++n) {
     const int mesh = scene.nodes[n].mesh;
     if (mesh < 0) continue;
@@ -122,6 +143,8 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
                              int(p)});
       std::tie(gpu->draws_.back().first_level, gpu->draws_.back().level_count) =
           level_ranges[size_t(mesh)][p];
+      std::tie(gpu->draws_.back().first_cluster, gpu->draws_.back().cluster_count) =
+          cluster_ranges[size_t(mesh)][p];
     }
   }
 
@@ -197,17 +220,19 @@ void GpuScene::Deform(const SceneState& state) {
 }
 
 void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_textures,
-                    int instances, const DrawFilter* filter) const {
+                    int instances, const DrawFilter* filter,
+                    const ClusterFilter* cluster_filter) const {
   glBindVertexArray(vao_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMaterialBinding, materials_.id());
   const int default_material = int(state.materials().size());
   for (const DrawItem& d : draws_) {
     const glm::mat4& model = state.world()[size_t(d.node)];
     DrawLevel range{d.first_index, d.index_count, 0.0f};
+    const bool by_cluster = filter && cluster_filter && d.cluster_count > 0;
     if (filter) {
       const float tolerance = (*filter)(d, model);
       if (tolerance < 0.0f) continue;
-      const int level = PickLevel(d, MaxScale(model), tolerance);
+      const int level = by_cluster ? -1 : PickLevel(d, MaxScale(model), tolerance);
       if (level >= 0) range = levels_[size_t(d.first_level + level)];
     }
     program.Set("uModel", model);
@@ -228,10 +253,34 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
       glBindTextureUnit(kEmissiveUnit, emissive);
       glBindTextureUnit(kMetallicRoughnessUnit, metallic_roughness);
     }
-    glDrawElementsInstancedBaseVertex(
-        GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
-        reinterpret_cast<const void*>(uintptr_t(range.first_index) * sizeof(uint32_t)),
-        std::max(instances, 1), d.base_vertex);
+    const auto draw = [&](const DrawLevel& r) {
+      glDrawElementsInstancedBaseVertex(
+          GL_TRIANGLES, GLsizei(r.index_count), GL_UNSIGNED_INT,
+          reinterpret_cast<const void*>(uintptr_t(r.first_index) * sizeof(uint32_t)),
+          std::max(instances, 1), d.base_vertex);
+    };
+    if (!by_cluster) {
+      draw(range);
+      continue;
+    }
+    // The tree, root first: a node's copy where it is within the node's
+    // tolerance (scaled as PickLevel does), else its children.
+    const float scale = MaxScale(model);
+    std::vector<int> open = {0};
+    while (!open.empty()) {
+      const DrawCluster& c = clusters_[size_t(d.first_cluster + open.back())];
+      open.pop_back();
+      const float tolerance = (*cluster_filter)(c.bounds.Transformed(model));
+      if (tolerance < 0.0f) continue;
+      if (c.level.index_count > 0 && c.level.error * scale <= tolerance) {
+        draw(c.level);
+      } else if (c.children[0] < 0) {
+        draw(c.full);
+      } else {
+        open.push_back(c.children[1]);
+        open.push_back(c.children[0]);
+      }
+    }
   }
   glBindVertexArray(0);
 }

@@ -45,6 +45,10 @@ struct DrawItem {
   // first_level + level_count), finest first.
   int first_level = 0;
   int level_count = 0;
+  // Its cluster tree (scene/proxy_clusters.h): clusters()[first_cluster ..
+  // first_cluster + cluster_count), root first; 0: none.
+  int first_cluster = 0;
+  int cluster_count = 0;
 };
 
 // One simplified level of a primitive in the index buffer (drawn with the
@@ -55,11 +59,26 @@ struct DrawLevel {
   float error = 0.0f;
 };
 
+// One node of a primitive's cluster tree on the GPU: its local box, its
+// full triangles (leaves only) and its simplified copy (index_count 0:
+// none), both drawn with the item's base vertex; children are indices
+// relative to the item's first cluster.
+struct DrawCluster {
+  Bounds bounds;
+  DrawLevel full;
+  DrawLevel level;
+  int children[2] = {-1, -1};
+};
+
 // How a view-independent pass draws each item: called right before the
 // item is drawn (it may set per-item uniforms), it returns the largest
 // world-space geometric error the pass tolerates there; the coarsest proxy
 // level within it is drawn, the full mesh when none is; < 0 skips the item.
 using DrawFilter = std::function<float(const DrawItem& item, const glm::mat4& model)>;
+// Per cluster of an item that has a tree (called after the item's
+// DrawFilter, right before the node is drawn or opened): the world-space
+// error tolerated within the node's world box `world`; < 0 skips the node.
+using ClusterFilter = std::function<float(const Bounds& world)>;
 
 class GpuScene {
  public:
@@ -80,12 +99,17 @@ class GpuScene {
   // `bind_textures`. Materials are bound as SSBO binding kMaterialBinding.
   // `instances` > 1 draws each item that many times (gl_InstanceID).
   // With `filter`, each item's level comes from it (see DrawFilter);
-  // without, every item is drawn in full, as before proxies.
+  // without, every item is drawn in full, as before proxies. With
+  // `cluster_filter` too, an item with a cluster tree is drawn node by
+  // node instead: from the root down, a node's copy where its error is
+  // within the node's tolerance, else its children (leaves: in full).
   void Draw(gl::Program& program, const SceneState& state, bool bind_textures, int instances = 1,
-            const DrawFilter* filter = nullptr) const;
+            const DrawFilter* filter = nullptr,
+            const ClusterFilter* cluster_filter = nullptr) const;
 
   const std::vector<DrawItem>& draws() const { return draws_; }
   const std::vector<DrawLevel>& levels() const { return levels_; }
+  const std::vector<DrawCluster>& clusters() const { return clusters_; }
   // The coarsest of `item`'s levels whose error times `scale` is within
   // `tolerance` (world units); -1: the full mesh.
   int PickLevel(const DrawItem& item, float scale, float tolerance) const;
@@ -111,6 +135,7 @@ class GpuScene {
   gl::Texture white_;                  // 1x1 fallback
   std::vector<DrawItem> draws_;
   std::vector<DrawLevel> levels_;
+  std::vector<DrawCluster> clusters_;
   std::unique_ptr<GpuDeform> deform_;  // null when nothing deforms
   uint64_t deformed_version_ = 0;      // the state version deform_ last posed
   uint64_t gpu_bytes_ = 0;

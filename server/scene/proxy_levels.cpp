@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scene/proxy_clusters.h"
 #include "scene/surface_distance.h"
 
 namespace gistream {
@@ -59,7 +60,10 @@ std::vector<ProxyLevel> BuildProxyLevels(const Primitive& primitive,
 
 void BuildSceneProxies(Scene* scene, const ProxySettings& settings) {
   for (Mesh& mesh : scene->meshes) {
-    for (Primitive& p : mesh.primitives) p.proxies = BuildProxyLevels(p, settings);
+    for (Primitive& p : mesh.primitives) {
+      p.proxies = BuildProxyLevels(p, settings);
+      if (!p.proxies.empty()) p.clusters = BuildProxyClusters(p);
+    }
   }
 }
 

@@ -34,7 +34,8 @@ struct ProxySettings {
 std::vector<ProxyLevel> BuildProxyLevels(const Primitive& primitive,
                                          const ProxySettings& settings = {});
 
-// Fills Primitive::proxies of every mesh.
+// Fills Primitive::proxies of every mesh, and Primitive::clusters
+// (scene/proxy_clusters.h) of those with proxies.
 void BuildSceneProxies(Scene* scene, const ProxySettings& settings = {});
 
 // The coarsest of `levels` (finest first; anything with an `error`) whose

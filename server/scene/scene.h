@@ -83,6 +83,18 @@ struct ProxyLevel {
   float error = 0.0f;             // local units
 };
 
+// A node of a primitive's proxy cluster tree (scene/proxy_clusters.h): a
+// k-d split of its triangles, each node with its local box, a simplified
+// copy of its triangles with the node's border locked (so any cut through
+// the tree is watertight) and that copy's error bound; leaves also hold
+// their full triangles.
+struct ProxyCluster {
+  Bounds bounds;                  // local box of the node's full triangles
+  std::vector<uint32_t> indices;  // leaves: their full triangles; inner nodes: empty
+  ProxyLevel level;               // empty indices: no simplified copy (draw the children)
+  int children[2] = {-1, -1};     // -1: a leaf
+};
+
 // One draw: triangles with one material. Attributes are in the mesh's
 // local space; normals are always present after import (generated when the
 // file has none), uvs may be empty.
@@ -107,6 +119,9 @@ struct Primitive {
   // Simplified levels, finest first (each at most half the triangles of
   // the one before); empty when the primitive is small or deforms.
   std::vector<ProxyLevel> proxies;
+  // The cluster tree, root first; empty when `proxies` is (or the
+  // primitive fits one cluster).
+  std::vector<ProxyCluster> clusters;
 };
 
 struct Mesh {

@@ -18,6 +18,10 @@ SceneBytes CountSceneBytes(const Scene& scene) {
                   p.uvs.size() * sizeof(glm::vec2) + p.indices.size() * sizeof(uint32_t) +
                   p.joints.size() * sizeof(glm::u16vec4) + p.weights.size() * sizeof(glm::vec4);
       for (const ProxyLevel& level : p.proxies) geometry += level.indices.size() * sizeof(uint32_t);
+      for (const ProxyCluster& c : p.clusters) {
+        geometry +=
+            sizeof(ProxyCluster) + (c.indices.size() + c.level.indices.size()) * sizeof(uint32_t);
+      }
       for (const Primitive::MorphTarget& t : p.targets) {
         geometry += (t.positions.size() + t.normals.size()) * sizeof(glm::vec3);
       }
@@ -41,6 +45,7 @@ SceneBytes CountSceneBytes(const Scene& scene) {
       vertices += p.positions.size();
       indices += p.indices.size();
       for (const ProxyLevel& level : p.proxies) indices += level.indices.size();  // proxies
+      for (const ProxyCluster& c : p.clusters) indices += c.indices.size() + c.level.indices.size();
     }
   }
   bytes.gpu = vertices * (12 + 12 + 8) + indices * 4;
