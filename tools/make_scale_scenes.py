@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Real-sized scenes for issue 19 (proxy geometry): cost against triangle count.
 
-    python3 tools/make_scale_scenes.py OUT_DIR [atrium_detail ...]
+    python3 tools/make_scale_scenes.py [--atrium-only] OUT_DIR [atrium_detail ...]
 
 writes into OUT_DIR:
   cornell_box_x4 / _x16 / _x64   the bundled Cornell box with 4x, 16x, 64x the
@@ -119,13 +119,17 @@ def atrium(out, d):
 
 
 def main():
-    if len(sys.argv) < 2:
+    args = sys.argv[1:]
+    atrium_only = "--atrium-only" in args  # docs/bench/atrium.sh: no Cornell boxes
+    args = [a for a in args if a != "--atrium-only"]
+    if not args:
         sys.exit(__doc__)
-    out = sys.argv[1]
+    out = args[0]
     os.makedirs(out, exist_ok=True)
-    details = [int(a) for a in sys.argv[2:]] or [3, 6]
+    details = [int(a) for a in args[1:]] or [3, 6]
     for scale, (walls_n, blocks_n) in CORNELL_SCALES.items():
-        make_scenes.cornell_box(out, walls_n, blocks_n, "cornell_box_x%d" % scale)
+        if not atrium_only:
+            make_scenes.cornell_box(out, walls_n, blocks_n, "cornell_box_x%d" % scale)
     for d in details:
         atrium(out, d)
 
