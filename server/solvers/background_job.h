@@ -4,7 +4,7 @@
 // change while it runs is noted (the job works on a copy of older data)
 // and the solver starts another with the newest data once it has taken
 // the finished one on the render thread. Used by implicit_visibility's
-// relink and antiradiance's link and transport.
+// relink, antiradiance's link and transport and avg's voxelize and trace.
 #pragma once
 
 #include <chrono>
