@@ -5,7 +5,7 @@
 # session, open loop at 10 Hz): frame intervals while the tube bends, and
 # the time to converge once it stops (settle).
 #
-#   docs/bench/animation_10fps.sh [BUILD_DIR] [OUT_DIR] [GISTREAMD] [DURATION]
+#   [SOLVERS="..."] docs/bench/animation_10fps.sh [BUILD_DIR] [OUT_DIR] [GISTREAMD] [DURATION]
 set -euo pipefail
 BUILD=${1:-build}
 OUT=${2:-out/bench-animation-10fps}
@@ -13,7 +13,7 @@ SERVER_BIN=${3:-$BUILD/gistreamd}
 DURATION=${4:-10s}
 source "$(dirname "$0")/start_server.sh"
 start_server "$SERVER_BIN" "$OUT"
-for solver in direct sh_probes avg implicit_visibility antiradiance; do
+for solver in ${SOLVERS:-direct sh_probes avg implicit_visibility antiradiance}; do
   echo "== $solver" >&2
   "$BUILD/gistream" --server "$ADDR" bench --scene bending_tube --solver "$solver" \
     --size 128x128 --workload animation --fps 10 --update-hz 10 --sessions 1 \

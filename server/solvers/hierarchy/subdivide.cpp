@@ -16,7 +16,19 @@ constexpr size_t kMaxVertices = size_t(1) << 21;
 
 }  // namespace
 
-Primitive SubdivideLongEdges(const Primitive& primitive, float max_edge) {
+namespace {
+
+// The unit sum of two normals (the first when they cancel): a midpoint's.
+glm::vec3 MidNormal(const glm::vec3& a, const glm::vec3& b) {
+  const glm::vec3 s = a + b;
+  const float len = glm::length(s);
+  return len > 0.0f ? s / len : a;
+}
+
+}  // namespace
+
+Primitive SubdivideLongEdges(const Primitive& primitive, float max_edge, Midpoints* midpoints) {
+  if (midpoints) midpoints->clear();
   Primitive out = primitive;
   if (!(max_edge > 0.0f) || !std::isfinite(max_edge)) return out;
   const float limit2 = max_edge * max_edge;
@@ -36,12 +48,9 @@ Primitive SubdivideLongEdges(const Primitive& primitive, float max_edge) {
           midpoint.try_emplace({key.first, key.second}, uint32_t(out.positions.size()));
       if (inserted) {
         out.positions.push_back(0.5f * (out.positions[a] + out.positions[b]));
-        if (has_normals) {
-          const glm::vec3 s = out.normals[a] + out.normals[b];
-          const float len = glm::length(s);
-          out.normals.push_back(len > 0.0f ? s / len : out.normals[a]);
-        }
+        if (has_normals) out.normals.push_back(MidNormal(out.normals[a], out.normals[b]));
         if (has_uvs) out.uvs.push_back(0.5f * (out.uvs[a] + out.uvs[b]));
+        if (midpoints) midpoints->push_back({a, b});
       }
       return it->second;
     };
@@ -87,6 +96,25 @@ Primitive SubdivideLongEdges(const Primitive& primitive, float max_edge) {
     out.indices = std::move(indices);
     if (!split || out.positions.size() > kMaxVertices) break;
   }
+  return out;
+}
+
+Primitive RepeatSubdivision(const Primitive& primitive, const Primitive& subdivided,
+                            const Midpoints& midpoints) {
+  Primitive out = subdivided;
+  const size_t n = primitive.positions.size();
+  if (n + midpoints.size() != subdivided.positions.size()) return out;  // not its subdivision
+  const bool has_normals = out.normals.size() == out.positions.size() &&
+                           primitive.normals.size() == primitive.positions.size();
+  std::copy(primitive.positions.begin(), primitive.positions.end(), out.positions.begin());
+  if (has_normals)
+    std::copy(primitive.normals.begin(), primitive.normals.end(), out.normals.begin());
+  for (size_t k = 0; k < midpoints.size(); ++k) {
+    const auto [a, b] = midpoints[k];
+    out.positions[n + k] = 0.5f * (out.positions[a] + out.positions[b]);
+    if (has_normals) out.normals[n + k] = MidNormal(out.normals[a], out.normals[b]);
+  }
+  out.bounds = primitive.bounds;
   return out;
 }
 

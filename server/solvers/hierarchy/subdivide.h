@@ -6,6 +6,7 @@
 // 2007, whose meshes come finely tessellated.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -21,11 +22,25 @@ namespace gistream::hierarchy {
 // they are.
 inline constexpr float kMaxElementEdge = 0.1f;
 
+// The vertices SubdivideLongEdges added, in order: vertex n + k (n the
+// input's vertex count) is the midpoint of midpoints[k][0] and [1].
+using Midpoints = std::vector<std::array<uint32_t, 2>>;
+
 // `primitive` with every edge longer than `max_edge` (its local units)
 // split at its midpoint, repeatedly (edges are split, not triangles, so
 // the mesh stays free of T-junctions; positions, normals and uvs are
 // interpolated). Unchanged when no edge is that long or max_edge <= 0.
-Primitive SubdivideLongEdges(const Primitive& primitive, float max_edge);
+// When `midpoints` is given, the added vertices' parents go there.
+Primitive SubdivideLongEdges(const Primitive& primitive, float max_edge,
+                             Midpoints* midpoints = nullptr);
+
+// The same subdivision repeated on another pose of the same mesh (a
+// deformed `primitive`: same vertices and indices, other positions and
+// normals): `subdivided`'s triangles and uvs, its added vertices the
+// midpoints of the posed ones, as SubdivideLongEdges makes them. So a
+// deforming mesh keeps the element layout of the pose it was subdivided at.
+Primitive RepeatSubdivision(const Primitive& primitive, const Primitive& subdivided,
+                            const Midpoints& midpoints);
 
 // The local-space edge limit for (mesh, primitive): kMaxElementEdge x the
 // current world diagonal over the largest scale of its instances.

@@ -57,13 +57,11 @@ absl::StatusOr<std::unique_ptr<Solver>> ImplicitVisibilitySolver::Create(const P
 
 std::vector<std::string> ImplicitVisibilitySolver::Plan(ChangeMask changes) const {
   std::vector<std::string> plan;
-  // A deformed mesh's elements are rebuilt from its posed mesh (its
-  // hierarchy follows the new shape) and relinked at once.
-  if (!scene_.built() || (changes & kChangeDeformation)) {
-    plan = {"create_surfels", "create_hierarchy"};
-  }
+  if (!scene_.built()) plan = {"create_surfels", "create_hierarchy"};
   if (!scene_.built() || (changes & kChangeShape)) {
-    // A moved node can hide or reveal any pair: every link is rebuilt.
+    // A moved node or a deformed mesh can hide or reveal any pair: every
+    // link is rebuilt (in the background after the first solve); a
+    // deformed mesh's elements follow its pose in update_elements.
     for (const char* s :
          {"update_elements", "create_links", "refine_push", "shadow_maps", "illumination"}) {
       plan.push_back(s);
@@ -182,12 +180,7 @@ void ImplicitVisibilitySolver::UpdateEnvironment(const SceneState& state) {
 }
 
 absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask changes) {
-  // `first` also after a deformation: the deformed instances' elements are
-  // rebuilt (their subdivision and hierarchy follow the posed mesh, so the
-  // leaf layout may change) and linked on this thread; a background relink
-  // of the old layout is dropped.
-  const bool first = !scene_.built() || (changes & kChangeDeformation);
-  if (first && relink_.running()) relink_.TakeWhenDone();
+  const bool first = !scene_.built();
   const bool geometry = first || (changes & kChangeShape);
   const bool materials = first || (changes & kChangeMaterials);
   bool lights = geometry || (changes & (kChangeLights | kChangeEmission));
@@ -203,6 +196,10 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
   if (geometry) {
     {
       gl::StageTimer::Scope stage(ctx.timer, "update_elements", /*cpu_stage=*/true);
+      // A deformation moves the deforming meshes' discs to the pose; the
+      // hierarchy stays (Section 4.2.1), so a relink running on the
+      // last layout's copy stays valid and a new one follows it.
+      if (!first && (changes & kChangeDeformation)) scene_.UpdatePose(ctx.state);
       scene_.UpdateGeometry(ctx.state);
       if (materials) scene_.UpdateAlbedo(ctx.state);
       illumination_.UploadElements(scene_.elements(), scene_.albedo());
@@ -211,9 +208,10 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
     if (first) {
       GS_RETURN_IF_ERROR(Relink(ctx));
     } else {
-      // A moved node: the links are rebuilt by a background job on the CPU
-      // pool; until they are, frames show the last solution on the moved
-      // geometry (the display interpolates it at the new vertices).
+      // A moved node or a deformation: the links are rebuilt by a
+      // background job on the CPU pool; until they are, frames show the
+      // last solution on the moved geometry (the display interpolates it
+      // at the new vertices).
       GS_RETURN_IF_ERROR(StartRelink(ctx));
       illumination_stale_ = true;
     }

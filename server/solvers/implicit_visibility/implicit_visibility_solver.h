@@ -5,11 +5,12 @@
 // paper's Algorithm 1 and Table 1:
 //   create_surfels    discs at the vertices (once per mesh, CPU)
 //   create_hierarchy  quad-tree clusters by position and normal (once, CPU)
-//   update_elements   world discs bottom-up after transforms (CPU)
+//   update_elements   world discs bottom-up after transforms and deformations (CPU)
 //   create_links      top-level pairs, subdivided by bin solid angle (CPU, threads)
 //   refine_push       shortest link per bin down each leaf's chain (CPU, threads)
-//                     (after a moved node both run as a background job on the
-//                     CPU pool; frames keep showing the last solution meanwhile)
+//                     (after a moved node or a deformation both run as a
+//                     background job on the CPU pool; frames keep showing
+//                     the last solution meanwhile)
 //   shadow_maps       the shared direct-light shadow maps (lights, emission, geometry)
 //   illumination      direct at leaves, gather + pull per bounce (GL compute)
 //   display           vertex irradiance raster + per-pixel direct light

@@ -53,6 +53,7 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
   }
   std::vector<std::shared_ptr<hierarchy::ElementMesh>> meshes(keys.size());
   std::vector<std::shared_ptr<const Primitive>> primitives(keys.size());
+  std::vector<hierarchy::Midpoints> midpoints(keys.size());
   {
     gl::StageTimer::Scope stage(timer, "create_surfels", /*cpu_stage=*/true);
     std::vector<float> max_edge(keys.size());
@@ -61,7 +62,7 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
     }
     ParallelFor(keys.size(), 1, [&](size_t k) {
       primitives[k] = std::make_shared<const Primitive>(
-          hierarchy::SubdivideLongEdges(primitive_of(keys[k]), max_edge[k]));
+          hierarchy::SubdivideLongEdges(primitive_of(keys[k]), max_edge[k], &midpoints[k]));
       meshes[k] = std::make_shared<hierarchy::ElementMesh>();
       meshes[k]->surfels = hierarchy::CreateSurfels(*primitives[k]);
     });
@@ -80,6 +81,12 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
     instances.push_back({meshes[k], 0, {}});
     s.elements = primitives[k];
   }
+  deforming_.clear();
+  for (size_t k = 0; k < keys.size(); ++k) {
+    if (keys[k].first >= 0) continue;
+    deforming_.push_back(
+        {-1 - keys[k].first, keys[k].second, primitives[k], std::move(midpoints[k]), meshes[k]});
+  }
   elements_ = hierarchy::Elements(std::move(instances));
   // Display triangles over the leaves (one leaf per mesh vertex).
   triangles_.clear();
@@ -90,6 +97,33 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
   }
   vertex_world_.assign(size_t(elements_.leaf_count()), glm::vec3(0.0f));
   built_ = true;
+}
+
+void SceneElements::UpdatePose(const SceneState& state) {
+  if (deforming_.empty()) return;
+  std::vector<std::shared_ptr<const Primitive>> posed(deforming_.size());
+  ParallelFor(deforming_.size(), 1, [&](size_t k) {
+    DeformingSource& d = deforming_[k];
+    const Primitive& p = state.NodeMesh(size_t(d.node)).primitives[size_t(d.primitive)];
+    posed[k] =
+        std::make_shared<const Primitive>(hierarchy::RepeatSubdivision(p, *d.built, d.midpoints));
+    auto mesh = std::make_shared<hierarchy::ElementMesh>();
+    mesh->surfels = hierarchy::CreateSurfels(*posed[k]);  // one disc per vertex, as at Build
+    mesh->tree = d.mesh->tree;
+    d.mesh = std::move(mesh);
+  });
+  // The same instances with the posed meshes: the forest's layout (leaf
+  // offsets, node ids) depends only on the trees, which are unchanged.
+  std::vector<hierarchy::ElementInstance> instances = elements_.instances();
+  for (size_t i = 0; i < sources_.size(); ++i) {
+    InstanceSource& s = sources_[i];
+    for (size_t k = 0; k < deforming_.size(); ++k) {
+      if (deforming_[k].node != s.node || deforming_[k].primitive != s.primitive) continue;
+      s.elements = posed[k];
+      instances[i].mesh = deforming_[k].mesh;
+    }
+  }
+  elements_ = hierarchy::Elements(std::move(instances));
 }
 
 void SceneElements::UpdateGeometry(const SceneState& state) {

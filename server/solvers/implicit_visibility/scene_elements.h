@@ -15,6 +15,7 @@
 #include "gl/stage_timer.h"
 #include "scene/gpu_scene.h"
 #include "solvers/hierarchy/elements.h"
+#include "solvers/hierarchy/subdivide.h"
 
 namespace gistream {
 
@@ -25,6 +26,12 @@ class SceneElements {
   // create_surfels + create_hierarchy (timed as two stages, CPU), then
   // the forest layout. Once per solver: the draw list never changes.
   void Build(const SceneState& state, const GpuScene& gpu, gl::StageTimer& timer);
+  // A deformation: the deforming instances' leaves (discs) re-made from
+  // their posed meshes (SceneState::NodeMesh, subdivided as at Build);
+  // the hierarchy itself remains untouched, as Section 4.2.1 updates
+  // deforming models: same leaves, same clusters, same node ids. Call
+  // UpdateGeometry next (it recomputes the clusters bottom-up).
+  void UpdatePose(const SceneState& state);
   // update_elements: world transforms of every instance (Section 4.2.1).
   void UpdateGeometry(const SceneState& state);
   // Per-leaf albedo (base colour x texture at the vertex uv), linear.
@@ -42,8 +49,17 @@ class SceneElements {
     // (hierarchy/subdivide.h): the leaves are its vertices.
     std::shared_ptr<const Primitive> elements;
   };
+  // A deforming node's primitive as Build subdivided it: UpdatePose
+  // repeats that subdivision on the pose and keeps the tree.
+  struct DeformingSource {
+    int node = 0, primitive = 0;
+    std::shared_ptr<const Primitive> built;  // the subdivided mesh at Build's pose
+    hierarchy::Midpoints midpoints;
+    std::shared_ptr<const hierarchy::ElementMesh> mesh;  // current surfels, Build's tree
+  };
   bool built_ = false;
   std::vector<InstanceSource> sources_;
+  std::vector<DeformingSource> deforming_;
   hierarchy::Elements elements_;
   std::vector<glm::vec3> vertex_world_;  // per leaf
   std::vector<uint32_t> triangles_;      // leaf ids, 3 per triangle
