@@ -6,25 +6,24 @@
 
 #include "gl/debug_output.h"
 #include "gl/driver_quirks.h"
-#include "gl/egl_context.h"
 #include "gl/gl.h"
 #include "gl/program.h"
 #include "gl_checks/gl_error_listener.h"
+#include "support/gl_context.h"
 
 namespace gistream {
 namespace {
 
 TEST(GlDebug, AnInvalidCallIsCountedAsAnError) {
   testing::AllowGlErrorsInThisTest();  // provoked on purpose
-  auto context = gl::EglContext::Create(-1);
-  ASSERT_TRUE(context.ok()) << context.status();
-  ASSERT_TRUE((*context)->MakeCurrent().ok());
+  const auto context = testing::CurrentGlContext();
+  ASSERT_TRUE(context);
   gl::InstallDebugOutput();  // GISTREAM_GL_DEBUG=1 in test binaries
   const uint64_t before = gl::DebugErrorCount();
   glBindBuffer(GL_ARRAY_BUFFER, 0x7fffffff);  // not a name from glCreateBuffers: INVALID_OPERATION
   EXPECT_EQ(glGetError(), GLenum(GL_INVALID_OPERATION));
   EXPECT_GE(gl::DebugErrorCount(), before + 1);
-  (*context)->ReleaseCurrent();
+  context->ReleaseCurrent();
 }
 
 TEST(GlDriverQuirks, LlvmpipeFlushesAfterEachStageHardwareDoesNot) {
@@ -35,20 +34,18 @@ TEST(GlDriverQuirks, LlvmpipeFlushesAfterEachStageHardwareDoesNot) {
 }
 
 TEST(GlDriverQuirks, MakeCurrentDetectsTheContextsDriver) {
-  auto context = gl::EglContext::Create(-1);
-  ASSERT_TRUE(context.ok()) << context.status();
-  ASSERT_TRUE((*context)->MakeCurrent().ok());
+  const auto context = testing::CurrentGlContext();
+  ASSERT_TRUE(context);
   const std::string renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
   EXPECT_EQ(gl::CurrentQuirks().flush_after_gpu_stage,
             renderer.find("llvmpipe") != std::string::npos)
       << renderer;
-  (*context)->ReleaseCurrent();
+  context->ReleaseCurrent();
 }
 
 TEST(GlProgram, UnknownUniformHasNoLocation) {
-  auto context = gl::EglContext::Create(-1);
-  ASSERT_TRUE(context.ok()) << context.status();
-  ASSERT_TRUE((*context)->MakeCurrent().ok());
+  const auto context = testing::CurrentGlContext();
+  ASSERT_TRUE(context);
   {
     auto program = gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                        {GL_FRAGMENT_SHADER, "render/tonemap.frag.glsl"}});
@@ -56,7 +53,7 @@ TEST(GlProgram, UnknownUniformHasNoLocation) {
     EXPECT_EQ(program->Location("uNoSuchUniformAnywhere"), -1);
     program->SetOptional("uNoSuchUniformAnywhere", 1.0f);  // silently nothing
   }
-  (*context)->ReleaseCurrent();
+  context->ReleaseCurrent();
 }
 
 }  // namespace

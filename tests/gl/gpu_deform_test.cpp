@@ -7,11 +7,11 @@
 #include <cmath>
 #include <memory>
 
-#include "gl/egl_context.h"
 #include "scene/deform.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene_state.h"
 #include "support/deforming_scene.h"
+#include "support/gl_context.h"
 #include "support/measurement.h"
 
 namespace gistream {
@@ -23,15 +23,8 @@ using testing::DeformingTube;
 // coordinates of order 1: far below a 1e-4 relative error.
 constexpr float kTolerance = 1e-4f;
 
-class GpuDeformTest : public ::testing::Test {
+class GpuDeformTest : public testing::GlContextTest {
  protected:
-  void SetUp() override {
-    auto context = gl::EglContext::Create(-1);
-    ASSERT_TRUE(context.ok()) << context.status();
-    context_ = *std::move(context);
-    ASSERT_TRUE(context_->MakeCurrent().ok());
-  }
-
   // Reads back the posed vertices of `node`'s first draw and compares them
   // with DeformPrimitive on the state's pose.
   void ExpectMatchesCpu(const SceneState& state, const GpuScene& gpu, int node) {
@@ -65,8 +58,6 @@ class GpuDeformTest : public ::testing::Test {
     }
     testing::RecordMeasurement("worst_position_error", worst);
   }
-
-  std::unique_ptr<gl::EglContext> context_;
 };
 
 TEST_F(GpuDeformTest, SkinnedAndMorphedVerticesMatchTheCpuReference) {

@@ -6,10 +6,11 @@
 
 #include <cmath>
 
-#include "gl/egl_context.h"
 #include "render/shadow_maps.h"
 #include "scene/gpu_scene.h"
 #include "scene/proxy_levels.h"
+#include "support/gl_context.h"
+#include "support/test_meshes.h"
 
 namespace gistream {
 namespace {
@@ -20,70 +21,13 @@ constexpr int kResolution = 256;
 // radius 0.3 (48 rings x 96 segments) at (0, 0.5, 0): flat and curved
 // surfaces, both large enough to get proxies.
 std::shared_ptr<const Scene> TestScene(bool with_proxies) {
-  Scene scene;
-  Primitive floor;
-  constexpr int n = 40;
-  for (int j = 0; j <= n; ++j) {
-    for (int i = 0; i <= n; ++i) {
-      const glm::vec3 v(-1.0f + 2.0f * float(i) / n, 0.0f, -1.0f + 2.0f * float(j) / n);
-      floor.positions.push_back(v);
-      floor.normals.push_back({0, 1, 0});
-      floor.bounds.Extend(v);
-    }
-  }
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      const uint32_t a = uint32_t(j * (n + 1) + i), b = a + 1, c = a + n + 1, d = c + 1;
-      floor.indices.insert(floor.indices.end(), {a, c, d, a, d, b});
-    }
-  }
-  Primitive sphere;
-  constexpr int rings = 48, segments = 96;
-  for (int r = 0; r <= rings; ++r) {
-    const float theta = float(M_PI) * float(r) / rings;
-    for (int s = 0; s <= segments; ++s) {
-      const float phi = 2.0f * float(M_PI) * float(s) / segments;
-      const glm::vec3 unit(std::sin(theta) * std::cos(phi), std::cos(theta),
-                           std::sin(theta) * std::sin(phi));
-      const glm::vec3 v = glm::vec3(0.0f, 0.5f, 0.0f) + 0.3f * unit;
-      sphere.positions.push_back(v);
-      sphere.normals.push_back(unit);
-      sphere.bounds.Extend(v);
-    }
-  }
-  for (int r = 0; r < rings; ++r) {
-    for (int s = 0; s < segments; ++s) {
-      const uint32_t a = uint32_t(r * (segments + 1) + s), b = a + 1, c = a + segments + 1,
-                     d = c + 1;
-      sphere.indices.insert(sphere.indices.end(), {a, c, d, a, d, b});
-    }
-  }
-  scene.meshes.push_back({"floor", {floor}});
-  scene.meshes.push_back({"sphere", {sphere}});
-  for (int m = 0; m < 2; ++m) {
-    Node node;
-    node.mesh = m;
-    scene.nodes.push_back(node);
-    scene.roots.push_back(m);
-  }
-  for (const Mesh& mesh : scene.meshes) {
-    for (const Primitive& p : mesh.primitives) scene.bounds.Extend(p.bounds);
-  }
-  if (with_proxies) BuildSceneProxies(&scene);
-  return std::make_shared<const Scene>(std::move(scene));
+  return testing::FloorAndSphereScene(40, 48, 96, with_proxies);
 }
 
 const glm::vec3 kLight(0.3f, 2.0f, 0.2f);
 
-class ProxyShadowTest : public ::testing::Test {
+class ProxyShadowTest : public testing::GlContextTest {
  protected:
-  void SetUp() override {
-    auto context = gl::EglContext::Create(-1);
-    ASSERT_TRUE(context.ok()) << context.status();
-    context_ = *std::move(context);
-    ASSERT_TRUE(context_->MakeCurrent().ok());
-  }
-
   // The cube around kLight as distances (depth x far), 6 faces in order.
   std::vector<float> Cube(const std::shared_ptr<const Scene>& scene, bool full_detail,
                           int* proxied_items = nullptr) {
@@ -115,7 +59,6 @@ class ProxyShadowTest : public ::testing::Test {
     return depth;
   }
 
-  std::unique_ptr<gl::EglContext> context_;
   float far_ = 1.0f;
 };
 

@@ -7,8 +7,8 @@
 #include <absl/strings/str_cat.h>
 #include <gtest/gtest.h>
 
-#include "gl/egl_context.h"
 #include "gl/program.h"
+#include "support/gl_context.h"
 #include "support/measurement.h"
 #include "support/render_helpers.h"
 
@@ -29,9 +29,8 @@ using testing::SolverRequest;
 // path (sh_probes_solver.cpp); llvmpipe has the extension, so the fallback
 // is at least compiled and linked here (both include face_projection.glsl).
 TEST(ShProbes, BothCubeMapRasterizationPathsBuild) {
-  auto context = gl::EglContext::Create(-1);
-  ASSERT_TRUE(context.ok()) << context.status();
-  ASSERT_TRUE((*context)->MakeCurrent().ok());
+  const auto context = testing::CurrentGlContext();
+  ASSERT_TRUE(context);
   {
     auto layered = gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize_layer.vert.glsl"},
                                        {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}});
@@ -41,7 +40,7 @@ TEST(ShProbes, BothCubeMapRasterizationPathsBuild) {
                                         {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}});
     EXPECT_TRUE(geometry.ok()) << geometry.status();
   }
-  (*context)->ReleaseCurrent();
+  context->ReleaseCurrent();
 }
 
 TEST(ShProbes, ToleranceStopsBouncingAndReportsTheChange) {

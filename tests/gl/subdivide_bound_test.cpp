@@ -2,19 +2,18 @@
 // estimates use, is an upper bound on what SubdivideLongEdges makes.
 #include <gtest/gtest.h>
 
-#include "gl/egl_context.h"
 #include "scene/gltf_import.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene_state.h"
 #include "solvers/hierarchy/subdivide.h"
+#include "support/gl_context.h"
 
 namespace gistream {
 namespace {
 
 TEST(SubdividedVertexBound, BoundsTheVerticesTheSubdivisionMakes) {
-  auto context = gl::EglContext::Create(-1);
-  ASSERT_TRUE(context.ok()) << context.status();
-  ASSERT_TRUE((*context)->MakeCurrent().ok());
+  const auto context = testing::CurrentGlContext();
+  ASSERT_TRUE(context);
   for (const char* name : {"cornell_box_coarse", "cornell_box"}) {
     SCOPED_TRACE(name);
     auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR) + "/scenes", name, {});
@@ -40,7 +39,7 @@ TEST(SubdividedVertexBound, BoundsTheVerticesTheSubdivisionMakes) {
       EXPECT_GT(subdivided, original);
     }
   }
-  (*context)->ReleaseCurrent();
+  context->ReleaseCurrent();
 }
 
 }  // namespace

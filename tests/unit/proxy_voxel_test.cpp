@@ -8,59 +8,14 @@
 
 #include "scene/proxy_levels.h"
 #include "solvers/avg/voxel_grid.h"
+#include "support/test_meshes.h"
 
 namespace gistream::avg {
 namespace {
 
 // A sphere of radius 0.3 (64 x 128 quads) over a 48 x 48 floor.
 std::shared_ptr<const Scene> TestScene(bool with_proxies) {
-  Scene scene;
-  Primitive floor, sphere;
-  constexpr int n = 48;
-  for (int j = 0; j <= n; ++j) {
-    for (int i = 0; i <= n; ++i) {
-      const glm::vec3 v(-1.0f + 2.0f * float(i) / n, 0.0f, -1.0f + 2.0f * float(j) / n);
-      floor.positions.push_back(v);
-      floor.normals.push_back({0, 1, 0});
-      floor.bounds.Extend(v);
-    }
-  }
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      const uint32_t a = uint32_t(j * (n + 1) + i), b = a + 1, c = a + n + 1, d = c + 1;
-      floor.indices.insert(floor.indices.end(), {a, c, d, a, d, b});
-    }
-  }
-  constexpr int rings = 64, segments = 128;
-  for (int r = 0; r <= rings; ++r) {
-    const float theta = float(M_PI) * float(r) / rings;
-    for (int s = 0; s <= segments; ++s) {
-      const float phi = 2.0f * float(M_PI) * float(s) / segments;
-      const glm::vec3 unit(std::sin(theta) * std::cos(phi), std::cos(theta),
-                           std::sin(theta) * std::sin(phi));
-      sphere.positions.push_back(glm::vec3(0.0f, 0.5f, 0.0f) + 0.3f * unit);
-      sphere.normals.push_back(unit);
-      sphere.bounds.Extend(sphere.positions.back());
-    }
-  }
-  for (int r = 0; r < rings; ++r) {
-    for (int s = 0; s < segments; ++s) {
-      const uint32_t a = uint32_t(r * (segments + 1) + s), b = a + 1, c = a + segments + 1,
-                     d = c + 1;
-      sphere.indices.insert(sphere.indices.end(), {a, c, d, a, d, b});
-    }
-  }
-  scene.meshes.push_back({"floor", {floor}});
-  scene.meshes.push_back({"sphere", {sphere}});
-  for (int m = 0; m < 2; ++m) {
-    Node node;
-    node.mesh = m;
-    scene.nodes.push_back(node);
-    scene.roots.push_back(m);
-    scene.bounds.Extend(scene.meshes[size_t(m)].primitives[0].bounds);
-  }
-  if (with_proxies) BuildSceneProxies(&scene);
-  return std::make_shared<const Scene>(std::move(scene));
+  return gistream::testing::FloorAndSphereScene(48, 64, 128, with_proxies);
 }
 
 // Whether `grid` has a filled voxel within one voxel (26-neighbourhood) of v.
