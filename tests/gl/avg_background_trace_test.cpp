@@ -4,11 +4,15 @@
 // the frame reports both skipped and the shown VPLs are the last ones.
 // Once the job is taken the VPLs equal a synchronous full voxelization and
 // trace of the moved scene bitwise; a move while the job runs is traced by
-// one more job, with the newest transforms.
+// one more job, with the newest transforms. Through the engine, a stream's
+// frames say which scene version their GI reflects while the job runs, and
+// the settled frame equals a fresh solve of the moved scene.
 #include <chrono>
 #include <future>
 #include <latch>
+#include <map>
 #include <memory>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -18,13 +22,29 @@
 #include "scene/gltf_import.h"
 #include "scene/gpu_scene.h"
 #include "solvers/avg/avg_solver.h"
+#include "support/frame_queue.h"
 #include "support/gl_context.h"
+#include "support/render_helpers.h"
 #include "util/cpu_pool.h"
 
 namespace gistream {
 namespace {
 
 constexpr int kVpls = 256, kGrid = 32;
+const std::map<std::string, std::string> kParams = {{"vpls", std::to_string(kVpls)},
+                                                    {"grid", std::to_string(kGrid)},
+                                                    {"shadow_res", "16"},
+                                                    {"area_samples", "4"},
+                                                    {"direct_shadow_res", "32"}};
+
+// The tall block (node 6) moved inside the walls: the grid keeps its place,
+// so the job voxelizes the moved box only.
+NodeTransformUpdate MoveTallBlock(const glm::vec3& translation) {
+  NodeTransformUpdate move;
+  move.node = 6;
+  move.translation = translation;
+  return move;
+}
 
 // Every worker of the CPU pool runs a task that waits for Release(), so a
 // job started meanwhile cannot run. With a pool of one thread Async runs
@@ -67,11 +87,7 @@ class AvgBackgroundTrace : public testing::GlContextTest {
     auto gpu = GpuScene::Upload(*state_);
     ASSERT_TRUE(gpu.ok()) << gpu.status();
     gpu_ = *std::move(gpu);
-    auto params = ValidateParams(AvgSolver::Describe(), {{"vpls", std::to_string(kVpls)},
-                                                         {"grid", std::to_string(kGrid)},
-                                                         {"shadow_res", "16"},
-                                                         {"area_samples", "4"},
-                                                         {"direct_shadow_res", "32"}});
+    auto params = ValidateParams(AvgSolver::Describe(), kParams);
     ASSERT_TRUE(params.ok()) << params.status();
     auto solver = AvgSolver::Create(*params);
     ASSERT_TRUE(solver.ok()) << solver.status();
@@ -104,13 +120,8 @@ class AvgBackgroundTrace : public testing::GlContextTest {
     ADD_FAILURE() << "stat " << name << " not reported";
     return -1.0;
   }
-  // Moves the tall block (node 6) inside the walls: the grid keeps its
-  // place, so the job voxelizes the moved box only.
-  ChangeMask MoveTallBlock(const glm::vec3& translation) {
-    NodeTransformUpdate move;
-    move.node = 6;
-    move.translation = translation;
-    return state_->Apply(move);
+  ChangeMask Move(const glm::vec3& translation) {
+    return state_->Apply(MoveTallBlock(translation));
   }
   // Frames until the background work is taken and drawn; returns how many
   // of them ran trace_vpls. Polled as the engine polls a Render.
@@ -159,7 +170,7 @@ class AvgBackgroundTrace : public testing::GlContextTest {
 
 TEST_F(AvgBackgroundTrace, AMoveReturnsBeforeTheTraceAndEndsAsAFullTrace) {
   const std::vector<avg::Vpl> before = solver_->vpls().vpls;
-  const ChangeMask changes = MoveTallBlock({-0.05f, 0.0f, 0.05f});
+  const ChangeMask changes = Move({-0.05f, 0.0f, 0.05f});
   {
     HeldPool held;
     Update(changes);
@@ -190,10 +201,10 @@ TEST_F(AvgBackgroundTrace, AMoveWhileTheJobRunsIsTracedByTheNextJob) {
   const bool held_workers = CpuPool::Get().threads() > 1;
   {
     HeldPool held;
-    Update(MoveTallBlock({-0.05f, 0.0f, 0.05f}));
+    Update(Move({-0.05f, 0.0f, 0.05f}));
     EXPECT_FALSE(solver_->UpdateComplete());
     // The running job has the first move's snapshot; the second is due.
-    Update(MoveTallBlock({0.03f, 0.0f, -0.02f}));
+    Update(Move({0.03f, 0.0f, -0.02f}));
     EXPECT_FALSE(solver_->UpdateComplete());
     if (held_workers) {
       EXPECT_FALSE(Ran("trace_vpls"));
@@ -205,6 +216,52 @@ TEST_F(AvgBackgroundTrace, AMoveWhileTheJobRunsIsTracedByTheNextJob) {
   EXPECT_EQ(UpdateUntilComplete(), held_workers ? 2 : 1);
   EXPECT_EQ(Stat("gi_versions_behind"), 0.0);
   ExpectFullTrace();
+}
+
+}  // namespace
+}  // namespace gistream
+
+namespace gistream {
+namespace {
+
+using testing::FrameStat;
+
+TEST(AvgBackgroundTraceStream, FramesSayWhatTheirGiReflectsAndSettleOnAFreshSolve) {
+  const testing::BundledCopy scene("cornell_box.gltf"), fresh_scene("cornell_box.gltf");
+  SessionConfig config;
+  config.scene = scene.id();
+  config.solver = "avg";
+  config.params = kParams;
+  config.width = config.height = 24;
+  config.encoding.format = ImageFormat::kExr;
+  config.max_fps = 240.0f;
+  auto sink = std::make_shared<testing::FrameQueue>();
+  auto opened = testing::SharedEngine().OpenSession(config, sink);
+  ASSERT_TRUE(opened.ok()) << opened.status();
+  ASSERT_NE(
+      sink->WaitFor([](const EncodedFrame& f) { return FrameStat(f, "update_complete") == 1.0; }),
+      nullptr);
+  const NodeTransformUpdate move = MoveTallBlock({-0.05f, 0.0f, 0.05f});
+  ASSERT_TRUE(testing::SharedEngine().PushUpdate(opened->id, {1, move}).ok());
+  auto done = sink->WaitFor([](const EncodedFrame& f) {
+    return f.last_update_seq >= 1 && FrameStat(f, "update_complete") == 1.0;
+  });
+  testing::SharedEngine().CloseSession(opened->id);
+  ASSERT_NE(done, nullptr);
+  EXPECT_EQ(FrameStat(*done, "trace_pending"), 0.0);
+  EXPECT_EQ(FrameStat(*done, "gi_versions_behind"), 0.0);
+  // Every frame that showed the move while its trace was pending said the
+  // GI was behind.
+  EXPECT_EQ(sink->Count([](const EncodedFrame& f) {
+    return f.last_update_seq >= 1 && FrameStat(f, "trace_pending") == 1.0 &&
+           FrameStat(f, "gi_versions_behind") < 1.0;
+  }),
+            0u);
+  // Same VPLs (bitwise, above), each map drawn or copied from the same
+  // geometry: the fresh solve's image to float rounding (relative 1e-4).
+  testing::ExpectSameImage(testing::DecodeExr(*done),
+                           testing::RenderRequestExr(testing::SolverRequest(
+                               fresh_scene.id(), "avg", kParams, 24, {{1, move}})));
 }
 
 }  // namespace
