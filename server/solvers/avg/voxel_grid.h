@@ -85,6 +85,11 @@ class VoxelGrid {
   size_t Index(const glm::ivec3& v) const {
     return (size_t(v.z) * size_t(n_) + size_t(v.y)) * size_t(n_) + size_t(v.x);
   }
+  // Whether voxel v holds one planar sheet (all normals within ~8 degrees)
+  // that a ray entering v at `entry` along d has already passed: it starts
+  // beyond the sheet's plane, moving away. Such a ray (one leaving a wall
+  // near a corner through the next wall's voxel layer) cannot hit it there.
+  bool LeavesSheet(const glm::ivec3& v, const glm::vec3& entry, const glm::vec3& d) const;
   // Origin and voxel size of a `resolution`^3 grid over the current geometry.
   void Place(const SceneState& state, int resolution);
   // Rasterizes every triangle of `state` (Build's order) into the voxels
