@@ -76,6 +76,15 @@ absl::StatusOr<float> GetNonNegative(const json& value, absl::string_view path) 
   return number;
 }
 
+// glTF metallicFactor / roughnessFactor: [0, 1].
+absl::StatusOr<float> GetUnitInterval(const json& value, absl::string_view path) {
+  GS_ASSIGN_OR_RETURN(float number, GetFloat(value, path));
+  if (!(number >= 0.0f && number <= 1.0f)) {
+    return Error(path, absl::StrCat(number, " is outside [0, 1]"));
+  }
+  return number;
+}
+
 absl::StatusOr<int64_t> GetInt(const json& value, absl::string_view path, int64_t min,
                                int64_t max) {
   if (!value.is_number_integer()) {
@@ -303,9 +312,11 @@ absl::StatusOr<MaterialTrack> ParseMaterial(const json& t, absl::string_view pat
   MaterialTrack material;
   GS_ASSIGN_OR_RETURN(material.material, GetRef(t, "material", path));
   GS_RETURN_IF_ERROR(ParseKeys(
-      t, path, {"base_color", "emissive", "emissive_strength"},
+      t, path, {"base_color", "emissive", "emissive_strength", "metallic", "roughness"},
       [&](absl::string_view field, const json& v, const std::string& p, int frame) -> absl::Status {
         if (field == "emissive") return AddKey(material.emissive, frame, GetColor(v, p));
+        if (field == "metallic") return AddKey(material.metallic, frame, GetUnitInterval(v, p));
+        if (field == "roughness") return AddKey(material.roughness, frame, GetUnitInterval(v, p));
         if (field == "emissive_strength") {
           return AddKey(material.emissive_strength, frame, GetNonNegative(v, p));
         }

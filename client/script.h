@@ -78,6 +78,7 @@ struct MaterialTrack {
   bool base_color_rgba = false;  // keys gave 4 numbers (else RGB is sent)
   Curve<glm::vec3> emissive;
   Curve<float> emissive_strength;
+  Curve<float> metallic, roughness;  // [0, 1] (glTF metallic-roughness, GGX)
 };
 
 struct EnvironmentTrack {

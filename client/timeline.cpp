@@ -166,6 +166,8 @@ v1::Update MaterialAt(const MaterialTrack& track, uint32_t material, int frame) 
   if (!track.emissive_strength.empty()) {
     change->set_emissive_strength(track.emissive_strength.At(frame));
   }
+  if (!track.metallic.empty()) change->set_metallic(track.metallic.At(frame));
+  if (!track.roughness.empty()) change->set_roughness(track.roughness.At(frame));
   return update;
 }
 

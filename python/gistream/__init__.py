@@ -7,6 +7,8 @@
         open("box.png", "wb").write(frame.image)
         with client.session(scene.scene_id, solver="direct", size=(320, 240)) as session:
             session.update(camera=gistream.look_at((1, 0.3, 0.2), (0.2, 0.2, 0.2)))
+            # glTF metallic-roughness (GGX): a material made glossy
+            session.update(material=gistream.material_change(0, metallic=1.0, roughness=0.3))
             for frame in session.frames(10):
                 print(frame.frame_number, frame.last_update_seq, frame.total_ms)
 
@@ -20,7 +22,9 @@ from the build (CMake writes the package into build/python); everything
 the API offers is there, this module only makes the common calls short.
 """
 
-from gistream.client import Client, Session, look_at, node_transform, tls_credentials
+from gistream.client import (Client, Session, look_at, material_change, node_transform,
+                             tls_credentials)
 from gistream.v1 import gistream_pb2 as pb
 
-__all__ = ["Client", "Session", "look_at", "node_transform", "pb", "tls_credentials"]
+__all__ = ["Client", "Session", "look_at", "material_change", "node_transform", "pb",
+           "tls_credentials"]

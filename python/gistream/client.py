@@ -35,6 +35,28 @@ def node_transform(node, translation=(0.0, 0.0, 0.0), rotation=(0.0, 0.0, 0.0, 1
                             rotation=pb.Quat(x=x, y=y, z=z, w=w), scale=_vec3(scale))
 
 
+def material_change(material, base_color=None, emissive=None, emissive_strength=None,
+                    metallic=None, roughness=None):
+    """A MaterialChange of material id `material`: only the fields given.
+    base_color is linear RGB or RGBA, emissive an RGB factor; metallic and
+    roughness are glTF's metallicFactor / roughnessFactor in [0, 1] (GGX;
+    metallic 0 with roughness 1 is Lambert)."""
+    change = pb.MaterialChange(material=material)
+    if base_color is not None:
+        change.base_color.extend(float(c) for c in base_color)
+    if emissive is not None:
+        change.emissive.CopyFrom(_vec3(emissive))
+    if emissive_strength is not None:
+        change.emissive_strength = float(emissive_strength)
+    for name, value in (("metallic", metallic), ("roughness", roughness)):
+        if value is None:
+            continue
+        if not 0.0 <= float(value) <= 1.0:
+            raise ValueError(f"{name}: {value} is outside [0, 1]")
+        setattr(change, name, float(value))
+    return change
+
+
 def _encoding(fmt, quality):
     if fmt not in _FORMATS:
         raise ValueError(f"format: {fmt!r} is not one of {sorted(_FORMATS)}")

@@ -286,6 +286,35 @@ TEST(Timeline, LightAndMaterialKeysSetOnlyKeyedFields) {
   EXPECT_TRUE(timeline.UpdatesForFrame(21).empty());
 }
 
+TEST(Timeline, MaterialKeysSetMetallicAndRoughness) {
+  // Issue 18's glossy materials: metallic and roughness keys, interpolated
+  // like the others, sent as MaterialChange fields 5 and 6; nothing else set.
+  Timeline timeline = Build(R"({"scene": "x", "frames": 11, "tracks": [
+      {"type": "material", "material": "white", "keys": [
+          {"frame": 0, "metallic": 0, "roughness": 1},
+          {"frame": 10, "metallic": 1, "roughness": 0.2}]}]})");
+  auto first = timeline.UpdatesForFrame(0);
+  ASSERT_EQ(first.size(), 1u);
+  const v1::MaterialChange& material = first[0].material();
+  EXPECT_EQ(material.material(), 3u);
+  ASSERT_TRUE(material.has_metallic() && material.has_roughness());
+  EXPECT_FLOAT_EQ(material.metallic(), 0.0f);
+  EXPECT_FLOAT_EQ(material.roughness(), 1.0f);
+  EXPECT_EQ(material.base_color_size(), 0);
+  EXPECT_FALSE(material.has_emissive() || material.has_emissive_strength());
+  auto fifth = timeline.UpdatesForFrame(5);
+  ASSERT_EQ(fifth.size(), 1u);
+  EXPECT_NEAR(fifth[0].material().metallic(), 0.5f, kEps);
+  EXPECT_NEAR(fifth[0].material().roughness(), 0.6f, kEps);
+
+  EXPECT_EQ(ParseError(R"({"scene": "x", "frames": 3, "tracks": [{"type": "material",
+      "material": 0, "keys": [{"frame": 0, "roughness": 1.5}]}]})"),
+            "test.json: tracks[0].keys[0].roughness: 1.5 is outside [0, 1]");
+  EXPECT_EQ(ParseError(R"({"scene": "x", "frames": 3, "tracks": [{"type": "material",
+      "material": 0, "keys": [{"frame": 0, "metallic": -0.1}]}]})"),
+            "test.json: tracks[0].keys[0].metallic: -0.1 is outside [0, 1]");
+}
+
 TEST(Timeline, EventsFollowTrackUpdates) {
   Timeline timeline = Build(R"({"scene": "x", "frames": 12, "tracks": [
       {"type": "node_spin", "node": "light", "degrees_per_frame": 5}],

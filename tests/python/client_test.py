@@ -1,6 +1,7 @@
 """The Python client package against a real gistreamd on loopback
 (llvmpipe without a GPU): load a scene, list solvers, render a PNG, run a
-session whose frames echo the updates, see a bad parameter come back as
+session whose frames echo the updates, set a material's metallic and
+roughness (material_change), see a bad parameter come back as
 INVALID_ARGUMENT naming it; over TLS with a bearer token (and
 UNAUTHENTICATED without one). Run by ctest (python_client) with PYTHONPATH
 set to build/python and GISTREAMD/GISTREAM_SCENES pointing at the binary
@@ -63,6 +64,34 @@ class ClientTest(unittest.TestCase):
                     break
             self.assertEqual(frame.last_update_seq, seq)
             self.assertFalse(session.rejected)
+
+    def test_material_change_sets_metallic_and_roughness(self):
+        # glossy_box, which no other test here loads (a named scene is shared
+        # by one client's loads): material 0 is its grey Lambertian walls.
+        scene = self.client.load_scene("glossy_box")
+        try:
+            change = gistream.material_change(0, metallic=1.0, roughness=0.25)
+            self.assertTrue(change.HasField("metallic") and change.HasField("roughness"))
+            self.assertEqual((change.metallic, change.roughness), (1.0, 0.25))
+            self.assertFalse(change.HasField("emissive_strength"))
+            with self.assertRaisesRegex(ValueError, "roughness: 1.5 is outside"):
+                gistream.material_change(0, roughness=1.5)
+            before = self.client.render(scene.scene_id, params={"area_samples": 4},
+                                        size=(32, 24), format="png")
+            after = self.client.render(scene.scene_id, params={"area_samples": 4},
+                                       size=(32, 24), format="png",
+                                       updates=[gistream.pb.Update(seq=1, material=change)])
+            self.assertNotEqual(before.image, after.image)  # `direct` shades GGX
+            self.assertEqual(after.last_update_seq, 1)
+            # The server checks the range too and names the field.
+            bad = gistream.pb.Update(seq=2, material=gistream.pb.MaterialChange(
+                material=0, roughness=2.0))
+            with self.assertRaises(grpc.RpcError) as caught:
+                self.client.render(scene.scene_id, size=(8, 8), updates=[bad])
+            self.assertEqual(caught.exception.code(), grpc.StatusCode.INVALID_ARGUMENT)
+            self.assertIn("roughness", caught.exception.details())
+        finally:
+            self.client.unload_scene(scene.scene_id)
 
     def test_a_bad_parameter_names_itself(self):
         with self.assertRaises(grpc.RpcError) as caught:
