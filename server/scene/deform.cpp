@@ -26,6 +26,15 @@ std::vector<glm::mat4> JointMatrices(const Skin& skin, std::span<const glm::mat4
   return out;
 }
 
+bool NodeMeshDeforms(const Scene& scene, size_t node) {
+  const Node& n = scene.nodes[node];
+  if (n.mesh < 0 || size_t(n.mesh) >= scene.meshes.size()) return false;
+  for (const Primitive& p : scene.meshes[size_t(n.mesh)].primitives) {
+    if (!p.targets.empty() || (n.skin >= 0 && !p.joints.empty())) return true;
+  }
+  return false;
+}
+
 std::span<const float> MorphWeights(const Scene& scene, const Node& node) {
   if (!node.weights.empty()) return node.weights;
   if (node.mesh < 0) return {};

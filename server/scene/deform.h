@@ -22,6 +22,11 @@ namespace gistream {
 std::vector<glm::mat4> JointMatrices(const Skin& skin, std::span<const glm::mat4> world,
                                      int mesh_node);
 
+// Whether node `node` draws a mesh that deforms: a primitive with morph
+// targets, or with JOINTS_0 under a skin on the node. SceneState keeps a
+// posed copy of such a node's mesh.
+bool NodeMeshDeforms(const Scene& scene, size_t node);
+
 // Morph weights in effect on a node: its own when it has them, else its
 // mesh's defaults.
 std::span<const float> MorphWeights(const Scene& scene, const Node& node);

@@ -1,5 +1,7 @@
 #include "scene/scene_memory.h"
 
+#include "scene/deform.h"
+
 namespace gistream {
 namespace {
 
@@ -7,25 +9,36 @@ uint64_t ImageBytes(const Image& image) {
   return uint64_t(image.pixels8.size()) + uint64_t(image.pixelsf.size()) * sizeof(float);
 }
 
+// One mesh's CPU geometry: vertex attributes, indices, proxy levels and
+// clusters, morph targets.
+uint64_t MeshBytes(const Mesh& mesh) {
+  uint64_t geometry = 0;
+  for (const Primitive& p : mesh.primitives) {
+    geometry += p.positions.size() * sizeof(glm::vec3) + p.normals.size() * sizeof(glm::vec3) +
+                p.uvs.size() * sizeof(glm::vec2) + p.indices.size() * sizeof(uint32_t) +
+                p.joints.size() * sizeof(glm::u16vec4) + p.weights.size() * sizeof(glm::vec4);
+    for (const ProxyLevel& level : p.proxies) geometry += level.indices.size() * sizeof(uint32_t);
+    for (const ProxyCluster& c : p.clusters) {
+      geometry +=
+          sizeof(ProxyCluster) + (c.indices.size() + c.level.indices.size()) * sizeof(uint32_t);
+    }
+    for (const Primitive::MorphTarget& t : p.targets) {
+      geometry += (t.positions.size() + t.normals.size()) * sizeof(glm::vec3);
+    }
+  }
+  return geometry;
+}
+
 }  // namespace
 
 SceneBytes CountSceneBytes(const Scene& scene) {
   SceneBytes bytes;
   uint64_t geometry = 0;
-  for (const Mesh& mesh : scene.meshes) {
-    for (const Primitive& p : mesh.primitives) {
-      geometry += p.positions.size() * sizeof(glm::vec3) + p.normals.size() * sizeof(glm::vec3) +
-                  p.uvs.size() * sizeof(glm::vec2) + p.indices.size() * sizeof(uint32_t) +
-                  p.joints.size() * sizeof(glm::u16vec4) + p.weights.size() * sizeof(glm::vec4);
-      for (const ProxyLevel& level : p.proxies) geometry += level.indices.size() * sizeof(uint32_t);
-      for (const ProxyCluster& c : p.clusters) {
-        geometry +=
-            sizeof(ProxyCluster) + (c.indices.size() + c.level.indices.size()) * sizeof(uint32_t);
-      }
-      for (const Primitive::MorphTarget& t : p.targets) {
-        geometry += (t.positions.size() + t.normals.size()) * sizeof(glm::vec3);
-      }
-    }
+  for (const Mesh& mesh : scene.meshes) geometry += MeshBytes(mesh);
+  // SceneState's posed copy of each deforming node's mesh (a whole copy,
+  // re-posed on every deformation; scene_state.h).
+  for (size_t n = 0; n < scene.nodes.size(); ++n) {
+    if (NodeMeshDeforms(scene, n)) geometry += MeshBytes(scene.meshes[size_t(scene.nodes[n].mesh)]);
   }
   for (const Skin& skin : scene.skins) {
     geometry += skin.joints.size() * (sizeof(int) + sizeof(glm::mat4));

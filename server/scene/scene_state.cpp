@@ -4,6 +4,7 @@
 #include <glm/gtx/matrix_decompose.hpp>
 #include <glm/gtx/quaternion.hpp>
 
+#include "scene/deform.h"
 #include "scene/magnitude_limits.h"
 
 namespace gistream {
@@ -35,15 +36,8 @@ SceneState::SceneState(std::shared_ptr<const Scene> scene)
   }
   posed_.resize(nodes_.size());
   for (size_t n = 0; n < nodes_.size(); ++n) {
-    const Node& node = nodes_[n];
-    if (node.mesh < 0) continue;
-    const Mesh& mesh = scene_->meshes[size_t(node.mesh)];
-    bool deforms = false;
-    for (const Primitive& p : mesh.primitives) {
-      deforms |= !p.targets.empty() || (node.skin >= 0 && !p.joints.empty());
-    }
-    if (!deforms) continue;
-    posed_[n] = std::make_shared<Mesh>(mesh);
+    if (!NodeMeshDeforms(*scene_, n)) continue;  // (its copy counted by CountSceneBytes)
+    posed_[n] = std::make_shared<Mesh>(scene_->meshes[size_t(nodes_[n].mesh)]);
     deforming_.push_back(int(n));
   }
   lights_.resize(light_nodes_.size());
