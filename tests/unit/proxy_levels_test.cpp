@@ -6,9 +6,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <set>
+#include <tuple>
+#include <utility>
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "scene/proxy_clusters.h"
 #include "scene/scene_memory.h"
 #include "scene/surface_distance.h"
 
@@ -165,6 +170,139 @@ TEST(ProxyLevels, SceneMemoryCountsTheProxies) {
   const SceneBytes with = CountSceneBytes(scene);
   EXPECT_EQ(with.cpu - without.cpu, proxy_indices * 4);
   EXPECT_EQ(with.gpu - without.gpu, proxy_indices * 4);
+}
+
+// Per-cluster levels: small leaves (256 triangles) so that the brute force
+// stays quick and the trees have several levels of nodes.
+std::vector<ProxyCluster> SmallClusters(const Primitive& p) {
+  ClusterSettings settings;
+  settings.leaf_triangles = 256;
+  return BuildProxyClusters(p, settings);
+}
+
+// The edges used by exactly one triangle of `indices`, vertices identified
+// by position (the sphere's seam repeats its vertices) and zero-area
+// triangles left out (the simplifier drops them).
+std::set<std::pair<uint32_t, uint32_t>> OpenEdges(const Primitive& p,
+                                                  const std::vector<uint32_t>& indices) {
+  std::map<std::tuple<float, float, float>, uint32_t> first;
+  std::vector<uint32_t> weld(p.positions.size());
+  for (size_t v = 0; v < p.positions.size(); ++v) {
+    const glm::vec3& x = p.positions[v];
+    weld[v] = first.emplace(std::make_tuple(x.x, x.y, x.z), uint32_t(v)).first->second;
+  }
+  std::map<std::pair<uint32_t, uint32_t>, int> uses;
+  for (size_t t = 0; t + 2 < indices.size(); t += 3) {
+    const uint32_t v[3] = {weld[indices[t]], weld[indices[t + 1]], weld[indices[t + 2]]};
+    if (v[0] == v[1] || v[1] == v[2] || v[2] == v[0]) continue;  // the poles' slivers
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = v[k], b = v[(k + 1) % 3];
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  std::set<std::pair<uint32_t, uint32_t>> open;
+  for (const auto& [edge, count] : uses) {
+    if (count == 1) open.insert(edge);
+  }
+  return open;
+}
+
+// The triangles a view draws when it takes node n's copy wherever `take(n)`
+// says so and the copy exists, and opens the node otherwise (as
+// GpuScene::Draw walks the tree).
+template <typename Take>
+std::vector<uint32_t> Cut(const std::vector<ProxyCluster>& tree, Take take) {
+  std::vector<uint32_t> out;
+  std::vector<int> open = {0};
+  while (!open.empty()) {
+    const int n = open.back();
+    open.pop_back();
+    const ProxyCluster& c = tree[size_t(n)];
+    const std::vector<uint32_t>* drawn = nullptr;
+    if (!c.level.indices.empty() && take(n)) {
+      drawn = &c.level.indices;
+    } else if (c.children[0] < 0) {
+      drawn = &c.indices;
+    } else {
+      open.push_back(c.children[1]);
+      open.push_back(c.children[0]);
+      continue;
+    }
+    out.insert(out.end(), drawn->begin(), drawn->end());
+  }
+  return out;
+}
+
+void ExpectClusterBoundsHold(const Primitive& p) {
+  const std::vector<ProxyCluster> tree = SmallClusters(p);
+  ASSERT_GE(tree.size(), 7u);
+  const float diagonal = glm::length(p.bounds.extent());
+  EXPECT_EQ(ClusterTriangles(tree, 0).size(), p.indices.size());  // every triangle once
+  size_t copies = 0;
+  for (size_t n = 0; n < tree.size(); ++n) {
+    const ProxyCluster& c = tree[n];
+    const std::vector<uint32_t> full = ClusterTriangles(tree, int(n));
+    // The box holds the node's triangles and its copy (whose vertices are
+    // the primitive's own).
+    for (const std::vector<uint32_t>* list : {&full, &c.level.indices}) {
+      for (uint32_t i : *list) {
+        ASSERT_LT(i, p.positions.size());
+        EXPECT_TRUE(glm::all(glm::greaterThanEqual(p.positions[i], c.bounds.min)) &&
+                    glm::all(glm::lessThanEqual(p.positions[i], c.bounds.max)));
+      }
+    }
+    if (c.level.indices.empty()) continue;
+    ++copies;
+    SCOPED_TRACE(testing::Message()
+                 << "node " << n << ", " << full.size() / 3 << " -> " << c.level.indices.size() / 3
+                 << " triangles, recorded error " << c.level.error);
+    EXPECT_LE(c.level.indices.size() * 2, full.size());
+    EXPECT_LT(c.level.error, 0.02f * diagonal);
+    // The copy against the node's own full triangles, both ways, by brute
+    // force (exact up to float rounding: 1e-6 x diagonal).
+    const float there = MeasuredDistance(p, c.level.indices, full);
+    const float back = MeasuredDistance(p, full, c.level.indices);
+    EXPECT_LE(there, c.level.error + 1e-6f * diagonal);
+    EXPECT_LE(back, c.level.error + 1e-6f * diagonal);
+  }
+  EXPECT_GE(copies * 4, tree.size()) << "a quarter of the nodes or more should have a copy";
+  // Locked borders: whichever nodes a view takes, the drawn surface has the
+  // open edges of the full mesh and no others (no cracks between nodes).
+  const auto open_full = OpenEdges(p, p.indices);
+  EXPECT_EQ(OpenEdges(p, Cut(tree, [](int) { return true; })), open_full);
+  EXPECT_EQ(OpenEdges(p, Cut(tree, [](int n) { return n % 3 != 0; })), open_full);
+  EXPECT_EQ(OpenEdges(p, Cut(tree, [](int n) { return n % 2 == 1; })), open_full);
+}
+
+TEST(ProxyClusters, SphereErrorWithinRecordedBoundAndWatertight) {
+  ExpectClusterBoundsHold(Sphere(24, 48));
+}
+
+TEST(ProxyClusters, BumpyPlaneErrorWithinRecordedBoundAndWatertight) {
+  ExpectClusterBoundsHold(BumpyPlane(40));
+}
+
+TEST(ProxyClusters, SmallOrDeformingPrimitivesKeepNone) {
+  EXPECT_TRUE(BuildProxyClusters(Sphere(24, 48)).empty());  // 2,304 triangles: one leaf's worth
+  Primitive skinned = Sphere(64, 96);
+  skinned.joints.assign(skinned.positions.size(), glm::u16vec4(0));
+  skinned.weights.assign(skinned.positions.size(), glm::vec4(1, 0, 0, 0));
+  EXPECT_TRUE(BuildProxyClusters(skinned).empty());
+}
+
+TEST(ProxyClusters, SceneMemoryCountsTheClusters) {
+  Scene scene;
+  scene.meshes.push_back({"sphere", {Sphere(64, 96)}});  // 12,288 triangles
+  const SceneBytes without = CountSceneBytes(scene);
+  BuildSceneProxies(&scene);
+  const Primitive& p = scene.meshes[0].primitives[0];
+  ASSERT_FALSE(p.clusters.empty());
+  size_t indices = 0;
+  for (const ProxyLevel& l : p.proxies) indices += l.indices.size();
+  for (const ProxyCluster& c : p.clusters) indices += c.indices.size() + c.level.indices.size();
+  const SceneBytes with = CountSceneBytes(scene);
+  EXPECT_EQ(with.cpu - without.cpu, indices * 4 + p.clusters.size() * sizeof(ProxyCluster));
+  EXPECT_EQ(with.gpu - without.gpu, indices * 4);
 }
 
 }  // namespace
