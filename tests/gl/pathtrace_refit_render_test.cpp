@@ -46,6 +46,16 @@ TEST(PathtraceRefitRender, SeekRefitsAndMatchesAFreshSolve) {
   const FloatImage direct = RenderRequestExr(
       SolverRequest(fresh.id(), "pathtrace", params, 32, {Seek(1, 1.0f)}), &fresh_frame);
   EXPECT_EQ(FrameStat(fresh_frame, "bvh_refits"), 0.0);
+  // The build_bvh stage's CPU time of the refit and of the two builds,
+  // recorded (not asserted: timings are the machine's).
+  for (const auto& [key, frame] :
+       {std::pair{"build_ms_rest", &first}, std::pair{"refit_ms_pose", &seeked_frame},
+        std::pair{"build_ms_pose", &fresh_frame}}) {
+    const StageTiming* stage = testing::FrameStage(*frame, "build_bvh");
+    ASSERT_NE(stage, nullptr);
+    EXPECT_FALSE(stage->skipped);
+    testing::RecordMeasurement(key, stage->cpu_ms);
+  }
   // Same seed and the same hits: the same image but for a path that met a
   // shared edge, where either tree may report the other triangle (none
   // were seen; 1e-6 leaves room for one such path at 8 spp).
