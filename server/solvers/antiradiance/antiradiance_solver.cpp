@@ -192,15 +192,14 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
   // the layout). The render thread does not change it before the job ends.
   const antiradiance::Transport* warm = transport_.get();
   solve_.Start(job, [bins, settings, warm](SolveJob& j) {
-    using Clock = std::chrono::steady_clock;
-    const auto t0 = Clock::now();
     if (j.relink) {
-      if (j.same_layout) {
-        j.link_set.Relink(*j.patches, *bins, j.moved);
-      } else {
-        j.link_set.Build(*j.patches, *bins);
-      }
-      j.stage_ms["link"] = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      j.times.Time("link", [&] {
+        if (j.same_layout) {
+          j.link_set.Relink(*j.patches, *bins, j.moved);
+        } else {
+          j.link_set.Build(*j.patches, *bins);
+        }
+      });
     }
     const uint64_t links = j.link_set.size();
     if (links * sizeof(antiradiance::Link) > kMaxLinkBytes) {
@@ -211,15 +210,13 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
     }
     j.transport = std::make_unique<antiradiance::Transport>(*j.patches, *bins, j.link_set.Sorted());
     // Emission is the direct term's (area-light samples), not transported again.
-    Clock::time_point begun;
     j.result = j.transport->Solve(
         j.direct, {}, settings,
         [&](const char* stage, bool begin) {
           if (begin) {
-            begun = Clock::now();
+            j.times.Begin();
           } else {
-            j.stage_ms[stage] +=
-                std::chrono::duration<double, std::milli>(Clock::now() - begun).count();
+            j.times.End(stage);
           }
         },
         warm);
@@ -229,7 +226,7 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
 
 absl::Status AntiradianceSolver::TakeSolve(SolverContext& ctx, SolveJob& job) {
   // The job's CPU time is reported in the frame that takes its solution.
-  for (const auto& [stage, ms] : job.stage_ms) ctx.timer.Record(stage, ms);
+  job.times.RecordInto(ctx.timer);
   GS_RETURN_IF_ERROR(job.status);
   patches_ = std::move(job.patches);
   leaves_ = std::move(job.leaves);

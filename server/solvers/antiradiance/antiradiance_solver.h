@@ -20,6 +20,7 @@
 #include "gl/fullscreen_pass.h"
 #include "render/direct_lighting.h"
 #include "solvers/background_job.h"
+#include "solvers/job_stage_times.h"
 #include "solvers/emission_scale.h"
 #include "solvers/antiradiance/directional_bins.h"
 #include "solvers/antiradiance/links.h"
@@ -76,7 +77,7 @@ class AntiradianceSolver final : public Solver {
     absl::Status status;            // a limit the links exceed
     std::unique_ptr<antiradiance::Transport> transport;
     antiradiance::TransportResult result;
-    std::map<std::string, double> stage_ms;  // CPU time per stage
+    JobStageTimes times;  // link and the transport's stages
   };
   // The elements of the scene now; fails (naming the parameter) when their
   // tables would exceed the limits.

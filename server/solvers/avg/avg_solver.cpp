@@ -278,44 +278,43 @@ void AvgSolver::StartTrace(const SolverContext& ctx) {
   const bool full_detail = full_detail_;
   const avg::VplTraceSettings settings = trace_settings_;
   trace_job_.Start(std::move(job), [resolution, full_detail, settings](TraceJob& j) {
-    using Clock = std::chrono::steady_clock;
-    const auto t0 = Clock::now();
     if (j.voxelize) {
-      j.partial = !j.rebuild && j.grid && j.grid->Revoxelize(j.state, j.moved);
-      if (j.partial) {
-        const glm::vec3 cells = j.grid->rewritten().extent() / j.grid->voxel_size();
-        j.voxels_rewritten =
-            std::round(double(cells.x)) * std::round(double(cells.y)) * std::round(double(cells.z));
-      } else {
-        j.grid = avg::VoxelGrid::Build(j.state, resolution, full_detail);
-        j.voxels_rewritten = std::pow(double(j.grid->resolution()), 3.0);
-      }
+      j.times.Time("voxelize", [&] {
+        j.partial = !j.rebuild && j.grid && j.grid->Revoxelize(j.state, j.moved);
+        if (j.partial) {
+          const glm::vec3 cells = j.grid->rewritten().extent() / j.grid->voxel_size();
+          j.voxels_rewritten = std::round(double(cells.x)) * std::round(double(cells.y)) *
+                               std::round(double(cells.z));
+        } else {
+          j.grid = avg::VoxelGrid::Build(j.state, resolution, full_detail);
+          j.voxels_rewritten = std::pow(double(j.grid->resolution()), 3.0);
+        }
+      });
     }
-    const auto t1 = Clock::now();
-    j.grid_bounds.Extend(j.grid->origin());
-    j.grid_bounds.Extend(j.grid->origin() + j.grid->extent());
-    const std::vector<avg::VplLight> lights = avg::CollectVplLights(
-        j.state, j.grid_bounds.center(), 0.5f * glm::length(j.grid_bounds.extent()));
-    // After moved nodes only the paths whose rays cross the rewritten
-    // voxels are traced again (Laine et al. 2007); the VPLs equal a full
-    // trace's.
-    j.trace = j.partial ? avg::RetraceVpls(*j.grid, lights, settings, j.grid->rewritten(), j.paths)
-                        : avg::TraceVpls(*j.grid, lights, settings, &j.paths);
-    j.voxelize_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
-    j.trace_ms = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
+    j.times.Time("trace_vpls", [&] {
+      j.grid_bounds.Extend(j.grid->origin());
+      j.grid_bounds.Extend(j.grid->origin() + j.grid->extent());
+      const std::vector<avg::VplLight> lights = avg::CollectVplLights(
+          j.state, j.grid_bounds.center(), 0.5f * glm::length(j.grid_bounds.extent()));
+      // After moved nodes only the paths whose rays cross the rewritten
+      // voxels are traced again (Laine et al. 2007); the VPLs equal a full
+      // trace's.
+      j.trace = j.partial
+                    ? avg::RetraceVpls(*j.grid, lights, settings, j.grid->rewritten(), j.paths)
+                    : avg::TraceVpls(*j.grid, lights, settings, &j.paths);
+    });
   });
 }
 
 void AvgSolver::TakeTrace(SolverContext& ctx, TraceJob& job) {
   // The job's CPU time is reported in the frame that takes its VPLs.
+  job.times.RecordInto(ctx.timer);
   if (job.voxelize) {
-    ctx.timer.Record("voxelize", job.voxelize_ms);
     voxels_partial_ = job.partial;
     voxels_rewritten_ = job.voxels_rewritten;
   } else {
     ctx.timer.Skip("voxelize");
   }
-  ctx.timer.Record("trace_vpls", job.trace_ms);
   grid_ = std::move(job.grid);
   voxels_filled_ = grid_->filled();
   voxel_bytes_ = grid_->bytes();
@@ -419,6 +418,7 @@ absl::Status AvgSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
     illuminate_.Set("uClamp2", clamp_distance_ * clamp_distance_);
     illuminate_.Set("uVisibility", visibility_ ? 1 : 0);
     illuminate_.Set("uVplTexel", 2.0f / float(shadow_resolution_));
+    illuminate_.Set("uCameraPos", camera.position);  // glossy receivers' view direction
     fullscreen_.Draw(illuminate_);
   }
   {

@@ -15,6 +15,7 @@
 #include "gl/fullscreen_pass.h"
 #include "render/direct_lighting.h"
 #include "solvers/background_job.h"
+#include "solvers/job_stage_times.h"
 #include "solvers/avg/interleaved_buffer.h"
 #include "solvers/avg/voxel_grid.h"
 #include "solvers/avg/vpl_shadow_maps.h"
@@ -83,7 +84,7 @@ class AvgSolver final : public Solver {
     double voxels_rewritten = 0;
     Bounds grid_bounds;
     avg::VplTraceResult trace;
-    double voxelize_ms = 0.0, trace_ms = 0.0;  // CPU wall time per stage
+    JobStageTimes times;  // voxelize, trace_vpls
   };
   // Starts a job for the changes due (the caller checks that none runs).
   void StartTrace(const SolverContext& ctx);

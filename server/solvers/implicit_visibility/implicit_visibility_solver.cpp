@@ -125,14 +125,13 @@ absl::Status ImplicitVisibilitySolver::StartRelink(SolverContext& ctx) {
   const hierarchy::CubeBins* bins = &bins_;
   const hierarchy::Linking linking = settings_.linking;
   relink_.Start(std::move(job), [bins, linking](RelinkJob& j) {
-    using Clock = std::chrono::steady_clock;
-    const auto t0 = Clock::now();
-    j.link_stats = hierarchy::CreateLinks(j.elements, *bins, linking, j.table);
-    const auto t1 = Clock::now();
-    j.leaf_links =
-        hierarchy::RefinePush(j.elements, *bins, j.table, j.environment, &j.refine_stats);
-    j.create_ms = std::chrono::duration<double, std::milli>(t1 - t0).count();
-    j.refine_ms = std::chrono::duration<double, std::milli>(Clock::now() - t1).count();
+    j.times.Time("create_links", [&] {
+      j.link_stats = hierarchy::CreateLinks(j.elements, *bins, linking, j.table);
+    });
+    j.times.Time("refine_push", [&] {
+      j.leaf_links =
+          hierarchy::RefinePush(j.elements, *bins, j.table, j.environment, &j.refine_stats);
+    });
   });
   return absl::OkStatus();
 }
@@ -145,8 +144,7 @@ bool ImplicitVisibilitySolver::FinishRelink(SolverContext& ctx) {
   refine_stats_ = job->refine_stats;
   leaf_links_ = std::move(job->leaf_links);
   // The job's CPU time is reported in the frame that takes its links.
-  ctx.timer.Record("create_links", job->create_ms);
-  ctx.timer.Record("refine_push", job->refine_ms);
+  job->times.RecordInto(ctx.timer);
   illumination_.UploadLinks(leaf_links_);
   if (relink_.again()) {
     // The same element layout passed the bin-memory check already.

@@ -22,6 +22,7 @@
 
 #include "render/direct_lighting.h"
 #include "solvers/background_job.h"
+#include "solvers/job_stage_times.h"
 #include "solvers/emission_scale.h"
 #include "solvers/hierarchy/bin_table.h"
 #include "solvers/hierarchy/cube_bins.h"
@@ -81,7 +82,7 @@ class ImplicitVisibilitySolver final : public Solver {
     hierarchy::LinkStats link_stats;
     hierarchy::LeafLinks leaf_links;
     hierarchy::RefineStats refine_stats;
-    double create_ms = 0.0, refine_ms = 0.0;
+    JobStageTimes times;  // create_links, refine_push
   };
   absl::Status CheckBinBytes() const;
   // First solve: links now, on this thread.
