@@ -65,6 +65,7 @@ VoxelGrid VoxelGrid::Build(const SceneState& state, int resolution, bool full_de
   grid.voxels_.assign(size_t(grid.n_) * size_t(grid.n_) * size_t(grid.n_), Voxel{});
   grid.Rasterize(state, glm::ivec3(0), glm::ivec3(grid.n_ - 1));
   for (const Voxel& v : grid.voxels_) grid.filled_ += v.count > 0 ? 1 : 0;
+  if (grid.area_sum_ > 0.0) grid.mean_albedo_ = float(grid.albedo_area_sum_ / grid.area_sum_);
   return grid;
 }
 
@@ -157,6 +158,10 @@ void VoxelGrid::Add(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
   const float len = glm::length(cross);
   if (!(len > 0.0f) || !std::isfinite(len)) return;  // degenerate: no surface, no normal
   const glm::vec3 normal = cross / len;
+  if (lo_clip == glm::ivec3(0) && hi_clip == glm::ivec3(n_ - 1)) {  // Build
+    area_sum_ += 0.5 * double(len);
+    albedo_area_sum_ += 0.5 * double(len) * double(std::max({albedo.r, albedo.g, albedo.b}));
+  }
   // A hair more than half a voxel, so a triangle on a voxel face marks the
   // voxels on both sides (conservative, never a gap from rounding).
   const glm::vec3 half = 0.5f * size_ * 1.0001f;

@@ -59,6 +59,10 @@ class VoxelGrid {
   const glm::vec3& voxel_size() const { return size_; }  // per axis
   glm::vec3 extent() const { return size_ * float(n_); }
   size_t filled() const { return filled_; }
+  // The scene's area-weighted mean reflectance (max over the albedo's
+  // channels), as of Build: instant radiosity's rho-bar (Keller 1997).
+  // Revoxelize keeps it (it moves geometry, materials are unchanged).
+  float mean_albedo() const { return mean_albedo_; }
   uint64_t bytes() const { return voxels_.size() * sizeof(Voxel); }
 
   bool Inside(const glm::ivec3& v) const {
@@ -103,6 +107,8 @@ class VoxelGrid {
   glm::vec3 size_{1.0f};
   std::vector<Voxel> voxels_;
   size_t filled_ = 0;
+  float mean_albedo_ = 0.0f;
+  double area_sum_ = 0.0, albedo_area_sum_ = 0.0;  // Build's accumulation
   bool full_detail_ = false;
   Bounds rewritten_;
 };

@@ -24,7 +24,7 @@ void Basis(const glm::vec3& n, glm::vec3& t, glm::vec3& b) {
 }
 
 // Quasi-random dimensions of one path: 0 light, 1-2 point, 3-4 direction,
-// then 3 per bounce (2 direction, 1 roulette).
+// then 3 per bounce (2 direction, 1 unused since paths end by index).
 constexpr int kDimLight = 0, kDimPoint = 1, kDimDir = 3, kDimBounce = 5, kDimsPerBounce = 3;
 
 // A hash of (path i, dimension dim) in [0, 1) (SplitMix64): the same every
@@ -115,8 +115,10 @@ PathStart StartPath(const VplLight& l, double pdf, uint64_t i) {
   return s;
 }
 
+// Path i has a VPL at bounce b + 1 iff i < counts[b] (see SplitCounts); its
+// VPLs' flux is the start flux x the albedos hit, not yet divided by counts.
 VplPath TracePath(const VoxelGrid& grid, const std::vector<VplLight>& lights,
-                  const LightTable& table, const VplTraceSettings& settings, uint64_t i) {
+                  const LightTable& table, const std::vector<uint64_t>& counts, uint64_t i) {
   const ScrambledHalton& h = ScrambledHalton::Instance();
   VplPath result;
   // Pick a light by power (dimension 0 is van der Corput, so any prefix of
@@ -131,7 +133,7 @@ VplPath TracePath(const VoxelGrid& grid, const std::vector<VplLight>& lights,
   glm::vec3 origin = s.origin, dir = s.dir, normal = s.normal, flux = s.flux;
   bool on_surface = s.on_surface;
   const float nudge = 0.05f * glm::length(grid.voxel_size());
-  for (int bounce = 0; bounce < settings.bounces; ++bounce) {
+  for (size_t bounce = 0; bounce < counts.size() && i < counts[bounce]; ++bounce) {
     const std::optional<GridHit> hit = grid.March(origin, dir, normal, on_surface);
     result.rays.push_back(
         {origin, dir, hit ? hit->t_exit : std::numeric_limits<float>::infinity()});
@@ -158,25 +160,19 @@ VplPath TracePath(const VoxelGrid& grid, const std::vector<VplLight>& lights,
     vpl.position = p + n * nudge;
     vpl.normal = n;
     vpl.flux = flux * albedo;
-    vpl.bounce = bounce + 1;
+    vpl.bounce = int(bounce) + 1;
     result.vpls.push_back(vpl);
-    if (bounce + 1 >= settings.bounces) break;
 
-    const int dim = kDimBounce + kDimsPerBounce * bounce;
-    glm::vec3 next = vpl.flux;
-    if (settings.roulette) {
-      // Continue with probability max(albedo); the survivors carry 1/q more.
-      const float q = std::min(1.0f, std::max({albedo.r, albedo.g, albedo.b}));
-      // Independent numbers, not Halton dimensions: the scrambled Halton
-      // dimensions of consecutive bounces are correlated over the first
-      // hundreds of paths, which cut paths short (furnace rho = 0.9: 8.8
-      // VPLs per path for 10, total VPL flux -12 %).
-      if (!(q > 0.0f) || HashSample(i, dim + 2) >= q) break;
-      next /= q;
-    }
+    const int dim = kDimBounce + kDimsPerBounce * int(bounce);
+    const glm::vec3 next = vpl.flux;
     if (!(std::max({next.r, next.g, next.b}) > 0.0f)) break;
     flux = next;
-    origin = p;
+    // From the VPL, i.e. off the surface on the side the ray came from:
+    // from p itself, rounding put some origins a hair behind the plane,
+    // and a grazing ray from there hit its own sheet from behind and
+    // left the closed furnace facing out (0.2 % of rays, compounding over
+    // a stiff scene's hundreds of bounces: issue 14).
+    origin = vpl.position;
     normal = n;
     dir = SampleCosine(n, PathSample(i, dim), PathSample(i, dim + 1));
     on_surface = true;
@@ -225,9 +221,9 @@ LightTable MakeTable(const std::vector<VplLight>& lights) {
 // Traces the paths `indices` into `out` (in parallel when many;
 // each path depends on its index only, so not on the split).
 void TraceRange(const VoxelGrid& grid, const std::vector<VplLight>& lights, const LightTable& table,
-                const VplTraceSettings& settings, const std::vector<uint64_t>& indices,
-                std::vector<VplPath>& out) {
-  auto trace = [&](size_t j) { out[j] = TracePath(grid, lights, table, settings, indices[j]); };
+                const VplTraceSettings& settings, const std::vector<uint64_t>& counts,
+                const std::vector<uint64_t>& indices, std::vector<VplPath>& out) {
+  auto trace = [&](size_t j) { out[j] = TracePath(grid, lights, table, counts, indices[j]); };
   if (indices.size() < 64 || settings.threads == 1) {
     for (size_t j = 0; j < indices.size(); ++j) trace(j);
   } else {
@@ -235,61 +231,51 @@ void TraceRange(const VoxelGrid& grid, const std::vector<VplLight>& lights, cons
   }
 }
 
-// Packs paths in index order while their VPLs fit into `vpls`: the first
-// path that does not fit ends the walk (it is not counted in N). Paths in
-// `paths` are used as they are; more are traced (in batches) as needed and
-// appended. The result does not depend on the thread count and never
-// exceeds `vpls` VPLs (shadow-map layers).
+// Packs the paths counts[0] of `counts` asks for, in index order: those in
+// `paths` are used as they are, the rest traced. Each VPL of bounce b + 1
+// gets its flux / counts[b]: the paths that reach bounce b + 1 carry the
+// light's power x the albedos on the way between them (Keller 1997,
+// Sec. 3: the survivors of a reflection carry f_r / rho-bar each; with
+// integer counts exactly counts[b - 1] / counts[b]), so in a closed scene
+// of one albedo rho the VPLs of bounce b hold exactly power x rho^b, for
+// any N. At most `vpls` VPLs (shadow-map layers), whatever escapes.
 VplTraceResult Pack(const VoxelGrid& grid, const std::vector<VplLight>& lights,
-                    const VplTraceSettings& settings, std::vector<VplPath>& paths,
-                    const std::vector<uint8_t>& retraced) {
+                    const VplTraceSettings& settings, const std::vector<uint64_t>& counts,
+                    std::vector<VplPath>& paths, const std::vector<uint8_t>& retraced) {
   VplTraceResult result;
   for (const VplLight& l : lights) result.light_power += l.power;
   const LightTable table = MakeTable(lights);
-  const size_t target = size_t(std::max(settings.vpls, 0));
-  if (lights.empty() || !(table.total > 0.0) || target == 0) {
+  if (lights.empty() || !(table.total > 0.0) || counts.empty()) {
     paths.clear();
     return result;
   }
-  const uint64_t max_paths = uint64_t(target) * 16;  // open scenes: most paths escape
-  const size_t cached = paths.size();
-  double vpls_per_path = 1.0;
-  uint64_t next = 0;
-  while (next < max_paths) {
-    if (next >= paths.size()) {
-      const uint64_t want = uint64_t(double(target - result.vpls.size()) / vpls_per_path) + 8;
-      const uint64_t batch = std::min(want, max_paths - next);
-      std::vector<uint64_t> indices(batch);
-      for (uint64_t j = 0; j < batch; ++j) indices[j] = next + j;
-      std::vector<VplPath> traced(batch);
-      TraceRange(grid, lights, table, settings, indices, traced);
-      for (VplPath& p : traced) paths.push_back(std::move(p));
-    }
-    const VplPath& p = paths[next];
-    if (result.vpls.size() + p.vpls.size() > target) break;
+  const uint64_t n = counts[0];
+  const size_t cached = std::min<size_t>(paths.size(), size_t(n));
+  paths.resize(size_t(n));
+  std::vector<uint64_t> indices;
+  for (uint64_t i = cached; i < n; ++i) indices.push_back(i);
+  std::vector<VplPath> traced(indices.size());
+  TraceRange(grid, lights, table, settings, counts, indices, traced);
+  for (size_t j = 0; j < indices.size(); ++j) paths[size_t(indices[j])] = std::move(traced[j]);
+  for (uint64_t i = 0; i < n; ++i) {
+    const VplPath& p = paths[size_t(i)];
     result.path_first.push_back(uint32_t(result.vpls.size()));
-    if (next >= cached) {
+    if (i >= cached) {
       ++result.new_paths;
-    } else if (next < retraced.size() && retraced[next]) {
+    } else if (i < retraced.size() && retraced[size_t(i)]) {
       ++result.retraced_paths;
       result.retraced_vpls += p.vpls.size();
     } else {
       ++result.kept_paths;
       result.kept_vpls += p.vpls.size();
     }
-    ++result.paths;
     result.escaped += p.escaped ? 1 : 0;
-    result.vpls.insert(result.vpls.end(), p.vpls.begin(), p.vpls.end());
-    ++next;
-    if (result.vpls.size() == target) break;
-    vpls_per_path =
-        std::max(0.05, double(result.vpls.size()) / double(std::max<uint64_t>(result.paths, 1)));
+    for (Vpl v : p.vpls) {
+      v.flux /= float(counts[size_t(v.bounce - 1)]);
+      result.vpls.push_back(v);
+    }
   }
-  // Keep the used paths and the one that did not fit.
-  paths.resize(std::min<size_t>(paths.size(), size_t(next) + 1));
-  // Each path carried power / pdf; the estimator averages over N paths.
-  const float inv_n = result.paths > 0 ? 1.0f / float(result.paths) : 0.0f;
-  for (Vpl& v : result.vpls) v.flux *= inv_n;
+  result.paths = n;
   return result;
 }
 
@@ -318,13 +304,58 @@ bool PathTouches(const VplPath& path, const Bounds& box, const glm::vec3& pad) {
   return false;
 }
 
+std::vector<uint64_t> SplitCounts(int vpls, int bounces, float mean_albedo) {
+  const int cap = std::clamp(bounces, 1, VplTraceSettings::kMaxBounces);
+  const double rho = std::clamp(double(mean_albedo), 0.0, 1.0);
+  auto counts_for = [&](uint64_t n) {
+    // M_b = round(N rho^b) (Keller 1997, Sec. 3: the particles left after
+    // b reflections), while positive, at most `bounces` generations.
+    std::vector<uint64_t> m;
+    double expected = double(n);
+    for (int b = 0; b < cap; ++b, expected *= rho) {
+      const uint64_t mb = b == 0 ? n : std::min(m.back(), uint64_t(std::llround(expected)));
+      if (mb == 0) break;
+      m.push_back(mb);
+    }
+    return m;
+  };
+  auto total = [](const std::vector<uint64_t>& m) {
+    uint64_t sum = 0;
+    for (uint64_t x : m) sum += x;
+    return sum;
+  };
+  // The largest N whose VPLs fit (the total grows with N).
+  uint64_t lo = 0, hi = uint64_t(std::max(vpls, 0));
+  while (lo < hi) {
+    const uint64_t mid = (lo + hi + 1) / 2;
+    if (total(counts_for(mid)) <= uint64_t(std::max(vpls, 0))) {
+      lo = mid;
+    } else {
+      hi = mid - 1;
+    }
+  }
+  return lo > 0 ? counts_for(lo) : std::vector<uint64_t>{};
+}
+
+namespace {
+
+std::vector<uint64_t> CountsFor(const VoxelGrid& grid, const VplTraceSettings& settings) {
+  // Without `roulette` every path runs `bounces` generations (rho-bar 1).
+  return SplitCounts(settings.vpls, settings.bounces,
+                     settings.roulette ? grid.mean_albedo() : 1.0f);
+}
+
+}  // namespace
+
 VplTraceResult TraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& lights,
                          const VplTraceSettings& settings, VplPathCache* cache) {
   std::vector<VplPath> paths;
-  VplTraceResult result = Pack(grid, lights, settings, paths, {});
+  const std::vector<uint64_t> counts = CountsFor(grid, settings);
+  VplTraceResult result = Pack(grid, lights, settings, counts, paths, {});
   if (cache) {
     cache->paths = std::move(paths);
     cache->lights = lights;
+    cache->counts = counts;
   }
   return result;
 }
@@ -332,7 +363,10 @@ VplTraceResult TraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& lig
 VplTraceResult RetraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& lights,
                            const VplTraceSettings& settings, const Bounds& changed,
                            VplPathCache& cache) {
-  if (!SameLights(lights, cache.lights)) return TraceVpls(grid, lights, settings, &cache);
+  const std::vector<uint64_t> counts = CountsFor(grid, settings);
+  if (!SameLights(lights, cache.lights) || counts != cache.counts) {
+    return TraceVpls(grid, lights, settings, &cache);
+  }
   // A voxel of padding: the DDA's steps may round into a voxel the segment
   // only grazes.
   const glm::vec3 pad = grid.voxel_size();
@@ -341,13 +375,13 @@ VplTraceResult RetraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& l
     if (PathTouches(cache.paths[i], changed, pad)) invalid.push_back(i);
   }
   std::vector<VplPath> traced(invalid.size());
-  TraceRange(grid, lights, MakeTable(lights), settings, invalid, traced);
+  TraceRange(grid, lights, MakeTable(lights), settings, counts, invalid, traced);
   std::vector<uint8_t> retraced(cache.paths.size(), 0);
   for (size_t j = 0; j < invalid.size(); ++j) {
     cache.paths[invalid[j]] = std::move(traced[j]);
     retraced[invalid[j]] = 1;
   }
-  return Pack(grid, lights, settings, cache.paths, retraced);
+  return Pack(grid, lights, settings, counts, cache.paths, retraced);
 }
 
 }  // namespace gistream::avg

@@ -2,8 +2,11 @@
 // (paper Sec. III-B): rays leave the lights (cosine-distributed over
 // emissive surfaces, by intensity for point and spot lights, parallel for
 // directional lights), are marched through the voxels, leave a VPL at each
-// hit and continue by cosine sampling up to `bounces` times, optionally cut
-// short by Russian roulette. Runs on the CPU (multi-threaded over paths).
+// hit and continue by cosine sampling up to `bounces` times. Paths end as
+// in Keller's instant radiosity (1997, Sec. 3): of N paths, the first
+// round(N rho-bar^b) (in index order) go on after b reflections, rho-bar the
+// scene's mean albedo, so the VPL budget sets N and the total flux is
+// exact, not a roulette's noise. Runs on the CPU (multi-threaded over paths).
 #pragma once
 
 #include <cstdint>
@@ -24,12 +27,12 @@ struct Vpl {
 };
 
 struct VplTraceSettings {
-  int vpls = 1024;       // VPLs to place (paths are added until there are this many)
+  int vpls = 1024;       // VPLs at most (sets N: see SplitCounts)
   int bounces = 8;       // VPL generations per path at most (1..kMaxBounces)
-  bool roulette = true;  // Russian roulette after each VPL
+  bool roulette = true;  // paths end by Keller's split (else all run `bounces`)
   int threads = 0;       // 1: on the calling thread; else the CPU pool
-  // With roulette a path ends on its own (after 1 / (1 - albedo) VPLs on
-  // average), so the cap only bounds stiff scenes' paths.
+  // With the split paths end on their own (N rho-bar^b of them reach
+  // bounce b), so the cap only bounds stiff scenes' paths.
   static constexpr int kMaxBounces = 1024;
 };
 
@@ -54,18 +57,25 @@ struct VplRay {
 
 // One light path as traced, with what it depends on.
 struct VplPath {
-  std::vector<Vpl> vpls;     // flux not yet divided by the path count
+  std::vector<Vpl> vpls;     // flux not yet divided by its bounce's path count
   std::vector<VplRay> rays;  // every ray it marched
   bool escaped = false;      // its first ray left the grid
 };
 
-// The paths behind the last trace (paths 0.. in index order, up to the
-// first one that did not fit), and the lights they started from: an
+// The paths behind the last trace (paths 0..N-1 in index order), the
+// lights they started from and the split they were traced for: an
 // incremental trace keeps the ones the change left valid.
 struct VplPathCache {
   std::vector<VplPath> paths;
   std::vector<VplLight> lights;
+  std::vector<uint64_t> counts;  // SplitCounts they were traced for
 };
+
+// Keller's split for a budget of `vpls` VPLs: counts[b] paths reach
+// bounce b + 1 (counts[0] = N, counts[b] = round(N rho^b) while positive,
+// at most `bounces` entries), N the largest whose counts sum to at most
+// `vpls`. Empty when nothing fits.
+std::vector<uint64_t> SplitCounts(int vpls, int bounces, float mean_albedo);
 
 // Traces from scratch; with `cache`, it keeps the paths.
 VplTraceResult TraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& lights,
