@@ -7,7 +7,11 @@
 // so a tile reads the same VPLs and shadow-map layers throughout.
 // Writes indirect irradiance (scaled to estimate all VPLs) and, at full
 // rate, direct irradiance; the filter stage reassembles and filters.
+// Glossy receivers weight each VPL and each light by the BRDF,
+// f(v, l) cos_x (common/brdf.glsl; v towards the camera), and write the
+// reflected radiance demodulated by a(v) (avg/receiver.glsl).
 #include "render/direct_light.glsl"
+#include "avg/receiver.glsl"
 #include "avg/vpl.glsl"
 layout(binding = 7) uniform sampler2DArrayShadow uVplShadows;
 layout(binding = 8) uniform sampler2D uGPosition;
@@ -48,6 +52,11 @@ void main() {
   if (pos.w == 0.0) return;
   vec3 p = pos.xyz;
   vec3 n = texelFetch(uGNormal, px, 0).xyz;
+  SurfaceBrdf b = ReceiverBrdf(px);
+  bool lambertian = BrdfLambertian(b);
+  vec3 view = ReceiverView(p, n);
+  // Glossy: pi f(v, l) / a(v) per VPL, so that e stays irradiance-like.
+  vec3 demodulate = lambertian ? vec3(0.0) : PI / ReceiverAlbedo(b, n, view);
 
   int k = tile.x + 4 * tile.y;
   int count = max(uVplCount - k + kSubsets - 1, 0) / kSubsets;  // VPLs k, k + 16, ...
@@ -63,11 +72,15 @@ void main() {
     float vis = uVisibility != 0 ? VplVisibility(v, p, n, w, sqrt(r2)) : 1.0;
     // A Lambertian VPL of flux Phi has intensity Phi / pi cos_v, so with the
     // geometry term G of the paper's Sec. III-C (r^2 biased by d^2):
-    // E = Phi / pi * cos_v cos_x / (r^2 + d^2).
-    e += v.flux.rgb * (INV_PI * cv * cx * vis / max(r2 + uClamp2, 1e-30));
+    // E = Phi / pi * cos_v cos_x / (r^2 + d^2). A glossy receiver reflects
+    // L = f(v, -w) E of it towards v (the rendering equation's integrand
+    // with the VPL as a point source).
+    vec3 ej = v.flux.rgb * (INV_PI * cv * cx * vis / max(r2 + uClamp2, 1e-30));
+    e += lambertian ? ej : ej * BrdfEval(b, n, view, -w) * demodulate;
   }
   // Subset k holds `count` of the uVplCount VPLs: scale to estimate them all.
   float scale = count > 0 ? float(uVplCount) / float(count) : 0.0;
   oIndirect = vec4(FiniteOrZero(e * scale), count > 0 ? 1.0 : 0.0);
-  oDirect = vec4(FiniteOrZero(DirectIrradiance(p, n)), 1.0);
+  vec3 direct = lambertian ? DirectIrradiance(p, n) : DirectReflected(p, n, view, b) * demodulate;
+  oDirect = vec4(FiniteOrZero(direct), 1.0);
 }
