@@ -66,7 +66,7 @@ const std::map<std::string, std::string> kAntiradiance = {{"tolerance", "1e-4"},
 // geometric tail for the rest (tail_estimate.h), on a 4^3 grid.
 const std::map<std::string, std::string> kShProbes = {
     {"grid", "4"}, {"bounces", "32"}, {"tolerance", "1e-4"}, {"tail_estimate", "true"}};
-// avg: the most VPLs, and roulette paths capped only far out.
+// avg: the most VPLs, and Keller's split capped only far out.
 const std::map<std::string, std::string> kAvg = {{"vpls", "2048"}, {"bounces", "1024"}};
 
 INSTANTIATE_TEST_SUITE_P(EverySolver, Furnace,
@@ -97,23 +97,24 @@ INSTANTIATE_TEST_SUITE_P(EverySolver, Furnace,
                              FurnaceCase{"implicit_visibility", 0.5f, kIterated, 0.01},
                              FurnaceCase{"implicit_visibility", 0.9f, kIterated, 0.01},
                              FurnaceCase{"implicit_visibility", 0.99f, kIterated, 0.03},
-                             // antiradiance: measured -0.1, -1.4, -9.0 % (were -1.2, -19,
-                             // -74 %): one pass now carries 99.88 % of what a closed box
-                             // sends (the bins' true cosines and the near leaves' exact form
-                             // factors, links.cpp); the rest, the clusters' r^2 + a / pi
-                             // kernel, is what 1 / (1 - rho k) makes -9 % at 0.99 (the
-                             // issue's 5 % is not reached there; ARCHITECTURE.md).
+                             // antiradiance: measured -0.07, -0.8, -1.1 % (were -0.1, -1.4,
+                             // -9.0 %, and -1.2, -19, -74 % before that): the near leaves'
+                             // exact form factors, and every farther link's Eq. 17 kernel
+                             // averaged over both ends' sigma points (links.cpp; a closed
+                             // box gathers 99.93 % per pass, was 99.88 %). At 0.99 a change
+                             // of 1e-4 per pass moves the mean by 1 %, hence 3 %: within the
+                             // issue's 5 %, and never above the exact value by more.
                              FurnaceCase{"antiradiance", 0.5f, kAntiradiance, 0.01},
                              FurnaceCase{"antiradiance", 0.9f, kAntiradiance, 0.02},
-                             FurnaceCase{"antiradiance", 0.99f, kAntiradiance, 0.10},
-                             // avg: VPL paths end by roulette only; what is left is noise in
-                             // the number of paths (2048 VPLs are ~1000, ~200 and ~20 paths at
-                             // 0.5, 0.9, 0.99): measured -0.4, -1.5, -32 %. At 0.99 the VPL
-                             // budget holds too few paths to converge (unbiased over paths:
-                             // unit test AvgStiffFurnace).
-                             FurnaceCase{"avg", 0.5f, kAvg, 0.02},
-                             FurnaceCase{"avg", 0.9f, kAvg, 0.03},
-                             FurnaceCase{"avg", 0.99f, kAvg, 0.35}),
+                             FurnaceCase{"antiradiance", 0.99f, kAntiradiance, 0.03},
+                             // avg: VPL paths end by Keller's split (exact per bounce on
+                             // this scene); measured -0.0, +0.8, -14.5 %. At 0.99 rays after
+                             // the first still leave the shell at wall corners (0.2-0.8 % per
+                             // ray over ~370 bounces; unit test AvgStiffFurnace), so the
+                             // issue's 5 % is not reached there (ARCHITECTURE.md).
+                             FurnaceCase{"avg", 0.5f, kAvg, 0.01},
+                             FurnaceCase{"avg", 0.9f, kAvg, 0.02},
+                             FurnaceCase{"avg", 0.99f, kAvg, 0.2}),
                          [](const ::testing::TestParamInfo<FurnaceCase>& p) {
                            return std::string(p.param.solver) + "_rho" +
                                   std::to_string(int(std::lround(double(p.param.rho) * 100.0)));
