@@ -33,9 +33,10 @@ SolverDescription AvgSolver::Describe() {
       {"grid", ParamType::kInt, "64", 8, 256, {},
        "Voxels per axis of the approximate visibility grid (fitted to the scene bounds)"},
       {"bounces", ParamType::kInt, "8", 1, avg::VplTraceSettings::kMaxBounces, {},
-       "VPL generations per light path at most (with roulette, paths end on their own)"},
+       "VPL generations per light path at most (with the split, most paths end sooner)"},
       {"roulette", ParamType::kBool, "true", 0, 0, {},
-       "Russian roulette after each VPL (continue with probability max albedo)"},
+       "Keller's split: of N paths round(N mean_albedo^b) go on after b reflections (false: "
+       "every path runs `bounces`)"},
       {"shadow_res", ParamType::kInt, "64", 8, 512, {},
        "Resolution of each VPL's paraboloid shadow map"},
       {"visibility", ParamType::kBool, "true", 0, 0, {},
