@@ -95,7 +95,6 @@ TEST_P(DeformingSolvers, StillFrameIsFiniteAndNearTheReference) {
 }
 
 TEST_P(DeformingSolvers, SeekedSolveEqualsAFreshSolveOfThePose) {
-  if (GetParam() == "pathtrace") GTEST_SKIP() << "stochastic: its update restarts the estimate";
   const Declared& declared = Table().at(GetParam());
   for (const Case& c : kCases) {
     SCOPED_TRACE(c.file);
