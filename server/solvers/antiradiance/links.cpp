@@ -1,7 +1,9 @@
 #include "solvers/antiradiance/links.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <span>
 
 #include "util/parallel_for.h"
 
@@ -11,31 +13,137 @@ namespace {
 // Leaf pairs closer than this many times the sum of their bounding radii
 // take the exact point-to-polygon form factor of the sender's cell.
 constexpr float kNearLink = 8.0f;
+// Farther than this many times the sum of their radii, a link's kernel is
+// averaged over both nodes' sigma points (SigmaPoints); closer (leaves
+// without cells only), the disc kernel r^2 + a / pi keeps it finite.
+constexpr float kSigmaLink = 2.0f;
 constexpr float kPi = 3.14159265358979f;
 
+// A node's area as a few weighted points with its centroid and second
+// moment (the sigma points of its area distribution): c +- sqrt(n) L_k for
+// the n non-degenerate columns L_k of the moment's Cholesky factor, each of
+// weight 1 / (2 n). Averaging the kernel over them is exact to second
+// order in the node's extent (odd terms cancel), where one point at the
+// centre (Eq. 17) is exact to zeroth order only.
+struct SigmaPoints {
+  std::array<glm::vec3, 6> p{};
+  int count = 0;
+};
+
 // Per node: whether all its leaves share its normal (a leaf always), so one
-// cosine holds for the whole node; per leaf: S(n) = omega sum_j <n|omega_j>_+.
+// cosine holds for the whole node; per leaf: S(n) (CosineSum);
+// sigma points of what it sends (the leaves' cells) and of where it
+// receives (the leaves' centres, where the light is collocated).
 struct NodeGeometry {
   std::vector<uint8_t> flat;
   std::vector<float> cosine_sum;
+  std::vector<SigmaPoints> send, receive;
 };
+
+// Area, centroid and second moment about the origin of a set of points.
+struct Moments {
+  double area = 0.0;
+  glm::dvec3 first{0.0};
+  glm::dmat3 second{0.0};
+  void Add(double a, const glm::dvec3& c, const glm::dmat3& m) {
+    area += a;
+    first += a * c;
+    second += a * m;
+  }
+};
+
+// The area moments of a leaf's cell (about the origin, per unit area):
+// a triangle's E[x x^T] = (sum v_i v_i^T + s s^T) / 12 with s = sum v_i.
+Moments CellMoments(std::span<const CellQuad> cell) {
+  Moments m;
+  for (const CellQuad& q : cell) {
+    for (int t = 0; t < 2; ++t) {
+      const glm::dvec3 a(q[0]), b(q[size_t(t + 1)]), c(q[size_t(t + 2)]);
+      const double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+      if (!(area > 0.0)) continue;
+      const glm::dvec3 s = a + b + c;
+      const glm::dmat3 e = (glm::outerProduct(a, a) + glm::outerProduct(b, b) +
+                            glm::outerProduct(c, c) + glm::outerProduct(s, s)) /
+                           12.0;
+      m.Add(area, s / 3.0, e);
+    }
+  }
+  return m;
+}
+
+SigmaPoints Sigma(const Moments& m) {
+  SigmaPoints out;
+  if (!(m.area > 0.0)) return out;
+  const glm::dvec3 c = m.first / m.area;
+  const glm::dmat3 cov = m.second / m.area - glm::outerProduct(c, c);
+  // Cholesky, skipping pivots that vanish (a flat or linear node).
+  const double scale = std::max(1e-30, cov[0][0] + cov[1][1] + cov[2][2]);
+  std::array<glm::dvec3, 3> cols{};
+  int n = 0;
+  glm::dmat3 a = cov;
+  for (int k = 0; k < 3; ++k) {
+    if (!(a[k][k] > 1e-9 * scale)) continue;
+    const glm::dvec3 col = a[k] / std::sqrt(a[k][k]);
+    a -= glm::outerProduct(col, col);
+    cols[size_t(n++)] = col;
+  }
+  if (n == 0) {
+    out.p[0] = glm::vec3(c);
+    out.count = 1;
+    return out;
+  }
+  for (int k = 0; k < n; ++k) {
+    const glm::dvec3 d = std::sqrt(double(n)) * cols[size_t(k)];
+    out.p[size_t(out.count++)] = glm::vec3(c + d);
+    out.p[size_t(out.count++)] = glm::vec3(c - d);
+  }
+  return out;
+}
+
+// S(n) = omega sum_j <n|omega_j>_+, the bins' cosine integral (~pi).
+float CosineSum(const glm::vec3& n, const DirectionalBins& b) {
+  double s = 0.0;
+  for (int j = 0; j < b.count(); ++j) s += std::max(0.0f, glm::dot(n, b.direction(j)));
+  return float(s * b.omega_bin());
+}
 
 NodeGeometry Geometry(const Patches& p, const DirectionalBins& b) {
   NodeGeometry g;
   g.flat.assign(size_t(p.size()), 1);
   g.cosine_sum.assign(size_t(p.size()), 0.0f);
+  std::vector<Moments> send(size_t(p.size())), receive(size_t(p.size()));
   for (int i = p.size() - 1; i >= 0; --i) {  // children follow their parent
     const glm::vec3& n = p.normal[size_t(i)];
     if (p.is_leaf(i)) {
-      double s = 0.0;
-      for (int j = 0; j < b.count(); ++j) s += std::max(0.0f, glm::dot(n, b.direction(j)));
-      g.cosine_sum[size_t(i)] = float(s * b.omega_bin());
+      g.cosine_sum[size_t(i)] = CosineSum(n, b);
+      const glm::dvec3 x(p.position[size_t(i)]);
+      const double a = p.area[size_t(i)];
+      receive[size_t(i)].Add(a, x, glm::outerProduct(x, x));
+      const Moments cell = CellMoments(p.Cell(i));
+      send[size_t(i)] = cell.area > 0.0 ? cell : receive[size_t(i)];
+      // Scaled to the leaf's area, so clusters weigh leaves as pull does.
+      if (cell.area > 0.0) {
+        const double k = a / cell.area;
+        send[size_t(i)].area *= k, send[size_t(i)].first *= k, send[size_t(i)].second *= k;
+      }
       continue;
     }
     for (int c : p.children[size_t(i)]) {
-      if (c >= 0 && (!g.flat[size_t(c)] || glm::dot(p.normal[size_t(c)], n) < 0.99999f))
-        g.flat[size_t(i)] = 0;
+      if (c < 0) continue;
+      if (!g.flat[size_t(c)] || glm::dot(p.normal[size_t(c)], n) < 0.99999f) g.flat[size_t(i)] = 0;
+      for (auto* m : {&send, &receive}) {
+        const Moments& mc = (*m)[size_t(c)];
+        (*m)[size_t(i)].area += mc.area;
+        (*m)[size_t(i)].first += mc.first;
+        (*m)[size_t(i)].second += mc.second;
+      }
     }
+  }
+  g.send.resize(size_t(p.size()));
+  g.receive.resize(size_t(p.size()));
+  for (size_t i = 0; i < size_t(p.size()); ++i) {
+    g.send[i] = Sigma(send[i]);
+    g.receive[i] = Sigma(receive[i]);
   }
   return g;
 }
@@ -146,14 +254,33 @@ class Linker {
       out_.push_back(l);
       return;
     }
-    // Eq. 17, with the sender as a disc of its area: r^2 + a_k / pi keeps the
-    // exchange finite (point-to-disc form factor) where leaves almost touch.
-    l.form_factor = 1.0f / ((r * r + p_.area[size_t(send)] / 3.14159265f) * bins_.omega_bin());
-    if (flat_send) l.form_factor *= sender_cos / sender_bin_cos;
-    // A flat receiver gathers `gathered` where the true cosine is due; the
-    // spread part behind it is lost (scaling by the front share, as before
-    // for leaves, is the special case of equal cosines).
-    if (flat_recv) l.form_factor *= receiver_cos / gathered;
+    double k;
+    if (r > kSigmaLink * (rs + rr)) {
+      // Eq. 17's kernel <n_k|-w> <n_i|w> / r^2 averaged over both nodes'
+      // sigma points (the true cosines on a flat end; a curved end's bins
+      // carry its cosines), exact to second order in the nodes' extent.
+      k = SigmaKernel(send, recv, flat_send, flat_recv) / double(bins_.omega_bin());
+      if (flat_send) k /= sender_bin_cos;
+      if (flat_recv) k /= gathered;
+    } else {
+      // Eq. 17, with the sender as a disc of its area: r^2 + a_k / pi keeps
+      // the exchange finite (point-to-disc form factor) where leaves almost
+      // touch.
+      k = 1.0 / ((double(r) * r + p_.area[size_t(send)] / kPi) * bins_.omega_bin());
+      if (flat_send) k *= sender_cos / sender_bin_cos;
+      // A flat receiver gathers `gathered` where the true cosine is due; the
+      // spread part behind it is lost (scaling by the front share, as before
+      // for leaves, is the special case of equal cosines).
+      if (flat_recv) k *= receiver_cos / gathered;
+    }
+    // Not scaled by S_r S_s / pi^2 (the bins' cosine integrals, as the near
+    // links are): that makes a uniform field gather exactly pi (1.00002 per
+    // pass) but the iterated furnace then reads +7 % at rho = 0.99, since
+    // the hierarchy's per-leaf errors (a cluster's light pushed to its
+    // leaves unchanged, -8 ... +10 %) have a non-uniform mode that gathers
+    // more than the uniform one (docs/ARCHITECTURE.md, antiradiance's Energy).
+    if (!(k > 0.0) || !std::isfinite(k)) return;
+    l.form_factor = float(k);
     out_.push_back(l);
   }
 
@@ -174,6 +301,33 @@ class Linker {
       if (dj > best_dot) best_dot = dj, best = j;
     }
     return best;
+  }
+
+  // The mean over sender x receiver sigma points of Eq. 17's kernel,
+  // cos_s cos_r / d^2, with a flat end's true cosine (clamped at its
+  // horizon) or 1 for a curved end.
+  double SigmaKernel(int send, int recv, bool flat_send, bool flat_recv) const {
+    const SigmaPoints& s = geometry_.send[size_t(send)];
+    const SigmaPoints& q = geometry_.receive[size_t(recv)];
+    // The sender's side that faces the receiver: its front for radiance,
+    // its back for antiradiance (Eq. 19).
+    glm::dvec3 ns(p_.normal[size_t(send)]);
+    if (glm::dot(ns, glm::dvec3(p_.position[size_t(recv)] - p_.position[size_t(send)])) < 0.0)
+      ns = -ns;
+    const glm::dvec3 nr(p_.normal[size_t(recv)]);
+    double sum = 0.0;
+    for (int a = 0; a < s.count; ++a) {
+      for (int b = 0; b < q.count; ++b) {
+        const glm::dvec3 d = glm::dvec3(q.p[size_t(b)]) - glm::dvec3(s.p[size_t(a)]);
+        const double d2 = glm::dot(d, d);
+        if (!(d2 > 0.0)) continue;
+        const double inv = 1.0 / std::sqrt(d2);
+        const double cs = flat_send ? std::max(0.0, glm::dot(ns, d) * inv) : 1.0;
+        const double cr = flat_recv ? std::max(0.0, -glm::dot(nr, d) * inv) : 1.0;
+        sum += cs * cr / d2;
+      }
+    }
+    return s.count > 0 && q.count > 0 ? sum / double(s.count * q.count) : 0.0;
   }
 
   // Whether any part of sender's bounding sphere is in front of leaf recv.
