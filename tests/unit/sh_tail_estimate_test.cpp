@@ -83,5 +83,37 @@ TEST(ShTailEstimate, FixedPointIsNeverOvershotForAnySeriesBelowTheCap) {
   }
 }
 
+TEST(ShTailEstimate, MonotoneFactorNeverLowersTheEstimateWhenRatiosDriftDown) {
+  // The probes' measured ratios at rho = 0.999 drift down slowly (0.99860
+  // at four bounces, 0.99853 at sixteen), so partial sum + tail fell with
+  // more bounces. Here each ratio is 1e-5 below the one before, from
+  // 0.9986, in a scene of albedo 0.999: with MonotoneTailFactor the
+  // estimate must not fall from one bounce count to the next, never be
+  // below the plain tail, and never exceed the albedo's fixed point
+  // d_1 / (1 - 0.999) = 1000 (every ratio and tail is at most 0.999).
+  const double rho = 0.999;
+  std::vector<double> d = {1.0}, totals = {1.0};
+  double r = 0.9986;
+  for (int k = 1; k < 32; ++k) {
+    d.push_back(d.back() * r);
+    totals.push_back(totals.back() + d.back());
+    r -= 1e-5;
+  }
+  double previous = 0.0;
+  for (int n = 4; n <= 32; ++n) {
+    const std::vector<double> dn(d.begin(), d.begin() + n), tn(totals.begin(), totals.begin() + n);
+    const TailEstimate plain = EstimateTail(dn, rho);
+    ASSERT_TRUE(plain.applied) << n;
+    const double f = MonotoneTailFactor(dn, tn, rho);
+    const double estimate = tn.back() + f * dn.back();
+    EXPECT_GE(f, plain.ratio / (1.0 - plain.ratio) - 1e-9) << n;
+    EXPECT_GE(estimate, previous * (1.0 - 1e-12)) << n << " bounces: not monotone";
+    EXPECT_LE(estimate, 1.0 / (1.0 - rho)) << n;
+    previous = estimate;
+  }
+  // No tail at the last bounce: no factor.
+  EXPECT_EQ(MonotoneTailFactor({1.0, 0.5, 0.4, 0.2}, {1.0, 1.5, 1.9, 2.1}), 0.0);
+}
+
 }  // namespace
 }  // namespace gistream::sh

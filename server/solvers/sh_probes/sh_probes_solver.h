@@ -130,7 +130,8 @@ class ShProbesSolver final : public Solver {
     int next = 0;
     double change = 0.0, total = 0.0;
     std::vector<double> deltas;
-    bool lights = false;  // the direct light's maps are redrawn first
+    std::vector<double> totals;  // the solution's sum after each bounce
+    bool lights = false;         // the direct light's maps are redrawn first
   } full_;
   ChangeMask deferred_ = 0;   // changes during a full solve, for Progress after it
   ProbeSchedule schedule_;    // the progressive update's probes and sweeps

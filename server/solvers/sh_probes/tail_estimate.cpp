@@ -29,4 +29,24 @@ TailEstimate EstimateTail(const std::vector<double>& deltas, double albedo_bound
   return t;
 }
 
+double MonotoneTailFactor(const std::vector<double>& deltas, const std::vector<double>& totals,
+                          double albedo_bound) {
+  const size_t n = std::min(deltas.size(), totals.size());
+  if (n == 0) return 0.0;
+  const TailEstimate last = EstimateTail({deltas.begin(), deltas.begin() + long(n)}, albedo_bound);
+  if (!last.applied) return 0.0;
+  const double f_last = last.ratio / (1.0 - last.ratio);
+  const double d_last = deltas[n - 1];
+  if (!(d_last > 0.0) || !std::isfinite(totals[n - 1])) return f_last;
+  double best = totals[n - 1] + f_last * d_last;
+  for (size_t k = 0; k + 1 < n; ++k) {
+    const TailEstimate t =
+        EstimateTail({deltas.begin(), deltas.begin() + long(k + 1)}, albedo_bound);
+    if (!t.applied) continue;
+    const double estimate = totals[k] + t.ratio / (1.0 - t.ratio) * deltas[k];
+    if (std::isfinite(estimate)) best = std::max(best, estimate);
+  }
+  return std::max(f_last, (best - totals[n - 1]) / d_last);
+}
+
 }  // namespace gistream::sh

@@ -36,4 +36,20 @@ inline constexpr double kTailStability = 0.05;
 // float sums), and taking it would overshoot by r / (1 - r).
 TailEstimate EstimateTail(const std::vector<double>& deltas, double albedo_bound = kMaxTailRatio);
 
+// The factor f by which the last increment is scaled so that running more
+// bounces never lowers the estimate (issue 14: at rho = 0.999 the measured
+// ratios drift down slightly from bounce to bounce, and the partial sum
+// plus its tail fell by 0.3 % from 4 to 16 bounces). `totals[k]` is the
+// solution's sum after bounce k + 1. Each bounce n at which a tail applies
+// gives T_n = totals[n] + f_n deltas[n], f_n = r_n / (1 - r_n) from
+// EstimateTail over the first n + 1 bounces. While the measured ratios
+// are at most albedo_bound (r_n always is), every T_n is at most the
+// bound's fixed point d_1 / (1 - albedo_bound), so their largest is too;
+// a later T_n is lower only because its measured ratio is (rounding in
+// the probes' sums, not the scene). Returns (max_n T_n - totals[last]) /
+// deltas[last], never below the last f_n; 0 when no tail applies at the
+// last bounce.
+double MonotoneTailFactor(const std::vector<double>& deltas, const std::vector<double>& totals,
+                          double albedo_bound = kMaxTailRatio);
+
 }  // namespace gistream::sh
