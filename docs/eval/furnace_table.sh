@@ -5,7 +5,8 @@
 # convergence, 16 x 16 EXR through `gistream render` (the albedo is set in
 # an uploaded copy of the scene), mean over the image by OpenImageIO's
 # iinfo, iterations and cap_reached from the frame stats, ms = the server's
-# frame time. Usage: furnace_table.sh BUILD_DIR SERVER_ADDR [RHO...]
+# frame time. Usage: [SOLVERS="antiradiance sh_probes"] furnace_table.sh
+# BUILD_DIR SERVER_ADDR [RHO...] (SOLVERS: only those rows).
 set -euo pipefail
 BIN=${1:?build dir}
 ADDR=${2:?server address}
@@ -35,6 +36,7 @@ json.dump(d, open(sys.argv[2], "w"))
 PY
   for c in "${CASES[@]}"; do
     IFS='|' read -r solver shown params <<<"$c"
+    if [ -n "${SOLVERS:-}" ] && [[ " $SOLVERS " != *" $solver "* ]]; then continue; fi
     args=()
     for p in $params; do args+=(--param "$p"); done
     out=$("$BIN/gistream" --server "$ADDR" render --scene "$TMP/furnace_$rho.gltf" --solver "$solver" \
