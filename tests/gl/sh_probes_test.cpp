@@ -132,7 +132,11 @@ TEST_P(ShProbesStiffTail, BoundedMonotoneAndNotAboveTheExactValue) {
       EXPECT_NEAR(FrameStat(frame, "tail_ratio"), 0.99, 0.99e-3);
     }
     EXPECT_EQ(FrameStat(frame, "tail_applied"), 1.0) << bounces << " bounces";
-    EXPECT_GE(mean, previous * 0.995) << bounces << " bounces: not monotone";
+    // Monotone: the tail keeps the largest of the bounces' estimates
+    // (sh/tail_estimate.h MonotoneTailFactor; measured 681.379 at 4, 8 and
+    // 16 bounces at 0.999, which drifted down 0.3 % before). 1e-5: float
+    // rounding of the image mean.
+    EXPECT_GE(mean, previous * (1.0 - 1e-5)) << bounces << " bounces: not monotone";
     previous = mean;
   }
 }
