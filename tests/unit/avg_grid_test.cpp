@@ -8,6 +8,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include "scene/gltf_import.h"
+#include "solvers/brdf_albedo.h"
 #include "solvers/avg/quasi_random.h"
 #include "solvers/avg/tri_box_overlap.h"
 #include "solvers/avg/voxel_grid.h"
@@ -197,6 +198,47 @@ void ExpectSaneVpls(const std::vector<avg::Vpl>& vpls) {
     }
     ASSERT_NEAR(glm::length(v.normal), 1.0f, 1e-4f);
   }
+}
+
+// A voxel's reflectance is the BRDF's white-sky albedo (issue 18): a
+// Lambertian wall (metallic 0, roughness 1) keeps its base colour bitwise
+// (dyadic colour: the voxel mean of equal values is exact), a gold wall
+// (metallic 1, roughness 0.3) reflects F0 (A - B) + B of the table's
+// white-sky (A, B), not its base colour.
+TEST(AvgGrid, GlossyVoxelsReflectTheWhiteSkyAlbedo) {
+  Material white, gold;
+  white.base_color_factor = glm::vec4(0.5f, 0.25f, 0.75f, 1.0f);
+  gold.base_color_factor = glm::vec4(1.0f, 0.78f, 0.34f, 1.0f);
+  gold.metallic_factor = 1.0f;
+  gold.roughness_factor = 0.3f;
+  const SceneState state(
+      QuadScene({{{-1, 0, 0}, {0, 0, 1}, {0, 1, 0}, 0}, {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, 1}},
+                {white, gold}));
+  const glm::vec2 ws = BrdfAlbedoTable::Embedded().WhiteSky(0.3f);
+  const glm::vec3 gold_albedo = glm::vec3(gold.base_color_factor) * (ws.x - ws.y) + ws.y;
+  const VoxelGrid grid = VoxelGrid::Build(state, 16);
+  int white_voxels = 0, gold_voxels = 0;
+  glm::ivec3 v;
+  for (v.z = 0; v.z < 16; ++v.z) {
+    for (v.y = 0; v.y < 16; ++v.y) {
+      for (v.x = 0; v.x < 16; ++v.x) {
+        if (!grid.Filled(v)) continue;
+        const glm::vec3 albedo = grid.Albedo(v);
+        if (grid.Center(v).x < 0.0f) {
+          ++white_voxels;
+          EXPECT_EQ(albedo, glm::vec3(white.base_color_factor));
+        } else {
+          ++gold_voxels;
+          for (int c = 0; c < 3; ++c) EXPECT_NEAR(albedo[c], gold_albedo[c], 1e-6f) << c;
+        }
+      }
+    }
+  }
+  EXPECT_GT(white_voxels, 0);
+  EXPECT_GT(gold_voxels, 0);
+  // Gold at roughness 0.3 reflects most of F0 (A near 1, B small).
+  EXPECT_GT(ws.x, 0.9f);
+  EXPECT_LT(ws.y, 0.2f);
 }
 
 TEST(AvgVpls, FirstBounceFluxIsLightPowerTimesAlbedoInTheFurnace) {

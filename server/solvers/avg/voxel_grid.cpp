@@ -6,6 +6,7 @@
 
 #include "scene/proxy_levels.h"
 #include "scene/surface_distance.h"
+#include "solvers/brdf_albedo.h"
 #include "solvers/avg/tri_box_overlap.h"
 
 namespace gistream::avg {
@@ -138,8 +139,19 @@ void VoxelGrid::Rasterize(const SceneState& state, const glm::ivec3& lo, const g
           if (mean.x < 0.0f) mean = MeanTextureColor(scene, mat.base_color_texture);
           albedo *= mean;
         }
+        albedo = glm::clamp(albedo, 0.0f, 1.0f);  // as the G-buffer stores it
+        float metallic = mat.metallic_factor, roughness = mat.roughness_factor;
+        if (mat.metallic_roughness_texture >= 0) {  // B: metallic, G: roughness
+          glm::vec3& mean = texture_means[size_t(mat.metallic_roughness_texture)];
+          if (mean.x < 0.0f) mean = MeanTextureColor(scene, mat.metallic_roughness_texture);
+          metallic *= mean.b, roughness *= mean.g;
+        }
+        // A VPL here reflects what the BRDF reflects of light from all
+        // directions, averaged over the directions it leaves in (issue 18);
+        // Lambertian materials keep their base colour bitwise.
+        albedo = BrdfWhiteSkyAlbedo(albedo, glm::clamp(metallic, 0.0f, 1.0f),
+                                    glm::clamp(roughness, 0.0f, 1.0f));
       }
-      albedo = glm::clamp(albedo, 0.0f, 1.0f);  // as the G-buffer stores it
       const int level = PickProxyLevel<ProxyLevel>(p.proxies, MaxScale(m), tolerance);
       const std::vector<uint32_t>& indices =
           level >= 0 ? p.proxies[size_t(level)].indices : p.indices;

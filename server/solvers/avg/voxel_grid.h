@@ -1,6 +1,6 @@
 // The approximate visibility grid (AVG, paper Sec. III-A): a coarse N^3
 // voxelization of the scene fitted to its bounds, each voxel holding the
-// summed normal, albedo and surface point of the triangles that touch it
+// summed normal, reflectance and surface point of the triangles that touch it
 // plus their count (additive accumulation, normalized on use).
 //
 // Voxelization is conservative (every voxel a triangle touches, exact
@@ -21,7 +21,7 @@ namespace gistream::avg {
 
 struct Voxel {
   glm::vec3 normal_sum{0.0f};  // sum of unit triangle normals (authored side)
-  glm::vec3 albedo_sum{0.0f};  // sum of linear albedos
+  glm::vec3 albedo_sum{0.0f};  // sum of linear albedos (white-sky, BrdfWhiteSkyAlbedo)
   glm::vec3 point_sum{0.0f};   // sum of the triangles' points closest to the voxel centre
   uint32_t count = 0;          // triangles touching the voxel
 };
