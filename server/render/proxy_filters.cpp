@@ -42,4 +42,21 @@ float CubeTexelTolerance(const Bounds& box, const glm::vec3& origin, int resolut
   return 2.0f * glm::length(outside) / float(resolution);
 }
 
+float ParaboloidTexelTolerance(const Bounds& box, const glm::vec3& origin, const glm::vec3& normal,
+                               int resolution) {
+  if (box.empty()) return -1.0f;
+  // The box's largest z in the map's frame: centre plus half extent
+  // projected on |normal|.
+  const float z_max =
+      glm::dot(box.center() - origin, normal) + glm::dot(0.5f * box.extent(), glm::abs(normal));
+  if (z_max < 0.0f) return -1.0f;
+  // Same bound as the cube's face-centre texel (see the header), for boxes
+  // small enough that their triangles' straight edges in the map stay
+  // within half a texel of the true curves (the header's second bound).
+  const float tolerance = CubeTexelTolerance(box, origin, resolution);
+  const float nearest = 0.5f * tolerance * float(resolution);
+  const float max_diagonal = nearest * std::sqrt(8.0f / float(resolution));
+  return glm::length(box.extent()) <= max_diagonal ? tolerance : 0.0f;
+}
+
 }  // namespace gistream

@@ -1,7 +1,7 @@
 // Which proxy level and which items the view-independent raster passes
 // draw (issue 19): per item, the world box it occupies, the cube faces that
-// see any of it, and the geometric error a depth or radiance cube can show
-// at its distance. GpuScene::Draw takes them as a DrawFilter.
+// see any of it, and the geometric error a depth or radiance cube (or a
+// paraboloid map) can show at its distance. GpuScene::Draw takes them as a DrawFilter.
 #pragma once
 
 #include <glm/glm.hpp>
@@ -28,5 +28,28 @@ int CubeFaceMask(const Bounds& box, const glm::vec3& origin);
 // shaders/render/direct_light.glsl): a proxy within it moves no surface by
 // more than the offset already absorbs. 0 when `origin` is inside the box.
 float CubeTexelTolerance(const Bounds& box, const glm::vec3& origin, int resolution);
+
+// The same for a `resolution`^2 paraboloid (hemisphere) map at `origin`
+// facing `normal` (avg's VPL maps, Brabec et al. 2002: uv = d.xy / (1 + d.z)
+// over [-1, 1]^2, a texel 2 / resolution in uv). Radially r = tan(theta / 2),
+// dr / dtheta = 1 / (1 + cos theta); tangentially r dphi = du and the arc is
+// sin theta dphi = (1 + cos theta) du: a texel subtends (1 + cos theta) 2 /
+// resolution radians, from 2 / resolution at the horizon to 4 / resolution
+// on the axis. So 2 d / resolution (d the box's nearest distance) is below
+// the texel anywhere in the box and within the one-texel normal offset of
+// the lookup (uVplTexel, shaders/avg/illuminate.frag.glsl). But the map is
+// not linear: the rasterizer draws a triangle's edges straight in uv where
+// the true images are circles (uv is the stereographic projection, whose
+// images of great circles have radius >= 1), so a coarse copy's big
+// triangles land off their texels even at zero geometric error. An edge of
+// length L at distance >= d subtends <= L / d radians, <= L / d in uv, and
+// its chord's sagitta is <= (L / d)^2 / 8: within half a texel (1 /
+// resolution) when L <= d sqrt(8 / resolution). A copy's triangles lie in
+// its node's box, so boxes with a larger diagonal get tolerance 0 (their
+// children, or the full mesh, are drawn). < 0 when the whole box is behind
+// the hemisphere (z < 0 in the map's frame: the geometry shader clips it
+// away anyway); 0 when `origin` is inside it.
+float ParaboloidTexelTolerance(const Bounds& box, const glm::vec3& origin, const glm::vec3& normal,
+                               int resolution);
 
 }  // namespace gistream

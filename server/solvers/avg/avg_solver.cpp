@@ -48,8 +48,8 @@ SolverDescription AvgSolver::Describe() {
       {"direct_shadow_res", ParamType::kInt, "256", 16, 4096, {},
        "Direct light: shadow map resolution per cube face / directional map"},
       {"full_detail", ParamType::kBool, "false", 0, 0, {},
-       "Voxelize and draw the direct-light shadow maps from the full meshes instead of their "
-       "simplified proxies (docs/ARCHITECTURE.md, Proxy geometry)"},
+       "Voxelize and draw the direct-light and VPL shadow maps from the full meshes instead of "
+       "their simplified proxies (docs/ARCHITECTURE.md, Proxy geometry)"},
   };
   // clang-format on
   return d;
@@ -150,7 +150,8 @@ void AvgSolver::ContinueRemap(SolverContext& ctx) {
              remap_layers_[size_t(j)] == remap_layers_[size_t(j - 1)] + 1) {
         ++j;
       }
-      remap_.RenderRange(ctx.gpu, ctx.state, shadow_resolution_, remap_layers_[size_t(i)], j - i);
+      remap_.RenderRange(ctx.gpu, ctx.state, shadow_resolution_, remap_layers_[size_t(i)], j - i,
+                         full_detail_);
       i = j;
     }
     glFinish();  // the slice's GPU time sizes the next slice

@@ -4,6 +4,7 @@
 
 #include "gl/buffers.h"
 #include "gl/textures.h"
+#include "render/proxy_filters.h"
 #include "render/shadow_maps.h"
 
 namespace gistream::avg {
@@ -39,6 +40,7 @@ void VplShadowMaps::Upload(const std::vector<Vpl>& vpls, const Bounds& bounds) {
   }
   count_ = int(data.size());
   vpls_ = gl::StorageBuffer(data);
+  cpu_vpls_ = vpls;
 }
 
 void VplShadowMaps::Allocate(int layers, int resolution) {
@@ -48,12 +50,13 @@ void VplShadowMaps::Allocate(int layers, int resolution) {
   resolution_ = resolution;
 }
 
-void VplShadowMaps::Render(const GpuScene& gpu, const SceneState& state, int resolution) {
-  RenderRange(gpu, state, resolution, 0, count_);
+void VplShadowMaps::Render(const GpuScene& gpu, const SceneState& state, int resolution,
+                           bool full_detail) {
+  RenderRange(gpu, state, resolution, 0, count_, full_detail);
 }
 
 void VplShadowMaps::RenderRange(const GpuScene& gpu, const SceneState& state, int resolution,
-                                int first, int count) {
+                                int first, int count, bool full_detail) {
   Allocate(std::max(count_, 1), resolution);
   first = std::clamp(first, 0, count_);
   count = std::clamp(count, 0, count_ - first);
@@ -71,9 +74,25 @@ void VplShadowMaps::RenderRange(const GpuScene& gpu, const SceneState& state, in
     glClearTexSubImage(maps_.id(), 0, 0, 0, first, resolution, resolution, count,
                        GL_DEPTH_COMPONENT, GL_FLOAT, &one);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVplBinding, vpls_.id());
-    program_.Set("uFirstVpl", first);
     program_.Use();
-    gpu.Draw(program_, state, false, count);
+    if (full_detail || (gpu.levels().empty() && gpu.clusters().empty())) {
+      program_.Set("uFirstVpl", first);
+      gpu.Draw(program_, state, false, count);
+    } else {
+      for (int i = first; i < first + count; ++i) {
+        const Vpl& vpl = cpu_vpls_[size_t(i)];
+        // Per node: nothing behind the VPL's hemisphere, else the coarsest
+        // copy within a map texel at the node's nearest distance.
+        const ClusterFilter cluster_filter = [&](const Bounds& box) {
+          return ParaboloidTexelTolerance(box, vpl.position, vpl.normal, resolution);
+        };
+        const DrawFilter filter = [&](const DrawItem& item, const glm::mat4& model) {
+          return cluster_filter(ItemWorldBounds(state, item, model));
+        };
+        program_.Set("uFirstVpl", i);
+        gpu.Draw(program_, state, false, 1, &filter, &cluster_filter);
+      }
+    }
   } else if (count_ == 0) {
     glClearBufferfv(GL_DEPTH, 0, &one);
   }

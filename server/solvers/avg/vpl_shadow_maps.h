@@ -21,11 +21,17 @@ class VplShadowMaps {
   // Uploads the VPLs (SSBO binding kVplBinding); far planes from `bounds`.
   void Upload(const std::vector<Vpl>& vpls, const Bounds& bounds);
   // Draws every VPL's map at `resolution`^2 (needs Upload first).
-  void Render(const GpuScene& gpu, const SceneState& state, int resolution);
+  void Render(const GpuScene& gpu, const SceneState& state, int resolution,
+              bool full_detail = false);
   // Draws the maps of VPLs [first, first + count) only (a slice of a
   // re-map spread over frames); the other layers keep what they hold.
+  // Each VPL's map draws, per item and cluster node, the coarsest proxy
+  // within one map texel at the node's nearest distance and nothing of
+  // nodes behind its hemisphere (render/proxy_filters.h), one draw per VPL;
+  // `full_detail` (or a scene without proxies) draws every triangle in one
+  // instanced draw per item for the whole slice, as before proxies.
   void RenderRange(const GpuScene& gpu, const SceneState& state, int resolution, int first,
-                   int count);
+                   int count, bool full_detail = false);
   // Copies map layers of `from` (drawn for the same far planes) into this
   // atlas, (source layer, destination layer) pairs: the maps of VPLs an
   // incremental update kept (needs Upload first).
@@ -35,6 +41,7 @@ class VplShadowMaps {
   void Bind();
 
   int count() const { return count_; }
+  const gl::Texture& maps() const { return maps_; }
   uint64_t gpu_bytes() const;
 
   static constexpr GLuint kVplBinding = 6;
@@ -45,6 +52,7 @@ class VplShadowMaps {
 
   gl::Program program_;
   gl::Buffer vpls_;
+  std::vector<Vpl> cpu_vpls_;  // positions and normals for the per-VPL proxy filter
   gl::Texture maps_;
   gl::Framebuffer fbo_;
   int count_ = 0;
