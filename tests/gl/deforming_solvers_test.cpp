@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 
+#include "support/deforming_scene.h"
 #include "support/measurement.h"
 #include "support/render_helpers.h"
 
@@ -23,15 +24,6 @@ using testing::RenderRequestExr;
 using testing::SolverRequest;
 
 constexpr uint32_t kSize = 64;
-
-// A seek of the scene's animation 0 to `seconds`, paused.
-Update Seek(uint64_t seq, float seconds) {
-  AnimationUpdate a;
-  a.animation = 0;
-  a.playing = false;
-  a.time = seconds;
-  return {seq, a};
-}
 
 struct Case {
   const char* file;
@@ -81,11 +73,13 @@ TEST_P(DeformingSolvers, StillFrameIsFiniteAndNearTheReference) {
   for (const Case& c : kCases) {
     SCOPED_TRACE(c.file);
     const BundledCopy scene(c.file);
-    const FloatImage reference = RenderRequestExr(
-        SolverRequest(scene.id(), "pathtrace", {{"spp", "512"}}, kSize, {Seek(1, c.pose)}));
+    const FloatImage reference = RenderRequestExr(SolverRequest(
+        scene.id(), "pathtrace", {{"spp", "512"}}, kSize, {testing::SeekAnimation(1, c.pose)}));
     EncodedFrame frame;
-    const FloatImage image = RenderRequestExr(
-        SolverRequest(scene.id(), GetParam(), declared.params, kSize, {Seek(2, c.pose)}), &frame);
+    const FloatImage image =
+        RenderRequestExr(SolverRequest(scene.id(), GetParam(), declared.params, kSize,
+                                       {testing::SeekAnimation(2, c.pose)}),
+                         &frame);
     ASSERT_EQ(image.width, int(kSize));
     EXPECT_EQ(image.non_finite(), 0u);
     const double error = testing::RelMse(image, reference);
@@ -102,11 +96,13 @@ TEST_P(DeformingSolvers, SeekedSolveEqualsAFreshSolveOfThePose) {
     const FloatImage rest =
         RenderRequestExr(SolverRequest(updated.id(), GetParam(), declared.params, kSize));
     EncodedFrame frame;
-    const FloatImage seeked = RenderRequestExr(
-        SolverRequest(updated.id(), GetParam(), declared.params, kSize, {Seek(1, c.pose)}), &frame);
+    const FloatImage seeked =
+        RenderRequestExr(SolverRequest(updated.id(), GetParam(), declared.params, kSize,
+                                       {testing::SeekAnimation(1, c.pose)}),
+                         &frame);
     const BundledCopy fresh(c.file);
-    const FloatImage direct = RenderRequestExr(
-        SolverRequest(fresh.id(), GetParam(), declared.params, kSize, {Seek(1, c.pose)}));
+    const FloatImage direct = RenderRequestExr(SolverRequest(
+        fresh.id(), GetParam(), declared.params, kSize, {testing::SeekAnimation(1, c.pose)}));
     // The frame after the seek posed the mesh on the GPU.
     const StageTiming* deform = testing::FrameStage(frame, "deform");
     ASSERT_NE(deform, nullptr);

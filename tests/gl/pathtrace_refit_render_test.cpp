@@ -5,6 +5,7 @@
 // tests/unit/pathtrace_refit_test.cpp).
 #include <gtest/gtest.h>
 
+#include "support/deforming_scene.h"
 #include "support/measurement.h"
 #include "support/render_helpers.h"
 
@@ -17,14 +18,6 @@ using testing::FrameStat;
 using testing::RenderRequestExr;
 using testing::SolverRequest;
 
-Update Seek(uint64_t seq, float seconds) {
-  AnimationUpdate a;
-  a.animation = 0;
-  a.playing = false;
-  a.time = seconds;
-  return {seq, a};
-}
-
 TEST(PathtraceRefitRender, SeekRefitsAndMatchesAFreshSolve) {
   const std::map<std::string, std::string> params = {{"spp", "8"}};
   const BundledCopy updated("bending_tube.gltf");
@@ -33,7 +26,8 @@ TEST(PathtraceRefitRender, SeekRefitsAndMatchesAFreshSolve) {
   EXPECT_EQ(FrameStat(first, "bvh_rebuilds"), 1.0);
   EXPECT_EQ(FrameStat(first, "bvh_refits"), 0.0);
   const FloatImage seeked = RenderRequestExr(
-      SolverRequest(updated.id(), "pathtrace", params, 32, {Seek(1, 1.0f)}), &seeked_frame);
+      SolverRequest(updated.id(), "pathtrace", params, 32, {testing::SeekAnimation(1, 1.0f)}),
+      &seeked_frame);
   EXPECT_EQ(FrameStat(seeked_frame, "bvh_rebuilds"), 1.0);
   EXPECT_EQ(FrameStat(seeked_frame, "bvh_refits"), 1.0);
   EXPECT_EQ(FrameStat(seeked_frame, "bvh_refits_declined"), 0.0);
@@ -44,7 +38,8 @@ TEST(PathtraceRefitRender, SeekRefitsAndMatchesAFreshSolve) {
   const BundledCopy fresh("bending_tube.gltf");
   EncodedFrame fresh_frame;
   const FloatImage direct = RenderRequestExr(
-      SolverRequest(fresh.id(), "pathtrace", params, 32, {Seek(1, 1.0f)}), &fresh_frame);
+      SolverRequest(fresh.id(), "pathtrace", params, 32, {testing::SeekAnimation(1, 1.0f)}),
+      &fresh_frame);
   EXPECT_EQ(FrameStat(fresh_frame, "bvh_refits"), 0.0);
   // The build_bvh stage's CPU time of the refit and of the two builds,
   // recorded (not asserted: timings are the machine's).

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "scene/scene.h"
+#include "scene/updates.h"
 
 namespace gistream::testing {
 
@@ -19,5 +20,14 @@ struct DeformingTube {
 // tube's node is placed at `origin`.
 Scene MakeDeformingTube(int rings = 9, int sides = 12, float length = 2.0f, float radius = 0.25f,
                         glm::vec3 origin = glm::vec3(0.0f));
+
+// Update `seq`: the scene's animation 0 sought to `seconds`, paused.
+inline Update SeekAnimation(uint64_t seq, float seconds) {
+  AnimationUpdate a;
+  a.animation = 0;
+  a.playing = false;
+  a.time = seconds;
+  return {seq, a};
+}
 
 }  // namespace gistream::testing

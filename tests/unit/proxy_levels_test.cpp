@@ -16,6 +16,7 @@
 #include "scene/proxy_clusters.h"
 #include "scene/scene_memory.h"
 #include "scene/surface_distance.h"
+#include "support/test_meshes.h"
 
 namespace gistream {
 namespace {
@@ -23,26 +24,7 @@ namespace {
 // A UV sphere of radius 1 (rings x segments quads, poles included): curved
 // everywhere, so every simplified level has a real error.
 Primitive Sphere(int rings, int segments) {
-  Primitive p;
-  for (int r = 0; r <= rings; ++r) {
-    const float theta = float(M_PI) * float(r) / float(rings);
-    for (int s = 0; s <= segments; ++s) {
-      const float phi = 2.0f * float(M_PI) * float(s) / float(segments);
-      const glm::vec3 v(std::sin(theta) * std::cos(phi), std::cos(theta),
-                        std::sin(theta) * std::sin(phi));
-      p.positions.push_back(v);
-      p.normals.push_back(v);
-      p.bounds.Extend(v);
-    }
-  }
-  const auto at = [&](int r, int s) { return uint32_t(r * (segments + 1) + s); };
-  for (int r = 0; r < rings; ++r) {
-    for (int s = 0; s < segments; ++s) {
-      p.indices.insert(p.indices.end(), {at(r, s), at(r + 1, s), at(r + 1, s + 1)});
-      p.indices.insert(p.indices.end(), {at(r, s), at(r + 1, s + 1), at(r, s + 1)});
-    }
-  }
-  return p;
+  return testing::UvSphere(glm::vec3(0.0f), 1.0f, rings, segments);
 }
 
 // A height field over [0, 1]^2 with gentle bumps and a border.
@@ -99,8 +81,8 @@ void ExpectBoundsHold(const Primitive& p, size_t expected_levels) {
   const float diagonal = glm::length(p.bounds.extent());
   size_t finer = p.indices.size();
   for (size_t l = 0; l < levels.size(); ++l) {
-    SCOPED_TRACE(testing::Message() << "level " << l << ", " << levels[l].indices.size() / 3
-                                    << " triangles, recorded error " << levels[l].error);
+    SCOPED_TRACE(::testing::Message() << "level " << l << ", " << levels[l].indices.size() / 3
+                                      << " triangles, recorded error " << levels[l].error);
     // Each level at most half the one before; indices name real vertices.
     EXPECT_LE(levels[l].indices.size() * 2, finer);
     finer = levels[l].indices.size();
@@ -253,7 +235,7 @@ void ExpectClusterBoundsHold(const Primitive& p) {
     }
     if (c.level.indices.empty()) continue;
     ++copies;
-    SCOPED_TRACE(testing::Message()
+    SCOPED_TRACE(::testing::Message()
                  << "node " << n << ", " << full.size() / 3 << " -> " << c.level.indices.size() / 3
                  << " triangles, recorded error " << c.level.error);
     EXPECT_LE(c.level.indices.size() * 2, full.size());
