@@ -228,13 +228,7 @@ using testing::FrameStat;
 
 TEST(AvgBackgroundTraceStream, FramesSayWhatTheirGiReflectsAndSettleOnAFreshSolve) {
   const testing::BundledCopy scene("cornell_box.gltf"), fresh_scene("cornell_box.gltf");
-  SessionConfig config;
-  config.scene = scene.id();
-  config.solver = "avg";
-  config.params = kParams;
-  config.width = config.height = 24;
-  config.encoding.format = ImageFormat::kExr;
-  config.max_fps = 240.0f;
+  SessionConfig config = testing::ExrStreamConfig(scene.id(), "avg", kParams, 24);
   auto sink = std::make_shared<testing::FrameQueue>();
   auto opened = testing::SharedEngine().OpenSession(config, sink);
   ASSERT_TRUE(opened.ok()) << opened.status();

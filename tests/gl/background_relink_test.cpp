@@ -32,13 +32,7 @@ NodeTransformUpdate MoveBlock() {
 
 TEST(BackgroundRelink, AStreamKeepsItsFramesAndConvergesToAFreshSolve) {
   const BundledCopy scene("cornell_box.gltf"), fresh_scene("cornell_box.gltf");
-  SessionConfig config;
-  config.scene = scene.id();
-  config.solver = "implicit_visibility";
-  config.params = kParams;
-  config.width = config.height = 32;
-  config.encoding.format = ImageFormat::kExr;
-  config.max_fps = 240.0f;
+  SessionConfig config = testing::ExrStreamConfig(scene.id(), "implicit_visibility", kParams, 32);
   auto sink = std::make_shared<testing::FrameQueue>();
   auto opened = testing::SharedEngine().OpenSession(config, sink);
   ASSERT_TRUE(opened.ok()) << opened.status();

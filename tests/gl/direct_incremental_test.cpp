@@ -97,13 +97,8 @@ TEST(DirectIncremental, AChangeWhileASlicedRedrawRunsStillEndsConsistent) {
   // and once nothing is pending the image is what a fresh solver renders
   // for the final state (no map of the old geometry survives).
   const BundledCopy scene("cornell_box.gltf"), fresh("cornell_box.gltf");
-  SessionConfig config;
-  config.scene = scene.id();
-  config.solver = "direct";
-  config.params = {{"area_samples", "16"}, {"shadow_res", "64"}};
-  config.width = config.height = 32;
-  config.encoding.format = ImageFormat::kExr;
-  config.max_fps = 240.0f;
+  SessionConfig config = testing::ExrStreamConfig(
+      scene.id(), "direct", {{"area_samples", "16"}, {"shadow_res", "64"}}, 32);
   config.frame_budget_ms = 0.01;
   auto sink = std::make_shared<testing::FrameQueue>();
   auto opened = testing::SharedEngine().OpenSession(config, sink);

@@ -178,6 +178,18 @@ RenderRequest SolverRequest(const std::string& scene, const std::string& solver,
   return r;
 }
 
+SessionConfig ExrStreamConfig(const std::string& scene, const std::string& solver,
+                              std::map<std::string, std::string> params, uint32_t size) {
+  SessionConfig config;
+  config.scene = scene;
+  config.solver = solver;
+  config.params = std::move(params);
+  config.width = config.height = size;
+  config.encoding.format = ImageFormat::kExr;
+  config.max_fps = 240.0f;
+  return config;
+}
+
 MaterialUpdate GreyAlbedo(float rho, uint32_t material) {
   MaterialUpdate m;
   m.material = material;

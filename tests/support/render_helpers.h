@@ -83,6 +83,10 @@ double RelMse(const FloatImage& image, const FloatImage& reference);
 RenderRequest SolverRequest(const std::string& scene, const std::string& solver,
                             std::map<std::string, std::string> params, uint32_t size,
                             std::vector<Update> updates = {});
+// A stream session of size x size EXR frames, uncapped (240 fps), for
+// tests that watch frames while an update runs on.
+SessionConfig ExrStreamConfig(const std::string& scene, const std::string& solver,
+                              std::map<std::string, std::string> params, uint32_t size);
 // Sets material `material`'s base colour to grey `rho`.
 MaterialUpdate GreyAlbedo(float rho, uint32_t material = 0);
 
