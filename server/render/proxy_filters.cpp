@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace gistream {
 
@@ -40,6 +41,21 @@ float CubeTexelTolerance(const Bounds& box, const glm::vec3& origin, int resolut
   if (box.empty() || resolution <= 0) return 0.0f;
   const glm::vec3 outside = glm::max(glm::max(box.min - origin, origin - box.max), glm::vec3(0.0f));
   return 2.0f * glm::length(outside) / float(resolution);
+}
+
+CubeDrawFilters CubeFilters(const SceneState& state, const glm::vec3& origin, int resolution,
+                            std::function<void(int faces)> set_faces) {
+  CubeDrawFilters filters;
+  filters.cluster = [origin, resolution, set_faces = std::move(set_faces)](const Bounds& box) {
+    const int faces = CubeFaceMask(box, origin);
+    if (faces == 0) return -1.0f;
+    set_faces(faces);
+    return CubeTexelTolerance(box, origin, resolution);
+  };
+  filters.item = [&state, cluster = filters.cluster](const DrawItem& item, const glm::mat4& model) {
+    return cluster(ItemWorldBounds(state, item, model));
+  };
+  return filters;
 }
 
 float ParaboloidTexelTolerance(const Bounds& box, const glm::vec3& origin, const glm::vec3& normal,

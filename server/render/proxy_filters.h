@@ -4,6 +4,8 @@
 // paraboloid map) can show at its distance. GpuScene::Draw takes them as a DrawFilter.
 #pragma once
 
+#include <functional>
+
 #include <glm/glm.hpp>
 
 #include "scene/gpu_scene.h"
@@ -28,6 +30,19 @@ int CubeFaceMask(const Bounds& box, const glm::vec3& origin);
 // shaders/render/direct_light.glsl): a proxy within it moves no surface by
 // more than the offset already absorbs. 0 when `origin` is inside the box.
 float CubeTexelTolerance(const Bounds& box, const glm::vec3& origin, int resolution);
+
+// The filters of a cube of `resolution`^2 faces around `origin` (shadow
+// cubes, sh_probes' probe cubes), for GpuScene::Draw: per item and per
+// cluster node, nothing when no face can see its world box (CubeFaceMask),
+// else `set_faces` gets the face mask right before the draw (the pass's
+// face-mask uniform) and the tolerance is CubeTexelTolerance at the box.
+// They refer to `state`, which must outlive them.
+struct CubeDrawFilters {
+  DrawFilter item;
+  ClusterFilter cluster;
+};
+CubeDrawFilters CubeFilters(const SceneState& state, const glm::vec3& origin, int resolution,
+                            std::function<void(int faces)> set_faces);
 
 // The same for a `resolution`^2 paraboloid (hemisphere) map at `origin`
 // facing `normal` (avg's VPL maps, Brabec et al. 2002: uv = d.xy / (1 + d.z)

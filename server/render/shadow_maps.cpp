@@ -98,16 +98,9 @@ void ShadowMaps::RenderCube(const GpuScene& gpu, const SceneState& state, int in
   // (a node near the light keeps its detail, the rest of its primitive
   // need not): the faces that may see the box, and a texel at its nearest
   // distance.
-  const ClusterFilter cluster_filter = [&](const Bounds& box) {
-    const int faces = CubeFaceMask(box, position);
-    if (faces == 0) return -1.0f;
-    cube_program_.Set("uFaceMask", faces);
-    return CubeTexelTolerance(box, position, resolution_);
-  };
-  const DrawFilter filter = [&](const DrawItem& item, const glm::mat4& model) {
-    return cluster_filter(ItemWorldBounds(state, item, model));
-  };
-  gpu.Draw(cube_program_, state, false, 1, &filter, &cluster_filter);
+  const CubeDrawFilters filters = CubeFilters(
+      state, position, resolution_, [this](int faces) { cube_program_.Set("uFaceMask", faces); });
+  gpu.Draw(cube_program_, state, false, 1, &filters.item, &filters.cluster);
 }
 
 glm::mat4 ShadowMaps::RenderDirectional(const GpuScene& gpu, const SceneState& state, int index,

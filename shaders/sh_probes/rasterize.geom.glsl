@@ -2,6 +2,7 @@
 // rasterize_cubemaps: every probe's six faces in one pass. Invocation f
 // projects the triangle onto face f of probe vProbe and places it in that
 // probe's tile of atlas layer f; clip distances keep it inside the tile.
+// Faces outside uFaceMask draw nothing.
 layout(triangles, invocations = 6) in;
 layout(triangle_strip, max_vertices = 3) out;
 in vec3 vWorld[];
@@ -16,6 +17,7 @@ out float gl_ClipDistance[4];
 #include "sh_probes/face_projection.glsl"
 void main() {
   int face = gl_InvocationID;
+  if (!FaceDrawn(face)) return;
   int probe = vProbe[0];
   vec3 center = ProbeCenter(probe);
   vec4 clip[3];

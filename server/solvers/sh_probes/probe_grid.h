@@ -28,6 +28,10 @@ struct ProbeLayout {
   int height() const { return tiles_y * face_size; }
   uint64_t texels() const { return uint64_t(width()) * uint64_t(height()) * 6; }
   glm::vec3 position(const glm::ivec3& c) const { return origin + (glm::vec3(c) + 0.5f) * spacing; }
+  // The cell of probe `probe` (x fastest, then y, then z).
+  glm::ivec3 cell(int probe) const {
+    return {probe % dims.x, (probe / dims.x) % dims.y, probe / (dims.x * dims.y)};
+  }
 };
 
 struct ProbeGridSettings {

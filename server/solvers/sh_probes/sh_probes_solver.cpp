@@ -52,7 +52,14 @@ SolverDescription ShProbesSolver::Describe() {
        "each update at once); the converged solution is shown as it is"},
   };
   // clang-format on
-  for (ParamSpec& spec : DirectLightingParams()) d.params.push_back(std::move(spec));
+  for (ParamSpec& spec : DirectLightingParams()) {
+    if (spec.name == "full_detail") {
+      spec.description =
+          "Draw the shadow maps and the probes' cube maps from the full meshes instead of their "
+          "simplified proxies (docs/ARCHITECTURE.md, Proxy geometry)";
+    }
+    d.params.push_back(std::move(spec));
+  }
   return d;
 }
 
@@ -79,21 +86,7 @@ absl::StatusOr<std::unique_ptr<Solver>> ShProbesSolver::Create(const ParamSet& p
     GS_RETURN_IF_ERROR(FitProbeGrid(Bounds{glm::vec3(0.0f), glm::vec3(1.0f)}, s.grid).status());
   }
   GS_ASSIGN_OR_RETURN(solver->lighting_, DirectLighting::Create());
-  // Layered rendering from the vertex shader (ARB_shader_viewport_layer_array)
-  // is about 2.3x faster on llvmpipe than the geometry shader's six
-  // invocations per triangle; the geometry shader where it is missing.
-  if (auto layered = gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize_layer.vert.glsl"},
-                                         {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}});
-      layered.ok()) {
-    solver->rasterize_ = *std::move(layered);
-    solver->instances_per_probe_ = 6;
-  } else {
-    GS_ASSIGN_OR_RETURN(
-        solver->rasterize_,
-        gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize.vert.glsl"},
-                            {GL_GEOMETRY_SHADER, "sh_probes/rasterize.geom.glsl"},
-                            {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}}));
-  }
+  GS_ASSIGN_OR_RETURN(solver->rasterizer_, ProbeRasterizer::Create());
   GS_ASSIGN_OR_RETURN(
       solver->render_,
       gl::Program::Build({{GL_COMPUTE_SHADER, "sh_probes/render_cubemaps.comp.glsl"}}));
@@ -392,9 +385,7 @@ absl::Status ShProbesSolver::Progress(SolverContext& ctx, ChangeMask changes) {
     probes_affected_ = 0;
     std::vector<glm::vec3> positions(affected.size());
     for (int p = 0; p < layout_.probes(); ++p) {
-      const glm::ivec3 c(p % layout_.dims.x, (p / layout_.dims.x) % layout_.dims.y,
-                         p / (layout_.dims.x * layout_.dims.y));
-      positions[size_t(p)] = layout_.position(c);
+      positions[size_t(p)] = layout_.position(layout_.cell(p));
       if (affected[size_t(p)]) {
         schedule_.NeedRaster(p);
         ++probes_affected_;
@@ -509,44 +500,7 @@ void ShProbesSolver::BindProbeData(gl::Program& program, const gl::Buffer& coeff
 }
 
 void ShProbesSolver::RasterizeCubemaps(const SolverContext& ctx, const std::vector<int>* probes) {
-  const GLuint fbo = atlas_.fbo();
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-  glViewport(0, 0, layout_.width(), layout_.height());
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_BLEND);
-  for (int i = 0; i < 4; ++i) glEnable(GLenum(GL_CLIP_DISTANCE0 + i));
-  const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-  const float one = 1.0f;
-  auto clear = [&] {
-    for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo, GL_COLOR, i, zero);
-    glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
-  };
-  if (!probes) {
-    clear();
-  } else {
-    // Only the batch's tiles (every layer: a layered attachment clears whole).
-    glEnable(GL_SCISSOR_TEST);
-    for (int p : *probes) {
-      glScissor((p % layout_.tiles_x) * layout_.face_size,
-                (p / layout_.tiles_x) * layout_.face_size, layout_.face_size, layout_.face_size);
-      clear();
-    }
-    glDisable(GL_SCISSOR_TEST);
-  }
-  // Near and far planes that bracket the whole grid from any probe.
-  const float far = std::max(1.01f * glm::length(glm::vec3(layout_.dims) * layout_.spacing), 1e-6f);
-  SetProbeGridUniforms(rasterize_, layout_, 0, false);
-  SetBatch(rasterize_, probes);
-  rasterize_.Set("uNear", far * 1e-5f);
-  rasterize_.Set("uFar", far);
-  rasterize_.Use();
-  ctx.gpu.Draw(rasterize_, ctx.state, /*bind_textures=*/true,
-               instances_per_probe_ * (probes ? int(probes->size()) : layout_.probes()));
-  for (int i = 0; i < 4; ++i) glDisable(GLenum(GL_CLIP_DISTANCE0 + i));
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  rasterizer_.Draw(ctx.gpu, ctx.state, layout_, atlas_, probes, settings_.direct.full_detail);
 }
 
 void ShProbesSolver::RenderCubemaps(bool compute_direct, bool use_indirect,

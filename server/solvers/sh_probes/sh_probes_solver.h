@@ -21,6 +21,7 @@
 #include "solvers/emission_scale.h"
 #include "solvers/moved_bounds.h"
 #include "solvers/sh_probes/probe_grid.h"
+#include "solvers/sh_probes/probe_raster.h"
 #include "solvers/sh_probes/probe_schedule.h"
 #include "solvers/memory_estimate.h"
 #include "solvers/solver.h"
@@ -82,7 +83,8 @@ class ShProbesSolver final : public Solver {
   // is scaled too.
   void Blend(float hysteresis, float scale = 1.0f);
 
-  // `probes` null: every probe; else the listed ones (a batch).
+  // `probes` null: every probe; else the listed ones (a batch). From the
+  // proxies unless the `full_detail` parameter (ProbeRasterizer).
   void RasterizeCubemaps(const SolverContext& ctx, const std::vector<int>* probes = nullptr);
   void RenderCubemaps(bool compute_direct, bool use_indirect,
                       const std::vector<int>* probes = nullptr);
@@ -116,10 +118,10 @@ class ShProbesSolver final : public Solver {
   gl::Buffer previous_coefficients_;  // the previous bounce's, for the tail
   gl::Buffer probe_valid_;            // probes floats
   std::vector<float> dc_luminance_;   // L_00 luminance per probe, last bounce
-  gl::Program rasterize_, render_, project_, interpolate_, tail_, final_, sees_, blend_;
+  ProbeRasterizer rasterizer_;        // the cube maps, from the proxies unless full_detail
+  gl::Program render_, project_, interpolate_, tail_, final_, sees_, blend_;
   gl::FullscreenPass fullscreen_;
-  int instances_per_probe_ = 1;  // 6: rasterize_ is the layered vertex-shader variant
-  bool solved_ = false;          // a full solve ran (or runs) for layout_
+  bool solved_ = false;  // a full solve ran (or runs) for layout_
   // The full solve's progress: phase, bounce, next probe of the phase, the
   // bounce's sums so far and each bounce's change (for the tail).
   struct FullSolve {
