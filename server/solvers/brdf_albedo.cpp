@@ -105,4 +105,17 @@ glm::vec3 BrdfWhiteSkyAlbedo(const glm::vec3& base_color, float metallic, float 
   return diffuse + f0 * (ab.x - ab.y) + ab.y;
 }
 
+glm::vec3 BrdfDirectionalAlbedo(const glm::vec3& base_color, float metallic, float roughness,
+                                float nv) {
+  if (metallic == 0.0f && roughness == 1.0f) return base_color;  // BrdfLambertian
+  // As brdf.glsl's BrdfUniformAlbedo, operation for operation.
+  const float mu = glm::clamp(nv, 0.0f, 1.0f);
+  const glm::vec3 f0 = glm::mix(glm::vec3(0.04f), base_color, metallic);
+  const float m = 1.0f - mu, m5 = m * m * m * m * m;
+  const glm::vec3 diffuse = (1.0f - metallic) * base_color * (1.0f - (f0 + (1.0f - f0) * m5)) *
+                            (1.0f - (f0 + (1.0f - f0) / 21.0f));
+  const glm::vec2 ab = BrdfAlbedoTable::Embedded().Lookup(mu, roughness);
+  return diffuse + f0 * (ab.x - ab.y) + ab.y;
+}
+
 }  // namespace gistream

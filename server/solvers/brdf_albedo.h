@@ -48,4 +48,11 @@ class BrdfAlbedoTable {
 // BrdfLambertian) returns baseColor unchanged.
 glm::vec3 BrdfWhiteSkyAlbedo(const glm::vec3& base_color, float metallic, float roughness);
 
+// brdf.glsl's BrdfUniformAlbedo: the directional albedo seen from (or, by
+// reciprocity, lit from) a direction at cosine `nv` to the normal, what the
+// surface reflects of uniform incident light; baseColor for a Lambertian
+// surface.
+glm::vec3 BrdfDirectionalAlbedo(const glm::vec3& base_color, float metallic, float roughness,
+                                float nv);
+
 }  // namespace gistream

@@ -49,16 +49,35 @@ Transport::Transport(const Patches& patches, const DirectionalBins& bins, std::v
   receiver_begin_.push_back(uint32_t(links_.size()));
 }
 
+void Transport::SetGlossy(const GlossyTransfer* transfer, std::vector<glm::vec3> direct_exitant) {
+  glossy_ = transfer;
+  const size_t cells = transfer ? size_t(transfer->count()) * size_t(m_) : 0;
+  direct_exitant.resize(cells, glm::vec3(0.0f));
+  glossy_direct_ = std::move(direct_exitant);
+  glossy_source_ = glossy_direct_;
+  glossy_out_.assign(cells, glm::vec3(0.0f));
+}
+
 void Transport::Initialize(const std::vector<glm::vec3>& direct,
                            const std::vector<glm::vec3>& emitted) {
   source_.assign(leaves_.size(), glm::vec3(0.0f));
+  glossy_source_ = glossy_direct_;
   for (size_t k = 0; k < leaves_.size(); ++k) {
     const size_t i = size_t(leaves_[k]);
     const glm::vec3 e_d = i < direct.size() ? direct[i] : glm::vec3(0.0f);
     const glm::vec3 l_e = i < emitted.size() ? emitted[i] : glm::vec3(0.0f);
     source_[k] = patches_.albedo[i] * e_d + kPi * l_e;
+    // A glossy leaf's emission leaves every bin alike.
+    const int g = glossy_ ? glossy_->slot(int(i)) : -1;
+    if (g >= 0 && l_e != glm::vec3(0.0f)) {
+      for (int j = 0; j < m_; ++j) {
+        if (glm::dot(patches_.normal[i], bins_.direction(j)) > 0.0f)
+          glossy_source_[size_t(g) * size_t(m_) + size_t(j)] += l_e;
+      }
+    }
   }
   radiosity_ = source_;
+  std::fill(glossy_out_.begin(), glossy_out_.end(), glm::vec3(0.0f));
   std::fill(l_in_.begin(), l_in_.end(), glm::vec3(0.0f));
   std::fill(indirect_.begin(), indirect_.end(), glm::vec3(0.0f));
   std::fill(i_ex_.begin(), i_ex_.end(), glm::vec3(0.0f));
@@ -77,6 +96,8 @@ void Transport::WarmStart(const Transport& warm) {
   for (size_t k = 0; k < leaves_.size(); ++k) {
     const size_t i = size_t(leaves_[k]);
     radiosity_[k] = source_[k] + patches_.albedo[i] * indirect_[i];
+    const int g = glossy_ ? glossy_->slot(int(i)) : -1;
+    if (g >= 0) glossy_->Reflect(g, &l_in_[Index(int(i), 0)], &glossy_out_[size_t(g) * size_t(m_)]);
   }
   LocalPass(/*update_radiance=*/false);  // I_ex = I_L - I_A of that state
   Pull();
@@ -150,13 +171,19 @@ double Transport::LocalPass(bool update_radiance) {
     // K, Eq. 18 for a diffuse BRDF rho / pi: L = B / pi with B = rho (E_d + E).
     if (update_radiance) radiosity_[k] = source_[k] + patches_.albedo[size_t(i)] * e;
     const glm::vec3 b = radiosity_[k] * (a / s);
+    // K with the BRDF for a glossy leaf (glossy_transfer.h): L = L_d + T L_in.
+    const int g = glossy_ ? glossy_->slot(i) : -1;
+    const glm::vec3* l_d = g >= 0 ? &glossy_source_[size_t(g) * size_t(m_)] : nullptr;
+    glm::vec3* l_r = g >= 0 ? &glossy_out_[size_t(g) * size_t(m_)] : nullptr;
+    if (g >= 0 && update_radiance) glossy_->Reflect(g, &l_in_[Index(i, 0)], l_r);
     double d = 0.0;
     bool finite = true;
     for (int j = 0; j < m_; ++j) {
       const float c = glm::dot(n, bins_.direction(j));
       glm::vec3 v;
       if (c > 0.0f) {
-        v = c * b;  // I_L(omega_j) = a <n|omega_j> L
+        // I_L(omega_j) = a <n|omega_j> L
+        v = g >= 0 ? (a * c) * (l_d[j] + l_r[j]) : c * b;
       } else {
         // J, Eq. 19: light incident from -omega_j leaves towards omega_j as
         // antiradiance, I_A = a <n|-omega_j> L_in, stored negated in I_ex.

@@ -10,9 +10,12 @@
 // is tracked per iteration; a symmetric frame whose residual grows two
 // iterations in a row, or turns non-finite, is redone asymmetrically.
 //
-// Diffuse surfaces only, so a leaf's I_L is a_i <n_i|omega_j>_+ B_i / S(n_i)
-// with B_i its exitant radiosity and S(n) = sum_j omega_bin <n|omega_j>_+ the
-// discrete cosine integral (~pi): the bins then carry exactly a_i B_i of flux.
+// A diffuse leaf's I_L is a_i <n_i|omega_j>_+ B_i / S(n_i) with B_i its
+// exitant radiosity and S(n) = sum_j omega_bin <n|omega_j>_+ the discrete
+// cosine integral (~pi): the bins then carry exactly a_i B_i of flux. A
+// glossy leaf (SetGlossy) carries a_i <n_i|omega_j>_+ (L_d(omega_j) +
+// (T L_in)(omega_j)): its direct light's exitant radiance per bin plus K
+// with the BRDF, the bin-to-bin matrix T of glossy_transfer.h.
 #pragma once
 
 #include <functional>
@@ -22,6 +25,7 @@
 #include <glm/glm.hpp>
 
 #include "solvers/antiradiance/directional_bins.h"
+#include "solvers/antiradiance/glossy_transfer.h"
 #include "solvers/antiradiance/links.h"
 #include "solvers/antiradiance/patches.h"
 
@@ -65,6 +69,11 @@ class Transport {
   // sources alone (Section 3.3: "we iterate from the previous solution");
   // ignored when its layout differs. The asymmetric fallback after a
   // divergence starts from the sources, as without it.
+  // Glossy leaves (before Solve; none by default): `transfer` (kept by the
+  // caller) and per glossy slot the direct light's exitant radiance per bin,
+  // direct_exitant[slot * m + j] (zero below the surface; missing: zero).
+  void SetGlossy(const GlossyTransfer* transfer, std::vector<glm::vec3> direct_exitant);
+
   TransportResult Solve(const std::vector<glm::vec3>& direct_irradiance,
                         const std::vector<glm::vec3>& emitted, const TransportSettings& settings,
                         const StageHook& hook = {}, const Transport* warm = nullptr);
@@ -73,6 +82,10 @@ class Transport {
   // E = (pi / S(n)) sum_j omega_bin <n|omega_j>_+ L_in(j) of the last pass.
   const std::vector<glm::vec3>& indirect_irradiance() const { return indirect_; }
   const glm::vec3& L_in(int node, int bin) const { return l_in_[Index(node, bin)]; }
+  // After Solve, glossy slot s's reflected indirect radiance T L_in per bin
+  // (m entries, zero below the surface): what the display looks up.
+  const glm::vec3* glossy_indirect(int s) const { return &glossy_out_[size_t(s) * size_t(m_)]; }
+  const GlossyTransfer* glossy() const { return glossy_; }
   const glm::vec3& I_ex(int node, int bin) const { return i_ex_[Index(node, bin)]; }
   const std::vector<Link>& links() const { return links_; }
   uint64_t table_bytes() const { return (i_ex_.size() + l_in_.size()) * sizeof(glm::vec3); }
@@ -103,6 +116,10 @@ class Transport {
   std::vector<glm::vec3> radiosity_;  // B per leaf slot
   std::vector<glm::vec3> indirect_;   // per node
   std::vector<glm::vec3> i_ex_, l_in_;
+  const GlossyTransfer* glossy_ = nullptr;
+  std::vector<glm::vec3> glossy_direct_;  // per glossy slot x bin: the direct light's L_d
+  std::vector<glm::vec3> glossy_source_;  // L_d + L_e
+  std::vector<glm::vec3> glossy_out_;     // per glossy slot x bin: T L_in
   double source_norm_ = 0.0;
 };
 
