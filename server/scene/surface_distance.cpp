@@ -30,6 +30,38 @@ float FloatOf(uint32_t bits) {
   return f;
 }
 
+// Calls fn(a, b, c, k, covering) for pieces that together cover triangle
+// (a, b, c), each to be sampled on a barycentric k x k grid with
+// sub-triangle edges <= `spacing` (k at most 256): every point of a
+// sub-triangle lies within edge / sqrt(3) of one of its corners, the
+// piece's covering radius. A piece within `spacing` or with an area of at
+// least longest^2 / 8 is sampled as is; a thinner one is split at its
+// longest edge's midpoint first (longest-edge bisection), so a sliver of
+// length L costs about L / spacing samples, not (L / spacing)^2 / 2.
+template <typename Fn>
+void ForEachPiece(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, float spacing,
+                  int depth, Fn&& fn) {
+  const float ab = glm::length(b - a), bc = glm::length(c - b), ca = glm::length(a - c);
+  const float longest = std::max({ab, bc, ca});
+  const float twice_area = glm::length(glm::cross(b - a, c - a));
+  if (longest <= spacing || 4.0f * twice_area >= longest * longest || depth >= 32) {
+    const int k = std::clamp(int(std::ceil(longest / std::max(spacing, 1e-30f))), 1, 256);
+    fn(a, b, c, k, longest / float(k) / std::sqrt(3.0f));
+  } else if (ab == longest) {
+    const glm::vec3 m = 0.5f * (a + b);
+    ForEachPiece(a, m, c, spacing, depth + 1, fn);
+    ForEachPiece(m, b, c, spacing, depth + 1, fn);
+  } else if (bc == longest) {
+    const glm::vec3 m = 0.5f * (b + c);
+    ForEachPiece(a, b, m, spacing, depth + 1, fn);
+    ForEachPiece(a, m, c, spacing, depth + 1, fn);
+  } else {
+    const glm::vec3 m = 0.5f * (c + a);
+    ForEachPiece(a, b, m, spacing, depth + 1, fn);
+    ForEachPiece(m, b, c, spacing, depth + 1, fn);
+  }
+}
+
 }  // namespace
 
 glm::vec3 ClosestPointOnTriangle(const glm::vec3& p, const glm::vec3& a, const glm::vec3& b,
@@ -99,8 +131,9 @@ TriangleGrid::TriangleGrid(std::span<const glm::vec3> positions, std::span<const
   }
 }
 
-float TriangleGrid::Distance(const glm::vec3& p, float cap) const {
+float TriangleGrid::Distance(const glm::vec3& p, float cap, float enough) const {
   if (cell_start_.empty()) return cap;
+  const float enough2 = enough >= 0.0f ? enough * enough : -1.0f;
   const glm::ivec3 home = glm::ivec3(
       glm::clamp(glm::floor((p - origin_) / cell_), glm::vec3(0.0f), glm::vec3(dims_ - 1)));
   float best2 = cap * cap;
@@ -125,6 +158,7 @@ float TriangleGrid::Distance(const glm::vec3& p, float cap) const {
                                                        positions_[indices_[3 * t + 2]]);
             const glm::vec3 d = q - p;
             best2 = std::min(best2, glm::dot(d, d));
+            if (best2 <= enough2) return std::sqrt(best2);
           }
         }
       }
@@ -136,28 +170,49 @@ float TriangleGrid::Distance(const glm::vec3& p, float cap) const {
 float HausdorffBound(std::span<const glm::vec3> positions, std::span<const uint32_t> from,
                      const TriangleGrid& to, float spacing, float cap) {
   const size_t triangles = from.size() / 3;
+  // Triangle t's pieces (ForEachPiece) are sampled on grids whose
+  // sub-triangles have edges <= spacing; the distance to `to` being
+  // 1-Lipschitz, a piece's largest sample distance plus its covering
+  // radius bounds the distance of all its points.
+  const auto pieces = [&](size_t t, auto&& fn) {
+    ForEachPiece(positions[from[3 * t]], positions[from[3 * t + 1]], positions[from[3 * t + 2]],
+                 spacing, 0, fn);
+  };
+  // A few big triangles (a node's copy) are as much work as many small
+  // ones: hand them out one by one.
+  const size_t chunk = std::clamp<size_t>(triangles / (8 * WorkerCount()), 1, 256);
+  // The bound is at least every piece's covering radius: start there.
   std::atomic<uint32_t> worst{0};
+  ParallelFor(triangles, std::max<size_t>(chunk, 64), [&](size_t t) {
+    pieces(t, [&](const glm::vec3&, const glm::vec3&, const glm::vec3&, int, float covering) {
+      AtomicMax(worst, covering);
+    });
+  });
   std::atomic<bool> capped{false};
-  ParallelFor(triangles, 256, [&](size_t t) {
+  ParallelFor(triangles, chunk, [&](size_t t) {
     if (capped.load(std::memory_order_relaxed)) return;
-    const glm::vec3 &a = positions[from[3 * t]], &b = positions[from[3 * t + 1]],
-                    &c = positions[from[3 * t + 2]];
-    const float longest = std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
-    // k x k sub-triangles with edges longest / k <= spacing (at most 256).
-    const int k = std::clamp(int(std::ceil(longest / std::max(spacing, 1e-30f))), 1, 256);
-    float local = 0.0f;
-    for (int i = 0; i <= k && local < cap; ++i) {
-      for (int j = 0; i + j <= k; ++j) {
-        const glm::vec3 p = a + (b - a) * (float(i) / float(k)) + (c - a) * (float(j) / float(k));
-        local = std::max(local, to.Distance(p, cap));
-        if (local >= cap) break;
+    float largest = 0.0f;
+    pieces(t, [&](const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, int k,
+                  float covering) {
+      if (largest >= cap) return;
+      // A sample within `recorded` of `to` raises neither this piece's
+      // largest sample so far nor, with the covering radius, the bound
+      // already recorded, so its query may stop at the first triangle that
+      // close (an upper bound of its distance, itself within `recorded`):
+      // the result is the bound the exact distances give, found faster.
+      const float recorded = FloatOf(worst.load(std::memory_order_relaxed)) - covering;
+      float local = 0.0f;
+      for (int i = 0; i <= k && local < cap; ++i) {
+        for (int j = 0; i + j <= k; ++j) {
+          const glm::vec3 p = a + (b - a) * (float(i) / float(k)) + (c - a) * (float(j) / float(k));
+          local = std::max(local, to.Distance(p, cap, std::max(local, recorded)));
+          if (local >= cap) break;
+        }
       }
-    }
-    // Every point of a sub-triangle lies within edge / sqrt(3) of one of
-    // its corners, and the distance to `to` is 1-Lipschitz.
-    local += longest / float(k) / std::sqrt(3.0f);
-    if (local >= cap) capped.store(true, std::memory_order_relaxed);
-    AtomicMax(worst, std::min(local, cap));
+      largest = std::max(largest, local + covering);
+      AtomicMax(worst, std::min(largest, cap));
+    });
+    if (largest >= cap) capped.store(true, std::memory_order_relaxed);
   });
   return capped.load() ? cap : FloatOf(worst.load());
 }

@@ -22,8 +22,11 @@ class TriangleGrid {
   TriangleGrid(std::span<const glm::vec3> positions, std::span<const uint32_t> indices, float cell);
 
   // Distance from `p` to the nearest triangle, or `cap` when none lies
-  // closer than `cap`.
-  float Distance(const glm::vec3& p, float cap) const;
+  // closer than `cap`. With `enough` >= 0 the search stops at the first
+  // triangle within `enough` and returns its distance: an upper bound of
+  // the nearest one's, itself at most `enough` (a caller taking a maximum
+  // over samples needs no more).
+  float Distance(const glm::vec3& p, float cap, float enough = -1.0f) const;
 
  private:
   std::span<const glm::vec3> positions_;
