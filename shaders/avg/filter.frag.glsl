@@ -5,7 +5,10 @@
 // that skips neighbours across discontinuities (normals further apart than
 // uNormalCos, or points off this pixel's plane or too far away), then
 // re-weights; Lambertian and glossy receivers do not mix (their values are
-// demodulated differently, avg/receiver.glsl). Finally
+// demodulated differently, avg/receiver.glsl). Glossy receivers use the
+// box convolved with itself (a 7 x 7 tent, same subset weights): a
+// single VPL's highlight reconstructs as a pyramid, not a 4 x 4 block.
+// Finally
 // L = a(v) / pi * (E_direct + E_indirect) + emission, a(v) the albedo of a
 // Lambertian receiver, the BRDF's directional albedo of a glossy one.
 #include "avg/receiver.glsl"
@@ -35,16 +38,25 @@ void main() {
   float eye_dist = length(to_eye);
   float footprint = eye_dist * uPixelAngle;
   float facing = max(abs(dot(n, to_eye)) / max(eye_dist, 1e-30), 0.1);
-  // The window spans 3 pixels: on this surface that is 3 footprints / cos.
-  float max_dist = 4.0 * footprint / facing;
-  float max_plane = 2.0 * footprint;
   SurfaceBrdf b = ReceiverBrdf(px);
   bool lambertian = BrdfLambertian(b);
+  // Lambertian: the 4 x 4 box, offsets -2..+1. Glossy: the box convolved
+  // with itself, a 7 x 7 tent of weights (4 - |dx|)(4 - |dy|), offsets
+  // -3..+3. Every residue mod 4 gets weight 4 per axis (0: 4; 1: 3 + 1;
+  // 2: 2 + 2; 3: 1 + 3), so each of the 16 subsets still counts 16 / 256
+  // on a flat face and the pattern cancels as with the box, but a value
+  // that only one subset holds (a single VPL's highlight) spreads as a
+  // continuous pyramid instead of a 4 x 4 block with hard edges.
+  int lo = lambertian ? -2 : -3, hi = lambertian ? 1 : 3;
+  // The window spans hi - lo pixels: on this surface that many footprints
+  // / cos (4 for the box's 3, as before; 7 for the tent's 6).
+  float max_dist = float(hi - lo + 1) * footprint / facing;
+  float max_plane = 2.0 * footprint;
 
   vec3 sum = vec3(0.0);
   float weight = 0.0;
-  for (int dy = -2; dy <= 1; ++dy) {
-    for (int dx = -2; dx <= 1; ++dx) {
+  for (int dy = lo; dy <= hi; ++dy) {
+    for (int dx = lo; dx <= hi; ++dx) {
       ivec2 q = px + ivec2(dx, dy);
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, uImageSize))) continue;
       vec4 qp = texelFetch(uGPosition, q, 0);
@@ -54,8 +66,9 @@ void main() {
       if (abs(dot(diff, n)) > max_plane || length(diff) > max_dist) continue;
       if (BrdfLambertian(ReceiverBrdf(q)) != lambertian) continue;
       vec4 e = texelFetch(uIndirect, Split(q), 0);
-      sum += e.rgb * e.a;
-      weight += e.a;
+      float w = lambertian ? e.a : e.a * float((4 - abs(dx)) * (4 - abs(dy)));
+      sum += e.rgb * w;
+      weight += w;
     }
   }
   vec3 indirect = weight > 0.0 ? sum / weight : vec3(0.0);

@@ -55,7 +55,7 @@ void main() {
   SurfaceBrdf b = ReceiverBrdf(px);
   bool lambertian = BrdfLambertian(b);
   vec3 view = ReceiverView(p, n);
-  // Glossy: pi f(v, l) / a(v) per VPL, so that e stays irradiance-like.
+  // Glossy: pi f(v, l) / a(v) per VPL and light, so that e stays irradiance-like.
   vec3 demodulate = lambertian ? vec3(0.0) : PI / ReceiverAlbedo(b, n, view);
 
   int k = tile.x + 4 * tile.y;
@@ -73,10 +73,12 @@ void main() {
     // A Lambertian VPL of flux Phi has intensity Phi / pi cos_v, so with the
     // geometry term G of the paper's Sec. III-C (r^2 biased by d^2):
     // E = Phi / pi * cos_v cos_x / (r^2 + d^2). A glossy receiver reflects
-    // L = f(v, -w) E of it towards v (the rendering equation's integrand
-    // with the VPL as a point source).
+    // L = f(v, -w) E of it towards v (the rendering equation's integrand),
+    // its lobe widened to the disk of radius d that the bias stands for
+    // (VplGlossyResponse), so a single VPL's highlight is wider than the
+    // 4-pixel interleave period the filter reconstructs.
     vec3 ej = v.flux.rgb * (INV_PI * cv * cx * vis / max(r2 + uClamp2, 1e-30));
-    e += lambertian ? ej : ej * BrdfEval(b, n, view, -w) * demodulate;
+    e += lambertian ? ej : ej * VplGlossyResponse(b, n, view, -w, r2, uClamp2);
   }
   // Subset k holds `count` of the uVplCount VPLs: scale to estimate them all.
   float scale = count > 0 ? float(uVplCount) / float(count) : 0.0;

@@ -27,3 +27,29 @@ vec3 ReceiverAlbedo(SurfaceBrdf b, vec3 n, vec3 v) {
   if (BrdfLambertian(b)) return b.base_color;
   return max(BrdfUniformAlbedo(b, n, v), vec3(1e-4));
 }
+
+// pi f(v, l) / a(v) of one VPL for a glossy receiver at distance r (r2 =
+// r^2), its lobe widened to what the VPL stands for. The geometry-term bias
+// E = Phi / pi cos_v cos_x / (r^2 + d^2) (illuminate.frag.glsl) is, on the
+// axis, exactly the irradiance of a Lambertian disk of radius d emitting
+// Phi (M d^2 / (r^2 + d^2), M = Phi / (pi d^2)): the cosine terms already
+// see each VPL as that disk. The BRDF sees it too: from the receiver the
+// disk fills a cone of half-angle theta, tan theta = d / r, whose
+// directions tilt the half vector by up to theta / 2; the GGX slope scale
+// alpha and the cone's half-vector slopes add in quadrature (widths of
+// convolved slope distributions, exact for Gaussian ones):
+//   alpha'^2 = alpha^2 + tan^2(theta / 2),  tan(theta / 2) = d / (r + sqrt(r^2 + d^2)),
+// in (0, 1]: far VPLs keep their lobe, one at r -> 0 spreads over the
+// hemisphere (the roughness regularisation of Kaplanyan & Dachsbacher 2013
+// with the cone of Hasan et al.'s virtual spherical lights, 2009). The
+// widened lobe is demodulated by its own directional albedo, so under light
+// from all directions alike it returns E exactly as the true lobe does: the
+// widening moves energy across the receiver, it adds or removes none of
+// the uniform-light response. d = 0 (`clamp=0`) leaves the lobe as it is.
+vec3 VplGlossyResponse(SurfaceBrdf b, vec3 n, vec3 v, vec3 l, float r2, float d2) {
+  float alpha = BrdfAlpha(b);
+  float t = d2 > 0.0 ? sqrt(d2) / (sqrt(r2) + sqrt(r2 + d2)) : 0.0;
+  SurfaceBrdf wide = b;
+  wide.roughness = min(sqrt(sqrt(alpha * alpha + t * t)), 1.0);  // alpha = roughness^2
+  return PI * BrdfEval(wide, n, v, l) / ReceiverAlbedo(wide, n, v);
+}
