@@ -8,9 +8,9 @@
 // demodulated differently, avg/receiver.glsl). Glossy receivers use the
 // box convolved with itself (a 7 x 7 tent, same subset weights): a
 // single VPL's highlight reconstructs as a pyramid, not a 4 x 4 block.
-// Finally
-// L = a(v) / pi * (E_direct + E_indirect) + emission, a(v) the albedo of a
-// Lambertian receiver, the BRDF's directional albedo of a glossy one.
+// Finally L = a(v) / pi * (E_direct + E_indirect) + emission, a(v) the
+// albedo of a Lambertian receiver, the BRDF's directional albedo of a
+// glossy one.
 #include "avg/receiver.glsl"
 layout(binding = 8) uniform sampler2D uGPosition;
 layout(binding = 9) uniform sampler2D uGNormal;
