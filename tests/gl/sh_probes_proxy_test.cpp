@@ -37,7 +37,7 @@ class ShProbesProxyTest : public testing::GlContextTest {
  protected:
   // Every probe's distance cube (0: nothing hit), the atlas's six layers.
   std::vector<float> Distances(const std::shared_ptr<const Scene>& scene, bool full_detail,
-                               int* proxied_pairs = nullptr) {
+                               int* proxied_pairs = nullptr, bool layered = true) {
     SceneState state(scene);
     auto gpu = GpuScene::Upload(state);
     EXPECT_TRUE(gpu.ok()) << gpu.status();
@@ -48,9 +48,10 @@ class ShProbesProxyTest : public testing::GlContextTest {
     layout_ = *layout;
     ProbeAtlas atlas;
     atlas.Allocate(layout_);
-    auto raster = ProbeRasterizer::Create();
+    auto raster = ProbeRasterizer::Create(layered);
     EXPECT_TRUE(raster.ok()) << raster.status();
     if (!raster.ok()) return {};
+    EXPECT_EQ(raster->layered(), layered);
     raster->Draw(**gpu, state, layout_, atlas, nullptr, full_detail);
     std::vector<float> distance(size_t(layout_.texels()));
     glGetTextureImage(atlas.distance(), 0, GL_RED, GL_FLOAT,
@@ -144,6 +145,20 @@ TEST_F(ShProbesProxyTest, FullDetailAndCullingDrawTheCubesOfBeforeProxies) {
   // Per-probe draws culled per face (a scene without proxies, full_detail
   // off) leave out only what a face cannot see.
   EXPECT_EQ(Distances(TestScene(false), false), before);
+}
+
+TEST_F(ShProbesProxyTest, GeometryShaderFallbackDrawsTheSameCubes) {
+  // Drivers without ARB_shader_viewport_layer_array draw the cubes with
+  // rasterize.geom.glsl (six invocations per triangle, the face mask
+  // tested there): the same face projection, so the same distances, with
+  // proxies (one draw per probe) and in full.
+  const auto scene = TestScene(true);
+  for (const bool full_detail : {false, true}) {
+    const std::vector<float> layered = Distances(scene, full_detail);
+    const std::vector<float> geometry = Distances(scene, full_detail, nullptr, false);
+    ASSERT_EQ(layered.size(), geometry.size());
+    EXPECT_EQ(layered, geometry) << "full_detail " << full_detail;
+  }
 }
 
 }  // namespace

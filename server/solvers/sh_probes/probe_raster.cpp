@@ -15,14 +15,17 @@ constexpr int kAllFaces = 0x3f;
 
 }  // namespace
 
-absl::StatusOr<ProbeRasterizer> ProbeRasterizer::Create() {
+absl::StatusOr<ProbeRasterizer> ProbeRasterizer::Create(bool allow_layered) {
   ProbeRasterizer raster;
   // Layered rendering from the vertex shader (ARB_shader_viewport_layer_array)
   // is about 2.3x faster on llvmpipe than the geometry shader's six
   // invocations per triangle; the geometry shader where it is missing.
-  if (auto layered = gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize_layer.vert.glsl"},
-                                         {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}});
-      layered.ok()) {
+  absl::StatusOr<gl::Program> layered = absl::UnavailableError("layered rendering not allowed");
+  if (allow_layered) {
+    layered = gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize_layer.vert.glsl"},
+                                  {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}});
+  }
+  if (layered.ok()) {
     raster.program_ = *std::move(layered);
     raster.instances_per_probe_ = 6;
   } else {

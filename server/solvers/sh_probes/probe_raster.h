@@ -20,8 +20,9 @@ namespace gistream {
 class ProbeRasterizer {
  public:
   // The layered vertex-shader program where the driver has
-  // ARB_shader_viewport_layer_array, else the geometry-shader one.
-  static absl::StatusOr<ProbeRasterizer> Create();
+  // ARB_shader_viewport_layer_array (and `allow_layered`), else the
+  // geometry-shader one.
+  static absl::StatusOr<ProbeRasterizer> Create(bool allow_layered = true);
 
   // Clears and draws the tiles of `probes` (null: every probe of `layout`).
   void Draw(const GpuScene& gpu, const SceneState& state, const ProbeLayout& layout,
