@@ -2,7 +2,8 @@
 // distance cubes drawn from the simplified levels and cluster copies match
 // the full-detail cubes within one face texel's world size at each texel's
 // distance, and forcing full detail draws exactly the cubes drawn before
-// proxies existed (bitwise), as does per-face culling alone.
+// proxies existed (bitwise), as does per-face culling alone; the
+// geometry-shader fallback draws the same cubes as the layered path.
 #include <gtest/gtest.h>
 
 #include <algorithm>
