@@ -3,9 +3,15 @@
 // light per pixel with the shared shadow maps; the indirect irradiance of
 // the leaf elements is interpolated like the paper's splatting (Section
 // 4.3): elements near the pixel with a similar normal, weighted by a
-// smooth fall-off, re-normalized by the total weight.
+// smooth fall-off, re-normalized by the total weight. Glossy pixels take
+// the reflected indirect radiance toward the eye from the glossy leaves'
+// bins instead (glossy_transfer.h), interpolated between bins and splatted
+// the same way; where no glossy leaf is near, albedo(v) / pi x E.
 #include "render/shade_surface.glsl"
 #include "antiradiance/elements.glsl"
+#include "antiradiance/glossy.glsl"
+layout(std430, binding = 10) readonly buffer GlossyRadiance { vec4 glossy_radiance[]; };  // slot x bin
+uniform float uBinSpacing;  // sqrt(4 pi / m)
 layout(std430, binding = 7) readonly buffer Grid { uint grid[]; };  // cell starts (cells + 1), leaf ids
 uniform vec3 uGridMin;
 uniform ivec3 uGridDims;
@@ -38,10 +44,76 @@ vec3 IndirectIrradiance(vec3 p, vec3 n) {
   return weight > 0.0 ? sum / weight : vec3(0.0);
 }
 
+// Interpolation between bins toward v: Gaussian weights of standard
+// deviation half the bins' spacing over the bins within 1.5 spacings.
+const int MAX_TAPS = 16;
+int BinTaps(vec3 v, out int bin[MAX_TAPS], out float w[MAX_TAPS]) {
+  float cos_support = cos(1.5 * uBinSpacing);
+  float inv_two_sigma2 = 2.0 / (uBinSpacing * uBinSpacing);
+  int count = 0;
+  for (int k = 0; k < uBins && count < MAX_TAPS; ++k) {
+    float c = dot(v, bin_direction[k].xyz);
+    if (c < cos_support) continue;
+    float a = acos(clamp(c, -1.0, 1.0));
+    bin[count] = k;
+    w[count] = exp(-a * a * inv_two_sigma2);
+    ++count;
+  }
+  return count;
+}
+
+// The glossy leaves near p (normal n): their reflected indirect radiance
+// toward v, false when none is near.
+bool GlossyIndirect(vec3 p, vec3 n, vec3 v, out vec3 l) {
+  int bin[MAX_TAPS];
+  float bw[MAX_TAPS];
+  int taps = BinTaps(v, bin, bw);
+  ivec3 c = clamp(ivec3(floor((p - uGridMin) / uGridCell)), ivec3(0), uGridDims - 1);
+  int cells = uGridDims.x * uGridDims.y * uGridDims.z;
+  vec3 sum = vec3(0.0);
+  float weight = 0.0;
+  for (int z = max(c.z - 1, 0); z <= min(c.z + 1, uGridDims.z - 1); ++z)
+    for (int y = max(c.y - 1, 0); y <= min(c.y + 1, uGridDims.y - 1); ++y)
+      for (int x = max(c.x - 1, 0); x <= min(c.x + 1, uGridDims.x - 1); ++x) {
+        int cell = (z * uGridDims.y + y) * uGridDims.x + x;
+        for (uint k = grid[cell]; k < grid[cell + 1]; ++k) {
+          Element e = elements[grid[cells + 1 + int(k)]];
+          if (e.normal.w < 0.0) continue;  // not glossy
+          float nd = dot(n, e.normal.xyz);
+          if (nd < 0.7) continue;
+          vec3 d = p - e.position_radius.xyz;
+          float r2 = e.position_radius.w * e.position_radius.w;
+          float t = 1.0 - dot(d, d) / r2;
+          if (t <= 0.0) continue;
+          // This leaf's bins toward v, over the taps above its surface.
+          int base = int(e.normal.w) * uBins;
+          vec3 lv = vec3(0.0);
+          float tw = 0.0;
+          for (int i = 0; i < taps; ++i) {
+            if (dot(e.normal.xyz, bin_direction[bin[i]].xyz) <= 0.0) continue;
+            lv += bw[i] * glossy_radiance[base + bin[i]].rgb;
+            tw += bw[i];
+          }
+          if (tw <= 0.0) continue;
+          float w = t * t * nd;
+          sum += w * (lv / tw);
+          weight += w;
+        }
+      }
+  l = weight > 0.0 ? sum / weight : vec3(0.0);
+  return weight > 0.0;
+}
+
 void main() {
   GSurface s;
   if (!ReadGBuffer(ivec2(gl_FragCoord.xy), s)) {
     oRadiance = vec4(0.0, 0.0, 0.0, 1.0);
+    return;
+  }
+  vec3 l_glossy;
+  if (!BrdfLambertian(SurfaceBrdfOf(s)) &&
+      GlossyIndirect(s.position, s.normal, ViewDirection(s), l_glossy)) {
+    oRadiance = vec4(ShadeGlossy(s, l_glossy), 1.0);
     return;
   }
   oRadiance = vec4(ShadeSurface(s, IndirectIrradiance(s.position, s.normal)), 1.0);

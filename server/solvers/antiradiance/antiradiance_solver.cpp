@@ -20,6 +20,8 @@ namespace {
 using antiradiance::Scheme;
 
 constexpr GLuint kElementBinding = 6, kGridBinding = 7;
+constexpr GLuint kGlossyRadianceBinding = 10,
+                 kBinDirectionBinding = 11;  // antiradiance/glossy.glsl
 constexpr int kMaxGridDim = 64;
 constexpr size_t kMaxResidualStats = 32;
 // Memory limits per solver instance (the paper's Table 2 scenes need
@@ -89,6 +91,15 @@ absl::StatusOr<std::unique_ptr<Solver>> AntiradianceSolver::Create(const ParamSe
   GS_ASSIGN_OR_RETURN(
       solver->direct_program_,
       gl::Program::Build({{GL_COMPUTE_SHADER, "antiradiance/element_direct.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(
+      solver->glossy_direct_program_,
+      gl::Program::Build({{GL_COMPUTE_SHADER, "antiradiance/element_glossy_direct.comp.glsl"}}));
+  {
+    std::vector<glm::vec4> directions;
+    for (int j = 0; j < solver->bins_.count(); ++j)
+      directions.push_back(glm::vec4(solver->bins_.direction(j), 0.0f));
+    solver->bin_directions_ = gl::StorageBuffer(directions);
+  }
   GS_ASSIGN_OR_RETURN(solver->display_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "antiradiance/display.frag.glsl"}}));
@@ -179,12 +190,26 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
     job->patches->albedo[size_t(i)] =
         antiradiance::MaterialAlbedo(ctx.state, job->patches->tag[size_t(i)]);
   }
+  // Glossy leaves (glossy_transfer.h): the material's metallic-roughness
+  // factors (textures are not sampled per leaf, as the albedo above).
+  job->brdf.assign(size_t(job->patches->size()), pathtrace::Brdf());
+  for (int i : job->leaves) {
+    const int material = job->patches->tag[size_t(i)];
+    if (material < 0 || size_t(material) >= ctx.state.materials().size()) continue;
+    const Material& m = ctx.state.materials()[size_t(material)];
+    pathtrace::Brdf& b = job->brdf[size_t(i)];
+    b.base_color = job->patches->albedo[size_t(i)];
+    b.metallic = m.metallic_factor;
+    b.roughness = m.roughness_factor;
+  }
   if (!job->relink || job->same_layout) job->link_set = link_set_;  // (relinked in the job)
   {
     // Section 3.3: direct light initializes the elements through the
     // shadow maps shown now; it creates no antiradiance.
     gl::StageTimer::Scope stage(ctx.timer, "local_pass", /*cpu_stage=*/true);
     job->direct = DirectAtLeaves(*job->patches, job->leaves);
+    job->glossy_direct = GlossyDirectAtLeaves(
+        *job->patches, job->brdf, antiradiance::GlossyTransfer::Slots(*job->patches, job->brdf));
   }
   const antiradiance::DirectionalBins* bins = &bins_;
   const antiradiance::TransportSettings settings = settings_.transport;
@@ -209,6 +234,17 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
       return;
     }
     j.transport = std::make_unique<antiradiance::Transport>(*j.patches, *bins, j.link_set.Sorted());
+    // The glossy leaves' BRDF matrices (glossy_transfer.h).
+    absl::StatusOr<antiradiance::GlossyTransfer> glossy;
+    j.times.Time("local_pass", [&] {
+      glossy = antiradiance::GlossyTransfer::Build(*j.patches, *bins, j.brdf, kMaxTableBytes);
+    });
+    if (!glossy.ok()) {
+      j.status = glossy.status();
+      return;
+    }
+    j.glossy = std::make_unique<antiradiance::GlossyTransfer>(*std::move(glossy));
+    j.transport->SetGlossy(j.glossy.get(), std::move(j.glossy_direct));
     // Emission is the direct term's (area-light samples), not transported again.
     j.result = j.transport->Solve(
         j.direct, {}, settings,
@@ -233,6 +269,7 @@ absl::Status AntiradianceSolver::TakeSolve(SolverContext& ctx, SolveJob& job) {
   link_set_ = std::move(job.link_set);
   link_stats_ = link_set_.stats();
   transport_ = std::move(job.transport);
+  glossy_ = std::move(job.glossy);
   result_ = job.result;
   BuildDisplay();
   UploadIrradiance();
@@ -253,7 +290,8 @@ void AntiradianceSolver::BuildDisplay() {
     const size_t i = size_t(leaves_[k]);
     const float r = 1.5f * patches.radius[i];
     elements[k].position_radius = glm::vec4(patches.position[i], r);
-    elements[k].normal = glm::vec4(patches.normal[i], 0.0f);
+    // w: the glossy slot, -1 for a Lambertian leaf (antiradiance/elements.glsl).
+    elements[k].normal = glm::vec4(patches.normal[i], float(glossy_ ? glossy_->slot(int(i)) : -1));
     elements[k].irradiance = glm::vec4(0.0f);
     box.Extend(patches.position[i]);
     largest = std::max(largest, r);
@@ -312,6 +350,42 @@ std::vector<glm::vec3> AntiradianceSolver::DirectAtLeaves(const antiradiance::Pa
   return direct;
 }
 
+std::vector<glm::vec3> AntiradianceSolver::GlossyDirectAtLeaves(
+    const antiradiance::Patches& patches, const std::vector<pathtrace::Brdf>& brdf,
+    const std::vector<int>& slots) {
+  // The glossy leaves in slot order (GlossyElement in
+  // antiradiance/element_glossy_direct.comp.glsl), roughness raised to the
+  // bins' as the transfer matrices (glossy_transfer.h).
+  std::vector<glm::vec4> input;
+  const float min_roughness = antiradiance::GlossyTransfer::BinRoughness(bins_);
+  for (int i = 0; i < patches.size(); ++i) {
+    if (slots[size_t(i)] < 0) continue;
+    const pathtrace::Brdf& b = brdf[size_t(i)];
+    input.push_back(glm::vec4(patches.position[size_t(i)], 0.0f));
+    input.push_back(glm::vec4(patches.normal[size_t(i)], std::max(b.roughness, min_roughness)));
+    input.push_back(glm::vec4(b.base_color, b.metallic));
+  }
+  const int count = int(input.size() / 3);
+  const size_t cells = size_t(count) * size_t(bins_.count());
+  if (count == 0) return {};
+  const gl::Buffer elements = gl::StorageBuffer(input);
+  const gl::Buffer output = gl::ZeroedBuffer(cells * sizeof(glm::vec4));
+  lighting_.Bind(glossy_direct_program_);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kElementBinding, elements.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGridBinding, output.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBinDirectionBinding, bin_directions_.id());
+  glossy_direct_program_.Set("uCount", count);
+  glossy_direct_program_.Set("uBins", bins_.count());
+  glossy_direct_program_.Use();
+  glDispatchCompute(gl::GroupCount(cells, 64), 1, 1);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+  std::vector<glm::vec4> l(cells);
+  glGetNamedBufferSubData(output.id(), 0, GLsizeiptr(cells * sizeof(glm::vec4)), l.data());
+  std::vector<glm::vec3> out(cells);
+  for (size_t c = 0; c < cells; ++c) out[c] = glm::vec3(l[c]);
+  return out;
+}
+
 void AntiradianceSolver::UploadIrradiance() {
   // Negative irradiance (antiradiance over-cancelling, see ARCHITECTURE)
   // is displayed as zero and its area reported in the stats.
@@ -326,6 +400,18 @@ void AntiradianceSolver::UploadIrradiance() {
     glNamedBufferSubData(elements_.id(), 0, GLsizeiptr(element_data_.size() * sizeof(glm::vec4)),
                          element_data_.data());
   }
+  // The glossy leaves' reflected indirect radiance per bin (negative, from
+  // antiradiance over-cancelling, displayed as zero like the irradiance).
+  const int glossy = glossy_ ? glossy_->count() : 0;
+  glossy_data_.assign(size_t(std::max(glossy, 1)) * size_t(bins_.count()), glm::vec4(0.0f));
+  for (int g = 0; g < glossy; ++g) {
+    const glm::vec3* l = transport_->glossy_indirect(g);
+    for (int j = 0; j < bins_.count(); ++j) {
+      glossy_data_[size_t(g) * size_t(bins_.count()) + size_t(j)] =
+          glm::vec4(glm::max(l[j], glm::vec3(0.0f)), 0.0f);
+    }
+  }
+  glossy_radiance_ = gl::StorageBuffer(glossy_data_);
 }
 
 absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) {
@@ -388,6 +474,11 @@ absl::Status AntiradianceSolver::Shade(SolverContext& ctx, const ViewCamera& /*c
   lighting_.Bind(display_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kElementBinding, elements_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGridBinding, grid_.id());
+  if (!glossy_radiance_) glossy_radiance_ = gl::StorageBuffer(std::vector<glm::vec4>(1));
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGlossyRadianceBinding, glossy_radiance_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBinDirectionBinding, bin_directions_.id());
+  display_.Set("uBins", bins_.count());
+  display_.Set("uBinSpacing", bins_.spacing());
   display_.Set("uGridMin", grid_min_);
   display_.Set("uGridDims", grid_dims_);
   display_.Set("uGridCell", grid_cell_);
@@ -410,6 +501,9 @@ SolverStats AntiradianceSolver::Stats() const {
       {"link_bytes", transport_ ? double(transport_->link_bytes()) : 0.0},
       {"table_bytes", transport_ ? double(transport_->table_bytes()) : 0.0},
       {"spreading_table_bytes", double(bins_.table_bytes())},
+      {"glossy_leaves", glossy_ ? double(glossy_->count()) : 0.0},
+      {"glossy_matrices", glossy_ ? double(glossy_->matrices()) : 0.0},
+      {"glossy_transfer_bytes", glossy_ ? double(glossy_->bytes()) : 0.0},
       {"element_gpu_bytes", double(leaves_.size() * sizeof(ElementGpu))},
       {"iterations", double(result_.iterations)},
       {"max_iterations", double(settings_.transport.iterations)},

@@ -23,6 +23,7 @@
 #include "solvers/job_stage_times.h"
 #include "solvers/emission_scale.h"
 #include "solvers/antiradiance/directional_bins.h"
+#include "solvers/antiradiance/glossy_transfer.h"
 #include "solvers/antiradiance/links.h"
 #include "solvers/antiradiance/patches.h"
 #include "solvers/antiradiance/shared_elements.h"
@@ -58,7 +59,8 @@ class AntiradianceSolver final : public Solver {
   }
   // Shadow maps and the display's element buffer (the transport is CPU memory).
   uint64_t gpu_bytes() const override {
-    return lighting_.gpu_bytes() + element_data_.size() * sizeof(glm::vec4);
+    return lighting_.gpu_bytes() + element_data_.size() * sizeof(glm::vec4) +
+           glossy_data_.size() * sizeof(glm::vec4);
   }
 
  private:
@@ -74,7 +76,13 @@ class AntiradianceSolver final : public Solver {
     bool same_layout = false;       // relink the moved roots' pairs only
     std::vector<bool> moved;        // per root
     std::vector<glm::vec3> direct;  // E_d per node, at the leaves
-    absl::Status status;            // a limit the links exceed
+    // Glossy leaves (glossy_transfer.h): the BRDF per node, the direct
+    // light's exitant radiance per glossy slot and bin, and the matrices
+    // (built in the job; the transport refers to them).
+    std::vector<pathtrace::Brdf> brdf;
+    std::vector<glm::vec3> glossy_direct;
+    std::unique_ptr<antiradiance::GlossyTransfer> glossy;
+    absl::Status status;  // a limit the links exceed
     std::unique_ptr<antiradiance::Transport> transport;
     antiradiance::TransportResult result;
     JobStageTimes times;  // link and the transport's stages
@@ -93,6 +101,11 @@ class AntiradianceSolver final : public Solver {
   std::vector<glm::vec3> DirectAtLeaves(const antiradiance::Patches& patches,
                                         const std::vector<int>& leaves);
   void UploadIrradiance();
+  // The direct light's exitant radiance per bin at the glossy leaves
+  // (slots per node, GlossyTransfer::Slots), glossy slot x bin.
+  std::vector<glm::vec3> GlossyDirectAtLeaves(const antiradiance::Patches& patches,
+                                              const std::vector<pathtrace::Brdf>& brdf,
+                                              const std::vector<int>& slots);
 
   // Configuration
   AntiradianceSettings settings_;
@@ -103,6 +116,7 @@ class AntiradianceSolver final : public Solver {
   antiradiance::SurfelCache surfel_cache_;
   antiradiance::LinkSet link_set_;
   std::unique_ptr<antiradiance::Transport> transport_;
+  std::unique_ptr<antiradiance::GlossyTransfer> glossy_;  // the transport refers to it
   std::vector<int> leaves_;
   DirectLighting lighting_;
   EmissionScale emission_;  // the lights the elements were solved for
@@ -111,10 +125,13 @@ class AntiradianceSolver final : public Solver {
   std::vector<glm::vec4> element_data_;  // its CPU copy, 3 vec4 per leaf
   gl::Buffer grid_;                      // uniform grid over the leaves: cell starts, then leaf ids
   gl::Buffer direct_;                    // per leaf direct irradiance (compute output)
+  gl::Buffer bin_directions_;            // the bins' main directions (vec4)
+  gl::Buffer glossy_radiance_;           // per glossy slot x bin: reflected indirect radiance
+  std::vector<glm::vec4> glossy_data_;   // its CPU copy
   glm::vec3 grid_min_{0.0f};
   glm::ivec3 grid_dims_{1};
   float grid_cell_ = 1.0f;
-  gl::Program direct_program_, display_;
+  gl::Program direct_program_, glossy_direct_program_, display_;
   gl::FullscreenPass fullscreen_;
 
   // Stats of the last link / update

@@ -1,0 +1,5 @@
+// antiradiance's directional bins on the GPU (std430 mirrors of
+// AntiradianceSolver's buffers): the bins' main directions and, per glossy
+// leaf, the reflected indirect radiance per bin (glossy_transfer.h).
+layout(std430, binding = 11) readonly buffer BinDirections { vec4 bin_direction[]; };
+uniform int uBins;
