@@ -129,7 +129,8 @@ absl::StatusOr<std::unique_ptr<antiradiance::Patches>> AntiradianceSolver::Patch
   const float max_edge = settings_.patch_size > 0.0f ? settings_.patch_size : diagonal / 24.0f;
   auto patches = std::make_unique<antiradiance::Patches>();
   if (settings_.surfels) {
-    *patches = antiradiance::SurfelPatches(ctx.state, ctx.gpu, surfel_cache_);
+    *patches = antiradiance::SurfelPatches(ctx.state, ctx.gpu, surfel_cache_,
+                                           settings_.direct.full_detail);
   } else {
     const auto triangles = antiradiance::SceneTriangles(ctx.state);
     // Refuse before splitting: a tiny patch_size makes up to 4^12 leaves per
@@ -288,7 +289,15 @@ void AntiradianceSolver::BuildDisplay() {
   leaf_area_ = 0.0;
   for (size_t k = 0; k < leaves_.size(); ++k) {
     const size_t i = size_t(leaves_[k]);
-    const float r = 1.5f * patches.radius[i];
+    // Unless full_detail (the splats of before proxies): at least the
+    // leaf's whole cell (5 % beyond its farthest corner, so every point of
+    // it has weight), as a leaf made from a proxy's sliver
+    // (hierarchy/element_source.h) reaches beyond 1.5 disc radii.
+    float r = 1.5f * patches.radius[i];
+    if (!settings_.direct.full_detail) {
+      for (const antiradiance::CellQuad& q : patches.Cell(int(i)))
+        for (const glm::vec3& c : q) r = std::max(r, 1.05f * glm::length(c - patches.position[i]));
+    }
     elements[k].position_radius = glm::vec4(patches.position[i], r);
     // w: the glossy slot, -1 for a Lambertian leaf (antiradiance/elements.glsl).
     elements[k].normal = glm::vec4(patches.normal[i], float(glossy_ ? glossy_->slot(int(i)) : -1));

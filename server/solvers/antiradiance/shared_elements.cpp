@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "solvers/antiradiance/scene_patches.h"
+#include "solvers/hierarchy/element_source.h"
 #include "solvers/hierarchy/element_tree.h"
 #include "solvers/hierarchy/subdivide.h"
 #include "solvers/hierarchy/surfels.h"
@@ -77,7 +78,8 @@ std::vector<std::vector<CellQuad>> VertexCells(const Primitive& primitive) {
   return cells;
 }
 
-Patches SurfelPatches(const SceneState& state, const GpuScene& gpu, SurfelCache& meshes) {
+Patches SurfelPatches(const SceneState& state, const GpuScene& gpu, SurfelCache& meshes,
+                      bool full_detail) {
   std::vector<hierarchy::ElementInstance> instances;
   std::vector<glm::mat4> world;
   std::vector<int> materials;
@@ -89,10 +91,16 @@ Patches SurfelPatches(const SceneState& state, const GpuScene& gpu, SurfelCache&
     SurfelMesh& cached = meshes[{deforms ? -1 - d.node : d.mesh, d.primitive}];
     if (!cached.elements || deforms) {
       auto mesh = std::make_shared<hierarchy::ElementMesh>();
-      // Long edges subdivided to the scene-sized limit (hierarchy/subdivide.h).
-      const Primitive subdivided = hierarchy::SubdivideLongEdges(
-          state.NodeMesh(size_t(d.node)).primitives[size_t(d.primitive)],
-          hierarchy::LocalMaxEdge(state, gpu, d.mesh, d.primitive));
+      // Long edges subdivided to the scene-sized limit (hierarchy/subdivide.h),
+      // of the coarsest proxy level within a tenth of it when there is one
+      // (hierarchy/element_source.h; deforming primitives have none).
+      const Primitive& full = state.NodeMesh(size_t(d.node)).primitives[size_t(d.primitive)];
+      const float max_edge = hierarchy::LocalMaxEdge(state, gpu, d.mesh, d.primitive);
+      const int level = hierarchy::ElementLevel(full, max_edge, full_detail || deforms);
+      const Primitive subdivided =
+          level < 0
+              ? hierarchy::SubdivideLongEdges(full, max_edge)
+              : hierarchy::SubdivideLongEdges(hierarchy::ProxyLevelMesh(full, level), max_edge);
       mesh->surfels = hierarchy::CreateSurfels(subdivided);
       mesh->tree = hierarchy::CreateHierarchy(mesh->surfels);
       cached.cells = VertexCells(subdivided);

@@ -38,7 +38,10 @@ using SurfelCache = std::map<std::pair<int, int>, SurfelMesh>;
 
 // create_surfels + create_hierarchy (shared, once per mesh primitive via
 // `cache`) for every draw of the scene, placed by the current transforms;
-// tags are material ids.
-Patches SurfelPatches(const SceneState& state, const GpuScene& gpu, SurfelCache& cache);
+// tags are material ids. Primitives with proxy levels give their surfels
+// from one (hierarchy/element_source.h) unless `full_detail`; the display
+// splats at the G-buffer's full-detail pixels, within 1.5 leaf radii.
+Patches SurfelPatches(const SceneState& state, const GpuScene& gpu, SurfelCache& cache,
+                      bool full_detail = false);
 
 }  // namespace gistream::antiradiance

@@ -27,6 +27,20 @@ void Display::UploadTriangles(const std::vector<uint32_t>& triangles) {
   glVertexArrayElementBuffer(vao_.id(), indices_.id());
 }
 
+void Display::UploadTransfer(const std::vector<glm::uvec3>& leaves,
+                             const std::vector<glm::vec3>& weights) {
+  leaves_ = gl::StorageBuffer(leaves);
+  glVertexArrayVertexBuffer(vao_.id(), 1, leaves_.id(), 0, sizeof(glm::uvec3));
+  glEnableVertexArrayAttrib(vao_.id(), 1);
+  glVertexArrayAttribIFormat(vao_.id(), 1, 3, GL_UNSIGNED_INT, 0);
+  glVertexArrayAttribBinding(vao_.id(), 1, 1);
+  weights_ = gl::StorageBuffer(weights);
+  glVertexArrayVertexBuffer(vao_.id(), 2, weights_.id(), 0, sizeof(glm::vec3));
+  glEnableVertexArrayAttrib(vao_.id(), 2);
+  glVertexArrayAttribFormat(vao_.id(), 2, 3, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(vao_.id(), 2, 2);
+}
+
 void Display::UploadVertices(const std::vector<glm::vec3>& world) {
   positions_ = gl::StorageBuffer(world);
   glVertexArrayVertexBuffer(vao_.id(), 0, positions_.id(), 0, sizeof(glm::vec3));

@@ -170,6 +170,7 @@ void ImplicitVisibilitySolver::UpdateEnvironment(const SceneState& state) {
       glm::vec3 sum(0.0f);
       for (uint32_t k = leaf_links_.env_offset[i]; k < leaf_links_.env_offset[i + 1]; ++k) {
         sum += leaf_links_.env_weight[k] * bin_radiance[leaf_links_.env_bin[k]];
+    display_.UploadTransfer(scene_.vertex_leaves(), scene_.vertex_weights());
       }
       e_env[i] = sum;
     });
@@ -184,7 +185,7 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
   bool lights = geometry || (changes & (kChangeLights | kChangeEmission));
   const bool environment = geometry || (changes & kChangeEnvironment);
   if (first) {
-    scene_.Build(ctx.state, ctx.gpu, ctx.timer);
+    scene_.Build(ctx.state, ctx.gpu, ctx.timer, settings_.direct.full_detail);
     display_.UploadTriangles(scene_.triangles());
   } else {
     ctx.timer.Skip("create_surfels");
@@ -291,6 +292,7 @@ absl::Status ImplicitVisibilitySolver::Shade(SolverContext& ctx, const ViewCamer
   // Display's irradiance (RGBA32F) and depth (32F) targets: 20 bytes a pixel.
   GS_RETURN_IF_ERROR(
       display_memory_.Fit(ctx, 0, uint64_t(gbuffer.width()) * gbuffer.height() * 20,
+      {"proxy_leaves", double(scene_.proxy_leaves())},
                           absl::StrCat("implicit_visibility: width x height ", gbuffer.width(), "x",
                                        gbuffer.height(), " (its display targets)")));
   // The G-buffer's clip planes (render/camera.h), so both depth tests agree.

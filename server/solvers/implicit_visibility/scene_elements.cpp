@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solvers/hierarchy/element_source.h"
 #include "solvers/hierarchy/subdivide.h"
+#include "solvers/hierarchy/vertex_transfer.h"
 #include "util/parallel_for.h"
 
 namespace gistream {
@@ -29,7 +31,8 @@ glm::vec3 Texel(const Image& image, glm::vec2 uv) {
 
 }  // namespace
 
-void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::StageTimer& timer) {
+void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::StageTimer& timer,
+                          bool full_detail) {
   sources_.clear();
   // (mesh, primitive) in first-use order; a deforming node's instance is
   // keyed (-1 - node, primitive): its elements follow its posed mesh
@@ -45,7 +48,7 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
   };
   std::vector<int> key_mesh;  // the scene mesh of each key
   for (const DrawItem& d : gpu.draws()) {
-    sources_.push_back({d.node, d.mesh, d.primitive, nullptr});
+    sources_.push_back({d.node, d.mesh, d.primitive, nullptr, nullptr, 0});
     if (std::find(keys.begin(), keys.end(), key_of(d)) == keys.end()) {
       keys.push_back(key_of(d));
       key_mesh.push_back(d.mesh);
@@ -53,19 +56,40 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
   }
   std::vector<std::shared_ptr<hierarchy::ElementMesh>> meshes(keys.size());
   std::vector<std::shared_ptr<const Primitive>> primitives(keys.size());
+  std::vector<std::shared_ptr<const Primitive>> displays(keys.size());
+  std::vector<hierarchy::VertexTransfer> transfers(keys.size());
   std::vector<hierarchy::Midpoints> midpoints(keys.size());
   {
     gl::StageTimer::Scope stage(timer, "create_surfels", /*cpu_stage=*/true);
     std::vector<float> max_edge(keys.size());
+    std::vector<int> level(keys.size(), -1);
     for (size_t k = 0; k < keys.size(); ++k) {
       max_edge[k] = hierarchy::LocalMaxEdge(state, gpu, key_mesh[k], keys[k].second);
+      // A deforming primitive has no proxies (its pose would void the bound).
+      if (keys[k].first >= 0)
+        level[k] = hierarchy::ElementLevel(primitive_of(keys[k]), max_edge[k], full_detail);
     }
     ParallelFor(keys.size(), 1, [&](size_t k) {
-      primitives[k] = std::make_shared<const Primitive>(
-          hierarchy::SubdivideLongEdges(primitive_of(keys[k]), max_edge[k], &midpoints[k]));
+      const Primitive& full = primitive_of(keys[k]);
+      if (level[k] < 0) {
+        primitives[k] = std::make_shared<const Primitive>(
+            hierarchy::SubdivideLongEdges(full, max_edge[k], &midpoints[k]));
+        displays[k] = primitives[k];
+      } else {
+        primitives[k] = std::make_shared<const Primitive>(hierarchy::SubdivideLongEdges(
+            hierarchy::ProxyLevelMesh(full, level[k]), max_edge[k], &midpoints[k]));
+        displays[k] = std::make_shared<const Primitive>(
+            hierarchy::SubdivideLongEdges(hierarchy::SurfaceOf(full), max_edge[k]));
+      }
       meshes[k] = std::make_shared<hierarchy::ElementMesh>();
       meshes[k]->surfels = hierarchy::CreateSurfels(*primitives[k]);
     });
+    // The full mesh's vertices onto the proxy's triangles, once per key
+    // (each a ParallelFor of its own).
+    for (size_t k = 0; k < keys.size(); ++k) {
+      if (displays[k] != primitives[k])
+        transfers[k] = hierarchy::TransferVertices(*displays[k], *primitives[k]);
+    }
   }
   {
     gl::StageTimer::Scope stage(timer, "create_hierarchy", /*cpu_stage=*/true);
@@ -74,12 +98,15 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
     });
   }
   std::vector<hierarchy::ElementInstance> instances;
+  std::vector<size_t> key_of_source(sources_.size());
   for (size_t i = 0; i < sources_.size(); ++i) {
     InstanceSource& s = sources_[i];
     const size_t k =
         size_t(std::find(keys.begin(), keys.end(), key_of(gpu.draws()[i])) - keys.begin());
     instances.push_back({meshes[k], 0, {}});
     s.elements = primitives[k];
+    s.display = displays[k];
+    key_of_source[i] = k;
   }
   deforming_.clear();
   for (size_t k = 0; k < keys.size(); ++k) {
@@ -88,14 +115,33 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
         {-1 - keys[k].first, keys[k].second, primitives[k], std::move(midpoints[k]), meshes[k]});
   }
   elements_ = hierarchy::Elements(std::move(instances));
-  // Display triangles over the leaves (one leaf per mesh vertex).
+  // The display mesh: a leaf per vertex where the elements are the full
+  // mesh, else the full mesh's vertices with their transfer.
   triangles_.clear();
+  vertex_leaves_.clear();
+  vertex_weights_.clear();
+  proxy_leaves_ = 0;
   for (size_t i = 0; i < sources_.size(); ++i) {
-    const Primitive& p = *sources_[i].elements;
-    const uint32_t offset = uint32_t(elements_.instances()[i].leaf_offset);
-    for (uint32_t index : p.indices) triangles_.push_back(offset + index);
+    InstanceSource& s = sources_[i];
+    const uint32_t leaf_offset = uint32_t(elements_.instances()[i].leaf_offset);
+    s.display_offset = int(vertex_leaves_.size());
+    for (uint32_t index : s.display->indices)
+      triangles_.push_back(uint32_t(s.display_offset) + index);
+    if (s.display == s.elements) {
+      for (uint32_t v = 0; v < uint32_t(s.elements->positions.size()); ++v) {
+        vertex_leaves_.push_back(glm::uvec3(leaf_offset + v));
+        vertex_weights_.push_back({1.0f, 0.0f, 0.0f});
+      }
+      continue;
+    }
+    proxy_leaves_ += int(s.elements->positions.size());
+    const hierarchy::VertexTransfer& t = transfers[key_of_source[i]];
+    for (size_t v = 0; v < t.corner.size(); ++v) {
+      vertex_leaves_.push_back(glm::uvec3(leaf_offset) + t.corner[v]);
+      vertex_weights_.push_back(t.weight[v]);
+    }
   }
-  vertex_world_.assign(size_t(elements_.leaf_count()), glm::vec3(0.0f));
+  vertex_world_.assign(vertex_leaves_.size(), glm::vec3(0.0f));
   built_ = true;
 }
 
@@ -120,6 +166,7 @@ void SceneElements::UpdatePose(const SceneState& state) {
     for (size_t k = 0; k < deforming_.size(); ++k) {
       if (deforming_[k].node != s.node || deforming_[k].primitive != s.primitive) continue;
       s.elements = posed[k];
+      s.display = posed[k];  // deforming primitives have no proxies
       instances[i].mesh = deforming_[k].mesh;
     }
   }
@@ -132,8 +179,8 @@ void SceneElements::UpdateGeometry(const SceneState& state) {
   for (const InstanceSource& s : sources_) world.push_back(state.world()[size_t(s.node)]);
   elements_.Update(world);
   ParallelFor(sources_.size(), 1, [&](size_t i) {
-    const Primitive& p = *sources_[i].elements;
-    const size_t offset = size_t(elements_.instances()[i].leaf_offset);
+    const Primitive& p = *sources_[i].display;
+    const size_t offset = size_t(sources_[i].display_offset);
     for (size_t v = 0; v < p.positions.size(); ++v) {
       vertex_world_[offset + v] = glm::vec3(world[i] * glm::vec4(p.positions[v], 1.0f));
     }

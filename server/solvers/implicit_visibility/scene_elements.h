@@ -5,6 +5,10 @@
 // vertex in world space, the triangle indices, the diffuse albedo. Meshes
 // with edges longer than the scene-sized limit are subdivided first
 // (hierarchy/subdivide.h), so a leaf is a vertex of that finer mesh.
+// Primitives with proxy levels make their elements from one
+// (hierarchy/element_source.h) unless `full_detail`; the display then
+// draws the full mesh, each vertex's irradiance interpolated from the
+// nearest element-mesh triangle's leaves (hierarchy/vertex_transfer.h).
 #pragma once
 
 #include <map>
@@ -25,7 +29,9 @@ class SceneElements {
 
   // create_surfels + create_hierarchy (timed as two stages, CPU), then
   // the forest layout. Once per solver: the draw list never changes.
-  void Build(const SceneState& state, const GpuScene& gpu, gl::StageTimer& timer);
+  // `full_detail`: every element from the full mesh, as before proxies.
+  void Build(const SceneState& state, const GpuScene& gpu, gl::StageTimer& timer,
+             bool full_detail = false);
   // A deformation: the deforming instances' leaves (discs) re-made from
   // their posed meshes (SceneState::NodeMesh, subdivided as at Build);
   // the hierarchy itself remains untouched, as Section 4.2.1 updates
@@ -38,16 +44,29 @@ class SceneElements {
   void UpdateAlbedo(const SceneState& state);
 
   const hierarchy::Elements& elements() const { return elements_; }
-  const std::vector<glm::vec3>& vertex_world() const { return vertex_world_; }
-  const std::vector<uint32_t>& triangles() const { return triangles_; }
   const std::vector<glm::vec3>& albedo() const { return albedo_; }
+  // Leaves made from a proxy level (0 with full detail or no proxies).
+  int proxy_leaves() const { return proxy_leaves_; }
+
+  // The display mesh: per display vertex its world position, the three
+  // leaves whose irradiance it interpolates and their weights (a leaf
+  // itself: (leaf, leaf, leaf), (1, 0, 0)); triangles over display
+  // vertices.
+  const std::vector<glm::vec3>& vertex_world() const { return vertex_world_; }
+  const std::vector<glm::uvec3>& vertex_leaves() const { return vertex_leaves_; }
+  const std::vector<glm::vec3>& vertex_weights() const { return vertex_weights_; }
+  const std::vector<uint32_t>& triangles() const { return triangles_; }
 
  private:
   struct InstanceSource {
     int node = 0, mesh = 0, primitive = 0;
-    // The mesh primitive with its long edges subdivided
-    // (hierarchy/subdivide.h): the leaves are its vertices.
+    // The mesh primitive (or its proxy level) with its long edges
+    // subdivided (hierarchy/subdivide.h): the leaves are its vertices.
     std::shared_ptr<const Primitive> elements;
+    // What the display draws: `elements` itself, or the full mesh
+    // (subdivided alike) when the elements come from a proxy.
+    std::shared_ptr<const Primitive> display;
+    int display_offset = 0;  // its first display vertex
   };
   // A deforming node's primitive as Build subdivided it: UpdatePose
   // repeats that subdivision on the pose and keeps the tree.
@@ -61,9 +80,12 @@ class SceneElements {
   std::vector<InstanceSource> sources_;
   std::vector<DeformingSource> deforming_;
   hierarchy::Elements elements_;
-  std::vector<glm::vec3> vertex_world_;  // per leaf
-  std::vector<uint32_t> triangles_;      // leaf ids, 3 per triangle
-  std::vector<glm::vec3> albedo_;        // per leaf
+  std::vector<glm::vec3> vertex_world_;    // per display vertex
+  std::vector<glm::uvec3> vertex_leaves_;  // per display vertex
+  std::vector<glm::vec3> vertex_weights_;  // per display vertex
+  std::vector<uint32_t> triangles_;        // display vertex ids, 3 per triangle
+  std::vector<glm::vec3> albedo_;          // per leaf
+  int proxy_leaves_ = 0;
 };
 
 }  // namespace gistream

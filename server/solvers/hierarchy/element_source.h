@@ -1,0 +1,39 @@
+// The mesh the element hierarchy is made of (issue 19): a primitive with
+// proxy levels (scene/proxy_levels.h) gives its elements from the coarsest
+// level whose recorded error is within kProxyErrorFraction of the element
+// target size (the subdivision limit, hierarchy/subdivide.h), and that
+// level is then subdivided as a full mesh would be. Dong et al. 2007 and
+// Dachsbacher et al. 2007 build their elements from a simplified
+// hierarchy, not from the render mesh.
+#pragma once
+
+#include "scene/scene.h"
+
+namespace gistream::hierarchy {
+
+// A level may move the surface by this fraction of the subdivision limit.
+// A disc sits at its area centroid and a leaf is at most the limit wide,
+// so a surface moved by x of the limit moves each disc by at most about x
+// of its size; a form factor A cos cos / (pi r^2) between neighbours (r
+// about one element size) then changes by O(x) (r by x of itself, the
+// normals by an angle of O(x)): 10 % for the nearest pairs, less with
+// distance (relative change x size / r).
+inline constexpr float kProxyErrorFraction = 0.1f;
+
+// The proxy level the elements of `primitive` are made of: the coarsest
+// whose recorded error is within kProxyErrorFraction x `max_edge` (local
+// units, as hierarchy::LocalMaxEdge); -1 (the full mesh) with
+// `full_detail`, when none is, or when max_edge <= 0.
+int ElementLevel(const Primitive& primitive, float max_edge, bool full_detail);
+
+// Level `level`'s triangles over the vertices it uses, in their order in
+// `primitive` (positions, normals and uvs copied; material and bounds; no
+// proxies, clusters, skin or morph targets), with coplanar slivers flipped
+// towards the Delaunay triangulation (the surface unchanged).
+Primitive ProxyLevelMesh(const Primitive& primitive, int level);
+
+// `primitive`'s surface alone: positions, normals, uvs, indices, material
+// and bounds (what the display needs; no proxies or clusters).
+Primitive SurfaceOf(const Primitive& primitive);
+
+}  // namespace gistream::hierarchy
