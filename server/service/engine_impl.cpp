@@ -90,6 +90,9 @@ void MergeTimings(std::vector<StageTiming>& total, std::vector<StageTiming> slic
     }
     it->cpu_ms += t.cpu_ms;
     it->gpu_ms += t.gpu_ms;
+    // A stage skipped in the first slices and run in a later one (a
+    // background job taken) is what the run says it is.
+    if (it->skipped && !t.skipped) it->cpu_stage = t.cpu_stage;
     it->skipped = it->skipped && t.skipped;
   }
 }

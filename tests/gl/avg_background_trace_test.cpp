@@ -1,5 +1,5 @@
 // `avg`'s voxelize and trace run as a background job on the CPU pool
-// (issue 12). With the pool's workers held busy, the Update of a moved
+// (issue 12), the first solve's too. With the pool's workers held busy, the Update of a moved
 // node returns without having run either stage: UpdateComplete is false,
 // the frame reports both skipped and the shown VPLs are the last ones.
 // Once the job is taken the VPLs equal a synchronous full voxelization and
@@ -9,7 +9,6 @@
 // the settled frame equals a fresh solve of the moved scene.
 #include <chrono>
 #include <future>
-#include <latch>
 #include <map>
 #include <memory>
 #include <string>
@@ -24,6 +23,7 @@
 #include "solvers/avg/avg_solver.h"
 #include "support/frame_queue.h"
 #include "support/gl_context.h"
+#include "support/held_pool.h"
 #include "support/render_helpers.h"
 #include "util/cpu_pool.h"
 
@@ -46,36 +46,7 @@ NodeTransformUpdate MoveTallBlock(const glm::vec3& translation) {
   return move;
 }
 
-// Every worker of the CPU pool runs a task that waits for Release(), so a
-// job started meanwhile cannot run. With a pool of one thread Async runs
-// inline (a job runs before Start returns); nothing is held then.
-class HeldPool {
- public:
-  HeldPool() {
-    const unsigned workers = CpuPool::Get().threads() - 1;
-    std::latch started(workers);
-    const std::shared_future<void> gate = release_.get_future().share();
-    for (unsigned i = 0; i < workers; ++i) {
-      held_.push_back(CpuPool::Get().Async([&started, gate] {
-        started.count_down();
-        gate.wait();
-      }));
-    }
-    started.wait();
-  }
-  ~HeldPool() { Release(); }
-  void Release() {
-    if (released_) return;
-    released_ = true;
-    release_.set_value();
-    for (const std::shared_future<void>& f : held_) f.wait();
-  }
-
- private:
-  std::promise<void> release_;
-  std::vector<std::shared_future<void>> held_;
-  bool released_ = false;
-};
+using testing::HeldPool;
 
 class AvgBackgroundTrace : public testing::GlContextTest {
  protected:
@@ -87,14 +58,22 @@ class AvgBackgroundTrace : public testing::GlContextTest {
     auto gpu = GpuScene::Upload(*state_);
     ASSERT_TRUE(gpu.ok()) << gpu.status();
     gpu_ = *std::move(gpu);
-    auto params = ValidateParams(AvgSolver::Describe(), kParams);
-    ASSERT_TRUE(params.ok()) << params.status();
-    auto solver = AvgSolver::Create(*params);
-    ASSERT_TRUE(solver.ok()) << solver.status();
-    solver_.reset(static_cast<AvgSolver*>(solver->release()));
-    // The first solve waits for its job: complete after one Update.
+    solver_ = CreateSolver();
+    // The first solve is a background job too: frames (Updates) go on
+    // until it is taken and its maps are drawn.
     Update(kChangeAll);
-    ASSERT_TRUE(solver_->UpdateComplete());
+    while (!solver_->UpdateComplete()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      Update(kChangeNone);
+    }
+  }
+
+  static std::unique_ptr<AvgSolver> CreateSolver() {
+    auto params = ValidateParams(AvgSolver::Describe(), kParams);
+    EXPECT_TRUE(params.ok()) << params.status();
+    auto solver = AvgSolver::Create(*params);
+    EXPECT_TRUE(solver.ok()) << solver.status();
+    return std::unique_ptr<AvgSolver>(static_cast<AvgSolver*>(solver->release()));
   }
 
   // One frame's Update (no budget: a re-map is drawn whole); its stage
@@ -196,9 +175,29 @@ TEST_F(AvgBackgroundTrace, AMoveReturnsBeforeTheTraceAndEndsAsAFullTrace) {
   ExpectFullTrace();
 }
 
+TEST_F(AvgBackgroundTrace, TheFirstSolveReturnsBeforeItsJobAndEndsAsAFullTrace) {
+  // A new solver: its first Update starts the job and returns (the render
+  // thread never waits for the pool); frames meanwhile have no VPLs.
+  solver_ = CreateSolver();
+  {
+    HeldPool held;
+    Update(kChangeAll);
+    EXPECT_FALSE(solver_->UpdateComplete());
+    EXPECT_FALSE(Ran("voxelize"));
+    EXPECT_FALSE(Ran("trace_vpls"));
+    EXPECT_EQ(Stat("trace_pending"), 1.0);
+    EXPECT_TRUE(solver_->vpls().vpls.empty());
+    Update(kChangeNone);
+    EXPECT_FALSE(solver_->UpdateComplete());
+  }
+  EXPECT_EQ(UpdateUntilComplete(), 1);
+  EXPECT_EQ(Stat("trace_pending"), 0.0);
+  ExpectFullTrace();
+}
+
 TEST_F(AvgBackgroundTrace, AMoveWhileTheJobRunsIsTracedByTheNextJob) {
   // (A pool of one thread ran the first job inline: the second Update takes it.)
-  const bool held_workers = CpuPool::Get().threads() > 1;
+  const bool held_workers = HeldPool::Holds();
   {
     HeldPool held;
     Update(Move({-0.05f, 0.0f, 0.05f}));

@@ -36,8 +36,10 @@ TEST(BackgroundRelink, AStreamKeepsItsFramesAndConvergesToAFreshSolve) {
   auto sink = std::make_shared<testing::FrameQueue>();
   auto opened = testing::SharedEngine().OpenSession(config, sink);
   ASSERT_TRUE(opened.ok()) << opened.status();
-  // The first solve is synchronous: the first frame is complete.
-  auto first = sink->WaitFor([](const EncodedFrame&) { return true; });
+  // The first solve links in the background too (tests/gl/first_solve_test):
+  // wait for its complete frame.
+  auto first =
+      sink->WaitFor([](const EncodedFrame& f) { return Stat(f, "update_complete") == 1.0; });
   ASSERT_NE(first, nullptr);
   EXPECT_EQ(Stat(*first, "links_pending"), 0.0);
 

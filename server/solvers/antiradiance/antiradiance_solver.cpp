@@ -424,7 +424,8 @@ void AntiradianceSolver::UploadIrradiance() {
 }
 
 absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) {
-  const bool first = !transport_;
+  const bool first = !started_;  // (the first solve's job may still run)
+  started_ = true;
   const bool geometry = (changes & kChangeShape) || first;
   const bool light =
       geometry ||
@@ -446,13 +447,13 @@ absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) 
     return absl::OkStatus();
   }
   {
-    // The shadow maps: whole for the first solve, then in slices of the
-    // frame budget while the shown set stays bound (render/direct_lighting.h).
+    // The shadow maps, in slices of the frame budget while the shown set
+    // stays bound (render/direct_lighting.h).
     gl::StageTimer::Scope stage(ctx.timer, "local_pass", /*cpu_stage=*/true);
     const bool drawing = lighting_.pending();
     if (light) {
-      GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes,
-                                          first ? 0.0 : ctx.budget_ms));
+      GS_RETURN_IF_ERROR(
+          lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes, ctx.budget_ms));
     } else if (drawing) {
       lighting_.Continue(ctx.gpu, ctx.state, ctx.budget_ms);
     }
@@ -463,14 +464,17 @@ absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) 
   if (geometry) relink_due_ = true;
   if (std::shared_ptr<SolveJob> done = solve_.TakeIfDone())
     GS_RETURN_IF_ERROR(TakeSolve(ctx, *done));
-  if (stale_ && !solve_.running()) {
+  // The first solve waits for its shadow maps (its elements' direct light
+  // reads them); later ones start with the maps shown and follow the new.
+  if (stale_ && !solve_.running() && (transport_ || !lighting_.pending())) {
     // Link and transport run on the CPU pool on copies (links of the moved
-    // roots only, Section 3.3); frames show the last solution meanwhile. A
-    // change during the job makes the next one, with the newest data.
+    // roots only, Section 3.3); frames show the last solution meanwhile,
+    // before the first one direct light alone (the render thread never
+    // waits for the job). A change during the job makes the next one, with
+    // the newest data.
     GS_RETURN_IF_ERROR(StartSolve(ctx, relink_due_));
     relinking_ = relink_due_;
     stale_ = relink_due_ = false;
-    if (first) GS_RETURN_IF_ERROR(TakeSolve(ctx, *solve_.TakeWhenDone()));
   }
   if (!stale_ && !solve_.running() && !lighting_.pending()) emission_.Solved(ctx.state);
   return absl::OkStatus();
@@ -479,6 +483,11 @@ absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) 
 absl::Status AntiradianceSolver::Shade(SolverContext& ctx, const ViewCamera& /*camera*/,
                                        const GBuffer& gbuffer) {
   gl::StageTimer::Scope stage(ctx.timer, "display");
+  if (!elements_) {
+    // No solution yet: an empty grid (one cell, no leaf), direct light only.
+    elements_ = gl::StorageBuffer(std::vector<ElementGpu>(1), GL_DYNAMIC_STORAGE_BIT);
+    grid_ = gl::StorageBuffer(std::vector<uint32_t>{0, 0});
+  }
   gbuffer.BeginShadePass();
   lighting_.Bind(display_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kElementBinding, elements_.id());

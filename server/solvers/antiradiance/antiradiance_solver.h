@@ -142,6 +142,7 @@ class AntiradianceSolver final : public Solver {
 
   // The solve under way; last, so that it is waited for before the data
   // its job reads (bins_) is destroyed.
+  bool started_ = false;     // the first Update ran (its solve may still be running)
   bool stale_ = false;       // a change (or new shadow maps) waits for a solve
   bool relink_due_ = false;  // and it moved geometry
   bool relinking_ = false;   // the running job relinks

@@ -350,7 +350,7 @@ void AvgSolver::TakeTrace(SolverContext& ctx, TraceJob& job) {
 }
 
 absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
-  const bool first = !traced_;
+  const bool first = !started_;
   latest_version_ = ctx.state.version();
   if (first) unmapped_all_ = true;
   vpl_maps_redrawn_ = 0;
@@ -377,13 +377,10 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
   }
   if (due_ != kChangeNone && !trace_job_.running()) {
     // Voxelize and trace run on the CPU pool on a copy of the scene state;
-    // frames show the last VPLs and maps meanwhile. The first solve waits
-    // for its job: there is nothing to show before it.
+    // frames show the last VPLs and maps meanwhile, and before the first
+    // job's, direct light alone (the render thread never waits for a job).
     StartTrace(ctx);
-    if (first) {
-      TakeTrace(ctx, *trace_job_.TakeWhenDone());
-      taken = true;
-    }
+    started_ = true;
   }
   if (!taken) {
     ctx.timer.Skip("voxelize");

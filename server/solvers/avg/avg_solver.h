@@ -113,6 +113,7 @@ class AvgSolver final : public Solver {
   std::optional<avg::VoxelGrid> grid_;
   MovedBounds moved_;            // the transforms the last job voxelized
   bool traced_ = false;          // the first solve is done
+  bool started_ = false;         // the first voxelize + trace was started
   ChangeMask due_ = 0;           // changes the next job must cover
   bool job_voxelizes_ = false;   // the running job voxelizes
   uint64_t latest_version_ = 0;  // newest scene version seen

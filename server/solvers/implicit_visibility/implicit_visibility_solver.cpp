@@ -96,22 +96,6 @@ absl::Status ImplicitVisibilitySolver::CheckBinBytes() const {
   return absl::OkStatus();
 }
 
-absl::Status ImplicitVisibilitySolver::Relink(SolverContext& ctx) {
-  GS_RETURN_IF_ERROR(CheckBinBytes());
-  const hierarchy::Elements& e = scene_.elements();
-  {
-    gl::StageTimer::Scope stage(ctx.timer, "create_links", /*cpu_stage=*/true);
-    link_stats_ = hierarchy::CreateLinks(e, bins_, settings_.linking, table_);
-  }
-  {
-    gl::StageTimer::Scope stage(ctx.timer, "refine_push", /*cpu_stage=*/true);
-    const bool environment = ctx.state.scene().environment.has_value();
-    leaf_links_ = hierarchy::RefinePush(e, bins_, table_, environment, &refine_stats_);
-    illumination_.UploadLinks(leaf_links_);
-  }
-  return absl::OkStatus();
-}
-
 absl::Status ImplicitVisibilitySolver::StartRelink(SolverContext& ctx) {
   GS_RETURN_IF_ERROR(CheckBinBytes());
   if (relink_.running()) {
@@ -170,7 +154,7 @@ void ImplicitVisibilitySolver::UpdateEnvironment(const SceneState& state) {
       glm::vec3 sum(0.0f);
       for (uint32_t k = leaf_links_.env_offset[i]; k < leaf_links_.env_offset[i + 1]; ++k) {
         sum += leaf_links_.env_weight[k] * bin_radiance[leaf_links_.env_bin[k]];
-    display_.UploadTransfer(scene_.vertex_leaves(), scene_.vertex_weights());
+        display_.UploadTransfer(scene_.vertex_leaves(), scene_.vertex_weights());
       }
       e_env[i] = sum;
     });
@@ -204,21 +188,21 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
       illumination_.UploadElements(scene_.elements(), scene_.albedo());
       display_.UploadVertices(scene_.vertex_world());
     }
-    if (first) {
-      GS_RETURN_IF_ERROR(Relink(ctx));
-    } else {
-      // A moved node or a deformation: the links are rebuilt by a
-      // background job on the CPU pool; until they are, frames show the
-      // last solution on the moved geometry (the display interpolates it
-      // at the new vertices).
-      GS_RETURN_IF_ERROR(StartRelink(ctx));
-      illumination_stale_ = true;
-    }
+    // The links are built by a background job on the CPU pool, the first
+    // solve's too; until they are in, frames show the last solution on the
+    // moved geometry (the display interpolates it at the new vertices),
+    // and before the first one direct light alone.
+    GS_RETURN_IF_ERROR(StartRelink(ctx));
+    illumination_stale_ = true;
   } else {
     ctx.timer.Skip("update_elements");
   }
   const bool relinked = FinishRelink(ctx);
-  if (!first && !relinked) {  // (the first solve linked on this thread)
+  // The environment's share per leaf follows the links and the
+  // environment; it is gathered with the next illumination, which may be
+  // frames later (shadow maps still drawing).
+  if (environment || relinked) environment_stale_ = true;
+  if (!relinked) {
     ctx.timer.Skip("create_links");
     ctx.timer.Skip("refine_push");
   }
@@ -277,7 +261,8 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
     scene_.UpdateAlbedo(ctx.state);
     illumination_.UploadElements(scene_.elements(), scene_.albedo());
   }
-  if (environment || relinked) UpdateEnvironment(ctx.state);
+  if (environment_stale_) UpdateEnvironment(ctx.state);
+  environment_stale_ = false;
   result_ = illumination_.Run(lighting_, settings_.bounces, settings_.tolerance);
   emission_.Solved(ctx.state);
   indirect_scale_ = 1.0f;
@@ -292,7 +277,7 @@ absl::Status ImplicitVisibilitySolver::Shade(SolverContext& ctx, const ViewCamer
   // Display's irradiance (RGBA32F) and depth (32F) targets: 20 bytes a pixel.
   GS_RETURN_IF_ERROR(
       display_memory_.Fit(ctx, 0, uint64_t(gbuffer.width()) * gbuffer.height() * 20,
-      {"proxy_leaves", double(scene_.proxy_leaves())},
+                          {"proxy_leaves", double(scene_.proxy_leaves())},
                           absl::StrCat("implicit_visibility: width x height ", gbuffer.width(), "x",
                                        gbuffer.height(), " (its display targets)")));
   // The G-buffer's clip planes (render/camera.h), so both depth tests agree.

@@ -85,10 +85,9 @@ class ImplicitVisibilitySolver final : public Solver {
     JobStageTimes times;  // create_links, refine_push
   };
   absl::Status CheckBinBytes() const;
-  // First solve: links now, on this thread.
-  absl::Status Relink(SolverContext& ctx);
-  // Later geometry changes: a background relink (or, while one runs, a
-  // note to start another with the newest geometry when it ends).
+  // The first solve and later geometry changes: a background relink (or,
+  // while one runs, a note to start another with the newest geometry when
+  // it ends).
   absl::Status StartRelink(SolverContext& ctx);
   // Takes a finished background relink's links; true when it did.
   bool FinishRelink(SolverContext& ctx);
@@ -110,6 +109,7 @@ class ImplicitVisibilitySolver final : public Solver {
   ViewScratch display_memory_;  // display_'s view-sized targets
 
   bool illumination_stale_ = false;  // an illumination waits for the links
+  bool environment_stale_ = false;   // the leaves' environment share waits for it
   uint64_t solved_version_ = 0;      // scene version the shown GI reflects
   uint64_t latest_version_ = 0;      // newest scene version seen
 

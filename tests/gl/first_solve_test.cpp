@@ -1,0 +1,104 @@
+// The first solve of a GI solver is a background job like any later
+// update: the render thread, which every session shares, never waits for
+// it. With the CPU pool's workers held (so no job can run), sessions that
+// open `avg`, `implicit_visibility` and `antiradiance` still get frames
+// (direct light alone, update_complete 0), and a `direct` stream beside
+// them still answers a camera update. Once the pool is released each
+// reaches a complete frame that adds the indirect light to the direct-only
+// one, equal to a Render of a fresh solver.
+#include <algorithm>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "support/frame_queue.h"
+#include "support/held_pool.h"
+#include "support/render_helpers.h"
+
+namespace gistream {
+namespace {
+
+using testing::FrameStat;
+
+constexpr uint32_t kSize = 24;
+
+struct GiSession {
+  GiSession(std::string s, std::map<std::string, std::string> p)
+      : solver(std::move(s)), params(std::move(p)) {}
+  std::string solver;
+  std::map<std::string, std::string> params;
+  std::shared_ptr<testing::FrameQueue> sink = std::make_shared<testing::FrameQueue>();
+  std::string id;
+};
+
+double Mean(const testing::FloatImage& image) {
+  double sum = 0.0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const glm::vec3 v = image.at(x, y);
+      sum += double(v.r + v.g + v.b);
+    }
+  }
+  return sum / std::max(1.0, 3.0 * image.width * image.height);
+}
+
+TEST(FirstSolves, NeverStallTheRenderThreadAndEndAsAFreshSolve) {
+  const testing::BundledCopy scene("cornell_box.gltf"), fresh_scene("cornell_box.gltf");
+  Engine& engine = testing::SharedEngine();
+  auto direct_sink = std::make_shared<testing::FrameQueue>();
+  auto direct =
+      engine.OpenSession(testing::ExrStreamConfig(scene.id(), "direct", {}, kSize), direct_sink);
+  ASSERT_TRUE(direct.ok()) << direct.status();
+  ASSERT_NE(direct_sink->Next(), nullptr);
+
+  std::vector<GiSession> sessions = {
+      {"avg", {{"vpls", "128"}, {"grid", "32"}, {"shadow_res", "16"}}},
+      {"implicit_visibility", {{"bins_per_face", "6"}, {"area_samples", "8"}}},
+      {"antiradiance", {{"bins", "64"}, {"area_samples", "8"}}},
+  };
+  {
+    testing::HeldPool held;
+    for (GiSession& s : sessions) {
+      auto opened = engine.OpenSession(
+          testing::ExrStreamConfig(scene.id(), s.solver, s.params, kSize), s.sink);
+      ASSERT_TRUE(opened.ok()) << s.solver << ": " << opened.status();
+      s.id = opened->id;
+      // A first frame comes while the job cannot run: the Update returned.
+      auto first = s.sink->Next();
+      ASSERT_NE(first, nullptr) << s.solver;
+      if (testing::HeldPool::Holds()) {
+        EXPECT_EQ(FrameStat(*first, "update_complete"), 0.0) << s.solver;
+      }
+    }
+    // The direct stream beside them still answers an update.
+    CameraUpdate camera;
+    camera.look_at = LookAt{{0.0f, 1.0f, 3.5f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+    ASSERT_TRUE(engine.PushUpdate(direct->id, {1, camera}).ok());
+    EXPECT_NE(direct_sink->WaitFor([](const EncodedFrame& f) { return f.last_update_seq >= 1; }),
+              nullptr);
+  }
+  for (GiSession& s : sessions) {
+    auto complete = s.sink->WaitFor(
+        [](const EncodedFrame& f) { return FrameStat(f, "update_complete") == 1.0; });
+    engine.CloseSession(s.id);
+    ASSERT_NE(complete, nullptr) << s.solver;
+    const testing::FloatImage solved = testing::DecodeExr(*complete);
+    if (testing::HeldPool::Holds()) {
+      // The frames before it showed direct light alone; the solution adds
+      // the indirect light (about a third of the Cornell box's mean).
+      const testing::FloatImage direct_only = testing::DecodeExr(*s.sink->WaitFor(
+          [](const EncodedFrame& f) { return FrameStat(f, "update_complete") == 0.0; }));
+      EXPECT_GT(Mean(solved), 1.1 * Mean(direct_only)) << s.solver;
+    }
+    testing::ExpectSameImage(solved, testing::RenderRequestExr(testing::SolverRequest(
+                                         fresh_scene.id(), s.solver, s.params, kSize)));
+  }
+  engine.CloseSession(direct->id);
+}
+
+}  // namespace
+}  // namespace gistream
