@@ -154,7 +154,6 @@ void ImplicitVisibilitySolver::UpdateEnvironment(const SceneState& state) {
       glm::vec3 sum(0.0f);
       for (uint32_t k = leaf_links_.env_offset[i]; k < leaf_links_.env_offset[i + 1]; ++k) {
         sum += leaf_links_.env_weight[k] * bin_radiance[leaf_links_.env_bin[k]];
-        display_.UploadTransfer(scene_.vertex_leaves(), scene_.vertex_weights());
       }
       e_env[i] = sum;
     });
@@ -171,6 +170,7 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
   if (first) {
     scene_.Build(ctx.state, ctx.gpu, ctx.timer, settings_.direct.full_detail);
     display_.UploadTriangles(scene_.triangles());
+    display_.UploadTransfer(scene_.vertex_leaves(), scene_.vertex_weights());
   } else {
     ctx.timer.Skip("create_surfels");
     ctx.timer.Skip("create_hierarchy");
@@ -277,7 +277,6 @@ absl::Status ImplicitVisibilitySolver::Shade(SolverContext& ctx, const ViewCamer
   // Display's irradiance (RGBA32F) and depth (32F) targets: 20 bytes a pixel.
   GS_RETURN_IF_ERROR(
       display_memory_.Fit(ctx, 0, uint64_t(gbuffer.width()) * gbuffer.height() * 20,
-                          {"proxy_leaves", double(scene_.proxy_leaves())},
                           absl::StrCat("implicit_visibility: width x height ", gbuffer.width(), "x",
                                        gbuffer.height(), " (its display targets)")));
   // The G-buffer's clip planes (render/camera.h), so both depth tests agree.
@@ -293,6 +292,7 @@ SolverStats ImplicitVisibilitySolver::Stats() const {
       {"links_pending", relink_.running() ? 1.0 : 0.0},
       {"gi_versions_behind", double(latest_version_ - std::min(solved_version_, latest_version_))},
       {"leaves", double(e.leaf_count())},
+      {"proxy_leaves", double(scene_.proxy_leaves())},
       {"top_level_nodes", double(e.roots().size())},
       {"bins_per_element", double(bins_.count())},
       {"node_pairs", double(link_stats_.node_pairs)},
