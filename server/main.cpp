@@ -98,6 +98,10 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
   --max-height N             largest frame height (default 4096)
   --max-scene-bytes N        largest glb/gltf, buffers included (default 268435456)
   --max-triangles N          triangles over all mesh instances (default 4000000)
+  --max-load-seconds F       a scene load's proxy levels and cluster trees stop
+                             this long after it began; the scene loads without
+                             the rest (LoadScene's proxy_trees_skipped; its GI
+                             passes draw coarser proxies). Default 60
   --max-image-pixels N       pixels per texture/environment image (default 67108864)
   --max-message-bytes N      largest gRPC message (default max-scene-bytes + 16 MiB)
   --default-fps F            frame cap for continuous sessions that give none (default 30)
@@ -244,6 +248,11 @@ Flags ParseFlags(int argc, char** argv) {
       {"--tls-key", [&](auto, auto v) { f.tls_key = std::string(v); }},
       {"--tls-client-ca", [&](auto, auto v) { f.tls_client_ca = std::string(v); }},
       {"--auth-tokens", [&](auto, auto v) { f.auth_tokens = std::string(v); }},
+      {"--max-load-seconds",
+       [&](auto flag, auto v) {
+         f.engine.max_load_time =
+             std::chrono::milliseconds(int64_t(1000.0 * ParseDouble(flag, v, 0.0, 86400.0)));
+       }},
       {"--idle-timeout-s",
        [&](auto flag, auto v) { f.idle_timeout_s = ParseDouble(flag, v, 0.0, 30.0 * 86400.0); }},
       {"--cpu-threads",

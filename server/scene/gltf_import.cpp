@@ -91,8 +91,11 @@ absl::StatusOr<Scene> ImportGltf(std::span<const uint8_t> bytes, const ImportOpt
   uint64_t budget = limits.max_scene_bytes - bytes.size();  // for external files
   GS_ASSIGN_OR_RETURN(const gltf::Container container, gltf::SplitContainer(bytes));
   GS_RETURN_IF_ERROR(gltf::PreflightJson(container, options));
+  const LoadControl no_control;
+  const LoadControl& control = options.control != nullptr ? *options.control : no_control;
   GS_ASSIGN_OR_RETURN(const tinygltf::Model model,
                       gltf::ParseModel(bytes, container, options, &budget));
+  GS_RETURN_IF_ERROR(control.Check("import: after parsing"));
   GS_RETURN_IF_ERROR(gltf::ValidateBufferViews(model));
 
   Scene scene;
@@ -111,13 +114,17 @@ absl::StatusOr<Scene> ImportGltf(std::span<const uint8_t> bytes, const ImportOpt
   GS_ASSIGN_OR_RETURN(scene.animations, gltf::ImportAnimations(model, scene));
   ComputeTotals(graph, &scene);
   GS_RETURN_IF_ERROR(CheckMagnitudes(scene));
-  BuildSceneProxies(&scene);
+  GS_RETURN_IF_ERROR(control.Check("import: before the proxies"));
+  ProxyReport report;
+  GS_RETURN_IF_ERROR(BuildSceneProxies(&scene, control, &report));
+  if (options.proxy_report != nullptr) *options.proxy_report = report;
   return scene;
 }
 
 absl::StatusOr<Scene> ImportSceneByName(const std::filesystem::path& scene_dir,
                                         const std::string& name, const ImportLimits& limits,
-                                        ImportMemory* memory) {
+                                        ImportMemory* memory, const LoadControl* control,
+                                        ProxyReport* proxy_report) {
   if (!IsSceneName(name)) {
     return absl::InvalidArgumentError(
         absl::StrCat("name: '", Echo(name), "' is not a scene name ([A-Za-z0-9_.-]+, at most ",
@@ -141,6 +148,8 @@ absl::StatusOr<Scene> ImportSceneByName(const std::filesystem::path& scene_dir,
     options.base_dir = scene_dir;
     options.name = std::filesystem::path(file).stem().string();
     options.memory = memory;
+    options.control = control;
+    options.proxy_report = proxy_report;
     return ImportGltf(*bytes, options);
   }
   return absl::NotFoundError(absl::StrCat(

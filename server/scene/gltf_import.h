@@ -9,6 +9,7 @@
 
 #include "scene/import_limits.h"
 #include "scene/import_memory.h"
+#include "scene/load_control.h"
 #include "scene/scene.h"
 #include "util/status.h"
 
@@ -24,6 +25,11 @@ struct ImportOptions {
   // reserved here before they are parsed or decoded (held by the caller
   // until the scene itself is reserved).
   ImportMemory* memory = nullptr;
+  // When set: the proxies' time budget and the caller's stop, checked
+  // between stages and slices (scene/load_control.h); `proxy_report` gets
+  // what the proxies got done.
+  const LoadControl* control = nullptr;
+  ProxyReport* proxy_report = nullptr;
 };
 
 // Imports a .glb or a .gltf (JSON) held in memory. Errors:
@@ -36,7 +42,9 @@ absl::StatusOr<Scene> ImportGltf(std::span<const uint8_t> bytes, const ImportOpt
 // resolved inside `scene_dir`. NOT_FOUND when no such scene.
 absl::StatusOr<Scene> ImportSceneByName(const std::filesystem::path& scene_dir,
                                         const std::string& name, const ImportLimits& limits,
-                                        ImportMemory* memory = nullptr);
+                                        ImportMemory* memory = nullptr,
+                                        const LoadControl* control = nullptr,
+                                        ProxyReport* proxy_report = nullptr);
 
 // Resolves a relative URI against `base_dir`, refusing absolute paths, "..",
 // and anything that leaves `base_dir` through symlinks.

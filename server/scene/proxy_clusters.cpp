@@ -13,8 +13,9 @@ namespace {
 
 class TreeBuilder {
  public:
-  TreeBuilder(const Primitive& primitive, const ClusterSettings& settings)
-      : p_(primitive), settings_(settings) {
+  TreeBuilder(const Primitive& primitive, const ClusterSettings& settings,
+              const LoadControl& control)
+      : p_(primitive), settings_(settings), control_(control) {
     const float* xyz = &p_.positions[0].x;
     scale_ = std::max(meshopt_simplifyScale(xyz, p_.positions.size(), sizeof(glm::vec3)), 1e-30f);
     cap_ = settings_.max_relative_error * glm::length(p_.bounds.extent());
@@ -24,6 +25,12 @@ class TreeBuilder {
   // primitive) and returns its coarsest stand-in: its copy, or else its
   // children's stand-ins (leaves: their full triangles).
   std::vector<uint32_t> Build(std::vector<uint32_t> tris) {
+    // Between nodes: a stop or a passed deadline leaves the rest unbuilt
+    // (the caller discards the tree).
+    if (stopped()) return {};
+    status_ = control_.Check("proxy cluster tree");
+    out_of_time_ = !control_.OptionalTimeLeft();
+    if (stopped()) return {};
     const int node = int(nodes_.size());
     nodes_.emplace_back();
     Bounds box;
@@ -67,6 +74,7 @@ class TreeBuilder {
         const std::vector<uint32_t> stand_in = Build(c == 0 ? std::move(left) : std::move(right));
         source.insert(source.end(), stand_in.begin(), stand_in.end());
       }
+      if (stopped()) return {};
       full = ClusterTriangles(nodes_, node);
     }
     ProxyLevel level = Simplify(source, full, glm::length(box.extent()));
@@ -76,6 +84,9 @@ class TreeBuilder {
   }
 
   std::vector<ProxyCluster> Take() { return std::move(nodes_); }
+  bool stopped() const { return !status_.ok() || out_of_time_; }
+  const absl::Status& status() const { return status_; }
+  bool out_of_time() const { return out_of_time_; }
 
  private:
   // The copy of `source` (the children's stand-ins, or a leaf's triangles)
@@ -110,6 +121,9 @@ class TreeBuilder {
 
   const Primitive& p_;
   const ClusterSettings& settings_;
+  const LoadControl& control_;
+  absl::Status status_;
+  bool out_of_time_ = false;
   float scale_ = 1.0f;
   float cap_ = 0.0f;
   std::vector<ProxyCluster> nodes_;
@@ -119,17 +133,31 @@ class TreeBuilder {
 
 std::vector<ProxyCluster> BuildProxyClusters(const Primitive& primitive,
                                              const ClusterSettings& settings) {
+  bool out_of_time = false;
+  absl::StatusOr<std::vector<ProxyCluster>> tree =
+      BuildProxyClusters(primitive, settings, LoadControl{}, &out_of_time);
+  return tree.ok() ? *std::move(tree) : std::vector<ProxyCluster>{};
+}
+
+absl::StatusOr<std::vector<ProxyCluster>> BuildProxyClusters(const Primitive& primitive,
+                                                             const ClusterSettings& settings,
+                                                             const LoadControl& control,
+                                                             bool* out_of_time) {
+  *out_of_time = false;
   const size_t triangles = primitive.indices.size() / 3;
   if (triangles <= 2 * settings.leaf_triangles || !primitive.joints.empty() ||
       !primitive.targets.empty() || primitive.bounds.empty()) {
-    return {};
+    return std::vector<ProxyCluster>{};
   }
   const float diagonal = glm::length(primitive.bounds.extent());
-  if (!(diagonal > 0.0f) || !std::isfinite(diagonal)) return {};
-  TreeBuilder builder(primitive, settings);
+  if (!(diagonal > 0.0f) || !std::isfinite(diagonal)) return std::vector<ProxyCluster>{};
+  TreeBuilder builder(primitive, settings, control);
   std::vector<uint32_t> all(triangles);
   std::iota(all.begin(), all.end(), 0u);
   builder.Build(std::move(all));
+  GS_RETURN_IF_ERROR(builder.status());
+  *out_of_time = builder.out_of_time();
+  if (builder.stopped()) return std::vector<ProxyCluster>{};
   return builder.Take();
 }
 

@@ -13,6 +13,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "scene/load_control.h"
 #include "scene/scene.h"
 
 namespace gistream {
@@ -38,6 +39,15 @@ struct ClusterSettings {
 // for primitives that are small, skinned or morphed.
 std::vector<ProxyCluster> BuildProxyClusters(const Primitive& primitive,
                                              const ClusterSettings& settings = {});
+
+// The same, checking `control` before every node: a stop ends the build
+// with its status (stage "proxy cluster tree"), a passed optional deadline
+// with an empty tree and `*out_of_time` set (the primitive keeps its
+// whole-primitive levels).
+absl::StatusOr<std::vector<ProxyCluster>> BuildProxyClusters(const Primitive& primitive,
+                                                             const ClusterSettings& settings,
+                                                             const LoadControl& control,
+                                                             bool* out_of_time);
 
 // The full triangles of node `node` (its leaves' indices, in leaf order).
 std::vector<uint32_t> ClusterTriangles(const std::vector<ProxyCluster>& clusters, int node);

@@ -10,15 +10,32 @@
 
 namespace gistream {
 
+namespace {
+
+bool MayHaveLevels(const Primitive& primitive, const ProxySettings& settings) {
+  const float diagonal = glm::length(primitive.bounds.extent());
+  return primitive.indices.size() / 3 >= settings.min_triangles && primitive.joints.empty() &&
+         primitive.targets.empty() && !primitive.bounds.empty() && diagonal > 0.0f &&
+         std::isfinite(diagonal);
+}
+
+}  // namespace
+
 std::vector<ProxyLevel> BuildProxyLevels(const Primitive& primitive,
                                          const ProxySettings& settings) {
-  const size_t triangles = primitive.indices.size() / 3;
-  if (triangles < settings.min_triangles || !primitive.joints.empty() ||
-      !primitive.targets.empty() || primitive.bounds.empty()) {
-    return {};
-  }
+  bool out_of_time = false;
+  absl::StatusOr<std::vector<ProxyLevel>> levels =
+      BuildProxyLevels(primitive, settings, LoadControl{}, &out_of_time);
+  return levels.ok() ? *std::move(levels) : std::vector<ProxyLevel>{};
+}
+
+absl::StatusOr<std::vector<ProxyLevel>> BuildProxyLevels(const Primitive& primitive,
+                                                         const ProxySettings& settings,
+                                                         const LoadControl& control,
+                                                         bool* out_of_time) {
+  *out_of_time = false;
+  if (!MayHaveLevels(primitive, settings)) return std::vector<ProxyLevel>{};
   const float diagonal = glm::length(primitive.bounds.extent());
-  if (!(diagonal > 0.0f) || !std::isfinite(diagonal)) return {};
   const std::vector<glm::vec3>& positions = primitive.positions;
   const float* xyz = &positions[0].x;
   // meshoptimizer's errors are relative to this scale.
@@ -29,6 +46,11 @@ std::vector<ProxyLevel> BuildProxyLevels(const Primitive& primitive,
   std::vector<ProxyLevel> levels;
   const std::vector<uint32_t>* finer = &primitive.indices;
   while (true) {
+    GS_RETURN_IF_ERROR(control.Check("proxy levels"));
+    if (!control.OptionalTimeLeft()) {
+      *out_of_time = true;
+      break;
+    }
     const size_t finer_count = finer->size();
     const size_t target =
         std::max<size_t>(3, size_t(float(finer_count / 3) * settings.reduction) * 3);
@@ -59,12 +81,56 @@ std::vector<ProxyLevel> BuildProxyLevels(const Primitive& primitive,
 }
 
 void BuildSceneProxies(Scene* scene, const ProxySettings& settings) {
-  for (Mesh& mesh : scene->meshes) {
-    for (Primitive& p : mesh.primitives) {
-      p.proxies = BuildProxyLevels(p, settings);
-      if (!p.proxies.empty()) p.clusters = BuildProxyClusters(p);
+  ProxyReport report;
+  (void)BuildSceneProxies(scene, LoadControl{}, &report, settings);
+}
+
+absl::Status BuildSceneProxies(Scene* scene, const LoadControl& control, ProxyReport* report,
+                               const ProxySettings& settings) {
+  const auto start = LoadControl::Clock::now();
+  *report = {};
+  const auto named = [](size_t m, size_t i, const absl::Status& status) {
+    return absl::Status(status.code(),
+                        absl::StrCat("meshes[", m, "].primitives[", i, "]: ", status.message()));
+  };
+  // The levels of every primitive first: they are cheap and most of the
+  // gain; then the trees, which a passed deadline drops.
+  std::vector<std::vector<bool>> levels_cut(scene->meshes.size());
+  for (int pass = 0; pass < 2; ++pass) {
+    for (size_t m = 0; m < scene->meshes.size(); ++m) {
+      std::vector<Primitive>& primitives = scene->meshes[m].primitives;
+      levels_cut[m].resize(primitives.size(), false);
+      for (size_t i = 0; i < primitives.size(); ++i) {
+        Primitive& p = primitives[i];
+        bool out_of_time = false;
+        if (pass == 0) {
+          if (!MayHaveLevels(p, settings)) continue;
+          absl::StatusOr<std::vector<ProxyLevel>> levels =
+              BuildProxyLevels(p, settings, control, &out_of_time);
+          if (!levels.ok()) return named(m, i, levels.status());
+          p.proxies = *std::move(levels);
+          report->primitives_with_levels += p.proxies.empty() ? 0 : 1;
+          report->levels_skipped += out_of_time ? 1 : 0;
+          levels_cut[m][i] = out_of_time;
+          continue;
+        }
+        if (p.proxies.empty()) {
+          // Cut before its first level: a tree-sized primitive lacks both.
+          const bool tree_sized = p.indices.size() / 3 > 2 * ClusterSettings{}.leaf_triangles;
+          report->trees_skipped += levels_cut[m][i] && tree_sized ? 1 : 0;
+          continue;
+        }
+        absl::StatusOr<std::vector<ProxyCluster>> tree =
+            BuildProxyClusters(p, ClusterSettings{}, control, &out_of_time);
+        if (!tree.ok()) return named(m, i, tree.status());
+        p.clusters = *std::move(tree);
+        report->primitives_with_trees += p.clusters.empty() ? 0 : 1;
+        report->trees_skipped += out_of_time ? 1 : 0;
+      }
     }
   }
+  report->seconds = std::chrono::duration<double>(LoadControl::Clock::now() - start).count();
+  return absl::OkStatus();
 }
 
 float MaxScale(const glm::mat4& model) {

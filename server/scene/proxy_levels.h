@@ -12,6 +12,7 @@
 
 #include <glm/glm.hpp>
 
+#include "scene/load_control.h"
 #include "scene/scene.h"
 
 namespace gistream {
@@ -34,9 +35,25 @@ struct ProxySettings {
 std::vector<ProxyLevel> BuildProxyLevels(const Primitive& primitive,
                                          const ProxySettings& settings = {});
 
+// The same, checking `control` before every level: a stop ends the build
+// with its status, a passed optional deadline keeps the levels made so far
+// and sets `*out_of_time`.
+absl::StatusOr<std::vector<ProxyLevel>> BuildProxyLevels(const Primitive& primitive,
+                                                         const ProxySettings& settings,
+                                                         const LoadControl& control,
+                                                         bool* out_of_time);
+
 // Fills Primitive::proxies of every mesh, and Primitive::clusters
 // (scene/proxy_clusters.h) of those with proxies.
 void BuildSceneProxies(Scene* scene, const ProxySettings& settings = {});
+
+// The same within `control`: every primitive's levels first, then the
+// trees (the costly part), so a passed optional deadline leaves the levels
+// and drops the trees not finished (`report` counts what is missing). A
+// stop returns its status naming the primitive and stage
+// ("meshes[2].primitives[0]: proxy cluster tree: ...").
+absl::Status BuildSceneProxies(Scene* scene, const LoadControl& control, ProxyReport* report,
+                               const ProxySettings& settings = {});
 
 // The coarsest of `levels` (finest first; anything with an `error`) whose
 // error times `scale` is at most `tolerance` (world units); -1 for the full

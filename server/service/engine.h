@@ -89,6 +89,10 @@ struct SceneSource {
   std::string environment_name;   // optional, inside the scene directory, or
   std::string environment_bytes;  // optional HDR/EXR bytes
   float environment_intensity = 1.0f;
+  // Polled between the load's stages and slices: non-OK (CANCELLED when the
+  // client left, DEADLINE_EXCEEDED when its deadline passed) stops the load
+  // with that code, nothing kept (scene/load_control.h). Empty: never.
+  std::function<absl::Status()> stop;
 };
 
 struct NodeSummary {
@@ -151,6 +155,11 @@ struct SceneInfo {
   uint32_t emissive_triangle_count = 0;
   bool has_environment = false;
   uint64_t version = 0;
+  // Primitives whose proxy cluster trees (or levels) were not built because
+  // the load ran past EngineOptions::max_load_time: they draw their
+  // whole-primitive levels (or the full mesh). 0 for a scene loaded before.
+  uint32_t proxy_trees_skipped = 0;
+  uint32_t proxy_levels_skipped = 0;
 };
 
 // ---------------------------------------------------------------- sessions
@@ -222,6 +231,10 @@ struct EngineOptions {
   int egl_device = -1;  // -1: first hardware device, else Mesa's software one
   std::filesystem::path scene_dir = "scenes";
   ImportLimits import_limits;
+  // A scene load's optional work (proxy levels and cluster trees, issue 19)
+  // stops this long after the load began; the scene loads without the rest
+  // (SceneInfo::proxy_trees_skipped). gistreamd --max-load-seconds.
+  std::chrono::milliseconds max_load_time{60'000};
   uint32_t max_sessions = 32;
   uint32_t max_scenes = 16;
   // Per-tenant limits (util/tenancy.h); a tenant not listed has none of its

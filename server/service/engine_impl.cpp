@@ -321,16 +321,32 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   // What the import reads and decodes is reserved before it is decoded
   // (scene/import_memory.h), and held until the scene itself is.
   ImportMemory transient(accounts_.server());
+  // The proxies stop at --max-load-seconds (the scene loads without the
+  // rest); the caller's stop ends the load between stages and slices.
+  LoadControl control;
+  control.optional_deadline = LoadControl::Clock::now() + options_.max_load_time;
+  control.stop = source.stop;
+  ProxyReport proxies;
   Scene scene;
   if (!source.name.empty()) {
-    GS_ASSIGN_OR_RETURN(scene, ImportSceneByName(options_.scene_dir, source.name,
-                                                 options_.import_limits, &transient));
+    GS_ASSIGN_OR_RETURN(scene,
+                        ImportSceneByName(options_.scene_dir, source.name, options_.import_limits,
+                                          &transient, &control, &proxies));
   } else {
     ImportOptions import;
     import.limits = options_.import_limits;
     import.name = "upload";
     import.memory = &transient;
+    import.control = &control;
+    import.proxy_report = &proxies;
     GS_ASSIGN_OR_RETURN(scene, ImportGltf(Bytes(source.bytes), import));
+  }
+  if (proxies.trees_skipped + proxies.levels_skipped > 0) {
+    Log(LogLevel::kInfo,
+        absl::StrCat("load: the proxies ran past --max-load-seconds (",
+                     options_.max_load_time.count() / 1000.0, " s): ", proxies.trees_skipped,
+                     " primitive(s) without their cluster trees, ", proxies.levels_skipped,
+                     " with levels cut short; they draw coarser levels or the full mesh"));
   }
   if (has_env) {
     std::vector<uint8_t> env_file;
@@ -359,6 +375,7 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
     }
     scene.environment = std::move(env);
   }
+  GS_RETURN_IF_ERROR(control.Check("load: before the upload"));
 
   auto record = std::make_shared<SceneRecord>();
   record->tenant = source.tenant;
@@ -422,7 +439,10 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   if (!info.ok()) {
     std::lock_guard lock(mutex_);
     scenes_.erase(record->id);
+    return info;
   }
+  info->proxy_trees_skipped = proxies.trees_skipped;
+  info->proxy_levels_skipped = proxies.levels_skipped;
   return info;
 }
 

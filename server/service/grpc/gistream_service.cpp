@@ -1,5 +1,6 @@
 #include "service/grpc/gistream_service.h"
 
+#include <chrono>
 #include <utility>
 
 #include "service/grpc/auth.h"
@@ -94,18 +95,35 @@ grpc::ServerUnaryReactor* GistreamService::RunOnPool(grpc::CallbackServerContext
 grpc::ServerUnaryReactor* GistreamService::LoadScene(grpc::CallbackServerContext* context,
                                                      const pb::LoadSceneRequest* request,
                                                      pb::LoadSceneResponse* response) {
-  return RunOnPool(context, "LoadScene", [this, request, response](const TenantId& tenant) {
-    absl::StatusOr<SceneSource> source = SceneSourceFromProto(*request);
-    if (!source.ok()) return ToGrpcStatus(source.status());
-    source->tenant = tenant;
-    absl::StatusOr<SceneInfo> info = engine_.LoadScene(*source);
-    if (!info.ok()) return ToGrpcStatus(info.status());
-    Log(LogLevel::kInfo, {"", info->id},
-        absl::StrCat("loaded by tenant ", tenant, " (", info->triangle_count, " triangles, ",
-                     info->lights.size(), " lights)"));
-    SceneInfoToProto(*info, response);
-    return grpc::Status::OK;
-  });
+  return RunOnPool(
+      context, "LoadScene", [this, context, request, response](const TenantId& tenant) {
+        absl::StatusOr<SceneSource> source = SceneSourceFromProto(*request);
+        if (!source.ok()) return ToGrpcStatus(source.status());
+        source->tenant = tenant;
+        // A client that leaves or whose deadline passes stops the load between
+        // its slices (scene/load_control.h), naming the stage.
+        source->stop = [context]() -> absl::Status {
+          if (!context->IsCancelled()) return absl::OkStatus();
+          if (context->deadline() <= std::chrono::system_clock::now()) {
+            return absl::DeadlineExceededError("the client's deadline passed");
+          }
+          return absl::CancelledError("the client cancelled the call");
+        };
+        absl::StatusOr<SceneInfo> info = engine_.LoadScene(*source);
+        if (!info.ok()) return ToGrpcStatus(info.status());
+        Log(LogLevel::kInfo, {"", info->id},
+            absl::StrCat(
+                "loaded by tenant ", tenant, " (", info->triangle_count, " triangles, ",
+                info->lights.size(), " lights",
+                info->proxy_trees_skipped + info->proxy_levels_skipped > 0
+                    ? absl::StrCat("; past --max-load-seconds: ", info->proxy_trees_skipped,
+                                   " primitive(s) without proxy trees, ",
+                                   info->proxy_levels_skipped, " with fewer levels")
+                    : "",
+                ")"));
+        SceneInfoToProto(*info, response);
+        return grpc::Status::OK;
+      });
 }
 
 grpc::ServerUnaryReactor* GistreamService::UnloadScene(grpc::CallbackServerContext* context,

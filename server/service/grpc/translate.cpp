@@ -473,6 +473,8 @@ void SceneInfoToProto(const SceneInfo& info, pb::LoadSceneResponse* out) {
   out->set_triangle_count(info.triangle_count);
   out->set_vertex_count(info.vertex_count);
   out->set_emissive_triangle_count(info.emissive_triangle_count);
+  out->set_proxy_trees_skipped(info.proxy_trees_skipped);
+  out->set_proxy_levels_skipped(info.proxy_levels_skipped);
   out->set_has_environment(info.has_environment);
   for (const AnimationSummary& a : info.animations) {
     pb::AnimationInfo* p = out->add_animations();
