@@ -51,7 +51,15 @@ void ExpectSameGrid(const VoxelGrid& a, const VoxelGrid& b) {
         if (x.count != y.count || x.normal_sum != y.normal_sum || x.albedo_sum != y.albedo_sum ||
             x.point_sum != y.point_sum) {
           ++differing;
+          continue;
         }
+        // The sheets too (their pool slots may differ).
+        const auto sa = a.sheets(v), sb = b.sheets(v);
+        bool same = sa.size() == sb.size();
+        for (size_t i = 0; same && i < sa.size(); ++i) {
+          same = sa[i].normal == sb[i].normal && sa[i].lo == sb[i].lo && sa[i].hi == sb[i].hi;
+        }
+        differing += same ? 0 : 1;
       }
     }
   }

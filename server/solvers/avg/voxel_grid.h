@@ -1,7 +1,10 @@
 // The approximate visibility grid (AVG, paper Sec. III-A): a coarse N^3
 // voxelization of the scene fitted to its bounds, each voxel holding the
 // summed normal, reflectance and surface point of the triangles that touch it
-// plus their count (additive accumulation, normalized on use).
+// plus their count (additive accumulation, normalized on use), and the
+// slabs that bound its triangles of each orientation (Sheet): the tracer's
+// rays stop where they enter one, so VPLs lie on the walls of an edge or
+// corner voxel rather than on its mean plane (issue 14).
 //
 // Voxelization is conservative (every voxel a triangle touches, exact
 // triangle/box test) instead of the paper's rasterization with nudged
@@ -11,6 +14,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -24,6 +28,22 @@ struct Voxel {
   glm::vec3 albedo_sum{0.0f};  // sum of linear albedos (white-sky, BrdfWhiteSkyAlbedo)
   glm::vec3 point_sum{0.0f};   // sum of the triangles' points closest to the voxel centre
   uint32_t count = 0;          // triangles touching the voxel
+  uint32_t sheets = 0;         // 1 + its slot of VoxelGrid's sheet pool; 0: none yet
+};
+
+// The triangles of one orientation inside a voxel, as a slab: every point
+// of them inside the voxel has dot(normal, p) in [lo, hi]. Triangles within
+// ~8 degrees of a sheet's normal (either side) join it; a voxel keeps up to
+// kMaxSheets (a box's corner: three walls), and a triangle beyond that
+// widens the most parallel one, so the slabs always hold every triangle.
+struct Sheet {
+  glm::vec3 normal{0.0f};  // unit, the first triangle's (authored side)
+  float lo = 0.0f, hi = 0.0f;
+};
+struct VoxelSheets {
+  static constexpr int kMaxSheets = 3;
+  Sheet sheet[kMaxSheets];
+  uint32_t count = 0;
 };
 
 // What a ray marched through the grid hit.
@@ -31,6 +51,10 @@ struct GridHit {
   glm::ivec3 voxel{0};
   float t_enter = 0.0f;  // ray parameter where it entered the voxel
   float t_exit = 0.0f;   // ... and would leave it
+  // The sheet hit (see March): where the ray enters it and its unit
+  // normal on the side the ray came from.
+  float t_sheet = 0.0f;
+  glm::vec3 sheet_normal{0.0f};
 };
 
 class VoxelGrid {
@@ -63,7 +87,9 @@ class VoxelGrid {
   // channels), as of Build: instant radiosity's rho-bar (Keller 1997).
   // Revoxelize keeps it (it moves geometry, materials are unchanged).
   float mean_albedo() const { return mean_albedo_; }
-  uint64_t bytes() const { return voxels_.size() * sizeof(Voxel); }
+  uint64_t bytes() const {
+    return voxels_.size() * sizeof(Voxel) + sheet_pool_.size() * sizeof(VoxelSheets);
+  }
 
   bool Inside(const glm::ivec3& v) const {
     return v.x >= 0 && v.y >= 0 && v.z >= 0 && v.x < n_ && v.y < n_ && v.z < n_;
@@ -78,10 +104,19 @@ class VoxelGrid {
   glm::vec3 Normal(const glm::ivec3& v) const;
   glm::vec3 Albedo(const glm::ivec3& v) const;
   glm::vec3 SurfacePoint(const glm::vec3& fallback, const glm::ivec3& v) const;
+  // The voxel's sheets (none for an empty voxel).
+  std::span<const Sheet> sheets(const glm::ivec3& v) const;
+  // p moved, where needed, to lie at least `gap` in front of each sheet of
+  // voxel v, in front meaning on the side `from` lies (of the surface
+  // `from` lies on with normal `from_normal`, zero: none, the side that
+  // normal faces): a VPL at an edge or corner stays inside it.
+  glm::vec3 KeepInFront(const glm::ivec3& v, const glm::vec3& p, const glm::vec3& from,
+                        const glm::vec3& from_normal, float gap) const;
 
   // Marches the ray (o, d unit) through the grid with a 3D DDA (Amanatides
-  // & Woo) and returns the first filled voxel, skipping the surface the ray
-  // starts on (see the .cpp). Empty when the ray leaves the grid.
+  // & Woo) and returns the first filled voxel where it enters one of the
+  // voxel's sheets, not the surface it starts on (see the .cpp). Empty
+  // when the ray leaves the grid.
   std::optional<GridHit> March(const glm::vec3& o, const glm::vec3& d,
                                const glm::vec3& start_normal, bool starts_on_surface) const;
 
@@ -89,11 +124,24 @@ class VoxelGrid {
   size_t Index(const glm::ivec3& v) const {
     return (size_t(v.z) * size_t(n_) + size_t(v.y)) * size_t(n_) + size_t(v.x);
   }
-  // Whether voxel v holds one planar sheet (all normals within ~8 degrees)
-  // that a ray entering v at `entry` along d has already passed: it starts
-  // beyond the sheet's plane, moving away. Such a ray (one leaving a wall
-  // near a corner through the next wall's voxel layer) cannot hit it there.
-  bool LeavesSheet(const glm::ivec3& v, const glm::vec3& entry, const glm::vec3& d) const;
+  // The first sheet of voxel v the ray (o, d) enters inside the voxel
+  // (t in [t_enter, t_exit]), as a hit on it: where it enters and its
+  // normal on the side the ray comes from. Not the ray's own surface
+  // (OnOwnSheet); a thick sheet holding o is hit at t_enter unless
+  // `own_voxel` (o's surface's voxels). None when it meets no sheet there.
+  std::optional<GridHit> SheetAhead(const glm::ivec3& v, const glm::vec3& o, const glm::vec3& d,
+                                    const glm::vec3& own_normal, float t_enter, float t_exit,
+                                    bool own_voxel) const;
+  // Whether sheet s is the surface a ray starts on at o with normal
+  // `own_normal` (zero: none): parallel to it within ~8 degrees, o on it
+  // within SheetEpsilon.
+  bool OnOwnSheet(const Sheet& s, const glm::vec3& o, const glm::vec3& own_normal) const;
+  // A point within this of a sheet's slab lies on it.
+  float SheetEpsilon() const { return 1e-3f * glm::length(size_); }
+  // Adds the part of triangle (a, b, c) with unit `normal` inside the voxel
+  // (centre, half size) to the voxel's sheets.
+  void AddToSheets(Voxel& voxel, const glm::vec3& normal, const glm::vec3& a, const glm::vec3& b,
+                   const glm::vec3& c, const glm::vec3& center, const glm::vec3& half);
   // Origin and voxel size of a `resolution`^3 grid over the current geometry.
   void Place(const SceneState& state, int resolution);
   // Rasterizes every triangle of `state` (Build's order) into the voxels
@@ -106,6 +154,10 @@ class VoxelGrid {
   glm::vec3 origin_{0.0f};
   glm::vec3 size_{1.0f};
   std::vector<Voxel> voxels_;
+  // Per filled voxel its sheets (Voxel::sheets). Revoxelize empties a
+  // cleared voxel's slot and keeps it for the voxel, so the pool holds one
+  // slot per voxel ever filled.
+  std::vector<VoxelSheets> sheet_pool_;
   size_t filled_ = 0;
   float mean_albedo_ = 0.0f;
   double area_sum_ = 0.0, albedo_area_sum_ = 0.0;  // Build's accumulation

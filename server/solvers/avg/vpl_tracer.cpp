@@ -141,23 +141,18 @@ VplPath TracePath(const VoxelGrid& grid, const std::vector<VplLight>& lights,
       result.escaped = bounce == 0;
       break;
     }
-    // The hit surface: the voxel's mean normal facing the ray (none when
-    // opposite sheets cancel: face the ray), its albedo, and its mean
-    // plane, on which the VPL is placed (see ARCHITECTURE.md: the paper
-    // pushes VPLs a random depth into the voxel instead).
-    glm::vec3 n = grid.Normal(hit->voxel);
-    if (n == glm::vec3(0.0f)) n = -dir;
-    if (glm::dot(n, dir) > 0.0f) n = -n;
+    // The hit surface: the sheet the ray entered (VoxelGrid::March), its
+    // normal on the ray's side, and the voxel's albedo; the VPL sits where
+    // the ray entered it (see ARCHITECTURE.md: the paper pushes VPLs a
+    // random depth into the voxel instead), nudged in front of every sheet
+    // of the voxel (at an edge or corner, of both walls).
+    const glm::vec3 n = hit->sheet_normal;
     const glm::vec3 albedo = grid.Albedo(hit->voxel);
-    const glm::vec3 plane_point = grid.SurfacePoint(origin + dir * hit->t_enter, hit->voxel);
-    const float denom = glm::dot(dir, n);
-    float t = hit->t_enter;
-    if (denom < -1e-6f) t = glm::dot(plane_point - origin, n) / denom;
-    t = std::clamp(t, hit->t_enter, hit->t_exit);
-    const glm::vec3 p = origin + dir * t;
+    const glm::vec3 p = origin + dir * hit->t_sheet;
 
     Vpl vpl;
-    vpl.position = p + n * nudge;
+    vpl.position = grid.KeepInFront(hit->voxel, p + n * nudge, origin,
+                                    on_surface ? normal : glm::vec3(0.0f), nudge);
     vpl.normal = n;
     vpl.flux = flux * albedo;
     vpl.bounce = int(bounce) + 1;
