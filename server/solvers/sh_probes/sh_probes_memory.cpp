@@ -21,8 +21,9 @@ MemoryEstimate ShProbesSolver::EstimateMemory(const ParamSet& params, const Scen
                             absl::StrCat("probe atlas of ", probes, " probes, ", texels, " texels"),
                             0, texels * 52});
   // SH coefficients (solution, previous bounce, shown), validity, batch
-  // list and change flag per probe.
-  estimate.items.push_back({"grid, spacing", "SH coefficients", 0, probes * (3 * 9 * 16 + 3 * 4)});
+  // lists (the solver's and the cube maps' ProbeRasterizer's) and change
+  // flag per probe.
+  estimate.items.push_back({"grid, spacing", "SH coefficients", 0, probes * (3 * 9 * 16 + 4 * 4)});
   estimate.items.push_back(DirectLightingMemory(params, state));
   return estimate;
 }
