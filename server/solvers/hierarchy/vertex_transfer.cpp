@@ -57,10 +57,8 @@ class TriangleBins {
                glm::vec3* point) const {
     if (tris_.empty()) return false;
     const glm::ivec3 c = Cell(p);
-    // Distance from p (clamped into the grid) to the outside of its cell's
-    // (2r+1)^3 block grows by one cell per ring.
-    const glm::vec3 inside = glm::clamp(p, bounds_.min, bounds_.max);
-    const float outside = glm::length(p - inside);
+    // p (or, outside the grid, its clamped cell) is at least r cells away
+    // from every cell outside the (2r+1)^3 block around its cell.
     float best = std::numeric_limits<float>::max();
     const int rings = std::max({dims_.x, dims_.y, dims_.z});
     for (int r = 0; r <= rings; ++r) {
@@ -83,9 +81,8 @@ class TriangleBins {
               }
             }
           }
-      // Every triangle not yet seen lies at least r cells (plus how far p
-      // is outside the grid) away.
-      if (best <= float(r) * cell_ + outside) return true;
+      // Every triangle not yet seen lies at least r cells away.
+      if (best <= float(r) * cell_) return true;
     }
     return best < std::numeric_limits<float>::max();
   }
@@ -122,16 +119,28 @@ class TriangleBins {
   std::vector<uint32_t> tris_;   // tris_[start_[c] .. start_[c + 1])
 };
 
-// Barycentrics of q (a point of triangle a, b, c) by areas; the nearest
-// corner for a degenerate triangle.
+// Barycentrics of q (a point of triangle a, b, c) by areas; along the
+// longest side for a degenerate triangle.
 glm::vec3 Barycentrics(const glm::vec3& q, const glm::vec3& a, const glm::vec3& b,
                        const glm::vec3& c) {
   const glm::vec3 n = glm::cross(b - a, c - a);
   const float area2 = glm::dot(n, n);
   if (!(area2 > 0.0f) || !std::isfinite(area2)) {
-    const float da = glm::length(q - a), db = glm::length(q - b), dc = glm::length(q - c);
-    if (da <= db && da <= dc) return {1.0f, 0.0f, 0.0f};
-    return db <= dc ? glm::vec3(0.0f, 1.0f, 0.0f) : glm::vec3(0.0f, 0.0f, 1.0f);
+    // A segment (or a point): q's parameter on the longest side.
+    const glm::vec3 p[3] = {a, b, c};
+    int i = 0, j = 1;
+    float longest = -1.0f;
+    for (int u = 0; u < 3; ++u) {
+      const int v = (u + 1) % 3;
+      const float d = glm::dot(p[v] - p[u], p[v] - p[u]);
+      if (d > longest) longest = d, i = u, j = v;
+    }
+    glm::vec3 w(0.0f);
+    const float t =
+        longest > 0.0f ? std::clamp(glm::dot(q - p[i], p[j] - p[i]) / longest, 0.0f, 1.0f) : 0.0f;
+    w[i] = 1.0f - t;
+    w[j] += t;
+    return w;
   }
   glm::vec3 w(glm::dot(glm::cross(b - q, c - q), n), glm::dot(glm::cross(c - q, a - q), n),
               glm::dot(glm::cross(a - q, b - q), n));
