@@ -63,6 +63,9 @@ SolverDescription AntiradianceSolver::Describe() {
        "Leaf elements: the shared hierarchy's vertex discs, or scene triangles split to patch_size"},
       {"patch_size", ParamType::kFloat, "0", 0, 1e9, {},
        "elements=triangles: longest leaf edge in metres, larger triangles are split (0: diagonal / 24)"},
+      {"glossy", ParamType::kBool, "true", 0, 0, {},
+       "Glossy leaves reflect through the GGX BRDF per bin (glossy_transfer.h); false: every leaf "
+       "diffuse, glossy pixels shade the irradiance with the BRDF's albedo"},
   };
   // clang-format on
   for (ParamSpec& spec : DirectLightingParams()) d.params.push_back(std::move(spec));
@@ -80,6 +83,7 @@ absl::StatusOr<std::unique_ptr<Solver>> AntiradianceSolver::Create(const ParamSe
   s.bins = params.GetInt("bins");
   s.patch_size = float(params.GetFloat("patch_size"));
   s.surfels = params.GetString("elements") == "surfels";
+  s.glossy = params.GetBool("glossy");
   s.transport.iterations = params.GetInt("iterations");
   s.transport.tolerance = params.GetFloat("tolerance");
   s.transport.scheme =
@@ -195,7 +199,7 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
   // factors (textures are not sampled per leaf, as the albedo above).
   job->brdf.assign(size_t(job->patches->size()), pathtrace::Brdf());
   for (int i : job->leaves) {
-    const int material = job->patches->tag[size_t(i)];
+    const int material = settings_.glossy ? job->patches->tag[size_t(i)] : -1;
     if (material < 0 || size_t(material) >= ctx.state.materials().size()) continue;
     const Material& m = ctx.state.materials()[size_t(material)];
     pathtrace::Brdf& b = job->brdf[size_t(i)];

@@ -37,6 +37,7 @@ struct AntiradianceSettings {
   int bins = 128;           // directional bins per element
   float patch_size = 0.0f;  // longest leaf edge (m); 0: scene diagonal / 24
   bool surfels = true;      // elements from the shared hierarchy (vertex discs), else triangles
+  bool glossy = true;       // glossy leaves through the BRDF (else every leaf diffuse)
   antiradiance::TransportSettings transport;
   DirectLightingSettings direct;
 };
