@@ -110,10 +110,12 @@ class TreeBuilder {
     const float spacing =
         std::max(0.5f * relative_error * scale_, settings_.min_relative_spacing * diagonal);
     const TriangleGrid full_grid(p_.positions, full, cap_ / 4.0f);
-    const float there = HausdorffBound(p_.positions, level.indices, full_grid, spacing, cap_);
+    const auto deadline = control_.optional_deadline;
+    const float there =
+        HausdorffBound(p_.positions, level.indices, full_grid, spacing, cap_, deadline);
     if (there >= cap_) return {};
     const TriangleGrid level_grid(p_.positions, level.indices, cap_ / 4.0f);
-    const float back = HausdorffBound(p_.positions, full, level_grid, spacing, cap_);
+    const float back = HausdorffBound(p_.positions, full, level_grid, spacing, cap_, deadline);
     if (back >= cap_) return {};
     level.error = std::max(there, back);
     return level;

@@ -69,14 +69,18 @@ absl::StatusOr<std::vector<ProxyLevel>> BuildProxyLevels(const Primitive& primit
     const float spacing =
         std::max(0.5f * relative_error * scale, settings.min_relative_spacing * diagonal);
     const TriangleGrid proxy(positions, level.indices, cap / 4.0f);
-    const float there = HausdorffBound(positions, level.indices, full, spacing, cap);
+    const float there =
+        HausdorffBound(positions, level.indices, full, spacing, cap, control.optional_deadline);
     if (there >= cap) break;
-    const float back = HausdorffBound(positions, primitive.indices, proxy, spacing, cap);
+    const float back = HausdorffBound(positions, primitive.indices, proxy, spacing, cap,
+                                      control.optional_deadline);
     if (back >= cap) break;
     level.error = std::max(there, back);
     levels.push_back(std::move(level));
     finer = &levels.back().indices;
   }
+  // A measurement the deadline cut short answers `cap`, as a rejected level.
+  if (!control.OptionalTimeLeft()) *out_of_time = true;
   return levels;
 }
 

@@ -168,7 +168,8 @@ float TriangleGrid::Distance(const glm::vec3& p, float cap, float enough) const 
 }
 
 float HausdorffBound(std::span<const glm::vec3> positions, std::span<const uint32_t> from,
-                     const TriangleGrid& to, float spacing, float cap) {
+                     const TriangleGrid& to, float spacing, float cap,
+                     std::chrono::steady_clock::time_point deadline) {
   const size_t triangles = from.size() / 3;
   // Triangle t's pieces (ForEachPiece) are sampled on grids whose
   // sub-triangles have edges <= spacing; the distance to `to` being
@@ -191,6 +192,11 @@ float HausdorffBound(std::span<const glm::vec3> positions, std::span<const uint3
   std::atomic<bool> capped{false};
   ParallelFor(triangles, chunk, [&](size_t t) {
     if (capped.load(std::memory_order_relaxed)) return;
+    if (t % 64 == 0 && deadline != std::chrono::steady_clock::time_point::max() &&
+        std::chrono::steady_clock::now() >= deadline) {
+      capped.store(true, std::memory_order_relaxed);
+      return;
+    }
     float largest = 0.0f;
     pieces(t, [&](const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, int k,
                   float covering) {

@@ -6,6 +6,7 @@
 // upper bound, not an estimate.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -48,8 +49,12 @@ glm::vec3 ClosestPointOnTriangle(const glm::vec3& p, const glm::vec3& a, const g
 // `from` is sampled on a barycentric grid whose sub-triangles have edges
 // <= `spacing`, and the bound is the largest sample distance plus the
 // covering radius (the largest sub-triangle edge / sqrt(3)). Returns `cap`
-// as soon as a sample is `cap` or farther away.
-float HausdorffBound(std::span<const glm::vec3> positions, std::span<const uint32_t> from,
-                     const TriangleGrid& to, float spacing, float cap);
+// as soon as a sample is `cap` or farther away, or once `deadline` has
+// passed (checked every 64 triangles: a load's time budget,
+// scene/load_control.h).
+float HausdorffBound(
+    std::span<const glm::vec3> positions, std::span<const uint32_t> from, const TriangleGrid& to,
+    float spacing, float cap,
+    std::chrono::steady_clock::time_point deadline = std::chrono::steady_clock::time_point::max());
 
 }  // namespace gistream

@@ -97,5 +97,17 @@ TEST(SurfaceDistance, SliverBoundHoldsAgainstBruteForce) {
   EXPECT_LE(bound, measured + spacing);
 }
 
+// A passed deadline (a load's budget) gives up: `cap`, which every caller
+// reads as "no bound" and so keeps no level.
+TEST(SurfaceDistance, PassedDeadlineAnswersCap) {
+  const Surface s = WavySurface(24);
+  const TriangleGrid grid(s.positions, s.indices, 0.02f);
+  const float bound = HausdorffBound(s.positions, s.indices, grid, 0.01f, 1.0f);
+  EXPECT_LT(bound, 0.01f);
+  EXPECT_EQ(
+      HausdorffBound(s.positions, s.indices, grid, 0.01f, 1.0f, std::chrono::steady_clock::now()),
+      1.0f);
+}
+
 }  // namespace
 }  // namespace gistream
