@@ -100,7 +100,7 @@ bool GlossyIndirect(vec3 p, vec3 n, vec3 v, out vec3 l) {
           weight += w;
         }
       }
-  l = weight > 0.0 ? sum / weight : vec3(0.0);
+  l = weight > 0.0 ? max(sum / weight, vec3(0.0)) : vec3(0.0);
   return weight > 0.0;
 }
 

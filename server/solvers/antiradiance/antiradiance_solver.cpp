@@ -413,15 +413,15 @@ void AntiradianceSolver::UploadIrradiance() {
     glNamedBufferSubData(elements_.id(), 0, GLsizeiptr(element_data_.size() * sizeof(glm::vec4)),
                          element_data_.data());
   }
-  // The glossy leaves' reflected indirect radiance per bin (negative, from
-  // antiradiance over-cancelling, displayed as zero like the irradiance).
+  // The glossy leaves' reflected indirect radiance per bin, signed: bins
+  // can be negative where antiradiance over-cancels; the display clamps
+  // after interpolating (clamping each bin would bias it upward).
   const int glossy = glossy_ ? glossy_->count() : 0;
   glossy_data_.assign(size_t(std::max(glossy, 1)) * size_t(bins_.count()), glm::vec4(0.0f));
   for (int g = 0; g < glossy; ++g) {
     const glm::vec3* l = transport_->glossy_indirect(g);
     for (int j = 0; j < bins_.count(); ++j) {
-      glossy_data_[size_t(g) * size_t(bins_.count()) + size_t(j)] =
-          glm::vec4(glm::max(l[j], glm::vec3(0.0f)), 0.0f);
+      glossy_data_[size_t(g) * size_t(bins_.count()) + size_t(j)] = glm::vec4(l[j], 0.0f);
     }
   }
   glossy_radiance_ = gl::StorageBuffer(glossy_data_);
