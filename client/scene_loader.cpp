@@ -149,10 +149,15 @@ LoadedScene::~LoadedScene() {
 }
 
 std::string DescribeScene(absl::string_view label, const v1::LoadSceneResponse& info) {
-  return absl::StrCat("scene ", label, " (id ", info.scene_id(), "): ", info.triangle_count(),
-                      " triangles, ", info.nodes_size(), " nodes, ", info.lights_size(),
-                      " lights, ", info.materials_size(), " materials",
-                      info.has_environment() ? ", environment" : "");
+  return absl::StrCat(
+      "scene ", label, " (id ", info.scene_id(), "): ", info.triangle_count(), " triangles, ",
+      info.nodes_size(), " nodes, ", info.lights_size(), " lights, ", info.materials_size(),
+      " materials", info.has_environment() ? ", environment" : "",
+      info.proxy_trees_skipped() + info.proxy_levels_skipped() > 0
+          ? absl::StrCat("; past the server's --max-load-seconds: ", info.proxy_trees_skipped(),
+                         " primitive(s) without proxy trees, ", info.proxy_levels_skipped(),
+                         " with fewer levels")
+          : "");
 }
 
 }  // namespace gistream::client

@@ -108,5 +108,21 @@ TEST_F(SceneLoaderTest, InlineErrorsNameTheUri) {
   EXPECT_EQ(not_json.status().message(), "x.gltf: not a glTF JSON document");
 }
 
+// A load the server's --max-load-seconds cut says so (issue 19); a full
+// one says nothing of it.
+TEST(DescribeScene, SaysWhenTheServerSkippedProxies) {
+  v1::LoadSceneResponse info;
+  info.set_scene_id("x64-1");
+  info.set_triangle_count(414728);
+  EXPECT_EQ(DescribeScene("x64", info).find("max-load-seconds"), std::string::npos);
+  info.set_proxy_trees_skipped(7);
+  info.set_proxy_levels_skipped(2);
+  EXPECT_NE(DescribeScene("x64", info)
+                .find("past the server's --max-load-seconds: 7 primitive(s) without proxy "
+                      "trees, 2 with fewer levels"),
+            std::string::npos)
+      << DescribeScene("x64", info);
+}
+
 }  // namespace
 }  // namespace gistream::client
