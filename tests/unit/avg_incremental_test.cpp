@@ -41,6 +41,7 @@ void ExpectSameGrid(const VoxelGrid& a, const VoxelGrid& b) {
   ASSERT_EQ(a.origin(), b.origin());
   ASSERT_EQ(a.voxel_size(), b.voxel_size());
   EXPECT_EQ(a.filled(), b.filled());
+  EXPECT_EQ(a.mean_albedo(), b.mean_albedo());  // the split's rho-bar
   const int n = a.resolution();
   size_t differing = 0;
   glm::ivec3 v;

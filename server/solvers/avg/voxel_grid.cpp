@@ -64,7 +64,7 @@ VoxelGrid VoxelGrid::Build(const SceneState& state, int resolution, bool full_de
   grid.full_detail_ = full_detail;
   grid.Place(state, resolution);
   grid.voxels_.assign(size_t(grid.n_) * size_t(grid.n_) * size_t(grid.n_), Voxel{});
-  grid.Rasterize(state, glm::ivec3(0), glm::ivec3(grid.n_ - 1));
+  grid.Rasterize(state, glm::ivec3(0), glm::ivec3(grid.n_ - 1), Pass::kBoth);
   for (const Voxel& v : grid.voxels_) grid.filled_ += v.count > 0 ? 1 : 0;
   if (grid.area_sum_ > 0.0) grid.mean_albedo_ = float(grid.albedo_area_sum_ / grid.area_sum_);
   return grid;
@@ -93,7 +93,13 @@ bool VoxelGrid::Revoxelize(const SceneState& state, const Bounds& moved) {
       }
     }
   }
-  Rasterize(state, lo, hi);
+  Rasterize(state, lo, hi, Pass::kVoxels);
+  // rho-bar over every triangle again, in Build's order (bitwise Build's):
+  // a deformed or scaled node changes the areas, and a stale rho-bar gave
+  // the split other path counts than a fresh solve of the same pose.
+  area_sum_ = albedo_area_sum_ = 0.0;
+  Rasterize(state, glm::ivec3(0), glm::ivec3(n_ - 1), Pass::kSums);
+  if (area_sum_ > 0.0) mean_albedo_ = float(albedo_area_sum_ / area_sum_);
   for (v.z = lo.z; v.z <= hi.z; ++v.z) {
     for (v.y = lo.y; v.y <= hi.y; ++v.y) {
       for (v.x = lo.x; v.x <= hi.x; ++v.x) filled_ += voxels_[Index(v)].count > 0 ? 1 : 0;
@@ -104,13 +110,16 @@ bool VoxelGrid::Revoxelize(const SceneState& state, const Bounds& moved) {
   return true;
 }
 
-void VoxelGrid::Rasterize(const SceneState& state, const glm::ivec3& lo, const glm::ivec3& hi) {
+void VoxelGrid::Rasterize(const SceneState& state, const glm::ivec3& lo, const glm::ivec3& hi,
+                          Pass pass) {
   const Scene& scene = state.scene();
   // The voxels' world box, padded by a voxel, to skip primitives far away.
   const glm::vec3 box_min = origin_ + glm::vec3(lo - 1) * size_;
   const glm::vec3 box_max = origin_ + glm::vec3(hi + 2) * size_;
   const bool whole = lo == glm::ivec3(0) && hi == glm::ivec3(n_ - 1);
-  std::vector<glm::vec3> texture_means(scene.images.size(), glm::vec3(-1.0f));
+  // Textures' means, kept across Revoxelize (materials are unchanged).
+  std::vector<glm::vec3>& texture_means = texture_means_;
+  texture_means.resize(scene.images.size(), glm::vec3(-1.0f));
   // Proxies within half the smallest voxel side (issue 19): moving a
   // surface by less changes which voxels it touches by at most one voxel at
   // its edges, where the conservative test already reaches.
@@ -161,21 +170,23 @@ void VoxelGrid::Rasterize(const SceneState& state, const glm::ivec3& lo, const g
       for (size_t i = 0; i + 2 < indices.size(); i += 3) {
         Add(glm::vec3(m * glm::vec4(p.positions[indices[i]], 1.0f)),
             glm::vec3(m * glm::vec4(p.positions[indices[i + 1]], 1.0f)),
-            glm::vec3(m * glm::vec4(p.positions[indices[i + 2]], 1.0f)), albedo, lo, hi);
+            glm::vec3(m * glm::vec4(p.positions[indices[i + 2]], 1.0f)), albedo, lo, hi, pass);
       }
     }
   }
 }
 
 void VoxelGrid::Add(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
-                    const glm::vec3& albedo, const glm::ivec3& lo_clip, const glm::ivec3& hi_clip) {
+                    const glm::vec3& albedo, const glm::ivec3& lo_clip, const glm::ivec3& hi_clip,
+                    Pass pass) {
   const glm::vec3 cross = glm::cross(b - a, c - a);
   const float len = glm::length(cross);
   if (!(len > 0.0f) || !std::isfinite(len)) return;  // degenerate: no surface, no normal
   const glm::vec3 normal = cross / len;
-  if (lo_clip == glm::ivec3(0) && hi_clip == glm::ivec3(n_ - 1)) {  // Build
+  if (pass != Pass::kVoxels) {
     area_sum_ += 0.5 * double(len);
     albedo_area_sum_ += 0.5 * double(len) * double(std::max({albedo.r, albedo.g, albedo.b}));
+    if (pass == Pass::kSums) return;
   }
   // A hair more than half a voxel, so a triangle on a voxel face marks the
   // voxels on both sides (conservative, never a gap from rounding).

@@ -84,8 +84,9 @@ class VoxelGrid {
   glm::vec3 extent() const { return size_ * float(n_); }
   size_t filled() const { return filled_; }
   // The scene's area-weighted mean reflectance (max over the albedo's
-  // channels), as of Build: instant radiosity's rho-bar (Keller 1997).
-  // Revoxelize keeps it (it moves geometry, materials are unchanged).
+  // channels): instant radiosity's rho-bar (Keller 1997). Revoxelize sums
+  // it again over every triangle (a deformed or scaled node changes the
+  // areas), so it equals Build's bitwise.
   float mean_albedo() const { return mean_albedo_; }
   uint64_t bytes() const {
     return voxels_.size() * sizeof(Voxel) + sheet_pool_.size() * sizeof(VoxelSheets);
@@ -146,9 +147,11 @@ class VoxelGrid {
   void Place(const SceneState& state, int resolution);
   // Rasterizes every triangle of `state` (Build's order) into the voxels
   // [lo, hi]; primitives whose world box misses them are skipped.
-  void Rasterize(const SceneState& state, const glm::ivec3& lo, const glm::ivec3& hi);
+  // kVoxels: into the voxels; kSums: only rho-bar's area sums; kBoth.
+  enum class Pass { kVoxels, kSums, kBoth };
+  void Rasterize(const SceneState& state, const glm::ivec3& lo, const glm::ivec3& hi, Pass pass);
   void Add(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec3& albedo,
-           const glm::ivec3& lo, const glm::ivec3& hi);
+           const glm::ivec3& lo, const glm::ivec3& hi, Pass pass);
 
   int n_ = 0;
   glm::vec3 origin_{0.0f};
@@ -160,7 +163,8 @@ class VoxelGrid {
   std::vector<VoxelSheets> sheet_pool_;
   size_t filled_ = 0;
   float mean_albedo_ = 0.0f;
-  double area_sum_ = 0.0, albedo_area_sum_ = 0.0;  // Build's accumulation
+  double area_sum_ = 0.0, albedo_area_sum_ = 0.0;  // rho-bar's accumulation
+  std::vector<glm::vec3> texture_means_;           // per image; -1: not yet
   bool full_detail_ = false;
   Bounds rewritten_;
 };
