@@ -107,14 +107,18 @@ INSTANTIATE_TEST_SUITE_P(EverySolver, Furnace,
                              FurnaceCase{"antiradiance", 0.5f, kAntiradiance, 0.01},
                              FurnaceCase{"antiradiance", 0.9f, kAntiradiance, 0.02},
                              FurnaceCase{"antiradiance", 0.99f, kAntiradiance, 0.03},
-                             // avg: VPL paths end by Keller's split (exact per bounce on
-                             // this scene); measured -0.0, +0.8, -14.5 %. At 0.99 rays after
-                             // the first still leave the shell at wall corners (0.2-0.8 % per
-                             // ray over ~370 bounces; unit test AvgStiffFurnace), so the
-                             // issue's 5 % is not reached there (ARCHITECTURE.md).
-                             FurnaceCase{"avg", 0.5f, kAvg, 0.01},
-                             FurnaceCase{"avg", 0.9f, kAvg, 0.02},
-                             FurnaceCase{"avg", 0.99f, kAvg, 0.2}),
+                             // avg: VPL paths end by Keller's split, and no ray leaves the
+                             // shell (rays stop on the voxels' sheets: AvgClosedBoxRays), so
+                             // the VPLs carry the split's truncated series exactly
+                             // (AvgStiffFurnace): -0.02 % / -0.2 % / -2.5 % of the full
+                             // series at 0.5 / 0.9 / 0.99 (2048 VPLs: 20 paths reach 368
+                             // bounces at 0.99). Measured +0.07, +0.8, -3.5 % (were -0.0,
+                             // +0.8, -14.5 % when 0.2-0.8 % of rays escaped); the image adds
+                             // about 1 % either way to its VPLs' flux (+1.0 % at 0.9, -1.0 %
+                             // at 0.99), hence 0.5 % / 1.5 % / 5 % (the target).
+                             FurnaceCase{"avg", 0.5f, kAvg, 0.005},
+                             FurnaceCase{"avg", 0.9f, kAvg, 0.015},
+                             FurnaceCase{"avg", 0.99f, kAvg, 0.05}),
                          [](const ::testing::TestParamInfo<FurnaceCase>& p) {
                            return std::string(p.param.solver) + "_rho" +
                                   std::to_string(int(std::lround(double(p.param.rho) * 100.0)));
