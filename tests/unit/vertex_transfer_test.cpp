@@ -48,16 +48,21 @@ TEST(VertexTransfer, ElementLevelIsTheCoarsestWithinATenthOfTheElementSize) {
   sphere.proxies = BuildProxyLevels(sphere);
   ASSERT_GE(sphere.proxies.size(), 2u);
   const float e0 = sphere.proxies[0].error;
-  // Element size 10 x the finest level's error: that level at least.
-  const int level = hierarchy::ElementLevel(sphere, 10.0f * e0, false);
+  // The limit whose tenth is the finest level's error: that level at least.
+  const float max_edge = e0 / hierarchy::kProxyErrorFraction;
+  const int level = hierarchy::ElementLevel(sphere, max_edge, false);
   ASSERT_GE(level, 0);
-  EXPECT_LE(sphere.proxies[size_t(level)].error, hierarchy::kProxyErrorFraction * 10.0f * e0);
+  EXPECT_LE(sphere.proxies[size_t(level)].error, e0);
   if (size_t(level) + 1 < sphere.proxies.size()) {
     EXPECT_GT(sphere.proxies[size_t(level) + 1].error, e0);
   }
-  EXPECT_EQ(hierarchy::ElementLevel(sphere, 10.0f * e0, true), -1);  // full_detail
-  EXPECT_EQ(hierarchy::ElementLevel(sphere, 0.5f * e0, false), -1);  // too fine for any level
+  EXPECT_EQ(hierarchy::ElementLevel(sphere, max_edge, true), -1);          // full_detail
+  EXPECT_EQ(hierarchy::ElementLevel(sphere, 0.5f * max_edge, false), -1);  // too fine for any level
   EXPECT_EQ(hierarchy::ElementLevel(sphere, 0.0f, false), -1);
+  Primitive small = testing::FloorGrid(40);  // 3,200 triangles, flat
+  small.proxies = BuildProxyLevels(small);
+  ASSERT_FALSE(small.proxies.empty());
+  EXPECT_EQ(hierarchy::ElementLevel(small, 1.0f, false), -1);  // below kMinProxyTriangles
 }
 
 }  // namespace

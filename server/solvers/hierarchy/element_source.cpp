@@ -81,6 +81,7 @@ void FlipToDelaunay(Primitive& mesh) {
 
 int ElementLevel(const Primitive& primitive, float max_edge, bool full_detail) {
   if (full_detail || !(max_edge > 0.0f) || !std::isfinite(max_edge)) return -1;
+  if (primitive.indices.size() / 3 < kMinProxyTriangles) return -1;
   return PickProxyLevel(std::span<const ProxyLevel>(primitive.proxies), 1.0f,
                         kProxyErrorFraction * max_edge);
 }

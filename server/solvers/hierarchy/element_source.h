@@ -11,19 +11,29 @@
 
 namespace gistream::hierarchy {
 
+// Primitives with fewer triangles keep their full mesh (as the cluster
+// trees start above 4,096, scene/proxy_clusters.h): the white furnace's
+// cube (3,072 triangles) lost 5.6 % of its energy at albedo 0.99 with
+// implicit_visibility's elements made from its 48-triangle level, whose
+// faces meet in T-junctions along the cube's edges (EverySolver/Furnace
+// allows 3 %; why it loses was not found), and on the bundled scenes'
+// meshes (1,152 triangles and fewer) the elements cost little anyway.
+inline constexpr size_t kMinProxyTriangles = 4096;
+
 // A level may move the surface by this fraction of the subdivision limit.
 // A disc sits at its area centroid and a leaf is at most the limit wide,
 // so a surface moved by x of the limit moves each disc by at most about x
-// of its size; a form factor A cos cos / (pi r^2) between neighbours (r
-// about one element size) then changes by O(x) (r by x of itself, the
-// normals by an angle of O(x)): 10 % for the nearest pairs, less with
-// distance (relative change x size / r).
+// of its size; a form factor A cos cos / (pi r^2) between neighbours (r about one
+// element size) then changes by O(x) (r by x of itself, the normals by an
+// angle of O(x)): 10 % for the nearest pairs, less with distance
+// (relative change x size / r).
 inline constexpr float kProxyErrorFraction = 0.1f;
 
 // The proxy level the elements of `primitive` are made of: the coarsest
 // whose recorded error is within kProxyErrorFraction x `max_edge` (local
 // units, as hierarchy::LocalMaxEdge); -1 (the full mesh) with
-// `full_detail`, when none is, or when max_edge <= 0.
+// `full_detail`, below kMinProxyTriangles, when none is, or when
+// max_edge <= 0.
 int ElementLevel(const Primitive& primitive, float max_edge, bool full_detail);
 
 // Level `level`'s triangles over the vertices it uses, in their order in
