@@ -159,10 +159,7 @@ uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu) {
 }
 
 float LocalMaxEdge(const SceneState& state, const GpuScene& gpu, int mesh, int primitive) {
-  // The load-time box: elements built after a node moved (a fresh solve)
-  // are those of a solve built before the move (the proxies' coarse
-  // triangles are subdivided, so the limit must not follow the move).
-  const Bounds bounds = state.scene().bounds;
+  const Bounds bounds = gpu.WorldBounds(state);
   const float diagonal = glm::length(bounds.max - bounds.min);
   float scale = 0.0f;
   for (const DrawItem& d : gpu.draws()) {

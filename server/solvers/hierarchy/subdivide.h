@@ -43,8 +43,7 @@ Primitive RepeatSubdivision(const Primitive& primitive, const Primitive& subdivi
                             const Midpoints& midpoints);
 
 // The local-space edge limit for (mesh, primitive): kMaxElementEdge x the
-// scene's diagonal at load time (Scene::bounds) over the largest current
-// scale of its instances.
+// current world diagonal over the largest scale of its instances.
 float LocalMaxEdge(const SceneState& state, const GpuScene& gpu, int mesh, int primitive);
 
 // An upper bound, computed without subdividing, on the vertices of every
