@@ -11,12 +11,9 @@ here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$out/scenes"
 [ -f "$out/scenes/cornell_box_x4.gltf" ] ||
   /usr/bin/python3 "$here/../../tools/make_scale_scenes.py" "$out/scenes" 1 >"$out/scenes.txt"
-"$build/gistreamd" --listen 127.0.0.1:0 --scenes "$out/scenes" >"$out/listen.txt" \
-  2>"$out/gistreamd.log" &
-pid=$!
-trap 'kill $pid 2>/dev/null || true' EXIT
-for _ in $(seq 1 300); do grep -q "^listening on" "$out/listen.txt" && break; sleep 0.1; done
-addr=$(sed -n 's/^listening on //p' "$out/listen.txt")
+source "$here/start_server.sh"
+start_server "$build/gistreamd" "$out" "$out/scenes"
+addr=$ADDR
 "$build/gistream" --server "$addr" bench --scene cornell_box_x4 --solver direct --size 128x128 \
   --fps 10 --sessions 1 --duration 100s --warmup 2s --out "$out/bench" >"$out/bench.txt" 2>&1 &
 bench=$!

@@ -15,12 +15,9 @@ here=$(cd "$(dirname "$0")" && pwd)
 mkdir -p "$out/scenes"
 /usr/bin/python3 "$here/../../tools/make_scale_scenes.py" "$out/scenes" 3 6 >"$out/scenes.txt"
 cp "$here/../../scenes/cornell_box.gltf" "$out/scenes/"
-"$build/gistreamd" --listen 127.0.0.1:0 --scenes "$out/scenes" >"$out/listen.txt" \
-  2>"$out/gistreamd.log" &
-pid=$!
-trap 'kill $pid 2>/dev/null || true' EXIT
-for _ in $(seq 1 300); do grep -q "^listening on" "$out/listen.txt" && break; sleep 0.1; done
-addr=$(sed -n 's/^listening on //p' "$out/listen.txt")
+source "$here/start_server.sh"
+start_server "$build/gistreamd" "$out" "$out/scenes"
+addr=$ADDR
 for scene in cornell_box cornell_box_x4 cornell_box_x16 cornell_box_x64 atrium_d3 atrium_d6; do
   for solver in "${solvers[@]}"; do
     for setting in proxies full; do

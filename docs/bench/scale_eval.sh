@@ -14,12 +14,8 @@ mkdir -p "$OUT/scenes"
 [ -f "$OUT/scenes/cornell_box_x64.gltf" ] ||
   /usr/bin/python3 "$here/../../tools/make_scale_scenes.py" "$OUT/scenes" 1 >"$OUT/scenes.txt"
 cp "$here/../../scenes/cornell_box.gltf" "$OUT/scenes/"
-"$BUILD/gistreamd" --listen 127.0.0.1:0 --scenes "$OUT/scenes" >"$OUT/listen.txt" \
-  2>"$OUT/gistreamd.log" &
-pid=$!
-trap 'kill $pid 2>/dev/null || true' EXIT
-for _ in $(seq 1 300); do grep -q "^listening on" "$OUT/listen.txt" && break; sleep 0.1; done
-addr=$(sed -n 's/^listening on //p' "$OUT/listen.txt")
-[ -n "$addr" ] || { cat "$OUT/gistreamd.log" >&2; echo "gistreamd did not start" >&2; exit 1; }
+source "$here/start_server.sh"
+start_server "$BUILD/gistreamd" "$OUT" "$OUT/scenes"
+addr=$ADDR
 "$BUILD/gistream" --server "$addr" eval "$here/eval_scale.json" --out "$OUT/eval" \
   --cache "$OUT/reference-cache"
