@@ -19,24 +19,41 @@ uniform float uGridCell;
 in vec2 vUv;
 out vec4 oRadiance;
 
-vec3 IndirectIrradiance(vec3 p, vec3 n) {
+// The grid cells around p's (the 3 x 3 x 3 block, clipped to the grid):
+// every splat that can reach p lies in one of them.
+void CellBlock(vec3 p, out ivec3 lo, out ivec3 hi) {
   ivec3 c = clamp(ivec3(floor((p - uGridMin) / uGridCell)), ivec3(0), uGridDims - 1);
+  lo = max(c - 1, ivec3(0));
+  hi = min(c + 1, uGridDims - 1);
+}
+
+// A leaf's splat weight at p (normal n): a smooth fall-off over its
+// radius times the normals' agreement; 0 outside it or for normals more
+// than ~45 degrees apart.
+float SplatWeight(Element e, vec3 p, vec3 n) {
+  float nd = dot(n, e.normal.xyz);
+  if (nd < 0.7) return 0.0;
+  vec3 d = p - e.position_radius.xyz;
+  float r2 = e.position_radius.w * e.position_radius.w;
+  float t = 1.0 - dot(d, d) / r2;
+  if (t <= 0.0) return 0.0;
+  return t * t * nd;
+}
+
+vec3 IndirectIrradiance(vec3 p, vec3 n) {
+  ivec3 lo, hi;
+  CellBlock(p, lo, hi);
   int cells = uGridDims.x * uGridDims.y * uGridDims.z;
   vec3 sum = vec3(0.0);
   float weight = 0.0;
-  for (int z = max(c.z - 1, 0); z <= min(c.z + 1, uGridDims.z - 1); ++z)
-    for (int y = max(c.y - 1, 0); y <= min(c.y + 1, uGridDims.y - 1); ++y)
-      for (int x = max(c.x - 1, 0); x <= min(c.x + 1, uGridDims.x - 1); ++x) {
+  for (int z = lo.z; z <= hi.z; ++z)
+    for (int y = lo.y; y <= hi.y; ++y)
+      for (int x = lo.x; x <= hi.x; ++x) {
         int cell = (z * uGridDims.y + y) * uGridDims.x + x;
         for (uint k = grid[cell]; k < grid[cell + 1]; ++k) {
           Element e = elements[grid[cells + 1 + int(k)]];
-          float nd = dot(n, e.normal.xyz);
-          if (nd < 0.7) continue;
-          vec3 d = p - e.position_radius.xyz;
-          float r2 = e.position_radius.w * e.position_radius.w;
-          float t = 1.0 - dot(d, d) / r2;
-          if (t <= 0.0) continue;
-          float w = t * t * nd;
+          float w = SplatWeight(e, p, n);
+          if (w <= 0.0) continue;
           sum += w * e.irradiance.rgb;
           weight += w;
         }
@@ -68,23 +85,20 @@ bool GlossyIndirect(vec3 p, vec3 n, vec3 v, out vec3 l) {
   int bin[MAX_TAPS];
   float bw[MAX_TAPS];
   int taps = BinTaps(v, bin, bw);
-  ivec3 c = clamp(ivec3(floor((p - uGridMin) / uGridCell)), ivec3(0), uGridDims - 1);
+  ivec3 lo, hi;
+  CellBlock(p, lo, hi);
   int cells = uGridDims.x * uGridDims.y * uGridDims.z;
   vec3 sum = vec3(0.0);
   float weight = 0.0;
-  for (int z = max(c.z - 1, 0); z <= min(c.z + 1, uGridDims.z - 1); ++z)
-    for (int y = max(c.y - 1, 0); y <= min(c.y + 1, uGridDims.y - 1); ++y)
-      for (int x = max(c.x - 1, 0); x <= min(c.x + 1, uGridDims.x - 1); ++x) {
+  for (int z = lo.z; z <= hi.z; ++z)
+    for (int y = lo.y; y <= hi.y; ++y)
+      for (int x = lo.x; x <= hi.x; ++x) {
         int cell = (z * uGridDims.y + y) * uGridDims.x + x;
         for (uint k = grid[cell]; k < grid[cell + 1]; ++k) {
           Element e = elements[grid[cells + 1 + int(k)]];
           if (e.normal.w < 0.0) continue;  // not glossy
-          float nd = dot(n, e.normal.xyz);
-          if (nd < 0.7) continue;
-          vec3 d = p - e.position_radius.xyz;
-          float r2 = e.position_radius.w * e.position_radius.w;
-          float t = 1.0 - dot(d, d) / r2;
-          if (t <= 0.0) continue;
+          float w = SplatWeight(e, p, n);
+          if (w <= 0.0) continue;
           // This leaf's bins toward v, over the taps above its surface.
           int base = int(e.normal.w) * uBins;
           vec3 lv = vec3(0.0);
@@ -95,7 +109,6 @@ bool GlossyIndirect(vec3 p, vec3 n, vec3 v, out vec3 l) {
             tw += bw[i];
           }
           if (tw <= 0.0) continue;
-          float w = t * t * nd;
           sum += w * (lv / tw);
           weight += w;
         }
