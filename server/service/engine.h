@@ -307,6 +307,9 @@ struct EngineStats {
   // Refreshed on the render thread after loads, unloads, closed sessions,
   // a view's first frame and (at most 4 times a second) frames.
   uint64_t gl_object_bytes = 0;
+  // Dropped solvers (their scene unloaded, or evicted) kept until their
+  // background job ends (counted in gl_object_bytes meanwhile).
+  uint32_t retiring_solvers = 0;
   // What the driver reports through GL_NVX_gpu_memory_info or
   // GL_ATI_meminfo (queried with gl_object_bytes); 0 when it does not tell.
   // ATI reports no total, only what is free.

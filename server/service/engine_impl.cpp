@@ -200,6 +200,7 @@ void EngineImpl::Shutdown() {
   render_thread_->Stop([this] {
     views_.clear();
     gpu_scenes_.clear();
+    retiring_.clear();
     passes_.reset();
     timer_ = gl::StageTimer();
     glFinish();
@@ -237,6 +238,7 @@ EngineStats EngineImpl::stats() const {
     out.scene_tenants.push_back(s->tenant);
   }
   out.gl_object_bytes = gl_object_bytes_.load();
+  out.retiring_solvers = retiring_solvers_.load();
   out.gpu_memory_total_bytes = gpu_memory_total_.load();
   out.gpu_memory_available_bytes = gpu_memory_available_.load();
   out.memory_used_bytes = accounts_.server().used();
@@ -256,7 +258,9 @@ void EngineImpl::RefreshMemoryStats(bool force) {
     }
   }
   for (const auto& [id, view] : views_) bytes += view.gbuffer.gpu_bytes();
+  for (const auto& solver : retiring_) bytes += solver->gpu_bytes();
   gl_object_bytes_ = bytes;
+  retiring_solvers_ = uint32_t(retiring_.size());
   if (memory_query_ && memory_query_->supported()) {
     const gl::GpuMemoryInfo info = memory_query_->Query();
     gpu_memory_total_ = info.total_bytes;
@@ -483,7 +487,7 @@ bool EngineImpl::DropIfUnreferencedLocked(const std::shared_ptr<SceneRecord>& sc
   scenes_.erase(it);
   if (!shut_down_) {
     render_thread_->Post([this, id = scene->id] {
-      gpu_scenes_.erase(id);
+      DropGpuScene(id);
       RefreshMemoryStats(/*force=*/true);
     });
   }
@@ -716,6 +720,7 @@ absl::StatusOr<EncodedFrame> EngineImpl::Render(const RenderRequest& request) {
 Clock::time_point EngineImpl::Tick() {
   if (started_) CheckGpuReset();  // also between frames (an injected reset)
   ExpireIdle();
+  ReapRetired();
   // Snapshot the sessions, ordered so the one after the last served comes
   // first: every due session gets one frame per round.
   std::vector<std::shared_ptr<SessionRecord>> order;
@@ -766,7 +771,28 @@ Clock::time_point EngineImpl::Tick() {
   if (options_.idle_timeout.count() > 0) {
     next = std::min(next, Clock::now() + std::chrono::seconds(1));
   }
+  // Retired solvers are destroyed soon after their jobs end.
+  if (!retiring_.empty()) next = std::min(next, Clock::now() + std::chrono::milliseconds(50));
   return next;
+}
+
+void EngineImpl::Retire(std::unique_ptr<Solver> solver) {
+  if (!solver || !solver->BackgroundBusy()) return;
+  retiring_.push_back(std::move(solver));
+  RefreshMemoryStats(/*force=*/true);
+}
+
+void EngineImpl::ReapRetired() {
+  if (std::erase_if(retiring_, [](const auto& s) { return !s->BackgroundBusy(); }) > 0) {
+    RefreshMemoryStats(/*force=*/true);
+  }
+}
+
+void EngineImpl::DropGpuScene(const SceneId& id) {
+  auto it = gpu_scenes_.find(id);
+  if (it == gpu_scenes_.end()) return;
+  for (auto& [key, entry] : it->second.solvers) Retire(std::move(entry.solver));
+  gpu_scenes_.erase(it);
 }
 
 void EngineImpl::ExpireIdle() {
@@ -814,7 +840,7 @@ void EngineImpl::ExpireIdle() {
         absl::StrCat("session: no request from the client for ", seconds, " s (--idle-timeout)")));
   }
   for (const SceneId& id : freed) {
-    gpu_scenes_.erase(id);
+    DropGpuScene(id);
     Log(LogLevel::kInfo, {"", id}, absl::StrCat("idle for ", seconds, " s: unloaded"));
   }
   if (!freed.empty()) RefreshMemoryStats(/*force=*/true);
@@ -1076,6 +1102,7 @@ void EngineImpl::EvictIdleSolvers(GpuSceneRecord& scene, const SceneRecord* owne
     }
     if (victim == scene.solvers.end()) return;  // every cached solver is in use
     Log(LogLevel::kInfo, {"", owner->id}, absl::StrCat("dropping idle solver ", victim->first));
+    Retire(std::move(victim->second.solver));
     scene.solvers.erase(victim);
   }
 }
@@ -1136,6 +1163,7 @@ absl::Status EngineImpl::RecoverFromGpuReset() {
     scene.solvers.clear();
     scene.gpu.reset();
   }
+  retiring_.clear();  // (waits for their jobs: their names are the lost context's)
   passes_.reset();
   timer_ = gl::StageTimer();
   memory_query_.reset();

@@ -113,7 +113,16 @@ class EngineImpl final : public Engine {
   // options_.max_solvers_per_scene, sparing `keep` and those of open
   // sessions on `owner`. Render thread.
   void EvictIdleSolvers(GpuSceneRecord& scene, const SceneRecord* owner, const std::string& keep);
-  uint64_t solver_clock_ = 0;  // render thread
+  // Destroys a dropped solver now, or, while a background job of it still
+  // runs (Solver::BackgroundBusy), keeps it in retiring_ until the job
+  // ends: its destructor would wait for the job on the render thread.
+  // ReapRetired (every Tick) destroys those whose jobs ended. Render thread.
+  void Retire(std::unique_ptr<Solver> solver);
+  void ReapRetired();
+  // Drops scene `id`'s GPU record, its solvers through Retire.
+  void DropGpuScene(const SceneId& id);
+  std::vector<std::unique_ptr<Solver>> retiring_;  // render thread
+  uint64_t solver_clock_ = 0;                      // render thread
   struct ViewRecord {
     ViewCamera camera;
     GBuffer gbuffer;
@@ -195,6 +204,7 @@ class EngineImpl final : public Engine {
   std::function<void(bool)> serving_listener_;  // mutex-guarded
   // Written by RefreshMemoryStats (render thread), read by stats().
   std::atomic<uint64_t> gl_object_bytes_{0};
+  std::atomic<uint32_t> retiring_solvers_{0};
   std::atomic<uint64_t> gpu_memory_total_{0};
   std::atomic<uint64_t> gpu_memory_available_{0};
 

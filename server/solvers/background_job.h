@@ -40,6 +40,12 @@ class BackgroundJob {
     });
   }
   bool running() const { return job_ != nullptr; }
+  // Whether the job's run has not returned yet (running() also holds a
+  // finished job until it is taken).
+  bool executing() const {
+    return job_ && done_.valid() &&
+           done_.wait_for(std::chrono::seconds(0)) != std::future_status::ready;
+  }
   // A change arrived while the job ran: another is due once it is taken.
   void Again() { again_ = true; }
   bool again() const { return again_; }

@@ -65,6 +65,10 @@ class Solver {
   // go; Shade then shows the last consistent solution). A frame requested
   // on its own skips Shade until it is.
   virtual bool UpdateComplete() const { return true; }
+  // Whether a background job of it still runs on the CPU pool: its
+  // destructor would wait for it, so the engine keeps a solver it drops
+  // until this is false (the render thread never waits for a job).
+  virtual bool BackgroundBusy() const { return false; }
   // Bytes its main GL buffers and textures hold (shadow maps, probe atlas,
   // element and link buffers), for status reports; 0 when it holds none.
   virtual uint64_t gpu_bytes() const { return 0; }

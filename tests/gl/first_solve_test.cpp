@@ -5,11 +5,14 @@
 // (direct light alone, update_complete 0), and a `direct` stream beside
 // them still answers a camera update. Once the pool is released each
 // reaches a complete frame that adds the indirect light to the direct-only
-// one, equal to a Render of a fresh solver.
+// one, equal to a Render of a fresh solver. A solver dropped while its job
+// runs is kept until the job ends, not waited for.
 #include <algorithm>
+#include <chrono>
 #include <map>
 #include <memory>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -97,6 +100,53 @@ TEST(FirstSolves, NeverStallTheRenderThreadAndEndAsAFreshSolve) {
     testing::ExpectSameImage(solved, testing::RenderRequestExr(testing::SolverRequest(
                                          fresh_scene.id(), s.solver, s.params, kSize)));
   }
+  engine.CloseSession(direct->id);
+}
+
+// A scene dropped while its solver's job still runs: the engine keeps the
+// solver until the job ends (its destructor would wait for it), so the
+// render thread goes on serving the other sessions.
+TEST(FirstSolves, DroppingASolverWhoseJobRunsNeverStallsTheRenderThread) {
+  const testing::BundledCopy other("cornell_box.gltf");
+  Engine& engine = testing::SharedEngine();
+  auto direct_sink = std::make_shared<testing::FrameQueue>();
+  auto direct =
+      engine.OpenSession(testing::ExrStreamConfig(other.id(), "direct", {}, kSize), direct_sink);
+  ASSERT_TRUE(direct.ok()) << direct.status();
+  ASSERT_NE(direct_sink->Next(), nullptr);
+  {
+    testing::HeldPool held;
+    {
+      const testing::BundledCopy scene("cornell_box.gltf");
+      auto sink = std::make_shared<testing::FrameQueue>();
+      auto opened = engine.OpenSession(
+          testing::ExrStreamConfig(scene.id(), "antiradiance", {{"bins", "64"}}, kSize), sink);
+      ASSERT_TRUE(opened.ok()) << opened.status();
+      // Its first solve's job has started (after the shadow maps) and
+      // cannot run.
+      if (testing::HeldPool::Holds()) {
+        ASSERT_NE(sink->WaitFor(
+                      [](const EncodedFrame& f) { return FrameStat(f, "links_pending") == 1.0; }),
+                  nullptr);
+      }
+      engine.CloseSession(opened->id);
+    }  // the scene is unloaded: its GPU record and solver dropped
+    CameraUpdate camera;
+    camera.look_at = LookAt{{0.0f, 1.0f, 3.5f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+    ASSERT_TRUE(engine.PushUpdate(direct->id, {1, camera}).ok());
+    EXPECT_NE(direct_sink->WaitFor([](const EncodedFrame& f) { return f.last_update_seq >= 1; }),
+              nullptr);
+    // The unload's drop ran on the render thread before that frame (posted
+    // first): the solver is kept, its job still held.
+    if (testing::HeldPool::Holds()) {
+      EXPECT_EQ(engine.stats().retiring_solvers, 1u);
+    }
+  }
+  // Released, the job ends and the kept solver is destroyed at a tick.
+  for (int i = 0; i < 2000 && engine.stats().retiring_solvers > 0; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  EXPECT_EQ(engine.stats().retiring_solvers, 0u);
   engine.CloseSession(direct->id);
 }
 
