@@ -50,6 +50,10 @@ int ProbeSchedule::Units(int probe) const {
          (direct_[size_t(probe)] ? kDirectUnits : 0);
 }
 
+bool ProbeSchedule::raster_pending() const {
+  return std::any_of(raster_.begin(), raster_.end(), [](uint8_t f) { return f != 0; });
+}
+
 bool ProbeSchedule::AnyFlag() const {
   return std::any_of(raster_.begin(), raster_.end(), [](uint8_t f) { return f != 0; }) ||
          std::any_of(direct_.begin(), direct_.end(), [](uint8_t f) { return f != 0; });

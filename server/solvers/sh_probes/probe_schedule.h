@@ -49,6 +49,8 @@ class ProbeSchedule {
   void NeedDirectAll();
 
   bool pending() const { return pending_; }
+  // Whether a probe still waits for its cube maps to be re-rasterized.
+  bool raster_pending() const;
   // The next batch of the sweep (empty when nothing is pending).
   Batch Peek() const;
   // Marks Peek()'s batch done: `change` is the sum over its valid probes of

@@ -112,9 +112,12 @@ std::vector<std::string> ShProbesSolver::Plan(ChangeMask changes) const {
   if (changes & (kChangeShape | kChangeMaterials)) {
     return {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate", "final"};
   }
-  // A progressive update under way may run any stage (a batch of probes).
+  // A progressive update under way runs batches of probes: it rasterizes
+  // only in the first solve, for a deferred geometry or material change,
+  // or while probes wait for it (a light's update, e.g., never does).
   if ((changes & (kChangeLights | kChangeEmission)) || !UpdateComplete()) {
-    if (!UpdateComplete()) {
+    if (full_.active || (deferred_ & (kChangeShape | kChangeMaterials)) ||
+        schedule_.raster_pending()) {
       return {"rasterize_cubemaps", "render_cubemaps", "sh_project", "interpolate", "final"};
     }
     return {"render_cubemaps", "sh_project", "interpolate", "final"};
