@@ -136,10 +136,20 @@ TEST(FirstSolves, DroppingASolverWhoseJobRunsNeverStallsTheRenderThread) {
     ASSERT_TRUE(engine.PushUpdate(direct->id, {1, camera}).ok());
     EXPECT_NE(direct_sink->WaitFor([](const EncodedFrame& f) { return f.last_update_seq >= 1; }),
               nullptr);
-    // The unload's drop ran on the render thread before that frame (posted
-    // first): the solver is kept, its job still held.
+    // The drop runs on the render thread once the closed session is gone
+    // there too: the solver is kept, its job still held (polled: a hang
+    // bound, not a timing threshold).
     if (testing::HeldPool::Holds()) {
+      for (int i = 0; i < 2000 && engine.stats().retiring_solvers == 0; ++i) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      }
       EXPECT_EQ(engine.stats().retiring_solvers, 1u);
+      // And the render thread still serves the direct stream after it.
+      CameraUpdate back;
+      back.look_at = LookAt{{0.0f, 1.0f, 3.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+      ASSERT_TRUE(engine.PushUpdate(direct->id, {2, back}).ok());
+      EXPECT_NE(direct_sink->WaitFor([](const EncodedFrame& f) { return f.last_update_seq >= 2; }),
+                nullptr);
     }
   }
   // Released, the job ends and the kept solver is destroyed at a tick.
