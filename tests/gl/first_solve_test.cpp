@@ -49,14 +49,34 @@ double Mean(const testing::FloatImage& image) {
   return sum / std::max(1.0, 3.0 * image.width * image.height);
 }
 
+// A `direct` stream beside the sessions under test, its first frame in.
+struct DirectStream {
+  explicit DirectStream(const std::string& scene) {
+    auto opened = testing::SharedEngine().OpenSession(
+        testing::ExrStreamConfig(scene, "direct", {}, kSize), sink);
+    EXPECT_TRUE(opened.ok()) << opened.status();
+    if (opened.ok()) id = opened->id;
+    EXPECT_NE(sink->Next(), nullptr);
+  }
+  ~DirectStream() { testing::SharedEngine().CloseSession(id); }
+  // Moves the camera (update `seq`) and expects the frame that applies it:
+  // the render thread is serving this stream.
+  void ExpectAnUpdateAnswered(uint64_t seq) {
+    CameraUpdate camera;
+    camera.look_at =
+        LookAt{{0.0f, 1.0f, 3.0f + 0.1f * float(seq)}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+    ASSERT_TRUE(testing::SharedEngine().PushUpdate(id, {seq, camera}).ok());
+    EXPECT_NE(sink->WaitFor([seq](const EncodedFrame& f) { return f.last_update_seq >= seq; }),
+              nullptr);
+  }
+  std::shared_ptr<testing::FrameQueue> sink = std::make_shared<testing::FrameQueue>();
+  SessionId id;
+};
+
 TEST(FirstSolves, NeverStallTheRenderThreadAndEndAsAFreshSolve) {
   const testing::BundledCopy scene("cornell_box.gltf"), fresh_scene("cornell_box.gltf");
   Engine& engine = testing::SharedEngine();
-  auto direct_sink = std::make_shared<testing::FrameQueue>();
-  auto direct =
-      engine.OpenSession(testing::ExrStreamConfig(scene.id(), "direct", {}, kSize), direct_sink);
-  ASSERT_TRUE(direct.ok()) << direct.status();
-  ASSERT_NE(direct_sink->Next(), nullptr);
+  DirectStream direct(scene.id());
 
   std::vector<GiSession> sessions = {
       {"avg", {{"vpls", "128"}, {"grid", "32"}, {"shadow_res", "16"}}},
@@ -78,11 +98,7 @@ TEST(FirstSolves, NeverStallTheRenderThreadAndEndAsAFreshSolve) {
       }
     }
     // The direct stream beside them still answers an update.
-    CameraUpdate camera;
-    camera.look_at = LookAt{{0.0f, 1.0f, 3.5f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
-    ASSERT_TRUE(engine.PushUpdate(direct->id, {1, camera}).ok());
-    EXPECT_NE(direct_sink->WaitFor([](const EncodedFrame& f) { return f.last_update_seq >= 1; }),
-              nullptr);
+    direct.ExpectAnUpdateAnswered(1);
   }
   for (GiSession& s : sessions) {
     auto complete = s.sink->WaitFor(
@@ -100,7 +116,6 @@ TEST(FirstSolves, NeverStallTheRenderThreadAndEndAsAFreshSolve) {
     testing::ExpectSameImage(solved, testing::RenderRequestExr(testing::SolverRequest(
                                          fresh_scene.id(), s.solver, s.params, kSize)));
   }
-  engine.CloseSession(direct->id);
 }
 
 // A scene dropped while its solver's job still runs: the engine keeps the
@@ -109,11 +124,7 @@ TEST(FirstSolves, NeverStallTheRenderThreadAndEndAsAFreshSolve) {
 TEST(FirstSolves, DroppingASolverWhoseJobRunsNeverStallsTheRenderThread) {
   const testing::BundledCopy other("cornell_box.gltf");
   Engine& engine = testing::SharedEngine();
-  auto direct_sink = std::make_shared<testing::FrameQueue>();
-  auto direct =
-      engine.OpenSession(testing::ExrStreamConfig(other.id(), "direct", {}, kSize), direct_sink);
-  ASSERT_TRUE(direct.ok()) << direct.status();
-  ASSERT_NE(direct_sink->Next(), nullptr);
+  DirectStream direct(other.id());
   {
     testing::HeldPool held;
     {
@@ -131,11 +142,7 @@ TEST(FirstSolves, DroppingASolverWhoseJobRunsNeverStallsTheRenderThread) {
       }
       engine.CloseSession(opened->id);
     }  // the scene is unloaded: its GPU record and solver dropped
-    CameraUpdate camera;
-    camera.look_at = LookAt{{0.0f, 1.0f, 3.5f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
-    ASSERT_TRUE(engine.PushUpdate(direct->id, {1, camera}).ok());
-    EXPECT_NE(direct_sink->WaitFor([](const EncodedFrame& f) { return f.last_update_seq >= 1; }),
-              nullptr);
+    direct.ExpectAnUpdateAnswered(1);
     // The drop runs on the render thread once the closed session is gone
     // there too: the solver is kept, its job still held (polled: a hang
     // bound, not a timing threshold).
@@ -145,11 +152,7 @@ TEST(FirstSolves, DroppingASolverWhoseJobRunsNeverStallsTheRenderThread) {
       }
       EXPECT_EQ(engine.stats().retiring_solvers, 1u);
       // And the render thread still serves the direct stream after it.
-      CameraUpdate back;
-      back.look_at = LookAt{{0.0f, 1.0f, 3.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
-      ASSERT_TRUE(engine.PushUpdate(direct->id, {2, back}).ok());
-      EXPECT_NE(direct_sink->WaitFor([](const EncodedFrame& f) { return f.last_update_seq >= 2; }),
-                nullptr);
+      direct.ExpectAnUpdateAnswered(2);
     }
   }
   // Released, the job ends and the kept solver is destroyed at a tick.
@@ -157,7 +160,6 @@ TEST(FirstSolves, DroppingASolverWhoseJobRunsNeverStallsTheRenderThread) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   EXPECT_EQ(engine.stats().retiring_solvers, 0u);
-  engine.CloseSession(direct->id);
 }
 
 }  // namespace
