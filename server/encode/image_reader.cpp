@@ -2,6 +2,7 @@
 
 #include "encode/exr_header.h"
 #include "encode/image_format.h"
+#include "encode/jpeg_markers.h"
 
 namespace gistream {
 
@@ -12,6 +13,10 @@ absl::StatusOr<MemoryImageReader> OpenImageFromMemory(std::span<const uint8_t> b
   // OpenEXR allocates what its header's attributes claim before reading.
   if (format == "exr") GS_RETURN_IF_ERROR(CheckExrHeader(bytes, field));
   MemoryImageReader reader;
+  if (format == "jpeg") {
+    reader.owned_bytes = StripJpegMetadata(bytes);
+    bytes = reader.owned_bytes;
+  }
   reader.proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(bytes.data(), bytes.size());
   reader.input = OIIO::ImageInput::create(format);
   if (!reader.input) {

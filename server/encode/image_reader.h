@@ -7,6 +7,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
@@ -16,6 +17,9 @@
 namespace gistream {
 
 struct MemoryImageReader {
+  // A JPEG's bytes without their metadata segments (encode/jpeg_markers.h);
+  // empty for other formats. Declared first: the proxy reads it.
+  std::vector<uint8_t> owned_bytes;
   // The proxy must outlive the reader that reads through it.
   std::unique_ptr<OIIO::Filesystem::IOMemReader> proxy;
   std::unique_ptr<OIIO::ImageInput> input;

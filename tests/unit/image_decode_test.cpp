@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "encode/encode.h"
+#include "encode/jpeg_markers.h"
 #include "gltf_test_util.h"
 
 namespace gistream {
@@ -118,6 +119,43 @@ TEST(ImageDecode, CorruptDataIsInvalid) {
                kInvalidArgument, "images[0]: corrupt png image");
   EXPECT_ERROR(DecodeImage(Bytes("\xff\xd8\xff garbage"), ImageKind::kTexture, {}, "images[0]"),
                kInvalidArgument, "images[0]: corrupt jpeg image");
+}
+
+// Found by tests/fuzz/image_decode_fuzzer: OpenImageIO 2.4 strcmp()s saved
+// APP1/APP13 data, which libjpeg does not terminate, so an APP1 segment of
+// two bytes was read past its end (ASan, strict_string_checks). Metadata
+// segments are removed before the reader sees the file; under the
+// sanitizers this test fails without that.
+TEST(ImageDecode, JpegMetadataSegmentsNeverReachTheReader) {
+  std::vector<uint8_t> rgba(8 * 8 * 4);
+  for (size_t i = 0; i < rgba.size(); ++i) rgba[i] = uint8_t(i % 4 == 3 ? 255 : (i * 7) % 251);
+  const std::vector<uint8_t> clean = Bytes(*EncodeJpeg(rgba, 8, 8, 95));
+  ASSERT_GT(clean.size(), 4u);
+  ASSERT_EQ(clean[2], 0xFF);
+  ASSERT_EQ(clean[3], 0xE0) << "the encoder writes JFIF (APP0) first";
+  // After SOI: APP1 "Ex" (no NUL), fill bytes, APP13 of one byte, COM, and
+  // an APP15; APP0 (JFIF) and everything else stay.
+  const std::vector<uint8_t> metadata = {0xFF, 0xE1, 0x00, 0x04, 'E',  'x',  0xFF, 0xFF,
+                                         0xFF, 0xED, 0x00, 0x03, 'P',  0xFF, 0xFE, 0x00,
+                                         0x05, 'a',  'b',  'c',  0xFF, 0xEF, 0x00, 0x02};
+  std::vector<uint8_t> forged(clean.begin(), clean.begin() + 2);
+  forged.insert(forged.end(), metadata.begin(), metadata.end());
+  forged.insert(forged.end(), clean.begin() + 2, clean.end());
+  EXPECT_EQ(StripJpegMetadata(forged), clean) << "only the metadata segments are removed";
+  EXPECT_EQ(StripJpegMetadata(clean), clean);
+
+  const absl::StatusOr<Image> want = DecodeImage(clean, ImageKind::kTexture, {}, "images[0]");
+  const absl::StatusOr<Image> got = DecodeImage(forged, ImageKind::kTexture, {}, "images[0]");
+  ASSERT_TRUE(want.ok()) << want.status();
+  ASSERT_TRUE(got.ok()) << got.status();
+  EXPECT_EQ(got->pixels8, want->pixels8);
+
+  // A segment cut off by the end of the file is copied as it is, and
+  // libjpeg refuses the file.
+  const std::vector<uint8_t> cut = {0xFF, 0xD8, 0xFF, 0xE1, 0x00};
+  EXPECT_EQ(StripJpegMetadata(cut), cut);
+  EXPECT_ERROR(DecodeImage(cut, ImageKind::kTexture, {}, "images[0]"), kInvalidArgument,
+               "images[0]: corrupt jpeg image");
 }
 
 }  // namespace
