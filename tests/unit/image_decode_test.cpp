@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -79,6 +80,28 @@ TEST(ImageDecode, ExrEnvironmentKeepsFloats) {
       DecodeImage(Bytes(*EncodeExr(rgba, 2, 1)), ImageKind::kEnvironment, {}, "env");
   ASSERT_TRUE(image.ok()) << image.status();
   EXPECT_EQ(image->pixelsf, rgba);
+}
+
+// Found by tests/fuzz/image_decode_fuzzer: OpenEXR parses a chlist by its
+// content, not its size field, so a channel list ending early left it
+// reading the next "attribute" mid-value (one claimed 1.9 GB, allocated
+// before reading). A value whose content and size disagree is refused.
+TEST(ImageDecode, ExrValueThatDisagreesWithItsSizeIsRefused) {
+  std::vector<uint8_t> exr = Bytes(*EncodeExr(std::vector<float>(4 * 4, 0.5f), 2, 2));
+  const std::string chlist = "channels";
+  const auto at = std::search(exr.begin(), exr.end(), chlist.begin(), chlist.end());
+  ASSERT_NE(at, exr.end());
+  // "channels\0chlist\0", the size, then the first channel's name ("A").
+  const size_t value = size_t(at - exr.begin()) + chlist.size() + 1 + 7 + 4;
+  const size_t second_name = value + 2 + 16;
+  ASSERT_LT(second_name, exr.size());
+  ASSERT_NE(exr[second_name], 0) << "the list has a second channel";
+  std::vector<uint8_t> forged = exr;
+  forged[second_name] = 0;  // the list now ends after one channel
+  EXPECT_ERROR(DecodeImage(forged, ImageKind::kEnvironment, {}, "env"), kInvalidArgument,
+               "env: corrupt exr image: attribute 'channels' of type chlist holds 19 bytes of "
+               "value in a size of");
+  EXPECT_TRUE(DecodeImage(exr, ImageKind::kEnvironment, {}, "env").ok());
 }
 
 TEST(ImageDecode, EnvironmentRefusesNonFiniteRadiance) {
