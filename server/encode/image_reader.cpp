@@ -3,6 +3,7 @@
 #include "encode/exr_header.h"
 #include "encode/image_format.h"
 #include "encode/jpeg_markers.h"
+#include "encode/png_chunks.h"
 
 namespace gistream {
 
@@ -12,6 +13,8 @@ absl::StatusOr<MemoryImageReader> OpenImageFromMemory(std::span<const uint8_t> b
   ConfigureOpenImageIO();
   // OpenEXR allocates what its header's attributes claim before reading.
   if (format == "exr") GS_RETURN_IF_ERROR(CheckExrHeader(bytes, field));
+  // libpng allocates a chunk's claimed length before reading it.
+  if (format == "png") GS_RETURN_IF_ERROR(CheckPngChunks(bytes, field));
   MemoryImageReader reader;
   if (format == "jpeg") {
     reader.owned_bytes = StripJpegMetadata(bytes);

@@ -104,6 +104,24 @@ TEST(ImageDecode, ExrValueThatDisagreesWithItsSizeIsRefused) {
   EXPECT_TRUE(DecodeImage(exr, ImageKind::kEnvironment, {}, "env").ok());
 }
 
+// Found by tests/fuzz/image_decode_fuzzer: libpng allocates a chunk's
+// claimed length before reading it (a 470-byte PNG whose tEXt chunk
+// claimed 1.7 GB allocated 1.7 GB). The chunks are walked first.
+TEST(ImageDecode, PngChunkClaimingMoreThanTheFileIsRefused) {
+  const std::vector<uint8_t> png = Png(std::vector<uint8_t>(4 * 4 * 4, 7), 4, 4);
+  // After the signature (8) and IHDR (8 + 13 + 4): a tEXt chunk claiming
+  // 1,728,053,353 bytes with a few bytes of text.
+  const size_t after_ihdr = 8 + 8 + 13 + 4;
+  ASSERT_EQ(std::string(png.begin() + 12, png.begin() + 16), "IHDR");
+  std::vector<uint8_t> forged(png.begin(), png.begin() + after_ihdr);
+  const std::vector<uint8_t> text = {0x67, 0x00, 0x00, 0x69, 't', 'E', 'X', 't', 'a', 0, 'b'};
+  forged.insert(forged.end(), text.begin(), text.end());
+  forged.insert(forged.end(), png.begin() + after_ihdr, png.end());
+  EXPECT_ERROR(DecodeImage(forged, ImageKind::kTexture, {}, "images[0]"), kInvalidArgument,
+               "images[0]: corrupt png image: chunk 'tEXt' claims 1728053353 bytes");
+  EXPECT_TRUE(DecodeImage(png, ImageKind::kTexture, {}, "images[0]").ok());
+}
+
 TEST(ImageDecode, EnvironmentRefusesNonFiniteRadiance) {
   const std::vector<float> rgba = {1, std::numeric_limits<float>::quiet_NaN(), 1, 1};
   EXPECT_ERROR(DecodeImage(Bytes(*EncodeExr(rgba, 1, 1)), ImageKind::kEnvironment, {}, "env"),
