@@ -66,13 +66,8 @@ float ParaboloidTexelTolerance(const Bounds& box, const glm::vec3& origin, const
   const float z_max =
       glm::dot(box.center() - origin, normal) + glm::dot(0.5f * box.extent(), glm::abs(normal));
   if (z_max < 0.0f) return -1.0f;
-  // Same bound as the cube's face-centre texel (see the header), for boxes
-  // small enough that their triangles' straight edges in the map stay
-  // within half a texel of the true curves (the header's second bound).
-  const float tolerance = CubeTexelTolerance(box, origin, resolution);
-  const float nearest = 0.5f * tolerance * float(resolution);
-  const float max_diagonal = nearest * std::sqrt(8.0f / float(resolution));
-  return glm::length(box.extent()) <= max_diagonal ? tolerance : 0.0f;
+  // Same bound as the cube's face-centre texel (see the header).
+  return CubeTexelTolerance(box, origin, resolution);
 }
 
 }  // namespace gistream

@@ -59,9 +59,9 @@ CubeDrawFilters CubeFilters(const SceneState& state, const glm::vec3& origin, in
 // triangles land off their texels even at zero geometric error. An edge of
 // length L at distance >= d subtends <= L / d radians, <= L / d in uv, and
 // its chord's sagitta is <= (L / d)^2 / 8: within half a texel (1 /
-// resolution) when L <= d sqrt(8 / resolution). A copy's triangles lie in
-// its node's box, so boxes with a larger diagonal get tolerance 0 (their
-// children, or the full mesh, are drawn). < 0 when the whole box is behind
+// resolution) when L <= d sqrt(8 / resolution). The VPL pass tessellates
+// every proxy edge into pieces that short (shaders/avg/vpl_shadow.tesc.glsl),
+// so the tolerance needs no bound on a box's size. < 0 when the whole box is behind
 // the hemisphere (z < 0 in the map's frame: the geometry shader clips it
 // away anyway); 0 when `origin` is inside it.
 float ParaboloidTexelTolerance(const Bounds& box, const glm::vec3& origin, const glm::vec3& normal,

@@ -24,19 +24,22 @@ std::shared_ptr<const Scene> TestScene(bool with_proxies) {
   return testing::FloorAndSphereScene(40, 48, 96, with_proxies);
 }
 
-// Above the sphere looking down, on the floor beside it looking up, and
-// to its side looking along +x (the floor half behind it is culled): far
-// enough for the sphere's whole-primitive levels (a box's diagonal within
-// d sqrt(8 / N), render/proxy_filters.h), the first near enough that the
-// floor is drawn in full.
+// Above the sphere looking down, on the floor beside it looking up, to its
+// side looking along +x (the floor half behind it is culled), and 0.6 above
+// the floor looking down: there the floor's coarsest level (a few
+// triangles across it) is within 2 d / N, and its edges run out to the
+// map's rim, where straight uv edges land many texels off their true
+// curves unless the pass tessellates them (shaders/avg/vpl_shadow.tesc.glsl).
 std::vector<avg::Vpl> TestVpls() {
-  std::vector<avg::Vpl> vpls(3);
+  std::vector<avg::Vpl> vpls(4);
   vpls[0].position = {0.3f, 4.0f, 0.2f};
   vpls[0].normal = {0.0f, -1.0f, 0.0f};
   vpls[1].position = {0.7f, 0.01f, -0.1f};
   vpls[1].normal = {0.0f, 1.0f, 0.0f};
   vpls[2].position = {-4.0f, 0.5f, 0.1f};
   vpls[2].normal = {1.0f, 0.0f, 0.0f};
+  vpls[3].position = {0.9f, 0.6f, 0.3f};
+  vpls[3].normal = {0.0f, -1.0f, 0.0f};
   return vpls;
 }
 

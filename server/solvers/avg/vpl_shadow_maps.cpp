@@ -1,6 +1,7 @@
 #include "solvers/avg/vpl_shadow_maps.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "gl/buffers.h"
 #include "gl/textures.h"
@@ -25,6 +26,11 @@ absl::StatusOr<VplShadowMaps> VplShadowMaps::Create() {
   GS_ASSIGN_OR_RETURN(maps.program_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "avg/vpl_shadow.vert.glsl"},
                                           {GL_GEOMETRY_SHADER, "avg/vpl_shadow.geom.glsl"},
+                                          {GL_FRAGMENT_SHADER, "avg/vpl_shadow.frag.glsl"}}));
+  GS_ASSIGN_OR_RETURN(maps.tessellating_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "avg/vpl_shadow.vert.glsl"},
+                                          {GL_TESS_CONTROL_SHADER, "avg/vpl_shadow.tesc.glsl"},
+                                          {GL_TESS_EVALUATION_SHADER, "avg/vpl_shadow.tese.glsl"},
                                           {GL_FRAGMENT_SHADER, "avg/vpl_shadow.frag.glsl"}}));
   maps.fbo_ = gl::Framebuffer::Create();
   return maps;
@@ -74,11 +80,16 @@ void VplShadowMaps::RenderRange(const GpuScene& gpu, const SceneState& state, in
     glClearTexSubImage(maps_.id(), 0, 0, 0, first, resolution, resolution, count,
                        GL_DEPTH_COMPONENT, GL_FLOAT, &one);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVplBinding, vpls_.id());
-    program_.Use();
     if (full_detail || (gpu.levels().empty() && gpu.clusters().empty())) {
+      program_.Use();
       program_.Set("uFirstVpl", first);
       gpu.Draw(program_, state, false, count);
     } else {
+      // Proxies are tessellated (vpl_shadow.tesc.glsl), so their big
+      // triangles follow the map's curves.
+      tessellating_.Use();
+      tessellating_.Set("uMaxAngle", std::sqrt(8.0f / float(resolution)));
+      glEnable(GL_CLIP_DISTANCE0);  // the hemisphere (vpl_shadow.tese.glsl)
       for (int i = first; i < first + count; ++i) {
         const Vpl& vpl = cpu_vpls_[size_t(i)];
         // Per node: nothing behind the VPL's hemisphere, else the coarsest
@@ -89,9 +100,10 @@ void VplShadowMaps::RenderRange(const GpuScene& gpu, const SceneState& state, in
         const DrawFilter filter = [&](const DrawItem& item, const glm::mat4& model) {
           return cluster_filter(ItemWorldBounds(state, item, model));
         };
-        program_.Set("uFirstVpl", i);
-        gpu.Draw(program_, state, false, 1, &filter, &cluster_filter);
+        tessellating_.Set("uFirstVpl", i);
+        gpu.Draw(tessellating_, state, false, 1, &filter, &cluster_filter, GL_PATCHES);
       }
+      glDisable(GL_CLIP_DISTANCE0);
     }
   } else if (count_ == 0) {
     glClearBufferfv(GL_DEPTH, 0, &one);

@@ -1,7 +1,8 @@
 // The VPLs on the GPU (an SSBO) and their low-resolution shadow maps (paper
 // Sec. III-C): one paraboloid (hemisphere) map per VPL, all in one 2D
-// array texture (the atlas, one layer per VPL), drawn with instancing --
-// one instanced draw per scene draw item covers every VPL.
+// array texture (the atlas, one layer per VPL). In full detail one
+// instanced draw per scene draw item covers every VPL; with proxies each
+// VPL draws its own cut of the proxy trees, tessellated.
 #pragma once
 
 #include <utility>
@@ -27,7 +28,9 @@ class VplShadowMaps {
   // re-map spread over frames); the other layers keep what they hold.
   // Each VPL's map draws, per item and cluster node, the coarsest proxy
   // within one map texel at the node's nearest distance and nothing of
-  // nodes behind its hemisphere (render/proxy_filters.h), one draw per VPL;
+  // nodes behind its hemisphere (render/proxy_filters.h), one draw per VPL,
+  // every triangle tessellated so that its pieces' straight edges in the
+  // map stay within half a texel of their curves (vpl_shadow.tesc.glsl);
   // `full_detail` (or a scene without proxies) draws every triangle in one
   // instanced draw per item for the whole slice, as before proxies.
   void RenderRange(const GpuScene& gpu, const SceneState& state, int resolution, int first,
@@ -50,7 +53,8 @@ class VplShadowMaps {
  private:
   void Allocate(int layers, int resolution);
 
-  gl::Program program_;
+  gl::Program program_;       // every triangle as it is (full detail)
+  gl::Program tessellating_;  // proxies, tessellated to follow the map's curves
   gl::Buffer vpls_;
   std::vector<Vpl> cpu_vpls_;  // positions and normals for the per-VPL proxy filter
   gl::Texture maps_;
