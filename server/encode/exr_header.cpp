@@ -97,9 +97,58 @@ int64_t ValueBytesRead(const std::string& type, std::span<const uint8_t> value) 
   return int64_t(value.size());
 }
 
+// Channels in a chlist value whose content ValueBytesRead accepted.
+int CountChannels(std::span<const uint8_t> value) {
+  int channels = 0;
+  size_t pos = 0;
+  std::string name;
+  while (pos < value.size() && value[pos] != 0 && ReadName(value, pos, &name)) {
+    pos += 16;
+    ++channels;
+  }
+  return channels;
+}
+
+// The buffers OpenEXR sizes from `name`'s value when it opens the file.
+absl::Status CheckSizing(const std::string& name, const std::string& type,
+                         std::span<const uint8_t> value, const ExrHeaderLimits& limits,
+                         const std::string& field) {
+  if (type == "box2i" && name == "dataWindow") {
+    const int64_t width = int64_t(int32_t(Le32(value, 8))) - int64_t(int32_t(Le32(value, 0))) + 1;
+    const int64_t height = int64_t(int32_t(Le32(value, 12))) - int64_t(int32_t(Le32(value, 4))) + 1;
+    if (width < 1 || height < 1) {
+      return absl::InvalidArgumentError(absl::StrCat(field, ": corrupt exr image: dataWindow is ",
+                                                     width, "x", height, " pixels"));
+    }
+    if (width > limits.max_dimension || height > limits.max_dimension) {
+      return absl::ResourceExhaustedError(absl::StrCat(field, ": ", width, "x", height,
+                                                       " pixels exceed the limit of ",
+                                                       limits.max_dimension, " per side"));
+    }
+  }
+  if (type == "tiledesc") {
+    const uint32_t x = Le32(value, 0), y = Le32(value, 4);
+    if (x < 1 || y < 1 || x > limits.max_dimension || y > limits.max_dimension) {
+      return absl::InvalidArgumentError(absl::StrCat(field, ": corrupt exr image: tiles of ", x,
+                                                     "x", y, " pixels (at most ",
+                                                     limits.max_dimension, " per side)"));
+    }
+  }
+  if (type == "chlist") {
+    const int channels = CountChannels(value);
+    if (channels > limits.max_channels) {
+      return absl::InvalidArgumentError(absl::StrCat(field, ": ", channels, " channels; at most ",
+                                                     limits.max_channels,
+                                                     " are accepted (RGBA is used)"));
+    }
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace
 
-absl::Status CheckExrHeader(std::span<const uint8_t> bytes, const std::string& field) {
+absl::Status CheckExrHeader(std::span<const uint8_t> bytes, const std::string& field,
+                            const ExrHeaderLimits& limits) {
   if (bytes.size() < 8 || std::memcmp(bytes.data(), kMagic, 4) != 0) return absl::OkStatus();
   const uint32_t version = uint32_t(bytes[4]) | uint32_t(bytes[5]) << 8 | uint32_t(bytes[6]) << 16 |
                            uint32_t(bytes[7]) << 24;
@@ -142,6 +191,7 @@ absl::Status CheckExrHeader(std::span<const uint8_t> bytes, const std::string& f
                                     read < 0 ? std::string("more") : absl::StrCat(read),
                                     " bytes of value in a size of ", size));
       }
+      GS_RETURN_IF_ERROR(CheckSizing(name, type, bytes.subspan(pos, size_t(size)), limits, field));
       pos += size_t(size);
     }
     if (!multi_part) return absl::OkStatus();

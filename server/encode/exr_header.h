@@ -15,8 +15,20 @@
 
 namespace gistream {
 
+// What OpenEXR sizes its buffers by when it opens a file, before the
+// caller sees the spec: the data window (line buffers, ZIP/PIZ/DWA
+// compressors: a width times up to 256 lines), the tile size and the
+// channel count.
+struct ExrHeaderLimits {
+  uint32_t max_dimension = 16384;  // data window and tile, per side
+  int max_channels = 16;
+};
+
 // INVALID_ARGUMENT naming `field` and the attribute when the header does
-// not fit; OK for anything that is not EXR (checked elsewhere).
-absl::Status CheckExrHeader(std::span<const uint8_t> bytes, const std::string& field);
+// not fit, RESOURCE_EXHAUSTED when its data window is over
+// `limits.max_dimension`; OK for anything that is not EXR (checked
+// elsewhere).
+absl::Status CheckExrHeader(std::span<const uint8_t> bytes, const std::string& field,
+                            const ExrHeaderLimits& limits = {});
 
 }  // namespace gistream

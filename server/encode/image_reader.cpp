@@ -9,10 +9,11 @@ namespace gistream {
 
 absl::StatusOr<MemoryImageReader> OpenImageFromMemory(std::span<const uint8_t> bytes,
                                                       const std::string& format,
-                                                      const std::string& field) {
+                                                      const std::string& field,
+                                                      const ExrHeaderLimits& exr_limits) {
   ConfigureOpenImageIO();
   // OpenEXR allocates what its header's attributes claim before reading.
-  if (format == "exr") GS_RETURN_IF_ERROR(CheckExrHeader(bytes, field));
+  if (format == "exr") GS_RETURN_IF_ERROR(CheckExrHeader(bytes, field, exr_limits));
   // libpng allocates a chunk's claimed length before reading it.
   if (format == "png") GS_RETURN_IF_ERROR(CheckPngChunks(bytes, field));
   MemoryImageReader reader;

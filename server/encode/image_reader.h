@@ -12,6 +12,7 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include "encode/exr_header.h"
 #include "util/status.h"
 
 namespace gistream {
@@ -26,9 +27,11 @@ struct MemoryImageReader {
   OIIO::ImageSpec spec;
 };
 
-// `field` names the source in errors ("images[2]", "image").
+// `field` names the source in errors ("images[2]", "image"); an EXR's
+// header is held to `exr_limits` before OpenEXR sizes buffers from it.
 absl::StatusOr<MemoryImageReader> OpenImageFromMemory(std::span<const uint8_t> bytes,
                                                       const std::string& format,
-                                                      const std::string& field);
+                                                      const std::string& field,
+                                                      const ExrHeaderLimits& exr_limits = {});
 
 }  // namespace gistream

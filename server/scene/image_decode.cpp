@@ -24,6 +24,11 @@ const char* KindFormats(ImageKind kind) {
   return kind == ImageKind::kTexture ? "PNG or JPEG" : "Radiance HDR or OpenEXR";
 }
 
+// Readers decode every channel of a band of rows before picking RGBA: a
+// header naming thousands of channels (a few bytes each in EXR) would
+// multiply every band's buffer.
+constexpr int kMaxChannels = 16;
+
 absl::Status CheckSpec(const OIIO::ImageSpec& spec, const ImportLimits& limits,
                        const std::string& field) {
   if (spec.width <= 0 || spec.height <= 0 || spec.depth != 1 || spec.nchannels <= 0) {
@@ -31,10 +36,6 @@ absl::Status CheckSpec(const OIIO::ImageSpec& spec, const ImportLimits& limits,
                                                    spec.height, "x", spec.depth, " with ",
                                                    spec.nchannels, " channels"));
   }
-  // Readers decode every channel of a band of rows before picking RGBA: a
-  // header naming thousands of channels (a few bytes each in EXR) would
-  // multiply every band's buffer.
-  constexpr int kMaxChannels = 16;
   if (spec.nchannels > kMaxChannels) {
     return absl::InvalidArgumentError(absl::StrCat(field, ": ", spec.nchannels,
                                                    " channels; at most ", kMaxChannels,
@@ -143,7 +144,10 @@ absl::StatusOr<Image> DecodeImage(std::span<const uint8_t> bytes, ImageKind kind
 
   // Only the reader for the detected format is created, and it reads from
   // memory: no file system, no other plugin sees the bytes.
-  GS_ASSIGN_OR_RETURN(MemoryImageReader reader, OpenImageFromMemory(bytes, format, field));
+  GS_ASSIGN_OR_RETURN(MemoryImageReader reader,
+                      OpenImageFromMemory(bytes, format, field,
+                                          {.max_dimension = limits.max_image_dimension,
+                                           .max_channels = kMaxChannels}));
   const OIIO::ImageSpec& spec = reader.spec;
   OIIO::ImageInput* in = reader.input.get();
   GS_RETURN_IF_ERROR(CheckSpec(spec, limits, field));

@@ -104,6 +104,28 @@ TEST(ImageDecode, ExrValueThatDisagreesWithItsSizeIsRefused) {
   EXPECT_TRUE(DecodeImage(exr, ImageKind::kEnvironment, {}, "env").ok());
 }
 
+// Found by tests/fuzz/image_decode_fuzzer: OpenEXR sizes its compressor
+// from the data window when it opens the file (a 322-byte file with a
+// 6.6M-pixel wide window allocated 1.3 GB for ZIP), before the spec
+// reaches the limits: the window is held to them in the header walk.
+TEST(ImageDecode, ExrDataWindowIsHeldToTheLimitsBeforeOpenExrSizesBuffers) {
+  const std::vector<uint8_t> exr = Bytes(*EncodeExr(std::vector<float>(4 * 4, 0.5f), 2, 2));
+  const std::string window = std::string("dataWindow") + '\0' + "box2i" + '\0';
+  const auto at = std::search(exr.begin(), exr.end(), window.begin(), window.end());
+  ASSERT_NE(at, exr.end());
+  const size_t xmax = size_t(at - exr.begin()) + window.size() + 4 + 8;
+  std::vector<uint8_t> forged = exr;
+  const uint32_t wide = 6600000;
+  for (int b = 0; b < 4; ++b) forged[xmax + size_t(b)] = uint8_t((wide >> (8 * b)) & 0xff);
+  EXPECT_ERROR(DecodeImage(forged, ImageKind::kEnvironment, {}, "env"), kResourceExhausted,
+               "env: 6600001x2 pixels exceed the limit of 16384 per side");
+  ImportLimits small;
+  small.max_image_dimension = 1;
+  EXPECT_ERROR(DecodeImage(exr, ImageKind::kEnvironment, small, "env"), kResourceExhausted,
+               "env: 2x2 pixels exceed the limit of 1 per side");
+  EXPECT_TRUE(DecodeImage(exr, ImageKind::kEnvironment, {}, "env").ok());
+}
+
 // Found by tests/fuzz/image_decode_fuzzer: libpng allocates a chunk's
 // claimed length before reading it (a 470-byte PNG whose tEXt chunk
 // claimed 1.7 GB allocated 1.7 GB). The chunks are walked first.
