@@ -52,18 +52,16 @@ CubeDrawFilters CubeFilters(const SceneState& state, const glm::vec3& origin, in
 // resolution radians, from 2 / resolution at the horizon to 4 / resolution
 // on the axis. So 2 d / resolution (d the box's nearest distance) is below
 // the texel anywhere in the box and within the one-texel normal offset of
-// the lookup (uVplTexel, shaders/avg/illuminate.frag.glsl). But the map is
-// not linear: the rasterizer draws a triangle's edges straight in uv where
-// the true images are circles (uv is the stereographic projection, whose
-// images of great circles have radius >= 1), so a coarse copy's big
-// triangles land off their texels even at zero geometric error. An edge of
-// length L at distance >= d subtends <= L / d radians, <= L / d in uv, and
-// its chord's sagitta is <= (L / d)^2 / 8: within half a texel (1 /
-// resolution) when L <= d sqrt(8 / resolution). The VPL pass tessellates
-// every proxy edge into pieces that short (shaders/avg/vpl_shadow.tesc.glsl),
-// so the tolerance needs no bound on a box's size. < 0 when the whole box is behind
-// the hemisphere (z < 0 in the map's frame: the geometry shader clips it
-// away anyway); 0 when `origin` is inside it.
+// the lookup (uVplTexel, shaders/avg/illuminate.frag.glsl). The map is not
+// linear, though: the rasterizer would draw a triangle's edges straight in
+// uv where their true images are arcs (uv is a stereographic projection),
+// an edge of length L at distance d up to (L / d)^2 / 8 off in uv, so a
+// coarse copy's big triangles would land several texels off even at zero
+// geometric error. The VPL pass therefore draws proxies into a distance
+// cube (a linear projection, whose face texel is 2 d / resolution at most
+// at distance d) and resamples it into the map (avg/vpl_shadow_maps.h).
+// < 0 when the whole box is behind the hemisphere (z < 0 in the map's
+// frame); 0 when `origin` is inside it.
 float ParaboloidTexelTolerance(const Bounds& box, const glm::vec3& origin, const glm::vec3& normal,
                                int resolution);
 

@@ -220,10 +220,9 @@ void GpuScene::Deform(const SceneState& state) {
 }
 
 void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_textures,
-                    int instances, const DrawFilter* filter, const ClusterFilter* cluster_filter,
-                    GLenum mode) const {
+                    int instances, const DrawFilter* filter,
+                    const ClusterFilter* cluster_filter) const {
   glBindVertexArray(vao_.id());
-  if (mode == GL_PATCHES) glPatchParameteri(GL_PATCH_VERTICES, 3);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMaterialBinding, materials_.id());
   const int default_material = int(state.materials().size());
   for (const DrawItem& d : draws_) {
@@ -256,7 +255,7 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
     }
     const auto draw = [&](const DrawLevel& r) {
       glDrawElementsInstancedBaseVertex(
-          mode, GLsizei(r.index_count), GL_UNSIGNED_INT,
+          GL_TRIANGLES, GLsizei(r.index_count), GL_UNSIGNED_INT,
           reinterpret_cast<const void*>(uintptr_t(r.first_index) * sizeof(uint32_t)),
           std::max(instances, 1), d.base_vertex);
     };

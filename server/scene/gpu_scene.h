@@ -103,10 +103,9 @@ class GpuScene {
   // `cluster_filter` too, an item with a cluster tree is drawn node by
   // node instead: from the root down, a node's copy where its error is
   // within the node's tolerance, else its children (leaves: in full).
-  // `mode` GL_PATCHES (3 vertices each) feeds a program that tessellates.
   void Draw(gl::Program& program, const SceneState& state, bool bind_textures, int instances = 1,
-            const DrawFilter* filter = nullptr, const ClusterFilter* cluster_filter = nullptr,
-            GLenum mode = GL_TRIANGLES) const;
+            const DrawFilter* filter = nullptr,
+            const ClusterFilter* cluster_filter = nullptr) const;
 
   const std::vector<DrawItem>& draws() const { return draws_; }
   const std::vector<DrawLevel>& levels() const { return levels_; }

@@ -28,8 +28,8 @@ std::shared_ptr<const Scene> TestScene(bool with_proxies) {
 // side looking along +x (the floor half behind it is culled), and 0.6 above
 // the floor looking down: there the floor's coarsest level (a few
 // triangles across it) is within 2 d / N, and its edges run out to the
-// map's rim, where straight uv edges land many texels off their true
-// curves unless the pass tessellates them (shaders/avg/vpl_shadow.tesc.glsl).
+// map's rim, where straight edges drawn into the paraboloid map itself
+// would land many texels off their true curves (557 texels failed so).
 std::vector<avg::Vpl> TestVpls() {
   std::vector<avg::Vpl> vpls(4);
   vpls[0].position = {0.3f, 4.0f, 0.2f};
@@ -96,8 +96,10 @@ TEST_F(AvgProxyMapsTest, ProxyMapsMatchFullDetailWithinOneTexel) {
   // render/proxy_filters.h): its world size at distance d is at most 4 d /
   // N. Every covered texel holds a proxy distance within that of the
   // full-detail range over its 3 x 3 neighbourhood (silhouettes and steep
-  // slopes move by more than a texel under one texel's shift), and nearly
-  // all match at the same texel.
+  // slopes move by more than a texel under one texel's shift), and most
+  // match at the same texel: the proxies are drawn into a cube and
+  // resampled (a map texel takes the cube texel its centre falls in, whose
+  // centre ray is up to 0.71 of a face texel away; measured 96 %).
   size_t covered = 0, same_texel = 0;
   float worst = 0.0f;
   for (size_t v = 0; v < far_.size(); ++v) {
@@ -128,7 +130,7 @@ TEST_F(AvgProxyMapsTest, ProxyMapsMatchFullDetailWithinOneTexel) {
   }
   // From 4 units the scene is small in a paraboloid map (~1/20 of it).
   EXPECT_GT(covered, size_t(200));
-  EXPECT_GE(double(same_texel), 0.99 * double(covered));
+  EXPECT_GE(double(same_texel), 0.9 * double(covered));
   RecordProperty("worst_error_in_texels", std::to_string(worst));
   RecordProperty("same_texel_fraction", std::to_string(double(same_texel) / double(covered)));
 }

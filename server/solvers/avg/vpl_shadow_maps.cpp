@@ -1,7 +1,8 @@
 #include "solvers/avg/vpl_shadow_maps.h"
 
 #include <algorithm>
-#include <cmath>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "gl/buffers.h"
 #include "gl/textures.h"
@@ -27,11 +28,20 @@ absl::StatusOr<VplShadowMaps> VplShadowMaps::Create() {
                       gl::Program::Build({{GL_VERTEX_SHADER, "avg/vpl_shadow.vert.glsl"},
                                           {GL_GEOMETRY_SHADER, "avg/vpl_shadow.geom.glsl"},
                                           {GL_FRAGMENT_SHADER, "avg/vpl_shadow.frag.glsl"}}));
-  GS_ASSIGN_OR_RETURN(maps.tessellating_,
-                      gl::Program::Build({{GL_VERTEX_SHADER, "avg/vpl_shadow.vert.glsl"},
-                                          {GL_TESS_CONTROL_SHADER, "avg/vpl_shadow.tesc.glsl"},
-                                          {GL_TESS_EVALUATION_SHADER, "avg/vpl_shadow.tese.glsl"},
-                                          {GL_FRAGMENT_SHADER, "avg/vpl_shadow.frag.glsl"}}));
+  GS_ASSIGN_OR_RETURN(maps.resample_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "avg/vpl_resample.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "avg/vpl_resample.frag.glsl"}}));
+  GS_ASSIGN_OR_RETURN(maps.cube_program_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "render/shadow_cube.vert.glsl"},
+                                          {GL_GEOMETRY_SHADER, "render/shadow_cube.geom.glsl"},
+                                          {GL_FRAGMENT_SHADER, "render/shadow_cube.frag.glsl"}}));
+  maps.cube_fbo_ = gl::Framebuffer::Create();
+  // The cubes' depths read as values, texel by texel.
+  maps.depth_value_ = gl::Sampler::Create();
+  glSamplerParameteri(maps.depth_value_.id(), GL_TEXTURE_COMPARE_MODE, GL_NONE);
+  glSamplerParameteri(maps.depth_value_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+  glSamplerParameteri(maps.depth_value_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  maps.empty_vao_ = gl::VertexArray::Create();
   maps.fbo_ = gl::Framebuffer::Create();
   return maps;
 }
@@ -45,6 +55,8 @@ void VplShadowMaps::Upload(const std::vector<Vpl>& vpls, const Bounds& bounds) {
                     glm::vec4(v.normal, float(i)), glm::vec4(v.flux, 0.0f)});
   }
   count_ = int(data.size());
+  fars_.clear();
+  for (const GpuVpl& v : data) fars_.push_back(v.position_far.w);
   vpls_ = gl::StorageBuffer(data);
   cpu_vpls_ = vpls;
 }
@@ -85,30 +97,97 @@ void VplShadowMaps::RenderRange(const GpuScene& gpu, const SceneState& state, in
       program_.Set("uFirstVpl", first);
       gpu.Draw(program_, state, false, count);
     } else {
-      // Proxies are tessellated (vpl_shadow.tesc.glsl), so their big
-      // triangles follow the map's curves.
-      tessellating_.Use();
-      tessellating_.Set("uMaxAngle", std::sqrt(8.0f / float(resolution)));
-      glEnable(GL_CLIP_DISTANCE0);  // the hemisphere (vpl_shadow.tese.glsl)
-      for (int i = first; i < first + count; ++i) {
-        const Vpl& vpl = cpu_vpls_[size_t(i)];
-        // Per node: nothing behind the VPL's hemisphere, else the coarsest
-        // copy within a map texel at the node's nearest distance.
-        const ClusterFilter cluster_filter = [&](const Bounds& box) {
-          return ParaboloidTexelTolerance(box, vpl.position, vpl.normal, resolution);
-        };
-        const DrawFilter filter = [&](const DrawItem& item, const glm::mat4& model) {
-          return cluster_filter(ItemWorldBounds(state, item, model));
-        };
-        tessellating_.Set("uFirstVpl", i);
-        gpu.Draw(tessellating_, state, false, 1, &filter, &cluster_filter, GL_PATCHES);
-      }
-      glDisable(GL_CLIP_DISTANCE0);
+      RenderFromCubes(gpu, state, resolution, first, count);
     }
   } else if (count_ == 0) {
     glClearBufferfv(GL_DEPTH, 0, &one);
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void VplShadowMaps::RenderFromCubes(const GpuScene& gpu, const SceneState& state, int resolution,
+                                    int first, int count) {
+  // A paraboloid map is not linear (straight edges land on arcs,
+  // render/proxy_filters.h), a cube face is: each VPL's distance cube is
+  // drawn from the proxies within one face texel at each node's nearest
+  // distance, into the faces that see the node (ShadowMaps::RenderCube, as
+  // the direct lights' cubes), then resampled into the VPL's map, a batch of
+  // VPLs at a time.
+  constexpr int kBatch = 64;
+  const int batch = std::max(cube_batch_, std::min(kBatch, count));
+  if (batch != cube_batch_ || resolution != cube_resolution_) {
+    cubes_ = gl::DepthCompareArray(GL_TEXTURE_CUBE_MAP_ARRAY, resolution, 6 * batch);
+    glNamedFramebufferTexture(cube_fbo_.id(), GL_DEPTH_ATTACHMENT, cubes_.id(), 0);
+    glNamedFramebufferDrawBuffer(cube_fbo_.id(), GL_NONE);
+    cube_batch_ = batch;
+    cube_resolution_ = resolution;
+  }
+  // GL cube-map face orientations (+X, -X, +Y, -Y, +Z, -Z), as
+  // render/shadow_maps.cpp.
+  static const glm::vec3 kDir[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                    {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
+  static const glm::vec3 kUp[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1},
+                                   {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+  for (int b = first; b < first + count; b += batch) {
+    const int n = std::min(batch, first + count - b);
+    glBindFramebuffer(GL_FRAMEBUFFER, cube_fbo_.id());
+    glViewport(0, 0, resolution, resolution);
+    const float one = 1.0f;
+    glClearTexSubImage(cubes_.id(), 0, 0, 0, 0, resolution, resolution, 6 * n, GL_DEPTH_COMPONENT,
+                       GL_FLOAT, &one);
+    cube_program_.Use();
+    for (int j = 0; j < n; ++j) {
+      const Vpl& vpl = cpu_vpls_[size_t(b + j)];
+      const float far = fars_[size_t(b + j)];
+      const glm::mat4 proj = glm::perspective(glm::half_pi<float>(), 1.0f, far * 1e-5f, far);
+      glm::mat4 view_proj[6];
+      // Faces wholly behind the VPL's hemisphere (every corner direction
+      // below it) are never drawn.
+      int hemisphere = 0;
+      for (int f = 0; f < 6; ++f) {
+        view_proj[f] = proj * glm::lookAt(vpl.position, vpl.position + kDir[f], kUp[f]);
+        const glm::vec3 u = kUp[f], v = glm::cross(kDir[f], kUp[f]);
+        for (const float su : {-1.0f, 1.0f}) {
+          for (const float sv : {-1.0f, 1.0f}) {
+            if (glm::dot(vpl.normal, kDir[f] + su * u + sv * v) >= 0.0f) hemisphere |= 1 << f;
+          }
+        }
+      }
+      glProgramUniformMatrix4fv(cube_program_.id(), cube_program_.Location("uFaceViewProj"), 6,
+                                GL_FALSE, &view_proj[0][0][0]);
+      cube_program_.Set("uCube", j);
+      cube_program_.Set("uLightPos", vpl.position);
+      cube_program_.Set("uFar", far);
+      // Per node: nothing behind the VPL's hemisphere, else the faces that
+      // may see it and the coarsest copy within a face texel at its nearest
+      // distance (render/proxy_filters.h).
+      const ClusterFilter cluster_filter = [&](const Bounds& box) {
+        const int faces = CubeFaceMask(box, vpl.position) & hemisphere;
+        if (faces == 0 ||
+            ParaboloidTexelTolerance(box, vpl.position, vpl.normal, resolution) < 0.0f)
+          return -1.0f;
+        cube_program_.Set("uFaceMask", faces);
+        return CubeTexelTolerance(box, vpl.position, resolution);
+      };
+      const DrawFilter filter = [&](const DrawItem& item, const glm::mat4& model) {
+        return cluster_filter(ItemWorldBounds(state, item, model));
+      };
+      gpu.Draw(cube_program_, state, false, 1, &filter, &cluster_filter);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
+    glViewport(0, 0, resolution, resolution);
+    glDepthFunc(GL_LESS);
+    resample_.Use();
+    resample_.Set("uFirstVpl", b);
+    resample_.Set("uResolution", resolution);
+    resample_.Set("uCubes", int(kShadowUnit));
+    glBindTextureUnit(kShadowUnit, cubes_.id());
+    glBindSampler(kShadowUnit, depth_value_.id());
+    glBindVertexArray(empty_vao_.id());
+    glDrawArraysInstanced(GL_TRIANGLES, 0, 3, n);
+    glBindVertexArray(0);
+    glBindSampler(kShadowUnit, 0);
+  }
 }
 
 void VplShadowMaps::CopyLayers(const VplShadowMaps& from,
@@ -139,7 +218,8 @@ void VplShadowMaps::Bind() {
 
 uint64_t VplShadowMaps::gpu_bytes() const {
   return uint64_t(layers_) * uint64_t(resolution_) * uint64_t(resolution_) * 4 +
-         uint64_t(count_) * sizeof(GpuVpl);
+         uint64_t(count_) * sizeof(GpuVpl) +
+         uint64_t(cube_batch_) * 6 * uint64_t(cube_resolution_) * uint64_t(cube_resolution_) * 4;
 }
 
 }  // namespace gistream::avg

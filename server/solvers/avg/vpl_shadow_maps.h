@@ -2,7 +2,8 @@
 // Sec. III-C): one paraboloid (hemisphere) map per VPL, all in one 2D
 // array texture (the atlas, one layer per VPL). In full detail one
 // instanced draw per scene draw item covers every VPL; with proxies each
-// VPL draws its own cut of the proxy trees, tessellated.
+// VPL draws its own cut of the proxy trees into a distance cube, which is
+// then resampled into its map.
 #pragma once
 
 #include <utility>
@@ -26,11 +27,14 @@ class VplShadowMaps {
               bool full_detail = false);
   // Draws the maps of VPLs [first, first + count) only (a slice of a
   // re-map spread over frames); the other layers keep what they hold.
-  // Each VPL's map draws, per item and cluster node, the coarsest proxy
-  // within one map texel at the node's nearest distance and nothing of
-  // nodes behind its hemisphere (render/proxy_filters.h), one draw per VPL,
-  // every triangle tessellated so that its pieces' straight edges in the
-  // map stay within half a texel of their curves (vpl_shadow.tesc.glsl);
+  // With proxies, each VPL draws a distance cube at `resolution`^2 per
+  // face: per item and cluster node the coarsest copy within one face texel
+  // at the node's nearest distance (2 d / N), only into the faces that may
+  // see the node and face the VPL's hemisphere, nothing of nodes behind it
+  // (render/proxy_filters.h); each map texel then takes the cube's distance
+  // in its centre's direction (shaders/avg/vpl_resample.frag.glsl), 64 VPLs
+  // a batch. A cube is linear, so big proxy triangles land where they
+  // belong; a paraboloid map would bend their edges by up to (L / d)^2 / 8;
   // `full_detail` (or a scene without proxies) draws every triangle in one
   // instanced draw per item for the whole slice, as before proxies.
   void RenderRange(const GpuScene& gpu, const SceneState& state, int resolution, int first,
@@ -52,9 +56,19 @@ class VplShadowMaps {
 
  private:
   void Allocate(int layers, int resolution);
+  // The proxy path of RenderRange: distance cubes, resampled.
+  void RenderFromCubes(const GpuScene& gpu, const SceneState& state, int resolution, int first,
+                       int count);
 
   gl::Program program_;       // every triangle as it is (full detail)
-  gl::Program tessellating_;  // proxies, tessellated to follow the map's curves
+  gl::Program resample_;      // proxies: a batch of distance cubes into the maps
+  gl::Program cube_program_;  // render/shadow_cube.*
+  gl::Texture cubes_;         // the batch's distance cubes (6 layers each)
+  gl::Framebuffer cube_fbo_;
+  int cube_batch_ = 0, cube_resolution_ = 0;  // VPLs per batch (0: none yet)
+  gl::Sampler depth_value_;
+  gl::VertexArray empty_vao_;
+  std::vector<float> fars_;  // each VPL's far plane
   gl::Buffer vpls_;
   std::vector<Vpl> cpu_vpls_;  // positions and normals for the per-VPL proxy filter
   gl::Texture maps_;
