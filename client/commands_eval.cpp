@@ -9,6 +9,7 @@
 #include <iterator>
 #include <sstream>
 
+#include <absl/strings/str_replace.h>
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
@@ -46,7 +47,25 @@ struct EvalRow {
   std::vector<StageSummary> full_stages, light_stages, camera_stages;
   double spp = 0.0;  // pathtrace rows
   bool equal_time = false;
+  // Not measured: the server refused the setting ("RESOURCE_EXHAUSTED:
+  // ..."); the other columns are empty.
+  std::string failure;
 };
+
+// A refusal of one setting (too big for the server's budget, a bad
+// parameter, a deadline) is a result of the run, written down and passed;
+// anything else (the server gone, the credentials refused) ends it.
+bool IsRefusal(const absl::Status& status) {
+  switch (status.code()) {
+    case absl::StatusCode::kResourceExhausted:
+    case absl::StatusCode::kInvalidArgument:
+    case absl::StatusCode::kFailedPrecondition:
+    case absl::StatusCode::kOutOfRange:
+    case absl::StatusCode::kDeadlineExceeded:
+    case absl::StatusCode::kUnimplemented: return true;
+    default: return false;
+  }
+}
 
 absl::StatusOr<std::string> ReadText(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -251,6 +270,11 @@ std::string Markdown(const std::vector<EvalRow>& rows) {
   for (const EvalRow& r : rows) {
     md << "| " << r.scene << " | " << r.view << " | " << r.solver
        << (r.equal_time ? " (equal time)" : "") << " | " << r.params;
+    if (!r.failure.empty()) {
+      md << " | not measured: " << absl::StrReplaceAll(r.failure, {{"|", "/"}, {"\n", " "}})
+         << " | | | | | | |\n";
+      continue;
+    }
     if (r.spp > 0) md << " (" << r.spp << " spp)";
     if (r.equal_time) {
       md << " | " << Fixed(r.full.median, 1) << " | - | - | ";
@@ -270,14 +294,27 @@ absl::Status WriteOutputs(const std::filesystem::path& dir, const std::vector<Ev
   std::ofstream csv(dir / "results.csv");
   csv << "scene,view,solver,equal_time,params,spp,first_ms,full_median_ms,full_p95_ms,"
          "light_median_ms,light_p95_ms,camera_median_ms,camera_p95_ms,rel_mse,rmse,ssim,"
-         "nonfinite_fraction\n";
+         "nonfinite_fraction,failure\n";
   nlohmann::json results = nlohmann::json::array();
   for (const EvalRow& r : rows) {
+    if (!r.failure.empty()) {
+      std::string quoted = r.failure;
+      absl::StrReplaceAll({{"\"", "\"\""}, {"\n", " "}}, &quoted);
+      csv << r.scene << ',' << r.view << ',' << r.solver << ",0,\"" << r.params
+          << "\",,,,,,,,,,,,,\"" << quoted << "\"\n";
+      results.push_back({{"scene", r.scene},
+                         {"view", r.view},
+                         {"solver", r.solver},
+                         {"equal_time", false},
+                         {"params", r.params},
+                         {"failure", r.failure}});
+      continue;
+    }
     csv << r.scene << ',' << r.view << ',' << r.solver << ',' << (r.equal_time ? 1 : 0) << ",\""
         << r.params << "\"," << r.spp << ',' << r.first_ms << ',' << r.full.median << ','
         << r.full.p95 << ',' << r.light.median << ',' << r.light.p95 << ',' << r.camera.median
         << ',' << r.camera.p95 << ',' << r.error.rel_mse << ',' << r.error.rmse << ','
-        << r.error.ssim << ',' << r.error.nonfinite_fraction << '\n';
+        << r.error.ssim << ',' << r.error.nonfinite_fraction << ",\n";
     results.push_back({{"scene", r.scene},
                        {"view", r.view},
                        {"solver", r.solver},
@@ -311,6 +348,7 @@ absl::Status WriteOutputs(const std::filesystem::path& dir, const std::vector<Ev
     return series.back();
   };
   for (const EvalRow& r : rows) {
+    if (!r.failure.empty()) continue;
     const std::string name =
         absl::StrCat(r.scene, "/", r.view, ": ", r.solver, r.equal_time ? " (equal time)" : "");
     series_for(name).points.emplace_back(r.full.median, r.error.rel_mse);
@@ -374,12 +412,26 @@ absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOpti
           for (const auto& [k, v] : params) absl::StrAppend(&setting, " ", k, "=", v);
           evaluator.progress().Wait(
               absl::StrCat(scene.name, "/", view.name, " ", solver.name, setting));
-          GS_ASSIGN_OR_RETURN(EvalRow row, evaluator.Measure(loaded->id(), scene, view, solver.name,
-                                                             params, reference, yfov));
+          absl::StatusOr<EvalRow> row =
+              evaluator.Measure(loaded->id(), scene, view, solver.name, params, reference, yfov);
           evaluator.progress().Done();
-          std::cerr << scene.name << "/" << view.name << " " << solver.name << " " << row.params
-                    << ": relMSE " << row.error.rel_mse << ", full " << row.full.median << " ms\n";
-          rows.push_back(std::move(row));
+          if (!row.ok()) {
+            if (!IsRefusal(row.status())) return row.status();
+            EvalRow failed;
+            failed.scene = scene.name;
+            failed.view = view.name;
+            failed.solver = solver.name;
+            failed.params = ParamsText(params);
+            failed.failure = row.status().ToString();
+            std::cerr << scene.name << "/" << view.name << " " << solver.name << " "
+                      << failed.params << ": not measured: " << failed.failure << "\n";
+            rows.push_back(std::move(failed));
+            continue;
+          }
+          std::cerr << scene.name << "/" << view.name << " " << solver.name << " " << row->params
+                    << ": relMSE " << row->error.rel_mse << ", full " << row->full.median
+                    << " ms\n";
+          rows.push_back(*std::move(row));
         }
       }
       // The path tracer as the peer curve: its error at equal time budgets.

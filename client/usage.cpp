@@ -137,7 +137,10 @@ a path-traced reference (relMSE, RMSE, SSIM of tone-mapped luminance, the
 fraction of NaN/Inf pixels) and the median/p95 frame time of a full update,
 a light-only and a camera-only change; plus the path tracer's own error at
 equal time budgets. Writes results.csv, results.json, results.md and
-error_vs_time.png (log-log) into DIR and prints the markdown table.
+error_vs_time.png (log-log) into DIR and prints the markdown table. A
+setting the server refuses (over its memory budget, a bad parameter) is
+written down as "not measured" with the server's status, and the run goes
+on; losing the server ends it.
 
   --out DIR     output directory (default out/eval)
   --cache DIR   reference images, keyed by scene content, view, size and

@@ -53,22 +53,27 @@ $C stream --frames 2 --size 48x32 --param area_samples=4 --format h264 --out "$T
 [ "$(head -c 5 "$TMP/video/stream.h264" | od -An -tx1 | tr -d ' \n')" = "0000000167" ] ||
   { echo "FAIL: stream --format h264 did not write an Annex-B stream"; exit 1; }
 
-# eval end to end on a tiny spec: outputs written, every row finite.
+# eval end to end on a tiny spec: outputs written, every row finite; a
+# setting the server refuses (area_samples=0) is written down as not
+# measured and the run goes on.
 cat >"$TMP/spec.json" <<'JSON'
 {"size": [16, 16], "reference": {"spp": 16}, "timed_frames": 1, "pathtrace_budgets_ms": [10],
  "scenes": [{"name": "cornell_box",
    "geometry_change": [{"node_transform": {"node": 6, "translation": {"x": 0.01}}}, {"node_transform": {"node": 6}}],
    "light_change": [{"material": {"material": 3, "emissive_strength": 12}}, {"material": {"material": 3, "emissive_strength": 17}}]}],
- "solvers": [{"name": "direct", "grid": {"area_samples": ["4", "8"]}}]}
+ "solvers": [{"name": "direct", "grid": {"area_samples": ["4", "8", "0"]}}]}
 JSON
 $C eval "$TMP/spec.json" --out "$TMP/eval" --cache "$TMP/cache" >"$TMP/eval.log" 2>&1 ||
   { cat "$TMP/eval.log"; echo "FAIL: eval"; exit 1; }
 for f in results.csv results.json results.md error_vs_time.png; do
   [ -s "$TMP/eval/$f" ] || { echo "FAIL: eval did not write $f"; exit 1; }
 done
-[ "$(grep -c '^cornell_box,' "$TMP/eval/results.csv")" -eq 3 ] || { echo "FAIL: eval rows"; exit 1; }
+[ "$(grep -c '^cornell_box,' "$TMP/eval/results.csv")" -eq 4 ] || { echo "FAIL: eval rows"; exit 1; }
+[ "$(grep -c 'INVALID_ARGUMENT.*area_samples' "$TMP/eval/results.csv")" -eq 1 ] &&
+  grep -q 'area_samples=0 | not measured: INVALID_ARGUMENT' "$TMP/eval/results.md" ||
+  { cat "$TMP/eval/results.csv"; echo "FAIL: eval did not record the refused setting"; exit 1; }
 ls "$TMP/cache"/*.exr >/dev/null || { echo "FAIL: no cached reference"; exit 1; }
-if grep -qiE 'nan|inf' "$TMP/eval/results.csv"; then echo "FAIL: non-finite metric"; exit 1; fi
+if grep -v INVALID_ARGUMENT "$TMP/eval/results.csv" | grep -qiE 'nan|inf'; then echo "FAIL: non-finite metric"; exit 1; fi
 
 # Errors: non-zero exit with the server's code and the field it names.
 set +e
