@@ -31,7 +31,7 @@ TEST(SubdividedVertexBound, BoundsTheVerticesTheSubdivisionMakes) {
         subdivided += hierarchy::SubdivideLongEdges(mesh.primitives[p], max_edge).positions.size();
       }
     }
-    const uint64_t bound = hierarchy::SubdividedVertexBound(state, **gpu);
+    const uint64_t bound = hierarchy::SubdividedVertexBound(state, **gpu, false);
     EXPECT_GE(bound, subdivided);
     // Not a wild over-estimate: within 4x of the vertices really made.
     EXPECT_LE(bound, 4 * subdivided);

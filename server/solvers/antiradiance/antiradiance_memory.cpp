@@ -16,7 +16,7 @@ MemoryEstimate AntiradianceSolver::EstimateMemory(const ParamSet& params, const 
   if (params.GetString("elements") == "surfels") {
     // The shared hierarchy's vertex discs: one leaf per instanced vertex
     // after long edges are split (hierarchy/subdivide.h).
-    leaves = hierarchy::SubdividedVertexBound(state, gpu);
+    leaves = hierarchy::SubdividedVertexBound(state, gpu, params.GetBool("full_detail"));
     driver = "bins";
   } else {
     // Counted, not split: a tiny patch_size makes up to 4^12 leaves per

@@ -6,6 +6,8 @@
 #include <map>
 #include <utility>
 
+#include "solvers/hierarchy/element_source.h"
+
 namespace gistream::hierarchy {
 namespace {
 
@@ -118,7 +120,7 @@ Primitive RepeatSubdivision(const Primitive& primitive, const Primitive& subdivi
   return out;
 }
 
-uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu) {
+uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu, bool full_detail) {
   const Bounds bounds = gpu.WorldBounds(state);
   const float diagonal = glm::length(bounds.max - bounds.min);
   // The largest scale of each (mesh, primitive)'s instances, in one pass.
@@ -130,21 +132,32 @@ uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu) {
   }
   const Scene& scene = state.scene();
   uint64_t vertices = 0;
-  for (const Node& node : state.nodes()) {
+  for (size_t ni = 0; ni < state.nodes().size(); ++ni) {
+    const Node& node = state.nodes()[ni];
     if (node.mesh < 0 || size_t(node.mesh) >= scene.meshes.size()) continue;
     const Mesh& mesh = scene.meshes[size_t(node.mesh)];
     for (size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
       const Primitive& p = mesh.primitives[pi];
-      vertices += p.positions.size();
       const auto it = scales.find({node.mesh, int(pi)});
       const float scale = it == scales.end() ? 0.0f : it->second;
-      if (bounds.empty() || !(diagonal > 0.0f) || !(scale > 0.0f)) continue;
-      const float max_edge = kMaxElementEdge * diagonal / scale;
+      const bool sized = !bounds.empty() && diagonal > 0.0f && scale > 0.0f;
+      const float max_edge = sized ? kMaxElementEdge * diagonal / scale : 0.0f;
+      // The mesh the elements are made of (element_source.h): a proxy
+      // level where the builders take one, else the full mesh. Counting
+      // the full mesh refused the 594K-triangle atrium at 24 GiB.
+      const int level =
+          ElementLevel(p, max_edge, full_detail || state.Deforms(ni) || !std::isfinite(max_edge));
+      const std::vector<uint32_t>& indices =
+          level >= 0 ? p.proxies[size_t(level)].indices : p.indices;
+      vertices += level >= 0 ? std::min(p.positions.size(), indices.size()) : p.positions.size();
       if (!(max_edge > 0.0f) || !std::isfinite(max_edge)) continue;
-      for (size_t t = 0; t + 2 < p.indices.size(); t += 3) {
-        const glm::vec3& a = p.positions[p.indices[t]];
-        const glm::vec3& b = p.positions[p.indices[t + 1]];
-        const glm::vec3& c = p.positions[p.indices[t + 2]];
+      for (size_t t = 0; t + 2 < indices.size(); t += 3) {
+        if (indices[t] >= p.positions.size() || indices[t + 1] >= p.positions.size() ||
+            indices[t + 2] >= p.positions.size())
+          continue;
+        const glm::vec3& a = p.positions[indices[t]];
+        const glm::vec3& b = p.positions[indices[t + 1]];
+        const glm::vec3& c = p.positions[indices[t + 2]];
         const float longest =
             std::max({glm::length(b - a), glm::length(c - b), glm::length(a - c)});
         if (!(longest > max_edge)) continue;

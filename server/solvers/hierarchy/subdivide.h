@@ -51,6 +51,8 @@ float LocalMaxEdge(const SceneState& state, const GpuScene& gpu, int mesh, int p
 // anything is built): a triangle whose longest edge is L becomes at most
 // the (n + 1)(n + 2) / 2 points of its n-fold uniform subdivision, n the
 // power of two at or above L / max_edge (midpoint splits halve edges).
-uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu);
+// Made of the proxy level the element builders take
+// (hierarchy/element_source.h: ElementLevel), unless `full_detail`.
+uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu, bool full_detail);
 
 }  // namespace gistream::hierarchy

@@ -14,7 +14,8 @@ MemoryEstimate ImplicitVisibilitySolver::EstimateMemory(const ParamSet& params,
   // The shared hierarchy: one leaf disc per instanced vertex after long
   // edges are split (hierarchy/subdivide.h), a binary tree of clusters
   // above them.
-  const uint64_t nodes = 2 * hierarchy::SubdividedVertexBound(state, gpu);
+  const uint64_t nodes =
+      2 * hierarchy::SubdividedVertexBound(state, gpu, params.GetBool("full_detail"));
   MemoryEstimate estimate;
   // Bin tables: nodes x 6 N^2 RGB floats (CheckBinBytes), on the CPU for
   // the background relink and on the GPU for the gather.
