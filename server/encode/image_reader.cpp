@@ -1,11 +1,44 @@
 #include "encode/image_reader.h"
 
+#include <algorithm>
+#include <cstring>
+
 #include "encode/exr_header.h"
 #include "encode/image_format.h"
 #include "encode/jpeg_markers.h"
 #include "encode/png_chunks.h"
 
 namespace gistream {
+namespace {
+
+// OpenImageIO 2.4's IOMemReader accepts any seek and reads at a negative
+// offset from before its buffer: an EXR whose line offset table holds -4
+// made OpenEXR read 4 bytes before the file (heap-buffer-overflow, found
+// by image_decode_fuzzer). Same reader, with every offset checked.
+class BoundedMemReader final : public OIIO::Filesystem::IOMemReader {
+ public:
+  using IOMemReader::IOMemReader;
+
+  bool seek(int64_t offset) override {
+    if (offset < 0) return false;
+    m_pos = offset;
+    return true;
+  }
+  size_t read(void* buf, size_t size) override {
+    const size_t n = pread(buf, size, m_pos);
+    m_pos += int64_t(n);
+    return n;
+  }
+  size_t pread(void* buf, size_t size, int64_t offset) override {
+    const OIIO::cspan<unsigned char> data = buffer();
+    if (size == 0 || offset < 0 || uint64_t(offset) >= uint64_t(data.size())) return 0;
+    const size_t n = std::min(size, size_t(data.size()) - size_t(offset));
+    std::memcpy(buf, data.data() + offset, n);
+    return n;
+  }
+};
+
+}  // namespace
 
 absl::StatusOr<MemoryImageReader> OpenImageFromMemory(std::span<const uint8_t> bytes,
                                                       const std::string& format,
@@ -21,7 +54,7 @@ absl::StatusOr<MemoryImageReader> OpenImageFromMemory(std::span<const uint8_t> b
     reader.owned_bytes = StripJpegMetadata(bytes);
     bytes = reader.owned_bytes;
   }
-  reader.proxy = std::make_unique<OIIO::Filesystem::IOMemReader>(bytes.data(), bytes.size());
+  reader.proxy = std::make_unique<BoundedMemReader>(bytes.data(), bytes.size());
   reader.input = OIIO::ImageInput::create(format);
   if (!reader.input) {
     return absl::InternalError(absl::StrCat(field, ": no ", format, " reader: ", OIIO::geterror()));

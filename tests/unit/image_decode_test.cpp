@@ -126,6 +126,28 @@ TEST(ImageDecode, ExrDataWindowIsHeldToTheLimitsBeforeOpenExrSizesBuffers) {
   EXPECT_TRUE(DecodeImage(exr, ImageKind::kEnvironment, {}, "env").ok());
 }
 
+// Found by tests/fuzz/image_decode_fuzzer: OpenImageIO 2.4's memory reader
+// reads at a negative offset from before its buffer, and an EXR's line
+// offset table can say -4. Under ASan this read is a heap-buffer-overflow
+// without the bounded reader (encode/image_reader.cpp).
+TEST(ImageDecode, ExrLineOffsetBeforeTheFileIsAnErrorNotARead) {
+  std::vector<uint8_t> exr = Bytes(*EncodeExr(std::vector<float>(4 * 4, 0.5f), 2, 2));
+  // Past the header's attributes (name, type, 4-byte size, value) and its
+  // terminating NUL: the line offset table, 8 bytes per chunk.
+  size_t pos = 8;
+  while (exr.at(pos) != 0) {
+    pos = size_t(std::find(exr.begin() + long(pos), exr.end(), 0) - exr.begin()) + 1;  // name
+    pos = size_t(std::find(exr.begin() + long(pos), exr.end(), 0) - exr.begin()) + 1;  // type
+    const uint32_t size = uint32_t(exr.at(pos)) | uint32_t(exr.at(pos + 1)) << 8 |
+                          uint32_t(exr.at(pos + 2)) << 16 | uint32_t(exr.at(pos + 3)) << 24;
+    pos += 4 + size;
+  }
+  const size_t table = pos + 1;
+  ASSERT_LT(table + 8, exr.size());
+  for (size_t b = 0; b < 8; ++b) exr[table + b] = b == 0 ? 0xfc : 0xff;  // -4
+  EXPECT_ERROR(DecodeImage(exr, ImageKind::kEnvironment, {}, "env"), kInvalidArgument, "env:");
+}
+
 // Found by tests/fuzz/image_decode_fuzzer: libpng allocates a chunk's
 // claimed length before reading it (a 470-byte PNG whose tEXt chunk
 // claimed 1.7 GB allocated 1.7 GB). The chunks are walked first.
