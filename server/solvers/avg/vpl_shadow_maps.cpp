@@ -33,7 +33,7 @@ absl::StatusOr<VplShadowMaps> VplShadowMaps::Create() {
                                           {GL_FRAGMENT_SHADER, "avg/vpl_resample.frag.glsl"}}));
   GS_ASSIGN_OR_RETURN(maps.cube_program_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/shadow_cube.vert.glsl"},
-                                          {GL_GEOMETRY_SHADER, "avg/vpl_cube.geom.glsl"},
+                                          {GL_GEOMETRY_SHADER, "render/shadow_cube.geom.glsl"},
                                           {GL_FRAGMENT_SHADER, "render/shadow_cube.frag.glsl"}}));
   maps.cube_fbo_ = gl::Framebuffer::Create();
   // The cubes' depths read as values, texel by texel.

@@ -62,7 +62,7 @@ class VplShadowMaps {
 
   gl::Program program_;       // every triangle as it is (full detail)
   gl::Program resample_;      // proxies: a batch of distance cubes into the maps
-  gl::Program cube_program_;  // render/shadow_cube.{vert,frag}, avg/vpl_cube.geom
+  gl::Program cube_program_;  // render/shadow_cube.{vert,geom,frag}
   gl::Texture cubes_;         // the batch's distance cubes (6 layers each)
   gl::Framebuffer cube_fbo_;
   int cube_batch_ = 0, cube_resolution_ = 0;  // VPLs per batch (0: none yet)
