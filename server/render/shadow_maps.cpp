@@ -1,10 +1,12 @@
 #include "render/shadow_maps.h"
 
 #include <algorithm>
+#include <array>
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "gl/textures.h"
+#include "render/cube_faces.h"
 #include "render/proxy_filters.h"
 
 namespace gistream {
@@ -67,16 +69,7 @@ uint64_t ShadowMaps::gpu_bytes() const {
 
 void ShadowMaps::RenderCube(const GpuScene& gpu, const SceneState& state, int index,
                             const glm::vec3& position, float far, bool full_detail) {
-  // GL cube-map face orientations (+X, -X, +Y, -Y, +Z, -Z).
-  static const glm::vec3 kDir[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
-                                    {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
-  static const glm::vec3 kUp[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1},
-                                   {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
-  const glm::mat4 proj = glm::perspective(glm::half_pi<float>(), 1.0f, far * 1e-5f, far);
-  glm::mat4 view_proj[6];
-  for (int f = 0; f < 6; ++f) {
-    view_proj[f] = proj * glm::lookAt(position, position + kDir[f], kUp[f]);
-  }
+  const std::array<glm::mat4, 6> view_proj = CubeFaceViewProj(position, far);
   glNamedFramebufferTexture(fbo_.id(), GL_DEPTH_ATTACHMENT, cubes_.id(), 0);
   BeginDepthPass(fbo_.id(), resolution_);
   cube_program_.Use();

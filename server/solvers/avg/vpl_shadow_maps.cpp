@@ -1,11 +1,13 @@
 #include "solvers/avg/vpl_shadow_maps.h"
 
 #include <algorithm>
+#include <array>
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "gl/buffers.h"
 #include "gl/textures.h"
+#include "render/cube_faces.h"
 #include "render/proxy_filters.h"
 #include "render/shadow_maps.h"
 
@@ -124,12 +126,6 @@ void VplShadowMaps::RenderFromCubes(const GpuScene& gpu, const SceneState& state
     cube_batch_ = batch;
     cube_resolution_ = resolution;
   }
-  // GL cube-map face orientations (+X, -X, +Y, -Y, +Z, -Z), as
-  // render/shadow_maps.cpp.
-  static const glm::vec3 kDir[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
-                                    {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
-  static const glm::vec3 kUp[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1},
-                                   {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
   for (int b = first; b < first + count; b += batch) {
     const int n = std::min(batch, first + count - b);
     glBindFramebuffer(GL_FRAMEBUFFER, cube_fbo_.id());
@@ -141,20 +137,9 @@ void VplShadowMaps::RenderFromCubes(const GpuScene& gpu, const SceneState& state
     for (int j = 0; j < n; ++j) {
       const Vpl& vpl = cpu_vpls_[size_t(b + j)];
       const float far = fars_[size_t(b + j)];
-      const glm::mat4 proj = glm::perspective(glm::half_pi<float>(), 1.0f, far * 1e-5f, far);
-      glm::mat4 view_proj[6];
-      // Faces wholly behind the VPL's hemisphere (every corner direction
-      // below it) are never drawn.
-      int hemisphere = 0;
-      for (int f = 0; f < 6; ++f) {
-        view_proj[f] = proj * glm::lookAt(vpl.position, vpl.position + kDir[f], kUp[f]);
-        const glm::vec3 u = kUp[f], v = glm::cross(kDir[f], kUp[f]);
-        for (const float su : {-1.0f, 1.0f}) {
-          for (const float sv : {-1.0f, 1.0f}) {
-            if (glm::dot(vpl.normal, kDir[f] + su * u + sv * v) >= 0.0f) hemisphere |= 1 << f;
-          }
-        }
-      }
+      const std::array<glm::mat4, 6> view_proj = CubeFaceViewProj(vpl.position, far);
+      // Faces wholly behind the VPL's hemisphere are never drawn.
+      const int hemisphere = HemisphereFaceMask(vpl.normal);
       glProgramUniformMatrix4fv(cube_program_.id(), cube_program_.Location("uFaceViewProj"), 6,
                                 GL_FALSE, &view_proj[0][0][0]);
       cube_program_.Set("uCube", j);
