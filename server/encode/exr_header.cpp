@@ -53,6 +53,24 @@ size_t FixedValueSize(const std::string& type) {
   return 0;
 }
 
+// A chlist value: channels, each a name, then pixel type, pLinear + 3
+// reserved, x and y sampling (4 bytes each); an empty name ends the list.
+// The bytes read, or -1 when the list runs past the value; the channel
+// count in `channels` when given.
+int64_t WalkChannels(std::span<const uint8_t> value, int* channels) {
+  size_t pos = 0;
+  for (int n = 0;; ++n) {
+    if (pos >= value.size()) return -1;
+    if (value[pos] == 0) {
+      if (channels) *channels = n;
+      return int64_t(pos + 1);
+    }
+    std::string name;
+    if (!ReadName(value, pos, &name) || value.size() - pos < 16) return -1;
+    pos += 16;
+  }
+}
+
 // The bytes OpenEXR reads for a value of `type` at value[0..]: for the
 // types that read a fixed size or parse their content (chlist, preview,
 // stringvector, floatvector) instead of reading `value.size()` bytes, what
@@ -60,18 +78,7 @@ size_t FixedValueSize(const std::string& type) {
 // (string, opaque ones) read exactly the size.
 int64_t ValueBytesRead(const std::string& type, std::span<const uint8_t> value) {
   if (const size_t fixed = FixedValueSize(type); fixed > 0) return int64_t(fixed);
-  if (type == "chlist") {
-    // Channels: a name, then pixel type, pLinear + 3 reserved, x and y
-    // sampling (4 bytes each); an empty name ends the list.
-    size_t pos = 0;
-    for (;;) {
-      if (pos >= value.size()) return -1;
-      if (value[pos] == 0) return int64_t(pos + 1);
-      std::string name;
-      if (!ReadName(value, pos, &name) || value.size() - pos < 16) return -1;
-      pos += 16;
-    }
-  }
+  if (type == "chlist") return WalkChannels(value, nullptr);
   if (type == "preview") {
     // Width and height, then 4 bytes per pixel, allocated before reading.
     if (value.size() < 8) return -1;
@@ -95,18 +102,6 @@ int64_t ValueBytesRead(const std::string& type, std::span<const uint8_t> value) 
   // floatvector reads whole floats only.
   if (type == "floatvector") return int64_t(value.size() / 4 * 4);
   return int64_t(value.size());
-}
-
-// Channels in a chlist value whose content ValueBytesRead accepted.
-int CountChannels(std::span<const uint8_t> value) {
-  int channels = 0;
-  size_t pos = 0;
-  std::string name;
-  while (pos < value.size() && value[pos] != 0 && ReadName(value, pos, &name)) {
-    pos += 16;
-    ++channels;
-  }
-  return channels;
 }
 
 // The buffers OpenEXR sizes from `name`'s value when it opens the file.
@@ -135,7 +130,8 @@ absl::Status CheckSizing(const std::string& name, const std::string& type,
     }
   }
   if (type == "chlist") {
-    const int channels = CountChannels(value);
+    int channels = 0;
+    WalkChannels(value, &channels);
     if (channels > limits.max_channels) {
       return absl::InvalidArgumentError(absl::StrCat(field, ": ", channels, " channels; at most ",
                                                      limits.max_channels,

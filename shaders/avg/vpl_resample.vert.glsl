@@ -1,7 +1,7 @@
 #version 450 core
 #extension GL_ARB_shader_viewport_layer_array : require
 // One full-screen triangle per VPL of a batch (instance i: VPL uFirstVpl + i,
-// hemicube i), drawn into that VPL's paraboloid map layer.
+// distance cube i), drawn into that VPL's paraboloid map layer.
 #include "avg/vpl.glsl"
 uniform int uFirstVpl;
 flat out int vVpl;

@@ -135,6 +135,34 @@ TEST_F(AvgProxyMapsTest, ProxyMapsMatchFullDetailWithinOneTexel) {
   RecordProperty("same_texel_fraction", std::to_string(double(same_texel) / double(covered)));
 }
 
+// The distance cubes are bounded before they are made, and the memory
+// estimate (avg_memory.cpp) counts what the maps hold: 64 VPLs a batch at
+// the default shadow_res, fewer where 64 cubes would pass 64 MiB (a batch
+// of 64 cubes of 512^2 faces would be 403 MB per atlas).
+TEST(AvgDistanceCubes, BatchIsBoundedAndCountedInGpuBytes) {
+  EXPECT_EQ(avg::VplShadowMaps::CubeBatch(64, 1024), 64);
+  EXPECT_EQ(avg::VplShadowMaps::CubeBatch(64, 3), 3);
+  EXPECT_EQ(avg::VplShadowMaps::CubeBatch(512, 1024), 10);
+  EXPECT_EQ(avg::VplShadowMaps::CubeBatch(8192, 1024), 1);
+  EXPECT_LE(avg::VplShadowMaps::CubeBatchBytes(512, 1024), uint64_t(64) << 20);
+}
+
+TEST_F(AvgProxyMapsTest, CubesAreCountedInGpuBytes) {
+  const auto scene = TestScene(true);
+  SceneState state(scene);
+  auto gpu = GpuScene::Upload(state);
+  ASSERT_TRUE(gpu.ok()) << gpu.status();
+  auto maps = avg::VplShadowMaps::Create();
+  ASSERT_TRUE(maps.ok()) << maps.status();
+  const std::vector<avg::Vpl> vpls = TestVpls();
+  maps->Upload(vpls, scene->bounds);
+  const uint64_t before = maps->gpu_bytes();  // the VPL buffer
+  maps->Render(**gpu, state, kResolution, false);
+  const uint64_t atlas = vpls.size() * kResolution * kResolution * 4;
+  EXPECT_EQ(maps->gpu_bytes() - before,
+            atlas + avg::VplShadowMaps::CubeBatchBytes(kResolution, int(vpls.size())));
+}
+
 TEST_F(AvgProxyMapsTest, FullDetailDrawsTheMapsOfBeforeProxies) {
   // Before proxies: no levels, one instanced draw per item for all VPLs.
   const std::vector<float> before = Maps(TestScene(false), true);

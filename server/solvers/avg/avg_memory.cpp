@@ -2,6 +2,7 @@
 #include <algorithm>
 
 #include "solvers/avg/avg_solver.h"
+#include "solvers/avg/vpl_shadow_maps.h"
 
 namespace gistream {
 
@@ -17,6 +18,10 @@ MemoryEstimate AvgSolver::EstimateMemory(const ParamSet& params, const SceneStat
         {"vpls, shadow_res",
          absl::StrCat("two atlases of ", vpls, " VPL shadow maps of ", res, "^2"), 0,
          2 * vpls * res * res * 4});
+    // Each atlas draws its proxy cuts through a batch of distance cubes.
+    estimate.items.push_back(
+        {"shadow_res", absl::StrCat("two batches of VPL distance cubes of ", res, "^2 faces"), 0,
+         2 * avg::VplShadowMaps::CubeBatchBytes(int(res), int(vpls))});
   }
   // The approximate visibility grid: one 32-bit cell per voxel, on the CPU
   // for the VPL tracer and on the GPU.

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <array>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include "gl/buffers.h"
 #include "gl/textures.h"
 #include "render/cube_faces.h"
@@ -117,8 +115,10 @@ void VplShadowMaps::RenderFromCubes(const GpuScene& gpu, const SceneState& state
   // triangle: llvmpipe ran the six masked invocations apart, 30 % of the
   // pass at 415K), then resampled into the VPL's map, a batch of VPLs at a
   // time.
-  constexpr int kBatch = 64;
-  const int batch = std::max(cube_batch_, std::min(kBatch, count));
+  // The cubes only grow (a slice of a re-map draws fewer VPLs).
+  const int batch = resolution == cube_resolution_
+                        ? std::max(cube_batch_, CubeBatch(resolution, count))
+                        : CubeBatch(resolution, count);
   if (batch != cube_batch_ || resolution != cube_resolution_) {
     cubes_ = gl::DepthCompareArray(GL_TEXTURE_CUBE_MAP_ARRAY, resolution, 6 * batch);
     glNamedFramebufferTexture(cube_fbo_.id(), GL_DEPTH_ATTACHMENT, cubes_.id(), 0);
@@ -128,8 +128,9 @@ void VplShadowMaps::RenderFromCubes(const GpuScene& gpu, const SceneState& state
   }
   for (int b = first; b < first + count; b += batch) {
     const int n = std::min(batch, first + count - b);
+    // RenderRange set the viewport (cubes and maps share the resolution)
+    // and the depth test.
     glBindFramebuffer(GL_FRAMEBUFFER, cube_fbo_.id());
-    glViewport(0, 0, resolution, resolution);
     const float one = 1.0f;
     glClearTexSubImage(cubes_.id(), 0, 0, 0, 0, resolution, resolution, 6 * n, GL_DEPTH_COMPONENT,
                        GL_FLOAT, &one);
@@ -162,8 +163,6 @@ void VplShadowMaps::RenderFromCubes(const GpuScene& gpu, const SceneState& state
       gpu.Draw(cube_program_, state, false, 1, &filter, &cluster_filter);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-    glViewport(0, 0, resolution, resolution);
-    glDepthFunc(GL_LESS);
     resample_.Use();
     resample_.Set("uFirstVpl", b);
     resample_.Set("uResolution", resolution);
@@ -201,6 +200,20 @@ void VplShadowMaps::Bind() {
   if (!maps_) Allocate(1, 1);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kVplBinding, vpls_.id());
   glBindTextureUnit(kShadowUnit, maps_.id());
+}
+
+int VplShadowMaps::CubeBatch(int resolution, int vpls) {
+  constexpr int kBatch = 64;
+  constexpr uint64_t kMaxBytes = uint64_t(64) << 20;
+  const uint64_t cube =
+      6 * uint64_t(std::max(resolution, 1)) * uint64_t(std::max(resolution, 1)) * 4;
+  const int fit = int(std::clamp<uint64_t>(kMaxBytes / cube, 1, kBatch));
+  return std::max(1, std::min(fit, vpls));
+}
+
+uint64_t VplShadowMaps::CubeBatchBytes(int resolution, int vpls) {
+  return uint64_t(CubeBatch(resolution, vpls)) * 6 * uint64_t(resolution) * uint64_t(resolution) *
+         4;
 }
 
 uint64_t VplShadowMaps::gpu_bytes() const {

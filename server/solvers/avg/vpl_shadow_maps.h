@@ -51,6 +51,12 @@ class VplShadowMaps {
   const gl::Texture& maps() const { return maps_; }
   uint64_t gpu_bytes() const;
 
+  // VPLs per batch of distance cubes for `vpls` VPLs at `resolution`: up
+  // to 64, fewer where 64 cubes would pass 64 MiB (at most 1 cube).
+  static int CubeBatch(int resolution, int vpls);
+  // The bytes of that batch's cubes (32-bit depth, six faces each).
+  static uint64_t CubeBatchBytes(int resolution, int vpls);
+
   static constexpr GLuint kVplBinding = 6;
   static constexpr GLuint kShadowUnit = 7;
 

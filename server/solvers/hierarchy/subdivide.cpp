@@ -145,8 +145,7 @@ uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu, boo
       // The mesh the elements are made of (element_source.h): a proxy
       // level where the builders take one, else the full mesh. Counting
       // the full mesh refused the 594K-triangle atrium at 24 GiB.
-      const int level =
-          ElementLevel(p, max_edge, full_detail || state.Deforms(ni) || !std::isfinite(max_edge));
+      const int level = ElementLevel(p, max_edge, full_detail || state.Deforms(ni));
       const std::vector<uint32_t>& indices =
           level >= 0 ? p.proxies[size_t(level)].indices : p.indices;
       vertices += level >= 0 ? std::min(p.positions.size(), indices.size()) : p.positions.size();
