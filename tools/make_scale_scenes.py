@@ -122,7 +122,7 @@ def main():
     args = sys.argv[1:]
     atrium_only = "--atrium-only" in args  # docs/bench/atrium.sh: no Cornell boxes
     args = [a for a in args if a != "--atrium-only"]
-    if not args:
+    if not args or args[0].startswith("-"):  # no OUT_DIR, or -h / --help
         sys.exit(__doc__)
     out = args[0]
     os.makedirs(out, exist_ok=True)

@@ -7,6 +7,7 @@
 
 #include "gl/handle.h"
 #include "gl/program.h"
+#include "scene/draw_list.h"
 #include "scene/gpu_scene.h"
 
 namespace gistream {
@@ -20,8 +21,9 @@ class ShadowMaps {
 
   // Renders cube `index` around `position`; depth = distance / far. Each
   // item draws its coarsest proxy level within one texel's world size at
-  // its distance, into the faces that can see it (render/proxy_filters.h);
-  // `full_detail` draws every item in full into every face.
+  // its distance, into the faces that can see it (render/proxy_filters.h),
+  // in one indirect draw (scene/draw_list.h); `full_detail` draws every
+  // item in full into every face.
   void RenderCube(const GpuScene& gpu, const SceneState& state, int index,
                   const glm::vec3& position, float far, bool full_detail = false);
   // Renders directional map `index` (proxies within one texel unless
@@ -42,8 +44,13 @@ class ShadowMaps {
   gl::Texture cubes_;
   gl::Texture directional_;
   gl::Framebuffer fbo_;
+  DrawList list_;
   int cube_count_ = -1, dir_count_ = -1, resolution_ = 0;
 };
+
+// The distance-cube program (render/shadow_cube.*), drawn from a DrawList
+// whose tags are face masks: the shadow cubes here and avg's VPL cubes.
+absl::StatusOr<gl::Program> BuildShadowCubeProgram();
 
 // Farthest distance from `p` to the scene bounds, the far plane of a caster.
 float ShadowFar(const Bounds& bounds, const glm::vec3& p);

@@ -164,6 +164,18 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
     glVertexArrayAttribFormat(vao, a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
     glVertexArrayAttribBinding(vao, a, 0);
   }
+  // A draw list's records (scene/draw_list.h): the model matrix's columns
+  // and the tag, one per instance from the list's buffer at binding 1, so
+  // a command's base instance picks its first record. Enabled only while a
+  // list draws.
+  for (GLuint c = 0; c < 4; ++c) {
+    glVertexArrayAttribFormat(vao, kDrawModelAttrib + c, 4, GL_FLOAT, GL_FALSE,
+                              GLuint(c * sizeof(glm::vec4)));
+    glVertexArrayAttribBinding(vao, kDrawModelAttrib + c, kDrawRecordBufferBinding);
+  }
+  glVertexArrayAttribIFormat(vao, kDrawTagAttrib, 1, GL_INT, GLuint(sizeof(glm::mat4)));
+  glVertexArrayAttribBinding(vao, kDrawTagAttrib, kDrawRecordBufferBinding);
+  glVertexArrayBindingDivisor(vao, kDrawRecordBufferBinding, 1);
 
   if (!state.deforming_nodes().empty()) {
     GS_ASSIGN_OR_RETURN(gpu->deform_, GpuDeform::Create(state, gpu->draws_));
@@ -219,12 +231,8 @@ void GpuScene::Deform(const SceneState& state) {
   deformed_version_ = state.version();
 }
 
-void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_textures,
-                    int instances, const DrawFilter* filter,
-                    const ClusterFilter* cluster_filter) const {
-  glBindVertexArray(vao_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMaterialBinding, materials_.id());
-  const int default_material = int(state.materials().size());
+void GpuScene::Walk(const SceneState& state, const DrawFilter* filter,
+                    const ClusterFilter* cluster_filter, const DrawVisitor& visit) const {
   for (const DrawItem& d : draws_) {
     const glm::mat4& model = state.world()[size_t(d.node)];
     DrawLevel range{d.first_index, d.index_count, 0.0f};
@@ -235,32 +243,8 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
       const int level = by_cluster ? -1 : PickLevel(d, MaxScale(model), tolerance);
       if (level >= 0) range = levels_[size_t(d.first_level + level)];
     }
-    program.Set("uModel", model);
-    program.SetOptional("uNormalMatrix", glm::inverseTranspose(glm::mat3(model)));
-    const int material = d.material >= 0 ? d.material : default_material;
-    program.SetOptional("uMaterial", material);
-    if (bind_textures) {
-      const Material* m = d.material >= 0 ? &state.materials()[size_t(d.material)] : nullptr;
-      const GLuint base = m && m->base_color_texture >= 0
-                              ? textures_[size_t(m->base_color_texture)].id()
-                              : white_.id();
-      const GLuint emissive =
-          m && m->emissive_texture >= 0 ? textures_[size_t(m->emissive_texture)].id() : white_.id();
-      const GLuint metallic_roughness = m && m->metallic_roughness_texture >= 0
-                                            ? textures_[size_t(m->metallic_roughness_texture)].id()
-                                            : white_.id();
-      glBindTextureUnit(kBaseColorUnit, base);
-      glBindTextureUnit(kEmissiveUnit, emissive);
-      glBindTextureUnit(kMetallicRoughnessUnit, metallic_roughness);
-    }
-    const auto draw = [&](const DrawLevel& r) {
-      glDrawElementsInstancedBaseVertex(
-          GL_TRIANGLES, GLsizei(r.index_count), GL_UNSIGNED_INT,
-          reinterpret_cast<const void*>(uintptr_t(r.first_index) * sizeof(uint32_t)),
-          std::max(instances, 1), d.base_vertex);
-    };
     if (!by_cluster) {
-      draw(range);
+      visit(d, model, range);
       continue;
     }
     // The tree, root first: a node's copy where it is within the node's
@@ -273,16 +257,54 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
       const float tolerance = (*cluster_filter)(c.bounds.Transformed(model));
       if (tolerance < 0.0f) continue;
       if (c.level.index_count > 0 && c.level.error * scale <= tolerance) {
-        draw(c.level);
+        visit(d, model, c.level);
       } else if (c.children[0] < 0) {
-        draw(c.full);
+        visit(d, model, c.full);
       } else {
         open.push_back(c.children[1]);
         open.push_back(c.children[0]);
       }
     }
   }
+}
+
+void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_textures,
+                    int instances, const DrawFilter* filter,
+                    const ClusterFilter* cluster_filter) const {
+  glBindVertexArray(vao_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMaterialBinding, materials_.id());
+  const int default_material = int(state.materials().size());
+  const DrawItem* current = nullptr;  // the item whose uniforms are set
+  Walk(state, filter, cluster_filter,
+       [&](const DrawItem& d, const glm::mat4& model, const DrawLevel& range) {
+         if (current != &d) {
+           current = &d;
+           program.Set("uModel", model);
+           program.SetOptional("uNormalMatrix", glm::inverseTranspose(glm::mat3(model)));
+           const int material = d.material >= 0 ? d.material : default_material;
+           program.SetOptional("uMaterial", material);
+           if (bind_textures) BindTextures(state, d);
+         }
+         glDrawElementsInstancedBaseVertex(
+             GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
+             reinterpret_cast<const void*>(uintptr_t(range.first_index) * sizeof(uint32_t)),
+             std::max(instances, 1), d.base_vertex);
+       });
   glBindVertexArray(0);
+}
+
+void GpuScene::BindTextures(const SceneState& state, const DrawItem& d) const {
+  const Material* m = d.material >= 0 ? &state.materials()[size_t(d.material)] : nullptr;
+  const GLuint base =
+      m && m->base_color_texture >= 0 ? textures_[size_t(m->base_color_texture)].id() : white_.id();
+  const GLuint emissive =
+      m && m->emissive_texture >= 0 ? textures_[size_t(m->emissive_texture)].id() : white_.id();
+  const GLuint metallic_roughness = m && m->metallic_roughness_texture >= 0
+                                        ? textures_[size_t(m->metallic_roughness_texture)].id()
+                                        : white_.id();
+  glBindTextureUnit(kBaseColorUnit, base);
+  glBindTextureUnit(kEmissiveUnit, emissive);
+  glBindTextureUnit(kMetallicRoughnessUnit, metallic_roughness);
 }
 
 int GpuScene::PickLevel(const DrawItem& item, float scale, float tolerance) const {

@@ -79,6 +79,10 @@ using DrawFilter = std::function<float(const DrawItem& item, const glm::mat4& mo
 // DrawFilter, right before the node is drawn or opened): the world-space
 // error tolerated within the node's world box `world`; < 0 skips the node.
 using ClusterFilter = std::function<float(const Bounds& world)>;
+// One draw of a walk (GpuScene::Walk): `range` of `item`'s indices (the
+// full mesh, a proxy level, or a cluster node's copy or leaf) under `model`.
+using DrawVisitor =
+    std::function<void(const DrawItem& item, const glm::mat4& model, const DrawLevel& range)>;
 
 class GpuScene {
  public:
@@ -106,6 +110,11 @@ class GpuScene {
   void Draw(gl::Program& program, const SceneState& state, bool bind_textures, int instances = 1,
             const DrawFilter* filter = nullptr,
             const ClusterFilter* cluster_filter = nullptr) const;
+  // What Draw would draw, without drawing: `visit` gets each range in
+  // Draw's order, the filters called as Draw calls them (a DrawList builds
+  // its commands from this).
+  void Walk(const SceneState& state, const DrawFilter* filter, const ClusterFilter* cluster_filter,
+            const DrawVisitor& visit) const;
 
   const std::vector<DrawItem>& draws() const { return draws_; }
   const std::vector<DrawLevel>& levels() const { return levels_; }
@@ -120,13 +129,23 @@ class GpuScene {
   uint64_t gpu_bytes() const { return gpu_bytes_; }
   // The interleaved vertex buffer (position, normal, uv: 8 floats each).
   GLuint vertex_buffer() const { return vertices_.id(); }
+  // The vertex array every draw of the scene uses; a draw list (scene/
+  // draw_list.h) binds its records to kDrawRecordBufferBinding and enables
+  // kDrawModelAttrib.. and kDrawTagAttrib while it draws.
+  GLuint vertex_array() const { return vao_.id(); }
 
   static constexpr GLuint kMaterialBinding = GS_BINDING_MATERIALS;
   static constexpr GLuint kBaseColorUnit = GS_UNIT_BASE_COLOR;
   static constexpr GLuint kEmissiveUnit = GS_UNIT_EMISSIVE;
   static constexpr GLuint kMetallicRoughnessUnit = GS_UNIT_METALLIC_ROUGHNESS;
+  // shaders/common/scene_vertex.glsl's aDrawModel (4 locations), aDrawTag.
+  static constexpr GLuint kDrawModelAttrib = 3;
+  static constexpr GLuint kDrawTagAttrib = 7;
+  static constexpr GLuint kDrawRecordBufferBinding = 1;
 
  private:
+  void BindTextures(const SceneState& state, const DrawItem& item) const;
+
   gl::VertexArray vao_;
   gl::Buffer vertices_;
   gl::Buffer indices_;

@@ -31,10 +31,7 @@ absl::StatusOr<VplShadowMaps> VplShadowMaps::Create() {
   GS_ASSIGN_OR_RETURN(maps.resample_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "avg/vpl_resample.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "avg/vpl_resample.frag.glsl"}}));
-  GS_ASSIGN_OR_RETURN(maps.cube_program_,
-                      gl::Program::Build({{GL_VERTEX_SHADER, "render/shadow_cube.vert.glsl"},
-                                          {GL_GEOMETRY_SHADER, "render/shadow_cube.geom.glsl"},
-                                          {GL_FRAGMENT_SHADER, "render/shadow_cube.frag.glsl"}}));
+  GS_ASSIGN_OR_RETURN(maps.cube_program_, BuildShadowCubeProgram());
   maps.cube_fbo_ = gl::Framebuffer::Create();
   // The cubes' depths read as values, texel by texel.
   maps.depth_value_ = gl::Sampler::Create();
@@ -134,33 +131,40 @@ void VplShadowMaps::RenderFromCubes(const GpuScene& gpu, const SceneState& state
     const float one = 1.0f;
     glClearTexSubImage(cubes_.id(), 0, 0, 0, 0, resolution, resolution, 6 * n, GL_DEPTH_COMPONENT,
                        GL_FLOAT, &one);
-    cube_program_.Use();
+    // Per VPL of the batch, per node: nothing behind the VPL's hemisphere,
+    // else the faces that may see it (the draw's tag) and the coarsest
+    // copy within a face texel at its nearest distance
+    // (render/proxy_filters.h); one indirect draw list for the batch, a
+    // view per VPL (scene/draw_list.h).
+    list_.Clear();
     for (int j = 0; j < n; ++j) {
       const Vpl& vpl = cpu_vpls_[size_t(b + j)];
-      const float far = fars_[size_t(b + j)];
-      const std::array<glm::mat4, 6> view_proj = CubeFaceViewProj(vpl.position, far);
-      // Faces wholly behind the VPL's hemisphere are never drawn.
       const int hemisphere = HemisphereFaceMask(vpl.normal);
-      glProgramUniformMatrix4fv(cube_program_.id(), cube_program_.Location("uFaceViewProj"), 6,
-                                GL_FALSE, &view_proj[0][0][0]);
-      cube_program_.Set("uCube", j);
-      cube_program_.Set("uLightPos", vpl.position);
-      cube_program_.Set("uFar", far);
-      // Per node: nothing behind the VPL's hemisphere, else the faces that
-      // may see it and the coarsest copy within a face texel at its nearest
-      // distance (render/proxy_filters.h).
+      int faces = 0;
       const ClusterFilter cluster_filter = [&](const Bounds& box) {
-        const int faces = CubeFaceMask(box, vpl.position) & hemisphere;
+        faces = CubeFaceMask(box, vpl.position) & hemisphere;
         if (faces == 0 ||
             ParaboloidTexelTolerance(box, vpl.position, vpl.normal, resolution) < 0.0f)
           return -1.0f;
-        cube_program_.Set("uFaceMask", faces);
         return CubeTexelTolerance(box, vpl.position, resolution);
       };
       const DrawFilter filter = [&](const DrawItem& item, const glm::mat4& model) {
         return cluster_filter(ItemWorldBounds(state, item, model));
       };
-      gpu.Draw(cube_program_, state, false, 1, &filter, &cluster_filter);
+      list_.AddView(gpu, state, &filter, &cluster_filter, faces, DrawTags::kEachBit);
+    }
+    list_.Upload();
+    cube_program_.Use();
+    for (int j = 0; j < n; ++j) {
+      const Vpl& vpl = cpu_vpls_[size_t(b + j)];
+      const float far = fars_[size_t(b + j)];
+      const std::array<glm::mat4, 6> view_proj = CubeFaceViewProj(vpl.position, far);
+      glProgramUniformMatrix4fv(cube_program_.id(), cube_program_.Location("uFaceViewProj"), 6,
+                                GL_FALSE, &view_proj[0][0][0]);
+      cube_program_.Set("uCube", j);
+      cube_program_.Set("uLightPos", vpl.position);
+      cube_program_.Set("uFar", far);
+      list_.Draw(gpu, j);
     }
     glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
     resample_.Use();

@@ -11,6 +11,7 @@
 
 #include "gl/handle.h"
 #include "gl/program.h"
+#include "scene/draw_list.h"
 #include "scene/gpu_scene.h"
 #include "solvers/avg/vpl_tracer.h"
 
@@ -71,6 +72,7 @@ class VplShadowMaps {
   gl::Program cube_program_;  // render/shadow_cube.{vert,geom,frag}
   gl::Texture cubes_;         // the batch's distance cubes (6 layers each)
   gl::Framebuffer cube_fbo_;
+  DrawList list_;                             // a batch's VPL cubes, a view per VPL
   int cube_batch_ = 0, cube_resolution_ = 0;  // VPLs per batch (0: none yet)
   gl::Sampler depth_value_;
   gl::VertexArray empty_vao_;

@@ -1,0 +1,96 @@
+// One indirect draw list (issue 19): what GpuScene::Draw would issue for one
+// or more views of a depth pass, as glMultiDrawElementsIndirect commands,
+// one call per view instead of one draw (and one set of uniform changes)
+// per item and per cluster node. Each draw carries a record (its model
+// matrix and a pass-defined tag, e.g. the cube face it is drawn into) that
+// the vertex shader reads as instanced attributes (scene_vertex.glsl's
+// GS_DRAW_LIST path). Draws of the same index range in a view (the
+// instances of an instanced mesh at the same proxy level or cluster node,
+// a node drawn into several faces) become one instanced command: an
+// instanced mesh is drawn instanced.
+//
+// Use: Clear, AddView per view (CPU only), Upload once, then Draw(view)
+// with the pass's program bound; a pass adds all its views before it
+// uploads (one upload per pass, or per batch). Lives on the render thread.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "gl/buffers.h"
+#include "gl/handle.h"
+#include "scene/gpu_scene.h"
+
+namespace gistream {
+
+// One draw's instanced attributes (shaders/common/scene_vertex.glsl's
+// aDrawModel, aDrawTag; GpuScene's vertex array reads them at this layout).
+struct DrawRecord {
+  glm::mat4 model;
+  glm::ivec4 info;  // x: the pass's tag; yzw: unused
+};
+static_assert(sizeof(DrawRecord) == 80 && offsetof(DrawRecord, info) == sizeof(glm::mat4));
+
+// How AddView records a draw's tag.
+enum class DrawTags {
+  kValue,    // one record, the tag as it is
+  kEachBit,  // one record per set bit of the tag, its tag the bit's index
+             // (a cube face mask: a draw per face the node may reach)
+};
+
+// GL's DrawElementsIndirectCommand.
+struct DrawCommand {
+  uint32_t count = 0;
+  uint32_t instance_count = 0;
+  uint32_t first_index = 0;
+  int32_t base_vertex = 0;
+  uint32_t base_instance = 0;  // the first record of the command's instances
+};
+static_assert(sizeof(DrawCommand) == 20);
+
+class DrawList {
+ public:
+  // Forgets the views (the GL buffers are kept for reuse).
+  void Clear();
+  // Appends one view: the ranges GpuScene::Walk visits under `filter` and
+  // `cluster_filter`, each recorded with the value `tag` holds when it is
+  // visited (the filters may change it; e.g. the face mask), as `mode`
+  // says. Returns the view's index for Draw.
+  int AddView(const GpuScene& gpu, const SceneState& state, const DrawFilter* filter,
+              const ClusterFilter* cluster_filter, const int& tag,
+              DrawTags mode = DrawTags::kValue);
+  // Writes every view's commands and records to new GL buffers (the old
+  // ones are freed once the draws that read them are done); call once
+  // after the views are added.
+  void Upload();
+  // Draws `view` with the bound program, which must read its vertices
+  // through scene_vertex.glsl's GS_DRAW_LIST.
+  void Draw(const GpuScene& gpu, int view) const;
+
+  int views() const { return int(view_first_.size()); }
+  // The commands of `view` (their count is the draws the view costs).
+  std::vector<DrawCommand> Commands(int view) const;
+  // The bytes of the GL buffers.
+  uint64_t gpu_bytes() const { return command_bytes_ + record_bytes_; }
+
+ private:
+  struct Entry {
+    DrawCommand command;  // instance_count 1, base_instance unset
+    DrawRecord record;
+  };
+
+  std::pair<size_t, size_t> Range(int view) const;  // its commands [first, end)
+
+  std::vector<Entry> entries_;  // the view being added, then kept merged below
+  std::vector<DrawCommand> commands_;
+  std::vector<DrawRecord> records_;
+  std::vector<size_t> view_first_;  // per view, its first command
+  gl::Buffer command_buffer_, record_buffer_;
+  uint64_t command_bytes_ = 0, record_bytes_ = 0;
+};
+
+}  // namespace gistream
