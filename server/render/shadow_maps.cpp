@@ -39,7 +39,7 @@ float ShadowFar(const Bounds& bounds, const glm::vec3& p) {
 
 absl::StatusOr<gl::Program> BuildShadowCubeProgram() {
   // The vertex shader writes the layer where the GL allows it (no geometry
-  // shader; on llvmpipe ~2x faster, RESULTS.md), else a geometry shader.
+  // shader runs), else a geometry shader does.
   absl::StatusOr<gl::Program> layered =
       gl::Program::Build({{GL_VERTEX_SHADER, "render/shadow_cube.vert.glsl"},
                           {GL_FRAGMENT_SHADER, "render/shadow_cube.frag.glsl"}},

@@ -49,7 +49,8 @@ class ShadowMaps {
 };
 
 // The distance-cube program (render/shadow_cube.*), drawn from a DrawList
-// whose tags are face masks: the shadow cubes here and avg's VPL cubes.
+// whose records' tags are faces (DrawTags::kEachBit of a face mask): the
+// shadow cubes here and avg's VPL cubes.
 absl::StatusOr<gl::Program> BuildShadowCubeProgram();
 
 // Farthest distance from `p` to the scene bounds, the far plane of a caster.

@@ -4,18 +4,6 @@
 #include <tuple>
 
 namespace gistream {
-namespace {
-
-// A new buffer holding `data`: never a write into a buffer that queued
-// draws still read (llvmpipe waits for its rasterizer threads to finish
-// the queued scene before such a write; a GPU driver would sync or copy).
-template <typename T>
-gl::Buffer Fresh(const std::vector<T>& data, uint64_t* bytes) {
-  *bytes = std::max<size_t>(data.size(), 1) * sizeof(T);
-  return gl::StorageBuffer(data);
-}
-
-}  // namespace
 
 void DrawList::Clear() {
   commands_.clear();
@@ -62,8 +50,11 @@ int DrawList::AddView(const GpuScene& gpu, const SceneState& state, const DrawFi
 }
 
 void DrawList::Upload() {
-  command_buffer_ = Fresh(commands_, &command_bytes_);
-  record_buffer_ = Fresh(records_, &record_bytes_);
+  // New buffers, never a write into ones that queued draws still read
+  // (which a driver must wait for or copy); the old ones are freed when
+  // those draws are done.
+  command_buffer_ = gl::StorageBuffer(commands_);
+  record_buffer_ = gl::StorageBuffer(records_);
 }
 
 void DrawList::Draw(const GpuScene& gpu, int view) const {

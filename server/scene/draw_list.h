@@ -54,7 +54,7 @@ static_assert(sizeof(DrawCommand) == 20);
 
 class DrawList {
  public:
-  // Forgets the views (the GL buffers are kept for reuse).
+  // Forgets the views (the GL buffers stay until the next Upload).
   void Clear();
   // Appends one view: the ranges GpuScene::Walk visits under `filter` and
   // `cluster_filter`, each recorded with the value `tag` holds when it is
@@ -74,8 +74,6 @@ class DrawList {
   int views() const { return int(view_first_.size()); }
   // The commands of `view` (their count is the draws the view costs).
   std::vector<DrawCommand> Commands(int view) const;
-  // The bytes of the GL buffers.
-  uint64_t gpu_bytes() const { return command_bytes_ + record_bytes_; }
 
  private:
   struct Entry {
@@ -90,7 +88,6 @@ class DrawList {
   std::vector<DrawRecord> records_;
   std::vector<size_t> view_first_;  // per view, its first command
   gl::Buffer command_buffer_, record_buffer_;
-  uint64_t command_bytes_ = 0, record_bytes_ = 0;
 };
 
 }  // namespace gistream
