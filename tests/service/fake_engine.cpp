@@ -279,6 +279,7 @@ absl::Status FakeEngine::RequestFrames(const SessionId& id, uint32_t count) {
     return absl::InvalidArgumentError(absl::StrCat("request_frame.count: ", count, " > 1000"));
   }
   it->second.owed += count;
+  if (it->second.owed > max_owed_.load()) max_owed_.store(it->second.owed);
   wake_.notify_all();
   return absl::OkStatus();
 }

@@ -74,6 +74,8 @@ class FakeEngine final : public Engine {
   int64_t live_frames() const { return live_frames_->load(); }
   uint64_t frames_rendered() const { return frames_rendered_.load(); }
   uint64_t sink_calls_after_close() const { return sink_calls_after_close_.load(); }
+  // The most on-request frames any session was owed at once.
+  uint64_t max_owed() const { return max_owed_.load(); }
 
   static constexpr uint32_t kNodes = 3;
   static constexpr uint32_t kLights = 1;
@@ -127,6 +129,7 @@ class FakeEngine final : public Engine {
   bool shut_down_ = false;
   std::atomic<uint64_t> frames_rendered_{0};
   std::atomic<uint64_t> sink_calls_after_close_{0};
+  std::atomic<uint64_t> max_owed_{0};
   std::shared_ptr<std::atomic<int64_t>> live_frames_ = std::make_shared<std::atomic<int64_t>>(0);
   std::jthread thread_;  // last: stopped and joined first
 };

@@ -1,7 +1,8 @@
-// FrameSlot, the session stream's one unsent frame: image frames are
-// replaced and counted; a replaced video frame makes the slot refuse delta
-// frames until a key frame, which it asks for once per loss (and again if
-// that key frame is lost too); unchanged frames never break the chain.
+// FrameSlot, the session stream's unsent frames: over capacity (one for a
+// continuous session) image frames are replaced and counted; a replaced
+// video frame makes the slot refuse delta frames until a key frame, which it
+// asks for once per loss (and again if that key frame is lost too);
+// unchanged frames never break the chain.
 #include <gtest/gtest.h>
 
 #include "service/grpc/frame_slot.h"
@@ -62,6 +63,39 @@ TEST(FrameSlot, ALostKeyFrameIsAskedForAgain) {
   EXPECT_TRUE(offered.request_key_frame);
   EXPECT_EQ(offered.dropped, 2u);  // the key frame, and 4 that needs it
   EXPECT_TRUE(slot.empty());
+}
+
+TEST(FrameSlot, AWindowKeepsFramesInOrderUpToItsCapacity) {
+  FrameSlot slot(2);
+  EXPECT_EQ(slot.Offer(Frame(ImageFormat::kJpeg, true, true, 1)).dropped, 0u);
+  EXPECT_EQ(slot.Offer(Frame(ImageFormat::kJpeg, true, true, 2)).dropped, 0u);
+  EXPECT_EQ(slot.size(), 2u);
+  // Over capacity the oldest goes.
+  EXPECT_EQ(slot.Offer(Frame(ImageFormat::kJpeg, true, true, 3)).dropped, 1u);
+  EXPECT_EQ(slot.Take()->frame_number, 2u);
+  EXPECT_EQ(slot.Take()->frame_number, 3u);
+  EXPECT_EQ(slot.Take(), nullptr);
+}
+
+TEST(FrameSlot, AVideoFrameDroppedFromAWindowTakesItsQueuedDeltas) {
+  FrameSlot slot(3);
+  slot.Offer(Frame(ImageFormat::kAv1, true, true, 1));
+  slot.Offer(Frame(ImageFormat::kAv1, false, true, 2));
+  slot.Offer(Frame(ImageFormat::kAv1, false, true, 3));
+  // 1 is pushed out: 2 and 3 were predicted from it.
+  auto offered = slot.Offer(Frame(ImageFormat::kAv1, false, true, 4));
+  EXPECT_EQ(offered.dropped, 4u);
+  EXPECT_TRUE(offered.request_key_frame);
+  EXPECT_TRUE(slot.empty());
+  // A key frame already queued after the lost one restarts the chain: no request.
+  FrameSlot keyed(2);
+  keyed.Offer(Frame(ImageFormat::kH264, false, true, 1));
+  keyed.Offer(Frame(ImageFormat::kH264, true, true, 2));
+  offered = keyed.Offer(Frame(ImageFormat::kH264, false, true, 3));
+  EXPECT_EQ(offered.dropped, 1u);
+  EXPECT_FALSE(offered.request_key_frame);
+  EXPECT_EQ(keyed.Take()->frame_number, 2u);
+  EXPECT_EQ(keyed.Take()->frame_number, 3u);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "fake_engine.h"
+#include "service/grpc/session_reactor.h"
 #include "test_server.h"
 
 namespace gistream::testing {
@@ -573,6 +574,43 @@ TEST_F(ServiceTest, SlowReaderDropsFramesWithoutQueueing) {
   context.TryCancel();
   stream->Finish();
   EXPECT_TRUE(WaitFor([&] { return engine_.session_count() == 0; }));
+}
+
+TEST_F(ServiceTest, OnRequestSlowReaderGetsEveryFrameAndHoldsTheWindow) {
+  const std::string scene = LoadSceneOrDie(stub(), "cornell_box");
+  grpc::ClientContext context;
+  SetDeadline(&context);
+  // 256 KiB frames, far more than a reader that sleeps lets through.
+  auto stream = Open(&context, ConfigRequest(scene, 256, 256, /*on_request=*/true));
+  constexpr int kFrames = 300;
+  ASSERT_TRUE(stream->Write(FrameRequest(kFrames)));
+  int64_t max_live = 0;
+  const auto end = std::chrono::steady_clock::now() + 1000ms;
+  while (std::chrono::steady_clock::now() < end) {  // not reading
+    max_live = std::max(max_live, engine_.live_frames());
+    std::this_thread::sleep_for(5ms);
+  }
+  // The engine is asked for the next frames only as earlier ones are
+  // written, so a reader that does not read stops the rendering (the fake
+  // renders one a millisecond when owed).
+  EXPECT_LT(engine_.frames_rendered(), uint64_t{kFrames} / 3);
+  EXPECT_LE(max_live, int64_t{service::SessionReactor::kOnRequestWindow} + 1);
+
+  // Every frame asked for arrives, in order, none dropped.
+  uint64_t last_number = 0;
+  for (int i = 0; i < kFrames; ++i) {
+    pb::SessionEvent event;
+    ASSERT_TRUE(stream->Read(&event)) << "frame " << i;
+    ASSERT_TRUE(event.has_frame());
+    EXPECT_EQ(event.frame().dropped_frames(), 0u);
+    EXPECT_GT(event.frame().frame_number(), last_number);
+    last_number = event.frame().frame_number();
+  }
+  EXPECT_LE(engine_.max_owed(), uint64_t{service::SessionReactor::kOnRequestWindow});
+  stream->WritesDone();
+  pb::SessionEvent extra;
+  EXPECT_FALSE(stream->Read(&extra));  // nothing more than asked for
+  EXPECT_TRUE(stream->Finish().ok());
 }
 
 TEST_F(ServiceTest, EngineSessionFailureEndsTheCallWithItsStatus) {

@@ -1,5 +1,6 @@
 #include "service/grpc/session_reactor.h"
 
+#include <algorithm>
 #include <utility>
 
 #include "service/grpc/translate.h"
@@ -81,6 +82,7 @@ void SessionReactor::OnReadDone(bool ok) {
   }
   const State state = state_;
   const SessionId id = session_id_;
+  const Pacing pacing = pacing_;
   lock.unlock();
 
   if (state == State::kAwaitConfig) {
@@ -116,8 +118,12 @@ void SessionReactor::OnReadDone(bool ok) {
       const uint32_t count =
           request_.request_frame().count() == 0 ? 1 : request_.request_frame().count();
       if (request_.request_frame().key_frame()) status = engine_.RequestKeyFrame(id);
-      if (status.ok()) status = engine_.RequestFrames(id, count);
-      if (status.ok()) frames_requested = count;
+      if (pacing == Pacing::kContinuous) {
+        // Ignored by the engine's pacing, but the client's sign of life.
+        if (status.ok()) status = engine_.RequestFrames(id, count);
+      } else if (status.ok()) {
+        frames_requested = count;  // passed on by GrantFrames
+      }
       break;
     }
     case pb::SessionRequest::kConfig:
@@ -130,7 +136,7 @@ void SessionReactor::OnReadDone(bool ok) {
 
   lock.lock();
   read_in_flight_ = false;
-  if (pacing_ == Pacing::kOnRequest) frames_owed_ += frames_requested;
+  frames_wanted_ += frames_requested;
   if (!status.ok() && !finish_status_.has_value()) {
     NoteRejectedLocked(rejected_seq, status);
     pb::SessionEvent event;
@@ -138,6 +144,8 @@ void SessionReactor::OnReadDone(bool ok) {
     events_.push_back(std::move(event));
   }
   PumpLocked();
+  lock.unlock();
+  if (frames_requested > 0) GrantFrames();
 }
 
 void SessionReactor::HandleConfig(const pb::SessionConfig& proto) {
@@ -156,6 +164,7 @@ void SessionReactor::HandleConfig(const pb::SessionConfig& proto) {
     return;
   }
   pacing_ = config->pacing;
+  if (pacing_ == Pacing::kOnRequest) slot_.set_capacity(kOnRequestWindow);
   scene_id_ = config->scene;
   config->tenant = tenant_;
   state_ = State::kOpening;  // from here until the worker is done, nothing finishes the call
@@ -208,6 +217,7 @@ void SessionReactor::OnWriteDone(bool ok) {
   {
     std::lock_guard lock(mutex_);
     write_in_flight_ = false;
+    frame_write_in_flight_ = false;
     if (!ok) {
       // The stream is broken (client gone or call cancelled).
       to_close = TakeSessionToCloseLocked();
@@ -216,6 +226,7 @@ void SessionReactor::OnWriteDone(bool ok) {
     }
     PumpLocked();
   }
+  GrantFrames();                                // a frame written makes room for the next
   CloseSessionAsync(engine_, pool_, to_close);  // safe: inside a reaction
 }
 
@@ -256,8 +267,8 @@ void SessionReactor::DeliverFrame(std::shared_ptr<const EncodedFrame> frame) {
       (state_ != State::kOpen && state_ != State::kOpening)) {
     return;
   }
-  if (pacing_ == Pacing::kOnRequest) --frames_owed_;
-  // Replaces an unsent frame; video: see FrameSlot.
+  if (pacing_ == Pacing::kOnRequest && frames_in_engine_ > 0) --frames_in_engine_;
+  // Continuous: replaces an unsent frame; video: see FrameSlot.
   const FrameSlot::Offered offered = slot_.Offer(std::move(frame));
   if (offered.dropped > 0) {
     dropped_ += offered.dropped;
@@ -305,7 +316,7 @@ void SessionReactor::PumpLocked() {
 
   // Half-closed by the client: end once on-request frames asked for arrived.
   if (reads_done_ && !finish_status_.has_value() && state_ == State::kOpen &&
-      (pacing_ == Pacing::kContinuous || frames_owed_ <= 0)) {
+      (pacing_ == Pacing::kContinuous || (frames_wanted_ == 0 && frames_in_engine_ == 0))) {
     RequestFinishLocked(grpc::Status::OK, /*flush=*/true);
   }
   if (finish_status_.has_value() && !flush_before_finish_) {
@@ -327,6 +338,7 @@ void SessionReactor::PumpLocked() {
       frame->set_dropped_frames(next->dropped_frames + dropped_);
       dropped_ = 0;
       write_in_flight_ = true;
+      frame_write_in_flight_ = true;
       StartWrite(&response_);
     }
   }
@@ -351,6 +363,43 @@ void SessionReactor::PumpLocked() {
     read_in_flight_ = true;
     StartRead(&request_);
   }
+}
+
+uint32_t SessionReactor::TakeFrameGrantLocked() {
+  if (pacing_ != Pacing::kOnRequest || state_ != State::kOpen || cancelled_ ||
+      finish_status_.has_value()) {
+    return 0;
+  }
+  const uint64_t outstanding =
+      uint64_t{frames_in_engine_} + slot_.size() + (frame_write_in_flight_ ? 1 : 0);
+  if (outstanding >= kOnRequestWindow) return 0;
+  const auto grant =
+      static_cast<uint32_t>(std::min<uint64_t>(frames_wanted_, kOnRequestWindow - outstanding));
+  frames_wanted_ -= grant;
+  frames_in_engine_ += grant;
+  return grant;
+}
+
+void SessionReactor::GrantFrames() {
+  std::unique_lock lock(mutex_);
+  const uint32_t grant = TakeFrameGrantLocked();
+  if (grant == 0) return;
+  const SessionId id = session_id_;
+  lock.unlock();
+  const absl::Status status = engine_.RequestFrames(id, grant);
+  if (status.ok()) return;
+  // The engine will not render them (e.g. the session was closed or the
+  // server is shutting down): forget what was asked for and say why.
+  lock.lock();
+  frames_in_engine_ -= std::min(frames_in_engine_, grant);
+  frames_wanted_ = 0;
+  if (!finish_status_.has_value()) {
+    NoteRejectedLocked(0, status);
+    pb::SessionEvent event;
+    UpdateRejectedToProto(0, status, event.mutable_rejected());
+    events_.push_back(std::move(event));
+  }
+  PumpLocked();
 }
 
 SessionId SessionReactor::TakeSessionToCloseLocked() {

@@ -2,15 +2,19 @@
 // stream. The first read must be a config (-> Engine::OpenSession, answered
 // with `opened`); later reads carry updates (-> Engine::PushUpdate; an error
 // becomes an UpdateRejected event and the session goes on) and frame
-// requests (-> Engine::RequestFrames).
+// requests (-> Engine::RequestFrames, kOnRequestWindow frames at a time).
 //
 // Writes: at most one in flight. Control events (opened, rejected) wait in a
 // small queue and are never dropped: while it is full the reactor stops
 // reading, so a client that floods bad updates without reading is slowed,
-// not buffered. Frames are never queued: the newest unsent frame replaces an
-// older one and the count of replaced frames rides on the next frame sent
-// (Frame.dropped_frames). For video formats a dropped frame is followed by
-// a key-frame request, and delta frames are dropped until the key frame.
+// not buffered. A continuous session's frames are never queued: the newest
+// unsent frame replaces an older one and the count of replaced frames rides
+// on the next frame sent (Frame.dropped_frames). For video formats a
+// dropped frame is followed by a key-frame request, and delta frames are
+// dropped until the key frame. An on-request session gets every frame it
+// asked for: the engine is asked for the next ones only as earlier ones
+// are written, so a slow reader slows its own frames and holds at most
+// kOnRequestWindow of them.
 //
 // The client half-closing the stream ends the session once what is queued
 // is written (on-request sessions also wait for the frames they asked for);
@@ -60,6 +64,9 @@ class SessionSink final : public FrameSink {
 class SessionReactor final
     : public grpc::ServerBidiReactor<::gistream::v1::SessionRequest, ::gistream::v1::SessionEvent> {
  public:
+  /// On-request frames outstanding at once (in the engine, unsent, being written).
+  static constexpr uint32_t kOnRequestWindow = 2;
+
   struct Options {
     /// Control events (opened, rejected) waiting to be written before the
     /// reactor stops reading from the client.
@@ -106,6 +113,12 @@ class SessionReactor final
   // Takes the session id for CloseSession exactly once ("" when none).
   SessionId TakeSessionToCloseLocked();
   static void CloseSessionAsync(Engine& engine, WorkerPool& pool, const SessionId& id);
+  // On-request sessions: the frames to pass to the engine now (counted as
+  // in the engine), keeping kOnRequestWindow outstanding.
+  uint32_t TakeFrameGrantLocked();
+  // Passes TakeFrameGrantLocked's frames to the engine. Call from a
+  // reaction (so `this` stays valid) without mutex_.
+  void GrantFrames();
   // Counts and logs an UpdateRejected event about to be queued.
   void NoteRejectedLocked(uint64_t seq, const absl::Status& status);
   ServerObserver& observer() const;
@@ -128,13 +141,19 @@ class SessionReactor final
   SceneId scene_id_;  // from the config, for log lines
   bool session_closed_ = false;
   Pacing pacing_ = Pacing::kContinuous;
-  int64_t frames_owed_ = 0;  // on-request frames asked for and not yet delivered
+  // On-request flow control: the frames the client asked for reach the
+  // engine kOnRequestWindow at a time (in the engine, unsent, or being
+  // written), so every one is delivered and a slow reader holds at most
+  // that many frames.
+  uint64_t frames_wanted_ = 0;     // asked for by the client, not yet passed to the engine
+  uint32_t frames_in_engine_ = 0;  // passed to the engine, not yet delivered
+  bool frame_write_in_flight_ = false;
   bool read_in_flight_ = false;
   bool reads_done_ = false;  // client half-closed (or the read failed)
   bool cancelled_ = false;
   bool write_in_flight_ = false;
   std::deque<::gistream::v1::SessionEvent> events_;
-  FrameSlot slot_;        // the unsent frame
+  FrameSlot slot_;        // the unsent frame(s)
   uint32_t dropped_ = 0;  // frames replaced since the last frame written
   std::optional<grpc::Status> finish_status_;
   bool flush_before_finish_ = false;
