@@ -173,7 +173,7 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
                               GLuint(c * sizeof(glm::vec4)));
     glVertexArrayAttribBinding(vao, kDrawModelAttrib + c, kDrawRecordBufferBinding);
   }
-  glVertexArrayAttribIFormat(vao, kDrawTagAttrib, 1, GL_INT, GLuint(sizeof(glm::mat4)));
+  glVertexArrayAttribIFormat(vao, kDrawTagAttrib, 2, GL_INT, GLuint(sizeof(glm::mat4)));
   glVertexArrayAttribBinding(vao, kDrawTagAttrib, kDrawRecordBufferBinding);
   glVertexArrayBindingDivisor(vao, kDrawRecordBufferBinding, 1);
 
@@ -272,8 +272,7 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
                     int instances, const DrawFilter* filter,
                     const ClusterFilter* cluster_filter) const {
   glBindVertexArray(vao_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMaterialBinding, materials_.id());
-  const int default_material = int(state.materials().size());
+  BindMaterials();
   const DrawItem* current = nullptr;  // the item whose uniforms are set
   Walk(state, filter, cluster_filter,
        [&](const DrawItem& d, const glm::mat4& model, const DrawLevel& range) {
@@ -281,9 +280,8 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
            current = &d;
            program.Set("uModel", model);
            program.SetOptional("uNormalMatrix", glm::inverseTranspose(glm::mat3(model)));
-           const int material = d.material >= 0 ? d.material : default_material;
-           program.SetOptional("uMaterial", material);
-           if (bind_textures) BindTextures(state, d);
+           program.SetOptional("uMaterial", MaterialIndex(state, d));
+           if (bind_textures) BindTextures(TexturesOf(state, d));
          }
          glDrawElementsInstancedBaseVertex(
              GL_TRIANGLES, GLsizei(range.index_count), GL_UNSIGNED_INT,
@@ -293,18 +291,28 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
   glBindVertexArray(0);
 }
 
-void GpuScene::BindTextures(const SceneState& state, const DrawItem& d) const {
-  const Material* m = d.material >= 0 ? &state.materials()[size_t(d.material)] : nullptr;
-  const GLuint base =
-      m && m->base_color_texture >= 0 ? textures_[size_t(m->base_color_texture)].id() : white_.id();
-  const GLuint emissive =
-      m && m->emissive_texture >= 0 ? textures_[size_t(m->emissive_texture)].id() : white_.id();
-  const GLuint metallic_roughness = m && m->metallic_roughness_texture >= 0
-                                        ? textures_[size_t(m->metallic_roughness_texture)].id()
-                                        : white_.id();
-  glBindTextureUnit(kBaseColorUnit, base);
-  glBindTextureUnit(kEmissiveUnit, emissive);
-  glBindTextureUnit(kMetallicRoughnessUnit, metallic_roughness);
+void GpuScene::BindMaterials() const {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kMaterialBinding, materials_.id());
+}
+
+int GpuScene::MaterialIndex(const SceneState& state, const DrawItem& item) {
+  return item.material >= 0 ? item.material : int(state.materials().size());
+}
+
+MaterialTextures GpuScene::TexturesOf(const SceneState& state, const DrawItem& item) const {
+  const Material* m = item.material >= 0 ? &state.materials()[size_t(item.material)] : nullptr;
+  const auto texture = [&](int index) {
+    return index >= 0 ? textures_[size_t(index)].id() : white_.id();
+  };
+  if (m == nullptr) return {white_.id(), white_.id(), white_.id()};
+  return {texture(m->base_color_texture), texture(m->emissive_texture),
+          texture(m->metallic_roughness_texture)};
+}
+
+void GpuScene::BindTextures(const MaterialTextures& textures) {
+  glBindTextureUnit(kBaseColorUnit, textures.base_color);
+  glBindTextureUnit(kEmissiveUnit, textures.emissive);
+  glBindTextureUnit(kMetallicRoughnessUnit, textures.metallic_roughness);
 }
 
 int GpuScene::PickLevel(const DrawItem& item, float scale, float tolerance) const {

@@ -84,6 +84,15 @@ using ClusterFilter = std::function<float(const Bounds& world)>;
 using DrawVisitor =
     std::function<void(const DrawItem& item, const glm::mat4& model, const DrawLevel& range)>;
 
+// The textures a material samples (GpuScene's white 1x1 where it has
+// none): draws with equal sets can share one binding.
+struct MaterialTextures {
+  GLuint base_color = 0;
+  GLuint emissive = 0;
+  GLuint metallic_roughness = 0;
+  auto operator<=>(const MaterialTextures&) const = default;
+};
+
 class GpuScene {
  public:
   static absl::StatusOr<std::unique_ptr<GpuScene>> Upload(const SceneState& state);
@@ -133,19 +142,25 @@ class GpuScene {
   // draw_list.h) binds its records to kDrawRecordBufferBinding and enables
   // kDrawModelAttrib.. and kDrawTagAttrib while it draws.
   GLuint vertex_array() const { return vao_.id(); }
+  // The material table as Draw binds it (SSBO kMaterialBinding); `item`'s
+  // material index in it (the default material last), and its textures
+  // and their binding (units kBaseColorUnit, kEmissiveUnit,
+  // kMetallicRoughnessUnit).
+  void BindMaterials() const;
+  static int MaterialIndex(const SceneState& state, const DrawItem& item);
+  MaterialTextures TexturesOf(const SceneState& state, const DrawItem& item) const;
+  static void BindTextures(const MaterialTextures& textures);
 
   static constexpr GLuint kMaterialBinding = GS_BINDING_MATERIALS;
   static constexpr GLuint kBaseColorUnit = GS_UNIT_BASE_COLOR;
   static constexpr GLuint kEmissiveUnit = GS_UNIT_EMISSIVE;
   static constexpr GLuint kMetallicRoughnessUnit = GS_UNIT_METALLIC_ROUGHNESS;
-  // shaders/common/scene_vertex.glsl's aDrawModel (4 locations), aDrawTag.
+  // shaders/common/scene_vertex.glsl's aDrawModel (4 locations), aDrawInfo.
   static constexpr GLuint kDrawModelAttrib = 3;
   static constexpr GLuint kDrawTagAttrib = 7;
   static constexpr GLuint kDrawRecordBufferBinding = 1;
 
  private:
-  void BindTextures(const SceneState& state, const DrawItem& item) const;
-
   gl::VertexArray vao_;
   gl::Buffer vertices_;
   gl::Buffer indices_;

@@ -10,11 +10,6 @@ uniform int uAtlasTiles;
 uniform ivec2 uAtlasTileCount;  // tiles across, down
 uniform float uNear;
 uniform float uFar;
-// Bit f set: face f may see what is drawn (a cluster's faces, render/
-// proxy_filters CubeFaceMask); the others draw nothing of it. 63: all.
-uniform int uFaceMask;
-
-bool FaceDrawn(int face) { return ((uFaceMask >> face) & 1) != 0; }
 
 // The centre of probe `probe` (x fastest, then y, then z).
 vec3 ProbeCenter(int probe) {

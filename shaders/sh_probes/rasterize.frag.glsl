@@ -8,11 +8,12 @@ in vec3 gWorld;
 in vec3 gNormal;
 in vec2 gUv;
 flat in vec3 gProbe;
+flat in int gMaterial;
 layout(location = 0) out float oDistance;
 layout(location = 1) out vec4 oNormal;
 layout(location = 2) out vec4 oAlbedo;
 void main() {
-  Material m = materials[uMaterial];
+  Material m = materials[gMaterial];
   vec3 n = SafeNormalize(gNormal, vec3(0.0, 1.0, 0.0));
   bool back = dot(n, gProbe - gWorld) < 0.0;
   if (back) n = -n;

@@ -3,12 +3,17 @@
 // the full-detail cubes within one face texel's world size at each texel's
 // distance, and forcing full detail draws exactly the cubes drawn before
 // proxies existed (bitwise), as does per-face culling alone; the
-// geometry-shader fallback draws the same cubes as the layered path.
+// geometry-shader fallback draws the same cubes as the layered path; and
+// the draw list the solver draws from gives the cubes GpuScene::Draw draws
+// item by item.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "render/proxy_filters.h"
 #include "scene/gpu_scene.h"
@@ -26,6 +31,49 @@ std::shared_ptr<const Scene> TestScene(bool with_proxies) {
   return testing::FloorAndSphereScene(40, 48, 96, with_proxies);
 }
 
+// The same with materials: a checker-textured floor, a sphere with a
+// second texture, and a third, untextured material on a sphere instance:
+// three texture sets (draw-list groups).
+std::shared_ptr<const Scene> TexturedScene() {
+  Scene scene = *TestScene(true);
+  for (int i = 0; i < 2; ++i) {
+    Image image;
+    image.name = i == 0 ? "checker" : "stripes";
+    image.width = image.height = 4;
+    for (int y = 0; y < 4; ++y) {
+      for (int x = 0; x < 4; ++x) {
+        const bool on = i == 0 ? (x + y) % 2 == 0 : x % 2 == 0;
+        const uint8_t rgba[4] = {uint8_t(on ? 230 : 40), uint8_t(i == 0 ? 90 : 200),
+                                 uint8_t(on ? 30 : 180), 255};
+        image.pixels8.insert(image.pixels8.end(), rgba, rgba + 4);
+      }
+    }
+    scene.images.push_back(std::move(image));
+    Material material;
+    material.name = image.name;
+    material.base_color_texture = i;
+    scene.materials.push_back(material);
+  }
+  Material plain;
+  plain.name = "plain";
+  plain.base_color_factor = glm::vec4(0.2f, 0.7f, 0.3f, 1.0f);
+  scene.materials.push_back(plain);
+  scene.meshes[0].primitives[0].material = 0;
+  scene.meshes[1].primitives[0].material = 1;
+  // A second sphere, its own mesh (so its own material), beside the first.
+  Mesh plain_sphere = scene.meshes[1];
+  plain_sphere.primitives[0].material = 2;
+  scene.meshes.push_back(std::move(plain_sphere));
+  Node node;
+  node.mesh = 2;
+  node.translation = glm::vec3(0.6f, 0.0f, 0.3f);
+  scene.nodes.push_back(node);
+  scene.roots.push_back(int(scene.nodes.size()) - 1);
+  scene.bounds.Extend(scene.meshes[2].primitives[0].bounds.Transformed(
+      glm::translate(glm::mat4(1.0f), node.translation)));
+  return std::make_shared<const Scene>(std::move(scene));
+}
+
 // sh_probes' default face size; a 4 x 4 x 4 grid over the scene's box.
 ProbeGridSettings GridSettings() {
   ProbeGridSettings settings;
@@ -36,9 +84,21 @@ ProbeGridSettings GridSettings() {
 
 class ShProbesProxyTest : public testing::GlContextTest {
  protected:
+  struct Cubes {
+    std::vector<float> distance;  // 0: nothing hit
+    std::vector<float> normal;    // RGBA, w = 1: back face
+    std::vector<float> albedo;    // RGBA
+  };
+
   // Every probe's distance cube (0: nothing hit), the atlas's six layers.
   std::vector<float> Distances(const std::shared_ptr<const Scene>& scene, bool full_detail,
                                int* proxied_pairs = nullptr, bool layered = true) {
+    return Draw(scene, full_detail, {.allow_layered = layered}, proxied_pairs).distance;
+  }
+
+  // Every probe's cube maps, drawn by a ProbeRasterizer with `options`.
+  Cubes Draw(const std::shared_ptr<const Scene>& scene, bool full_detail,
+             const ProbeRasterizer::Options& options, int* proxied_pairs = nullptr) {
     SceneState state(scene);
     auto gpu = GpuScene::Upload(state);
     EXPECT_TRUE(gpu.ok()) << gpu.status();
@@ -49,14 +109,21 @@ class ShProbesProxyTest : public testing::GlContextTest {
     layout_ = *layout;
     ProbeAtlas atlas;
     atlas.Allocate(layout_);
-    auto raster = ProbeRasterizer::Create(layered);
+    auto raster = ProbeRasterizer::Create(options);
     EXPECT_TRUE(raster.ok()) << raster.status();
     if (!raster.ok()) return {};
-    EXPECT_EQ(raster->layered(), layered);
+    EXPECT_EQ(raster->layered(), options.allow_layered);
     raster->Draw(**gpu, state, layout_, atlas, nullptr, full_detail);
-    std::vector<float> distance(size_t(layout_.texels()));
+    Cubes cubes;
+    cubes.distance.resize(size_t(layout_.texels()));
     glGetTextureImage(atlas.distance(), 0, GL_RED, GL_FLOAT,
-                      GLsizei(distance.size() * sizeof(float)), distance.data());
+                      GLsizei(cubes.distance.size() * sizeof(float)), cubes.distance.data());
+    cubes.normal.resize(size_t(layout_.texels()) * 4);
+    glGetTextureImage(atlas.normal(), 0, GL_RGBA, GL_FLOAT,
+                      GLsizei(cubes.normal.size() * sizeof(float)), cubes.normal.data());
+    cubes.albedo.resize(size_t(layout_.texels()) * 4);
+    glGetTextureImage(atlas.albedo(), 0, GL_RGBA, GL_FLOAT,
+                      GLsizei(cubes.albedo.size() * sizeof(float)), cubes.albedo.data());
     if (proxied_pairs) {
       // (probe, item) pairs whose nearest point allows a proxy level.
       *proxied_pairs = 0;
@@ -69,7 +136,7 @@ class ShProbesProxyTest : public testing::GlContextTest {
         }
       }
     }
-    return distance;
+    return cubes;
   }
 
   // Texel (x, y) of face `face` of probe `probe`, nothing hit as +inf.
@@ -138,7 +205,7 @@ TEST_F(ShProbesProxyTest, ProxyCubesMatchFullDetailWithinOneTexel) {
 }
 
 TEST_F(ShProbesProxyTest, FullDetailAndCullingDrawTheCubesOfBeforeProxies) {
-  // Before proxies: no levels, every probe's faces in one instanced draw.
+  // Before proxies: no levels, every probe's faces in full.
   const std::vector<float> before = Distances(TestScene(false), true);
   ASSERT_FALSE(before.empty());
   // full_detail on a scene with proxies: the same draw.
@@ -150,15 +217,58 @@ TEST_F(ShProbesProxyTest, FullDetailAndCullingDrawTheCubesOfBeforeProxies) {
 
 TEST_F(ShProbesProxyTest, GeometryShaderFallbackDrawsTheSameCubes) {
   // Drivers without ARB_shader_viewport_layer_array draw the cubes with
-  // rasterize.geom.glsl (six invocations per triangle, the face mask
-  // tested there): the same face projection, so the same distances, with
-  // proxies (one draw per probe) and in full.
+  // rasterize.geom.glsl (each triangle into its record's face): the same
+  // face projection, so the same distances, with proxies and in full.
   const auto scene = TestScene(true);
   for (const bool full_detail : {false, true}) {
     const std::vector<float> layered = Distances(scene, full_detail);
     const std::vector<float> geometry = Distances(scene, full_detail, nullptr, false);
     ASSERT_EQ(layered.size(), geometry.size());
     EXPECT_EQ(layered, geometry) << "full_detail " << full_detail;
+  }
+}
+
+TEST_F(ShProbesProxyTest, DrawListCubesAreTheItemByItemCubes) {
+  // The solver draws each probe from an indirect draw list (a record per
+  // face that may see a node, textures bound per group, the material from
+  // the record); GpuScene::Draw item by item with the same filters is the
+  // reference. Same positions, so the distances and albedos are bitwise
+  // equal; the normal comes through the model's cofactor matrix instead of
+  // the CPU's inverse transpose, so it may differ by rounding: within one
+  // step of the 8-bit snorm normal, the back-face flag equal.
+  const auto scene = TexturedScene();
+  for (const bool layered : {true, false}) {
+    for (const bool full_detail : {false, true}) {
+      SCOPED_TRACE(std::string(layered ? "layered" : "geometry shader") +
+                   (full_detail ? ", full detail" : ", proxies"));
+      const Cubes by_list = Draw(scene, full_detail, {.allow_layered = layered});
+      const Cubes by_item =
+          Draw(scene, full_detail, {.allow_layered = layered, .draw_list = false});
+      ASSERT_FALSE(by_item.distance.empty());
+      size_t covered = 0;
+      for (float d : by_item.distance) covered += d > 0.0f ? 1 : 0;
+      EXPECT_GT(covered, by_item.distance.size() / 4) << "the cubes show the scene";
+      EXPECT_EQ(by_list.distance, by_item.distance);
+      EXPECT_EQ(by_list.albedo, by_item.albedo);
+      // Every material shows (a wrong record material or texture binding
+      // would change the albedos above): the green of the plain one.
+      size_t plain = 0;
+      for (size_t i = 0; i < by_item.albedo.size(); i += 4) {
+        plain += std::abs(by_item.albedo[i + 1] - 0.7f) < 0.01f ? 1 : 0;
+      }
+      EXPECT_GT(plain, 0u);
+      ASSERT_EQ(by_list.normal.size(), by_item.normal.size());
+      float worst = 0.0f;
+      size_t flags_differ = 0;
+      for (size_t i = 0; i < by_item.normal.size(); i += 4) {
+        for (size_t c = 0; c < 3; ++c) {
+          worst = std::max(worst, std::abs(by_list.normal[i + c] - by_item.normal[i + c]));
+        }
+        flags_differ += by_list.normal[i + 3] != by_item.normal[i + 3] ? 1 : 0;
+      }
+      EXPECT_LE(worst, 1.0f / 127.0f + 1e-6f);
+      EXPECT_EQ(flags_differ, 0u);
+    }
   }
 }
 

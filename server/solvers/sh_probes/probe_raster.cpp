@@ -2,45 +2,58 @@
 
 #include <algorithm>
 #include <numeric>
-#include <span>
 
-#include "gl/buffers.h"
 #include "render/proxy_filters.h"
+#include "util/log.h"
 
 namespace gistream {
 namespace {
 
-constexpr GLuint kBatchBinding = 10;  // rasterize*.vert.glsl's BatchProbes
 constexpr int kAllFaces = 0x3f;
 
 }  // namespace
 
-absl::StatusOr<ProbeRasterizer> ProbeRasterizer::Create(bool allow_layered) {
+absl::StatusOr<ProbeRasterizer> ProbeRasterizer::Create(const Options& options) {
   ProbeRasterizer raster;
+  raster.draw_list_ = options.draw_list;
+  std::vector<std::string> defines;
+  if (options.draw_list) defines.push_back("GS_DRAW_LIST");
   // Layered rendering from the vertex shader (ARB_shader_viewport_layer_array)
-  // is about 2.3x faster on llvmpipe than the geometry shader's six
-  // invocations per triangle; the geometry shader where it is missing.
+  // needs no geometry shader; the geometry shader where it is missing.
   absl::StatusOr<gl::Program> layered = absl::UnavailableError("layered rendering not allowed");
-  if (allow_layered) {
+  if (options.allow_layered) {
     layered = gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize_layer.vert.glsl"},
-                                  {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}});
+                                  {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}},
+                                 defines);
   }
   if (layered.ok()) {
     raster.program_ = *std::move(layered);
-    raster.instances_per_probe_ = 6;
-  } else {
-    GS_ASSIGN_OR_RETURN(
-        raster.program_,
-        gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize.vert.glsl"},
-                            {GL_GEOMETRY_SHADER, "sh_probes/rasterize.geom.glsl"},
-                            {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}}));
+    raster.layered_ = true;
+    return raster;
   }
+  if (options.allow_layered) {
+    LogOnce(LogLevel::kInfo, "sh_probes_layered",
+            absl::StrCat("sh_probes: the geometry shader draws the probe faces (no layered "
+                         "vertex output: ",
+                         layered.status().message().substr(0, 200), ")"));
+  }
+  GS_ASSIGN_OR_RETURN(raster.program_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "sh_probes/rasterize.vert.glsl"},
+                                          {GL_GEOMETRY_SHADER, "sh_probes/rasterize.geom.glsl"},
+                                          {GL_FRAGMENT_SHADER, "sh_probes/rasterize.frag.glsl"}},
+                                         defines));
   return raster;
 }
 
 void ProbeRasterizer::Draw(const GpuScene& gpu, const SceneState& state, const ProbeLayout& layout,
                            const ProbeAtlas& atlas, const std::vector<int>* probes,
                            bool full_detail) {
+  std::vector<int> all;
+  if (!probes) {
+    all.resize(size_t(layout.probes()));
+    std::iota(all.begin(), all.end(), 0);
+  }
+  const std::vector<int>& listed = probes ? *probes : all;
   const GLuint fbo = atlas.fbo();
   glBindFramebuffer(GL_FRAMEBUFFER, fbo);
   glViewport(0, 0, layout.width(), layout.height());
@@ -74,49 +87,69 @@ void ProbeRasterizer::Draw(const GpuScene& gpu, const SceneState& state, const P
   program_.Set("uNear", far * 1e-5f);
   program_.Set("uFar", far);
   program_.Use();
-  if (full_detail) {
-    DrawFull(gpu, state, layout, probes);
-  } else if (probes) {
-    DrawProxies(gpu, state, layout, *probes);
+  if (draw_list_) {
+    DrawFromList(gpu, state, layout, listed, full_detail);
   } else {
-    std::vector<int> all(size_t(layout.probes()));
-    std::iota(all.begin(), all.end(), 0);
-    DrawProxies(gpu, state, layout, all);
+    DrawItemByItem(gpu, state, layout, listed, full_detail);
   }
   for (int i = 0; i < 4; ++i) glDisable(GLenum(GL_CLIP_DISTANCE0 + i));
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-void ProbeRasterizer::DrawFull(const GpuScene& gpu, const SceneState& state,
-                               const ProbeLayout& layout, const std::vector<int>* probes) {
-  const int count = probes ? int(probes->size()) : 0;
-  if (count > 0) {
-    if (batch_capacity_ < size_t(count)) {
-      batch_capacity_ = std::max(size_t(layout.probes()), size_t(count));
-      batch_ = gl::ZeroedBuffer(batch_capacity_ * 4);
+void ProbeRasterizer::DrawFromList(const GpuScene& gpu, const SceneState& state,
+                                   const ProbeLayout& layout, const std::vector<int>& probes,
+                                   bool full_detail) {
+  // Per probe a view: per item and node, a record for each face that may
+  // see its box, at one face texel's tolerance at its nearest distance.
+  // kProbesPerList probes per upload bound the list's memory.
+  int faces = kAllFaces;
+  for (size_t first = 0; first < probes.size(); first += kProbesPerList) {
+    const size_t end = std::min(probes.size(), first + kProbesPerList);
+    list_.Clear();
+    for (size_t i = first; i < end; ++i) {
+      faces = kAllFaces;
+      if (full_detail) {
+        list_.AddView(gpu, state, nullptr, nullptr, faces, DrawTags::kEachBit, DrawTextures::kBind);
+        continue;
+      }
+      const CubeDrawFilters filters = CubeFilters(state, layout.position(layout.cell(probes[i])),
+                                                  layout.face_size, [&faces](int f) { faces = f; });
+      list_.AddView(gpu, state, &filters.item, &filters.cluster, faces, DrawTags::kEachBit,
+                    DrawTextures::kBind);
     }
-    gl::Upload(batch_, std::span<const int>(*probes));
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBatchBinding, batch_.id());
+    list_.Upload();
+    for (size_t i = first; i < end; ++i) {
+      program_.Set("uProbe", probes[i]);
+      list_.Draw(gpu, int(i - first));
+    }
   }
-  program_.Set("uBatchCount", count);
-  program_.Set("uProbe", -1);
-  program_.Set("uFaceMask", kAllFaces);
-  gpu.Draw(program_, state, /*bind_textures=*/true,
-           instances_per_probe_ * (probes ? count : layout.probes()));
 }
 
-void ProbeRasterizer::DrawProxies(const GpuScene& gpu, const SceneState& state,
-                                  const ProbeLayout& layout, const std::vector<int>& probes) {
-  program_.Set("uBatchCount", 0);
+uint64_t ProbeRasterizer::ListBytes(const GpuScene& gpu) {
+  // A view visits at most one range per item, or per node of its cluster
+  // tree; each gets a record per face and at most a command per record.
+  uint64_t ranges = 0;
+  for (const DrawItem& d : gpu.draws()) ranges += uint64_t(std::max(d.cluster_count, 1));
+  return uint64_t{kProbesPerList} * ranges * 6 * (sizeof(DrawRecord) + sizeof(DrawCommand));
+}
+
+void ProbeRasterizer::DrawItemByItem(const GpuScene& gpu, const SceneState& state,
+                                     const ProbeLayout& layout, const std::vector<int>& probes,
+                                     bool full_detail) {
+  // The layered program draws face f as instance f, the geometry shader
+  // every face in uFaceMask.
+  const int instances = layered_ ? 6 : 1;
   for (int p : probes) {
-    // Per item and node: the faces that may see its box, and one face
-    // texel at its nearest distance from the probe.
     program_.Set("uProbe", p);
+    program_.Set("uFaceMask", kAllFaces);
+    if (full_detail) {
+      gpu.Draw(program_, state, /*bind_textures=*/true, instances);
+      continue;
+    }
     const CubeDrawFilters filters =
         CubeFilters(state, layout.position(layout.cell(p)), layout.face_size,
                     [this](int faces) { program_.Set("uFaceMask", faces); });
-    gpu.Draw(program_, state, /*bind_textures=*/true, instances_per_probe_, &filters.item,
-             &filters.cluster);
+    gpu.Draw(program_, state, /*bind_textures=*/true, instances, &filters.item, &filters.cluster);
   }
 }
 

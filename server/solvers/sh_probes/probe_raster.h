@@ -3,15 +3,24 @@
 // into its tiles of the ProbeAtlas. From the proxies (issue 19): per probe,
 // per item and cluster node the coarsest copy within one face texel at the
 // node's nearest distance, 2 d / face_size, into the faces that can see
-// the node (render/proxy_filters: CubeFilters); `full_detail` draws every
-// probe's faces from the full meshes in one instanced draw, as before
-// proxies.
+// the node (render/proxy_filters: CubeFilters); `full_detail` draws the
+// full meshes into every face, as before proxies.
+//
+// Submission (issue 19): one indirect draw list (scene/draw_list.h) per
+// pass, a view per probe with a record per face that may see each node,
+// its draws grouped by the textures they sample; each probe costs one
+// glMultiDrawElementsIndirect per texture set, and the node instances of a
+// mesh are instanced commands. Item by item (Options::draw_list off) is the
+// reference the tests compare with.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "gl/handle.h"
 #include "gl/program.h"
+#include "scene/draw_list.h"
 #include "scene/gpu_scene.h"
 #include "solvers/sh_probes/probe_grid.h"
 
@@ -19,29 +28,37 @@ namespace gistream {
 
 class ProbeRasterizer {
  public:
-  // The layered vertex-shader program where the driver has
-  // ARB_shader_viewport_layer_array (and `allow_layered`), else the
-  // geometry-shader one.
-  static absl::StatusOr<ProbeRasterizer> Create(bool allow_layered = true);
+  struct Options {
+    // The vertex shader writes the layer where the driver has
+    // ARB_shader_viewport_layer_array; else (or off) a geometry shader.
+    bool allow_layered = true;
+    // Off: GpuScene::Draw item by item, per probe (the tests' reference).
+    bool draw_list = true;
+  };
+  static absl::StatusOr<ProbeRasterizer> Create(const Options& options);
+  static absl::StatusOr<ProbeRasterizer> Create() { return Create(Options{}); }
 
   // Clears and draws the tiles of `probes` (null: every probe of `layout`).
   void Draw(const GpuScene& gpu, const SceneState& state, const ProbeLayout& layout,
             const ProbeAtlas& atlas, const std::vector<int>* probes, bool full_detail);
 
-  bool layered() const { return instances_per_probe_ == 6; }
+  bool layered() const { return layered_; }
+
+  // Probes per draw list upload (a solver's batch is smaller), and the
+  // bytes such a list may take for `gpu` (MemoryEstimate).
+  static constexpr size_t kProbesPerList = 16;
+  static uint64_t ListBytes(const GpuScene& gpu);
 
  private:
-  // Every listed probe in one instanced draw of the full meshes.
-  void DrawFull(const GpuScene& gpu, const SceneState& state, const ProbeLayout& layout,
-                const std::vector<int>* probes);
-  // One draw per probe from the proxies, culled per face.
-  void DrawProxies(const GpuScene& gpu, const SceneState& state, const ProbeLayout& layout,
-                   const std::vector<int>& probes);
+  void DrawFromList(const GpuScene& gpu, const SceneState& state, const ProbeLayout& layout,
+                    const std::vector<int>& probes, bool full_detail);
+  void DrawItemByItem(const GpuScene& gpu, const SceneState& state, const ProbeLayout& layout,
+                      const std::vector<int>& probes, bool full_detail);
 
   gl::Program program_;
-  int instances_per_probe_ = 1;  // 6: the layered vertex-shader variant
-  gl::Buffer batch_;             // the listed probes (ints), for DrawFull
-  size_t batch_capacity_ = 0;
+  bool layered_ = false;
+  bool draw_list_ = true;
+  DrawList list_;  // a view per probe of the last Draw
 };
 
 }  // namespace gistream

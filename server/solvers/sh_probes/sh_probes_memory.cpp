@@ -20,10 +20,12 @@ MemoryEstimate ShProbesSolver::EstimateMemory(const ParamSet& params, const Scen
   estimate.items.push_back({"grid, spacing, face_size",
                             absl::StrCat("probe atlas of ", probes, " probes, ", texels, " texels"),
                             0, texels * 52});
-  // SH coefficients (solution, previous bounce, shown), validity, batch
-  // lists (the solver's and the cube maps' ProbeRasterizer's) and change
-  // flag per probe.
-  estimate.items.push_back({"grid, spacing", "SH coefficients", 0, probes * (3 * 9 * 16 + 4 * 4)});
+  // SH coefficients (solution, previous bounce, shown), validity, the
+  // batch list and change flag per probe.
+  estimate.items.push_back({"grid, spacing", "SH coefficients", 0, probes * (3 * 9 * 16 + 3 * 4)});
+  // The cube maps' draw list, on the CPU and in GL buffers.
+  const uint64_t list = ProbeRasterizer::ListBytes(gpu);
+  estimate.items.push_back({"", "probe cube draw list", list, list});
   estimate.items.push_back(DirectLightingMemory(params, state));
   return estimate;
 }
