@@ -110,6 +110,14 @@ void DrawList::Draw(const GpuScene& gpu, int view) const {
   }
 }
 
+uint64_t DrawList::MaxBytes(const GpuScene& gpu, uint64_t views, int records_per_range) {
+  uint64_t ranges = 0;
+  for (const DrawItem& d : gpu.draws()) ranges += uint64_t(std::max(d.cluster_count, 1));
+  // A command per record at most.
+  return views * ranges * uint64_t(std::max(records_per_range, 1)) *
+         (sizeof(DrawRecord) + sizeof(DrawCommand));
+}
+
 std::pair<size_t, size_t> DrawList::Range(int view) const {
   const size_t first = view_first_[size_t(view)];
   const size_t end =

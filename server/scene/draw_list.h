@@ -83,6 +83,13 @@ class DrawList {
   // bound, and each group's textures for a kBind view).
   void Draw(const GpuScene& gpu, int view) const;
 
+  // The most bytes (on the CPU, and again in GL buffers) a list of
+  // `views` views of `gpu` may take when each range gets up to
+  // `records_per_range` records (6 for a cube's faces): a view visits at
+  // most one range per item, or per node of its cluster tree. For the
+  // solvers' memory estimates.
+  static uint64_t MaxBytes(const GpuScene& gpu, uint64_t views, int records_per_range);
+
   int views() const { return int(view_first_.size()); }
   // The commands of `view` (their count is the draws the view costs).
   std::vector<DrawCommand> Commands(int view) const;

@@ -6,6 +6,7 @@
 
 #include "render/area_lights.h"
 #include "render/direct_lighting.h"
+#include "scene/draw_list.h"
 #include "util/memory_budget.h"
 
 namespace gistream {
@@ -44,7 +45,7 @@ std::string MemoryEstimate::Describe(const std::string& solver, const ParamSet& 
 }
 
 MemoryItem DirectLightingMemory(const ParamSet& params, const SceneState& state,
-                                const std::string& area_samples_param,
+                                const GpuScene& gpu, const std::string& area_samples_param,
                                 const std::string& shadow_res_param) {
   uint64_t cubes = 0, directional = 0;
   for (const LightInstance& l : state.lights()) {
@@ -56,10 +57,11 @@ MemoryItem DirectLightingMemory(const ParamSet& params, const SceneState& state,
   uint64_t bytes = res * res * 4 * (6 * cubes + directional);
   // The second set for a sliced redraw exists only when both fit the cap.
   if (2 * bytes <= DirectLighting::kMaxShadowBytes) bytes *= 2;
+  const uint64_t lists = DrawList::MaxBytes(gpu, 2, 6);
   return {absl::StrCat(area_samples_param, ", ", shadow_res_param),
           absl::StrCat("direct light's shadow maps: ", 6 * cubes + directional, " faces of ", res,
-                       "^2"),
-          0, bytes};
+                       "^2, and their draw lists"),
+          lists, bytes + lists};
 }
 
 InstancedCounts CountInstanced(const SceneState& state) {

@@ -49,8 +49,11 @@ struct MemoryEstimate {
 // Shared parts of the estimates.
 // Direct light's shadow maps (render/direct_lighting.h): one cube per
 // point/spot light and area sample, one map per directional light, at
-// `shadow_res_param`^2, depth 32 bits, twice while a sliced redraw runs.
+// `shadow_res_param`^2, depth 32 bits, twice while a sliced redraw runs;
+// and the draw lists they are drawn from (a cube's, and the one before it
+// that the GL may still read).
 MemoryItem DirectLightingMemory(const ParamSet& params, const SceneState& state,
+                                const GpuScene& gpu,
                                 const std::string& area_samples_param = "area_samples",
                                 const std::string& shadow_res_param = "shadow_res");
 // Vertices and triangles over every mesh instance of the current state.

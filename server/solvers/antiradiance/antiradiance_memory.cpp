@@ -43,7 +43,7 @@ MemoryEstimate AntiradianceSolver::EstimateMemory(const ParamSet& params, const 
                             2 * nodes * sizeof(antiradiance::Link) * 8, 0});
   // Display splats and their grid on the GPU (48 + 4 bytes per leaf).
   estimate.items.push_back({driver, "display elements", 0, leaves * 52});
-  estimate.items.push_back(DirectLightingMemory(params, state));
+  estimate.items.push_back(DirectLightingMemory(params, state, gpu));
   return estimate;
 }
 

@@ -4,9 +4,9 @@
 namespace gistream {
 
 MemoryEstimate DirectSolver::EstimateMemory(const ParamSet& params, const SceneState& state,
-                                            const GpuScene& /*gpu*/) {
+                                            const GpuScene& gpu) {
   MemoryEstimate estimate;
-  estimate.items.push_back(DirectLightingMemory(params, state));
+  estimate.items.push_back(DirectLightingMemory(params, state, gpu));
   return estimate;
 }
 

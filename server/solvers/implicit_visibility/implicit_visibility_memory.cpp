@@ -25,7 +25,7 @@ MemoryEstimate ImplicitVisibilitySolver::EstimateMemory(const ParamSet& params,
   // Links (~16 per element, 16 bytes each) and the element buffers.
   estimate.items.push_back({"", absl::StrCat("links and elements of ", nodes, " elements"),
                             nodes * (16 * 16 + 96), nodes * (16 * 16 + 96)});
-  estimate.items.push_back(DirectLightingMemory(params, state));
+  estimate.items.push_back(DirectLightingMemory(params, state, gpu));
   return estimate;
 }
 

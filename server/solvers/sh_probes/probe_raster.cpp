@@ -126,11 +126,7 @@ void ProbeRasterizer::DrawFromList(const GpuScene& gpu, const SceneState& state,
 }
 
 uint64_t ProbeRasterizer::ListBytes(const GpuScene& gpu) {
-  // A view visits at most one range per item, or per node of its cluster
-  // tree; each gets a record per face and at most a command per record.
-  uint64_t ranges = 0;
-  for (const DrawItem& d : gpu.draws()) ranges += uint64_t(std::max(d.cluster_count, 1));
-  return uint64_t{kProbesPerList} * ranges * 6 * (sizeof(DrawRecord) + sizeof(DrawCommand));
+  return DrawList::MaxBytes(gpu, kProbesPerList, 6);
 }
 
 void ProbeRasterizer::DrawItemByItem(const GpuScene& gpu, const SceneState& state,
