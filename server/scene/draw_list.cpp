@@ -138,9 +138,4 @@ std::vector<DrawCommand> DrawList::Commands(int view) const {
   return {commands_.begin() + ptrdiff_t(first), commands_.begin() + ptrdiff_t(end)};
 }
 
-int DrawList::Groups(int view) const {
-  const auto [first, end] = GroupRange(view);
-  return int(end - first);
-}
-
 }  // namespace gistream

@@ -93,8 +93,6 @@ class DrawList {
   int views() const { return int(view_first_.size()); }
   // The commands of `view` (their count is the draws the view costs).
   std::vector<DrawCommand> Commands(int view) const;
-  // The multi-draws `view` costs (1 unless it binds textures; 0 if empty).
-  int Groups(int view) const;
 
  private:
   struct Entry {

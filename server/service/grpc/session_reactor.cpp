@@ -138,10 +138,7 @@ void SessionReactor::OnReadDone(bool ok) {
   read_in_flight_ = false;
   frames_wanted_ += frames_requested;
   if (!status.ok() && !finish_status_.has_value()) {
-    NoteRejectedLocked(rejected_seq, status);
-    pb::SessionEvent event;
-    UpdateRejectedToProto(rejected_seq, status, event.mutable_rejected());
-    events_.push_back(std::move(event));
+    QueueRejectedLocked(rejected_seq, status);
   }
   PumpLocked();
   lock.unlock();
@@ -285,10 +282,7 @@ void SessionReactor::DeliverFrame(std::shared_ptr<const EncodedFrame> frame) {
 void SessionReactor::DeliverRejected(uint64_t seq, const absl::Status& status) {
   std::lock_guard lock(mutex_);
   if (cancelled_ || finish_status_.has_value()) return;
-  NoteRejectedLocked(seq, status);
-  pb::SessionEvent event;
-  UpdateRejectedToProto(seq, status, event.mutable_rejected());
-  events_.push_back(std::move(event));
+  QueueRejectedLocked(seq, status);
   PumpLocked();
 }
 
@@ -393,12 +387,7 @@ void SessionReactor::GrantFrames() {
   lock.lock();
   frames_in_engine_ -= std::min(frames_in_engine_, grant);
   frames_wanted_ = 0;
-  if (!finish_status_.has_value()) {
-    NoteRejectedLocked(0, status);
-    pb::SessionEvent event;
-    UpdateRejectedToProto(0, status, event.mutable_rejected());
-    events_.push_back(std::move(event));
-  }
+  if (!finish_status_.has_value()) QueueRejectedLocked(0, status);
   PumpLocked();
 }
 
@@ -408,11 +397,14 @@ SessionId SessionReactor::TakeSessionToCloseLocked() {
   return session_id_;
 }
 
-void SessionReactor::NoteRejectedLocked(uint64_t seq, const absl::Status& status) {
+void SessionReactor::QueueRejectedLocked(uint64_t seq, const absl::Status& status) {
   observer().OnUpdateRejected(status.code());
   Log(LogLevel::kDebug, {session_id_, scene_id_},
       absl::StrCat("update seq ", seq, " rejected: ", absl::StatusCodeToString(status.code()), ": ",
                    status.message()));
+  pb::SessionEvent event;
+  UpdateRejectedToProto(seq, status, event.mutable_rejected());
+  events_.push_back(std::move(event));
 }
 
 ServerObserver& SessionReactor::observer() const {

@@ -119,8 +119,8 @@ class SessionReactor final
   // Passes TakeFrameGrantLocked's frames to the engine. Call from a
   // reaction (so `this` stays valid) without mutex_.
   void GrantFrames();
-  // Counts and logs an UpdateRejected event about to be queued.
-  void NoteRejectedLocked(uint64_t seq, const absl::Status& status);
+  // Counts, logs and queues an UpdateRejected event.
+  void QueueRejectedLocked(uint64_t seq, const absl::Status& status);
   ServerObserver& observer() const;
 
   // Configuration

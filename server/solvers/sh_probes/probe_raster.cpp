@@ -108,13 +108,10 @@ void ProbeRasterizer::DrawFromList(const GpuScene& gpu, const SceneState& state,
     list_.Clear();
     for (size_t i = first; i < end; ++i) {
       faces = kAllFaces;
-      if (full_detail) {
-        list_.AddView(gpu, state, nullptr, nullptr, faces, DrawTags::kEachBit, DrawTextures::kBind);
-        continue;
-      }
       const CubeDrawFilters filters = CubeFilters(state, layout.position(layout.cell(probes[i])),
                                                   layout.face_size, [&faces](int f) { faces = f; });
-      list_.AddView(gpu, state, &filters.item, &filters.cluster, faces, DrawTags::kEachBit,
+      list_.AddView(gpu, state, full_detail ? nullptr : &filters.item,
+                    full_detail ? nullptr : &filters.cluster, faces, DrawTags::kEachBit,
                     DrawTextures::kBind);
     }
     list_.Upload();
