@@ -38,8 +38,14 @@ build: configure
 run: build
 	@bash scripts/run-demo.sh $(BUILD_DIR) $(ADDR)
 
+# One ctest entry per GoogleTest suite (cmake/GTestSuites.cmake); afterwards
+# the 20 slowest entries and cases (scripts/test_times.py, from the JUnit
+# and GoogleTest XML in $(BUILD_DIR)/test-results/).
 test: build
-	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+	@rm -rf $(BUILD_DIR)/test-results/*.xml
+	@cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) \
+	  --output-junit test-results/ctest.xml; status=$$?; \
+	  python3 $(CURDIR)/scripts/test_times.py . 20; exit $$status
 
 # Reformats our C++ with .clang-format (the `format` test checks it).
 format:

@@ -1,21 +1,29 @@
 #!/usr/bin/env bash
-# CI's second half (called by .ci/run after `make test`): one extra build
-# tree, build-sanitize/, compiled by clang with AddressSanitizer,
-# UndefinedBehaviorSanitizer and libFuzzer's coverage instrumentation
-# (GISTREAM_SANITIZE=ON GISTREAM_FUZZ=ON). Only what is run is built: the
-# unit, client and service test binaries and the four fuzz targets.
-#   1. unit_tests, client_tests and service_tests under ASan + UBSan (any
-#      report fails the run; LeakSanitizer ignores Mesa's and the driver's
-#      own allocations: tests/fuzz/lsan.supp).
-#   2. each fuzz target for FUZZ_SECONDS (default 45) from its seed corpus
+# CI's second half (called by .ci/run after `make test`). Two extra build
+# trees, both clang at -O1, each building only what it runs:
+#   build-sanitize/  AddressSanitizer + UndefinedBehaviorSanitizer + libFuzzer
+#                    coverage (GISTREAM_SANITIZE=ON GISTREAM_FUZZ=ON)
+#   build-tsan/      ThreadSanitizer (GISTREAM_TSAN=ON), `thread_tests` only
+# Steps, each timed:
+#   1. unit, client, service and reliability tests under ASan + UBSan, and
+#      the GL suites that drive the engine and every solver through a frame
+#      ($GL_SUITES; the long numeric and reference suites run in `make test`
+#      only). Any report fails the run; LeakSanitizer ignores Mesa's and
+#      the driver's own allocations (tests/fuzz/lsan.supp).
+#   2. thread_tests under ThreadSanitizer: the gRPC layer's reactors, frame
+#      slots, worker pools, auth and metrics on the fake engine, and the CPU
+#      pool (tests/CMakeLists.txt says why the real engine is not there).
+#   3. each fuzz target for FUZZ_SECONDS (default 30) from its seed corpus
 #      (tests/fuzz/corpus/<target>/, read-only; new inputs go to
 #      build-sanitize/fuzz/corpus/<target>/, crashes to
 #      build-sanitize/fuzz/artifacts/).
-# Environment: BUILD_DIR (build-sanitize), FUZZ_SECONDS, JOBS (nproc).
+# Environment: BUILD_DIR (build-sanitize), TSAN_BUILD_DIR (build-tsan),
+# FUZZ_SECONDS, JOBS (nproc).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD_DIR=${BUILD_DIR:-build-sanitize}
-FUZZ_SECONDS=${FUZZ_SECONDS:-45}
+TSAN_BUILD_DIR=${TSAN_BUILD_DIR:-build-tsan}
+FUZZ_SECONDS=${FUZZ_SECONDS:-30}
 JOBS=${JOBS:-$(nproc)}
 GENERATOR=$(command -v ninja >/dev/null 2>&1 && echo "-G Ninja" || true)
 
@@ -23,32 +31,60 @@ export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:abort_on_error=1:strict_strin
 export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/tests/fuzz/lsan.supp:print_suppressions=0}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
 
-start=$(date +%s)
-if [ ! -f "$BUILD_DIR/CMakeCache.txt" ]; then
-  # shellcheck disable=SC2086
-  cmake -S . -B "$BUILD_DIR" $GENERATOR -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
-    -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_FLAGS_RELEASE=-O1 -DCMAKE_CXX_FLAGS_RELEASE=-O1 \
-    -DGISTREAM_SANITIZE=ON -DGISTREAM_FUZZ=ON
-fi
+step_start=$(date +%s)
+total_start=$step_start
+step() {  # prints how long the step that just ended took
+  local now
+  now=$(date +%s)
+  echo "ci-sanitizers: $1 took $((now - step_start)) s"
+  step_start=$now
+}
+
+configure() {  # DIR, extra cmake options...
+  local dir=$1
+  shift
+  if [ ! -f "$dir/CMakeCache.txt" ]; then
+    # shellcheck disable=SC2086
+    cmake -S . -B "$dir" $GENERATOR -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+      -DCMAKE_BUILD_TYPE=Release -DCMAKE_C_FLAGS_RELEASE=-O1 -DCMAKE_CXX_FLAGS_RELEASE=-O1 "$@"
+  fi
+}
+
+# ---------------------------------------------------------------- ASan + UBSan
+configure "$BUILD_DIR" -DGISTREAM_SANITIZE=ON -DGISTREAM_FUZZ=ON
 # Test discovery runs the binaries at build time: no leak check there.
 ASAN_OPTIONS=detect_leaks=0 cmake --build "$BUILD_DIR" -j "$JOBS" \
-  --target unit_tests client_tests service_tests fuzzers
-built=$(date +%s)
-echo "ci-sanitizers: build took $((built - start)) s"
+  --target unit_tests client_tests service_tests reliability_tests gl_tests fuzzers
+step "ASan build"
 
 # The numeric convergence tests (furnaces run to hundreds of thousands of
 # paths, BRDF integrals) take minutes at -O1 with ASan and exercise the
 # same code as the smaller tests of their suites: run in `make test` only.
 SLOW_NUMERIC='Ggx.WhiteFurnace*:Albedos/PathtraceFurnace.*:PathtraceGlossyFurnace.*:AvgStiffFurnace.*:AntiradianceEnergy.StiffFurnace*'
-for t in unit_tests client_tests service_tests; do
+# The GL suites under ASan: the engine's frame pipeline (slices, stages,
+# first solves in the background, rest, video frames, the solver cache) and
+# each solver's own suite at its small sizes. The path-traced references
+# and furnace sweeps stay in `make test`.
+GL_SUITES=${GL_SUITES:-'EngineSlicing.*:EngineStagesTest.*:EngineSolverCache.*:EngineRest*:FirstSolves.*:StagePlan*:VideoFramesTest.*:DirectIncremental.*:DrawListTest.*:GlToolkit*:GlProgram.*:GlDebug.*:GlDriverQuirks.*:AvgBackgroundTrace.*:BackgroundRelink.*:GpuDeformTest.*:ShProbesFirstSolve.*'}
+for t in unit_tests client_tests service_tests reliability_tests gl_tests; do
   echo "ci-sanitizers: $t under ASan + UBSan"
   filter='*'
   [ "$t" = unit_tests ] && filter="*:-$SLOW_NUMERIC"
+  [ "$t" = gl_tests ] && filter="$GL_SUITES"
   "$BUILD_DIR/tests/$t" --gtest_brief=1 --gtest_filter="$filter"
+  step "$t under ASan + UBSan"
 done
-tested=$(date +%s)
-echo "ci-sanitizers: tests took $((tested - built)) s"
 
+# ---------------------------------------------------------------- TSan
+configure "$TSAN_BUILD_DIR" -DGISTREAM_TSAN=ON
+cmake --build "$TSAN_BUILD_DIR" -j "$JOBS" --target thread_tests
+step "TSan build"
+echo "ci-sanitizers: thread_tests under ThreadSanitizer"
+TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/tsan.supp} \
+  "$TSAN_BUILD_DIR/tests/thread_tests" --gtest_brief=1
+step "thread_tests under TSan"
+
+# ---------------------------------------------------------------- fuzzing
 mkdir -p "$BUILD_DIR/fuzz/artifacts"
 for f in gltf_import image_decode update script; do
   corpus="$BUILD_DIR/fuzz/corpus/$f"
@@ -61,4 +97,5 @@ for f in gltf_import image_decode update script; do
     -print_final_stats=1 -artifact_prefix="$BUILD_DIR/fuzz/artifacts/${f}-" \
     "$corpus" "tests/fuzz/corpus/$f" 2>&1 | grep -v '^#[0-9]' || { echo "ci-sanitizers: ${f}_fuzzer failed" >&2; exit 1; }
 done
-echo "ci-sanitizers: fuzzing took $(( $(date +%s) - tested )) s; total $(( $(date +%s) - start )) s"
+step "fuzzing"
+echo "ci-sanitizers: total $(($(date +%s) - total_start)) s"

@@ -73,7 +73,7 @@ void ExpectVec(const v1::Vec3& actual, glm::vec3 expected) {
 }
 
 TEST(ScriptParse, BundledOrbitExample) {
-  const std::string path = std::string(GISTREAM_SOURCE_DIR) + "/scenes/cornell_orbit.json";
+  const std::string path = std::string(GISTREAM_SOURCE_DIR "/scenes/cornell_orbit.json");
   auto script = LoadScriptFile(path);
   ASSERT_TRUE(script.ok()) << script.status();
   EXPECT_EQ(script->scene, "cornell_box");

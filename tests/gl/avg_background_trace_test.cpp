@@ -52,7 +52,7 @@ class AvgBackgroundTrace : public testing::GlContextTest {
  protected:
   void SetUp() override {
     testing::GlContextTest::SetUp();
-    auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR) + "/scenes", "cornell_box", {});
+    auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR "/scenes"), "cornell_box", {});
     ASSERT_TRUE(scene.ok()) << scene.status();
     state_ = std::make_unique<SceneState>(std::make_shared<const Scene>(*std::move(scene)));
     auto gpu = GpuScene::Upload(*state_);

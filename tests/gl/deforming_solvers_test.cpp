@@ -68,13 +68,28 @@ const std::map<std::string, Declared>& Table() {
 
 class DeformingSolvers : public ::testing::TestWithParam<std::string> {};
 
+// Each case's 512-spp path-traced reference, rendered once per test binary
+// (ctest runs the suite in one process) on its own copy of the scene.
+const FloatImage& Reference(const Case& c) {
+  static auto* const cache = new std::map<std::string, FloatImage>();
+  auto it = cache->find(c.file);
+  if (it == cache->end()) {
+    const BundledCopy scene(c.file);
+    it = cache
+             ->emplace(c.file,
+                       RenderRequestExr(SolverRequest(scene.id(), "pathtrace", {{"spp", "512"}},
+                                                      kSize, {testing::SeekAnimation(1, c.pose)})))
+             .first;
+  }
+  return it->second;
+}
+
 TEST_P(DeformingSolvers, StillFrameIsFiniteAndNearTheReference) {
   const Declared& declared = Table().at(GetParam());
   for (const Case& c : kCases) {
     SCOPED_TRACE(c.file);
     const BundledCopy scene(c.file);
-    const FloatImage reference = RenderRequestExr(SolverRequest(
-        scene.id(), "pathtrace", {{"spp", "512"}}, kSize, {testing::SeekAnimation(1, c.pose)}));
+    const FloatImage& reference = Reference(c);
     EncodedFrame frame;
     const FloatImage image =
         RenderRequestExr(SolverRequest(scene.id(), GetParam(), declared.params, kSize,

@@ -16,7 +16,7 @@ class DirectCornellTest : public ::testing::Test {
     auto info = testing::SharedEngine().LoadScene(testing::SceneByName("cornell_box"));
     ASSERT_TRUE(info.ok()) << info.status();
     scene_id_ = info->id;
-    auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR) + "/scenes", "cornell_box", {});
+    auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR "/scenes"), "cornell_box", {});
     ASSERT_TRUE(scene.ok()) << scene.status();
     state_ = std::make_unique<SceneState>(std::make_shared<const Scene>(*std::move(scene)));
     camera_ = DefaultCamera(*state_, kSize, kSize);

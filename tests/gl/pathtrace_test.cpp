@@ -258,7 +258,7 @@ class PathtraceCornell : public ::testing::Test {
   static void SetUpTestSuite() {
     const BundledCopy copy("cornell_box.gltf");
     const std::string& id = copy.id();
-    auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR) + "/scenes", "cornell_box", {});
+    auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR "/scenes"), "cornell_box", {});
     ASSERT_TRUE(scene.ok()) << scene.status();
     state_ = std::make_unique<SceneState>(std::make_shared<const Scene>(*std::move(scene)));
     camera_ = DefaultCamera(*state_, kSize, kSize);

@@ -16,7 +16,7 @@ TEST(SubdividedVertexBound, BoundsTheVerticesTheSubdivisionMakes) {
   ASSERT_TRUE(context);
   for (const char* name : {"cornell_box_coarse", "cornell_box"}) {
     SCOPED_TRACE(name);
-    auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR) + "/scenes", name, {});
+    auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR "/scenes"), name, {});
     ASSERT_TRUE(scene.ok()) << scene.status();
     SceneState state(std::make_shared<const Scene>(*std::move(scene)));
     auto gpu = GpuScene::Upload(state);

@@ -34,7 +34,7 @@ Engine& SharedEngine() {
   static std::once_flag created_once;
   std::call_once(created_once, [&engine] {
     EngineOptions options;
-    options.scene_dir = std::string(GISTREAM_SOURCE_DIR) + "/scenes";
+    options.scene_dir = std::string(GISTREAM_SOURCE_DIR "/scenes");
     auto created = Engine::Create(options);
     if (!created.ok()) {
       ADD_FAILURE() << "Engine::Create: " << created.status();
@@ -106,7 +106,7 @@ FloatImage RenderExr(Engine& engine, const std::string& scene_id, const std::str
 }
 
 BundledCopy::BundledCopy(const std::string& file) {
-  std::ifstream in(std::string(GISTREAM_SOURCE_DIR) + "/scenes/" + file, std::ios::binary);
+  std::ifstream in(std::string(GISTREAM_SOURCE_DIR "/scenes/") + file, std::ios::binary);
   std::string bytes(std::istreambuf_iterator<char>(in), {});
   EXPECT_FALSE(bytes.empty()) << file;
   auto info = SharedEngine().LoadScene(SceneFromBytes(std::move(bytes)));

@@ -27,7 +27,7 @@ namespace gistream {
 namespace {
 
 std::unique_ptr<SceneState> GreyFurnace(float rho) {
-  auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR) + "/scenes", "furnace", {});
+  auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR "/scenes"), "furnace", {});
   EXPECT_TRUE(scene.ok()) << scene.status();
   if (!scene.ok()) return nullptr;
   auto state = std::make_unique<SceneState>(std::make_shared<const Scene>(*std::move(scene)));

@@ -21,7 +21,7 @@ namespace gistream {
 namespace {
 
 std::unique_ptr<SceneState> ScaledFurnace(float scale) {
-  auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR) + "/scenes", "furnace", {});
+  auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR "/scenes"), "furnace", {});
   EXPECT_TRUE(scene.ok()) << scene.status();
   if (!scene.ok()) return nullptr;
   for (Node& node : scene->nodes) {

@@ -21,7 +21,7 @@ namespace {
 using avg::VoxelGrid;
 
 std::unique_ptr<SceneState> LoadBundled(const std::string& name) {
-  auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR) + "/scenes", name, {});
+  auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR "/scenes"), name, {});
   EXPECT_TRUE(scene.ok()) << scene.status();
   if (!scene.ok()) return nullptr;
   return std::make_unique<SceneState>(std::make_shared<const Scene>(*std::move(scene)));

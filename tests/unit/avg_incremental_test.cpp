@@ -19,7 +19,7 @@ namespace {
 using avg::VoxelGrid;
 
 std::unique_ptr<SceneState> LoadCornell() {
-  auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR) + "/scenes", "cornell_box", {});
+  auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR "/scenes"), "cornell_box", {});
   EXPECT_TRUE(scene.ok()) << scene.status();
   if (!scene.ok()) return nullptr;
   return std::make_unique<SceneState>(std::make_shared<const Scene>(*std::move(scene)));

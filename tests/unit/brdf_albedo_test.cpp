@@ -22,7 +22,7 @@ namespace {
 // The table as the source file on disk spells it, read independently of
 // the embedded copy and of BrdfAlbedoTable::Parse.
 std::vector<glm::vec2> SourceTable() {
-  std::ifstream in(std::string(GISTREAM_SOURCE_DIR) + "/shaders/common/brdf_albedo_table.glsl");
+  std::ifstream in(std::string(GISTREAM_SOURCE_DIR "/shaders/common/brdf_albedo_table.glsl"));
   EXPECT_TRUE(in) << "shaders/common/brdf_albedo_table.glsl";
   std::stringstream text;
   text << in.rdbuf();

@@ -9,7 +9,7 @@
 namespace gistream {
 namespace {
 
-const std::string kSceneDir = std::string(GISTREAM_SOURCE_DIR) + "/scenes";
+const std::string kSceneDir = std::string(GISTREAM_SOURCE_DIR "/scenes");
 
 std::set<std::string> NodeNames(const Scene& s) {
   std::set<std::string> names;

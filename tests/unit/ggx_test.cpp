@@ -195,7 +195,7 @@ TEST(Ggx, MetallicZeroRoughnessOneIsLambert) {
 // (F0 = 1), B a black metal's (F0 = 0, Schlick's (1 - v.h)^5 alone), each
 // by BRDF sampling (40k samples; 4 sigma < 0.01).
 TEST(Ggx, GlslAlbedoTableMatchesTheBrdf) {
-  std::ifstream in(std::string(GISTREAM_SOURCE_DIR) + "/shaders/common/brdf_albedo_table.glsl");
+  std::ifstream in(std::string(GISTREAM_SOURCE_DIR "/shaders/common/brdf_albedo_table.glsl"));
   ASSERT_TRUE(in) << "shaders/common/brdf_albedo_table.glsl";
   std::stringstream text;
   text << in.rdbuf();

@@ -38,7 +38,7 @@ struct FurnaceEstimate {
 };
 
 FurnaceEstimate TraceFurnace(float albedo, int paths, int max_depth = 0) {
-  auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR) + "/scenes", "furnace", {});
+  auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR "/scenes"), "furnace", {});
   EXPECT_TRUE(scene.ok()) << scene.status();
   if (!scene.ok()) return {};
   SceneState state(std::make_shared<const Scene>(*std::move(scene)));

@@ -59,7 +59,7 @@ struct Estimate {
 };
 
 Estimate Trace(float roughness, const glm::vec3& dir, int paths, int max_depth) {
-  auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR) + "/scenes", "furnace", {});
+  auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR "/scenes"), "furnace", {});
   EXPECT_TRUE(scene.ok()) << scene.status();
   if (!scene.ok()) return {};
   Scene glossy = *std::move(scene);
