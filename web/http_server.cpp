@@ -1,8 +1,12 @@
 #include "http_server.h"
 
+#include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/beast/core.hpp>
@@ -36,11 +40,30 @@ const char* ContentType(const std::string& path) {
   return "application/octet-stream";
 }
 
+// A request's headers must arrive within this (a client that opens a
+// connection and sends nothing, or a byte a minute, is closed).
+constexpr auto kHeaderTimeout = std::chrono::seconds(10);
+
+}  // namespace
+
+bool OriginAllowed(const std::string& origin, const std::string& host,
+                   const std::vector<std::string>& allowed) {
+  if (origin.empty()) return true;  // not a browser: browsers always send it
+  if (allowed.empty()) return origin == "http://" + host || origin == "https://" + host;
+  for (const std::string& a : allowed) {
+    if (a == "*" || a == origin) return true;
+  }
+  return false;
+}
+
+namespace {
+
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
   HttpSession(tcp::socket socket, const ViewerOptions& options)
       : stream_(std::move(socket)), options_(options) {}
   void Start() {
+    stream_.expires_after(kHeaderTimeout);
     http::async_read(stream_, buffer_, request_,
                      [self = shared_from_this()](beast::error_code ec, std::size_t) {
                        if (!ec) self->OnRequest();
@@ -49,12 +72,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
  private:
   void OnRequest() {
+    stream_.expires_never();
     std::string target(request_.target());
-    if (beast::websocket::is_upgrade(request_) && target.rfind("/ws", 0) == 0) {
-      StartViewer(stream_.release_socket(), std::move(request_), options_);
-      return;
-    }
-    const std::string path = target.substr(0, target.find('?'));
     auto response = std::make_shared<http::response<http::string_body>>();
     response->version(request_.version());
     response->keep_alive(false);
@@ -63,6 +82,23 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     response->result(http::status::not_found);
     response->set(http::field::content_type, "text/plain");
     response->body() = "not found\n";
+    if (beast::websocket::is_upgrade(request_) && target.rfind("/ws", 0) == 0) {
+      const std::string origin(request_[http::field::origin]);
+      if (OriginAllowed(origin, std::string(request_[http::field::host]),
+                        options_.allowed_origins)) {
+        StartViewer(stream_.release_socket(), std::move(request_), options_);
+        return;
+      }
+      // A page on another site must not drive sessions under this
+      // gateway's token (cross-site WebSocket hijacking).
+      std::cerr << "gistream-web: refused a WebSocket from origin '" << origin
+                << "' (--allow-origin)" << std::endl;
+      response->result(http::status::forbidden);
+      response->body() = "origin not allowed: " + origin + " (gistream-web --allow-origin)\n";
+      Send(response);
+      return;
+    }
+    const std::string path = target.substr(0, target.find('?'));
     if (path == "/healthz") {
       response->result(http::status::ok);
       response->body() = "ok\n";
@@ -76,7 +112,12 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
         }
       }
     }
+    Send(response);
+  }
+
+  void Send(const std::shared_ptr<http::response<http::string_body>>& response) {
     response->prepare_payload();
+    stream_.expires_after(kHeaderTimeout);  // a reader that never reads is closed too
     http::async_write(stream_, *response,
                       [self = shared_from_this(), response](beast::error_code, std::size_t) {
                         beast::error_code ignored;
@@ -114,7 +155,14 @@ int Serve(const std::string& address, const ViewerOptions& options,
     return 2;
   }
   tcp::acceptor acceptor(io);
-  const tcp::endpoint endpoint(host, uint16_t(std::stoi(address.substr(colon + 1))));
+  const std::string port_text = address.substr(colon + 1);
+  char* end = nullptr;
+  const long port = std::strtol(port_text.c_str(), &end, 10);
+  if (port_text.empty() || *end != '\0' || port < 0 || port > 65535) {
+    std::cerr << "error: --listen: port '" << port_text << "' is not 0..65535\n";
+    return 2;
+  }
+  const tcp::endpoint endpoint(host, uint16_t(port));
   acceptor.open(endpoint.protocol(), ec);
   if (!ec) acceptor.set_option(net::socket_base::reuse_address(true), ec);
   if (!ec) acceptor.bind(endpoint, ec);

@@ -6,9 +6,11 @@
 //   gistream-web [--server ADDR] [--listen HOST:PORT] [--scene NAME]
 //                [--solver NAME] [--param K=V]... [--size WxH] [--fps F]
 //                [--tls] [--ca FILE] [--cert FILE --key FILE] [--token TOKEN]
+//                [--allow-origin ORIGIN]... [--version]
 // The upstream channel to gistreamd takes the CLI's TLS and token options
 // (client/connection.h); the token defaults to $GISTREAM_TOKEN.
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
@@ -18,19 +20,25 @@
 
 #include "connection.h"
 #include "http_server.h"
+#include "util/version.h"
 
 namespace {
 
 int Usage() {
-  std::cerr << "usage: gistream-web [--server ADDR] [--listen HOST:PORT] [--scene NAME]\n"
-               "                    [--scenes NAME,NAME,...] [--solver NAME] [--param K=V]...\n"
-               "                    [--size WxH] [--fps F] [--tls] [--ca FILE]\n"
-               "                    [--cert FILE --key FILE] [--token TOKEN]\n"
-               "--tls/--ca/--cert/--key/--token: the channel to gistreamd, as in gistream\n"
-               "(token default $GISTREAM_TOKEN).\n"
-               "--scenes: the page's scene picker (default: the bundled scenes).\n"
-               "Serves the viewer on http://HOST:PORT/ (default 127.0.0.1:8080), bridged to\n"
-               "gistreamd at --server (default $GISTREAM_SERVER, else 127.0.0.1:50051).\n";
+  std::cerr
+      << "usage: gistream-web [--server ADDR] [--listen HOST:PORT] [--scene NAME]\n"
+         "                    [--scenes NAME,NAME,...] [--solver NAME] [--param K=V]...\n"
+         "                    [--size WxH] [--fps F] [--tls] [--ca FILE]\n"
+         "                    [--cert FILE --key FILE] [--token TOKEN] [--allow-origin ORIGIN]...\n"
+         "--tls/--ca/--cert/--key/--token: the channel to gistreamd, as in gistream\n"
+         "(token default $GISTREAM_TOKEN).\n"
+         "--scenes: the page's scene picker (default: the bundled scenes).\n"
+         "--allow-origin ORIGIN: a site whose pages may open the viewer's WebSocket\n"
+         "(repeatable; '*' any; default: this gateway's own origin only).\n"
+         "--fps F: 0 (the server's cap) to 240; --size WxH: 1x1 to 8192x8192.\n"
+         "--version: print the version and exit.\n"
+         "Serves the viewer on http://HOST:PORT/ (default 127.0.0.1:8080), bridged to\n"
+         "gistreamd at --server (default $GISTREAM_SERVER, else 127.0.0.1:50051).\n";
   return 2;
 }
 
@@ -48,9 +56,14 @@ int main(int argc, char** argv) {
   unsigned width = 640, height = 480;
   float fps = 30.0f;
   v1::SessionConfig config;
+  web::ViewerOptions options;
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "--help" || flag == "-h") return Usage(), 0;
+    if (flag == "--version") {
+      std::cout << "gistream-web " << Version() << std::endl;
+      return 0;
+    }
     if (flag == "--tls") {
       upstream.tls = true;
       continue;
@@ -67,10 +80,22 @@ int main(int argc, char** argv) {
       scenes = value;
     else if (flag == "--solver")
       solver = value;
-    else if (flag == "--fps")
-      fps = std::stof(value);
-    else if (flag == "--size") {
-      if (std::sscanf(value.c_str(), "%ux%u", &width, &height) != 2) return Usage();
+    else if (flag == "--fps") {
+      char* end = nullptr;
+      fps = std::strtof(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || !std::isfinite(fps) || fps < 0.0f || fps > 240.0f) {
+        std::cerr << "gistream-web: --fps: '" << value << "' is not a number from 0 to 240\n";
+        return Usage();
+      }
+    } else if (flag == "--size") {
+      char tail = 0;
+      if (std::sscanf(value.c_str(), "%ux%u%c", &width, &height, &tail) != 2 || width == 0 ||
+          height == 0 || width > 8192 || height > 8192) {
+        std::cerr << "gistream-web: --size: '" << value << "' is not WxH from 1x1 to 8192x8192\n";
+        return Usage();
+      }
+    } else if (flag == "--allow-origin") {
+      options.allowed_origins.push_back(value);
     } else if (flag == "--ca" || flag == "--cert" || flag == "--key") {
       absl::StatusOr<std::string> pem = client::ReadPem(flag, value);
       if (!pem.ok()) {
@@ -95,7 +120,6 @@ int main(int argc, char** argv) {
   args.SetMaxReceiveMessageSize(256 << 20);
   upstream.server = server;
   auto channel = client::MakeChannel(upstream, args);
-  web::ViewerOptions options;
   options.stub = v1::Gistream::NewStub(channel);
   v1::LoadSceneRequest load;
   load.set_name(scene);

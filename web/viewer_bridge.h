@@ -33,6 +33,10 @@ struct ViewerOptions {
   // picker offers; `scene_name` is the one loaded first.
   std::vector<std::string> scene_names;
   std::string scene_name;
+  // Origins whose pages may open /ws ("*": any). Empty: the gateway's own
+  // origin alone (Origin equal to http:// or https:// + the Host header).
+  // A request without Origin (not a browser) is let through.
+  std::vector<std::string> allowed_origins;
 };
 
 // Takes over the socket of an HTTP upgrade request to /ws (query:
