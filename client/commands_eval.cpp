@@ -20,6 +20,7 @@
 #include "plot.h"
 #include "progress_line.h"
 #include "scene_loader.h"
+#include "session_common.h"
 #include "session_stream.h"
 #include "stats_table.h"
 
@@ -79,11 +80,6 @@ absl::StatusOr<RgbaImage> DecodeFrame(const v1::Frame& frame) {
       DecodedImage d,
       DecodeImageBytes({reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size()}));
   return RgbaImage{d.width, d.height, std::move(d.rgba)};
-}
-
-double StatOf(const v1::Frame& frame, const std::string& name) {
-  auto it = frame.stats().find(name);
-  return it == frame.stats().end() ? 0.0 : it->second;
 }
 
 std::string ParamsText(const std::map<std::string, std::string>& params) {
@@ -152,7 +148,7 @@ class Evaluator {
     progress_.Wait(absl::StrCat(what, "0/", spec_.reference_spp, " spp"));
     for (;;) {
       GS_ASSIGN_OR_RETURN(frame, RenderOnce(scene_id, "pathtrace", params, ViewCamera(view)));
-      const double now = StatOf(frame, "spp_total");
+      const double now = FrameStatValue(frame, "spp_total");
       progress_.Update(absl::StrCat(what, now, "/", spec_.reference_spp, " spp"),
                        now / spec_.reference_spp);
       if (now >= spec_.reference_spp) break;
@@ -168,7 +164,8 @@ class Evaluator {
     std::filesystem::create_directories(cache);
     std::ofstream(file, std::ios::binary) << frame.image();
     progress_.Done();
-    std::cerr << "reference " << file.string() << ": " << StatOf(frame, "spp_total") << " spp in "
+    std::cerr << "reference " << file.string() << ": " << FrameStatValue(frame, "spp_total")
+              << " spp in "
               << std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()
               << " s\n";
     return DecodeFrame(frame);
@@ -215,7 +212,7 @@ class Evaluator {
     };
     GS_ASSIGN_OR_RETURN(v1::Frame first, frame_after(nullptr));
     row.first_ms = first.total_ms();
-    row.spp = StatOf(first, "spp_total");
+    row.spp = FrameStatValue(first, "spp_total");
     GS_ASSIGN_OR_RETURN(RgbaImage image, DecodeFrame(first));
     GS_ASSIGN_OR_RETURN(row.error, CompareImages(image, reference));
 
@@ -454,7 +451,7 @@ absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOpti
         row.solver = "pathtrace";
         row.equal_time = true;
         row.params = absl::StrCat("time_budget_ms=", b.str());
-        row.spp = StatOf(frame, "spp_total");
+        row.spp = FrameStatValue(frame, "spp_total");
         row.full.median = row.full.p95 = frame.total_ms();
         StatsCollector stages;
         stages.Add(frame, StatsCollector::Clock::now());

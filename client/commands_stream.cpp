@@ -54,6 +54,8 @@ absl::Status RunStream(const ConnectionOptions& connection_options, const Stream
 
   StatsCollector stats;
   uint64_t saved = 0;
+  uint64_t pictures = 0;  // frames that carried an image
+  bool at_rest = false;
   v1::SessionEvent event;
   while (stream->Next(&event)) {
     if (event.has_rejected()) {
@@ -67,7 +69,14 @@ absl::Status RunStream(const ConnectionOptions& connection_options, const Stream
     stats.Add(frame, StatsCollector::Clock::now());
     GS_RETURN_IF_ERROR(writer.Write(saved, frame));
     ++saved;
+    pictures += frame.image().empty() ? 0 : 1;
     if (options.frames != 0 && saved >= options.frames) {
+      closing = true;
+      stream->CloseWrites();
+    } else if (options.frames != 0 && FrameStatValue(frame, "at_rest") == 1.0) {
+      // The server says the picture is finished and nothing changes: more
+      // frames would be keep-alives of the same picture, a second apart.
+      at_rest = true;
       closing = true;
       stream->CloseWrites();
     }
@@ -76,8 +85,14 @@ absl::Status RunStream(const ConnectionOptions& connection_options, const Stream
   progress.Done();
 
   std::cout << FormatStatsTable(stats.Summarize())
-            << FormatWrittenFrames(writer, saved, options.view.encoding.format()) << std::endl;
-  if (ended.ok() && !interrupted && options.frames != 0 && saved < options.frames) {
+            << FormatWrittenFrames(writer, saved, options.view.encoding.format(), pictures)
+            << std::endl;
+  if (at_rest) {
+    std::cout << "the view is at rest after " << saved << " of " << options.frames
+              << " frames (its picture is finished and nothing changes): stopped early"
+              << std::endl;
+  }
+  if (ended.ok() && !interrupted && !at_rest && options.frames != 0 && saved < options.frames) {
     return absl::AbortedError(absl::StrCat("the server ended the session after ", saved, " of ",
                                            options.frames, " frames"));
   }

@@ -55,11 +55,21 @@ absl::Status EndSession(SessionStream& stream) {
   return InterruptedError();
 }
 
-std::string FormatWrittenFrames(const FrameWriter& writer, uint64_t count, v1::ImageFormat format) {
+double FrameStatValue(const v1::Frame& frame, const std::string& name) {
+  const auto it = frame.stats().find(name);
+  return it == frame.stats().end() ? 0.0 : it->second;
+}
+
+std::string FormatWrittenFrames(const FrameWriter& writer, uint64_t count, v1::ImageFormat format,
+                                std::optional<uint64_t> pictures) {
   if (count == 0) return absl::StrCat("wrote no frames to ", writer.dir().string());
   if (IsVideoFormat(format)) {
-    return absl::StrCat("wrote ", count, count == 1 ? " frame" : " frames", " to ",
-                        writer.PathFor(0, format).string());
+    // A video stream holds the frames that carried a picture; the others
+    // (unchanged, keep-alives) are the decoder's last picture shown on.
+    const uint64_t encoded = pictures.value_or(count);
+    return absl::StrCat("wrote ", encoded, encoded == 1 ? " picture" : " pictures", " to ",
+                        writer.PathFor(0, format).string(), " (", count,
+                        count == 1 ? " frame" : " frames", " received)");
   }
   return absl::StrCat(
       "wrote ", count, count == 1 ? " frame" : " frames", " to ", writer.dir().string(), " (",

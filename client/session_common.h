@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "frame_writer.h"
@@ -24,8 +25,14 @@ v1::SessionConfig ContinuousConfig(const std::string& scene_id, const SolverOpti
 // the server's status otherwise.
 absl::Status EndSession(SessionStream& stream);
 
-// "wrote 30 frames to out (frame_00000.jpg .. frame_00029.jpg)"
-std::string FormatWrittenFrames(const FrameWriter& writer, uint64_t count, v1::ImageFormat format);
+// "wrote 30 frames to out (frame_00000.jpg .. frame_00029.jpg)"; for a
+// video format, "wrote P pictures to out/stream.h264 (N frames received)"
+// where `pictures` counts the frames that carried an image (default: all).
+std::string FormatWrittenFrames(const FrameWriter& writer, uint64_t count, v1::ImageFormat format,
+                                std::optional<uint64_t> pictures = std::nullopt);
+
+// A frame's solver/engine stat by name (Frame.stats), 0 when absent.
+double FrameStatValue(const v1::Frame& frame, const std::string& name);
 
 // One line for an update, for messages: "node_transform (node 7)".
 std::string DescribeUpdate(const v1::Update& update);

@@ -101,7 +101,9 @@ table; a second Ctrl-C cancels it.
   --param KEY=VALUE      solver parameter; repeatable
   --size WxH             default 320x240
   --format F             jpeg (default), png, exr, h264, hevc or av1
-  --frames N             frames to save (default 30; 0: until Ctrl-C)
+  --frames N             frames to save, keep-alives included (default 30;
+                         0: until Ctrl-C); ends sooner when the server
+                         says the view is at rest (a finished picture)
   --fps F                frame-rate cap asked of the server (default 30;
                          0: the server's default cap)
   --out DIR              output directory (default out/)

@@ -32,7 +32,7 @@ def main():
                 seq = session.update(camera=gistream.look_at(eye, (0.278, 0.274, 0.28)))
                 # The first frame that includes the update (frames before it
                 # still show the previous camera).
-                for frame in session.frames(1000):
+                for frame in session.frames(1000, stop_at_rest=False):
                     if frame.last_update_seq >= seq and frame.image:
                         break
                 path = out / f"frame_{i:03d}.jpg"

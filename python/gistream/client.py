@@ -177,7 +177,8 @@ class Client:
 
 class Session:
     """One Session call: `opened` once it runs, `update(...)` sends an
-    Update (returns its seq), `frames(n)` yields the next n frames;
+    Update (returns its seq), `frames(n)` yields the next n frames (fewer
+    once the view is at rest);
     rejected updates are collected in `rejected`."""
 
     _END = object()
@@ -210,8 +211,12 @@ class Session:
         self._requests.put(pb.SessionRequest(update=update))
         return seq
 
-    def frames(self, count):
-        """Yields the next `count` frames (skips events that are not frames)."""
+    def frames(self, count, stop_at_rest=True):
+        """Yields the next `count` frames (skips events that are not frames).
+        With `stop_at_rest` (default) it ends sooner at the first frame that
+        says the view is at rest (stats["at_rest"] == 1: the picture is
+        finished and changes only with an update; later frames would be
+        keep-alives of it, about a second apart)."""
         got = 0
         for event in self._events:
             if event.HasField("rejected"):
@@ -220,6 +225,8 @@ class Session:
                 yield event.frame
                 got += 1
                 if got >= count:
+                    return
+                if stop_at_rest and event.frame.stats.get("at_rest", 0.0) == 1.0:
                     return
 
     def close(self):

@@ -296,6 +296,9 @@ struct EngineStats {
   uint32_t sessions = 0;
   uint32_t scenes = 0;
   uint64_t frames_rendered = 0;
+  // Keep-alive frames of views at rest: sent without rendering anything
+  // (no GL work, no readback, no encode; not in frames_rendered).
+  uint64_t keep_alives_at_rest = 0;
   std::vector<SceneId> scene_ids;
   std::vector<TenantId> scene_tenants;        // the owner of each of scene_ids
   std::vector<SessionStatus> session_status;  // by session id

@@ -233,6 +233,7 @@ EngineStats EngineImpl::stats() const {
   }
   out.scenes = uint32_t(scenes_.size());
   out.frames_rendered = frames_rendered_.load();
+  out.keep_alives_at_rest = keep_alives_at_rest_.load();
   for (const auto& [id, s] : scenes_) {
     out.scene_ids.push_back(id);
     out.scene_tenants.push_back(s->tenant);
@@ -617,8 +618,10 @@ absl::Status EngineImpl::PushUpdate(const SessionId& id, Update update) {
       ValidateUpdate(*session.scene->scene, update, options_.max_width, options_.max_height));
   session.pending.push_back(std::move(update));
   session.last_request = Clock::now();
-  // Continuous sessions pick updates up at their next frame; on-request
-  // sessions when a frame is requested.
+  // Continuous sessions pick updates up at their next frame (at once when
+  // the view is at rest: hence the wake); on-request sessions when a frame
+  // is requested.
+  if (session.config.pacing == Pacing::kContinuous) render_thread_->Wake();
   return absl::OkStatus();
 }
 
@@ -744,7 +747,20 @@ Clock::time_point EngineImpl::Tick() {
         if (session->requested > 0 && !due) next = std::min(next, view.poll_at);
       } else {
         due = Clock::now() >= view.next_due;
+        // At rest, only an update or a key frame request makes it due.
+        if (view.rest && (!session->pending.empty() || session->key_frame_requested)) {
+          view.rest.reset();
+        }
       }
+    }
+    if (due && view.rest) {
+      if (StillAtRest(*session, view)) {
+        const auto now = Clock::now();
+        if (now - view.encoder.last_sent() >= kKeepAlivePeriod) SendKeepAlive(*session, view, now);
+        next = std::min(next, view.encoder.last_sent() + kKeepAlivePeriod);
+        continue;
+      }
+      view.rest.reset();
     }
     if (!due) {
       if (session->config.pacing == Pacing::kContinuous) next = std::min(next, view.next_due);
@@ -846,6 +862,53 @@ void EngineImpl::ExpireIdle() {
   if (!freed.empty()) RefreshMemoryStats(/*force=*/true);
 }
 
+// Frame stats of how long the view's picture has had since the last change
+// of each kind (set or updated in place).
+void EngineImpl::SetSinceChangeStats(const ViewRecord& view, RenderThread::Clock::time_point now,
+                                     std::vector<std::pair<std::string, double>>& stats) {
+  const auto set = [&](const char* name, double value) {
+    for (auto& [n, v] : stats) {
+      if (n == name) {
+        v = value;
+        return;
+      }
+    }
+    stats.emplace_back(name, value);
+  };
+  const auto since = [&](const char* frames, const char* ms, const ViewRecord::Since& s) {
+    set(frames, double(view.frame_number - s.frame));
+    set(ms, std::chrono::duration<double, std::milli>(now - s.time).count());
+  };
+  since("frames_since_camera_change", "ms_since_camera_change", view.camera_since);
+  since("frames_since_scene_change", "ms_since_scene_change", view.scene_since);
+}
+
+bool EngineImpl::StillAtRest(const SessionRecord& session, const ViewRecord& view) {
+  const auto scene_it = gpu_scenes_.find(session.scene->id);
+  if (scene_it == gpu_scenes_.end()) return false;
+  const GpuSceneRecord& scene = scene_it->second;
+  if (scene.state->version() != view.rest->scene_version) return false;
+  for (const AnimationPlayback& a : scene.state->animations()) {
+    if (a.playing) return false;
+  }
+  const auto solver_it = scene.solvers.find(session.solver_key);
+  return solver_it != scene.solvers.end() && solver_it->second.solver.get() == view.rest->solver;
+}
+
+void EngineImpl::SendKeepAlive(SessionRecord& session, ViewRecord& view,
+                               RenderThread::Clock::time_point now) {
+  auto frame = std::make_shared<EncodedFrame>(view.rest->frame);
+  frame->frame_number = ++view.frame_number;
+  SetSinceChangeStats(view, now, frame->stats);
+  keep_alives_at_rest_.fetch_add(1);
+  {
+    std::lock_guard lock(mutex_);
+    session.frames += 1;  // reaches the client: not idle (ExpireIdle)
+  }
+  view.encoder.MarkSent(*frame, now);
+  session.sink->OnFrame(std::move(frame));
+}
+
 void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
   // Lines logged while this frame renders (solvers included) name it.
   const ScopedLogContext log_context({session.id, session.scene->id});
@@ -886,6 +949,31 @@ void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
   // A continuous session's unchanged frame goes out only with news (an
   // update's echo) or as a keep-alive (FrameEncoder::HoldBack).
   const auto now = Clock::now();
+  if (session.config.pacing == Pacing::kContinuous && view.settled) {
+    // Rest: from here on the view renders nothing until something changes;
+    // its keep-alives repeat this frame's header (kept without an image,
+    // with zero stage times: they render nothing).
+    ViewRecord::Rest rest{(*frame)->scene_version, nullptr, **frame};
+    rest.frame.image.clear();
+    rest.frame.unchanged = true;
+    rest.frame.key_frame = false;
+    rest.frame.total_ms = 0.0;
+    for (StageTiming& t : rest.frame.timings) {
+      t.cpu_ms = t.gpu_ms = 0.0;
+      t.skipped = true;
+    }
+    for (auto& [name, value] : rest.frame.stats) {
+      if (name == "at_rest") value = 1.0;
+    }
+    const auto scene_it = gpu_scenes_.find(session.scene->id);
+    if (scene_it != gpu_scenes_.end()) {
+      const auto solver_it = scene_it->second.solvers.find(session.solver_key);
+      if (solver_it != scene_it->second.solvers.end()) {
+        rest.solver = solver_it->second.solver.get();
+        view.rest = std::move(rest);
+      }
+    }
+  }
   if (session.config.pacing == Pacing::kContinuous && view.encoder.HoldBack(**frame, now)) return;
   view.encoder.MarkSent(**frame, now);
   session.sink->OnFrame(*std::move(frame));
@@ -902,6 +990,7 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   SceneState& state = *scene.state;
   const auto frame_start = Clock::now();
   timer_.Reset();
+  view.settled = false;
 
   if (!view.initialized) {
     view.initialized = true;
@@ -955,7 +1044,7 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   const ChangeMask changes = entry.fresh ? kChangeAll : state.ChangesSince(entry.version);
   // The engine asks the solver which of its stages this change needs; the
   // frame reports every stage of the solver's table against that plan.
-  for (std::string& stage : entry.solver->Plan(changes)) {
+  for (std::string& stage : entry.solver->Plan(state, changes)) {
     if (std::find(view.plan.begin(), view.plan.end(), stage) == view.plan.end()) {
       view.plan.push_back(std::move(stage));
     }
@@ -1020,11 +1109,11 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
           ? size_t(std::count_if(hdr.begin(), hdr.end(), [](float v) { return !std::isfinite(v); }))
           : size_t(passes_->NonFinitePixels());
   if (non_finite > 0) {
-    return absl::InternalError(
-        absl::StrCat("solver '", session.config.solver, "' (stages ",
-                     absl::StrJoin(entry.solver->Plan(changes), ", "), "): produced ", non_finite,
-                     enc.format == ImageFormat::kExr ? " non-finite values" : " non-finite pixels",
-                     "; the frame is not sent"));
+    return absl::InternalError(absl::StrCat(
+        "solver '", session.config.solver, "' (stages ",
+        absl::StrJoin(entry.solver->Plan(state, changes), ", "), "): produced ", non_finite,
+        enc.format == ImageFormat::kExr ? " non-finite values" : " non-finite pixels",
+        "; the frame is not sent"));
   }
   {
     // Pixels equal to the last frame's are not encoded again (the frame
@@ -1070,11 +1159,33 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   frame->solver = session.config.solver;
   frame->stats = entry.solver->Stats();
   frame->stats.emplace_back("camera_changed", view.camera_changed ? 1.0 : 0.0);
+  // How long the picture has had to converge since the last change of each
+  // kind (issue 27): frames sent and milliseconds since the camera moved
+  // and since the scene version this view shows changed.
+  {
+    const auto now = Clock::now();
+    const bool first = view.frame_number == 1;
+    if (view.camera_changed || first) view.camera_since = {now, view.frame_number};
+    if (state.version() != view.scene_version_seen || first) {
+      view.scene_since = {now, view.frame_number};
+      view.scene_version_seen = state.version();
+    }
+    SetSinceChangeStats(view, now, frame->stats);
+  }
   frame->stats.emplace_back("scene_gpu_bytes", double(scene.gpu->gpu_bytes()));
   frame->stats.emplace_back("cached_solvers", double(scene.solvers.size()));
   // 0 while the solver's view-independent update runs on (slices, a
   // background job): the frame shows the last consistent solution.
   frame->stats.emplace_back("update_complete", entry.solver->UpdateComplete() ? 1.0 : 0.0);
+  // Settled: the picture equals the last one, no update came with it and
+  // the solver owes nothing (no slices, no background job, no animation):
+  // a continuous view then rests (RenderFrame). Keep-alives at rest say 1.
+  const bool animating = std::any_of(state.animations().begin(), state.animations().end(),
+                                     [](const AnimationPlayback& a) { return a.playing; });
+  view.settled = frame->unchanged && updates.empty() && !view.camera_changed &&
+                 entry.solver->UpdateComplete() && entry.solver->FrameComplete() &&
+                 !entry.solver->BackgroundBusy() && !animating;
+  frame->stats.emplace_back("at_rest", 0.0);
   view.camera_changed = false;
   frame->total_ms =
       view.carry_ms + std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();

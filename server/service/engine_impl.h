@@ -138,6 +138,26 @@ class EngineImpl final : public Engine {
     RenderThread::Clock::time_point poll_at{};  // next poll of a pending update
     RenderThread::Clock::time_point next_due{};
     FrameEncoder encoder;  // image/video encoding, unchanged-frame detection
+    // At rest (continuous sessions): the last frame showed the finished
+    // picture of this scene version and solver and equalled the one before.
+    // Until something changes, the view renders nothing; keep-alives repeat
+    // `frame` without an image (EngineImpl::StillAtRest, SendKeepAlive).
+    struct Rest {
+      uint64_t scene_version = 0;
+      const Solver* solver = nullptr;
+      EncodedFrame frame;  // the last frame's header, no image
+    };
+    std::optional<Rest> rest;
+    // Set by ProduceFrame: this frame changed nothing and left no work.
+    bool settled = false;
+    // The last camera change and scene change this view showed: when, and
+    // its frame number then (frame stats *_since_*_change).
+    struct Since {
+      RenderThread::Clock::time_point time{};
+      uint64_t frame = 0;
+    };
+    Since camera_since, scene_since;
+    uint64_t scene_version_seen = 0;
     // Its G-buffer, readback and encoder buffers at memory_width x
     // memory_height (ReserveView).
     MemoryCharge memory;
@@ -163,6 +183,16 @@ class EngineImpl final : public Engine {
   // Render thread.
   RenderThread::Clock::time_point Tick();
   void RenderFrame(SessionRecord& session, ViewRecord& view);
+  // Whether `view`, at rest, still shows the finished picture: the same
+  // scene version and solver, nothing animating (session updates and key
+  // frame requests are checked by the caller, under the lock).
+  bool StillAtRest(const SessionRecord& session, const ViewRecord& view);
+  // Frame stats frames_since_camera_change, ms_since_camera_change and the
+  // same for the scene: set, or updated in place.
+  static void SetSinceChangeStats(const ViewRecord& view, RenderThread::Clock::time_point now,
+                                  std::vector<std::pair<std::string, double>>& stats);
+  // A keep-alive for a view at rest: the last frame again, no image, no GL.
+  void SendKeepAlive(SessionRecord& session, ViewRecord& view, RenderThread::Clock::time_point now);
   absl::StatusOr<std::shared_ptr<EncodedFrame>> ProduceFrame(SessionRecord& session,
                                                              ViewRecord& view,
                                                              std::deque<Update> updates);
@@ -198,6 +228,7 @@ class EngineImpl final : public Engine {
   std::map<SessionId, std::shared_ptr<SessionRecord>> sessions_;
   bool shut_down_ = false;
   std::atomic<uint64_t> frames_rendered_{0};
+  std::atomic<uint64_t> keep_alives_at_rest_{0};  // frames sent without rendering
   std::atomic<bool> gpu_lost_{false};
   uint64_t gpu_resets_ = 0;  // render thread
   bool started_ = false;     // render thread: Start's job ran (render_thread_ is set)

@@ -65,6 +65,8 @@ class FrameEncoder {
   bool HoldBack(const EncodedFrame& frame, Clock::time_point now) const;
   // `frame` went to the client at `now`.
   void MarkSent(const EncodedFrame& frame, Clock::time_point now);
+  // When the last frame went out (the epoch before the first).
+  Clock::time_point last_sent() const { return last_sent_; }
 
   // The libavcodec encoder in use ("" before the first video frame).
   std::string video_encoder_name() const;

@@ -166,8 +166,9 @@ TEST_F(VideoFramesTest, AContinuousStillSceneSendsOnlyKeepAlives) {
     ASSERT_TRUE(f);
     EXPECT_TRUE(f->unchanged);
     EXPECT_TRUE(f->image.empty());
-    // Frames were rendered in between that were not sent.
-    EXPECT_GT(f->frame_number, first->frame_number + uint64_t(i) + 1);
+    // Keep-alives, about a second apart: the view rests in between
+    // (engine_rest_test.cpp).
+    EXPECT_GT(f->frame_number, first->frame_number + uint64_t(i));
   }
   SharedEngine().CloseSession(session->id);
 }

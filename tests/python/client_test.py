@@ -59,11 +59,22 @@ class ClientTest(unittest.TestCase):
             self.assertTrue(session.opened.session_id)
             seq = session.update(camera=gistream.look_at((0.9, 0.3, 0.3), (0.28, 0.27, 0.28)))
             self.assertEqual(seq, 1)
-            for frame in session.frames(50):
+            for frame in session.frames(50, stop_at_rest=False):
                 if frame.last_update_seq >= seq:
                     break
             self.assertEqual(frame.last_update_seq, seq)
             self.assertFalse(session.rejected)
+
+    def test_frames_of_a_still_view_end_at_rest(self):
+        # A still direct view settles on its second frame; its first
+        # keep-alive says at_rest, and frames() ends there instead of
+        # waiting for 100 keep-alives a second apart.
+        with self.client.session(self.scene.scene_id, params={"area_samples": 4},
+                                 size=(32, 24), fps=60) as session:
+            frames = list(session.frames(100))
+            self.assertLess(len(frames), 100)
+            self.assertEqual(frames[-1].stats["at_rest"], 1.0)
+            self.assertTrue(frames[-1].unchanged)
 
     def test_material_change_sets_metallic_and_roughness(self):
         # glossy_box, which no other test here loads (a named scene is shared
