@@ -45,8 +45,12 @@ class Solver {
   virtual ~Solver() = default;
 
   virtual const SolverDescription& description() const = 0;
-  // The stages of description().stages that `changes` requires.
-  virtual std::vector<std::string> Plan(ChangeMask changes) const = 0;
+  // The stages of description().stages that Update and Shade will run for
+  // `changes` on `state` (the frame reports the others skipped). It sees
+  // what Update sees (the state, not only the mask: a dimmer is a light
+  // change that runs no solve), and tests/gl/stage_plan_test.cpp holds the
+  // two equal for every registered solver and every change kind.
+  virtual std::vector<std::string> Plan(const SceneState& state, ChangeMask changes) const = 0;
   // View-independent work for the current scene version.
   virtual absl::Status Update(SolverContext& ctx, ChangeMask changes) = 0;
   // View-dependent: writes radiance into gbuffer.hdr() (bound hdr_fbo).

@@ -1,10 +1,9 @@
 // One test over every registered solver: for each kind of change (the
-// first frame, a punctual light recoloured, an emitter lit, a base colour,
-// a camera move, a moved node) the engine asks the solver for its plan,
-// the stages of the solver's table that ran are exactly the planned ones,
-// every stage of the table is reported (run or skipped), and the plan
-// matches the kind of change (the first frame plans every stage; a camera
-// move plans no view-independent one).
+// first frame, every light dimmed by one factor, a punctual light recoloured, an emitter lit, a
+// base colour, a camera move, a moved node) the engine asks the solver for its plan, the stages of
+// the solver's table that ran are exactly the planned ones, every stage of the table is reported
+// (run or skipped), and the plan matches the kind of change (the first frame plans every stage; a
+// camera move plans no view-independent one).
 #include <algorithm>
 #include <set>
 
@@ -59,15 +58,24 @@ std::vector<Step> Steps() {
   paint.base_color = glm::vec4(0.2f, 0.7f, 0.3f, 1.0f);
   CameraUpdate camera;
   camera.look_at = LookAt{{1.0f, 2.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+  // Both lights at half their intensity (30 and 1 in dynamic_block.gltf):
+  // a dimmer, which GI solvers show by scaling their last solution
+  // (solvers/emission_scale.h) instead of solving again.
+  LightUpdate dim_point, dim_sun;
+  dim_point.light = 0;
+  dim_point.intensity = 15.0f;
+  dim_sun.light = 1;
+  dim_sun.intensity = 0.5f;
   NodeTransformUpdate move;
   move.node = 2;
   move.translation = {0.5f, 0.25f, 0.3f};
   return {{"first", {}, std::nullopt},
-          {"light", {{1, recolour}}, std::nullopt},
-          {"emission", {{2, glow}}, std::nullopt},
-          {"material", {{3, paint}}, std::nullopt},
+          {"dimmer", {{1, dim_point}, {2, dim_sun}}, std::nullopt},
+          {"light", {{3, recolour}}, std::nullopt},
+          {"emission", {{4, glow}}, std::nullopt},
+          {"material", {{5, paint}}, std::nullopt},
           {"camera", {}, camera},
-          {"geometry", {{4, move}}, std::nullopt}};
+          {"geometry", {{6, move}}, std::nullopt}};
 }
 
 class StagePlan : public ::testing::TestWithParam<std::string> {};

@@ -110,7 +110,14 @@ absl::StatusOr<std::unique_ptr<Solver>> AntiradianceSolver::Create(const ParamSe
   return solver;
 }
 
-std::vector<std::string> AntiradianceSolver::Plan(ChangeMask changes) const {
+std::vector<std::string> AntiradianceSolver::Plan(const SceneState& state,
+                                                  ChangeMask changes) const {
+  // A dimmer (solvers/emission_scale.h) on a settled solution: no link,
+  // pass or push-pull; the direct light's buffers in local_pass.
+  if (started_ && !(changes & kChangeShape) && !solve_.running() && !lighting_.pending() &&
+      !stale_ && emission_.Factor(state, changes)) {
+    return {"local_pass", "display"};
+  }
   // Geometry relinks; anything that changes the light (lights, emission,
   // albedo, environment) reuses the links (Section 3.3); the camera only
   // redisplays.

@@ -111,7 +111,7 @@ bool AvgSolver::NeedsTrace(ChangeMask changes) {
   return NeedsVoxelize(changes) || (changes & (kChangeLights | kChangeEmission)) != 0;
 }
 
-std::vector<std::string> AvgSolver::Plan(ChangeMask changes) const {
+std::vector<std::string> AvgSolver::Plan(const SceneState&, ChangeMask changes) const {
   // A background trace under way (or due) may be taken, or the next one
   // started, in any frame: its stages are reported in the frame that
   // takes it, and the re-map starts there.

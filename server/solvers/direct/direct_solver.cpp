@@ -27,7 +27,7 @@ absl::StatusOr<std::unique_ptr<Solver>> DirectSolver::Create(const ParamSet& par
   return solver;
 }
 
-std::vector<std::string> DirectSolver::Plan(ChangeMask changes) const {
+std::vector<std::string> DirectSolver::Plan(const SceneState&, ChangeMask changes) const {
   // Shadow maps depend on geometry, lights and emission; base colour and
   // camera changes only need the view-dependent stages.
   if ((changes & (kChangeShape | kChangeLights | kChangeEmission)) || lighting_.pending()) {

@@ -18,7 +18,7 @@ class DirectSolver final : public Solver {
                                        const GpuScene& gpu);
 
   const SolverDescription& description() const override;
-  std::vector<std::string> Plan(ChangeMask changes) const override;
+  std::vector<std::string> Plan(const SceneState& state, ChangeMask changes) const override;
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   // False while shadow maps after moved geometry are drawn in slices.

@@ -55,7 +55,14 @@ absl::StatusOr<std::unique_ptr<Solver>> ImplicitVisibilitySolver::Create(const P
   return solver;
 }
 
-std::vector<std::string> ImplicitVisibilitySolver::Plan(ChangeMask changes) const {
+std::vector<std::string> ImplicitVisibilitySolver::Plan(const SceneState& state,
+                                                        ChangeMask changes) const {
+  // A dimmer (solvers/emission_scale.h) on a settled solution: the direct
+  // light's buffers change (its shadow_maps stage), no bounce is gathered.
+  if (scene_.built() && !(changes & (kChangeShape | kChangeMaterials)) && !relink_.running() &&
+      !lighting_.pending() && !illumination_stale_ && emission_.Factor(state, changes)) {
+    return {"shadow_maps", "display"};
+  }
   std::vector<std::string> plan;
   if (!scene_.built()) plan = {"create_surfels", "create_hierarchy"};
   if (!scene_.built() || (changes & kChangeShape)) {

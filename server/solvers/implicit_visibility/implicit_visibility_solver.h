@@ -54,7 +54,7 @@ class ImplicitVisibilitySolver final : public Solver {
                                        const GpuScene& gpu);
 
   const SolverDescription& description() const override;
-  std::vector<std::string> Plan(ChangeMask changes) const override;
+  std::vector<std::string> Plan(const SceneState& state, ChangeMask changes) const override;
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   // False while a background relink runs (the shown indirect light is the
   // last solution's) or its illumination has not run yet.

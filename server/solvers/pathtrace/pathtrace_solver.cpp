@@ -46,7 +46,7 @@ absl::StatusOr<std::unique_ptr<Solver>> PathtraceSolver::Create(const ParamSet& 
   return solver;
 }
 
-std::vector<std::string> PathtraceSolver::Plan(ChangeMask changes) const {
+std::vector<std::string> PathtraceSolver::Plan(const SceneState&, ChangeMask changes) const {
   if (changes & kChangeShape) return {"build_bvh", "trace", "accumulate"};
   return {"trace", "accumulate"};
 }

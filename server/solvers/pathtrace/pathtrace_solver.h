@@ -25,7 +25,7 @@ class PathtraceSolver final : public Solver {
                                        const GpuScene& gpu);
 
   const SolverDescription& description() const override;
-  std::vector<std::string> Plan(ChangeMask changes) const override;
+  std::vector<std::string> Plan(const SceneState& state, ChangeMask changes) const override;
   absl::Status Update(SolverContext& ctx, ChangeMask changes) override;
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;

@@ -106,7 +106,13 @@ absl::StatusOr<std::unique_ptr<Solver>> ShProbesSolver::Create(const ParamSet& p
   return solver;
 }
 
-std::vector<std::string> ShProbesSolver::Plan(ChangeMask changes) const {
+std::vector<std::string> ShProbesSolver::Plan(const SceneState& state, ChangeMask changes) const {
+  // A dimmer (solvers/emission_scale.h) between solves scales the shown
+  // probes: Update runs only the final pass (its direct light's buffers).
+  if (!full_.active && !schedule_.pending() && !lighting_.pending() &&
+      emission_.Factor(state, changes | deferred_)) {
+    return {"final"};
+  }
   // Albedo is baked into the probes' G-buffer, so a base colour change
   // re-rasterizes like a geometry change; lights and emission only re-shade.
   if (changes & (kChangeShape | kChangeMaterials)) {
