@@ -5,19 +5,34 @@
 #include <limits>
 
 #include <glm/gtc/matrix_transform.hpp>
-#include <glm/gtx/matrix_decompose.hpp>
+#include <glm/gtc/quaternion.hpp>
 
 namespace gistream {
 namespace {
 
+// The rotation of an affine world matrix, whatever its scale: its axes
+// orthonormalised in double precision (Gram-Schmidt from the view axis).
+// glm::decompose fails once |det| is under float epsilon (a root scale
+// below ~4.9e-3) and left the camera undefined: a black frame.
+glm::quat RotationOf(const glm::mat4& world) {
+  const glm::dmat3 m(world);
+  const glm::dvec3 z = m[2], y = m[1];
+  const double lz = glm::length(z);
+  if (!(lz > 0.0) || !std::isfinite(lz)) return glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+  const glm::dvec3 zn = z / lz;
+  glm::dvec3 yo = y - glm::dot(y, zn) * zn;
+  const double ly = glm::length(yo);
+  if (!(ly > 0.0) || !std::isfinite(ly)) return glm::quat(1.0f, 0.0f, 0.0f, 0.0f);
+  yo /= ly;
+  const glm::dvec3 x = glm::cross(yo, zn);
+  return glm::normalize(glm::quat(glm::quat_cast(glm::dmat3(x, yo, zn))));
+}
+
 void FromSceneCamera(const SceneState& state, int node, ViewCamera& camera) {
   const Scene& scene = state.scene();
-  glm::vec3 scale, translation, skew;
-  glm::vec4 perspective;
-  glm::quat rotation;
-  glm::decompose(state.world()[size_t(node)], scale, rotation, translation, skew, perspective);
-  camera.position = translation;
-  camera.rotation = glm::normalize(rotation);
+  const glm::mat4& world = state.world()[size_t(node)];
+  camera.position = glm::vec3(world[3]);
+  camera.rotation = RotationOf(world);
   camera.yfov = scene.cameras[size_t(scene.nodes[size_t(node)].camera)].yfov;
   camera.scene_camera_node = node;
 }

@@ -10,6 +10,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "support/gltf_builder.h"
 #include "support/render_helpers.h"
@@ -70,6 +71,37 @@ TEST_P(CameraScale, LampIsNotClippedNorHiddenByTheCeiling) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scales, CameraScale, ::testing::Values(1e-4f, 1.0f, 1e5f));
+
+// The same lamp scene authored at unit size under a root node of scale s
+// (issue 29): the glTF camera's world matrix then carries s too. Below
+// s ~ 4.9e-3 its determinant fell under glm::decompose's epsilon, the
+// decomposition failed unnoticed and every solver drew a black frame.
+TEST(CameraScaledRoot, TheGltfCameraSeesTheLampAtAnyRootScale) {
+  for (const float s : {1e-6f, 1e-3f, 1e4f}) {
+    SCOPED_TRACE(::testing::Message() << "root scale " << s);
+    GltfBuilder b;
+    const int lamp = b.AddMaterial("lamp", {0, 0, 0}, {1, 1, 1});
+    const int grey = b.AddMaterial("grey", {0.5f, 0.5f, 0.5f});
+    b.AddQuad("floor", {0, 0, 0}, {0, 0, 0.5f}, {0.5f, 0, 0}, grey, 4);
+    b.AddQuad("ceiling", {0, 0.55f, 0}, {0.5f, 0, 0}, {0, 0, 0.5f}, grey, 4);
+    b.AddQuad("lamp", {0, kLamp.y, 0}, {0.065f, 0, 0}, {0, 0, 0.0525f}, lamp);
+    const glm::vec3 f = glm::normalize(kLamp - kEye);
+    b.AddCamera("camera", {kEye.x, kEye.y, kEye.z}, {f.x, f.y, f.z}, {0, 1, 0}, 0.349f, 0.01f);
+    nlohmann::json doc = nlohmann::json::parse(b.ToJson());
+    nlohmann::json root = {
+        {"name", "root"}, {"scale", {s, s, s}}, {"children", nlohmann::json::array()}};
+    for (const auto& n : doc["scenes"][0]["nodes"]) root["children"].push_back(n);
+    doc["nodes"].push_back(root);
+    doc["scenes"][0]["nodes"] = nlohmann::json::array({doc["nodes"].size() - 1});
+    auto info = testing::SharedEngine().LoadScene(testing::SceneFromBytes(doc.dump()));
+    ASSERT_TRUE(info.ok()) << info.status();
+    const testing::FloatImage image =
+        testing::RenderExr(testing::SharedEngine(), info->id, "direct", kSize, kSize, {});
+    EXPECT_EQ(image.non_finite(), 0u);
+    EXPECT_NEAR(image.mean(int(kSize) / 2, int(kSize) / 2, 1).g, 1.0f, 0.01f);
+    (void)testing::SharedEngine().UnloadScene(info->id);
+  }
+}
 
 TEST(CameraScalePathtrace, SameImageAtAnyScale) {
   // Camera rays from the basis and tan(yfov/2): the image does not depend
