@@ -32,6 +32,7 @@
 #include "util/auth_tokens.h"
 #include "util/cpu_pool.h"
 #include "util/log.h"
+#include "util/memory_budget.h"
 #include "util/status.h"
 #include "util/version.h"
 
@@ -90,7 +91,8 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
   --max-memory-bytes N       memory budget for scenes (decoded images
                              included), solver state and G-buffers, CPU and
                              GPU bytes together; over it is RESOURCE_EXHAUSTED
-                             (default: 3/4 of physical memory)
+                             (default: 3/4 of physical memory, or
+                             of the cgroup's memory limit when lower)
   --max-solvers-per-scene N  GI solutions cached per scene, one per solver and
                              parameter set; the least recently used idle
                              one is dropped beyond N (default 8)
@@ -399,6 +401,18 @@ int Main(int argc, char** argv) {
   Log(LogLevel::kInfo,
       absl::StrCat("CPU pool: ", CpuPool::Get().threads(), " threads",
                    flags.cpu_threads > 0 ? " (--cpu-threads)" : " (affinity and cgroup quota)"));
+  {
+    const uint64_t cgroup = CgroupMemoryLimit();
+    const uint64_t budget =
+        flags.engine.max_memory_bytes > 0 ? flags.engine.max_memory_bytes : DefaultMemoryLimit();
+    Log(LogLevel::kInfo,
+        absl::StrCat("memory budget: ", FormatBytes(budget),
+                     flags.engine.max_memory_bytes > 0 ? " (--max-memory-bytes)"
+                     : cgroup > 0 ? absl::StrCat(" (3/4 of the lower of physical memory and the "
+                                                 "cgroup limit ",
+                                                 FormatBytes(cgroup), ")")
+                                  : std::string(" (3/4 of physical memory)")));
+  }
   // Test-only GPU fault injection (gl/fault_injection.h), never a flag.
   if (const char* faults = std::getenv("GISTREAM_TEST_FAULT_DIR"); faults && *faults) {
     flags.engine.test_fault_dir = faults;

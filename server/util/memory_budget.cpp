@@ -2,8 +2,12 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <cstdlib>
+#include <fstream>
 #include <iterator>
+#include <string>
 #include <utility>
 
 namespace gistream {
@@ -61,11 +65,31 @@ absl::StatusOr<MemoryBudget::Reservation> MemoryBudget::Reserve(uint64_t bytes,
   return Reservation(counter_, bytes);
 }
 
+uint64_t CgroupMemoryLimit(const std::string& root) {
+  for (const char* file : {"/memory.max", "/memory/memory.limit_in_bytes"}) {
+    std::ifstream in(root + file);
+    std::string value;
+    if (!(in >> value)) continue;
+    if (value == "max") return 0;
+    char* end = nullptr;
+    const unsigned long long bytes = std::strtoull(value.c_str(), &end, 10);
+    return end != value.c_str() && *end == '\0' ? uint64_t(bytes) : 0;
+  }
+  return 0;
+}
+
+uint64_t MemoryLimitFor(uint64_t physical_bytes, uint64_t cgroup_bytes) {
+  const uint64_t usable =
+      cgroup_bytes > 0 ? std::min(physical_bytes, cgroup_bytes) : physical_bytes;
+  return usable / 4 * 3;
+}
+
 uint64_t DefaultMemoryLimit() {
   const long pages = sysconf(_SC_PHYS_PAGES);
   const long page_size = sysconf(_SC_PAGE_SIZE);
-  if (pages <= 0 || page_size <= 0) return uint64_t(8) << 30;
-  return uint64_t(pages) / 4 * 3 * uint64_t(page_size);
+  const uint64_t physical =
+      pages > 0 && page_size > 0 ? uint64_t(pages) * uint64_t(page_size) : uint64_t(32) << 30;
+  return MemoryLimitFor(physical, CgroupMemoryLimit());
 }
 
 std::string FormatBytes(uint64_t bytes) {

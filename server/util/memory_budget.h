@@ -67,9 +67,17 @@ class MemoryBudget {
   std::shared_ptr<Reservation::Counter> counter_;
 };
 
-// Three quarters of the machine's physical memory (sysconf), leaving the
-// rest to the process's code, encoders, gRPC buffers and transient work.
+// Three quarters of the memory this process may use: the machine's
+// physical memory (sysconf), or the cgroup's memory limit when lower (a
+// container's or pod's limit: beyond it the kernel kills the process
+// instead of a load being refused with RESOURCE_EXHAUSTED). The rest is
+// left to the process's code, encoders, gRPC buffers and transient work.
 uint64_t DefaultMemoryLimit();
+// The same from given figures (cgroup_bytes 0: no cgroup limit).
+uint64_t MemoryLimitFor(uint64_t physical_bytes, uint64_t cgroup_bytes);
+// The cgroup memory limit under `cgroup_root`: v2's memory.max, else v1's
+// memory/memory.limit_in_bytes; 0 when there is none ("max", no files).
+uint64_t CgroupMemoryLimit(const std::string& cgroup_root = "/sys/fs/cgroup");
 
 // "512 B", "12.0 KiB", "5.1 GiB".
 std::string FormatBytes(uint64_t bytes);

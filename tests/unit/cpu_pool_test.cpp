@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "util/cpu_pool.h"
+#include "util/memory_budget.h"
 #include "util/parallel_for.h"
 
 namespace gistream {
@@ -124,6 +125,24 @@ TEST_F(CgroupDir, V1QuotaAndNoFilesAtAll) {
   EXPECT_EQ(CgroupCpuLimit(root_.string()), 4u);
   Write("cpu/cpu.cfs_quota_us", "-1\n");
   EXPECT_EQ(CgroupCpuLimit(root_.string()), 0u);
+}
+
+TEST_F(CgroupDir, MemoryLimitFromV2ThenV1AndTheBudgetTakesTheLower) {
+  EXPECT_EQ(CgroupMemoryLimit(root_.string()), 0u);  // no files: no limit
+  fs::create_directories(root_ / "memory");
+  Write("memory/memory.limit_in_bytes", "9223372036854771712\n");  // v1 "unlimited"
+  EXPECT_EQ(CgroupMemoryLimit(root_.string()), 9223372036854771712ull);
+  Write("memory/memory.limit_in_bytes", "4294967296\n");
+  EXPECT_EQ(CgroupMemoryLimit(root_.string()), 4294967296ull);
+  Write("memory.max", "max\n");  // v2 first: no limit
+  EXPECT_EQ(CgroupMemoryLimit(root_.string()), 0u);
+  Write("memory.max", "8589934592\n");  // a pod's 8 GiB
+  EXPECT_EQ(CgroupMemoryLimit(root_.string()), 8589934592ull);
+  const uint64_t gib = uint64_t(1) << 30;
+  // A 64 GiB node, an 8 GiB pod: 6 GiB, not 48 (issue 31).
+  EXPECT_EQ(MemoryLimitFor(64 * gib, 8 * gib), 6 * gib);
+  EXPECT_EQ(MemoryLimitFor(64 * gib, 0), 48 * gib);
+  EXPECT_EQ(MemoryLimitFor(8 * gib, 9223372036854771712ull), 6 * gib);
 }
 
 TEST(CpuPool, DefaultSizeIsWithinTheMachine) {
