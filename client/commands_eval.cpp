@@ -380,8 +380,13 @@ absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOpti
   for (const EvalScene& scene : spec.scenes) {
     v1::LoadSceneRequest load;
     load.set_name(scene.name);
+    // Our own copy: another client's changes to the shared scene of that
+    // name (a viewer's slider) cannot move what is measured.
+    load.set_private_copy(true);
     GS_ASSIGN_OR_RETURN(std::unique_ptr<LoadedScene> loaded,
                         LoadedScene::Load(connection, load, /*keep=*/false));
+    std::cerr << "eval: " << scene.name << " loaded as a private copy (" << loaded->id() << ")"
+              << std::endl;
     // Content key: the scene file when it is readable here, else what the
     // server reports about the scene (counts, bounds, materials, lights).
     std::string content;

@@ -51,9 +51,14 @@ v1::SessionRequest RequestFromJson(const json& m) {
     u->mutable_light()->set_light(m.at("light").get<uint32_t>());
     u->mutable_light()->set_intensity(m.at("intensity").get<float>());
   } else if (type == "material") {
+    // What the page moved, and only that: its emission slider sends
+    // emissive_strength (the colour stays the scene's); `emissive` sets
+    // the colour alone.
     u->mutable_material()->set_material(m.at("material").get<uint32_t>());
-    SetVec(m.at("emissive"), u->mutable_material()->mutable_emissive());
-    u->mutable_material()->set_emissive_strength(1.0f);
+    if (m.contains("emissive")) SetVec(m.at("emissive"), u->mutable_material()->mutable_emissive());
+    if (m.contains("emissive_strength")) {
+      u->mutable_material()->set_emissive_strength(m.at("emissive_strength").get<float>());
+    }
   } else {
     throw std::invalid_argument("unknown message type '" + type + "'");
   }
@@ -88,7 +93,10 @@ json SceneJson(const v1::LoadSceneResponse& scene, const v1::SessionConfig& conf
   }
   for (const v1::MaterialInfo& m : scene.materials()) {
     if (m.emissive().x() + m.emissive().y() + m.emissive().z() <= 0.0f) continue;
-    materials.push_back({{"id", m.id()}, {"name", m.name()}, {"emissive", Vec(m.emissive())}});
+    materials.push_back({{"id", m.id()},
+                         {"name", m.name()},
+                         {"emissive", Vec(m.emissive())},
+                         {"emissive_strength", m.emissive_strength()}});
   }
   json out = {{"type", "scene"},
               {"scene_id", scene.scene_id()},

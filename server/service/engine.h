@@ -89,6 +89,8 @@ struct SceneSource {
   std::string environment_name;   // optional, inside the scene directory, or
   std::string environment_bytes;  // optional HDR/EXR bytes
   float environment_intensity = 1.0f;
+  // A copy of a named scene that no other load shares (and none finds).
+  bool private_copy = false;
   // Polled between the load's stages and slices: non-OK (CANCELLED when the
   // client left, DEADLINE_EXCEEDED when its deadline passed) stops the load
   // with that code, nothing kept (scene/load_control.h). Empty: never.
@@ -132,6 +134,8 @@ struct MaterialSummary {
   std::string name;
   glm::vec4 base_color{1.0f};
   glm::vec3 emissive{0.0f};  // factor x strength
+  glm::vec3 emissive_factor{0.0f};
+  float emissive_strength = 1.0f;  // KHR_materials_emissive_strength
 };
 
 // One of the scene's glTF animations (AnimationUpdate plays it).

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
+#include <future>
 #include <iterator>
 #include <random>
 #include <set>
@@ -289,8 +291,27 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   const bool has_env = !source.environment_name.empty() || !source.environment_bytes.empty();
   // A named scene loaded twice by one tenant is the same scene: its state
   // is shared among that tenant's sessions, never with another tenant's.
-  if (!source.name.empty() && !has_env) {
+  // Loads of one name at the same moment are one load (issue 30): the first
+  // parses and uploads, the others wait for it (polling the caller's stop)
+  // and then take the scene it made, or load it themselves if it failed.
+  std::shared_ptr<std::promise<void>> leading;  // this call loads the name
+  const std::string loading_key = source.tenant + "\n" + source.name;
+  const auto end_leading = [&] {
+    if (!leading) return;
+    {
+      std::lock_guard lock(mutex_);
+      loading_.erase(loading_key);
+    }
+    leading->set_value();
+    leading.reset();
+  };
+  struct EndLeading {
+    const std::function<void()> end;
+    ~EndLeading() { end(); }
+  } end_leading_on_return{end_leading};
+  if (!source.name.empty() && !has_env && !source.private_copy) {
     std::shared_ptr<SceneRecord> existing;
+    std::shared_future<void> other_load;
     {
       std::lock_guard lock(mutex_);
       if (shut_down_) return Unavailable();
@@ -302,7 +323,18 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
       if (existing) {
         existing->loads += 1;
         existing->last_used = Clock::now();
+      } else if (auto it = loading_.find(loading_key); it != loading_.end()) {
+        other_load = it->second;
+      } else {
+        leading = std::make_shared<std::promise<void>>();
+        loading_[loading_key] = leading->get_future().share();
       }
+    }
+    if (other_load.valid()) {
+      while (other_load.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+        if (source.stop) GS_RETURN_IF_ERROR(source.stop());
+      }
+      return LoadScene(source);
     }
     if (existing) {
       // Its upload may still be queued (this job runs after it), or may
@@ -387,7 +419,7 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   record->upload_bytes = source.bytes.size() + source.environment_bytes.size();
   record->loads = 1;
   record->last_used = Clock::now();
-  record->source_name = has_env ? "" : source.name;
+  record->source_name = has_env || source.private_copy ? "" : source.name;
   record->scene = std::make_shared<const Scene>(std::move(scene));
   record->light_instances = uint32_t(LightInstanceNodes(*record->scene).size());
   // Its CPU copy (decoded images included) and its GPU upload, before the

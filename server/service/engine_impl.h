@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <deque>
+#include <future>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -225,6 +226,9 @@ class EngineImpl final : public Engine {
 
   mutable std::mutex mutex_;
   std::map<SceneId, std::shared_ptr<SceneRecord>> scenes_;
+  // Named loads under way, by tenant + "\n" + name: a second load of the
+  // name waits for the first (LoadScene).
+  std::map<std::string, std::shared_future<void>> loading_;
   std::map<SessionId, std::shared_ptr<SessionRecord>> sessions_;
   bool shut_down_ = false;
   std::atomic<uint64_t> frames_rendered_{0};

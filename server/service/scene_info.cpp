@@ -42,7 +42,8 @@ SceneInfo DescribeScene(const SceneId& id, const SceneState& state) {
   }
   for (size_t i = 0; i < state.materials().size(); ++i) {
     const Material& m = state.materials()[i];
-    info.materials.push_back({uint32_t(i), m.name, m.base_color_factor, m.emission()});
+    info.materials.push_back({uint32_t(i), m.name, m.base_color_factor, m.emission(),
+                              m.emissive_factor, m.emissive_strength});
   }
   for (const Node& n : scene.nodes) {
     if (n.mesh < 0) continue;

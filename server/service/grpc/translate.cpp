@@ -340,6 +340,7 @@ absl::StatusOr<SceneSource> SceneSourceFromProto(const pb::LoadSceneRequest& req
   }
   out.environment_intensity =
       request.environment_intensity() == 0.0f ? 1.0f : request.environment_intensity();
+  out.private_copy = request.private_copy();
   return out;
 }
 
@@ -465,6 +466,8 @@ void SceneInfoToProto(const SceneInfo& info, pb::LoadSceneResponse* out) {
     p->set_name(m.name);
     for (int i = 0; i < 4; ++i) p->add_base_color(m.base_color[i]);
     ToProto(m.emissive, p->mutable_emissive());
+    ToProto(m.emissive_factor, p->mutable_emissive_factor());
+    p->set_emissive_strength(m.emissive_strength);
   }
   if (!info.bounds.empty()) {
     ToProto(info.bounds.min, out->mutable_bounds()->mutable_min());
@@ -554,6 +557,7 @@ void ServerStatusToProto(const DeviceInfo& device, const EngineStats& stats,
   out->set_sessions(stats.sessions);
   out->set_scenes(stats.scenes);
   out->set_frames_rendered(stats.frames_rendered);
+  out->set_keep_alives_at_rest(stats.keep_alives_at_rest);
   for (const SceneId& id : stats.scene_ids) out->add_scene_ids(id);
   out->set_version(std::string(version));
   out->set_uptime_s(process.uptime_s);
