@@ -79,6 +79,7 @@ void BenchSession::SendTick() {
       seq = next_seq_++;
       last_seq_sent_ = seq;
       last_tick_sent_ = tick_ - 1;
+      if (keep_settle_frames_) tick_of_seq_[seq] = tick_ - 1;
       const BenchClock::time_point now = BenchClock::now();
       const bool measured = window_set_ && now >= window_start_ && now < window_end_;
       // Registered before the send: the answering frame may come back
@@ -126,6 +127,17 @@ void BenchSession::ReadLoop() {
     {
       std::lock_guard lock(mutex_);
       if (keep_settle_frames_ && !frame.image().empty()) last_image_ = frame.image();
+      if (keep_settle_frames_ && window_set_ && now >= window_start_) {
+        const auto stat = [&](const char* name, double absent) {
+          const auto it = frame.stats().find(name);
+          return it == frame.stats().end() ? absent : it->second;
+        };
+        traced_frames_.push_back(
+            {std::chrono::duration<double, std::milli>(now - window_start_).count(),
+             frame.frame_number(), frame.last_update_seq(), stop_updates_.load(), last_image_,
+             stat("update_complete", 1.0), stat("at_rest", 0.0),
+             stat("frames_since_scene_change", 0.0)});
+      }
       tracker_.OnFrame(frame.last_update_seq(), now);
       if (stop_updates_ && !settle_ms_ && frame.last_update_seq() >= last_seq_sent_) {
         const double ms = std::chrono::duration<double, std::milli>(now - stopped_at_).count();
@@ -166,6 +178,25 @@ void BenchSession::Close() {
 std::vector<BenchSession::SettleFrame> BenchSession::SettleFrames() const {
   std::lock_guard lock(mutex_);
   return settle_frames_;
+}
+
+std::vector<BenchSession::TracedFrame> BenchSession::TracedFrames() const {
+  std::lock_guard lock(mutex_);
+  return traced_frames_;
+}
+
+std::vector<v1::Update> BenchSession::UpdatesOfSeq(uint64_t seq) const {
+  std::lock_guard lock(mutex_);
+  const auto it = tick_of_seq_.find(seq);
+  if (it == tick_of_seq_.end()) return {};
+  std::vector<v1::Update> updates = workload_.UpdatesForTick(it->second);
+  // The tick's updates got consecutive numbers ending at or after `seq`.
+  uint64_t first = seq;
+  while (first > 1 && tick_of_seq_.count(first - 1) && tick_of_seq_.at(first - 1) == it->second) {
+    --first;
+  }
+  for (size_t i = 0; i < updates.size(); ++i) updates[i].set_seq(first + i);
+  return updates;
 }
 
 std::vector<v1::Update> BenchSession::LastUpdates() const {

@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <condition_variable>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -69,6 +70,21 @@ class BenchSession {
   std::vector<SettleFrame> SettleFrames() const;
   std::vector<v1::Update> LastUpdates() const;
 
+  // With KeepSettleFrames, every frame from the window's start too (issue
+  // 27: the error of each frame shown, during the motion and after it).
+  struct TracedFrame {
+    double t_ms = 0.0;  // since the window's start
+    uint64_t frame_number = 0;
+    uint64_t seq = 0;     // last_update_seq: the state it shows
+    bool settle = false;  // after StopUpdates (else during the motion)
+    std::string image;    // the picture shown (an unchanged frame's is the last)
+    double update_complete = 1.0, at_rest = 0.0, frames_since_scene_change = 0.0;
+  };
+  std::vector<TracedFrame> TracedFrames() const;
+  // The updates that sequence number `seq` belonged to (its tick's); empty
+  // for 0 (the scene as loaded) or an unknown one.
+  std::vector<v1::Update> UpdatesOfSeq(uint64_t seq) const;
+
   // Live figures for the progress line: frames inside the window so far,
   // and a copy of the latencies measured so far.
   int LiveFrames() const;
@@ -103,7 +119,9 @@ class BenchSession {
   std::optional<double> settle_ms_;
   std::atomic<bool> keep_settle_frames_{false};
   std::vector<SettleFrame> settle_frames_;
-  std::string last_image_;  // the last frame's that had one
+  std::vector<TracedFrame> traced_frames_;
+  std::map<uint64_t, uint64_t> tick_of_seq_;  // with KeepSettleFrames
+  std::string last_image_;                    // the last frame's that had one
   std::optional<uint64_t> last_tick_sent_;
   uint64_t dropped_ = 0;
   uint64_t bytes_ = 0;

@@ -9,7 +9,9 @@
 #include <atomic>
 #include <ctime>
 #include <iostream>
+#include <map>
 #include <memory>
+#include <optional>
 #include <thread>
 
 #include <absl/strings/str_cat.h>
@@ -23,6 +25,7 @@
 #include "commands.h"
 #include "connection.h"
 #include "encode/encode.h"
+#include "file_io.h"
 #include "interrupt.h"
 #include "scene_loader.h"
 #include "session_common.h"
@@ -209,6 +212,10 @@ void FinishSample(BenchServer& server) {
 struct SettleTrace {
   std::vector<BenchSession::SettleFrame> frames;
   std::vector<v1::Update> last_updates;
+  // Every frame from the window's start, and the updates of each sequence
+  // number they show (frames.csv).
+  std::vector<BenchSession::TracedFrame> traced;
+  std::map<uint64_t, std::vector<v1::Update>> updates_of_seq;
 };
 
 absl::StatusOr<RgbaImage> DecodeRgba(const std::string& bytes) {
@@ -285,6 +292,103 @@ absl::StatusOr<nlohmann::json> TimeToConverge(Connection& connection,
     out["frames"] = nullptr;
     out["ms"] = nullptr;
   }
+  return out;
+}
+
+// A path-traced reference of `reference_spp` of the scene as `updates`
+// leave it, on a fresh private copy (progressive: the server keeps the
+// accumulation between the calls of one copy).
+absl::StatusOr<RgbaImage> RenderReference(Connection& connection, const v1::LoadSceneRequest& load,
+                                          const BenchOptions& options,
+                                          const std::vector<v1::Update>& updates) {
+  v1::LoadSceneRequest own = load;
+  own.set_private_copy(true);
+  GS_ASSIGN_OR_RETURN(std::unique_ptr<LoadedScene> copy, LoadedScene::Load(connection, own, false));
+  const int chunk = std::min(options.reference_spp, 64);
+  v1::Frame frame;
+  for (int spp = 0; spp < options.reference_spp; spp += chunk) {
+    v1::RenderRequest r;
+    r.set_scene_id(copy->id());
+    r.set_solver("pathtrace");
+    (*r.mutable_params())["spp"] = std::to_string(chunk);
+    (*r.mutable_params())["seed"] = "1";
+    r.set_width(options.view.width);
+    r.set_height(options.view.height);
+    r.mutable_encoding()->set_format(v1::IMAGE_FORMAT_EXR);
+    if (options.view.camera.ByteSizeLong() > 0) *r.mutable_camera() = options.view.camera;
+    if (spp == 0) {
+      for (const v1::Update& u : updates) *r.add_updates() = u;
+    }
+    GS_RETURN_IF_ERROR(connection.Call(&v1::Gistream::Stub::Render, r, &frame, 600.0));
+  }
+  return DecodeRgba(frame.image());
+}
+
+// Issue 27's error over time: every frame of the first session from the
+// window's start, against a reference of the state it shows (the updates
+// up to its sequence number; one reference per number, rendered after the
+// run). Appends its rows to `csv` and returns the step's summary: relMSE
+// mean and p95 during the motion, the first frame after the stop, and the
+// time from the stop until every later frame stays within 2x and 1.05x of
+// the full solve's error.
+absl::StatusOr<nlohmann::json> ErrorOverTime(Connection& connection,
+                                             const v1::LoadSceneRequest& load,
+                                             const BenchOptions& options, const SettleTrace& trace,
+                                             double full_solve_rel_mse, int step,
+                                             std::string& csv) {
+  std::map<uint64_t, RgbaImage> references;
+  for (const auto& [seq, updates] : trace.updates_of_seq) {
+    GS_ASSIGN_OR_RETURN(references[seq], RenderReference(connection, load, options, updates));
+  }
+  std::vector<double> motion;
+  std::optional<double> first_after_stop, stop_ms;
+  std::vector<std::pair<double, double>> settle;  // (ms after the stop, relMSE)
+  for (const BenchSession::TracedFrame& f : trace.traced) {
+    if (f.image.empty()) continue;  // before the first picture
+    GS_ASSIGN_OR_RETURN(const RgbaImage image, DecodeRgba(f.image));
+    GS_ASSIGN_OR_RETURN(const ImageError e, CompareImages(image, references.at(f.seq)));
+    absl::StrAppend(&csv, step, ",1,", f.frame_number, ",", f.seq, ",", FormatFixed(f.t_ms, 1), ",",
+                    f.settle ? "settle" : "motion", ",", e.rel_mse, ",", f.update_complete, ",",
+                    f.at_rest, ",", f.frames_since_scene_change, "\n");
+    if (!f.settle) {
+      motion.push_back(e.rel_mse);
+    } else {
+      if (!stop_ms) {
+        stop_ms = f.t_ms;
+        first_after_stop = e.rel_mse;
+      }
+      settle.emplace_back(f.t_ms - *stop_ms, e.rel_mse);
+    }
+  }
+  nlohmann::json out = {{"full_solve_rel_mse", full_solve_rel_mse},
+                        {"motion_frames", motion.size()},
+                        {"settle_frames", settle.size()}};
+  if (!motion.empty()) {
+    double sum = 0.0;
+    for (double v : motion) sum += v;
+    std::vector<double> sorted = motion;
+    std::sort(sorted.begin(), sorted.end());
+    out["motion_mean_rel_mse"] = sum / double(motion.size());
+    out["motion_p95_rel_mse"] =
+        sorted[std::min(sorted.size() - 1, size_t(0.95 * double(sorted.size())))];
+    out["motion_mean_vs_full"] = out["motion_mean_rel_mse"].get<double>() / full_solve_rel_mse;
+  }
+  if (first_after_stop) {
+    out["first_after_stop_rel_mse"] = *first_after_stop;
+    out["first_after_stop_vs_full"] = *first_after_stop / full_solve_rel_mse;
+  }
+  // From which frame on every later one stays within the bound.
+  const auto within = [&](double factor) -> nlohmann::json {
+    std::optional<size_t> first;
+    for (size_t i = settle.size(); i-- > 0;) {
+      if (!(settle[i].second <= factor * full_solve_rel_mse)) break;
+      first = i;
+    }
+    if (!first) return nullptr;
+    return {{"frames", *first + 1}, {"ms", settle[*first].first}};
+  };
+  out["within_2x"] = within(2.0);
+  out["within_1_05x"] = within(1.05);
   return out;
 }
 
@@ -407,6 +511,12 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
   if (trace && !sessions.empty()) {
     trace->frames = sessions[0]->SettleFrames();
     trace->last_updates = sessions[0]->LastUpdates();
+    trace->traced = sessions[0]->TracedFrames();
+    for (const BenchSession::TracedFrame& f : trace->traced) {
+      if (!trace->updates_of_seq.count(f.seq)) {
+        trace->updates_of_seq[f.seq] = sessions[0]->UpdatesOfSeq(f.seq);
+      }
+    }
   }
   progress.Clear();
 
@@ -438,6 +548,10 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
                         ParseInterferer(options.interfere, options.scene.scene, addresses[0]));
   }
   GS_ASSIGN_OR_RETURN(v1::LoadSceneRequest load, BuildLoadSceneRequest(options.scene));
+  // The sessions measure on their own copy of a named scene (another
+  // client's changes to the shared one cannot move the figures), and the
+  // time-to-converge reference on a fresh one; --keep-scene shares it.
+  if (!options.scene.keep_scene) load.set_private_copy(true);
   if (options.reference_spp > 0) {
     if (spec.kind != WorkloadKind::kObject) {
       return absl::InvalidArgumentError(
@@ -446,10 +560,10 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
     if (options.view.encoding.format() != v1::IMAGE_FORMAT_EXR) {
       return absl::InvalidArgumentError("--reference-spp: needs --format exr (linear frames)");
     }
-    if (load.has_name()) {
+    if (load.has_name() && !load.private_copy()) {
       return absl::InvalidArgumentError(absl::StrCat(
           "--reference-spp: --scene \"", options.scene.scene,
-          "\" is a server scene name; give a local file (its fresh copy gets fresh solvers)"));
+          "\" with --keep-scene is the shared scene; its references need fresh copies"));
     }
   }
 
@@ -464,7 +578,8 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
                         LoadedScene::Load(*server.connection, load, options.scene.keep_scene));
     servers.push_back(std::move(server));
   }
-  std::cout << DescribeScene(options.scene.scene, servers[0].scene->info()) << std::endl;
+  std::cout << DescribeScene(options.scene.scene, servers[0].scene->info())
+            << (load.private_copy() ? " (a private copy)" : "") << std::endl;
   GS_ASSIGN_OR_RETURN(Workload workload, Workload::Create(spec, servers[0].scene->info()));
 
   std::unique_ptr<LoadedScene> interferer_scene;
@@ -508,6 +623,10 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
   Progress progress(StderrIsTty());
   std::vector<StepResult> steps;
   nlohmann::json converge = nlohmann::json::array();  // per step, with --reference-spp
+  // One row per frame of each step's first session (--reference-spp).
+  std::string frames_csv =
+      "step,session,frame,seq,t_ms,phase,relmse,update_complete,at_rest,"
+      "frames_since_scene_change\n";
   for (size_t i = 0; i < options.sessions.size() && !interrupted; ++i) {
     const int count = options.sessions[i];
     const std::string label = absl::StrCat("[step ", i + 1, "/", options.sessions.size(), ": ",
@@ -523,6 +642,15 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
           TimeToConverge(*servers[0].connection, load, options, trace);
       if (figure.ok()) {
         std::cout << label << " converge: " << figure->dump() << std::endl;
+        absl::StatusOr<nlohmann::json> over_time =
+            ErrorOverTime(*servers[0].connection, load, options, trace,
+                          figure->at("full_solve_rel_mse").get<double>(), int(i + 1), frames_csv);
+        if (over_time.ok()) {
+          std::cout << label << " error over time: " << over_time->dump() << std::endl;
+          (*figure)["over_time"] = *over_time;
+        } else {
+          Log(LogLevel::kWarning, absl::StrCat("error over time: ", over_time.status().message()));
+        }
         converge.push_back(*figure);
       } else {
         Log(LogLevel::kWarning, absl::StrCat("time to converge: ", figure.status().message()));
@@ -578,6 +706,12 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
     std::cout << "stages (" << s.sessions << "): " << FormatStageMedians(s.stages) << "\n";
   }
   GS_RETURN_IF_ERROR(WriteBenchOutputs(options.out_dir, steps, meta));
+  if (options.reference_spp > 0) {
+    GS_RETURN_IF_ERROR(WriteFile(options.out_dir / "frames.csv", frames_csv));
+    std::cout << "wrote " << (options.out_dir / "frames.csv").string()
+              << " (every frame of the first session against a reference of its state)"
+              << std::endl;
+  }
   std::cout << "wrote " << (options.out_dir / "results.{csv,json,md}").string() << ", "
             << (options.out_dir / "latency_cdf.png").string() << ", fps_vs_sessions.png and "
             << "latency_vs_sessions.png" << std::endl;

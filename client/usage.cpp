@@ -199,7 +199,14 @@ fps_vs_sessions.png and latency_vs_sessions.png into DIR.
                        and ms after the updates stop until relMSE against
                        a pathtrace reference of N spp stays within 5 % of a
                        full solve's (both rendered on a fresh copy of the
-                       scene in the final state); in the output as converge
+                       scene in the final state); in the output as converge.
+                       Also every frame of the first session from the
+                       window's start against a reference of the state it
+                       shows (one per update seq, after the run): DIR/
+                       frames.csv (step,session,frame,seq,t_ms,phase,relmse
+                       and the convergence stats), and per step relMSE
+                       during the motion, the first frame after the stop
+                       and the time to within 2x and 1.05x of a full solve
   --scene, --solver, --param, --size, --format, --quality, --exposure as
   for stream (defaults: cornell_box, direct, 128x128, jpeg).
 With several servers (--server a,b) sessions are placed round-robin and

@@ -104,6 +104,25 @@ grep -q "latency p50/p95/p99/max" "$TMP/bench.log" || { cat "$TMP/bench.log"; ec
 for f in results.csv results.json results.md latency_cdf.png fps_vs_sessions.png latency_vs_sessions.png; do
   [ -s "$TMP/bench/$f" ] || { echo "FAIL: bench did not write $f"; exit 1; }
 done
+# The error of every frame shown (issue 27): an object workload with a
+# reference per update seq, on private copies of the named scene. frames.csv
+# has a row per frame of the first session, motion frames and settle
+# frames, each with a finite relMSE; the step reports its over-time summary.
+$C bench --sessions 1 --duration 1s --warmup 0s --size 16x16 --format exr --workload object \
+  --update-hz 5 --reference-spp 8 --param area_samples=4 --out "$TMP/bench_ref" \
+  >"$TMP/bench_ref.log" 2>&1 || { cat "$TMP/bench_ref.log"; echo "FAIL: bench --reference-spp"; exit 1; }
+grep -q "error over time: " "$TMP/bench_ref.log" ||
+  { cat "$TMP/bench_ref.log"; echo "FAIL: bench --reference-spp printed no error over time"; exit 1; }
+python3 - "$TMP/bench_ref/frames.csv" <<'PY' || { echo "FAIL: frames.csv"; exit 1; }
+import csv, math, sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+phases = {r["phase"] for r in rows}
+assert {"motion", "settle"} <= phases, f"phases {phases} in {len(rows)} rows"
+for r in rows:
+    assert math.isfinite(float(r["relmse"])) and float(r["relmse"]) >= 0.0, r
+assert len({r["frame"] for r in rows}) == len(rows), "a frame twice"
+print(f"frames.csv: {len(rows)} rows")
+PY
 
 kill -TERM $PID
 for _ in $(seq 1 100); do kill -0 $PID 2>/dev/null || break; sleep 0.1; done
