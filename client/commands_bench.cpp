@@ -310,8 +310,10 @@ absl::StatusOr<RgbaImage> RenderReference(Connection& connection, const v1::Load
     v1::RenderRequest r;
     r.set_scene_id(copy->id());
     r.set_solver("pathtrace");
-    (*r.mutable_params())["spp"] = std::to_string(chunk);
-    (*r.mutable_params())["seed"] = "1";
+    // (std::string values: GCC 12 warns, falsely, on assigning a literal)
+    const std::map<std::string, std::string> params = {{"spp", std::to_string(chunk)},
+                                                       {"seed", "1"}};
+    for (const auto& [k, v] : params) (*r.mutable_params())[k] = v;
     r.set_width(options.view.width);
     r.set_height(options.view.height);
     r.mutable_encoding()->set_format(v1::IMAGE_FORMAT_EXR);
