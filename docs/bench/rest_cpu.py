@@ -66,6 +66,7 @@ def measure(client, pid, scene_id, args, orbit):
         renders = rendered(client) - window[2]
         seconds = time.monotonic() - window[3]
         stop.set()
+        t.join(timeout=5.0)  # (at the next frame: keep-alives come every second)
     return cpu, frames, renders, seconds
 
 
