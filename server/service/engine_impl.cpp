@@ -122,6 +122,11 @@ void ReportAgainstPlan(const SolverDescription& solver, const std::vector<std::s
   }
 }
 
+bool AnyAnimationPlaying(const SceneState& state) {
+  return std::any_of(state.animations().begin(), state.animations().end(),
+                     [](const AnimationPlayback& a) { return a.playing; });
+}
+
 std::span<const uint8_t> Bytes(const std::string& s) {
   return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
 }
@@ -920,9 +925,7 @@ bool EngineImpl::StillAtRest(const SessionRecord& session, const ViewRecord& vie
   if (scene_it == gpu_scenes_.end()) return false;
   const GpuSceneRecord& scene = scene_it->second;
   if (scene.state->version() != view.rest->scene_version) return false;
-  for (const AnimationPlayback& a : scene.state->animations()) {
-    if (a.playing) return false;
-  }
+  if (AnyAnimationPlaying(*scene.state)) return false;
   const auto solver_it = scene.solvers.find(session.solver_key);
   return solver_it != scene.solvers.end() && solver_it->second.solver.get() == view.rest->solver;
 }
@@ -1212,11 +1215,9 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   // Settled: the picture equals the last one, no update came with it and
   // the solver owes nothing (no slices, no background job, no animation):
   // a continuous view then rests (RenderFrame). Keep-alives at rest say 1.
-  const bool animating = std::any_of(state.animations().begin(), state.animations().end(),
-                                     [](const AnimationPlayback& a) { return a.playing; });
   view.settled = frame->unchanged && updates.empty() && !view.camera_changed &&
                  entry.solver->UpdateComplete() && entry.solver->FrameComplete() &&
-                 !entry.solver->BackgroundBusy() && !animating;
+                 !entry.solver->BackgroundBusy() && !AnyAnimationPlaying(state);
   frame->stats.emplace_back("at_rest", 0.0);
   view.camera_changed = false;
   frame->total_ms =
