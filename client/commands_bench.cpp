@@ -244,6 +244,7 @@ absl::StatusOr<nlohmann::json> TimeToConverge(Connection& connection,
     for (const auto& [k, v] : params) (*r.mutable_params())[k] = v;
     r.set_width(options.view.width);
     r.set_height(options.view.height);
+    r.set_refine_samples(options.view.refine_samples);
     r.mutable_encoding()->set_format(v1::IMAGE_FORMAT_EXR);
     if (options.view.camera.ByteSizeLong() > 0) *r.mutable_camera() = options.view.camera;
     if (updates) {

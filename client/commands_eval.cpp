@@ -104,8 +104,10 @@ class Evaluator {
 
   absl::StatusOr<v1::Frame> RenderOnce(const std::string& scene, const std::string& solver,
                                        const std::map<std::string, std::string>& params,
-                                       const v1::CameraChange& camera) {
+                                       const v1::CameraChange& camera,
+                                       uint32_t refine_samples = 0) {
     v1::RenderRequest request;
+    request.set_refine_samples(refine_samples);
     request.set_scene_id(scene);
     request.set_solver(solver);
     for (const auto& [k, v] : params) (*request.mutable_params())[k] = v;
@@ -183,6 +185,8 @@ class Evaluator {
     config.set_height(spec_.height);
     config.mutable_encoding()->set_format(v1::IMAGE_FORMAT_EXR);
     config.mutable_on_request();
+    // Timed frames are the first frame after a change: one sample a pixel.
+    config.set_refine_samples(1);
     *config.mutable_camera() = ViewCamera(view);
     GS_ASSIGN_OR_RETURN(std::unique_ptr<SessionStream> stream,
                         SessionStream::Open(conn_.stub(), config, conn_.server()));
@@ -213,7 +217,15 @@ class Evaluator {
     GS_ASSIGN_OR_RETURN(v1::Frame first, frame_after(nullptr));
     row.first_ms = first.total_ms();
     row.spp = FrameStatValue(first, "spp_total");
-    GS_ASSIGN_OR_RETURN(RgbaImage image, DecodeFrame(first));
+    // The error of the still picture a viewer converges to: refined
+    // (spec refine_samples) on the solution just solved; pathtrace
+    // refines through its own spp.
+    v1::Frame still = first;
+    if (solver != "pathtrace" && spec_.refine_samples != 1) {
+      GS_ASSIGN_OR_RETURN(
+          still, RenderOnce(scene_id, solver, params, ViewCamera(view), spec_.refine_samples));
+    }
+    GS_ASSIGN_OR_RETURN(RgbaImage image, DecodeFrame(still));
     GS_ASSIGN_OR_RETURN(row.error, CompareImages(image, reference));
 
     auto timed = [&](const std::vector<v1::Update>& pair,

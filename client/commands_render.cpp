@@ -27,6 +27,7 @@ absl::Status RunRender(const ConnectionOptions& connection_options, const Render
   request.set_width(options.view.width);
   request.set_height(options.view.height);
   *request.mutable_encoding() = options.view.encoding;
+  request.set_refine_samples(options.view.refine_samples);
   if (options.view.camera.ByteSizeLong() > 0) *request.mutable_camera() = options.view.camera;
 
   v1::Frame frame;

@@ -56,6 +56,7 @@ absl::Status RunStream(const ConnectionOptions& connection_options, const Stream
   uint64_t saved = 0;
   uint64_t pictures = 0;  // frames that carried an image
   bool at_rest = false;
+  v1::Frame last;  // its header: the convergence line
   v1::SessionEvent event;
   while (stream->Next(&event)) {
     if (event.has_rejected()) {
@@ -70,6 +71,8 @@ absl::Status RunStream(const ConnectionOptions& connection_options, const Stream
     GS_RETURN_IF_ERROR(writer.Write(saved, frame));
     ++saved;
     pictures += frame.image().empty() ? 0 : 1;
+    last = frame;
+    last.clear_image();
     if (options.frames != 0 && saved >= options.frames) {
       closing = true;
       stream->CloseWrites();
@@ -87,6 +90,7 @@ absl::Status RunStream(const ConnectionOptions& connection_options, const Stream
   std::cout << FormatStatsTable(stats.Summarize())
             << FormatWrittenFrames(writer, saved, options.view.encoding.format(), pictures)
             << std::endl;
+  if (saved > 0) std::cout << FormatConvergence(last) << std::endl;
   if (at_rest) {
     std::cout << "the view is at rest after " << saved << " of " << options.frames
               << " frames (its picture is finished and nothing changes): stopped early"

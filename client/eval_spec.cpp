@@ -87,7 +87,8 @@ absl::StatusOr<EvalSpec> ParseEvalSpec(const std::string& text) {
   if (!doc.is_object()) return Bad("spec", "expected an object");
   EvalSpec spec;
   static const std::set<std::string> kKeys = {
-      "size", "reference", "timed_frames", "pathtrace_budgets_ms", "scenes", "solvers"};
+      "size",           "reference", "timed_frames", "pathtrace_budgets_ms",
+      "refine_samples", "scenes",    "solvers"};
   for (const auto& [key, value] : doc.items()) {
     if (!kKeys.count(key)) return Bad(key, "unknown key");
   }
@@ -106,6 +107,10 @@ absl::StatusOr<EvalSpec> ParseEvalSpec(const std::string& text) {
   }
   if (doc.contains("timed_frames")) {
     GS_ASSIGN_OR_RETURN(spec.timed_frames, PositiveInt(doc["timed_frames"], "timed_frames", 1000));
+  }
+  if (doc.contains("refine_samples")) {
+    GS_ASSIGN_OR_RETURN(const int n, PositiveInt(doc["refine_samples"], "refine_samples", 1024));
+    spec.refine_samples = uint32_t(n);
   }
   if (doc.contains("pathtrace_budgets_ms")) {
     const json& b = doc["pathtrace_budgets_ms"];

@@ -38,6 +38,9 @@ struct EvalSpec {
   uint32_t width = 64, height = 64;
   int reference_spp = 256;
   int timed_frames = 3;
+  // Samples per pixel of the still picture whose error is measured (0: the
+  // server's default; 1: pixel centres). Timed frames shade one sample.
+  uint32_t refine_samples = 0;
   std::vector<double> pathtrace_budgets_ms = {10, 30, 100, 300, 1000};
   std::vector<EvalScene> scenes;
   std::vector<EvalSolver> solvers;

@@ -70,7 +70,8 @@ const std::vector<FlagSpec> kViewFlags = {{"size"},
                                           {"bitrate"},
                                           {"crf"},
                                           {"key-interval"},
-                                          {"send-unchanged", false}};
+                                          {"send-unchanged", false},
+                                          {"refine-samples"}};
 
 std::vector<FlagSpec> Concat(std::initializer_list<const std::vector<FlagSpec>*> groups) {
   std::vector<FlagSpec> all;
@@ -162,6 +163,10 @@ absl::Status ApplyView(const ParsedFlags& flags, ViewOptions& view) {
     view.encoding.set_key_frame_interval(static_cast<uint32_t>(interval));
   }
   if (flags.Has("send-unchanged")) view.encoding.set_send_unchanged(true);
+  if (auto value = flags.Get("refine-samples")) {
+    GS_ASSIGN_OR_RETURN(int64_t samples, ParseInt("--refine-samples", *value, 1, 1024));
+    view.refine_samples = static_cast<uint32_t>(samples);
+  }
   const auto eye = flags.Get("camera-eye");
   const auto target = flags.Get("camera-target");
   if (eye.has_value() != target.has_value()) {

@@ -54,7 +54,8 @@ struct ViewOptions {
   uint32_t width = 320;
   uint32_t height = 240;
   v1::Encoding encoding;
-  v1::CameraChange camera;  // empty: the server's default view
+  v1::CameraChange camera;      // empty: the server's default view
+  uint32_t refine_samples = 0;  // still-view samples per pixel; 0: the server's default
 };
 
 struct SolversOptions {

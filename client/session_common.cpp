@@ -2,6 +2,8 @@
 
 #include <absl/strings/cord.h>
 #include <absl/strings/str_cat.h>
+#include <absl/strings/str_format.h>
+#include <absl/strings/str_join.h>
 
 #include "commands.h"
 #include "image_format.h"
@@ -31,6 +33,7 @@ v1::SessionConfig ContinuousConfig(const std::string& scene_id, const SolverOpti
   config.set_width(view.width);
   config.set_height(view.height);
   *config.mutable_encoding() = view.encoding;
+  config.set_refine_samples(view.refine_samples);
   config.mutable_continuous()->set_max_fps(max_fps);
   if (view.camera.ByteSizeLong() > 0) *config.mutable_camera() = view.camera;
   return config;
@@ -58,6 +61,31 @@ absl::Status EndSession(SessionStream& stream) {
 double FrameStatValue(const v1::Frame& frame, const std::string& name) {
   const auto it = frame.stats().find(name);
   return it == frame.stats().end() ? 0.0 : it->second;
+}
+
+std::string FormatConvergence(const v1::Frame& last) {
+  std::vector<std::string> parts;
+  const auto has = [&](const char* name) { return last.stats().contains(name); };
+  if (has("refine_target") && FrameStatValue(last, "refine_target") > 1.0) {
+    parts.push_back(absl::StrCat("refined ", FrameStatValue(last, "refine_samples"), "/",
+                                 FrameStatValue(last, "refine_target"), " samples per pixel"));
+  }
+  if (has("spp_total")) parts.push_back(absl::StrCat(FrameStatValue(last, "spp_total"), " spp"));
+  if (has("update_complete")) {
+    parts.push_back(FrameStatValue(last, "update_complete") == 1.0 ? "GI complete"
+                                                                   : "GI still solving");
+  }
+  if (FrameStatValue(last, "at_rest") == 1.0) parts.push_back("at rest");
+  std::string line =
+      absl::StrCat("last picture: ", parts.empty() ? "-" : absl::StrJoin(parts, ", "));
+  const auto seconds = [&](const char* name) {
+    return absl::StrFormat("%.1f", FrameStatValue(last, name) / 1000.0);
+  };
+  if (has("ms_since_camera_change") && has("ms_since_scene_change")) {
+    absl::StrAppend(&line, "; ", seconds("ms_since_camera_change"), " s since the camera moved, ",
+                    seconds("ms_since_scene_change"), " s since the scene changed");
+  }
+  return line;
 }
 
 std::string FormatWrittenFrames(const FrameWriter& writer, uint64_t count, v1::ImageFormat format,

@@ -34,6 +34,11 @@ std::string FormatWrittenFrames(const FrameWriter& writer, uint64_t count, v1::I
 // A frame's solver/engine stat by name (Frame.stats), 0 when absent.
 double FrameStatValue(const v1::Frame& frame, const std::string& name);
 
+// What the last frame's picture had converged to (issue 27): "last
+// picture: refined 16/16 samples per pixel, GI complete, at rest; 3.2 s
+// since the camera moved, 5.0 s since the scene changed".
+std::string FormatConvergence(const v1::Frame& last);
+
 // One line for an update, for messages: "node_transform (node 7)".
 std::string DescribeUpdate(const v1::Update& update);
 

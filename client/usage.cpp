@@ -47,6 +47,7 @@ constexpr absl::string_view kRender =
                 [--solver NAME] [--param KEY=VALUE]... [--size WxH]
                 [--format jpeg|png|exr|h264|hevc|av1] [--quality Q] [--exposure EV]
                 [--camera-eye X,Y,Z --camera-target X,Y,Z] [--yfov DEG]
+                [--refine-samples N]
                 [--environment NAME_OR_FILE] [--environment-intensity X]
                 [--keep-scene]
 
@@ -70,6 +71,9 @@ a one-line summary and the per-stage timings.
   --send-unchanged       re-send frames whose picture did not change (by
                          default they come without an image; continuous
                          sessions send them only once a second)
+  --refine-samples N     samples per pixel of a still view, 1..1024 (server
+                         default 16): sub-pixel jittered frames averaged
+                         (anti-aliased edges); 1: pixel centres only
   --camera-eye X,Y,Z     camera position; needs --camera-target
   --camera-target X,Y,Z  point the camera looks at (up is +Y)
   --yfov DEG             vertical field of view in degrees
@@ -109,7 +113,8 @@ table; a second Ctrl-C cancels it.
   --out DIR              output directory (default out/)
   also: --quality, --exposure, --crf, --bitrate, --key-interval,
         --send-unchanged, --camera-eye, --camera-target, --yfov,
-        --environment, --environment-intensity, --keep-scene (see render)
+        --refine-samples, --environment, --environment-intensity,
+        --keep-scene (see render)
 )";
 
 constexpr absl::string_view kScript =

@@ -116,6 +116,9 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
   --frame-budget-ms F        solver work per frame before the render thread
                              serves other sessions; sliceable work (pathtrace)
                              continues in later slices (default 30)
+  --refine-samples N         samples per pixel a still view accumulates (sub-
+                             pixel jitter, box filter) before it rests; 1:
+                             pixel centres only (default 16, at most 1024)
   --version                  print "gistreamd VERSION" and exit
   --list-solvers             print the registered solvers, one name per line,
                              and exit
@@ -261,6 +264,11 @@ Flags ParseFlags(int argc, char** argv) {
        [&](auto flag, auto v) { f.cpu_threads = ParseUnsigned<unsigned>(flag, v, 1, 1024); }},
       {"--frame-budget-ms",
        [&](auto flag, auto v) { f.engine.frame_budget_ms = ParseDouble(flag, v, 1.0, 10'000.0); }},
+      {"--refine-samples",
+       [&](auto flag, auto v) {
+         f.engine.refine_samples =
+             ParseUnsigned<uint32_t>(flag, v, 1, EngineOptions::kMaxRefineSamples);
+       }},
   };
 
   for (int i = 1; i < argc; ++i) {

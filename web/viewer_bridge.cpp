@@ -124,6 +124,15 @@ std::string FrameMessage(const v1::Frame& f) {
   for (const v1::StageTiming& t : f.timings()) {
     timings.push_back({t.name(), t.cpu_ms(), t.gpu_ms(), t.skipped()});
   }
+  // What the picture has converged to (issue 27), for the overlay: the
+  // stats of those names the frame carries.
+  json convergence = json::object();
+  for (const char* name :
+       {"refine_samples", "refine_target", "update_complete", "at_rest", "ms_since_camera_change",
+        "ms_since_scene_change", "gi_versions_behind", "residual", "spp_total"}) {
+    const auto it = f.stats().find(name);
+    if (it != f.stats().end()) convergence[name] = it->second;
+  }
   const std::string header = json{
       {"frame", f.frame_number()},
       {"seq", f.last_update_seq()},
@@ -134,6 +143,7 @@ std::string FrameMessage(const v1::Frame& f) {
       {"unchanged", f.unchanged()},
       {"total_ms", f.total_ms()},
       {"dropped", f.dropped_frames()},
+      {"convergence", convergence},
       {"timings", timings}}.dump();
   std::string out(4, '\0');
   const uint32_t n = uint32_t(header.size());

@@ -22,9 +22,9 @@ from the build (CMake writes the package into build/python); everything
 the API offers is there, this module only makes the common calls short.
 """
 
-from gistream.client import (Client, Session, look_at, material_change, node_transform,
-                             tls_credentials)
+from gistream.client import (Client, Session, convergence, look_at, material_change,
+                             node_transform, tls_credentials)
 from gistream.v1 import gistream_pb2 as pb
 
-__all__ = ["Client", "Session", "look_at", "material_change", "node_transform", "pb",
+__all__ = ["Client", "Session", "convergence", "look_at", "material_change", "node_transform", "pb",
            "tls_credentials"]

@@ -57,6 +57,21 @@ def material_change(material, base_color=None, emissive=None, emissive_strength=
     return change
 
 
+_CONVERGENCE = ("refine_samples", "refine_target", "update_complete", "at_rest",
+                "frames_since_camera_change", "ms_since_camera_change",
+                "frames_since_scene_change", "ms_since_scene_change", "gi_versions_behind",
+                "residual", "spp_total")
+
+
+def convergence(frame):
+    """What a frame's picture has converged to, from its stats: a dict of
+    those of refine_samples / refine_target (a still view's jittered samples
+    per pixel), update_complete (1: the latest GI solution), at_rest, the
+    frames and ms since the camera and the scene changed, and the solver's
+    gi_versions_behind / residual / spp_total where it reports them."""
+    return {k: frame.stats[k] for k in _CONVERGENCE if k in frame.stats}
+
+
 def _encoding(fmt, quality):
     if fmt not in _FORMATS:
         raise ValueError(f"format: {fmt!r} is not one of {sorted(_FORMATS)}")
@@ -152,24 +167,31 @@ class Client:
         return self.stub.GetServerStatus(pb.GetServerStatusRequest(), timeout=self.timeout)
 
     def render(self, scene_id, solver="direct", params=None, size=(320, 240), format="png",
-               quality=0, camera=None, updates=()):
-        """One frame (a Frame message; its `image` holds the encoded bytes)."""
+               quality=0, camera=None, updates=(), refine_samples=0):
+        """One frame (a Frame message; its `image` holds the encoded bytes),
+        the mean of `refine_samples` jittered samples per pixel (0: the
+        server's default, 16; 1: pixel centres)."""
         request = pb.RenderRequest(scene_id=scene_id, solver=solver,
                                    params={k: str(v) for k, v in (params or {}).items()},
                                    width=size[0], height=size[1],
-                                   encoding=_encoding(format, quality), updates=list(updates))
+                                   encoding=_encoding(format, quality), updates=list(updates),
+                                   refine_samples=refine_samples)
         if camera is not None:
             request.camera.CopyFrom(camera)
         return self.stub.Render(request, timeout=self.timeout)
 
     def session(self, scene_id, solver="direct", params=None, size=(320, 240), format="jpeg",
-                quality=0, fps=30.0, camera=None):
-        """A continuous session (a Session; use it in a with-block)."""
+                quality=0, fps=30.0, camera=None, refine_samples=0):
+        """A continuous session (a Session; use it in a with-block). A still
+        view refines over `refine_samples` frames (0: the server's default)
+        and then rests; frame stats refine_samples / refine_target say how
+        far it got."""
         config = pb.SessionConfig(scene_id=scene_id, solver=solver,
                                   params={k: str(v) for k, v in (params or {}).items()},
                                   width=size[0], height=size[1],
                                   encoding=_encoding(format, quality),
-                                  continuous=pb.Continuous(max_fps=fps))
+                                  continuous=pb.Continuous(max_fps=fps),
+                                  refine_samples=refine_samples)
         if camera is not None:
             config.camera.CopyFrom(camera)
         return Session(self.stub, config)

@@ -45,8 +45,17 @@ glm::mat4 ViewCamera::View() const {
 
 glm::mat4 ViewCamera::Projection() const {
   const float aspect = float(width) / float(std::max<uint32_t>(height, 1));
-  if (zfar > znear) return glm::perspective(yfov, aspect, znear, zfar);
-  return glm::infinitePerspective(yfov, aspect, znear);
+  const glm::mat4 p = zfar > znear ? glm::perspective(yfov, aspect, znear, zfar)
+                                   : glm::infinitePerspective(yfov, aspect, znear);
+  if (jitter == glm::vec2(0.0f)) return p;
+  // A pixel is 2 / width NDC units wide: translate clip space by
+  // 2 jitter / size, times w (so after the divide, every depth alike).
+  const glm::vec2 ndc =
+      2.0f * jitter /
+      glm::vec2(float(std::max<uint32_t>(width, 1)), float(std::max<uint32_t>(height, 1)));
+  glm::mat4 shift(1.0f);
+  shift[3] = glm::vec4(ndc, 0.0f, 1.0f);
+  return shift * p;
 }
 
 glm::vec3 ViewCamera::RayDirection(glm::vec2 ndc) const {

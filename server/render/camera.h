@@ -23,9 +23,15 @@ struct ViewCamera {
   // The scene camera node the pose came from (its glTF znear/zfar apply);
   // -1 once a client set the pose (look_at, pose).
   int scene_camera_node = -1;
+  // Sub-pixel offset of the film, in pixels (each in [-0.5, 0.5); 0: pixel
+  // centres). A still view's refinement shifts it per sample
+  // (render/refinement.h); Projection() applies it, RayDirection does not.
+  glm::vec2 jitter{0.0f};
 
   glm::mat4 View() const;
-  glm::mat4 Projection() const;  // perspective(znear, zfar); infinite when zfar = 0
+  // perspective(znear, zfar), infinite when zfar = 0; then shifted by
+  // `jitter` pixels in NDC.
+  glm::mat4 Projection() const;
   // Unit world direction through the film point ndc in [-1, 1]^2 (x right,
   // y up), from the camera's basis and tan(yfov / 2): no matrix inversion,
   // so exact at any scene scale.

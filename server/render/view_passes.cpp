@@ -35,6 +35,9 @@ absl::StatusOr<ViewPasses> ViewPasses::Create() {
   GS_ASSIGN_OR_RETURN(passes.tonemap_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "render/tonemap.frag.glsl"}}));
+  GS_ASSIGN_OR_RETURN(passes.copy_hdr_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "render/copy_hdr.frag.glsl"}}));
   passes.non_finite_ = gl::Buffer::Create();
   glNamedBufferStorage(passes.non_finite_.id(), sizeof(GLuint), nullptr,
                        GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
@@ -60,6 +63,34 @@ absl::Status ViewPasses::DrawGBuffer(const SceneState& state, const GpuScene& gp
   gbuffer_.Use();
   gpu.Draw(gbuffer_, state, true);
   return absl::OkStatus();
+}
+
+void ViewPasses::Accumulate(const GBuffer& gbuffer, uint32_t sample) {
+  const GLint w = GLint(gbuffer.width()), h = GLint(gbuffer.height());
+  if (sample == 0) {
+    glBlitNamedFramebuffer(gbuffer.hdr_fbo(), gbuffer.accumulation_fbo(), 0, 0, w, h, 0, 0, w, h,
+                           GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    return;  // the HDR target holds the mean of one sample already
+  }
+  // mean_{k+1} = mean_k + (x - mean_k) / (k + 1), by blending: source
+  // weight a = 1 / (k + 1), destination 1 - a (a float target blends in
+  // float).
+  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.accumulation_fbo());
+  glViewport(0, 0, w, h);
+  glDisable(GL_DEPTH_TEST);
+  glEnable(GL_BLEND);
+  glBlendColor(0.0f, 0.0f, 0.0f, 1.0f / float(sample + 1));
+  glBlendFunc(GL_CONSTANT_ALPHA, GL_ONE_MINUS_CONSTANT_ALPHA);
+  glBindTextureUnit(GS_UNIT_HDR, gbuffer.hdr());
+  fullscreen_.Draw(copy_hdr_);
+  glDisable(GL_BLEND);
+  ShowAccumulation(gbuffer);
+}
+
+void ViewPasses::ShowAccumulation(const GBuffer& gbuffer) {
+  const GLint w = GLint(gbuffer.width()), h = GLint(gbuffer.height());
+  glBlitNamedFramebuffer(gbuffer.accumulation_fbo(), gbuffer.hdr_fbo(), 0, 0, w, h, 0, 0, w, h,
+                         GL_COLOR_BUFFER_BIT, GL_NEAREST);
 }
 
 void ViewPasses::Tonemap(const GBuffer& gbuffer, float exposure_ev) {

@@ -1,5 +1,5 @@
 // The view-dependent passes every frame shares, whatever the solver:
-// G-buffer rasterization, tone mapping, readback.
+// G-buffer rasterization, refinement accumulation, tone mapping, readback.
 #pragma once
 
 #include <vector>
@@ -20,6 +20,14 @@ class ViewPasses {
   // hold it, see GBuffer::Resize) and rasterises the scene into it.
   absl::Status DrawGBuffer(const SceneState& state, const GpuScene& gpu, const ViewCamera& camera,
                            GBuffer& gbuffer);
+  // Refinement (render/refinement.h): folds the HDR radiance just shaded
+  // into the accumulation as its sample `sample` (0 starts it: a copy;
+  // then a running mean, weight 1 / (sample + 1)), and leaves the mean in
+  // the HDR target for tone mapping and readback.
+  void Accumulate(const GBuffer& gbuffer, uint32_t sample);
+  // The accumulated mean into the HDR target again (a complete picture,
+  // shown without shading).
+  void ShowAccumulation(const GBuffer& gbuffer);
   // HDR radiance -> gbuffer.ldr(): exposure 2^ev, filmic curve, sRGB.
   // Also counts the HDR pixels that are not finite (NonFinitePixels).
   void Tonemap(const GBuffer& gbuffer, float exposure_ev);
@@ -35,6 +43,7 @@ class ViewPasses {
  private:
   gl::Program gbuffer_;
   gl::Program tonemap_;
+  gl::Program copy_hdr_;  // the HDR target's texels, for accumulation
   gl::FullscreenPass fullscreen_;
   gl::Buffer non_finite_;  // one uint, SSBO binding 7 of the tone map
 };

@@ -184,6 +184,10 @@ struct SessionConfig {
   // Solver work per frame before it yields to other sessions (ms; 0: the
   // engine's default). Sliceable solvers spread longer work over frames.
   double frame_budget_ms = 0.0;
+  // Samples per pixel a still view accumulates (render/refinement.h): 1
+  // shades pixel centres only; 0: the engine's default
+  // (EngineOptions::refine_samples).
+  uint32_t refine_samples = 0;
 };
 
 struct SessionOpenInfo {
@@ -223,6 +227,7 @@ struct RenderRequest {
   std::optional<CameraUpdate> camera;
   std::vector<Update> updates;   // camera updates here change only this frame
   double frame_budget_ms = 0.0;  // per slice, as SessionConfig's (0: the default)
+  uint32_t refine_samples = 0;   // as SessionConfig's: the frame's samples per pixel
   // Polled while the frame is being made: true stops the work within one
   // slice and Render returns CANCELLED (the client left, its deadline
   // passed, the server is shutting down).
@@ -259,6 +264,10 @@ struct EngineOptions {
   float max_fps = 240.0f;
   // Default SessionConfig::frame_budget_ms, and the budget of Render calls.
   double frame_budget_ms = 30.0;
+  // Default SessionConfig::refine_samples (gistreamd --refine-samples); at
+  // most kMaxRefineSamples.
+  uint32_t refine_samples = 16;
+  static constexpr uint32_t kMaxRefineSamples = 1024;
   // Told about every frame produced (see observer.h); may be null.
   std::shared_ptr<ServerObserver> observer;
   // The server-wide memory budget (util/memory_budget.h): decoded images

@@ -582,6 +582,11 @@ absl::Status EngineImpl::ValidateConfig(const SessionConfig& c) const {
     return absl::InvalidArgumentError(absl::StrCat(
         "frame_budget_ms: ", c.frame_budget_ms, " is out of range [0, ", kMaxFrameBudgetMs, "]"));
   }
+  if (c.refine_samples > EngineOptions::kMaxRefineSamples) {
+    return absl::InvalidArgumentError(absl::StrCat("refine_samples: ", c.refine_samples,
+                                                   " is out of range [0, ",
+                                                   EngineOptions::kMaxRefineSamples, "]"));
+  }
   if (!std::isfinite(c.max_fps) || c.max_fps < 0.0f || c.max_fps > options_.max_fps) {
     return absl::InvalidArgumentError(
         absl::StrCat("max_fps: ", c.max_fps, " is out of range [0, ", options_.max_fps, "]"));
@@ -727,6 +732,7 @@ absl::StatusOr<EncodedFrame> EngineImpl::Render(const RenderRequest& request) {
   config.pacing = Pacing::kOnRequest;
   config.camera = request.camera;
   config.frame_budget_ms = request.frame_budget_ms;
+  config.refine_samples = request.refine_samples;
   auto sink = std::make_shared<PromiseSink>();
   auto result = sink->future();
   GS_ASSIGN_OR_RETURN(std::shared_ptr<SessionRecord> session,
@@ -920,6 +926,13 @@ void EngineImpl::SetSinceChangeStats(const ViewRecord& view, RenderThread::Clock
   since("frames_since_scene_change", "ms_since_scene_change", view.scene_since);
 }
 
+uint32_t EngineImpl::RefineTarget(const SessionRecord& session, const Solver& solver,
+                                  const SceneState& state) const {
+  if (!solver.NeedsGBuffer() || AnyAnimationPlaying(state)) return 1;
+  return session.config.refine_samples > 0 ? session.config.refine_samples
+                                           : options_.refine_samples;
+}
+
 bool EngineImpl::StillAtRest(const SessionRecord& session, const ViewRecord& view) {
   const auto scene_it = gpu_scenes_.find(session.scene->id);
   if (scene_it == gpu_scenes_.end()) return false;
@@ -1045,6 +1058,7 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
       if (const auto* camera = std::get_if<CameraUpdate>(&u.change)) {
         ApplyCameraUpdate(state, *camera, view.camera);
         view.camera_changed = true;
+        view.camera_version += 1;
       } else if (absl::Status limits = state.CheckApply(u.change); !limits.ok()) {
         // Within its own limits, but not with the current state (a world
         // position through the hierarchy, colour x intensity, ...).
@@ -1101,18 +1115,47 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
     return std::shared_ptr<EncodedFrame>();
   }
 
-  if (entry.solver->NeedsGBuffer()) {
-    gl::StageTimer::Scope stage(timer_, "gbuffer");
-    GS_RETURN_IF_ERROR(passes_->DrawGBuffer(state, *scene.gpu, view.camera, view.gbuffer));
-  } else {
-    GS_RETURN_IF_ERROR(view.gbuffer.Resize(view.camera.width, view.camera.height));
+  // A still view refines (render/refinement.h): this frame shades sample
+  // `sample` at its sub-pixel jitter, or, once the samples are all in
+  // (-1), shows their mean again and shades nothing.
+  const uint32_t refine_target = RefineTarget(session, *entry.solver, state);
+  const int sample =
+      view.refinement.Next({state.version(), view.camera_version, entry.solver.get(),
+                            view.camera.width, view.camera.height, entry.solver->UpdateComplete()},
+                           refine_target);
+  if (sample < 0) {
+    // No change since the picture was complete, so the solver's plan is
+    // its changeless one, all of it shading, none of it run.
+    if (view.carry.empty()) view.plan.clear();
     timer_.Skip("gbuffer");
+    gl::StageTimer::Scope stage(timer_, "refine");
+    passes_->ShowAccumulation(view.gbuffer);
+  } else {
+    ViewCamera camera = view.camera;
+    camera.jitter = Refinement::Jitter(uint32_t(sample));
+    if (entry.solver->NeedsGBuffer()) {
+      gl::StageTimer::Scope stage(timer_, "gbuffer");
+      GS_RETURN_IF_ERROR(passes_->DrawGBuffer(state, *scene.gpu, camera, view.gbuffer));
+    } else {
+      GS_RETURN_IF_ERROR(view.gbuffer.Resize(camera.width, camera.height));
+      timer_.Skip("gbuffer");
+    }
+    GS_RETURN_IF_ERROR(entry.solver->Shade(ctx, camera, view.gbuffer));
+    if (refine_target > 1) {
+      gl::StageTimer::Scope stage(timer_, "refine");
+      passes_->Accumulate(view.gbuffer, uint32_t(sample));
+    } else {
+      timer_.Skip("refine");
+    }
+    view.refinement.Added();
+    if (sample == 0) view.solve_stats = entry.solver->Stats();
   }
-  GS_RETURN_IF_ERROR(entry.solver->Shade(ctx, view.camera, view.gbuffer));
-  if (!entry.solver->FrameComplete() && session.config.pacing == Pacing::kOnRequest) {
-    // A frame requested on its own is sent complete: keep this slice's
-    // timings and run the next slice at the session's next turn, after the
-    // other sessions' frames.
+  const bool refined = view.refinement.samples() >= refine_target;
+  if (session.config.pacing == Pacing::kOnRequest && (!entry.solver->FrameComplete() || !refined)) {
+    // A frame requested on its own is sent complete (every pathtrace
+    // sample, every refinement sample): keep this slice's timings and run
+    // the next slice at the session's next turn, after the other sessions'
+    // frames.
     MergeTimings(view.carry, timer_.Finish());
     view.carry_ms += std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
     return std::shared_ptr<EncodedFrame>();
@@ -1192,7 +1235,9 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   frame->scene_version = state.version();
   frame->last_update_seq = view.last_seq;
   frame->solver = session.config.solver;
-  frame->stats = entry.solver->Stats();
+  frame->stats = session.config.pacing == Pacing::kOnRequest && sample > 0
+                     ? std::move(view.solve_stats)
+                     : entry.solver->Stats();
   frame->stats.emplace_back("camera_changed", view.camera_changed ? 1.0 : 0.0);
   // How long the picture has had to converge since the last change of each
   // kind (issue 27): frames sent and milliseconds since the camera moved
@@ -1212,10 +1257,14 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   // 0 while the solver's view-independent update runs on (slices, a
   // background job): the frame shows the last consistent solution.
   frame->stats.emplace_back("update_complete", entry.solver->UpdateComplete() ? 1.0 : 0.0);
+  // Refinement progress: samples per pixel in the picture shown, of the
+  // view's target (1 of 1 when it does not refine).
+  frame->stats.emplace_back("refine_samples", double(view.refinement.samples()));
+  frame->stats.emplace_back("refine_target", double(refine_target));
   // Settled: the picture equals the last one, no update came with it and
   // the solver owes nothing (no slices, no background job, no animation):
   // a continuous view then rests (RenderFrame). Keep-alives at rest say 1.
-  view.settled = frame->unchanged && updates.empty() && !view.camera_changed &&
+  view.settled = frame->unchanged && refined && updates.empty() && !view.camera_changed &&
                  entry.solver->UpdateComplete() && entry.solver->FrameComplete() &&
                  !entry.solver->BackgroundBusy() && !AnyAnimationPlaying(state);
   frame->stats.emplace_back("at_rest", 0.0);

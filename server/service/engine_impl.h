@@ -16,6 +16,7 @@
 #include "gl/stage_timer.h"
 #include "render/camera.h"
 #include "render/gbuffer.h"
+#include "render/refinement.h"
 #include "render/view_passes.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene_state.h"
@@ -130,6 +131,13 @@ class EngineImpl final : public Engine {
     uint64_t frame_number = 0;
     uint64_t last_seq = 0;
     bool camera_changed = true;
+    uint64_t camera_version = 0;  // camera changes so far (the refinement's key)
+    // The still view's jittered samples (render/refinement.h).
+    Refinement refinement;
+    // The solver's stats after the slice that shaded sample 0: a frame
+    // requested on its own reports its solve, not its last refinement
+    // slice's no-op update.
+    SolverStats solve_stats;
     bool initialized = false;  // camera set from the config
     // Timings of the slices of a frame still in progress (a sliced solver's
     // Render), summed into the frame that completes it.
@@ -184,6 +192,12 @@ class EngineImpl final : public Engine {
   // Render thread.
   RenderThread::Clock::time_point Tick();
   void RenderFrame(SessionRecord& session, ViewRecord& view);
+  // Samples per pixel `session`'s view accumulates when still: its
+  // refine_samples (or the default); 1 for a solver that does not shade
+  // from the G-buffer (pathtrace refines itself) and while an animation
+  // plays (no two frames show the same state).
+  uint32_t RefineTarget(const SessionRecord& session, const Solver& solver,
+                        const SceneState& state) const;
   // Whether `view`, at rest, still shows the finished picture: the same
   // scene version and solver, nothing animating (session updates and key
   // frame requests are checked by the caller, under the lock).

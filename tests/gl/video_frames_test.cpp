@@ -36,6 +36,7 @@ SessionConfig Config(const std::string& scene, ImageFormat format, Pacing pacing
   c.encoding.format = format;
   c.encoding.video_encoders = {"libx264"};  // the same encoder with and without a GPU
   c.pacing = pacing;
+  c.refine_samples = 1;  // a still picture from the first frame on
   return c;
 }
 

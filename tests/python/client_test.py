@@ -66,15 +66,20 @@ class ClientTest(unittest.TestCase):
             self.assertFalse(session.rejected)
 
     def test_frames_of_a_still_view_end_at_rest(self):
-        # A still direct view settles on its second frame; its first
-        # keep-alive says at_rest, and frames() ends there instead of
-        # waiting for 100 keep-alives a second apart.
+        # A still direct view refines over 4 frames (refine_samples) and
+        # then settles; its first keep-alive says at_rest, and frames() ends
+        # there instead of waiting for 100 keep-alives a second apart.
         with self.client.session(self.scene.scene_id, params={"area_samples": 4},
-                                 size=(32, 24), fps=60) as session:
+                                 size=(32, 24), fps=60, refine_samples=4) as session:
             frames = list(session.frames(100))
             self.assertLess(len(frames), 100)
             self.assertEqual(frames[-1].stats["at_rest"], 1.0)
             self.assertTrue(frames[-1].unchanged)
+            last = gistream.convergence(frames[-1])
+            self.assertEqual(last["refine_samples"], 4.0)
+            self.assertEqual(last["refine_target"], 4.0)
+            self.assertEqual(last["update_complete"], 1.0)
+            self.assertEqual(gistream.convergence(frames[0])["refine_samples"], 1.0)
 
     def test_material_change_sets_metallic_and_roughness(self):
         # glossy_box, which no other test here loads (a named scene is shared

@@ -204,6 +204,21 @@ TEST(Translate, RenderRequestNamesTheBadUpdate) {
   EXPECT_EQ(out.status().message(), "updates[1].node_transform.matrix: expected 16 floats, got 1");
 }
 
+TEST(Translate, RefineSamplesReachTheEngine) {
+  pb::RenderRequest r;
+  r.set_scene_id("s");
+  r.set_refine_samples(7);
+  const absl::StatusOr<RenderRequest> render = RenderRequestFromProto(r);
+  ASSERT_TRUE(render.ok()) << render.status();
+  EXPECT_EQ(render->refine_samples, 7u);
+  pb::SessionConfig c;
+  c.set_scene_id("s");
+  c.set_refine_samples(3);
+  const absl::StatusOr<SessionConfig> session = SessionConfigFromProto(c);
+  ASSERT_TRUE(session.ok()) << session.status();
+  EXPECT_EQ(session->refine_samples, 3u);
+}
+
 TEST(Translate, SceneSourceNeedsASource) {
   pb::LoadSceneRequest r;
   EXPECT_EQ(SceneSourceFromProto(r).status().code(), absl::StatusCode::kInvalidArgument);

@@ -98,6 +98,7 @@ FloatImage RenderExr(Engine& engine, const std::string& scene_id, const std::str
   request.height = height;
   request.encoding.format = ImageFormat::kExr;
   request.camera = camera;
+  request.refine_samples = 1;  // pixel centres (see render_helpers.h)
   auto frame = engine.Render(request);
   EXPECT_TRUE(frame.ok()) << frame.status();
   if (!frame.ok()) return {};
@@ -175,6 +176,7 @@ RenderRequest SolverRequest(const std::string& scene, const std::string& solver,
   r.params = std::move(params);
   r.width = r.height = size;
   r.updates = std::move(updates);
+  r.refine_samples = 1;  // pixel centres (see render_helpers.h)
   return r;
 }
 
@@ -187,6 +189,7 @@ SessionConfig ExrStreamConfig(const std::string& scene, const std::string& solve
   config.width = config.height = size;
   config.encoding.format = ImageFormat::kExr;
   config.max_fps = 240.0f;
+  config.refine_samples = 1;  // pixel centres (see render_helpers.h)
   return config;
 }
 
@@ -280,8 +283,10 @@ void ReferenceFixture::Reference(const std::string& file, int spp) {
 
 double ReferenceFixture::ErrorOf(const std::string& solver,
                                  std::map<std::string, std::string> params) {
-  const FloatImage image =
-      RenderRequestExr(SolverRequest(scene_, solver, std::move(params), kSize));
+  // Refined (the server's default samples), as the box-filtered reference.
+  RenderRequest request = SolverRequest(scene_, solver, std::move(params), kSize);
+  request.refine_samples = 0;
+  const FloatImage image = RenderRequestExr(request);
   EXPECT_EQ(image.non_finite(), 0u) << solver;
   return RelMse(image, reference_);
 }

@@ -79,6 +79,12 @@ void ExpectSameImage(const FloatImage& got, const FloatImage& expected, float re
 // (x - r)^2 / (r^2 + 0.01).
 double RelMse(const FloatImage& image, const FloatImage& reference);
 
+// The helpers below render pixel centres (refine_samples 1): their tests
+// check a solver's solution at pixels (analytic values, equality of two
+// ways to the same solution, a stream's frames against a Render), which a
+// still view's refinement (tests/gl/refinement_test.cpp) would blur into
+// box averages; ReferenceFixture::ErrorOf alone renders refined, as its
+// box-filtered path-traced reference is.
 // A Render request for `solver` on `scene` at size x size with `updates`.
 RenderRequest SolverRequest(const std::string& scene, const std::string& solver,
                             std::map<std::string, std::string> params, uint32_t size,
@@ -116,8 +122,9 @@ bool StageSkipped(const EncodedFrame& frame, const std::string& stage);
 
 // A fixture for error against the path-traced reference at 64 x 64:
 // Reference() loads a private copy of a bundled scene and renders
-// `pathtrace` at `spp`; ErrorOf() renders a solver on it (expecting a
-// finite image) and returns its relMSE.
+// `pathtrace` at `spp`; ErrorOf() renders a solver on it, refined with the
+// server's default samples (expecting a finite image), and returns its
+// relMSE.
 class ReferenceFixture : public ::testing::Test {
  protected:
   void Reference(const std::string& file, int spp);

@@ -362,6 +362,7 @@ absl::StatusOr<SessionConfig> SessionConfigFromProto(const pb::SessionConfig& co
     default: out.pacing = Pacing::kContinuous; break;
   }
   out.frame_budget_ms = config.frame_budget_ms();
+  out.refine_samples = config.refine_samples();
   if (config.has_camera()) {
     GS_ASSIGN_OR_RETURN(out.camera, CameraFromProto(config.camera(), "config.camera"));
   }
@@ -386,6 +387,7 @@ absl::StatusOr<RenderRequest> RenderRequestFromProto(const pb::RenderRequest& re
     out.updates.push_back(std::move(u));
   }
   out.frame_budget_ms = request.frame_budget_ms();
+  out.refine_samples = request.refine_samples();
   return out;
 }
 
