@@ -4,11 +4,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
+#include <list>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
@@ -43,6 +45,10 @@ const char* ContentType(const std::string& path) {
 // A request's headers must arrive within this (a client that opens a
 // connection and sends nothing, or a byte a minute, is closed).
 constexpr auto kHeaderTimeout = std::chrono::seconds(10);
+// After an accept fails for want of descriptors (EMFILE, ENFILE), the next
+// accept waits this long (having closed the oldest pending connection)
+// instead of failing again at once: the loop had spun at 100 % CPU.
+constexpr auto kAcceptBackOff = std::chrono::milliseconds(50);
 
 }  // namespace
 
@@ -58,19 +64,67 @@ bool OriginAllowed(const std::string& origin, const std::string& host,
 
 namespace {
 
+class HttpSession;
+
+// Connections whose request has not arrived yet, oldest first (the I/O
+// thread's alone). Over ViewerOptions::max_pending_connections, or when
+// descriptors run out, the oldest is closed: a client holding many open
+// without finishing a request (slowloris) loses its own oldest ones, and
+// a new client, /healthz included, gets through.
+class PendingConnections {
+ public:
+  using List = std::list<std::weak_ptr<HttpSession>>;
+  List::iterator Add(std::weak_ptr<HttpSession> session) {
+    pending_.push_back(std::move(session));
+    return std::prev(pending_.end());
+  }
+  void Remove(List::iterator it) { pending_.erase(it); }
+  size_t size() const { return pending_.size(); }
+  // Closes the oldest pending connection; false when there is none.
+  bool CloseOldest();
+  uint64_t closed() const { return closed_; }
+
+ private:
+  List pending_;
+  uint64_t closed_ = 0;
+};
+
+PendingConnections& Pending() {
+  static PendingConnections pending;
+  return pending;
+}
+
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
   HttpSession(tcp::socket socket, const ViewerOptions& options)
       : stream_(std::move(socket)), options_(options) {}
+  ~HttpSession() { Unregister(); }
   void Start() {
+    while (Pending().size() >= std::max<size_t>(options_.max_pending_connections, 1) &&
+           Pending().CloseOldest()) {
+    }
+    slot_ = Pending().Add(weak_from_this());
+    registered_ = true;
     stream_.expires_after(kHeaderTimeout);
     http::async_read(stream_, buffer_, request_,
                      [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                       self->Unregister();
                        if (!ec) self->OnRequest();
                      });
   }
+  // Ends the connection now (PendingConnections::CloseOldest).
+  void Close() {
+    Unregister();
+    beast::error_code ignored;
+    stream_.socket().close(ignored);
+  }
 
  private:
+  void Unregister() {
+    if (registered_) Pending().Remove(slot_);
+    registered_ = false;
+  }
+
   void OnRequest() {
     stream_.expires_never();
     std::string target(request_.target());
@@ -84,6 +138,14 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     response->body() = "not found\n";
     if (beast::websocket::is_upgrade(request_) && target.rfind("/ws", 0) == 0) {
       const std::string origin(request_[http::field::origin]);
+      if (LiveViewers() >= options_.max_viewers) {
+        response->result(http::status::service_unavailable);
+        response->set(http::field::retry_after, "5");
+        response->body() = "too many viewers (gistream-web --max-viewers " +
+                           std::to_string(options_.max_viewers) + "); try again later\n";
+        Send(response);
+        return;
+      }
       if (OriginAllowed(origin, std::string(request_[http::field::host]),
                         options_.allowed_origins)) {
         StartViewer(stream_.release_socket(), std::move(request_), options_);
@@ -129,12 +191,49 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   beast::flat_buffer buffer_;
   http::request<http::string_body> request_;
   const ViewerOptions& options_;
+  PendingConnections::List::iterator slot_;
+  bool registered_ = false;
 };
 
-void Accept(tcp::acceptor& acceptor, const ViewerOptions& options) {
-  acceptor.async_accept([&acceptor, &options](beast::error_code ec, tcp::socket socket) {
-    if (!ec) std::make_shared<HttpSession>(std::move(socket), options)->Start();
-    Accept(acceptor, options);
+bool PendingConnections::CloseOldest() {
+  while (!pending_.empty()) {
+    std::shared_ptr<HttpSession> oldest = pending_.front().lock();
+    if (!oldest) {
+      pending_.pop_front();  // (a session unregisters as it ends; defensive)
+      continue;
+    }
+    closed_ += 1;
+    oldest->Close();  // unregisters it
+    return true;
+  }
+  return false;
+}
+
+void Accept(tcp::acceptor& acceptor, net::steady_timer& back_off, const ViewerOptions& options) {
+  acceptor.async_accept([&acceptor, &back_off, &options](beast::error_code ec, tcp::socket socket) {
+    if (!ec) {
+      std::make_shared<HttpSession>(std::move(socket), options)->Start();
+      Accept(acceptor, back_off, options);
+      return;
+    }
+    if (ec == boost::system::errc::too_many_files_open ||
+        ec == boost::system::errc::too_many_files_open_in_system) {
+      // Out of descriptors: free the oldest pending connection's and try
+      // again shortly rather than spinning on the same error.
+      const bool freed = Pending().CloseOldest();
+      static uint64_t logged = 0;
+      if (logged++ % 1000 == 0) {
+        std::cerr << "gistream-web: accept: " << ec.message() << " ("
+                  << (freed ? "closed the oldest pending connection" : "none pending")
+                  << "; backing off)" << std::endl;
+      }
+      back_off.expires_after(kAcceptBackOff);
+      back_off.async_wait([&acceptor, &back_off, &options](beast::error_code) {
+        Accept(acceptor, back_off, options);
+      });
+      return;
+    }
+    Accept(acceptor, back_off, options);
   });
 }
 
@@ -173,7 +272,8 @@ int Serve(const std::string& address, const ViewerOptions& options,
   }
   const tcp::endpoint bound = acceptor.local_endpoint();
   on_listening(bound.address().to_string() + ":" + std::to_string(bound.port()));
-  Accept(acceptor, options);
+  net::steady_timer back_off(io);
+  Accept(acceptor, back_off, options);
   io.run();
   return 0;
 }

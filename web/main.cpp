@@ -6,7 +6,8 @@
 //   gistream-web [--server ADDR] [--listen HOST:PORT] [--scene NAME]
 //                [--solver NAME] [--param K=V]... [--size WxH] [--fps F]
 //                [--tls] [--ca FILE] [--cert FILE --key FILE] [--token TOKEN]
-//                [--allow-origin ORIGIN]... [--version]
+//                [--allow-origin ORIGIN]... [--max-connections N]
+//                [--max-viewers N] [--version]
 // The upstream channel to gistreamd takes the CLI's TLS and token options
 // (client/connection.h); the token defaults to $GISTREAM_TOKEN.
 #include <algorithm>
@@ -15,6 +16,8 @@
 #include <cstdlib>
 #include <iostream>
 #include <string>
+
+#include <sys/resource.h>
 
 #include <grpcpp/grpcpp.h>
 
@@ -30,12 +33,16 @@ int Usage() {
          "                    [--scenes NAME,NAME,...] [--solver NAME] [--param K=V]...\n"
          "                    [--size WxH] [--fps F] [--tls] [--ca FILE]\n"
          "                    [--cert FILE --key FILE] [--token TOKEN] [--allow-origin ORIGIN]...\n"
+         "                    [--max-connections N] [--max-viewers N]\n"
          "--tls/--ca/--cert/--key/--token: the channel to gistreamd, as in gistream\n"
          "(token default $GISTREAM_TOKEN).\n"
          "--scenes: the page's scene picker (default: the bundled scenes).\n"
          "--allow-origin ORIGIN: a site whose pages may open the viewer's WebSocket\n"
          "(repeatable; '*' any; default: this gateway's own origin only).\n"
          "--fps F: 0 (the server's cap) to 240; --size WxH: 1x1 to 8192x8192.\n"
+         "--max-connections N: connections still sending their request (default 256;\n"
+         "at the limit a new one closes the oldest); --max-viewers N: WebSocket\n"
+         "viewers at once (default 64; beyond: 503). Both 1 to 100000.\n"
          "--version: print the version and exit.\n"
          "Serves the viewer on http://HOST:PORT/ (default 127.0.0.1:8080), bridged to\n"
          "gistreamd at --server (default $GISTREAM_SERVER, else 127.0.0.1:50051).\n";
@@ -46,6 +53,12 @@ int Usage() {
 
 int main(int argc, char** argv) {
   using namespace gistream;
+  // Every descriptor the hard limit allows (connections are bounded by
+  // --max-connections and --max-viewers; running out is handled too).
+  if (rlimit files{}; getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < files.rlim_max) {
+    files.rlim_cur = files.rlim_max;
+    setrlimit(RLIMIT_NOFILE, &files);
+  }
   const char* env = std::getenv("GISTREAM_SERVER");
   std::string server = env && *env ? env : "127.0.0.1:50051";
   client::ConnectionOptions upstream;
@@ -94,6 +107,15 @@ int main(int argc, char** argv) {
         std::cerr << "gistream-web: --size: '" << value << "' is not WxH from 1x1 to 8192x8192\n";
         return Usage();
       }
+    } else if (flag == "--max-connections" || flag == "--max-viewers") {
+      char* end = nullptr;
+      const long n = std::strtol(value.c_str(), &end, 10);
+      if (value.empty() || *end != '\0' || n < 1 || n > 100000) {
+        std::cerr << "gistream-web: " << flag << ": '" << value
+                  << "' is not a number from 1 to 100000\n";
+        return Usage();
+      }
+      (flag == "--max-viewers" ? options.max_viewers : options.max_pending_connections) = size_t(n);
     } else if (flag == "--allow-origin") {
       options.allowed_origins.push_back(value);
     } else if (flag == "--ca" || flag == "--cert" || flag == "--key") {

@@ -1,3 +1,4 @@
+#include <atomic>
 #include "viewer_bridge.h"
 
 #include <algorithm>
@@ -165,14 +166,20 @@ struct Link {
   }
 };
 
+std::atomic<size_t> live_viewers{0};
+
 class Viewer : public std::enable_shared_from_this<Viewer> {
  public:
   Viewer(tcp::socket socket, const ViewerOptions& options, bool h264)
       : ws_(std::move(socket)), options_(options), h264_(h264), link_(std::make_shared<Link>()) {
     options_.config.mutable_encoding()->set_format(h264 ? v1::IMAGE_FORMAT_H264
                                                         : v1::IMAGE_FORMAT_JPEG);
+    live_viewers.fetch_add(1);
   }
-  ~Viewer() { link_->context.TryCancel(); }
+  ~Viewer() {
+    link_->context.TryCancel();
+    live_viewers.fetch_sub(1);
+  }
 
   void Start(http::request<http::string_body> request) {
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
@@ -391,6 +398,8 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
 };
 
 }  // namespace
+
+size_t LiveViewers() { return live_viewers.load(); }
 
 void StartViewer(tcp::socket socket, http::request<http::string_body> request,
                  const ViewerOptions& options) {

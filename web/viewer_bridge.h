@@ -37,7 +37,17 @@ struct ViewerOptions {
   // origin alone (Origin equal to http:// or https:// + the Host header).
   // A request without Origin (not a browser) is let through.
   std::vector<std::string> allowed_origins;
+  // Connections still sending their request (--max-connections): at the
+  // limit a new one closes the oldest of them, so connections that never
+  // finish a request cannot keep others (or /healthz) out.
+  size_t max_pending_connections = 256;
+  // Viewers (WebSocket sessions) at once (--max-viewers); beyond, an
+  // upgrade is answered 503.
+  size_t max_viewers = 64;
 };
+
+// Viewers running now (each holds a gistreamd session).
+size_t LiveViewers();
 
 // Takes over the socket of an HTTP upgrade request to /ws (query:
 // format=jpeg|h264) and runs until either side closes.

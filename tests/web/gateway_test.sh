@@ -4,7 +4,9 @@
 # gateway's own origin, or from an origin given with --allow-origin, is
 # accepted (101); a connection that sends no request is closed after the
 # header timeout; bad flags are usage errors (exit 2), not crashes;
-# --version prints the version.
+# --version prints the version; connections that never send a request
+# and running out of descriptors do not keep /healthz out or spin the
+# accept loop, and viewers are limited (issue 30).
 # usage: gateway_test.sh BUILD_DIR SCENES_DIR
 set -u
 BIN=$1
@@ -102,4 +104,89 @@ for origin, want in [(f"http://{host}:{port}", "101"), ("http://evil.example", "
 EOF
 grep -q "refused a WebSocket from origin 'http://evil.example'" "$TMP/w2.err" ||
   fail "the refusal was not logged"
+kill $WEB 2>/dev/null; wait $WEB 2>/dev/null
+
+# Bounded (issue 30): 40 connections that never send a request, past
+# --max-connections 8, cost the gateway only its oldest ones, so /healthz
+# still answers; a second viewer past --max-viewers 1 is told 503.
+start_web w3 --max-connections 8 --max-viewers 1
+python3 - "$HOSTPORT" <<'EOF' || fail "connection limit"
+import socket, sys
+host, port = sys.argv[1].rsplit(":", 1)
+idle = [socket.create_connection((host, int(port)), timeout=10) for _ in range(40)]
+s = socket.create_connection((host, int(port)), timeout=5)
+s.sendall(f"GET /healthz HTTP/1.1\r\nHost: {host}\r\n\r\n".encode())
+got = s.recv(4096).decode(errors="replace").split("\r\n")[0]
+print("healthz beside 40 idle connections:", got)
+if " 200 " not in got:
+    sys.exit("healthz did not answer 200 beside 40 idle connections")
+# The oldest idle ones were closed to make room (recv sees EOF).
+closed = 0
+for c in idle[:8]:
+    c.settimeout(5)
+    try:
+        closed += c.recv(1) == b""
+    except (socket.timeout, ConnectionResetError):
+        pass
+print(f"oldest idle connections closed: {closed} of 8")
+if closed < 8:
+    sys.exit("the oldest idle connections were not closed")
+
+def upgrade():
+    c = socket.create_connection((host, int(port)), timeout=10)
+    c.sendall((f"GET /ws HTTP/1.1\r\nHost: {host}:{port}\r\nUpgrade: websocket\r\n"
+               "Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+               "Sec-WebSocket-Version: 13\r\n\r\n").encode())
+    return c, c.recv(4096).decode(errors="replace").split("\r\n")[0]
+
+first, line1 = upgrade()
+second, line2 = upgrade()
+print("viewers:", line1, "/", line2)
+if "101" not in line1 or "503" not in line2:
+    sys.exit(f"--max-viewers 1: expected 101 then 503, got {line1!r}, {line2!r}")
+EOF
+kill $WEB 2>/dev/null; wait $WEB 2>/dev/null
+
+# Out of descriptors: with 64 of them and 120 connections waiting, accept
+# fails with EMFILE; the gateway closes its oldest pending connection and
+# backs off instead of spinning, and /healthz answers.
+(ulimit -n 64 && exec "$BIN/gistream-web" --server "$ADDR" --listen 127.0.0.1:0 --size 32x24 \
+  --max-connections 1000 >"$TMP/w4.log" 2>"$TMP/w4.err") &
+WEB=$!
+for _ in $(seq 600); do grep -q "serving" "$TMP/w4.log" && break; sleep 0.1; done
+HOSTPORT=$(sed -n 's/^serving http:\/\/\([^/ ]*\)\/.*/\1/p' "$TMP/w4.log")
+[ -n "$HOSTPORT" ] || fail "gistream-web (64 descriptors) did not start"
+python3 - "$HOSTPORT" "$WEB" <<'EOF' || fail "descriptor exhaustion"
+import os, socket, sys, time
+host, port = sys.argv[1].rsplit(":", 1)
+pid = sys.argv[2]
+idle = [socket.create_connection((host, int(port)), timeout=10) for _ in range(120)]
+
+def cpu_seconds():
+    fields = open(f"/proc/{pid}/stat").read().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+time.sleep(0.5)
+before = cpu_seconds()
+time.sleep(2.0)
+busy = cpu_seconds() - before
+# A spinning accept loop takes a whole core: 2 s. Backing off: almost none.
+print(f"gateway CPU over 2 s with descriptors exhausted: {busy:.2f} s")
+if busy > 1.0:
+    sys.exit("the accept loop spins while descriptors are exhausted")
+for attempt in range(20):
+    try:
+        s = socket.create_connection((host, int(port)), timeout=5)
+        s.sendall(f"GET /healthz HTTP/1.1\r\nHost: {host}\r\n\r\n".encode())
+        got = s.recv(4096).decode(errors="replace").split("\r\n")[0]
+        if " 200 " in got:
+            print("healthz with descriptors exhausted:", got)
+            break
+    except OSError:
+        pass
+    time.sleep(0.2)
+else:
+    sys.exit("healthz did not answer while descriptors were exhausted")
+EOF
+grep -q "backing off" "$TMP/w4.err" || fail "the descriptor shortage was not logged"
 echo "PASS"
