@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "support/frame_queue.h"
+#include "support/held_pool.h"
 #include "support/render_helpers.h"
 
 namespace gistream {
@@ -67,6 +68,50 @@ TEST(BackgroundRelink, AStreamKeepsItsFramesAndConvergesToAFreshSolve) {
   // Same links, same gather: equal to float rounding (1e-4 relative).
   testing::ExpectSameImage(testing::DecodeExr(*done),
                            testing::RenderRequestExr(fresh, &fresh_frame));
+}
+
+// Under continuous motion every relink ends with the next one queued: the
+// links it delivers are gathered at once (issue 27), not only links with
+// no relink behind them, which had left the first solution on screen
+// until the motion stopped.
+TEST(BackgroundRelink, LinksAreGatheredWhileANewerRelinkRuns) {
+  const BundledCopy scene("cornell_box.gltf");
+  SessionConfig config = testing::ExrStreamConfig(scene.id(), "implicit_visibility", kParams, 32);
+  auto sink = std::make_shared<testing::FrameQueue>();
+  auto opened = testing::SharedEngine().OpenSession(config, sink);
+  ASSERT_TRUE(opened.ok()) << opened.status();
+  ASSERT_NE(sink->WaitFor([](const EncodedFrame& f) { return Stat(f, "update_complete") == 1.0; }),
+            nullptr);
+  // (A one-thread CPU pool runs a job inline: nothing to hold.)
+  if (!testing::HeldPool::Holds()) GTEST_SKIP() << "one CPU: background jobs run inline";
+  testing::HeldPool held;
+  // Move 1 starts relink A, which cannot run yet; move 2 queues another.
+  ASSERT_TRUE(testing::SharedEngine().PushUpdate(opened->id, {1, MoveBlock()}).ok());
+  ASSERT_NE(sink->WaitFor([](const EncodedFrame& f) { return f.last_update_seq >= 1; }), nullptr);
+  NodeTransformUpdate again = MoveBlock();
+  again.translation.x += 0.05f;
+  ASSERT_TRUE(testing::SharedEngine().PushUpdate(opened->id, {2, again}).ok());
+  auto before = sink->WaitFor([](const EncodedFrame& f) { return f.last_update_seq >= 2; });
+  ASSERT_NE(before, nullptr);
+  EXPECT_EQ(Stat(*before, "gi_versions_behind"), 2.0);  // the first solve's GI
+  held.Release();
+  // The frame that takes A's links starts relink B for move 2 and gathers
+  // A's: one version behind, B pending.
+  auto took = sink->WaitFor([](const EncodedFrame& f) {
+    const StageTiming* links = testing::FrameStage(f, "create_links");
+    return f.last_update_seq >= 2 && links != nullptr && !links->skipped;
+  });
+  ASSERT_NE(took, nullptr);
+  EXPECT_EQ(Stat(*took, "links_pending"), 1.0);
+  EXPECT_EQ(Stat(*took, "gi_versions_behind"), 1.0);
+  EXPECT_FALSE(testing::FrameStage(*took, "illumination")->skipped);
+  // B's links follow and the solution is current.
+  ASSERT_NE(sink->WaitFor([](const EncodedFrame& f) {
+    return f.last_update_seq >= 2 && Stat(f, "update_complete") == 1.0 &&
+           Stat(f, "gi_versions_behind") == 0.0;
+  }),
+            nullptr);
+  testing::SharedEngine().CloseSession(opened->id);
 }
 
 TEST(BackgroundRelink, ARenderAfterAMoveIsComplete) {

@@ -113,6 +113,7 @@ class ImplicitVisibilitySolver final : public Solver {
   bool environment_stale_ = false;   // the leaves' environment share waits for it
   uint64_t solved_version_ = 0;      // scene version the shown GI reflects
   uint64_t latest_version_ = 0;      // newest scene version seen
+  uint64_t links_version_ = 0;       // scene version the links were built for
 
   // Stats of the last update
   hierarchy::LinkStats link_stats_;
