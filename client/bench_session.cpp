@@ -136,7 +136,7 @@ void BenchSession::ReadLoop() {
             {std::chrono::duration<double, std::milli>(now - window_start_).count(),
              frame.frame_number(), frame.last_update_seq(), stop_updates_.load(), last_image_,
              stat("update_complete", 1.0), stat("at_rest", 0.0),
-             stat("frames_since_scene_change", 0.0)});
+             stat("frames_since_scene_change", 0.0), stat("refine_samples", 1.0)});
       }
       tracker_.OnFrame(frame.last_update_seq(), now);
       if (stop_updates_ && !settle_ms_ && frame.last_update_seq() >= last_seq_sent_) {
@@ -145,8 +145,17 @@ void BenchSession::ReadLoop() {
         if (keep_settle_frames_) {
           settle_frames_.push_back({ms, frame.image().empty() ? last_image_ : frame.image()});
         }
-        const auto complete = frame.stats().find("update_complete");
-        if (complete == frame.stats().end() || complete->second != 0.0) settle_ms_ = ms;
+        // Settled: the GI update is complete and the still picture refined
+        // (refine_samples reached refine_target; an older server sends
+        // neither).
+        const auto stat = [&](const char* name, double absent) {
+          const auto it = frame.stats().find(name);
+          return it == frame.stats().end() ? absent : it->second;
+        };
+        if (stat("update_complete", 1.0) != 0.0 &&
+            stat("refine_samples", 1.0) >= stat("refine_target", 1.0)) {
+          settle_ms_ = ms;
+        }
       }
       if (window_set_ && intervals_->Add(now)) {
         ++live_frames_;
@@ -156,7 +165,15 @@ void BenchSession::ReadLoop() {
         stages_.collector.Add(frame, now);
       }
     }
-    first_frame_ = true;
+    // Measuring error over time (keep_settle_frames_, --reference-spp),
+    // the interaction starts from a finished solve: updates wait for the
+    // first frame whose GI update is complete (a continuous stream of
+    // moves before it measured the first solve's wait, not catching up).
+    if (!keep_settle_frames_ || frame.stats().find("update_complete") == frame.stats().end() ||
+        frame.stats().at("update_complete") != 0.0) {
+      first_frame_ = true;
+    }
+    if (!first_frame_) continue;
     // Closed loop: the next tick's updates go out as each frame arrives
     // (the first right after the first frame).
     if (update_hz_ <= 0.0 && !stop_updates_) SendTick();

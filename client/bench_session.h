@@ -79,6 +79,7 @@ class BenchSession {
     bool settle = false;  // after StopUpdates (else during the motion)
     std::string image;    // the picture shown (an unchanged frame's is the last)
     double update_complete = 1.0, at_rest = 0.0, frames_since_scene_change = 0.0;
+    double refine_samples = 1.0;  // the still view's samples per pixel in it
   };
   std::vector<TracedFrame> TracedFrames() const;
   // The updates that sequence number `seq` belonged to (its tick's); empty

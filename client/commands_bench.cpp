@@ -352,7 +352,7 @@ absl::StatusOr<nlohmann::json> ErrorOverTime(Connection& connection,
     GS_ASSIGN_OR_RETURN(const ImageError e, CompareImages(image, references.at(f.seq)));
     absl::StrAppend(&csv, step, ",1,", f.frame_number, ",", f.seq, ",", FormatFixed(f.t_ms, 1), ",",
                     f.settle ? "settle" : "motion", ",", e.rel_mse, ",", f.update_complete, ",",
-                    f.at_rest, ",", f.frames_since_scene_change, "\n");
+                    f.at_rest, ",", f.frames_since_scene_change, ",", f.refine_samples, "\n");
     if (!f.settle) {
       motion.push_back(e.rel_mse);
     } else {
@@ -629,7 +629,7 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
   // One row per frame of each step's first session (--reference-spp).
   std::string frames_csv =
       "step,session,frame,seq,t_ms,phase,relmse,update_complete,at_rest,"
-      "frames_since_scene_change\n";
+      "frames_since_scene_change,refine_samples\n";
   for (size_t i = 0; i < options.sessions.size() && !interrupted; ++i) {
     const int count = options.sessions[i];
     const std::string label = absl::StrCat("[step ", i + 1, "/", options.sessions.size(), ": ",

@@ -121,6 +121,9 @@ assert {"motion", "settle"} <= phases, f"phases {phases} in {len(rows)} rows"
 for r in rows:
     assert math.isfinite(float(r["relmse"])) and float(r["relmse"]) >= 0.0, r
 assert len({r["frame"] for r in rows}) == len(rows), "a frame twice"
+# The still picture refines after the stop: the settle frames end refined.
+settle = [r for r in rows if r["phase"] == "settle"]
+assert float(settle[-1]["refine_samples"]) == 16.0, settle[-1]
 print(f"frames.csv: {len(rows)} rows")
 PY
 
