@@ -145,6 +145,19 @@ TEST_F(TenancyTest, IdsAreUnguessableAndOtherTenantsGetNotFound) {
   }
   EXPECT_FALSE(Lists(Status(kBob), id));
   EXPECT_TRUE(Lists(Status(kAlice), id));
+  // Server-wide figures are not a tenant's to see: Bob, who rendered
+  // nothing and holds nothing, sees no frames, memory or process figures
+  // after Alice's render.
+  ASSERT_TRUE(Render(kAlice, id, &frame).ok());
+  const pb::ServerStatus bob = Status(kBob);
+  EXPECT_EQ(bob.frames_rendered(), 0u);
+  EXPECT_EQ(bob.sessions(), 0u);
+  EXPECT_EQ(bob.scenes(), 0u);
+  EXPECT_EQ(bob.gl_object_bytes(), 0u);
+  EXPECT_EQ(bob.memory_budget_used_bytes(), 0u);
+  EXPECT_EQ(bob.rss_bytes(), 0u);
+  EXPECT_EQ(bob.cpu_seconds(), 0.0);
+  EXPECT_FALSE(bob.version().empty());  // what the server is stays public
   // The owner's calls work, also from another of its tokens.
   EXPECT_TRUE(Render(kAliceToo, id, &frame).ok());
   EXPECT_TRUE(Unload(kAlice, id).ok());

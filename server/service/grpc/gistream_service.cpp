@@ -26,9 +26,12 @@ class RejectedSession final : public grpc::ServerBidiReactor<pb::SessionRequest,
   void OnDone() override { delete this; }
 };
 
-// `stats` with the scenes and sessions of other tenants left out.
+// `stats` with the scenes and sessions of other tenants left out, and the
+// server-wide figures (frames of every session, memory, GPU, retiring
+// solvers) replaced by the tenant's own or 0: one tenant's status says
+// nothing of another's load (issue 30). Operators read those on /metrics.
 EngineStats OnlyTenant(EngineStats stats, const TenantId& tenant) {
-  EngineStats out = stats;
+  EngineStats out;
   out.scene_ids.clear();
   out.scene_tenants.clear();
   for (size_t i = 0; i < stats.scene_ids.size() && i < stats.scene_tenants.size(); ++i) {
@@ -36,9 +39,11 @@ EngineStats OnlyTenant(EngineStats stats, const TenantId& tenant) {
     out.scene_ids.push_back(stats.scene_ids[i]);
     out.scene_tenants.push_back(tenant);
   }
+  out.session_status = std::move(stats.session_status);
   std::erase_if(out.session_status, [&](const SessionStatus& s) { return s.tenant != tenant; });
   out.scenes = uint32_t(out.scene_ids.size());
   out.sessions = uint32_t(out.session_status.size());
+  for (const SessionStatus& s : out.session_status) out.frames_rendered += s.frames;
   return out;
 }
 }  // namespace
@@ -181,8 +186,14 @@ grpc::ServerUnaryReactor* GistreamService::GetServerStatus(
     // With tokens a tenant sees its own scenes and sessions only (without,
     // there is one tenant).
     EngineStats stats = engine_.stats();
-    if (options_.tokens) stats = OnlyTenant(std::move(stats), tenant);
-    ServerStatusToProto(engine_.device_info(), stats, ReadProcessStats(), Version(), response);
+    ProcessStats process = ReadProcessStats();
+    if (options_.tokens) {
+      stats = OnlyTenant(std::move(stats), tenant);
+      // The process's memory and CPU are every tenant's together.
+      process.rss_bytes = process.peak_rss_bytes = 0;
+      process.cpu_seconds = 0.0;
+    }
+    ServerStatusToProto(engine_.device_info(), stats, process, Version(), response);
     return grpc::Status::OK;
   });
 }
