@@ -74,7 +74,7 @@ SLOW_NUMERIC+=':AvgGridFlux.*:AvgIncremental.RevoxelizedGrid*:AntiradianceStabil
 # and furnace sweeps stay in `make test`.
 # (222 s with EngineSlicing, VideoFramesTest and EngineRest's
 # implicit_visibility case too, 2026-12-03: those stay in `make test`.)
-GL_SUITES=${GL_SUITES:-'EngineStagesTest.*:EngineSolverCache.*:EngineRestShared.*:Solvers/EngineRest.*/direct:FirstSolves.*:AllSolvers/StagePlan.*:DirectIncremental.*:DrawListTest.*:GlProgram.*:GlDebug.*:GlDriverQuirks.*:AvgBackgroundTrace.*:BackgroundRelink.*:GpuDeformTest.*:ShProbesFirstSolve.*'}
+GL_SUITES=${GL_SUITES:-'EngineStagesTest.*:EngineSolverCache.*:EngineRestShared.*:Solvers/EngineRest.*/direct:FirstSolves.*:AllSolvers/StagePlan.*:DirectIncremental.*:DrawListTest.*:GlProgram.*:GlDebug.*:GlDriverQuirks.*:AvgBackgroundTrace.*:BackgroundRelink.*:GpuDeformTest.*:ShProbesFirstSolve.*:Refinement.*'}
 for t in unit_tests client_tests service_tests reliability_tests gl_tests; do
   echo "ci-sanitizers: $t under ASan + UBSan"
   filter='*'
