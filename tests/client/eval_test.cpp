@@ -124,6 +124,15 @@ TEST(EvalSpec, ParsesAGoodSpec) {
   ASSERT_EQ(settings.size(), 2u);  // 2 x 1
   EXPECT_EQ(settings[1].at("area_samples"), "64");
   EXPECT_EQ(settings[1].at("shadow_res"), "128");
+  EXPECT_EQ(spec->refine_samples, 0u);  // the server's default
+  std::string refined = kSpec;
+  refined.replace(refined.find("\"timed_frames\""), 14, "\"refine_samples\": 4, \"timed_frames\"");
+  spec = ParseEvalSpec(refined);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  EXPECT_EQ(spec->refine_samples, 4u);
+  refined.replace(refined.find("\"refine_samples\": 4"), 19, "\"refine_samples\": 0");
+  EXPECT_NE(std::string(ParseEvalSpec(refined).status().message()).find("refine_samples"),
+            std::string::npos);
 }
 
 TEST(EvalSpec, ErrorsNameTheJsonPath) {

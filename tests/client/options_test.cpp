@@ -21,19 +21,34 @@ std::string UsageError(std::vector<std::string> args) {
 }
 
 TEST(CommandLine, RenderWithEverything) {
-  auto line = Parse({"--server",        "10.0.0.1:1234",
-                     "render",          "--scene",
-                     "cornell_box",     "--solver",
-                     "sh_probes",       "--param",
-                     "probes=8",        "--param=order=3",
-                     "--size",          "64x48",
-                     "--format",        "exr",
-                     "--out",           "x.bin",
-                     "--exposure",      "-1",
-                     "--quality",       "95",
-                     "--camera-eye",    "0,1,2",
-                     "--camera-target", "0.5, 0.5, 0.5",
-                     "--yfov",          "40"});
+  auto line = Parse({"--server",
+                     "10.0.0.1:1234",
+                     "render",
+                     "--scene",
+                     "cornell_box",
+                     "--solver",
+                     "sh_probes",
+                     "--param",
+                     "probes=8",
+                     "--param=order=3",
+                     "--size",
+                     "64x48",
+                     "--format",
+                     "exr",
+                     "--out",
+                     "x.bin",
+                     "--exposure",
+                     "-1",
+                     "--quality",
+                     "95",
+                     "--camera-eye",
+                     "0,1,2",
+                     "--camera-target",
+                     "0.5, 0.5, 0.5",
+                     "--yfov",
+                     "40",
+                     "--refine-samples",
+                     "4"});
   ASSERT_TRUE(line.ok()) << line.status();
   EXPECT_EQ(line->connection.server, "10.0.0.1:1234");
   ASSERT_EQ(line->command, Command::kRender);
@@ -53,6 +68,14 @@ TEST(CommandLine, RenderWithEverything) {
   EXPECT_FLOAT_EQ(render.view.camera.look_at().target().x(), 0.5f);
   EXPECT_FLOAT_EQ(render.view.camera.look_at().up().y(), 1.0f);
   EXPECT_FLOAT_EQ(render.view.camera.yfov_degrees(), 40.0f);
+  EXPECT_EQ(render.view.refine_samples, 4u);
+}
+
+TEST(CommandLine, RefineSamplesAreBounded) {
+  EXPECT_EQ(UsageError({"render", "--scene", "a", "--out", "b", "--refine-samples", "0"})
+                .find("--refine-samples"),
+            0u);
+  EXPECT_EQ(UsageError({"stream", "--refine-samples", "1025"}).find("--refine-samples"), 0u);
 }
 
 TEST(CommandLine, RenderFormatFromOutputExtension) {
