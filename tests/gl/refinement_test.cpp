@@ -134,12 +134,13 @@ SessionConfig Continuous(const std::string& scene, uint32_t refine_samples) {
 
 bool AtRest(const EncodedFrame& f) { return FrameStat(f, "at_rest") == 1.0; }
 
-// Rendered frames (not keep-alives) after `after`, up to and including the
-// first keep-alive at rest.
-std::vector<std::shared_ptr<const EncodedFrame>> UntilRest(FrameQueue& sink, uint64_t after) {
+// Frames that show update `seq` (0: the first picture), up to and
+// including the first keep-alive at rest (a keep-alive of the rest before
+// the update, sent while it was on its way, is not one of them).
+std::vector<std::shared_ptr<const EncodedFrame>> UntilRest(FrameQueue& sink, uint64_t seq) {
   std::vector<std::shared_ptr<const EncodedFrame>> frames;
   while (auto f = sink.Next()) {
-    if (f->frame_number <= after) continue;
+    if (f->last_update_seq < seq) continue;
     frames.push_back(f);
     if (AtRest(*f) || frames.size() > 200) break;
   }
@@ -163,10 +164,10 @@ TEST(Refinement, AStillStreamRefinesThenRestsAndEachChangeRestarts) {
   Engine& engine = SharedEngine();
   // Frames shown 1, 2, 3, 4 samples a pixel (unchanged ones are held back,
   // so a stat may be missing, never out of order), then rest at 4.
-  auto expect_refines = [&](const char* after, uint64_t last_frame) -> uint64_t {
-    const auto frames = UntilRest(*sink, last_frame);
+  auto expect_refines = [&](const char* after, uint64_t seq) -> uint64_t {
+    const auto frames = UntilRest(*sink, seq);
     EXPECT_FALSE(frames.empty()) << after;
-    if (frames.empty()) return last_frame;
+    if (frames.empty()) return 0;
     const std::vector<double> s = Samples(frames);
     EXPECT_FALSE(s.empty()) << after;
     if (s.empty()) return frames.back()->frame_number;
@@ -182,13 +183,13 @@ TEST(Refinement, AStillStreamRefinesThenRestsAndEachChangeRestarts) {
   CameraUpdate cam;
   cam.look_at = LookAt{{0.1f, 1.0f, 3.5f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
   ASSERT_TRUE(engine.PushUpdate(session->id, {1, cam}).ok());
-  last = expect_refines("a camera move", last);
+  last = expect_refines("a camera move", 1);
   // So does a scene change (a dimmer on the ceiling lamp's emission).
   MaterialUpdate dim;
   dim.material = 3;
   dim.emissive_strength = 9.0f;
   ASSERT_TRUE(engine.PushUpdate(session->id, {2, dim}).ok());
-  last = expect_refines("a dimmer", last);
+  last = expect_refines("a dimmer", 2);
   // A key frame request changes nothing the samples show: the complete
   // picture is sent again as it is, without shading a sample.
   ASSERT_TRUE(engine.RequestKeyFrame(session->id).ok());
