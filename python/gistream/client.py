@@ -181,17 +181,19 @@ class Client:
         return self.stub.Render(request, timeout=self.timeout)
 
     def session(self, scene_id, solver="direct", params=None, size=(320, 240), format="jpeg",
-                quality=0, fps=30.0, camera=None, refine_samples=0):
+                quality=0, fps=30.0, camera=None, refine_samples=0, frame_budget_ms=0.0):
         """A continuous session (a Session; use it in a with-block). A still
-        view refines over `refine_samples` frames (0: the server's default)
-        and then rests; frame stats refine_samples / refine_target say how
-        far it got."""
+        view refines to `refine_samples` samples per pixel (0: the server's
+        default; a frame without updates shades as many as
+        `frame_budget_ms` allows, 0: the server's) and then rests; frame
+        stats refine_samples / refine_target say how far it got."""
         config = pb.SessionConfig(scene_id=scene_id, solver=solver,
                                   params={k: str(v) for k, v in (params or {}).items()},
                                   width=size[0], height=size[1],
                                   encoding=_encoding(format, quality),
                                   continuous=pb.Continuous(max_fps=fps),
-                                  refine_samples=refine_samples)
+                                  refine_samples=refine_samples,
+                                  frame_budget_ms=frame_budget_ms)
         if camera is not None:
             config.camera.CopyFrom(camera)
         return Session(self.stub, config)

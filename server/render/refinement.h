@@ -1,9 +1,10 @@
 // Refinement of a still view (issue 27): while camera, scene version and
-// solver solution stay the same, each frame shades one more sub-pixel
-// jittered sample (G-buffer and the solver's final pass) and the view shows
+// solver solution stay the same, each frame shades more sub-pixel jittered
+// samples (G-buffer and the solver's final pass; as many as the frame's
+// budget allows, one in a frame that applied an update) and the view shows
 // their mean: a box pixel filter, like pathtrace's, converging to the
 // box-filtered picture, edges and emitters anti-aliased. The first sample
-// is the pixel centre, so the first frame after a change is the picture an
+// is the pixel centre, so a frame of one sample is the picture an
 // unrefined view shows. A change resets the samples; once `target` samples
 // are in, the picture is complete and the engine shades nothing more.
 #pragma once
@@ -33,7 +34,10 @@ class Refinement {
   // Restarts at 0 on another key (a camera change, a new scene version,
   // another solver or size), a solution that is not final, or target <= 1.
   int Next(const Key& key, uint32_t target);
-  // The sample Next returned was accumulated.
+  // Another sample of the same key in the same frame (the solver's solution
+  // cannot change within it, final or not), or -1 once `target` are in.
+  int Continue(uint32_t target) const { return samples_ >= target ? -1 : int(samples_); }
+  // The sample Next or Continue returned was accumulated.
   void Added() { samples_ += 1; }
   // Samples in the accumulation (the picture shown: 1 when not refining).
   uint32_t samples() const { return samples_; }

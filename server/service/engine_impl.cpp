@@ -1027,6 +1027,29 @@ void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
   session.sink->OnFrame(*std::move(frame));
 }
 
+absl::Status EngineImpl::ShadeSample(GpuSceneRecord& scene, SolverEntry& entry, SolverContext& ctx,
+                                     ViewRecord& view, uint32_t sample, uint32_t refine_target) {
+  ViewCamera camera = view.camera;
+  camera.jitter = Refinement::Jitter(sample);
+  if (entry.solver->NeedsGBuffer()) {
+    gl::StageTimer::Scope stage(timer_, "gbuffer");
+    GS_RETURN_IF_ERROR(passes_->DrawGBuffer(*scene.state, *scene.gpu, camera, view.gbuffer));
+  } else {
+    GS_RETURN_IF_ERROR(view.gbuffer.Resize(camera.width, camera.height));
+    timer_.Skip("gbuffer");
+  }
+  GS_RETURN_IF_ERROR(entry.solver->Shade(ctx, camera, view.gbuffer));
+  if (refine_target > 1) {
+    gl::StageTimer::Scope stage(timer_, "refine");
+    passes_->Accumulate(view.gbuffer, sample);
+  } else {
+    timer_.Skip("refine");
+  }
+  view.refinement.Added();
+  if (sample == 0) view.solve_stats = entry.solver->Stats();
+  return absl::OkStatus();
+}
+
 absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRecord& session,
                                                                        ViewRecord& view,
                                                                        std::deque<Update> updates) {
@@ -1131,24 +1154,22 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
     gl::StageTimer::Scope stage(timer_, "refine");
     passes_->ShowAccumulation(view.gbuffer);
   } else {
-    ViewCamera camera = view.camera;
-    camera.jitter = Refinement::Jitter(uint32_t(sample));
-    if (entry.solver->NeedsGBuffer()) {
-      gl::StageTimer::Scope stage(timer_, "gbuffer");
-      GS_RETURN_IF_ERROR(passes_->DrawGBuffer(state, *scene.gpu, camera, view.gbuffer));
-    } else {
-      GS_RETURN_IF_ERROR(view.gbuffer.Resize(camera.width, camera.height));
-      timer_.Skip("gbuffer");
+    // Frames that bring no update (a still view refining, a Render's
+    // slices) shade as many samples as fit the frame's budget; a frame
+    // that applied an update shades one, so interaction keeps its latency.
+    const bool more = updates.empty() && refine_target > 1;
+    if (more) glFinish();  // the solver's work is not this sample's
+    for (int next = sample; next >= 0; next = view.refinement.Continue(refine_target)) {
+      const auto sample_start = Clock::now();
+      GS_RETURN_IF_ERROR(ShadeSample(scene, entry, ctx, view, uint32_t(next), refine_target));
+      if (!more) break;
+      glFinish();
+      const auto now = Clock::now();
+      const auto ms = [](Clock::duration d) {
+        return std::chrono::duration<double, std::milli>(d).count();
+      };
+      if (ms(now - frame_start) + ms(now - sample_start) > ctx.budget_ms) break;
     }
-    GS_RETURN_IF_ERROR(entry.solver->Shade(ctx, camera, view.gbuffer));
-    if (refine_target > 1) {
-      gl::StageTimer::Scope stage(timer_, "refine");
-      passes_->Accumulate(view.gbuffer, uint32_t(sample));
-    } else {
-      timer_.Skip("refine");
-    }
-    view.refinement.Added();
-    if (sample == 0) view.solve_stats = entry.solver->Stats();
   }
   const bool refined = view.refinement.samples() >= refine_target;
   if (session.config.pacing == Pacing::kOnRequest && (!entry.solver->FrameComplete() || !refined)) {

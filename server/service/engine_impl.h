@@ -208,6 +208,10 @@ class EngineImpl final : public Engine {
                                   std::vector<std::pair<std::string, double>>& stats);
   // A keep-alive for a view at rest: the last frame again, no image, no GL.
   void SendKeepAlive(SessionRecord& session, ViewRecord& view, RenderThread::Clock::time_point now);
+  // Shades refinement sample `sample` of `view` at its jitter (G-buffer,
+  // the solver's final pass) and adds it to the view's accumulation.
+  absl::Status ShadeSample(GpuSceneRecord& scene, SolverEntry& entry, SolverContext& ctx,
+                           ViewRecord& view, uint32_t sample, uint32_t refine_target);
   absl::StatusOr<std::shared_ptr<EncodedFrame>> ProduceFrame(SessionRecord& session,
                                                              ViewRecord& view,
                                                              std::deque<Update> updates);

@@ -120,8 +120,12 @@ TEST(Refinement, JitteredSamplesConvergeToTheSupersampledPicture) {
   EXPECT_NEAR(a.y, b.y, 0.01 * b.y);
 }
 
-SessionConfig Continuous(const std::string& scene, uint32_t refine_samples) {
+// A continuous session; with the default `budget_ms` (a microsecond) each
+// frame shades one sample.
+SessionConfig Continuous(const std::string& scene, uint32_t refine_samples,
+                         double budget_ms = 1e-3) {
   SessionConfig c;
+  c.frame_budget_ms = budget_ms;
   c.scene = scene;
   c.solver = "direct";
   c.width = c.height = 24;
@@ -130,6 +134,13 @@ SessionConfig Continuous(const std::string& scene, uint32_t refine_samples) {
   c.pacing = Pacing::kContinuous;
   c.refine_samples = refine_samples;
   return c;
+}
+
+// The default camera moved aside, still looking into the box.
+CameraUpdate MovedCamera() {
+  CameraUpdate cam;
+  cam.look_at = LookAt{{0.33f, 0.29f, -0.75f}, {0.278f, 0.27f, 0.28f}, {0.0f, 1.0f, 0.0f}};
+  return cam;
 }
 
 bool AtRest(const EncodedFrame& f) { return FrameStat(f, "at_rest") == 1.0; }
@@ -180,8 +191,7 @@ TEST(Refinement, AStillStreamRefinesThenRestsAndEachChangeRestarts) {
   };
   uint64_t last = expect_refines("the first picture", 0);
   // A camera move restarts the samples.
-  CameraUpdate cam;
-  cam.look_at = LookAt{{0.1f, 1.0f, 3.5f}, {0.0f, 1.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+  const CameraUpdate cam = MovedCamera();
   ASSERT_TRUE(engine.PushUpdate(session->id, {1, cam}).ok());
   last = expect_refines("a camera move", 1);
   // So does a scene change (a dimmer on the ceiling lamp's emission).
@@ -200,6 +210,43 @@ TEST(Refinement, AStillStreamRefinesThenRestsAndEachChangeRestarts) {
   EXPECT_EQ(FrameStat(*key, "refine_samples"), 4.0);
   EXPECT_TRUE(testing::StageSkipped(*key, "gbuffer"));
   engine.CloseSession(session->id);
+}
+
+// A frame that applied an update shades one sample (the update's latency);
+// the next, bringing none, shades every sample its budget allows, here all
+// of them; the picture is the same mean of the same samples as one a frame.
+TEST(Refinement, AFrameWithoutUpdatesShadesTheSamplesItsBudgetAllows) {
+  const BundledCopy scene("cornell_box.gltf");
+  Engine& engine = SharedEngine();
+  const CameraUpdate cam = MovedCamera();
+  auto refine = [&](double budget_ms, std::vector<double>* samples) {
+    SessionConfig c = Continuous(scene.id(), 8, budget_ms);
+    c.encoding.format = ImageFormat::kExr;
+    auto sink = std::make_shared<FrameQueue>();
+    auto session = engine.OpenSession(c, sink);
+    EXPECT_TRUE(session.ok()) << session.status();
+    if (!session.ok()) return FloatImage{};
+    UntilRest(*sink, 0);
+    EXPECT_TRUE(engine.PushUpdate(session->id, {1, cam}).ok());
+    const auto frames = UntilRest(*sink, 1);
+    *samples = Samples(frames);
+    // The last frame with an image shows the complete picture, lit.
+    FloatImage last;
+    for (const auto& f : frames) {
+      if (!f->image.empty()) last = testing::DecodeExr(*f);
+    }
+    engine.CloseSession(session->id);
+    return last;
+  };
+  std::vector<double> batched, one_a_frame;
+  const FloatImage a = refine(10'000.0, &batched);
+  const FloatImage b = refine(1e-3, &one_a_frame);
+  EXPECT_EQ(batched, (std::vector<double>{1.0, 8.0}));
+  EXPECT_EQ(one_a_frame, (std::vector<double>{1, 2, 3, 4, 5, 6, 7, 8}));
+  ASSERT_GT(a.width, 0);
+  ASSERT_GT(b.width, 0);
+  EXPECT_GT(testing::ImageMean(a).x, 0.05);
+  testing::ExpectSameImage(a, b, 1e-4f);
 }
 
 TEST(Refinement, SolversThatDoNotShadeTheGBufferAreNotRefinedByTheEngine) {
