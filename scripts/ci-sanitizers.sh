@@ -70,11 +70,12 @@ SLOW_NUMERIC+=':ProxyLevels.BumpyPlane*:ProxyClusters.BumpyPlane*:ProxyLoadContr
 SLOW_NUMERIC+=':AvgGridFlux.*:AvgIncremental.RevoxelizedGrid*:AntiradianceStability.DeepSlab*'
 # The GL suites under ASan: the engine's frame pipeline (slices, stages,
 # first solves in the background, rest, video frames, the solver cache) and
-# each solver's own suite at its small sizes. The path-traced references
+# each solver's own suite at its small sizes, cancellation (jobs asked to
+# stop while the engine drops their solvers). The path-traced references
 # and furnace sweeps stay in `make test`.
 # (222 s with EngineSlicing, VideoFramesTest and EngineRest's
 # implicit_visibility case too, 2026-12-03: those stay in `make test`.)
-GL_SUITES=${GL_SUITES:-'EngineStagesTest.*:EngineSolverCache.*:EngineRestShared.*:Solvers/EngineRest.*/direct:FirstSolves.*:AllSolvers/StagePlan.*:DirectIncremental.*:DrawListTest.*:GlProgram.*:GlDebug.*:GlDriverQuirks.*:AvgBackgroundTrace.*:BackgroundRelink.*:GpuDeformTest.*:ShProbesFirstSolve.*:Refinement.*'}
+GL_SUITES=${GL_SUITES:-'EngineStagesTest.*:EngineSolverCache.*:EngineRestShared.*:Solvers/EngineRest.*/direct:FirstSolves.*:AllSolvers/StagePlan.*:DirectIncremental.*:DrawListTest.*:GlProgram.*:GlDebug.*:GlDriverQuirks.*:AvgBackgroundTrace.*:BackgroundRelink.*:GpuDeformTest.*:ShProbesFirstSolve.*:Refinement.*:Cancellation.*:EverySolver/CancelledRender.*/antiradiance:EverySolver/CancelledRender.*/implicit_visibility'}
 for t in unit_tests client_tests service_tests reliability_tests gl_tests; do
   echo "ci-sanitizers: $t under ASan + UBSan"
   filter='*'

@@ -326,6 +326,9 @@ struct EngineStats {
   // Dropped solvers (their scene unloaded, or evicted) kept until their
   // background job ends (counted in gl_object_bytes meanwhile).
   uint32_t retiring_solvers = 0;
+  // Solvers, cached or retiring, whose background job runs on the CPU pool
+  // (refreshed with gl_object_bytes).
+  uint32_t background_jobs = 0;
   // What the driver reports through GL_NVX_gpu_memory_info or
   // GL_ATI_meminfo (queried with gl_object_bytes); 0 when it does not tell.
   // ATI reports no total, only what is free.

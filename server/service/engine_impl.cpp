@@ -24,6 +24,7 @@
 #include "scene/validate_update.h"
 #include "service/scene_info.h"
 #include "solvers/registry.h"
+#include "util/cancellation.h"
 #include "util/log.h"
 #include "util/user_string.h"
 
@@ -200,11 +201,18 @@ void EngineImpl::Shutdown() {
     std::lock_guard lock(mutex_);
     if (shut_down_) return;
     shut_down_ = true;
-    for (auto& [id, s] : sessions_) sessions.push_back(s);
+    for (auto& [id, s] : sessions_) {
+      s->stop.request_stop();  // a frame in progress ends within a step
+      sessions.push_back(s);
+    }
   }
   if (!render_thread_) return;
   // Free every GL object on the thread that owns the context.
   render_thread_->Stop([this] {
+    // Every job is asked to stop before any solver is destroyed: one
+    // solver's destructor waits for its job, which may be queued on the
+    // pool behind another's.
+    CancelBackgroundJobs();
     views_.clear();
     gpu_scenes_.clear();
     retiring_.clear();
@@ -247,6 +255,7 @@ EngineStats EngineImpl::stats() const {
   }
   out.gl_object_bytes = gl_object_bytes_.load();
   out.retiring_solvers = retiring_solvers_.load();
+  out.background_jobs = background_jobs_.load();
   out.gpu_memory_total_bytes = gpu_memory_total_.load();
   out.gpu_memory_available_bytes = gpu_memory_available_.load();
   out.memory_used_bytes = accounts_.server().used();
@@ -259,15 +268,21 @@ void EngineImpl::RefreshMemoryStats(bool force) {
   if (!force && now - memory_refreshed_ < std::chrono::milliseconds(250)) return;
   memory_refreshed_ = now;
   uint64_t bytes = 0;
+  uint32_t jobs = 0;
   for (const auto& [id, scene] : gpu_scenes_) {
     bytes += scene.gpu ? scene.gpu->gpu_bytes() : 0;
     for (const auto& [key, entry] : scene.solvers) {
       bytes += entry.solver ? entry.solver->gpu_bytes() : 0;
+      jobs += entry.solver && entry.solver->BackgroundBusy() ? 1 : 0;
     }
   }
   for (const auto& [id, view] : views_) bytes += view.gbuffer.gpu_bytes();
-  for (const auto& solver : retiring_) bytes += solver->gpu_bytes();
+  for (const auto& solver : retiring_) {
+    bytes += solver->gpu_bytes();
+    jobs += solver->BackgroundBusy() ? 1 : 0;
+  }
   gl_object_bytes_ = bytes;
+  background_jobs_ = jobs;
   retiring_solvers_ = uint32_t(retiring_.size());
   if (memory_query_ && memory_query_->supported()) {
     const gl::GpuMemoryInfo info = memory_query_->Query();
@@ -698,12 +713,14 @@ absl::Status EngineImpl::RequestKeyFrame(const SessionId& id) {
 }
 
 void EngineImpl::CloseSession(const SessionId& id) {
+  std::shared_ptr<SessionRecord> session;
   {
     std::lock_guard lock(mutex_);
     auto it = sessions_.find(id);
     if (it == sessions_.end()) return;
-    std::shared_ptr<SessionRecord> session = it->second;
+    session = it->second;
     session->closed = true;
+    session->stop.request_stop();
     session->scene->sessions -= 1;
     session->scene->last_used = Clock::now();
     sessions_.erase(it);
@@ -713,11 +730,31 @@ void EngineImpl::CloseSession(const SessionId& id) {
       Log(LogLevel::kInfo, {"", session->scene->id}, "unloaded (its last session ended)");
     }
   }
-  render_thread_->Post([this, id] { ReleaseSessionGpu(id); });
+  render_thread_->Post([this, id, scene = session->scene->id, key = session->solver_key] {
+    ReleaseSessionGpu(id, scene, key);
+  });
 }
 
-void EngineImpl::ReleaseSessionGpu(const SessionId& id) {
+void EngineImpl::ReleaseSessionGpu(const SessionId& id, const SceneId& scene,
+                                   const std::string& solver_key) {
   if (views_.erase(id) > 0) RefreshMemoryStats(/*force=*/true);
+  const auto scene_it = gpu_scenes_.find(scene);
+  if (scene_it == gpu_scenes_.end()) return;
+  const auto entry = scene_it->second.solvers.find(solver_key);
+  if (entry == scene_it->second.solvers.end() || !entry->second.solver ||
+      !entry->second.solver->BackgroundBusy()) {
+    return;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& [sid, s] : sessions_) {
+      if (s->scene->id == scene && s->solver_key == solver_key) return;  // still used
+    }
+  }
+  Log(LogLevel::kInfo, {"", scene},
+      absl::StrCat("cancelling solver ", solver_key, "'s background job (no session uses it)"));
+  Retire(std::move(entry->second.solver));
+  scene_it->second.solvers.erase(entry);
 }
 
 absl::StatusOr<EncodedFrame> EngineImpl::Render(const RenderRequest& request) {
@@ -837,8 +874,18 @@ Clock::time_point EngineImpl::Tick() {
 
 void EngineImpl::Retire(std::unique_ptr<Solver> solver) {
   if (!solver || !solver->BackgroundBusy()) return;
+  solver->CancelBackground();  // its loops end within a step
   retiring_.push_back(std::move(solver));
   RefreshMemoryStats(/*force=*/true);
+}
+
+void EngineImpl::CancelBackgroundJobs() {
+  for (auto& [id, scene] : gpu_scenes_) {
+    for (auto& [key, entry] : scene.solvers) {
+      if (entry.solver) entry.solver->CancelBackground();
+    }
+  }
+  for (auto& solver : retiring_) solver->CancelBackground();
 }
 
 void EngineImpl::ReapRetired() {
@@ -1060,6 +1107,9 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   GpuSceneRecord& scene = scene_it->second;
   SceneState& state = *scene.state;
   const auto frame_start = Clock::now();
+  // Its client gone or the server stopping: the frame's loops end early
+  // (util/cancellation.h) and a solver reports CANCELLED.
+  CancellationScope cancellation(session.stop.get_token());
   timer_.Reset();
   view.settled = false;
 
@@ -1373,6 +1423,7 @@ absl::Status EngineImpl::RecoverFromGpuReset() {
   // Solvers are rebuilt on their sessions' next frames; their and the
   // views' reservations are given back with them.
   views_.clear();
+  CancelBackgroundJobs();
   for (auto& [id, scene] : gpu_scenes_) {
     scene.solvers.clear();
     scene.gpu.reset();

@@ -9,6 +9,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <stop_token>
 #include <string>
 #include <unordered_map>
 
@@ -74,6 +75,10 @@ class EngineImpl final : public Engine {
     std::shared_ptr<SceneRecord> scene;
     std::shared_ptr<FrameSink> sink;
     bool transient = false;  // a Render() call, not a client session
+    // Requested when the session closes (its client left, a Render's
+    // deadline passed) or the server stops: its frame's loops end within a
+    // step (util/cancellation.h).
+    std::stop_source stop;
     // mutex-guarded:
     std::deque<Update> pending;
     uint32_t requested = 0;
@@ -117,10 +122,13 @@ class EngineImpl final : public Engine {
   void EvictIdleSolvers(GpuSceneRecord& scene, const SceneRecord* owner, const std::string& keep);
   // Destroys a dropped solver now, or, while a background job of it still
   // runs (Solver::BackgroundBusy), keeps it in retiring_ until the job
-  // ends: its destructor would wait for the job on the render thread.
-  // ReapRetired (every Tick) destroys those whose jobs ended. Render thread.
+  // ends (asked to stop: Solver::CancelBackground, so within a step): its
+  // destructor would wait for the job on the render thread. ReapRetired (every Tick) destroys those
+  // whose jobs ended. Render thread.
   void Retire(std::unique_ptr<Solver> solver);
   void ReapRetired();
+  // Asks every solver's background job to stop (shutdown, a lost context).
+  void CancelBackgroundJobs();
   // Drops scene `id`'s GPU record, its solvers through Retire.
   void DropGpuScene(const SceneId& id);
   std::vector<std::unique_ptr<Solver>> retiring_;  // render thread
@@ -215,7 +223,10 @@ class EngineImpl final : public Engine {
   absl::StatusOr<std::shared_ptr<EncodedFrame>> ProduceFrame(SessionRecord& session,
                                                              ViewRecord& view,
                                                              std::deque<Update> updates);
-  void ReleaseSessionGpu(const SessionId& id);
+  // Frees a closed session's view; a solver that no open session uses any
+  // more and whose background job runs is dropped, the job cancelled
+  // (nobody waits for what it would deliver).
+  void ReleaseSessionGpu(const SessionId& id, const SceneId& scene, const std::string& solver_key);
   // Reserves `view`'s G-buffer, readback and encoder buffers for its
   // camera's size, again when that changes (a camera update resizes it).
   absl::Status ReserveView(const SessionRecord& session, const GpuSceneRecord& scene,
@@ -258,6 +269,7 @@ class EngineImpl final : public Engine {
   // Written by RefreshMemoryStats (render thread), read by stats().
   std::atomic<uint64_t> gl_object_bytes_{0};
   std::atomic<uint32_t> retiring_solvers_{0};
+  std::atomic<uint32_t> background_jobs_{0};
   std::atomic<uint64_t> gpu_memory_total_{0};
   std::atomic<uint64_t> gpu_memory_available_{0};
 

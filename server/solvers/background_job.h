@@ -5,6 +5,11 @@
 // and the solver starts another with the newest data once it has taken
 // the finished one on the render thread. Used by implicit_visibility's
 // relink, antiradiance's link and transport and avg's voxelize and trace.
+//
+// Each job runs under its own stop token (util/cancellation.h): Cancel(),
+// and the destructor, ask it to stop, and its loops end within one step. A
+// cancelled job is never taken; the solver that cancels it is on its way
+// out (retired by the engine, or destroyed).
 #pragma once
 
 #include <chrono>
@@ -13,6 +18,7 @@
 #include <memory>
 #include <utility>
 
+#include "util/cancellation.h"
 #include "util/cpu_pool.h"
 
 namespace gistream {
@@ -23,16 +29,21 @@ class BackgroundJob {
   BackgroundJob() = default;
   BackgroundJob(const BackgroundJob&) = delete;
   BackgroundJob& operator=(const BackgroundJob&) = delete;
-  ~BackgroundJob() { Wait(); }  // the job may read the solver's data
+  ~BackgroundJob() {  // the job may read the solver's data
+    Cancel();
+    Wait();
+  }
 
   // Runs `run(*job)` on the CPU pool; its wall time goes to ms(). Only
   // when none runs (check running()).
   void Start(std::shared_ptr<Job> job, std::function<void(Job&)> run) {
     again_ = false;
     job_ = std::move(job);
+    stop_ = std::stop_source();
     Job* j = job_.get();
     double* ms = &ms_;
-    done_ = CpuPool::Get().Async([j, ms, run = std::move(run)] {
+    done_ = CpuPool::Get().Async([j, ms, token = stop_.get_token(), run = std::move(run)] {
+      CancellationScope scope(token);
       const auto start = std::chrono::steady_clock::now();
       run(*j);
       *ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
@@ -46,6 +57,10 @@ class BackgroundJob {
     return job_ && done_.valid() &&
            done_.wait_for(std::chrono::seconds(0)) != std::future_status::ready;
   }
+  // Asks the running job to stop; it is never taken (TakeIfDone drops it).
+  void Cancel() {
+    if (job_) stop_.request_stop();
+  }
   // A change arrived while the job ran: another is due once it is taken.
   void Again() { again_ = true; }
   bool again() const { return again_; }
@@ -55,11 +70,13 @@ class BackgroundJob {
   std::shared_ptr<Job> TakeIfDone() {
     if (!job_ || done_.wait_for(std::chrono::seconds(0)) != std::future_status::ready)
       return nullptr;
+    if (stop_.stop_requested()) job_ = nullptr;  // what it left is partial
     return std::exchange(job_, nullptr);
   }
   // Waits for the running job, then takes it.
   std::shared_ptr<Job> TakeWhenDone() {
     Wait();
+    if (stop_.stop_requested()) job_ = nullptr;
     return std::exchange(job_, nullptr);
   }
   // The wall time of the last finished job's run.
@@ -71,6 +88,7 @@ class BackgroundJob {
   }
 
   std::shared_ptr<Job> job_;
+  std::stop_source stop_;
   std::shared_future<void> done_;
   bool again_ = false;
   double ms_ = 0.0;

@@ -73,6 +73,9 @@ class Solver {
   // destructor would wait for it, so the engine keeps a solver it drops
   // until this is false (the render thread never waits for a job).
   virtual bool BackgroundBusy() const { return false; }
+  // Asks its background job to stop (util/cancellation.h): the engine
+  // dropped the solver, and what the job would deliver is not wanted.
+  virtual void CancelBackground() {}
   // Bytes its main GL buffers and textures hold (shadow maps, probe atlas,
   // element and link buffers), for status reports; 0 when it holds none.
   virtual uint64_t gpu_bytes() const { return 0; }

@@ -1,5 +1,7 @@
 #include "util/cpu_pool.h"
 
+#include "util/cancellation.h"
+
 #include <sched.h>
 
 #include <algorithm>
@@ -64,6 +66,9 @@ struct CpuPool::Job {
   std::function<void(size_t)> owned;  // Async's task
   std::atomic<size_t> next{0};
   int active = 0;  // workers inside Drain (guarded by the pool's mutex)
+  // The caller's (util/cancellation.h): its workers run under it, and no
+  // index starts once it is cancelled.
+  std::stop_token stop;
 };
 
 CpuPool::CpuPool(unsigned threads) {
@@ -95,7 +100,12 @@ void CpuPool::Configure(unsigned threads) {
 }
 
 void CpuPool::Drain(Job& job) {
+  CancellationScope scope(job.stop);
   for (;;) {
+    if (job.stop.stop_requested()) {
+      job.next.store(job.n);  // the rest is not started
+      return;
+    }
     const size_t begin = job.next.fetch_add(job.chunk);
     if (begin >= job.n) return;
     const size_t end = std::min(job.n, begin + job.chunk);
@@ -149,6 +159,7 @@ void CpuPool::ParallelFor(size_t n, size_t chunk, const std::function<void(size_
   job->n = n;
   job->chunk = std::max<size_t>(chunk, 1);
   job->fn = &fn;
+  job->stop = CurrentStopToken();
   const bool parallel = !workers_.empty() && n > job->chunk;
   if (parallel) {
     {

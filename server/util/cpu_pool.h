@@ -46,7 +46,8 @@ class CpuPool {
   // Calls fn(i) for every i in [0, n), `chunk` consecutive indices at a
   // time (dynamic scheduling), on the workers and the calling thread;
   // returns when all are done. Safe to call from several threads at once
-  // (their loops share the workers).
+  // (their loops share the workers). Under a cancelled stop token
+  // (util/cancellation.h) the indices not started are skipped.
   void ParallelFor(size_t n, size_t chunk, const std::function<void(size_t)>& fn);
 
   // Runs `task` on a worker (on the calling thread when the pool has no

@@ -1,7 +1,11 @@
 // The one CPU pool: it runs on at most the threads it was given, visits
 // every index once (also for concurrent and nested loops), and reads the
-// cgroup CPU quota of both cgroup versions.
+// cgroup CPU quota of both cgroup versions. Cancellation
+// (util/cancellation.h): a loop under a cancelled token starts no more
+// indices, its workers see the caller's token, and a cancelled background
+// job ends and is never taken.
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <mutex>
@@ -11,6 +15,8 @@
 
 #include <gtest/gtest.h>
 
+#include "solvers/background_job.h"
+#include "util/cancellation.h"
 #include "util/cpu_pool.h"
 #include "util/memory_budget.h"
 #include "util/parallel_for.h"
@@ -90,6 +96,81 @@ TEST(CpuPool, EmptyAndTinyLoops) {
   EXPECT_EQ(calls, 0);
   pool.ParallelFor(1, 8, [&](size_t) { ++calls; });  // one chunk: the caller alone
   EXPECT_EQ(calls, 1);
+}
+
+TEST(CpuPool, ACancelledLoopStartsNoMoreIndicesAndItsWorkersSeeTheToken) {
+  CpuPool pool(3);
+  std::stop_source stop;
+  CancellationScope scope(stop.get_token());
+  std::atomic<size_t> calls{0}, without_token{0};
+  pool.ParallelFor(100'000, 1, [&](size_t i) {
+    calls += 1;
+    if (!CurrentStopToken().stop_possible()) without_token += 1;
+    if (i == 10) stop.request_stop();
+  });
+  // Index 10 is started by the time of the cancel; each of the 3 threads
+  // may be inside one more index, and one index per thread may have
+  // passed the check before the cancel: far fewer than the loop's.
+  EXPECT_GE(calls.load(), 11u);
+  EXPECT_LE(calls.load(), 11u + 2u * 3u);
+  EXPECT_EQ(without_token.load(), 0u) << "a worker ran an index without the caller's token";
+  EXPECT_TRUE(Cancelled());
+}
+
+TEST(CpuPool, OutsideAScopeNothingIsCancelled) {
+  EXPECT_FALSE(Cancelled());
+  std::stop_source stop;
+  stop.request_stop();
+  {
+    CancellationScope scope(stop.get_token());
+    EXPECT_TRUE(Cancelled());
+    {
+      std::stop_source inner;
+      CancellationScope nested(inner.get_token());
+      EXPECT_FALSE(Cancelled());  // the innermost decides
+    }
+    EXPECT_TRUE(Cancelled());
+  }
+  EXPECT_FALSE(Cancelled());
+}
+
+struct SpinJob {
+  std::atomic<bool> started{false};
+  uint64_t spins = 0;
+};
+
+// (A pool of one thread runs a job on the caller: these need a worker.)
+TEST(BackgroundJob, ACancelledJobEndsAndIsNeverTaken) {
+  if (CpuPool::Get().threads() < 2) GTEST_SKIP() << "the CPU pool has no worker here";
+  BackgroundJob<SpinJob> job;
+  auto data = std::make_shared<SpinJob>();
+  // Spins until cancelled (an hour's bound: the hang is the failure).
+  job.Start(data, [](SpinJob& j) {
+    j.started = true;
+    const auto end = std::chrono::steady_clock::now() + std::chrono::hours(1);
+    while (!Cancelled() && std::chrono::steady_clock::now() < end) j.spins += 1;
+  });
+  while (!data->started) std::this_thread::yield();
+  EXPECT_EQ(job.TakeIfDone(), nullptr);  // still running
+  job.Cancel();
+  while (job.executing()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_EQ(job.TakeIfDone(), nullptr) << "a cancelled job's partial result was taken";
+  EXPECT_FALSE(job.running());
+}
+
+TEST(BackgroundJob, TheDestructorCancelsTheJob) {
+  if (CpuPool::Get().threads() < 2) GTEST_SKIP() << "the CPU pool has no worker here";
+  auto data = std::make_shared<SpinJob>();
+  {
+    BackgroundJob<SpinJob> job;
+    job.Start(data, [](SpinJob& j) {
+      j.started = true;
+      const auto end = std::chrono::steady_clock::now() + std::chrono::hours(1);
+      while (!Cancelled() && std::chrono::steady_clock::now() < end) j.spins += 1;
+    });
+    while (!data->started) std::this_thread::yield();
+  }  // returns once the job saw the cancel
+  EXPECT_GT(data->spins, 0u);
 }
 
 class CgroupDir : public ::testing::Test {

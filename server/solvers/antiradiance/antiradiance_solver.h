@@ -59,6 +59,7 @@ class AntiradianceSolver final : public Solver {
     return !solve_.running() && !stale_ && !lighting_.pending();
   }
   bool BackgroundBusy() const override { return solve_.executing(); }
+  void CancelBackground() override { solve_.Cancel(); }
   // Shadow maps and the display's element buffer (the transport is CPU memory).
   uint64_t gpu_bytes() const override {
     return lighting_.gpu_bytes() + element_data_.size() * sizeof(glm::vec4) +

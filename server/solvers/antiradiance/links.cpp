@@ -5,6 +5,7 @@
 #include <cmath>
 #include <span>
 
+#include "util/cancellation.h"
 #include "util/parallel_for.h"
 
 namespace gistream::antiradiance {
@@ -158,7 +159,8 @@ class Linker {
         bin_radius_(std::sqrt(b.omega_bin() / 3.14159265f)) {}
 
   void Refine(int recv, int send) {
-    ++pairs_;
+    // The job's cancellation (util/cancellation.h), every 4096 pairs.
+    if (stopped_ || ((++pairs_ & 4095) == 0 && (stopped_ = Cancelled()))) return;
     if (recv == send) {
       // Self-links are always subdivided (Section 3.2).
       if (p_.is_leaf(recv)) return;
@@ -285,6 +287,7 @@ class Linker {
   }
 
   uint64_t pairs_ = 0, spread_ = 0, exact_ = 0;
+  bool stopped_ = false;
 
  private:
   // Find(d), or when that bin is not on the wanted side of normal n (or

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "util/cancellation.h"
 #include "util/parallel_for.h"
 
 namespace gistream::antiradiance {
@@ -205,6 +206,9 @@ double Transport::RunScheme(Scheme scheme, const TransportSettings& s, const Sta
     if (hook) hook(name, begin);
   };
   auto step = [&](bool radiance) {
+    // A cancelled job (util/cancellation.h) ends here: what it leaves is
+    // discarded (solvers/background_job.h).
+    if (Cancelled()) return std::nan("");
     stage("global_pass", true);
     GlobalPass();
     stage("global_pass", false);

@@ -47,6 +47,7 @@ class AvgSolver final : public Solver {
     return !trace_job_.running() && !trace_job_.again() && !remap_pending_ && !direct_.pending();
   }
   bool BackgroundBusy() const override { return trace_job_.executing(); }
+  void CancelBackground() override { trace_job_.Cancel(); }
   // VPL and direct-light shadow maps, both atlases (the voxel grid is CPU memory).
   uint64_t gpu_bytes() const override {
     return shadow_maps_.gpu_bytes() + remap_.gpu_bytes() + direct_.gpu_bytes();

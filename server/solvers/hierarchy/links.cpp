@@ -1,5 +1,7 @@
 #include "solvers/hierarchy/links.h"
 
+#include "util/cancellation.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -30,7 +32,8 @@ class Linker {
   // Section 4.2.2: subdivide B while its solid angle from A exceeds the
   // bin's, then A seen from B likewise; else offer the link to both bins.
   void Link(int a, int b) {
-    ++pairs_;
+    // The job's cancellation (util/cancellation.h), every 4096 pairs.
+    if (stopped_ || ((++pairs_ & 4095) == 0 && (stopped_ = Cancelled()))) return;
     const glm::vec3 d = e_.position[size_t(b)] - e_.position[size_t(a)];
     const float dist = glm::length(d);
     if (!(dist > 0.0f) || !std::isfinite(dist)) {
@@ -188,6 +191,7 @@ class Linker {
   const CubeBins& bins_;
   BinTable& table_;
   uint64_t offered_ = 0, pairs_ = 0, splats_ = 0;
+  bool stopped_ = false;
 };
 
 }  // namespace

@@ -1,5 +1,7 @@
 #include "solvers/implicit_visibility/illumination.h"
 
+#include "util/cancellation.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -130,6 +132,10 @@ Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_b
   std::vector<float> previous(size_t(leaf_count_), 0.0f);
   int in = 0;
   for (int bounce = 1; bounce <= max_bounces; ++bounce) {
+    if (Cancelled()) {
+      result.cancelled = true;
+      return result;
+    }
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, leaves_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, e_direct_.id());
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, e_env_.id());

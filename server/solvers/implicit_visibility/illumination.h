@@ -32,11 +32,12 @@ class Illumination {
     double residual = 0.0;     // sum |dE| / sum |E| of the last bounce (luminance)
     bool monotone = true;      // no leaf's indirect luminance fell between bounces
     bool cap_reached = false;  // stopped by max_bounces with residual >= tolerance
+    bool cancelled = false;    // stopped by the frame's cancellation (util/cancellation.h)
   };
   // Direct light at the leaves, then gathers with pull-ups until a
   // bounce's residual is below `tolerance` (from the second bounce on; 0:
-  // never) or `max_bounces` ran. Leaves the indirect irradiance per leaf in
-  // indirect().
+  // never) or `max_bounces` ran, or the frame is cancelled (checked every
+  // bounce). Leaves the indirect irradiance per leaf in indirect().
   Result Run(const DirectLighting& lighting, int max_bounces, double tolerance);
 
   GLuint indirect() const { return e_indirect_.id(); }

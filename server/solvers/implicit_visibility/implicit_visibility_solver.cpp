@@ -279,6 +279,12 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
   if (environment_stale_) UpdateEnvironment(ctx.state);
   environment_stale_ = false;
   result_ = illumination_.Run(lighting_, settings_.bounces, settings_.tolerance);
+  if (result_.cancelled) {
+    illumination_stale_ = true;  // solved again at the next frame that runs
+    return absl::CancelledError(
+        "implicit_visibility: illumination cancelled (the frame's client "
+        "left, its deadline passed or the server is stopping)");
+  }
   emission_.Solved(ctx.state);
   indirect_scale_ = 1.0f;
   illumination_stale_ = false;

@@ -62,6 +62,7 @@ class ImplicitVisibilitySolver final : public Solver {
     return !relink_.running() && !relink_.again() && !lighting_.pending();
   }
   bool BackgroundBusy() const override { return relink_.executing(); }
+  void CancelBackground() override { relink_.Cancel(); }
   absl::Status Shade(SolverContext& ctx, const ViewCamera& camera, const GBuffer& gbuffer) override;
   SolverStats Stats() const override;
   uint64_t gpu_bytes() const override { return illumination_.gpu_bytes() + lighting_.gpu_bytes(); }
