@@ -1,6 +1,7 @@
 // Skins, per-vertex skinning attributes and morph targets (glTF 2.0 3.7.3
 // "Skins" and 3.7.2.2 "Morph Targets"), validated like every accessor.
 // They are scene data only: deform.h applies them; rendering does not yet.
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -116,6 +117,24 @@ absl::Status ReadMorphTargets(const tinygltf::Model& model, const tinygltf::Prim
     }
     out->targets.push_back(std::move(target));
   }
+  // Each delta is within the coordinate limit, but weights up to
+  // kMaxMorphWeight sum them: a vertex must stay within the limit however
+  // the weights are set (per axis: |p| + kMaxMorphWeight x sum |delta|).
+  for (size_t i = 0; i < vertices && !out->targets.empty(); ++i) {
+    glm::dvec3 reach = glm::abs(glm::dvec3(out->positions[i]));
+    for (const Primitive::MorphTarget& target : out->targets) {
+      if (!target.positions.empty()) {
+        reach += double(kMaxMorphWeight) * glm::abs(glm::dvec3(target.positions[i]));
+      }
+    }
+    const double far = std::max({reach.x, reach.y, reach.z});
+    if (far > double(kMaxCoordinate)) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ".targets: vertex ", i, " reaches ", far, " m at morph weights of +-",
+                       kMaxMorphWeight, " (the largest accepted), beyond the coordinate limit of ",
+                       kMaxCoordinate, " m"));
+    }
+  }
   return absl::OkStatus();
 }
 
@@ -168,6 +187,12 @@ absl::StatusOr<std::vector<Skin>> ImportSkins(const tinygltf::Model& model) {
       }
       GS_RETURN_IF_ERROR(
           CheckPosition(absl::StrCat(ibm_field, " matrix ", k, " translation"), glm::vec3(m[3])));
+      // Its scale (column lengths) within a node's limits: a skinned
+      // vertex is moved by it as by a node.
+      GS_RETURN_IF_ERROR(
+          CheckScale(absl::StrCat(ibm_field, " matrix ", k, " scale"),
+                     glm::vec3(glm::length(glm::dvec3(m[0])), glm::length(glm::dvec3(m[1])),
+                               glm::length(glm::dvec3(m[2])))));  // (double: 1e30 squared)
       skin.inverse_bind_matrices[k] = m;
     }
   }

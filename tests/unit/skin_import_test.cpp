@@ -142,6 +142,18 @@ TEST(SkinImport, InvalidSkinsNameTheirJsonPath) {
   g.doc["skins"][0]["inverseBindMatrices"] = AddFloats(&g, singular, "MAT4", 16);
   EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
                "skins[0].inverseBindMatrices: matrix 0 is singular");
+
+  // Issue 30: a scale of 1e30 (finite, non-singular) would move skinned
+  // vertices far past the coordinate limit; a node's scale limits hold.
+  g = Skinned();
+  std::vector<float> huge = {1e30f, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1,  //
+                             1,     0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  g.doc["skins"][0]["inverseBindMatrices"] = AddFloats(&g, huge, "MAT4", 16);
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
+               "skins[0].inverseBindMatrices matrix 0 scale.x: 1e+30 is out of range");
+  huge[0] = 1e6f;  // the largest scale a node may have
+  g.doc["skins"][0]["inverseBindMatrices"] = AddFloats(&g, huge, "MAT4", 16);
+  EXPECT_TRUE(Import(g.ToGltf()).ok());
 }
 
 TEST(MorphImport, ImportsTargetsAndDefaultWeights) {
@@ -182,7 +194,19 @@ TEST(MorphImport, InvalidTargetsNameTheirJsonPath) {
   EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
                "nodes[0].weights: 2 weights but its mesh has 1 morph targets");
 
+  // Issue 30: each delta within the coordinate limit (8e5 m), but at the
+  // largest accepted weight (100) a vertex would reach 8e7 m.
   g.doc["nodes"][0].erase("weights");
+  const int far = g.AddVec3({0, 0, 8e5f, 0, 0, 0, 0, 0, 0, 0, 0, 0});
+  g.doc["meshes"][size_t(mesh)]["primitives"][0]["targets"] = {{{"POSITION", far}}};
+  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
+               "meshes[0].primitives[0].targets: vertex 0 reaches 8e+07 m at morph weights of "
+               "+-100");
+  const int near = g.AddVec3({0, 0, 9e3f, 0, 0, 0, 0, 0, 0, 0, 0, 0});  // 9e5 m at 100
+  g.doc["meshes"][size_t(mesh)]["primitives"][0]["targets"] = {{{"POSITION", near}}};
+  EXPECT_TRUE(Import(g.ToGltf()).ok());
+
+  g.doc["meshes"][size_t(mesh)]["primitives"][0]["targets"] = {{{"POSITION", d1}}};
   g.doc["meshes"][size_t(mesh)]["primitives"][0]["targets"][0]["NORMAL"] = "x";
   EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
                "meshes[0].primitives[0].targets[0].NORMAL: \"x\" is not an index");
