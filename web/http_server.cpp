@@ -162,8 +162,19 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     }
     const std::string path = target.substr(0, target.find('?'));
     if (path == "/healthz") {
-      response->result(http::status::ok);
-      response->body() = "ok\n";
+      // Whether browsers can be served now: the gateway answers, and so
+      // does its gistreamd (a restarted, draining or unreachable backend
+      // is 503, naming why).
+      const BackendHealth::State backend =
+          options_.backend ? options_.backend->state() : BackendHealth::State{true, "unchecked"};
+      if (backend.serving) {
+        response->result(http::status::ok);
+        response->body() = "ok\n";
+      } else {
+        response->result(http::status::service_unavailable);
+        response->body() =
+            "backend " + options_.backend->address() + " not serving: " + backend.detail + "\n";
+      }
     } else {
       const std::string name = path == "/" ? "index.html" : path.substr(1);
       for (const EmbeddedFile* f = kEmbeddedFiles; f->path != nullptr; ++f) {

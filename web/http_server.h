@@ -1,7 +1,8 @@
 // gistream-web's HTTP side (Boost.Beast, one I/O thread): GET / serves the
 // embedded viewer page, /ws upgrades to a WebSocket bridged to a gistreamd
 // session (viewer_bridge.h) when the page's Origin is allowed, else 403;
-// /healthz answers "ok". A request's headers must come within 10 s.
+// /healthz answers "ok" while gistreamd serves (backend_health.h), else
+// 503 naming why. A request's headers must come within 10 s.
 #pragma once
 
 #include <functional>

@@ -140,9 +140,15 @@ int main(int argc, char** argv) {
   }
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(256 << 20);
+  // A restarted backend is found within 2 s (gRPC's default back-off
+  // grows to 120 s), for /healthz and the viewers' reconnection.
+  args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 500);
+  args.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, 500);
+  args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 2000);
   upstream.server = server;
   auto channel = client::MakeChannel(upstream, args);
   options.stub = v1::Gistream::NewStub(channel);
+  options.backend = std::make_shared<web::BackendHealth>(channel, server);
   v1::LoadSceneRequest load;
   load.set_name(scene);
   grpc::ClientContext context;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <boost/asio/post.hpp>
+#include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/websocket.hpp>
 #include <grpcpp/grpcpp.h>
@@ -244,17 +245,46 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
                   });
       }
       const grpc::Status status = link->stream->Finish();
-      net::post(executor,
-                [weak, link, text = status.error_message(), code = int(status.error_code())] {
-                  if (auto self = weak.lock(); self && self->link_ == link) {
-                    self->Send(json{{"type", "closed"}, {"code", code}, {"message", text}}.dump(),
-                               false, false);
-                  }
-                });
+      net::post(executor, [weak, link, text = status.error_message(), code = status.error_code()] {
+        if (auto self = weak.lock(); self && self->link_ == link) self->OnLinkClosed(code, text);
+      });
     }).detach();
   }
 
+  // The session ended. After a backend restart the scene id is unknown
+  // (NOT_FOUND): the scene is loaded again by name and a new session
+  // opened; while the backend is unreachable or drains (UNAVAILABLE) the
+  // session is reopened every second, up to kMaxReconnects times. The page
+  // is told each step.
+  void OnLinkClosed(grpc::StatusCode code, const std::string& text) {
+    Send(json{{"type", "closed"}, {"code", int(code)}, {"message", text}}.dump(), false, false);
+    if (code == grpc::StatusCode::NOT_FOUND && reloads_ == 0) {
+      reloads_ += 1;
+      Send(json{{"type", "error"},
+                {"message", "the server lost scene " + options_.scene_name +
+                                " (it restarted?): loading it again"}}
+               .dump(),
+           false, false);
+      LoadScene(options_.scene_name);
+      return;
+    }
+    if (code == grpc::StatusCode::UNAVAILABLE && reconnects_ < kMaxReconnects) {
+      reconnects_ += 1;
+      Send(json{{"type", "error"},
+                {"message", "server unavailable: reconnecting (" + std::to_string(reconnects_) +
+                                " of " + std::to_string(kMaxReconnects) + ")"}}
+               .dump(),
+           false, false);
+      retry_.expires_after(std::chrono::seconds(1));
+      retry_.async_wait([weak = weak_from_this(), link = link_](beast::error_code ec) {
+        auto self = weak.lock();
+        if (!ec && self && self->link_ == link) self->StartLink();
+      });
+    }
+  }
+
   void OnServerMessage(std::string message, bool binary, bool key, bool has_image) {
+    if (binary) reconnects_ = reloads_ = 0;  // frames flow again
     if (!binary) {
       Send(std::move(message), false, false);
       return;
@@ -395,6 +425,9 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   std::deque<Outgoing> queue_;
   bool writing_ = false;
   bool awaiting_key_ = false;
+  static constexpr int kMaxReconnects = 60;
+  int reconnects_ = 0, reloads_ = 0;
+  net::steady_timer retry_{ws_.get_executor()};
 };
 
 }  // namespace

@@ -22,6 +22,8 @@
 
 #include "gistream/v1/gistream.grpc.pb.h"
 
+#include "backend_health.h"
+
 namespace gistream::web {
 
 struct ViewerOptions {
@@ -44,6 +46,9 @@ struct ViewerOptions {
   // Viewers (WebSocket sessions) at once (--max-viewers); beyond, an
   // upgrade is answered 503.
   size_t max_viewers = 64;
+  // The backend's health, polled (backend_health.h): /healthz answers 503
+  // while it does not serve. Null: /healthz answers for the gateway alone.
+  std::shared_ptr<const BackendHealth> backend;
 };
 
 // Viewers running now (each holds a gistreamd session).

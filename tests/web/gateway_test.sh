@@ -6,7 +6,8 @@
 # header timeout; bad flags are usage errors (exit 2), not crashes;
 # --version prints the version; connections that never send a request
 # and running out of descriptors do not keep /healthz out or spin the
-# accept loop, and viewers are limited (issue 30).
+# accept loop, and viewers are limited (issue 30); /healthz follows the
+# backend and a viewer after a backend restart gets frames (issue 31).
 # usage: gateway_test.sh BUILD_DIR SCENES_DIR
 set -u
 BIN=$1
@@ -189,4 +190,94 @@ else:
     sys.exit("healthz did not answer while descriptors were exhausted")
 EOF
 grep -q "backing off" "$TMP/w4.err" || fail "the descriptor shortage was not logged"
+kill $WEB 2>/dev/null; wait $WEB 2>/dev/null
+
+# The backend (issue 31): /healthz is 503 while gistreamd is gone and names
+# why, 200 again once it serves; a viewer after the restart gets frames
+# (the gateway loads its scene again by name: the old id is unknown).
+start_web w5
+PORT=${ADDR##*:}
+python3 - "$HOSTPORT" <<'EOF' || fail "healthz with the backend up"
+import socket, sys
+host, port = sys.argv[1].rsplit(":", 1)
+s = socket.create_connection((host, int(port)), timeout=10)
+s.sendall(f"GET /healthz HTTP/1.1\r\nHost: {host}\r\n\r\n".encode())
+got = s.recv(4096).decode(errors="replace")
+print("healthz, backend up:", got.split("\r\n")[0])
+sys.exit(0 if " 200 " in got else 1)
+EOF
+kill $PID; wait $PID 2>/dev/null
+python3 - "$HOSTPORT" <<'EOF' || fail "healthz with the backend down"
+import socket, sys, time
+host, port = sys.argv[1].rsplit(":", 1)
+for _ in range(100):  # polled every 2 s: a hang bound of 10 s
+    s = socket.create_connection((host, int(port)), timeout=10)
+    s.sendall(f"GET /healthz HTTP/1.1\r\nHost: {host}\r\n\r\n".encode())
+    got = s.recv(4096).decode(errors="replace")
+    if " 503 " in got:
+        print("healthz, backend down:", got.split("\r\n")[0], "|", got.split("\r\n\r\n", 1)[1].strip())
+        sys.exit(0 if "not serving" in got else 1)
+    time.sleep(0.1)
+sys.exit("healthz stayed 200 with gistreamd gone")
+EOF
+"$BIN/gistreamd" --listen "127.0.0.1:$PORT" --scenes "$SCENES" >"$TMP/d2.log" 2>"$TMP/d2.err" &
+PID=$!
+for _ in $(seq 100); do grep -q "listening on" "$TMP/d2.log" && break; sleep 0.1; done
+python3 - "$HOSTPORT" <<'EOF' || fail "a viewer after the backend restarted"
+import socket, struct, sys, time, json
+host, port = sys.argv[1].rsplit(":", 1)
+start = time.monotonic()
+for _ in range(300):  # a hang bound of 30 s
+    s = socket.create_connection((host, int(port)), timeout=10)
+    s.sendall(f"GET /healthz HTTP/1.1\r\nHost: {host}\r\n\r\n".encode())
+    if " 200 " in s.recv(4096).decode(errors="replace"):
+        break
+    time.sleep(0.1)
+else:
+    sys.exit("healthz did not return to 200 after the restart")
+print(f"healthz, backend restarted: 200 after {time.monotonic() - start:.1f} s")
+s = socket.create_connection((host, int(port)), timeout=30)
+s.sendall((f"GET /ws?format=jpeg HTTP/1.1\r\nHost: {host}:{port}\r\nUpgrade: websocket\r\n"
+           "Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+           f"Sec-WebSocket-Version: 13\r\nOrigin: http://{host}:{port}\r\n\r\n").encode())
+buf = b""
+while b"\r\n\r\n" not in buf:
+    buf += s.recv(4096)
+head, buf = buf.split(b"\r\n\r\n", 1)
+if b" 101 " not in head:
+    sys.exit(f"upgrade refused: {head[:80]!r}")
+
+def read(n):
+    global buf
+    while len(buf) < n:
+        chunk = s.recv(65536)
+        if not chunk:
+            sys.exit("the gateway closed the WebSocket")
+        buf += chunk
+    out, buf = buf[:n], buf[n:]
+    return out
+
+texts = []
+deadline = time.monotonic() + 60  # a hang bound
+opcode, payload = 0, b""
+while time.monotonic() < deadline:
+    b0, b1 = read(2)  # (a message may come in fragments: opcode 0 continues it)
+    n = b1 & 0x7F
+    if n == 126:
+        n = struct.unpack(">H", read(2))[0]
+    elif n == 127:
+        n = struct.unpack(">Q", read(8))[0]
+    opcode = (b0 & 0x0F) or opcode
+    payload += read(n)
+    if not b0 & 0x80:
+        continue
+    message, payload = payload, b""
+    if opcode == 1:
+        m = json.loads(message)
+        texts.append(m.get("message", m["type"]))
+    elif opcode == 2:
+        print("a frame after the restart; the page was told:", " | ".join(texts))
+        sys.exit(0 if any("loading it again" in t for t in texts) else 1)
+sys.exit(f"no frame within 60 s after the restart; messages: {texts}")
+EOF
 echo "PASS"
