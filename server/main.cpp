@@ -47,6 +47,7 @@ absl::string_view AV(std::string_view s) { return absl::string_view(s.data(), s.
 struct Flags {
   std::string listen = "127.0.0.1:50051";
   std::string metrics_listen;  // empty: no metrics endpoint
+  std::string metrics_token;   // path of a file holding it; empty: open
   std::string health_listen;   // empty: health on --listen only
   EngineOptions engine;
   uint64_t max_message_bytes = 0;  // 0: max_scene_bytes + 16 MiB
@@ -65,6 +66,10 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
                              port 0 picks a free one)
   --metrics-listen ADDR      also serve Prometheus metrics on http://ADDR/metrics
                              (host:port; default off)
+  --metrics-token-file FILE  scrapes must send the token in FILE as the password
+                             of HTTP Basic authentication (any user), else 401
+                             (default: no token; logged as a warning with
+                             --auth-tokens or a non-loopback --metrics-listen)
   --scenes DIR               scene directory for LoadScene by name (default scenes)
   --egl-device N             EGL device index; -1 picks the first hardware
                              device, else Mesa's software one (default -1)
@@ -190,6 +195,7 @@ Flags ParseFlags(int argc, char** argv) {
          if (v.empty()) UsageError(absl::StrCat(AV(flag), ": empty address"));
          f.metrics_listen = std::string(v);
        }},
+      {"--metrics-token-file", [&](auto, auto v) { f.metrics_token = std::string(v); }},
       {"--scenes", [&](auto, auto v) { f.engine.scene_dir = std::string(v); }},
       {"--egl-device",
        [&](auto flag, auto v) { f.engine.egl_device = ParseInt(flag, v, -1, 1024); }},
@@ -390,6 +396,11 @@ int Main(int argc, char** argv) {
     Log(LogLevel::kInfo, absl::StrCat("auth: ", tokens->size(), " tokens for ",
                                       tokens->quotas().size(), " tenants"));
   }
+  std::string metrics_token = ReadPem("--metrics-token-file", flags.metrics_token);
+  metrics_token.erase(metrics_token.find_last_not_of(" \t\r\n") + 1);  // a trailing newline
+  if (!flags.metrics_token.empty() && metrics_token.empty()) {
+    UsageError(absl::StrCat("--metrics-token-file: '", flags.metrics_token, "' holds no token"));
+  }
   service::TlsFiles tls{ReadPem("--tls-cert", flags.tls_cert), ReadPem("--tls-key", flags.tls_key),
                         ReadPem("--tls-client-ca", flags.tls_client_ca)};
   if (tls.cert_chain_pem.empty() && !flags.insecure && !service::IsLoopbackAddress(flags.listen)) {
@@ -437,14 +448,21 @@ int Main(int argc, char** argv) {
   Log(LogLevel::kInfo, absl::StrCat("EGL device: ", device.egl_device));
 
   if (metrics) {
-    if (absl::Status serving = metrics->Serve(flags.metrics_listen, **engine); !serving.ok()) {
+    if (absl::Status serving = metrics->Serve(flags.metrics_listen, **engine, metrics_token);
+        !serving.ok()) {
       std::fprintf(stderr, "gistreamd: %s\n", serving.ToString().c_str());
       (*engine)->Shutdown();
       return 1;
     }
     const std::string host = flags.metrics_listen.substr(0, flags.metrics_listen.rfind(':'));
-    Log(LogLevel::kInfo,
-        absl::StrCat("metrics on http://", host, ":", metrics->port(), "/metrics"));
+    Log(LogLevel::kInfo, absl::StrCat("metrics on http://", host, ":", metrics->port(), "/metrics",
+                                      metrics_token.empty() ? "" : " (token required)"));
+    if (metrics_token.empty() && (tokens || !service::IsLoopbackAddress(flags.metrics_listen))) {
+      // Server-wide figures (every tenant's frames, memory, sessions).
+      Log(LogLevel::kWarning,
+          "metrics are served without a token: anyone who reaches the port reads every tenant's "
+          "figures (--metrics-token-file)");
+    }
   }
 
   service::ServerOptions options;

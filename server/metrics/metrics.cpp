@@ -168,7 +168,8 @@ void Metrics::OnRpcFailed(std::string_view method, absl::StatusCode code) {
   impl_->rpc_errors.Add({{"method", std::string(method)}, {"code", CodeName(code)}}).Increment();
 }
 
-absl::Status Metrics::Serve(const std::string& address, const Engine& engine) {
+absl::Status Metrics::Serve(const std::string& address, const Engine& engine,
+                            const std::string& token) {
   if (impl_->exposer != nullptr) return absl::FailedPreconditionError("metrics: already serving");
   {
     std::lock_guard lock(impl_->engine_mutex);
@@ -183,6 +184,18 @@ absl::Status Metrics::Serve(const std::string& address, const Engine& engine) {
         absl::StrCat("--metrics-listen: cannot listen on ", address, ": ", e.what()));
   }
   impl_->exposer->RegisterCollectable(impl_->collector);
+  if (!token.empty()) {
+    impl_->exposer->RegisterAuth(
+        [token](const std::string& /*user*/, const std::string& password) {
+          // In time independent of where the strings differ.
+          unsigned diff = unsigned(password.size() ^ token.size());
+          for (size_t i = 0; i < token.size(); ++i) {
+            diff |= unsigned(uint8_t(token[i]) ^ uint8_t(i < password.size() ? password[i] : 0));
+          }
+          return diff == 0;
+        },
+        "gistreamd metrics");
+  }
   return absl::OkStatus();
 }
 

@@ -29,9 +29,12 @@ class Metrics final : public ServerObserver {
   void OnRpcFailed(std::string_view method, absl::StatusCode code) override;
 
   // Serves the text format on http://ADDR/metrics (ADDR = host:port, port 0
-  // picks a free one), reading gauges from `engine` at every scrape.
-  // UNAVAILABLE when ADDR cannot be bound. At most once.
-  absl::Status Serve(const std::string& address, const Engine& engine);
+  // picks a free one), reading gauges from `engine` at every scrape. With
+  // a `token`, a scrape must send it as the password of HTTP Basic
+  // authentication (any user name; Prometheus' basic_auth.password_file),
+  // else 401. UNAVAILABLE when ADDR cannot be bound. At most once.
+  absl::Status Serve(const std::string& address, const Engine& engine,
+                     const std::string& token = "");
   // The port bound by Serve (0 before).
   int port() const;
   // Stops the HTTP server and waits for its threads; no scrape reads the

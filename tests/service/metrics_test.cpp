@@ -201,6 +201,31 @@ TEST_F(MetricsTest, EndpointAnswersOnlyMetricsPath) {
   EXPECT_EQ(HttpGet(metrics_->port(), "/nope").status, 404);
 }
 
+// Issue 30: the endpoint behind a token (HTTP Basic, the token as the
+// password): 401 without it or with another, 200 with it.
+TEST_F(MetricsTest, ATokenGuardsTheEndpoint) {
+  metrics::Metrics guarded;
+  ASSERT_TRUE(guarded.Serve("127.0.0.1:0", engine_, "s3cret-token").ok());
+  auto basic = [](const std::string& in) {  // "Authorization: Basic base64(in)"
+    static const char* kAlphabet =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    auto byte = [&](size_t i) { return i < in.size() ? uint32_t(uint8_t(in[i])) : 0u; };
+    std::string out;
+    for (size_t i = 0; i < in.size(); i += 3) {
+      const uint32_t v = byte(i) << 16 | byte(i + 1) << 8 | byte(i + 2);
+      const size_t chars = std::min<size_t>(in.size() - i, 3) + 1;  // 2, 3 or 4
+      for (size_t k = 0; k < 4; ++k) out += k < chars ? kAlphabet[(v >> (18 - 6 * k)) & 63] : '=';
+    }
+    return "Authorization: Basic " + out + "\r\n";
+  };
+  EXPECT_EQ(HttpGet(guarded.port(), "/metrics").status, 401);
+  EXPECT_EQ(HttpGet(guarded.port(), "/metrics", basic("prometheus:wrong-token")).status, 401);
+  EXPECT_EQ(HttpGet(guarded.port(), "/metrics", basic("prometheus:s3cret-token")).status, 200);
+  guarded.StopServing();
+  // Without a token the endpoint is open (the fixture's).
+  EXPECT_EQ(HttpGet(metrics_->port(), "/metrics").status, 200);
+}
+
 TEST_F(MetricsTest, ServeOnABusyPortIsUnavailable) {
   metrics::Metrics second;
   const absl::Status status = second.Serve(absl::StrCat("127.0.0.1:", metrics_->port()), engine_);

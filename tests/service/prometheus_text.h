@@ -22,8 +22,9 @@ struct HttpResponse {
   std::string body;
 };
 
-// GET http://127.0.0.1:port/path; reads until the server closes.
-inline HttpResponse HttpGet(int port, const std::string& path) {
+// GET http://127.0.0.1:port/path (with `headers`, each "Name: value\r\n");
+// reads until the server closes.
+inline HttpResponse HttpGet(int port, const std::string& path, const std::string& headers = "") {
   HttpResponse out;
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
   if (fd < 0) return out;
@@ -37,7 +38,7 @@ inline HttpResponse HttpGet(int port, const std::string& path) {
   }
   timeval timeout{20, 0};  // a hung server fails the test instead of hanging it
   ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof(timeout));
-  const std::string request = "GET " + path + " HTTP/1.0\r\nHost: 127.0.0.1\r\n\r\n";
+  const std::string request = "GET " + path + " HTTP/1.0\r\nHost: 127.0.0.1\r\n" + headers + "\r\n";
   if (::send(fd, request.data(), request.size(), 0) != static_cast<ssize_t>(request.size())) {
     ::close(fd);
     return out;
