@@ -37,6 +37,7 @@ int Usage() {
          "--tls/--ca/--cert/--key/--token: the channel to gistreamd, as in gistream\n"
          "(token default $GISTREAM_TOKEN).\n"
          "--scenes: the page's scene picker (default: the bundled scenes).\n"
+         "--solver NAME: the solver a page opens on (default antiradiance).\n"
          "--allow-origin ORIGIN: a site whose pages may open the viewer's WebSocket\n"
          "(repeatable; '*' any; default: this gateway's own origin only).\n"
          "--fps F: 0 (the server's cap) to 240; --size WxH: 1x1 to 8192x8192.\n"
@@ -63,7 +64,9 @@ int main(int argc, char** argv) {
   std::string server = env && *env ? env : "127.0.0.1:50051";
   client::ConnectionOptions upstream;
   if (const char* token = std::getenv("GISTREAM_TOKEN"); token != nullptr) upstream.token = token;
-  std::string listen = "127.0.0.1:8080", scene = "cornell_box", solver = "direct";
+  // A GI solver by default: the page shows what the product is for
+  // (colour bleeding, soft indirect light), not direct light alone.
+  std::string listen = "127.0.0.1:8080", scene = "cornell_box", solver = "antiradiance";
   // The scene picker's choices: the bundled scenes unless --scenes says.
   std::string scenes = "cornell_box,cornell_box_coarse,indirect_room,dynamic_block,furnace";
   unsigned width = 640, height = 480;

@@ -275,6 +275,8 @@ while time.monotonic() < deadline:
     if opcode == 1:
         m = json.loads(message)
         texts.append(m.get("message", m["type"]))
+        if m["type"] == "scene" and m.get("solver") != "antiradiance":
+            sys.exit(f"the page opens on {m.get('solver')!r}, not a GI solver (antiradiance)")
     elif opcode == 2:
         print("a frame after the restart; the page was told:", " | ".join(texts))
         sys.exit(0 if any("loading it again" in t for t in texts) else 1)
