@@ -7,7 +7,8 @@
 //                [--solver NAME] [--param K=V]... [--size WxH] [--fps F]
 //                [--tls] [--ca FILE] [--cert FILE --key FILE] [--token TOKEN]
 //                [--allow-origin ORIGIN]... [--max-connections N]
-//                [--max-viewers N] [--version]
+//                [--max-viewers N] [--solvers NAME,...] [--page-params NAME,...|none]
+//                [--max-messages N] [--version]
 // The upstream channel to gistreamd takes the CLI's TLS and token options
 // (client/connection.h); the token defaults to $GISTREAM_TOKEN.
 #include <algorithm>
@@ -16,6 +17,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <string>
+#include <vector>
 
 #include <sys/resource.h>
 
@@ -27,17 +29,33 @@
 
 namespace {
 
+// "a,b,,c" -> {"a", "b", "c"}.
+std::vector<std::string> Split(const std::string& list) {
+  std::vector<std::string> out;
+  for (size_t begin = 0; begin <= list.size();) {
+    const size_t end = std::min(list.find(',', begin), list.size());
+    if (end > begin) out.push_back(list.substr(begin, end - begin));
+    begin = end + 1;
+  }
+  return out;
+}
+
 int Usage() {
   std::cerr
       << "usage: gistream-web [--server ADDR] [--listen HOST:PORT] [--scene NAME]\n"
          "                    [--scenes NAME,NAME,...] [--solver NAME] [--param K=V]...\n"
          "                    [--size WxH] [--fps F] [--tls] [--ca FILE]\n"
          "                    [--cert FILE --key FILE] [--token TOKEN] [--allow-origin ORIGIN]...\n"
-         "                    [--max-connections N] [--max-viewers N]\n"
+         "                    [--max-connections N] [--max-viewers N] [--solvers NAME,...]\n"
+         "                    [--page-params NAME,...|none] [--max-messages N]\n"
          "--tls/--ca/--cert/--key/--token: the channel to gistreamd, as in gistream\n"
          "(token default $GISTREAM_TOKEN).\n"
          "--scenes: the page's scene picker (default: the bundled scenes).\n"
          "--solver NAME: the solver a page opens on (default antiradiance).\n"
+         "--solvers NAME,NAME,...: the solvers a page may pick (default: all the server's);\n"
+         "--page-params NAME,...|none: the parameters a page may set (default: all; the\n"
+         "gateway's --param values stay for the rest); --max-messages N: messages a\n"
+         "page may send a second (default 120; beyond, dropped and the page told).\n"
          "--allow-origin ORIGIN: a site whose pages may open the viewer's WebSocket\n"
          "(repeatable; '*' any; default: this gateway's own origin only).\n"
          "--fps F: 0 (the server's cap) to 240; --size WxH: 1x1 to 8192x8192.\n"
@@ -67,6 +85,7 @@ int main(int argc, char** argv) {
   // A GI solver by default: the page shows what the product is for
   // (colour bleeding, soft indirect light), not direct light alone.
   std::string listen = "127.0.0.1:8080", scene = "cornell_box", solver = "antiradiance";
+  std::vector<std::string> allowed_solvers;  // empty: every solver the server lists
   // The scene picker's choices: the bundled scenes unless --scenes says.
   std::string scenes = "cornell_box,cornell_box_coarse,indirect_room,dynamic_block,furnace";
   unsigned width = 640, height = 480;
@@ -119,6 +138,21 @@ int main(int argc, char** argv) {
         return Usage();
       }
       (flag == "--max-viewers" ? options.max_viewers : options.max_pending_connections) = size_t(n);
+    } else if (flag == "--solvers") {
+      allowed_solvers = Split(value);
+      if (allowed_solvers.empty()) return Usage();
+    } else if (flag == "--page-params") {
+      options.page_params_limited = true;
+      if (value != "none") options.page_params = Split(value);
+    } else if (flag == "--max-messages") {
+      char* end = nullptr;
+      const double n = std::strtod(value.c_str(), &end);
+      if (value.empty() || *end != '\0' || !(n >= 1.0 && n <= 10000.0)) {
+        std::cerr << "gistream-web: --max-messages: '" << value
+                  << "' is not a number from 1 to 10000\n";
+        return Usage();
+      }
+      options.max_messages_per_second = n;
     } else if (flag == "--allow-origin") {
       options.allowed_origins.push_back(value);
     } else if (flag == "--ca" || flag == "--cert" || flag == "--key") {
@@ -169,13 +203,30 @@ int main(int argc, char** argv) {
     std::cerr << "error: ListSolvers on " << server << ": " << s.error_message() << "\n";
     return 1;
   }
+  if (!allowed_solvers.empty()) {
+    // The page's picker offers these alone, and a page asking for another
+    // is refused (viewer_bridge.h).
+    v1::ListSolversResponse offered;
+    for (const std::string& name : allowed_solvers) {
+      const auto& all = options.solvers.solvers();
+      const auto it = std::find_if(all.begin(), all.end(),
+                                   [&](const v1::SolverInfo& s) { return s.name() == name; });
+      if (it == all.end()) {
+        std::cerr << "gistream-web: --solvers: the server has no solver '" << name << "'\n";
+        return 2;
+      }
+      *offered.add_solvers() = *it;
+    }
+    options.solvers = std::move(offered);
+  }
+  if (std::none_of(options.solvers.solvers().begin(), options.solvers.solvers().end(),
+                   [&](const v1::SolverInfo& s) { return s.name() == solver; })) {
+    std::cerr << "gistream-web: --solver " << solver << " is not among the offered solvers\n";
+    return 2;
+  }
   config.set_scene_id(options.scene.scene_id());
   options.scene_name = scene;
-  for (size_t begin = 0; begin <= scenes.size();) {
-    const size_t end = std::min(scenes.find(',', begin), scenes.size());
-    if (end > begin) options.scene_names.push_back(scenes.substr(begin, end - begin));
-    begin = end + 1;
-  }
+  options.scene_names = Split(scenes);
   if (std::find(options.scene_names.begin(), options.scene_names.end(), scene) ==
       options.scene_names.end()) {
     options.scene_names.insert(options.scene_names.begin(), scene);

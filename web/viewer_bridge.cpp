@@ -67,11 +67,18 @@ v1::SessionRequest RequestFromJson(const json& m) {
   return request;
 }
 
-json SolversJson(const v1::ListSolversResponse& list) {
+bool PageMaySet(const ViewerOptions& options, const std::string& param) {
+  return !options.page_params_limited ||
+         std::find(options.page_params.begin(), options.page_params.end(), param) !=
+             options.page_params.end();
+}
+
+json SolversJson(const v1::ListSolversResponse& list, const ViewerOptions& options) {
   json out = json::array();
   for (const v1::SolverInfo& s : list.solvers()) {
     json params = json::array();
     for (const v1::ParamSpec& p : s.params()) {
+      if (!PageMaySet(options, p.name())) continue;  // the page shows what it may set
       params.push_back(
           {{"name", p.name()},
            {"type", v1::ParamType_Name(p.type())},
@@ -86,9 +93,11 @@ json SolversJson(const v1::ListSolversResponse& list) {
   return out;
 }
 
-json SceneJson(const v1::LoadSceneResponse& scene, const v1::SessionConfig& config,
-               const v1::ListSolversResponse& solvers, const std::vector<std::string>& names,
-               const std::string& name) {
+json SceneJson(const ViewerOptions& options) {
+  const v1::LoadSceneResponse& scene = options.scene;
+  const v1::SessionConfig& config = options.config;
+  const std::vector<std::string>& names = options.scene_names;
+  const std::string& name = options.scene_name;
   json lights = json::array(), materials = json::array();
   for (const v1::LightInfo& l : scene.lights()) {
     lights.push_back({{"id", l.id()}, {"name", l.name()}, {"intensity", l.intensity()}});
@@ -109,7 +118,7 @@ json SceneJson(const v1::LoadSceneResponse& scene, const v1::SessionConfig& conf
               {"bounds", {{"min", Vec(scene.bounds().min())}, {"max", Vec(scene.bounds().max())}}},
               {"lights", lights},
               {"materials", materials},
-              {"solvers", SolversJson(solvers)},
+              {"solvers", SolversJson(options.solvers, options)},
               {"scenes", names},
               {"scene_name", name},
               {"params",
@@ -312,12 +321,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
     Send(std::move(message), true, true);
   }
 
-  void SendScene() {
-    Send(SceneJson(options_.scene, options_.config, options_.solvers, options_.scene_names,
-                   options_.scene_name)
-             .dump(),
-         false, false);
-  }
+  void SendScene() { Send(SceneJson(options_).dump(), false, false); }
 
   // The scene picker: LoadScene on a thread of its own (a first load may
   // take a while; the gateway's other browsers go on), then the scene's
@@ -370,16 +374,13 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
     const std::string text = beast::buffers_to_string(buffer_.data());
     buffer_.consume(buffer_.size());
     try {
+      if (!TakeMessageToken()) {
+        Read();
+        return;
+      }
       const json message = json::parse(text);
       if (message.at("type") == "config") {
-        options_.config.set_solver(message.at("solver").get<std::string>());
-        options_.config.clear_params();
-        if (const auto params = message.find("params"); params != message.end()) {
-          for (const auto& [k, v] : params->items()) {
-            (*options_.config.mutable_params())[k] = v.get<std::string>();
-          }
-        }
-        StartLink();
+        ApplyConfig(message);
       } else if (message.at("type") == "scene") {
         LoadScene(message.at("name").get<std::string>());
       } else {
@@ -390,6 +391,56 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
            false, false);
     }
     Read();
+  }
+
+  // A page's solver picker: the solver must be one the gateway offers and
+  // each parameter one the page may set (ViewerOptions); the gateway's own
+  // --param values stay for the rest.
+  void ApplyConfig(const json& message) {
+    const std::string solver = message.at("solver").get<std::string>();
+    const auto& offered = options_.solvers.solvers();
+    if (std::none_of(offered.begin(), offered.end(),
+                     [&](const v1::SolverInfo& s) { return s.name() == solver; })) {
+      throw std::invalid_argument("solver '" + solver + "' is not offered by this gateway");
+    }
+    v1::SessionConfig config = options_.config;
+    config.set_solver(solver);
+    config.clear_params();
+    for (const auto& [k, v] : gateway_params_) (*config.mutable_params())[k] = v;
+    if (const auto params = message.find("params"); params != message.end()) {
+      for (const auto& [k, v] : params->items()) {
+        if (!PageMaySet(options_, k)) {
+          throw std::invalid_argument("params." + k + ": not settable from this page");
+        }
+        (*config.mutable_params())[k] = v.get<std::string>();
+      }
+    }
+    options_.config = std::move(config);
+    StartLink();
+  }
+
+  // The page's message budget (a token bucket): false drops the message,
+  // and the page is told at most once a second.
+  bool TakeMessageToken() {
+    const auto now = std::chrono::steady_clock::now();
+    const double rate = options_.max_messages_per_second;
+    tokens_ = std::min(2.0 * rate,
+                       tokens_ + rate * std::chrono::duration<double>(now - refilled_).count());
+    refilled_ = now;
+    if (tokens_ >= 1.0) {
+      tokens_ -= 1.0;
+      return true;
+    }
+    dropped_ += 1;
+    if (now - last_drop_notice_ >= std::chrono::seconds(1)) {
+      last_drop_notice_ = now;
+      Send(json{{"type", "error"},
+                {"message", "too many messages: " + std::to_string(dropped_) +
+                                " dropped (at most " + std::to_string(int(rate)) + " a second)"}}
+               .dump(),
+           false, false);
+    }
+    return false;
   }
 
   void Send(std::string data, bool binary, bool frame) {
@@ -425,6 +476,13 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   std::deque<Outgoing> queue_;
   bool writing_ = false;
   bool awaiting_key_ = false;
+  // The gateway's --param values, kept under every page's choice.
+  const std::map<std::string, std::string> gateway_params_{options_.config.params().begin(),
+                                                           options_.config.params().end()};
+  double tokens_ = 2.0 * options_.max_messages_per_second;
+  std::chrono::steady_clock::time_point refilled_ = std::chrono::steady_clock::now();
+  std::chrono::steady_clock::time_point last_drop_notice_{};
+  uint64_t dropped_ = 0;
   static constexpr int kMaxReconnects = 60;
   int reconnects_ = 0, reloads_ = 0;
   net::steady_timer retry_{ws_.get_executor()};

@@ -46,6 +46,15 @@ struct ViewerOptions {
   // Viewers (WebSocket sessions) at once (--max-viewers); beyond, an
   // upgrade is answered 503.
   size_t max_viewers = 64;
+  // What a page may choose (issue 30): the solvers of `solvers` (filtered
+  // by --solvers) and, when `page_params_limited`, only the parameters
+  // named in `page_params` (--page-params); the rest keep the gateway's
+  // --param values or the server's defaults. Anything else is refused.
+  std::vector<std::string> page_params;
+  bool page_params_limited = false;
+  // Messages a page may send per second (a token bucket with twice that
+  // as its burst): beyond, they are dropped and the page told once a second.
+  double max_messages_per_second = 120.0;
   // The backend's health, polled (backend_health.h): /healthz answers 503
   // while it does not serve. Null: /healthz answers for the gateway alone.
   std::shared_ptr<const BackendHealth> backend;

@@ -7,7 +7,8 @@
 # --version prints the version; connections that never send a request
 # and running out of descriptors do not keep /healthz out or spin the
 # accept loop, and viewers are limited (issue 30); /healthz follows the
-# backend and a viewer after a backend restart gets frames (issue 31).
+# backend and a viewer after a backend restart gets frames (issue 31);
+# --solvers, --page-params and --max-messages bound what a page asks for.
 # usage: gateway_test.sh BUILD_DIR SCENES_DIR
 set -u
 BIN=$1
@@ -31,7 +32,7 @@ done
 
 "$BIN/gistreamd" --listen 127.0.0.1:0 --scenes "$SCENES" >"$TMP/d.log" 2>"$TMP/d.err" &
 PID=$!
-for _ in $(seq 100); do grep -q "listening on" "$TMP/d.log" && break; sleep 0.1; done
+for _ in $(seq 300); do grep -q "listening on" "$TMP/d.log" && break; sleep 0.1; done
 ADDR=$(sed -n 's/^listening on //p' "$TMP/d.log")
 [ -n "$ADDR" ] || fail "gistreamd did not start"
 # start_web NAME [flags...]: a gateway on a free port; sets WEB, HOSTPORT.
@@ -222,7 +223,7 @@ sys.exit("healthz stayed 200 with gistreamd gone")
 EOF
 "$BIN/gistreamd" --listen "127.0.0.1:$PORT" --scenes "$SCENES" >"$TMP/d2.log" 2>"$TMP/d2.err" &
 PID=$!
-for _ in $(seq 100); do grep -q "listening on" "$TMP/d2.log" && break; sleep 0.1; done
+for _ in $(seq 300); do grep -q "listening on" "$TMP/d2.log" && break; sleep 0.1; done
 python3 - "$HOSTPORT" <<'EOF' || fail "a viewer after the backend restarted"
 import socket, struct, sys, time, json
 host, port = sys.argv[1].rsplit(":", 1)
@@ -281,5 +282,87 @@ while time.monotonic() < deadline:
         print("a frame after the restart; the page was told:", " | ".join(texts))
         sys.exit(0 if any("loading it again" in t for t in texts) else 1)
 sys.exit(f"no frame within 60 s after the restart; messages: {texts}")
+EOF
+kill $WEB 2>/dev/null; wait $WEB 2>/dev/null
+
+# What a page may ask for (issue 30): --solvers and --page-params limit the
+# picker and are enforced on the WebSocket; --max-messages drops a flood.
+start_web w6 --solver direct --solvers direct,antiradiance --page-params area_samples \
+  --max-messages 5
+python3 - "$HOSTPORT" <<'EOF' || fail "page limits"
+import json, os, socket, struct, sys, time
+host, port = sys.argv[1].rsplit(":", 1)
+s = socket.create_connection((host, int(port)), timeout=30)
+s.sendall((f"GET /ws?format=jpeg HTTP/1.1\r\nHost: {host}:{port}\r\nUpgrade: websocket\r\n"
+           "Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+           f"Sec-WebSocket-Version: 13\r\nOrigin: http://{host}:{port}\r\n\r\n").encode())
+buf = b""
+while b"\r\n\r\n" not in buf:
+    buf += s.recv(4096)
+buf = buf.split(b"\r\n\r\n", 1)[1]
+
+def read(n):
+    global buf
+    while len(buf) < n:
+        chunk = s.recv(65536)
+        if not chunk:
+            sys.exit("the gateway closed the WebSocket")
+        buf += chunk
+    out, buf = buf[:n], buf[n:]
+    return out
+
+def next_text(deadline=30):  # the next text message (binary frames skipped)
+    end = time.monotonic() + deadline
+    opcode, payload = 0, b""
+    while time.monotonic() < end:
+        b0, b1 = read(2)
+        n = b1 & 0x7F
+        if n == 126:
+            n = struct.unpack(">H", read(2))[0]
+        elif n == 127:
+            n = struct.unpack(">Q", read(8))[0]
+        opcode = (b0 & 0x0F) or opcode
+        payload += read(n)
+        if not b0 & 0x80:
+            continue
+        message, payload = payload, b""
+        if opcode == 1:
+            return json.loads(message)
+    sys.exit("no message within the hang bound")
+
+def send(obj):  # a client's frames are masked
+    data = json.dumps(obj).encode()
+    mask = os.urandom(4)
+    head = bytes([0x81]) + (bytes([0x80 | len(data)]) if len(data) < 126
+                            else bytes([0x80 | 126]) + struct.pack(">H", len(data)))
+    s.sendall(head + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(data)))
+
+scene = next_text()
+names = [x["name"] for x in scene["solvers"]]
+params = {x["name"]: [p["name"] for p in x["params"]] for x in scene["solvers"]}
+print("offered:", names, params)
+if names != ["direct", "antiradiance"]:
+    sys.exit(f"the picker offers {names}, not --solvers direct,antiradiance")
+if any(p != ["area_samples"] for p in params.values()):
+    sys.exit(f"the page is shown parameters beyond --page-params: {params}")
+
+def expect_error(want):
+    for _ in range(20):
+        m = next_text()
+        if m["type"] == "error":
+            print("refused:", m["message"])
+            if want not in m["message"]:
+                sys.exit(f"expected {want!r} in {m['message']!r}")
+            return
+    sys.exit(f"no error for {want!r}")
+
+time.sleep(0.5)  # the bucket refills (5 a second, burst 10)
+send({"type": "config", "solver": "pathtrace", "params": {}})
+expect_error("solver 'pathtrace' is not offered by this gateway")
+send({"type": "config", "solver": "direct", "params": {"shadow_res": "4096"}})
+expect_error("params.shadow_res: not settable from this page")
+for i in range(40):
+    send({"type": "key_frame"})
+expect_error("too many messages")
 EOF
 echo "PASS"
