@@ -1,6 +1,7 @@
 #include "metrics/metrics.h"
 
 #include <exception>
+#include <map>
 #include <mutex>
 #include <utility>
 #include <vector>
@@ -26,6 +27,10 @@ using prometheus::MetricType;
 // Seconds; frames run from ~1 ms (direct, small) to minutes (pathtrace).
 const prometheus::Histogram::BucketBoundaries kFrameBuckets = {
     0.001, 0.002, 0.005, 0.01, 0.02, 0.033, 0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10, 30, 60};
+// Seconds from an update's arrival to the first frame showing it: a frame
+// interval or two at interactive rates, seconds under heavy solvers.
+const prometheus::Histogram::BucketBoundaries kLatencyBuckets = {
+    0.005, 0.01, 0.02, 0.033, 0.05, 0.075, 0.1, 0.15, 0.2, 0.3, 0.5, 1, 2, 5, 10};
 const prometheus::Histogram::BucketBoundaries kStageBuckets = {
     0.0001, 0.0002, 0.0005, 0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10, 60};
 
@@ -42,6 +47,27 @@ MetricFamily Family(std::string name, std::string help, MetricType type, double 
 }
 
 std::string CodeName(absl::StatusCode code) { return absl::StatusCodeToString(code); }
+
+// gistream_sessions_by_state{solver, state}: state "streaming" (frames
+// rendered as they come) or "resting" (a still, finished picture: nothing
+// rendered until a change).
+MetricFamily SessionsByState(const EngineStats& stats) {
+  std::map<std::pair<std::string, std::string>, double> counts;
+  for (const SessionStatus& s : stats.session_status) {
+    counts[{s.solver, s.at_rest ? "resting" : "streaming"}] += 1.0;
+  }
+  MetricFamily family{"gistream_sessions_by_state",
+                      "Open sessions by solver and state (streaming, resting)",
+                      MetricType::Gauge,
+                      {}};
+  for (const auto& [key, count] : counts) {
+    ClientMetric metric;
+    metric.label = {{"solver", key.first}, {"state", key.second}};
+    metric.gauge.value = count;
+    family.metric.push_back(std::move(metric));
+  }
+  return family;
+}
 
 }  // namespace
 
@@ -75,6 +101,21 @@ struct Metrics::Impl {
                        .Name("gistream_rpc_errors_total")
                        .Help("Calls that ended with a status other than OK, by method and code")
                        .Register(*registry)),
+        requests(prometheus::BuildCounter()
+                     .Name("gistream_requests_total")
+                     .Help("Calls that ended, by method and status code (OK included)")
+                     .Register(*registry)),
+        bytes_sent(prometheus::BuildCounter()
+                       .Name("gistream_frame_bytes_sent_total")
+                       .Help("Encoded frame bytes handed to clients (sessions and Render)")
+                       .Register(*registry)
+                       .Add({})),
+        update_latency(prometheus::BuildHistogram()
+                           .Name("gistream_update_to_frame_seconds")
+                           .Help("From an update's arrival to the first frame that shows it "
+                                 "being handed to the client")
+                           .Register(*registry)
+                           .Add({}, kLatencyBuckets)),
         frame_seconds(prometheus::BuildHistogram()
                           .Name("gistream_frame_seconds")
                           .Help("Frame time on the server (Frame.total_ms), by solver")
@@ -94,6 +135,7 @@ struct Metrics::Impl {
     const EngineStats stats = engine->stats();
     const ProcessStats process = ReadProcessStats();
     out.push_back(Family("gistream_sessions", "Open sessions", MetricType::Gauge, stats.sessions));
+    out.push_back(SessionsByState(stats));
     out.push_back(Family("gistream_scenes", "Loaded scenes", MetricType::Gauge, stats.scenes));
     out.push_back(Family("gistream_gl_object_bytes",
                          "Bytes held by the engine's GL objects (scenes, solvers, views)",
@@ -130,6 +172,9 @@ struct Metrics::Impl {
   prometheus::Counter& dropped;
   prometheus::Family<prometheus::Counter>& rejected;
   prometheus::Family<prometheus::Counter>& rpc_errors;
+  prometheus::Family<prometheus::Counter>& requests;
+  prometheus::Counter& bytes_sent;
+  prometheus::Histogram& update_latency;
   prometheus::Family<prometheus::Histogram>& frame_seconds;
   prometheus::Family<prometheus::Histogram>& stage_seconds;
 
@@ -163,6 +208,14 @@ void Metrics::OnFramesDropped(uint64_t count) { impl_->dropped.Increment(double(
 void Metrics::OnUpdateRejected(absl::StatusCode code) {
   impl_->rejected.Add({{"code", CodeName(code)}}).Increment();
 }
+
+void Metrics::OnRpcFinished(std::string_view method, absl::StatusCode code) {
+  impl_->requests.Add({{"method", std::string(method)}, {"code", CodeName(code)}}).Increment();
+}
+
+void Metrics::OnFrameSent(uint64_t bytes) { impl_->bytes_sent.Increment(double(bytes)); }
+
+void Metrics::OnUpdateAnswered(double seconds) { impl_->update_latency.Observe(seconds); }
 
 void Metrics::OnRpcFailed(std::string_view method, absl::StatusCode code) {
   impl_->rpc_errors.Add({{"method", std::string(method)}, {"code", CodeName(code)}}).Increment();

@@ -27,6 +27,9 @@ class Metrics final : public ServerObserver {
   void OnFramesDropped(uint64_t count) override;
   void OnUpdateRejected(absl::StatusCode code) override;
   void OnRpcFailed(std::string_view method, absl::StatusCode code) override;
+  void OnRpcFinished(std::string_view method, absl::StatusCode code) override;
+  void OnFrameSent(uint64_t bytes) override;
+  void OnUpdateAnswered(double seconds) override;
 
   // Serves the text format on http://ADDR/metrics (ADDR = host:port, port 0
   // picks a free one), reading gauges from `engine` at every scrape. With

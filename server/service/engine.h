@@ -303,6 +303,7 @@ struct SessionStatus {
   uint64_t dropped_frames = 0;   // its sink's FrameSink::dropped_frames()
   uint32_t pending_updates = 0;  // queued, not yet applied
   uint64_t last_update_seq = 0;  // highest sequence number applied so far
+  bool at_rest = false;          // its view rests: nothing rendered until a change
 };
 
 struct EngineStats {

@@ -245,6 +245,7 @@ EngineStats EngineImpl::stats() const {
     status.dropped_frames = s->sink->dropped_frames();
     status.pending_updates = uint32_t(s->pending.size());
     status.last_update_seq = s->last_seq;
+    status.at_rest = s->resting.load();
   }
   out.scenes = uint32_t(scenes_.size());
   out.frames_rendered = frames_rendered_.load();
@@ -830,6 +831,7 @@ Clock::time_point EngineImpl::Tick() {
         // At rest, only an update or a key frame request makes it due.
         if (view.rest && (!session->pending.empty() || session->key_frame_requested)) {
           view.rest.reset();
+          session->resting = false;
         }
       }
     }
@@ -841,6 +843,7 @@ Clock::time_point EngineImpl::Tick() {
         continue;
       }
       view.rest.reset();
+      session->resting = false;
     }
     if (!due) {
       if (session->config.pacing == Pacing::kContinuous) next = std::min(next, view.next_due);
@@ -1066,6 +1069,7 @@ void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
       if (solver_it != scene_it->second.solvers.end()) {
         rest.solver = solver_it->second.solver.get();
         view.rest = std::move(rest);
+        session.resting = true;
       }
     }
   }

@@ -89,6 +89,9 @@ class EngineImpl final : public Engine {
     // client (more frames, no more drops) is not idle.
     uint64_t idle_seen_frames = 0;
     uint64_t idle_seen_dropped = 0;
+    // At rest (render thread writes; stats() reads): no frames rendered
+    // until something changes.
+    std::atomic<bool> resting{false};
     // For stats(), updated after each frame (mutex-guarded).
     uint64_t frames = 0;
     uint64_t last_seq = 0;

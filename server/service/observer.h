@@ -34,6 +34,14 @@ class ServerObserver {
   // gRPC layer: a call (`method`: "LoadScene", "Session", ...) ended with a
   // status other than OK.
   virtual void OnRpcFailed(std::string_view /*method*/, absl::StatusCode /*code*/) {}
+  // gRPC layer: a call ended, with any status (OK included).
+  virtual void OnRpcFinished(std::string_view /*method*/, absl::StatusCode /*code*/) {}
+  // gRPC layer: a frame's image of `bytes` was handed to a client's stream
+  // (a session's frame or a Render's answer).
+  virtual void OnFrameSent(uint64_t /*bytes*/) {}
+  // gRPC layer: the first frame showing an update (its sequence number
+  // echoed) was handed to the client `seconds` after the update arrived.
+  virtual void OnUpdateAnswered(double /*seconds*/) {}
 };
 
 }  // namespace gistream

@@ -87,10 +87,14 @@ TEST_F(MetricsTest, ScrapeCountsFramesRejectionsAndFailedCallsByCodeName) {
   pb::SessionEvent event;
   ASSERT_TRUE(ReadNonFrame(*stream, &event));
   ASSERT_TRUE(event.has_rejected());
+  // And an accepted one, which the frames below echo.
+  ASSERT_TRUE(stream->Write(NodeUpdate(2, 0, 0.25f)));
   ASSERT_TRUE(stream->Write(FrameRequest(3)));
+  uint64_t session_bytes = 0;
   for (int i = 0; i < 3; ++i) {
     ASSERT_TRUE(stream->Read(&event));
     ASSERT_TRUE(event.has_frame());
+    session_bytes += event.frame().image().size();
   }
 
   // One Render frame, and two failed calls.
@@ -103,6 +107,7 @@ TEST_F(MetricsTest, ScrapeCountsFramesRejectionsAndFailedCallsByCodeName) {
     request.set_height(8);
     pb::Frame frame;
     ASSERT_TRUE(stub().Render(&render_context, request, &frame).ok());
+    session_bytes += frame.image().size();
   }
   {
     grpc::ClientContext load_context;
@@ -136,15 +141,16 @@ TEST_F(MetricsTest, ScrapeCountsFramesRejectionsAndFailedCallsByCodeName) {
   EXPECT_EQ(Sum(samples, "gistream_frame_seconds_bucket", {{"solver", "direct"}, {"le", "+Inf"}}),
             frames);
   // Stage histograms by solver and stage: the fake's shade (GPU) and encode
-  // (CPU) run every frame; apply_updates is skipped (no update applied) and
-  // so not observed.
+  // (CPU) run every frame; apply_updates is skipped (and not observed) in
+  // frames that apply no update.
   EXPECT_EQ(Sum(samples, "gistream_stage_seconds_count",
                 {{"solver", "direct"}, {"stage", "shade"}, {"where", "gpu"}}),
             frames);
   EXPECT_EQ(Sum(samples, "gistream_stage_seconds_count",
                 {{"solver", "direct"}, {"stage", "encode"}, {"where", "cpu"}}),
             frames);
-  EXPECT_FALSE(Has(samples, "gistream_stage_seconds_count", {{"stage", "apply_updates"}}));
+  // apply_updates ran for the frame that applied update 2 alone.
+  EXPECT_EQ(Sum(samples, "gistream_stage_seconds_count", {{"stage", "apply_updates"}}), 1.0);
 
   EXPECT_EQ(Sum(samples, "gistream_updates_rejected_total", {{"code", "NOT_FOUND"}}), 1.0);
   EXPECT_EQ(Sum(samples, "gistream_updates_rejected_total"), 1.0);
@@ -156,6 +162,25 @@ TEST_F(MetricsTest, ScrapeCountsFramesRejectionsAndFailedCallsByCodeName) {
       1.0);
   EXPECT_EQ(Sum(samples, "gistream_rpc_errors_total"), 2.0);
   EXPECT_EQ(Sum(samples, "gistream_frames_dropped_total"), 0.0);
+  // Every ended call by method and code, OK included (issue 31): the
+  // LoadScene of the fixture's scene, the Render, the two failures; the
+  // open session has not ended.
+  EXPECT_EQ(Sum(samples, "gistream_requests_total", {{"method", "LoadScene"}, {"code", "OK"}}),
+            1.0);
+  EXPECT_EQ(Sum(samples, "gistream_requests_total", {{"method", "Render"}, {"code", "OK"}}), 1.0);
+  EXPECT_EQ(
+      Sum(samples, "gistream_requests_total", {{"method", "LoadScene"}, {"code", "NOT_FOUND"}}),
+      1.0);
+  EXPECT_EQ(Sum(samples, "gistream_requests_total", {{"method", "Session"}, {"code", "NOT_FOUND"}}),
+            1.0);
+  // The frames' bytes, as the client received them.
+  EXPECT_GT(session_bytes, 0u);
+  EXPECT_EQ(Sum(samples, "gistream_frame_bytes_sent_total"), double(session_bytes));
+  // The accepted update was answered by the first frame (which echoes it);
+  // the rejected one by its UpdateRejected, not counted.
+  EXPECT_EQ(Sum(samples, "gistream_update_to_frame_seconds_count"), 1.0);
+  // The open session by solver and state.
+  EXPECT_EQ(Sum(samples, "gistream_sessions_by_state", {{"solver", "direct"}}), 1.0);
 
   // Gauges, read at the scrape.
   EXPECT_EQ(Sum(samples, "gistream_sessions"), 1.0);

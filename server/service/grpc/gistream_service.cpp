@@ -75,6 +75,7 @@ grpc::ServerUnaryReactor* GistreamService::RunOnPool(grpc::CallbackServerContext
   if (!tenant.ok()) {
     const grpc::Status status = ToGrpcStatus(tenant.status());
     NoteFailure(method, context, status);
+    if (options_.observer) options_.observer->OnRpcFinished(method, tenant.status().code());
     reactor->Finish(status);
     return reactor;
   }
@@ -87,11 +88,15 @@ grpc::ServerUnaryReactor* GistreamService::RunOnPool(grpc::CallbackServerContext
           status = work(tenant);
         }
         if (!status.ok()) NoteFailure(method, context, status);
+        if (options_.observer) {
+          options_.observer->OnRpcFinished(method, FromGrpcCode(status.error_code()));
+        }
         reactor->Finish(status);  // the last use of context/request/response
       });
   if (!submitted.ok()) {
     const grpc::Status status = ToGrpcStatus(submitted);
     NoteFailure(method, context, status);
+    if (options_.observer) options_.observer->OnRpcFinished(method, submitted.code());
     reactor->Finish(status);
   }
   return reactor;
@@ -163,6 +168,7 @@ grpc::ServerUnaryReactor* GistreamService::Render(grpc::CallbackServerContext* c
     render->cancelled = [context] { return context->IsCancelled(); };
     absl::StatusOr<EncodedFrame> frame = engine_.Render(*render);
     if (!frame.ok()) return ToGrpcStatus(frame.status());
+    if (options_.observer) options_.observer->OnFrameSent(frame->image.size());
     FrameToProto(*frame, response);
     return grpc::Status::OK;
   });

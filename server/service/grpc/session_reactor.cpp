@@ -110,6 +110,12 @@ void SessionReactor::OnReadDone(bool ok) {
   switch (request_.kind_case()) {
     case pb::SessionRequest::kUpdate: {
       rejected_seq = request_.update().seq();
+      {
+        // For the update-to-frame latency (OnUpdateAnswered): when it came.
+        std::lock_guard arrivals_lock(mutex_);
+        if (update_arrivals_.size() >= kMaxTrackedUpdates) update_arrivals_.pop_front();
+        update_arrivals_.emplace_back(rejected_seq, std::chrono::steady_clock::now());
+      }
       absl::StatusOr<Update> update = UpdateFromProto(request_.update(), "update");
       status = update.ok() ? engine_.PushUpdate(id, *std::move(update)) : update.status();
       break;
@@ -326,6 +332,7 @@ void SessionReactor::PumpLocked() {
       StartWrite(&response_);
     } else if (!slot_.empty()) {
       const std::shared_ptr<const EncodedFrame> next = slot_.Take();
+      NoteFrameSentLocked(*next);
       response_.Clear();
       pb::Frame* frame = response_.mutable_frame();
       FrameToProto(*next, frame);
@@ -340,6 +347,7 @@ void SessionReactor::PumpLocked() {
   if (finish_status_.has_value()) {
     if (!write_in_flight_) {
       finish_called_ = true;
+      observer().OnRpcFinished("Session", FromGrpcCode(finish_status_->error_code()));
       if (!finish_status_->ok()) {
         const absl::StatusCode code = FromGrpcCode(finish_status_->error_code());
         observer().OnRpcFailed("Session", code);
@@ -399,12 +407,27 @@ SessionId SessionReactor::TakeSessionToCloseLocked() {
 
 void SessionReactor::QueueRejectedLocked(uint64_t seq, const absl::Status& status) {
   observer().OnUpdateRejected(status.code());
+  // Answered by the rejection, not by a frame: not an update-to-frame latency.
+  std::erase_if(update_arrivals_, [seq](const auto& arrival) { return arrival.first == seq; });
   Log(LogLevel::kDebug, {session_id_, scene_id_},
       absl::StrCat("update seq ", seq, " rejected: ", absl::StatusCodeToString(status.code()), ": ",
                    status.message()));
   pb::SessionEvent event;
   UpdateRejectedToProto(seq, status, event.mutable_rejected());
   events_.push_back(std::move(event));
+}
+
+void SessionReactor::NoteFrameSentLocked(const EncodedFrame& frame) {
+  observer().OnFrameSent(frame.image.size());
+  // Updates this frame answers first (it echoes their sequence numbers;
+  // rejected ones are echoed too): their arrival to now. Sequence numbers
+  // increase along the stream.
+  const auto now = std::chrono::steady_clock::now();
+  while (!update_arrivals_.empty() && update_arrivals_.front().first <= frame.last_update_seq) {
+    observer().OnUpdateAnswered(
+        std::chrono::duration<double>(now - update_arrivals_.front().second).count());
+    update_arrivals_.pop_front();
+  }
 }
 
 ServerObserver& SessionReactor::observer() const {

@@ -24,6 +24,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <chrono>
 #include <deque>
 #include <memory>
 #include <mutex>
@@ -121,6 +122,9 @@ class SessionReactor final
   void GrantFrames();
   // Counts, logs and queues an UpdateRejected event.
   void QueueRejectedLocked(uint64_t seq, const absl::Status& status);
+  // Reports a frame handed to the stream: its bytes, and the latency of
+  // the updates it answers first (update_arrivals_).
+  void NoteFrameSentLocked(const EncodedFrame& frame);
   ServerObserver& observer() const;
 
   // Configuration
@@ -155,6 +159,10 @@ class SessionReactor final
   std::deque<::gistream::v1::SessionEvent> events_;
   FrameSlot slot_;        // the unsent frame(s)
   uint32_t dropped_ = 0;  // frames replaced since the last frame written
+  // Updates not yet answered by a frame: sequence number and arrival, the
+  // newest kMaxTrackedUpdates (older ones are not measured).
+  static constexpr size_t kMaxTrackedUpdates = 256;
+  std::deque<std::pair<uint64_t, std::chrono::steady_clock::time_point>> update_arrivals_;
   std::optional<grpc::Status> finish_status_;
   bool flush_before_finish_ = false;
   bool finish_called_ = false;
