@@ -11,14 +11,10 @@ with a budget of a microsecond (one sample a frame, as before).
         [--solvers direct,antiradiance] [--sizes 64,128] [--fps 10] [--refine 16] [--budget-ms 0]
 """
 import argparse
-import os
-import re
-import subprocess
-import sys
-import tempfile
 import time
 
 import gistream
+from local_server import local_gistreamd
 
 
 def after_move(client, scene_id, solver, size, args, budget_ms):
@@ -49,39 +45,22 @@ def main():
     p.add_argument("--refine", type=int, default=16)
     p.add_argument("--budget-ms", type=float, default=0.0)
     args = p.parse_args()
-    with tempfile.TemporaryDirectory() as tmp:
-        log = open(os.path.join(tmp, "d.log"), "w+")
-        server = subprocess.Popen([args.gistreamd, "--listen", "127.0.0.1:0", "--scenes", args.scenes],
-                                  stdout=log, stderr=subprocess.DEVNULL)
-        try:
-            address = None
-            for _ in range(300):
-                log.seek(0)
-                m = re.search(r"^listening on (\S+)", log.read(), re.M)
-                if m:
-                    address = m.group(1)
-                    break
-                time.sleep(0.1)
-            if address is None:
-                sys.exit("gistreamd did not start")
-            with gistream.Client(address) as client:
-                scene = client.load_scene("cornell_box")
-                print("| solver | size | budget | frames to rest | ms | samples shown per frame |")
-                print("|---|---|---|---|---|---|")
-                for solver in args.solvers.split(","):
-                    for size in (int(s) for s in args.sizes.split(",")):
-                        for name, budget in ((f"{args.budget_ms:g} ms" if args.budget_ms else "server's",
-                                              args.budget_ms), ("1 us", 1e-3)):
-                            got = after_move(client, scene.scene_id, solver, size, args, budget)
-                            if got is None:
-                                print(f"| {solver} | {size} | {name} | (stream ended) | | |")
-                                continue
-                            frames, ms, samples = got
-                            print(f"| {solver} | {size}x{size} | {name} | {frames} | {ms:.0f} | "
-                                  f"{' '.join(map(str, samples))} |", flush=True)
-        finally:
-            server.terminate()
-            server.wait(timeout=30)
+    with local_gistreamd(args.gistreamd, args.scenes) as (address, server_pid):
+        with gistream.Client(address) as client:
+            scene = client.load_scene("cornell_box")
+            print("| solver | size | budget | frames to rest | ms | samples shown per frame |")
+            print("|---|---|---|---|---|---|")
+            for solver in args.solvers.split(","):
+                for size in (int(s) for s in args.sizes.split(",")):
+                    for name, budget in ((f"{args.budget_ms:g} ms" if args.budget_ms else "server's",
+                                          args.budget_ms), ("1 us", 1e-3)):
+                        got = after_move(client, scene.scene_id, solver, size, args, budget)
+                        if got is None:
+                            print(f"| {solver} | {size} | {name} | (stream ended) | | |")
+                            continue
+                        frames, ms, samples = got
+                        print(f"| {solver} | {size}x{size} | {name} | {frames} | {ms:.0f} | "
+                              f"{' '.join(map(str, samples))} |", flush=True)
 
 
 if __name__ == "__main__":

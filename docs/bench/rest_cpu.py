@@ -13,14 +13,11 @@ ratio still / orbit.
 import argparse
 import math
 import os
-import re
-import subprocess
-import sys
-import tempfile
 import threading
 import time
 
 import gistream
+from local_server import local_gistreamd
 
 TICKS = os.sysconf("SC_CLK_TCK")
 
@@ -80,34 +77,17 @@ def main():
     p.add_argument("--seconds", type=float, default=10.0)
     p.add_argument("--warmup", type=float, default=8.0)
     args = p.parse_args()
-    with tempfile.TemporaryDirectory() as tmp:
-        log = open(os.path.join(tmp, "d.log"), "w+")
-        server = subprocess.Popen([args.gistreamd, "--listen", "127.0.0.1:0", "--scenes", args.scenes],
-                                  stdout=log, stderr=subprocess.DEVNULL)
-        try:
-            address = None
-            for _ in range(300):
-                log.seek(0)
-                m = re.search(r"^listening on (\S+)", log.read(), re.M)
-                if m:
-                    address = m.group(1)
-                    break
-                time.sleep(0.1)
-            if address is None:
-                sys.exit("gistreamd did not start")
-            with gistream.Client(address) as client:
-                scene = client.load_scene("cornell_box")
-                rows = []
-                for name, orbit in (("still", False), ("orbit", True)):
-                    cpu, frames, renders, seconds = measure(client, server.pid, scene.scene_id, args, orbit)
-                    rows.append((name, cpu, frames, renders, seconds))
-                    print(f"{name:6s} server CPU {cpu:6.2f} s over {seconds:5.1f} s, "
-                          f"{frames} frames received, {renders} rendered", flush=True)
-                still, orbit = rows[0][1], rows[1][1]
-                print(f"still / orbit CPU: {still / orbit * 100.0:.1f} %" if orbit > 0 else "orbit used no CPU")
-        finally:
-            server.terminate()
-            server.wait(timeout=30)
+    with local_gistreamd(args.gistreamd, args.scenes) as (address, server_pid):
+        with gistream.Client(address) as client:
+            scene = client.load_scene("cornell_box")
+            rows = []
+            for name, orbit in (("still", False), ("orbit", True)):
+                cpu, frames, renders, seconds = measure(client, server_pid, scene.scene_id, args, orbit)
+                rows.append((name, cpu, frames, renders, seconds))
+                print(f"{name:6s} server CPU {cpu:6.2f} s over {seconds:5.1f} s, "
+                      f"{frames} frames received, {renders} rendered", flush=True)
+            still, orbit = rows[0][1], rows[1][1]
+            print(f"still / orbit CPU: {still / orbit * 100.0:.1f} %" if orbit > 0 else "orbit used no CPU")
 
 
 if __name__ == "__main__":

@@ -6,10 +6,13 @@
 #include <gtest/gtest.h>
 
 #include "support/gltf_builder.h"
+#include "support/form_factors.h"
 #include "support/render_helpers.h"
 
 namespace gistream {
 namespace {
+
+using testing::CornerFormFactor;
 
 using testing::GltfBuilder;
 
@@ -65,15 +68,6 @@ TEST(DirectAnalytic, PointLightInverseSquare) {
     const float got = image.at(px.x, px.y).g;
     EXPECT_NEAR(got, expected, 0.02f * expected) << "pixel " << px.x << "," << px.y;
   }
-}
-
-// Form factor from a differential area to a parallel a x b rectangle with
-// one corner straight above it at height h.
-double CornerFormFactor(double a, double b, double h) {
-  const double x = a / h, y = b / h;
-  return (x / std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x)) +
-          y / std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y))) /
-         (2.0 * kPi);
 }
 
 TEST(DirectAnalytic, SquareEmitterIrradiance) {

@@ -23,6 +23,7 @@
 
 #include <gtest/gtest.h>
 
+#include "support/form_factors.h"
 #include "support/gltf_builder.h"
 #include "support/measurement.h"
 #include "support/render_helpers.h"
@@ -30,18 +31,12 @@
 namespace gistream {
 namespace {
 
+using testing::CornerFormFactor;
 using testing::GltfBuilder;
 
 constexpr double kPi = 3.14159265358979;
 constexpr float kAlbedo = 0.1f;
 constexpr uint32_t kSize = 16;
-
-double CornerFormFactor(double a, double b, double h) {
-  const double x = a / h, y = b / h;
-  return (x / std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x)) +
-          y / std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y))) /
-         (2.0 * kPi);
-}
 
 // Radiance of either plane's centre from direct light alone.
 double ExpectedDirect() {

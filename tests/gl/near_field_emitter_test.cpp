@@ -22,6 +22,7 @@
 
 #include <gtest/gtest.h>
 
+#include "support/form_factors.h"
 #include "support/gltf_builder.h"
 #include "support/measurement.h"
 #include "support/render_helpers.h"
@@ -29,19 +30,13 @@
 namespace gistream {
 namespace {
 
+using testing::CornerFormFactor;
 using testing::GltfBuilder;
 
 constexpr double kPi = 3.14159265358979;
 constexpr float kAlbedo = 0.1f;
 constexpr float kGap = 0.01f;  // the lamp 1 cm under the ceiling
 constexpr uint32_t kSize = 8;
-
-double CornerFormFactor(double a, double b, double h) {
-  const double x = a / h, y = b / h;
-  return (x / std::sqrt(1 + x * x) * std::atan(y / std::sqrt(1 + x * x)) +
-          y / std::sqrt(1 + y * y) * std::atan(x / std::sqrt(1 + y * y))) /
-         (2.0 * kPi);
-}
 
 // The ceiling's radiance `beyond` metres past the lamp's edge (x = 0.5 +
 // beyond, z = 0), direct light of the lamp's back face.

@@ -224,7 +224,7 @@ EOF
 "$BIN/gistreamd" --listen "127.0.0.1:$PORT" --scenes "$SCENES" >"$TMP/d2.log" 2>"$TMP/d2.err" &
 PID=$!
 for _ in $(seq 300); do grep -q "listening on" "$TMP/d2.log" && break; sleep 0.1; done
-python3 - "$HOSTPORT" <<'EOF' || fail "a viewer after the backend restarted"
+PYTHONPATH="$(dirname "$0")" python3 - "$HOSTPORT" <<'EOF' || fail "a viewer after the backend restarted"
 import socket, struct, sys, time, json
 host, port = sys.argv[1].rsplit(":", 1)
 start = time.monotonic()
@@ -237,42 +237,12 @@ for _ in range(300):  # a hang bound of 30 s
 else:
     sys.exit("healthz did not return to 200 after the restart")
 print(f"healthz, backend restarted: 200 after {time.monotonic() - start:.1f} s")
-s = socket.create_connection((host, int(port)), timeout=30)
-s.sendall((f"GET /ws?format=jpeg HTTP/1.1\r\nHost: {host}:{port}\r\nUpgrade: websocket\r\n"
-           "Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
-           f"Sec-WebSocket-Version: 13\r\nOrigin: http://{host}:{port}\r\n\r\n").encode())
-buf = b""
-while b"\r\n\r\n" not in buf:
-    buf += s.recv(4096)
-head, buf = buf.split(b"\r\n\r\n", 1)
-if b" 101 " not in head:
-    sys.exit(f"upgrade refused: {head[:80]!r}")
-
-def read(n):
-    global buf
-    while len(buf) < n:
-        chunk = s.recv(65536)
-        if not chunk:
-            sys.exit("the gateway closed the WebSocket")
-        buf += chunk
-    out, buf = buf[:n], buf[n:]
-    return out
-
+from ws_client import Viewer
+viewer = Viewer(host, port)
 texts = []
 deadline = time.monotonic() + 60  # a hang bound
-opcode, payload = 0, b""
 while time.monotonic() < deadline:
-    b0, b1 = read(2)  # (a message may come in fragments: opcode 0 continues it)
-    n = b1 & 0x7F
-    if n == 126:
-        n = struct.unpack(">H", read(2))[0]
-    elif n == 127:
-        n = struct.unpack(">Q", read(8))[0]
-    opcode = (b0 & 0x0F) or opcode
-    payload += read(n)
-    if not b0 & 0x80:
-        continue
-    message, payload = payload, b""
+    opcode, message = viewer.message()
     if opcode == 1:
         m = json.loads(message)
         texts.append(m.get("message", m["type"]))
@@ -289,54 +259,12 @@ kill $WEB 2>/dev/null; wait $WEB 2>/dev/null
 # picker and are enforced on the WebSocket; --max-messages drops a flood.
 start_web w6 --solver direct --solvers direct,antiradiance --page-params area_samples \
   --max-messages 5
-python3 - "$HOSTPORT" <<'EOF' || fail "page limits"
-import json, os, socket, struct, sys, time
+PYTHONPATH="$(dirname "$0")" python3 - "$HOSTPORT" <<'EOF' || fail "page limits"
+import sys, time
+from ws_client import Viewer
 host, port = sys.argv[1].rsplit(":", 1)
-s = socket.create_connection((host, int(port)), timeout=30)
-s.sendall((f"GET /ws?format=jpeg HTTP/1.1\r\nHost: {host}:{port}\r\nUpgrade: websocket\r\n"
-           "Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
-           f"Sec-WebSocket-Version: 13\r\nOrigin: http://{host}:{port}\r\n\r\n").encode())
-buf = b""
-while b"\r\n\r\n" not in buf:
-    buf += s.recv(4096)
-buf = buf.split(b"\r\n\r\n", 1)[1]
-
-def read(n):
-    global buf
-    while len(buf) < n:
-        chunk = s.recv(65536)
-        if not chunk:
-            sys.exit("the gateway closed the WebSocket")
-        buf += chunk
-    out, buf = buf[:n], buf[n:]
-    return out
-
-def next_text(deadline=30):  # the next text message (binary frames skipped)
-    end = time.monotonic() + deadline
-    opcode, payload = 0, b""
-    while time.monotonic() < end:
-        b0, b1 = read(2)
-        n = b1 & 0x7F
-        if n == 126:
-            n = struct.unpack(">H", read(2))[0]
-        elif n == 127:
-            n = struct.unpack(">Q", read(8))[0]
-        opcode = (b0 & 0x0F) or opcode
-        payload += read(n)
-        if not b0 & 0x80:
-            continue
-        message, payload = payload, b""
-        if opcode == 1:
-            return json.loads(message)
-    sys.exit("no message within the hang bound")
-
-def send(obj):  # a client's frames are masked
-    data = json.dumps(obj).encode()
-    mask = os.urandom(4)
-    head = bytes([0x81]) + (bytes([0x80 | len(data)]) if len(data) < 126
-                            else bytes([0x80 | 126]) + struct.pack(">H", len(data)))
-    s.sendall(head + mask + bytes(b ^ mask[i % 4] for i, b in enumerate(data)))
-
+viewer = Viewer(host, port)
+next_text, send = viewer.next_text, viewer.send
 scene = next_text()
 names = [x["name"] for x in scene["solvers"]]
 params = {x["name"]: [p["name"] for p in x["params"]] for x in scene["solvers"]}
