@@ -194,6 +194,31 @@ class ManifestTest(unittest.TestCase):
         self.assertTrue(service["read_only"])
         self.assertEqual(service["cap_drop"], ["ALL"])
 
+    def test_compose_runs_the_viewer_gateway_against_gistreamd(self):
+        with open(os.path.join(ROOT, "deploy", "compose.yaml")) as f:
+            services = yaml.safe_load(f)["services"]
+        web, server = services["gistream-web"], services["gistreamd"]
+        command = web["command"]
+        # It reaches the server's service name on its --listen port, over TLS
+        # with a token from its env file, once the server is healthy.
+        port = flag(server["command"], "--listen").split(":")[-1]
+        self.assertEqual(flag(command, "--server"), f"gistreamd:{port}")
+        self.assertIn("--tls", command)
+        self.assertTrue(flag(command, "--ca"))
+        self.assertEqual(web["depends_on"]["gistreamd"]["condition"], "service_healthy")
+        self.assertTrue(web["env_file"])
+        self.assertEqual(web["image"], server["image"])
+        # Served on the port it publishes; health from its /healthz.
+        listen_port = flag(command, "--listen").split(":")[-1]
+        self.assertIn(f"{listen_port}:{listen_port}", web["ports"])
+        self.assertIn(f"/dev/tcp/127.0.0.1/{listen_port}", " ".join(web["healthcheck"]["test"]))
+        self.assertIn("/healthz", " ".join(web["healthcheck"]["test"]))
+        # A GI solver first, and pages bounded.
+        self.assertNotEqual(flag(command, "--solvers").split(",")[0], "direct")
+        self.assertEqual(flag(command, "--page-params"), "none")
+        self.assertTrue(web["read_only"])
+        self.assertEqual(web["cap_drop"], ["ALL"])
+
     def test_dockerfile_serves_tls_with_tokens_by_default(self):
         with open(os.path.join(ROOT, "deploy", "Dockerfile")) as f:
             text = f.read()

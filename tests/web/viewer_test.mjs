@@ -3,7 +3,8 @@
 // not black, a mouse drag changes the camera (the echoed sequence number
 // reaches the drag's and the picture changes), a slider changes a light
 // (the picture gets brighter), the solver picker starts a new session
-// that draws, the scene picker loads another scene whose session draws;
+// that draws, a view panned off the scene says so and r brings the
+// picture back, the scene picker loads another scene whose session draws;
 // saves a screenshot; prints the measured
 // update-to-frame latency.
 //
@@ -106,6 +107,22 @@ try {
                 "a picture from the session the picker started", [sessions, drawn]);
 
   await page.screenshot({ path: path.join(outDir, `viewer_${format}.png`) });
+
+  // A view that sees nothing says why (issue 31): pan far off the scene, the
+  // overlay names it; r returns to the scene's camera and the picture.
+  await page.keyboard.down("Shift");
+  await page.mouse.move(cx, cy);
+  await page.mouse.down();
+  for (let i = 1; i <= 20; i++) await page.mouse.move(cx - 150 * i, cy);
+  await page.mouse.up();
+  await page.keyboard.up("Shift");
+  await waitFor(() => window.viewer.black &&
+                      document.getElementById("overlay").textContent.includes("nothing lit in view"),
+                "the hint for a view that shows nothing");
+  await page.keyboard.press("r");
+  await waitFor(() => !window.viewer.black &&
+                      !document.getElementById("overlay").textContent.includes("nothing lit"),
+                "the picture back after r");
 
   // The scene picker: another bundled scene loads and a new session shows it.
   const [sessions2, drawn2, scene0] = await page.evaluate(
