@@ -140,11 +140,20 @@ try {
                 "a picture of the scene the picker loaded", [sessions2, drawn2, scene0]);
   const stats = await page.evaluate(() => ({
     frames: window.viewer.frames, images: window.viewer.images, latencies: window.viewer.latencies,
-    errors: window.viewer.errors }));
+    errors: window.viewer.errors, breakdown: window.viewer.breakdown,
+    overlay: document.getElementById("overlay").textContent }));
+  // The overlay breaks the update-to-picture time down; its parts add up.
+  const b = stats.breakdown;
+  if (!b) fail("no update-to-picture breakdown after the updates");
+  if (!(Math.abs(b.server + b.transit + b.decode - b.total) <= 1 + 1e-6 * b.total || b.transit === 0))
+    fail(`the breakdown does not add up: ${JSON.stringify(b)}`);
+  if (!stats.overlay.includes("update→picture")) fail("the overlay shows no breakdown");
   const lat = [...stats.latencies].sort((a, b) => a - b);
   console.log(`PASS (${format}): ${stats.frames} frames (${stats.images} with a picture), ` +
               `update-to-frame latency median ${lat[lat.length >> 1].toFixed(0)} ms over ${lat.length} updates, ` +
-              `canvas mean ${first.mean.toFixed(1)}, drag diff ${moved.toFixed(1)}, slider ${dim.mean.toFixed(1)} -> ${brighter.mean.toFixed(1)}` +
+              `canvas mean ${first.mean.toFixed(1)}, drag diff ${moved.toFixed(1)}, slider ${dim.mean.toFixed(1)} -> ${brighter.mean.toFixed(1)}, ` +
+              `last update ${b.total.toFixed(0)} ms = server ${b.server.toFixed(0)} (encode ${b.encode.toFixed(0)}) + ` +
+              `send+queue ${b.transit.toFixed(0)} + decode+draw ${b.decode.toFixed(0)}` +
               (stats.errors.length ? `, errors: ${stats.errors.join("; ")}` : ""));
 } catch (e) {
   if (!process.exitCode) { console.error(`FAIL (${format}): ${e.message}`); process.exitCode = 1; }
