@@ -4,6 +4,7 @@
 #include <stop_token>
 
 #include "grpc/health/v1/health.grpc.pb.h"
+#include "util/log.h"
 
 namespace gistream::web {
 
@@ -42,6 +43,10 @@ void BackendHealth::Check() {
     next.detail = grpc::health::v1::HealthCheckResponse::ServingStatus_Name(response.status());
   }
   std::lock_guard lock(mutex_);
+  if (next.serving != state_.serving || state_.detail == "not checked yet") {
+    Log(next.serving ? LogLevel::kInfo : LogLevel::kWarning,
+        "backend " + address_ + (next.serving ? " serving" : " not serving: " + next.detail));
+  }
   state_ = std::move(next);
 }
 

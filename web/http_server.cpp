@@ -1,5 +1,7 @@
 #include "http_server.h"
 
+#include "util/log.h"
+
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
@@ -153,8 +155,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       }
       // A page on another site must not drive sessions under this
       // gateway's token (cross-site WebSocket hijacking).
-      std::cerr << "gistream-web: refused a WebSocket from origin '" << origin
-                << "' (--allow-origin)" << std::endl;
+      Log(LogLevel::kWarning, "refused a WebSocket from origin '" + origin + "' (--allow-origin)");
       response->result(http::status::forbidden);
       response->body() = "origin not allowed: " + origin + " (gistream-web --allow-origin)\n";
       Send(response);
@@ -234,9 +235,10 @@ void Accept(tcp::acceptor& acceptor, net::steady_timer& back_off, const ViewerOp
       const bool freed = Pending().CloseOldest();
       static uint64_t logged = 0;
       if (logged++ % 1000 == 0) {
-        std::cerr << "gistream-web: accept: " << ec.message() << " ("
-                  << (freed ? "closed the oldest pending connection" : "none pending")
-                  << "; backing off)" << std::endl;
+        Log(LogLevel::kWarning,
+            "accept: " + ec.message() + " (" +
+                (freed ? "closed the oldest pending connection" : "none pending") +
+                "; backing off)");
       }
       back_off.expires_after(kAcceptBackOff);
       back_off.async_wait([&acceptor, &back_off, &options](beast::error_code) {

@@ -25,6 +25,7 @@
 
 #include "connection.h"
 #include "http_server.h"
+#include "util/log.h"
 #include "util/version.h"
 
 namespace {
@@ -239,5 +240,7 @@ int main(int argc, char** argv) {
   return web::Serve(listen, options, [&](const std::string& bound) {
     std::cout << "serving http://" << bound << "/ (scene " << options.scene.scene_id() << " on "
               << server << ")" << std::endl;
+    Log(LogLevel::kInfo, "gistream-web " + std::string(Version()) + " serving http://" + bound +
+                             "/ for gistreamd " + server);
   });
 }

@@ -1,6 +1,8 @@
 #include <atomic>
 #include "viewer_bridge.h"
 
+#include "util/log.h"
+
 #include <algorithm>
 #include <chrono>
 #include <deque>
@@ -189,6 +191,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   ~Viewer() {
     link_->context.TryCancel();
     live_viewers.fetch_sub(1);
+    if (!peer_.empty()) Log(LogLevel::kInfo, "viewer " + peer_ + " closed");
   }
 
   void Start(http::request<http::string_body> request) {
@@ -206,6 +209,11 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   };
 
   void OnAccepted() {
+    beast::error_code ec;
+    const auto remote = beast::get_lowest_layer(ws_).socket().remote_endpoint(ec);
+    peer_ = ec ? "?" : remote.address().to_string() + ":" + std::to_string(remote.port());
+    Log(LogLevel::kInfo, "viewer " + peer_ + " opened (" + (h264_ ? "h264" : "jpeg") + ", " +
+                             std::to_string(live_viewers.load()) + " live)");
     SendScene();
     StartLink();
     Read();
@@ -267,6 +275,8 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   // is told each step.
   void OnLinkClosed(grpc::StatusCode code, const std::string& text) {
     Send(json{{"type", "closed"}, {"code", int(code)}, {"message", text}}.dump(), false, false);
+    Log(code == grpc::StatusCode::CANCELLED ? LogLevel::kDebug : LogLevel::kWarning,
+        "viewer " + peer_ + ": session ended: " + std::to_string(int(code)) + " " + text);
     if (code == grpc::StatusCode::NOT_FOUND && reloads_ == 0) {
       reloads_ += 1;
       Send(json{{"type", "error"},
@@ -483,6 +493,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   std::chrono::steady_clock::time_point refilled_ = std::chrono::steady_clock::now();
   std::chrono::steady_clock::time_point last_drop_notice_{};
   uint64_t dropped_ = 0;
+  std::string peer_;  // the browser's address, for log lines
   static constexpr int kMaxReconnects = 60;
   int reconnects_ = 0, reloads_ = 0;
   net::steady_timer retry_{ws_.get_executor()};

@@ -106,6 +106,9 @@ for origin, want in [(f"http://{host}:{port}", "101"), ("http://evil.example", "
 EOF
 grep -q "refused a WebSocket from origin 'http://evil.example'" "$TMP/w2.err" ||
   fail "the refusal was not logged"
+# Log lines are timestamped (ISO-8601 UTC, milliseconds) and levelled.
+grep -Eq "^[0-9]{4}-[0-9]{2}-[0-9]{2}T[0-9:.]{12}Z warn +refused a WebSocket" "$TMP/w2.err" ||
+  fail "the gateway's log lines carry no timestamp and level"
 kill $WEB 2>/dev/null; wait $WEB 2>/dev/null
 
 # Bounded (issue 30): 40 connections that never send a request, past
@@ -253,6 +256,8 @@ while time.monotonic() < deadline:
         sys.exit(0 if any("loading it again" in t for t in texts) else 1)
 sys.exit(f"no frame within 60 s after the restart; messages: {texts}")
 EOF
+grep -q "backend 127.0.0.1:$PORT not serving" "$TMP/w5.err" || fail "the backend's loss was not logged"
+grep -q "viewer 127.0.0.1:[0-9]* opened" "$TMP/w5.err" || fail "a viewer was not logged"
 kill $WEB 2>/dev/null; wait $WEB 2>/dev/null
 
 # What a page may ask for (issue 30): --solvers and --page-params limit the
