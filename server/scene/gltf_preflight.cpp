@@ -407,8 +407,40 @@ absl::Status IfObject(const std::string& path, const json& parent, const char* k
   return check(field, *it);
 }
 
+// KHR_texture_transform (any textureInfo's extensions), typed as the
+// Khronos validator types it, though gistream does not apply it.
+absl::Status CheckTextureTransform(const std::string& p, const json& v) {
+  return CheckMembers(p, v,
+                      {{"offset", Kind::kNumbers, 2},
+                       {"rotation", Kind::kNumber},
+                       {"scale", Kind::kNumbers, 2},
+                       {"texCoord", Kind::kIndex}});
+}
+
+absl::Status CheckTextureInfoExtensions(const std::string& p, const json& v) {
+  return IfObject(p, v, "KHR_texture_transform", CheckTextureTransform);
+}
+
+// A textureInfo: `index` is required (glTF 2.0 5.22), `extra` names the
+// member a normal or occlusion textureInfo adds (scale, strength).
+absl::Status CheckTextureInfoWith(const std::string& path, const json& info, const char* extra) {
+  GS_RETURN_IF_ERROR(
+      CheckMembers(path, info, {{"index", Kind::kIndex}, {"texCoord", Kind::kIndex}}));
+  if (extra != nullptr) GS_RETURN_IF_ERROR(CheckMembers(path, info, {{extra, Kind::kNumber}}));
+  if (!info.contains("index")) {
+    return absl::InvalidArgumentError(absl::StrCat(path, ".index: missing (required)"));
+  }
+  return IfObject(path, info, "extensions", CheckTextureInfoExtensions);
+}
+
 absl::Status CheckTextureInfo(const std::string& path, const json& info) {
-  return CheckMembers(path, info, {{"index", Kind::kIndex}, {"texCoord", Kind::kIndex}});
+  return CheckTextureInfoWith(path, info, nullptr);
+}
+absl::Status CheckNormalTextureInfo(const std::string& path, const json& info) {
+  return CheckTextureInfoWith(path, info, "scale");
+}
+absl::Status CheckOcclusionTextureInfo(const std::string& path, const json& info) {
+  return CheckTextureInfoWith(path, info, "strength");
 }
 
 absl::Status CheckNumberValue(const std::string& p, const json& v) {
@@ -560,8 +592,8 @@ absl::Status CheckMaterial(const std::string& p, const json& v) {
                                    {"alphaMode", Kind::kString},
                                    {"alphaCutoff", Kind::kNumber}}));
   GS_RETURN_IF_ERROR(IfObject(p, v, "emissiveTexture", CheckTextureInfo));
-  GS_RETURN_IF_ERROR(IfObject(p, v, "normalTexture", CheckTextureInfo));
-  GS_RETURN_IF_ERROR(IfObject(p, v, "occlusionTexture", CheckTextureInfo));
+  GS_RETURN_IF_ERROR(IfObject(p, v, "normalTexture", CheckNormalTextureInfo));
+  GS_RETURN_IF_ERROR(IfObject(p, v, "occlusionTexture", CheckOcclusionTextureInfo));
   GS_RETURN_IF_ERROR(IfObject(p, v, "pbrMetallicRoughness", CheckPbr));
   return IfObject(p, v, "extensions", CheckMaterialExtensions);
 }

@@ -45,6 +45,34 @@ TEST(StrictGltf, WrongTypesAndRangesNameTheJsonPath) {
   doc["extensions"]["KHR_lights_punctual"]["lights"][0]["intensity"] = "bright";
   EXPECT_STATUS(load(doc), kInvalidArgument,
                 "extensions.KHR_lights_punctual.lights[0].intensity: \"bright\" is not a number");
+  // Fields gistream does not use are typed too (issue 29, item 8; the
+  // cases of Debian's assimp-testmodels glTF2/wrongTypes): a normal
+  // texture's scale, a textureInfo without its required index, and the
+  // contents of KHR_texture_transform.
+  doc = QuadScene();
+  doc["materials"][0]["normalTexture"] = {{"index", 0}, {"scale", "not a number"}};
+  EXPECT_STATUS(load(doc), kInvalidArgument,
+                "materials[0].normalTexture.scale: \"not a number\" is not a number");
+  doc = QuadScene();
+  doc["materials"][0]["occlusionTexture"] = {{"index", 0}, {"strength", {1}}};
+  EXPECT_STATUS(load(doc), kInvalidArgument,
+                "materials[0].occlusionTexture.strength: [1] is not a number");
+  doc = QuadScene();
+  doc["materials"][0]["emissiveTexture"] = {{"texCoord", 0}};
+  EXPECT_STATUS(load(doc), kInvalidArgument,
+                "materials[0].emissiveTexture.index: missing (required)");
+  doc = QuadScene();
+  doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {
+      {"index", 0}, {"extensions", {{"KHR_texture_transform", "Not an object"}}}};
+  EXPECT_STATUS(load(doc), kInvalidArgument,
+                "materials[0].pbrMetallicRoughness.baseColorTexture.extensions."
+                "KHR_texture_transform: \"Not an object\" is not an object");
+  doc = QuadScene();
+  doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {
+      {"index", 0}, {"extensions", {{"KHR_texture_transform", {{"offset", {0.5}}}}}}};
+  EXPECT_STATUS(load(doc), kInvalidArgument,
+                "materials[0].pbrMetallicRoughness.baseColorTexture.extensions."
+                "KHR_texture_transform.offset: 1 values, expected 2");
   // The untouched file loads and renders.
   const QuadCopy scene;
   ExpectRendersFinite(scene.id(), "direct");
