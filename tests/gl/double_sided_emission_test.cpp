@@ -68,19 +68,8 @@ class DoubleSidedEmission : public ::testing::Test {
   // Mean green radiance of the top (+1) or bottom (-1) plane's centre.
   static double PlaneCentre(const std::string& solver,
                             const std::map<std::string, std::string>& params, int side) {
-    CameraUpdate camera;
-    LookAt look;
-    look.eye = glm::vec3(0.0f, 0.25f * float(side), 0.0f);
-    look.target = glm::vec3(0.0f, float(side), 0.0f);
-    look.up = glm::vec3(0.0f, 0.0f, 1.0f);
-    camera.look_at = look;
-    camera.yfov_degrees = 10.0f;
-    const testing::FloatImage image =
-        testing::RenderExr(testing::SharedEngine(), *scene_, solver, kSize, kSize, params, camera);
-    EXPECT_EQ(image.width, int(kSize)) << solver;
-    EXPECT_EQ(image.non_finite(), 0u) << solver;
-    if (image.width != int(kSize)) return -1.0;
-    return testing::ImageMean(image).g;
+    return testing::MeanGreenFrom(*scene_, solver, params, {0.0f, 0.25f * float(side), 0.0f},
+                                  {0.0f, float(side), 0.0f}, {0.0f, 0.0f, 1.0f}, 10.0f, kSize);
   }
 
   static std::string* scene_;

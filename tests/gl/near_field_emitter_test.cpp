@@ -69,20 +69,9 @@ class NearFieldEmitter : public ::testing::Test {
   // Mean green radiance of the ceiling `beyond` past the lamp's edge.
   static double Ceiling(const std::string& solver, const std::map<std::string, std::string>& params,
                         double beyond) {
-    CameraUpdate camera;
-    LookAt look;
     const float x = 0.5f + float(beyond);
-    look.eye = glm::vec3(x, kGap - 0.05f, 0.0f);
-    look.target = glm::vec3(x, 1.0f, 0.0f);
-    look.up = glm::vec3(0.0f, 0.0f, 1.0f);
-    camera.look_at = look;
-    camera.yfov_degrees = 1.0f;
-    const testing::FloatImage image =
-        testing::RenderExr(testing::SharedEngine(), *scene_, solver, kSize, kSize, params, camera);
-    EXPECT_EQ(image.width, int(kSize)) << solver;
-    EXPECT_EQ(image.non_finite(), 0u) << solver;
-    if (image.width != int(kSize)) return -1.0;
-    return testing::ImageMean(image).g;
+    return testing::MeanGreenFrom(*scene_, solver, params, {x, kGap - 0.05f, 0.0f}, {x, 1.0f, 0.0f},
+                                  {0.0f, 0.0f, 1.0f}, 1.0f, kSize);
   }
 
   static std::string* scene_;

@@ -291,4 +291,17 @@ double ReferenceFixture::ErrorOf(const std::string& solver,
   return RelMse(image, reference_);
 }
 
+double MeanGreenFrom(const std::string& scene_id, const std::string& solver,
+                     const std::map<std::string, std::string>& params, glm::vec3 eye,
+                     glm::vec3 target, glm::vec3 up, float yfov_degrees, uint32_t size) {
+  CameraUpdate camera;
+  camera.look_at = LookAt{eye, target, up};
+  camera.yfov_degrees = yfov_degrees;
+  const FloatImage image = RenderExr(SharedEngine(), scene_id, solver, size, size, params, camera);
+  EXPECT_EQ(image.width, int(size)) << solver;
+  EXPECT_EQ(image.non_finite(), 0u) << solver;
+  if (image.width != int(size) || image.non_finite() > 0) return -1.0;
+  return ImageMean(image).g;
+}
+
 }  // namespace gistream::testing

@@ -147,4 +147,12 @@ FloatImage RenderExr(Engine& engine, const std::string& scene_id, const std::str
                      std::optional<CameraUpdate> camera = std::nullopt,
                      EncodedFrame* frame_out = nullptr);
 
+// The mean green radiance of a size x size EXR render of `solver` on
+// `scene_id` from `eye` looking at `target` (`up`, vertical fov
+// `yfov_degrees`); -1 (and a test failure) when it did not render or has
+// non-finite pixels.
+double MeanGreenFrom(const std::string& scene_id, const std::string& solver,
+                     const std::map<std::string, std::string>& params, glm::vec3 eye,
+                     glm::vec3 target, glm::vec3 up, float yfov_degrees, uint32_t size);
+
 }  // namespace gistream::testing
