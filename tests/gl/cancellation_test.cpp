@@ -74,7 +74,9 @@ TEST_P(CancelledRender, StopsItsWorkAndFreesTheRenderThread) {
   const testing::BundledCopy scene("cornell_box.gltf");
   RenderRequest request =
       testing::SolverRequest(scene.id(), solver, ExtremeParams().at(solver), 32);
-  request.refine_samples = 1;
+  // The most samples a still view may take: on a fast GPU the rasterising
+  // solvers' extreme parameters alone might finish before the cancel.
+  request.refine_samples = 1024;
   // Cancelled after about 40 polls (20 ms apart): the work is under way.
   std::atomic<int> polls{0};
   Clock::time_point cancelled_at{};
