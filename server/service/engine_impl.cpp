@@ -24,7 +24,6 @@
 #include "scene/validate_update.h"
 #include "service/scene_info.h"
 #include "solvers/registry.h"
-#include "util/cancellation.h"
 #include "util/log.h"
 #include "util/user_string.h"
 
@@ -1111,9 +1110,6 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   GpuSceneRecord& scene = scene_it->second;
   SceneState& state = *scene.state;
   const auto frame_start = Clock::now();
-  // Its client gone or the server stopping: the frame's loops end early
-  // (util/cancellation.h) and a solver reports CANCELLED.
-  CancellationScope cancellation(session.stop.get_token());
   timer_.Reset();
   view.settled = false;
 
@@ -1179,6 +1175,7 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   ctx.reserve = accounts_.ReserverFor(scene.tenant);
   ctx.budget_ms = session.config.frame_budget_ms > 0.0 ? session.config.frame_budget_ms
                                                        : options_.frame_budget_ms;
+  ctx.stop = session.stop.get_token();
   GS_RETURN_IF_ERROR(entry.solver->Update(ctx, changes));
   entry.version = state.version();
   entry.fresh = false;
@@ -1216,7 +1213,7 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
     for (int next = sample; next >= 0; next = view.refinement.Continue(refine_target)) {
       const auto sample_start = Clock::now();
       GS_RETURN_IF_ERROR(ShadeSample(scene, entry, ctx, view, uint32_t(next), refine_target));
-      if (!more) break;
+      if (!more || ctx.stop.stop_requested()) break;
       glFinish();
       const auto now = Clock::now();
       const auto ms = [](Clock::duration d) {

@@ -76,8 +76,8 @@ class EngineImpl final : public Engine {
     std::shared_ptr<FrameSink> sink;
     bool transient = false;  // a Render() call, not a client session
     // Requested when the session closes (its client left, a Render's
-    // deadline passed) or the server stops: its frame's loops end within a
-    // step (util/cancellation.h).
+    // deadline passed) or the server stops: its frame's long loops end
+    // within a step (SolverContext::stop).
     std::stop_source stop;
     // mutex-guarded:
     std::deque<Update> pending;

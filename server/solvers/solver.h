@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <stop_token>
 #include <string>
 #include <utility>
 #include <vector>
@@ -36,6 +37,14 @@ struct SolverContext {
   // estimate covers the rest): the server's memory budget and the scene's
   // tenant's gpu_bytes quota (solvers/view_memory.h). Empty: not counted.
   MemoryReserver reserve{};
+  // The frame's cancellation: its session closed (client gone, a Render's
+  // deadline passed) or the server is stopping. A loop on the render
+  // thread that can run long checks it per step and returns CANCELLED,
+  // leaving shared state consistent (other sessions may use the solver).
+  // Explicit rather than the thread's token (util/cancellation.h, for
+  // background jobs whose results are discarded): a ParallelFor under it
+  // would skip indices of work another session goes on to use.
+  std::stop_token stop{};
 };
 
 using SolverStats = std::vector<std::pair<std::string, double>>;

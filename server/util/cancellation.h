@@ -1,12 +1,16 @@
-// Cooperative cancellation of the work a thread runs (issue 30): a solver's
-// background job (the solver retired, the server stopping) or a frame (its
-// client gone, its deadline passed, the server stopping). Whoever owns the
-// work installs its stop token for the work's extent (CancellationScope);
-// long loops ask Cancelled() once per step (an iteration, a bounce, a link
-// task) and end early, leaving a result their owner discards. The pool's
-// ParallelFor carries the caller's token to the workers that help it and
-// starts no index once it is cancelled, so a loop of many small tasks
-// stops within one task.
+// Cooperative cancellation of a solver's background job (issue 30): the
+// engine dropped the solver, or the server is stopping. The job runs under
+// its stop token (CancellationScope, installed by BackgroundJob); long
+// loops ask Cancelled() once per step (an iteration, a link task) and end
+// early, leaving a result the job's owner discards. The pool's ParallelFor
+// carries the caller's token to the workers that help it and starts no
+// index once it is cancelled, so a loop of many small tasks stops within
+// one task.
+//
+// Only for work whose result is thrown away when cancelled: a frame's
+// cancellation is explicit (SolverContext::stop), since a ParallelFor that
+// skipped indices of a shared solver's update would leave state other
+// sessions go on to use.
 //
 // A thread-local token rather than a parameter through every solver
 // function: the loops that must stop are deep (link recursion, transport

@@ -1,7 +1,5 @@
 #include "solvers/implicit_visibility/illumination.h"
 
-#include "util/cancellation.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -112,7 +110,7 @@ std::vector<float> Illumination::ReadIndirectLuminance() const {
 }
 
 Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_bounces,
-                                       double tolerance) {
+                                       double tolerance, const std::stop_token& stop) {
   Result result;
   if (leaf_count_ == 0) return result;
   // The first bounce's source: direct light (and environment) at the leaves.
@@ -132,7 +130,7 @@ Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_b
   std::vector<float> previous(size_t(leaf_count_), 0.0f);
   int in = 0;
   for (int bounce = 1; bounce <= max_bounces; ++bounce) {
-    if (Cancelled()) {
+    if (stop.stop_requested()) {
       result.cancelled = true;
       return result;
     }

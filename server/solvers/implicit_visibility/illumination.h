@@ -4,6 +4,8 @@
 // a gather at the leaves and a pull-up by height level, in GL compute.
 #pragma once
 
+#include <stop_token>
+
 #include <vector>
 
 #include "gl/handle.h"
@@ -32,13 +34,14 @@ class Illumination {
     double residual = 0.0;     // sum |dE| / sum |E| of the last bounce (luminance)
     bool monotone = true;      // no leaf's indirect luminance fell between bounces
     bool cap_reached = false;  // stopped by max_bounces with residual >= tolerance
-    bool cancelled = false;    // stopped by the frame's cancellation (util/cancellation.h)
+    bool cancelled = false;    // stopped by `stop` (the frame's cancellation)
   };
   // Direct light at the leaves, then gathers with pull-ups until a
   // bounce's residual is below `tolerance` (from the second bounce on; 0:
-  // never) or `max_bounces` ran, or the frame is cancelled (checked every
+  // never) or `max_bounces` ran, or `stop` is requested (checked every
   // bounce). Leaves the indirect irradiance per leaf in indirect().
-  Result Run(const DirectLighting& lighting, int max_bounces, double tolerance);
+  Result Run(const DirectLighting& lighting, int max_bounces, double tolerance,
+             const std::stop_token& stop = {});
 
   GLuint indirect() const { return e_indirect_.id(); }
   uint64_t gpu_bytes() const { return gpu_bytes_; }

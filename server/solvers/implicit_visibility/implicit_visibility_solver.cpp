@@ -278,7 +278,7 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
   }
   if (environment_stale_) UpdateEnvironment(ctx.state);
   environment_stale_ = false;
-  result_ = illumination_.Run(lighting_, settings_.bounces, settings_.tolerance);
+  result_ = illumination_.Run(lighting_, settings_.bounces, settings_.tolerance, ctx.stop);
   if (result_.cancelled) {
     illumination_stale_ = true;  // solved again at the next frame that runs
     return absl::CancelledError(
