@@ -8,12 +8,12 @@
 #   1. unit, client, service and reliability tests under ASan + UBSan, and
 #      the GL suites that drive the engine and every solver through a frame
 #      ($GL_SUITES; the long numeric and reference suites run in `make test`
-#      only). Any report fails the run; LeakSanitizer ignores Mesa's and
+#      only), the five binaries JOBS at a time. Any report fails the run; LeakSanitizer ignores Mesa's and
 #      the driver's own allocations (tests/fuzz/lsan.supp).
 #   2. thread_tests under ThreadSanitizer: the session reactor's frame slot,
 #      the service's worker pool and the CPU pool (tests/CMakeLists.txt
 #      says why the gRPC-driven tests and the real engine are not there).
-#   3. each fuzz target for FUZZ_SECONDS (default 30) from its seed corpus
+#   3. each fuzz target (JOBS at a time) for FUZZ_SECONDS (default 30) from its seed corpus
 #      (tests/fuzz/corpus/<target>/, read-only; new inputs go to
 #      build-sanitize/fuzz/corpus/<target>/, crashes to
 #      build-sanitize/fuzz/artifacts/).
@@ -76,15 +76,40 @@ SLOW_NUMERIC+=':AvgGridFlux.*:AvgIncremental.RevoxelizedGrid*:AntiradianceStabil
 # (222 s with EngineSlicing, VideoFramesTest and EngineRest's
 # implicit_visibility case too, 2026-12-03: those stay in `make test`.)
 GL_SUITES=${GL_SUITES:-'EngineStagesTest.*:EngineSolverCache.*:EngineRestShared.*:Solvers/EngineRest.*/direct:FirstSolves.*:AllSolvers/StagePlan.*:DirectIncremental.*:DrawListTest.*:GlProgram.*:GlDebug.*:GlDriverQuirks.*:AvgBackgroundTrace.*:BackgroundRelink.*:GpuDeformTest.*:ShProbesFirstSolve.*:Refinement.*:Cancellation.*:EverySolver/CancelledRender.*/antiradiance:EverySolver/CancelledRender.*/implicit_visibility'}
-for t in unit_tests client_tests service_tests reliability_tests gl_tests; do
-  echo "ci-sanitizers: $t under ASan + UBSan"
-  filter='*'
+# The five binaries run JOBS at a time, longest first (each is mostly one
+# thread; llvmpipe's rasterizer threads are idle while the GL suites wait on
+# the engine's clock). Each writes its output to a log, printed whole when
+# it ends, with its own time; any failure fails the step.
+mkdir -p "$BUILD_DIR/test-results"
+run_sanitized() {  # binary name
+  local t=$1 filter='*' start
+  start=$(date +%s)
   [ "$t" = unit_tests ] && filter="*:-$SLOW_NUMERIC"
   [ "$t" = gl_tests ] && filter="$GL_SUITES"
+  local rc=0
   "$BUILD_DIR/tests/$t" --gtest_brief=1 --gtest_filter="$filter" \
-    --gtest_output="xml:$BUILD_DIR/test-results/$t.xml"
-  step "$t under ASan + UBSan"
-done
+    --gtest_output="xml:$BUILD_DIR/test-results/$t.xml" >"$BUILD_DIR/test-results/$t.log" 2>&1 || rc=$?
+  echo "ci-sanitizers: $t under ASan + UBSan (exit $rc, $(($(date +%s) - start)) s):"
+  cat "$BUILD_DIR/test-results/$t.log"
+  return $rc
+}
+run_lanes() {  # command, then its arguments, JOBS at a time; fails if any failed
+  local cmd=$1 failed=0
+  shift
+  local -a pids=()
+  for arg in "$@"; do
+    # Throttle only: each job's status is read by its pid below (bash keeps
+    # it after wait -n reaped the job).
+    while [ "$(jobs -rp | wc -l)" -ge "$JOBS" ]; do wait -n || true; done
+    "$cmd" "$arg" &
+    pids+=($!)
+  done
+  for p in "${pids[@]}"; do wait "$p" || failed=1; done
+  return $failed
+}
+echo "ci-sanitizers: unit, GL, service, reliability and client tests under ASan + UBSan, $JOBS at a time"
+run_lanes run_sanitized unit_tests gl_tests service_tests reliability_tests client_tests
+step "tests under ASan + UBSan"
 # Where the sanitizer runs' time went (the 10 slowest cases).
 python3 scripts/test_times.py "$BUILD_DIR" 10 || true
 
@@ -99,16 +124,22 @@ step "thread_tests under TSan"
 
 # ---------------------------------------------------------------- fuzzing
 mkdir -p "$BUILD_DIR/fuzz/artifacts"
-for f in gltf_import image_decode update script; do
-  corpus="$BUILD_DIR/fuzz/corpus/$f"
+run_fuzzer() {  # target name
+  local f=$1 rc=0
+  local corpus="$BUILD_DIR/fuzz/corpus/$f"
   mkdir -p "$corpus"
-  echo "ci-sanitizers: ${f}_fuzzer for ${FUZZ_SECONDS} s"
   # Leaks in a fuzz target are found by the tests' run above; here they
   # would stop the campaign on third-party caches.
   ASAN_OPTIONS="$ASAN_OPTIONS:detect_leaks=0" "$BUILD_DIR/tests/fuzz/${f}_fuzzer" \
     -max_total_time="$FUZZ_SECONDS" -timeout=20 -rss_limit_mb=3072 -max_len=262144 \
     -print_final_stats=1 -artifact_prefix="$BUILD_DIR/fuzz/artifacts/${f}-" \
-    "$corpus" "tests/fuzz/corpus/$f" 2>&1 | grep -v '^#[0-9]' || { echo "ci-sanitizers: ${f}_fuzzer failed" >&2; exit 1; }
-done
+    "$corpus" "tests/fuzz/corpus/$f" >"$BUILD_DIR/fuzz/$f.log" 2>&1 || rc=$?
+  echo "ci-sanitizers: ${f}_fuzzer for ${FUZZ_SECONDS} s (exit $rc):"
+  grep -v '^#[0-9]' "$BUILD_DIR/fuzz/$f.log" || true
+  [ $rc -eq 0 ] || echo "ci-sanitizers: ${f}_fuzzer failed" >&2
+  return $rc
+}
+# Each fuzzer is one thread: JOBS run at once.
+run_lanes run_fuzzer gltf_import image_decode update script
 step "fuzzing"
 echo "ci-sanitizers: total $(($(date +%s) - total_start)) s"
