@@ -208,6 +208,9 @@ class FrameSink {
   virtual void OnUpdateRejected(uint64_t seq, const absl::Status& status) = 0;
   // The session cannot go on (e.g. a GPU reset); no frames follow.
   virtual void OnSessionFailed(const absl::Status& status) = 0;
+  // The server is draining: the session ends within `deadline` (its client
+  // should move). Frames go on until then. Must not block.
+  virtual void OnDraining(std::chrono::milliseconds /*deadline*/) {}
   // Frames this sink received but replaced with newer ones before they
   // reached the client (a slow reader), so far. Read by Engine::stats() from
   // any thread: must not block.
@@ -383,6 +386,11 @@ class Engine {
 
   // Blocking: one frame for one set of updates.
   virtual absl::StatusOr<EncodedFrame> Render(const RenderRequest& request) = 0;
+
+  // Tells every open session's sink that the server drains (OnDraining)
+  // and refuses new sessions and loads (UNAVAILABLE naming the drain);
+  // frames and updates of open sessions go on. Shutdown follows.
+  virtual void BeginDrain(std::chrono::milliseconds /*deadline*/) {}
 
   // Stops accepting work, finishes the frames in flight, frees GPU memory.
   virtual void Shutdown() = 0;

@@ -38,6 +38,10 @@ constexpr double kMaxFrameBudgetMs = 10'000.0;
 constexpr auto kPollInterval = std::chrono::milliseconds(2);
 
 absl::Status Unavailable() { return absl::UnavailableError("server is shutting down"); }
+absl::Status Draining() {
+  return absl::UnavailableError(
+      "server is draining: load the scene and open the session on another");
+}
 absl::Status GpuLost() {
   return absl::UnavailableError(
       "GPU reset: the render context was lost; the server is recovering, try again");
@@ -194,6 +198,21 @@ absl::Status EngineImpl::Start() {
 
 EngineImpl::~EngineImpl() { Shutdown(); }
 
+void EngineImpl::BeginDrain(std::chrono::milliseconds deadline) {
+  std::vector<std::shared_ptr<SessionRecord>> sessions;
+  {
+    std::lock_guard lock(mutex_);
+    if (shut_down_ || draining_) return;
+    draining_ = true;
+    for (auto& [id, s] : sessions_) {
+      if (!s->transient) sessions.push_back(s);
+    }
+  }
+  Log(LogLevel::kInfo, absl::StrCat("draining: ", sessions.size(),
+                                    " session(s) told to move within ", deadline.count(), " ms"));
+  for (auto& s : sessions) s->sink->OnDraining(deadline);
+}
+
 void EngineImpl::Shutdown() {
   std::vector<std::shared_ptr<SessionRecord>> sessions;
   {
@@ -335,6 +354,7 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
     {
       std::lock_guard lock(mutex_);
       if (shut_down_) return Unavailable();
+      if (draining_) return Draining();
       for (auto& [id, record] : scenes_) {
         if (record->source_name == source.name && record->tenant == source.tenant) {
           existing = record;
@@ -457,6 +477,7 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   {
     std::lock_guard lock(mutex_);
     if (shut_down_) return Unavailable();
+    if (draining_) return Draining();
     if (gpu_lost_) return GpuLost();
     if (scenes_.size() >= options_.max_scenes) {
       return absl::ResourceExhaustedError(absl::StrCat("scenes: the server holds ", scenes_.size(),
@@ -624,6 +645,7 @@ absl::StatusOr<std::shared_ptr<EngineImpl::SessionRecord>> EngineImpl::CreateSes
 
   std::lock_guard lock(mutex_);
   if (shut_down_) return Unavailable();
+  if (draining_ && !transient) return Draining();
   if (gpu_lost_) return GpuLost();
   GS_ASSIGN_OR_RETURN(session->scene, FindSceneLocked(config.tenant, config.scene));
   if (config.camera) {

@@ -50,6 +50,7 @@ class EngineImpl final : public Engine {
   absl::Status RequestKeyFrame(const SessionId& id) override;
   void CloseSession(const SessionId& id) override;
   absl::StatusOr<EncodedFrame> Render(const RenderRequest& request) override;
+  void BeginDrain(std::chrono::milliseconds deadline) override;
   void Shutdown() override;
   void SetServingListener(std::function<void(bool serving)> listener) override;
 
@@ -263,6 +264,7 @@ class EngineImpl final : public Engine {
   std::map<std::string, std::shared_future<void>> loading_;
   std::map<SessionId, std::shared_ptr<SessionRecord>> sessions_;
   bool shut_down_ = false;
+  bool draining_ = false;  // BeginDrain: no new sessions or loads
   std::atomic<uint64_t> frames_rendered_{0};
   std::atomic<uint64_t> keep_alives_at_rest_{0};  // frames sent without rendering
   std::atomic<bool> gpu_lost_{false};

@@ -382,6 +382,15 @@ absl::StatusOr<EncodedFrame> FakeEngine::Render(const RenderRequest& request) {
   return frame;
 }
 
+void FakeEngine::BeginDrain(std::chrono::milliseconds deadline) {
+  std::vector<std::shared_ptr<FrameSink>> sinks;
+  {
+    std::lock_guard lock(mutex_);
+    for (auto& [id, session] : sessions_) sinks.push_back(session.sink);
+  }
+  for (auto& sink : sinks) sink->OnDraining(deadline);
+}
+
 void FakeEngine::Shutdown() {
   thread_.request_stop();
   if (thread_.joinable()) thread_.join();

@@ -54,6 +54,7 @@ class FakeEngine final : public Engine {
   absl::Status RequestFrames(const SessionId& id, uint32_t count) override;
   void CloseSession(const SessionId& id) override;
   absl::StatusOr<EncodedFrame> Render(const RenderRequest& request) override;
+  void BeginDrain(std::chrono::milliseconds deadline) override;
   void Shutdown() override;
 
   // ---- test hooks

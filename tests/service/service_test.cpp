@@ -713,5 +713,34 @@ TEST_F(ServiceTest, ShutdownEndsOpenSessionsWithinTheDeadline) {
   EXPECT_FALSE(stream->Finish().ok());
 }
 
+// Drain (issue 31): Shutdown tells every session to move (a Draining event
+// with the deadline) and returns once the clients have left, well before
+// the deadline would have cut them: the call ends OK (the client's
+// half-close), not CANCELLED by the deadline.
+TEST_F(ServiceTest, ShutdownTellsSessionsToMoveAndEndsWhenTheyLeave) {
+  const std::string scene = LoadSceneOrDie(stub(), "cornell_box");
+  grpc::ClientContext context;
+  SetDeadline(&context);
+  auto stream = Open(&context, ConfigRequest(scene, 16, 16, /*on_request=*/false, 30.0f));
+  std::thread shutdown([&] { server_.server().Shutdown(60s); });
+  pb::SessionEvent event;
+  bool draining = false;
+  while (!draining && stream->Read(&event)) {
+    if (event.has_draining()) {
+      draining = true;
+      EXPECT_EQ(event.draining().deadline_ms(), 60000u);
+      EXPECT_FALSE(event.draining().reason().empty());
+    }
+  }
+  ASSERT_TRUE(draining) << "no Draining event before the call ended";
+  // The client moves: it half-closes, and the call ends OK.
+  stream->WritesDone();
+  while (stream->Read(&event)) {
+  }
+  EXPECT_TRUE(stream->Finish().ok());
+  shutdown.join();  // returns once the last call has ended (not after 60 s)
+  EXPECT_EQ(engine_.session_count(), 0u);
+}
+
 }  // namespace
 }  // namespace gistream::testing

@@ -1,7 +1,11 @@
 #include "service/grpc/gistream_service.h"
 
+#include <unistd.h>
+
 #include <chrono>
 #include <utility>
+
+#include <absl/strings/str_cat.h>
 
 #include "service/grpc/auth.h"
 #include "service/grpc/translate.h"
@@ -10,6 +14,19 @@
 #include "util/version.h"
 
 namespace gistream::service {
+namespace {
+
+// "HOSTNAME/PID": which server answered (behind a balancer, a pod's name).
+const std::string& Instance() {
+  static const std::string instance = [] {
+    char host[256] = {};
+    if (gethostname(host, sizeof(host) - 1) != 0) host[0] = '\0';
+    return absl::StrCat(host[0] != '\0' ? host : "unknown", "/", getpid());
+  }();
+  return instance;
+}
+
+}  // namespace
 
 namespace pb = ::gistream::v1;
 
@@ -200,6 +217,7 @@ grpc::ServerUnaryReactor* GistreamService::GetServerStatus(
       process.cpu_seconds = 0.0;
     }
     ServerStatusToProto(engine_.device_info(), stats, process, Version(), response);
+    response->set_instance(Instance());
     return grpc::Status::OK;
   });
 }

@@ -121,6 +121,10 @@ void GistreamServer::Shutdown(std::chrono::milliseconds deadline) {
   if (server_ != nullptr) {
     engine_.SetServingListener({});  // a recovery must not turn it back on
     SetNotServing();
+    // Every session is told to move (a Draining event): its client loads
+    // the scene on another server and replays its updates, then ends this
+    // call, and Shutdown returns as soon as the last call has ended.
+    engine_.BeginDrain(deadline);
     Log(LogLevel::kInfo,
         absl::StrCat("shutting down: calls have ", deadline.count(), " ms to finish"));
     server_->Shutdown(std::chrono::system_clock::now() + deadline);

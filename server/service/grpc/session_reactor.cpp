@@ -32,6 +32,11 @@ void SessionSink::OnSessionFailed(const absl::Status& status) {
   if (reactor_ != nullptr) reactor_->DeliverFailure(status);
 }
 
+void SessionSink::OnDraining(std::chrono::milliseconds deadline) {
+  std::lock_guard lock(mutex_);
+  if (reactor_ != nullptr) reactor_->DeliverDraining(deadline);
+}
+
 // ---------------------------------------------------------------- reactor
 //
 // Locking: SessionSink::mutex_ may be held while taking mutex_ (render
@@ -289,6 +294,20 @@ void SessionReactor::DeliverRejected(uint64_t seq, const absl::Status& status) {
   std::lock_guard lock(mutex_);
   if (cancelled_ || finish_status_.has_value()) return;
   QueueRejectedLocked(seq, status);
+  PumpLocked();
+}
+
+void SessionReactor::DeliverDraining(std::chrono::milliseconds deadline) {
+  std::lock_guard lock(mutex_);
+  if (cancelled_ || finish_status_.has_value()) return;
+  Log(LogLevel::kInfo, {session_id_, scene_id_},
+      absl::StrCat("told the client to move within ", deadline.count(), " ms (draining)"));
+  // A control event: queued ahead of frames and never dropped.
+  pb::SessionEvent event;
+  event.mutable_draining()->set_deadline_ms(
+      static_cast<uint32_t>(std::clamp<int64_t>(deadline.count(), 0, UINT32_MAX)));
+  event.mutable_draining()->set_reason("the server is shutting down");
+  events_.push_back(std::move(event));
   PumpLocked();
 }
 

@@ -4,7 +4,7 @@
 // becomes an UpdateRejected event and the session goes on) and frame
 // requests (-> Engine::RequestFrames, kOnRequestWindow frames at a time).
 //
-// Writes: at most one in flight. Control events (opened, rejected) wait in a
+// Writes: at most one in flight. Control events (opened, rejected, draining) wait in a
 // small queue and are never dropped: while it is full the reactor stops
 // reading, so a client that floods bad updates without reading is slowed,
 // not buffered. A continuous session's frames are never queued: the newest
@@ -53,6 +53,7 @@ class SessionSink final : public FrameSink {
   void OnFrame(std::shared_ptr<const EncodedFrame> frame) override;
   void OnUpdateRejected(uint64_t seq, const absl::Status& status) override;
   void OnSessionFailed(const absl::Status& status) override;
+  void OnDraining(std::chrono::milliseconds deadline) override;
   uint64_t dropped_frames() const override { return dropped_.load(); }
 
  private:
@@ -101,6 +102,7 @@ class SessionReactor final
   void DeliverFrame(std::shared_ptr<const EncodedFrame> frame);
   void DeliverRejected(uint64_t seq, const absl::Status& status);
   void DeliverFailure(const absl::Status& status);
+  void DeliverDraining(std::chrono::milliseconds deadline);
 
   void HandleConfig(const ::gistream::v1::SessionConfig& config);
   void OpenOnWorker(SessionConfig config);
