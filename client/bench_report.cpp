@@ -4,6 +4,7 @@
 #include <fstream>
 
 #include <absl/strings/str_cat.h>
+#include <absl/strings/str_format.h>
 
 #include "encode/encode.h"
 #include "plot.h"
@@ -102,6 +103,50 @@ std::string FormatStageMedians(const StatsSummary& stages) {
   return out.empty() ? "none" : out;
 }
 
+namespace {
+// The moves of a step's sessions, pooled (sessions whose server drained or
+// died and that went on elsewhere).
+struct PooledMoves {
+  int sessions_moved = 0, moves = 0, incomplete = 0;
+  std::vector<double> gap_ms, to_acked_ms;
+};
+PooledMoves PoolMoves(const StepResult& step) {
+  PooledMoves pooled;
+  for (const SessionMeasurement& m : step.per_session) {
+    pooled.sessions_moved += m.moves > 0 ? 1 : 0;
+    pooled.moves += m.moves;
+    pooled.incomplete += m.moves - static_cast<int>(m.move_to_acked_ms.size());
+    pooled.gap_ms.insert(pooled.gap_ms.end(), m.move_gap_ms.begin(), m.move_gap_ms.end());
+    pooled.to_acked_ms.insert(pooled.to_acked_ms.end(), m.move_to_acked_ms.begin(),
+                              m.move_to_acked_ms.end());
+  }
+  return pooled;
+}
+nlohmann::json MovesJson(const StepResult& step) {
+  const PooledMoves pooled = PoolMoves(step);
+  return {{"sessions_moved", pooled.sessions_moved},
+          {"moves", pooled.moves},
+          {"incomplete", pooled.incomplete},
+          {"gap_ms", QuantilesJson(Summarize(pooled.gap_ms))},
+          {"to_acked_ms", QuantilesJson(Summarize(pooled.to_acked_ms))}};
+}
+}  // namespace
+
+std::string FormatMoves(const StepResult& step) {
+  const PooledMoves pooled = PoolMoves(step);
+  if (pooled.moves == 0) return "";
+  const Quantiles frame = Summarize(pooled.gap_ms), acked = Summarize(pooled.to_acked_ms);
+  const auto ms = [](std::optional<double> v) {
+    return v ? absl::StrFormat("%.0f", *v) : std::string("-");
+  };
+  return absl::StrCat("moves: ", pooled.sessions_moved, " of ", step.sessions,
+                      " sessions moved to another server (", pooled.moves,
+                      " moves); without frames p50/p95/max ", ms(frame.p50), "/", ms(frame.p95),
+                      "/", ms(frame.max), " ms; every acknowledged update shown after ",
+                      ms(acked.p50), "/", ms(acked.p95), "/", ms(acked.max), " ms; ",
+                      pooled.incomplete, " incomplete");
+}
+
 nlohmann::json BenchJson(const std::vector<StepResult>& steps, const nlohmann::json& meta) {
   nlohmann::json doc = meta;
   nlohmann::json out = nlohmann::json::array();
@@ -121,6 +166,9 @@ nlohmann::json BenchJson(const std::vector<StepResult>& steps, const nlohmann::j
                           {"updates_unanswered", m.updates_unanswered},
                           {"dropped_frames", m.dropped_frames},
                           {"bytes", m.bytes},
+                          {"moves", m.moves},
+                          {"move_gap_ms", m.move_gap_ms},
+                          {"move_to_acked_ms", m.move_to_acked_ms},
                           {"error", m.error}});
     }
     nlohmann::json servers = nlohmann::json::array();
@@ -149,6 +197,7 @@ nlohmann::json BenchJson(const std::vector<StepResult>& steps, const nlohmann::j
         {"interval_ms", QuantilesJson(s.interval_ms)},
         {"settle_ms", QuantilesJson(s.settle_ms)},
         {"unsettled_sessions", s.unsettled},
+        {"moves", MovesJson(s)},
         {"frame_total_ms",
          {{"median", Number(s.stages.total_median)}, {"p95", Number(s.stages.total_p95)}}},
         {"stages", StagesJson(s.stages.stages)},

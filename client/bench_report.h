@@ -17,6 +17,10 @@ namespace gistream::client {
 // One row per step:
 //   sessions | fps/session | fps min | total fps | interval p50/p95/max | latency ...
 std::string FormatBenchTable(const std::vector<StepResult>& steps);
+// "moves: 4 of 4 sessions moved to another server (4 moves); without
+// frames p50/p95/max ... ms; every acknowledged update shown after ... ms;
+// 0 incomplete"; empty when no session moved.
+std::string FormatMoves(const StepResult& step);
 
 // "shadow_maps 0.81, gbuffer 1.20, ..." (CPU + GPU median per stage that ran).
 std::string FormatStageMedians(const StatsSummary& stages);

@@ -13,9 +13,10 @@ BenchSession::~BenchSession() {
   if (reader_.joinable()) reader_.join();
 }
 
-absl::Status BenchSession::Open(v1::Gistream::Stub& stub, const v1::SessionConfig& config) {
-  absl::StatusOr<std::unique_ptr<SessionStream>> stream =
-      SessionStream::Open(stub, config, server_);
+absl::Status BenchSession::Open(v1::Gistream::Stub& stub, const v1::SessionConfig& config,
+                                ResumeOptions resume) {
+  absl::StatusOr<std::unique_ptr<ResumableSession>> stream =
+      ResumableSession::Open(stub, config, server_, std::move(resume));
   if (!stream.ok()) {
     std::lock_guard lock(mutex_);
     error_ = DescribeStatus(stream.status());
@@ -236,6 +237,13 @@ SessionMeasurement BenchSession::Result() const {
   m.latencies_ms = tracker_.latencies_ms();
   m.settle_ms = settle_ms_;
   m.error = error_;
+  if (stream_) {
+    for (const ResumableSession::Move& move : stream_->moves()) {
+      m.moves += 1;
+      if (move.gap_ms) m.move_gap_ms.push_back(*move.gap_ms);
+      if (move.ms_to_acked) m.move_to_acked_ms.push_back(*move.ms_to_acked);
+    }
+  }
   return m;
 }
 

@@ -17,7 +17,7 @@
 
 #include "bench_stats.h"
 #include "bench_workload.h"
-#include "session_stream.h"
+#include "resumable_session.h"
 #include "stats_table.h"
 
 namespace gistream::client {
@@ -37,8 +37,11 @@ class BenchSession {
   BenchSession& operator=(const BenchSession&) = delete;
 
   // Opens the call (waits for `opened`) and starts the threads. A failure
-  // is kept as the session's error.
-  absl::Status Open(v1::Gistream::Stub& stub, const v1::SessionConfig& config);
+  // is kept as the session's error. When its server drains or dies the
+  // session moves (ResumableSession, through `resume`'s address) and the
+  // move's times are in the result.
+  absl::Status Open(v1::Gistream::Stub& stub, const v1::SessionConfig& config,
+                    ResumeOptions resume);
 
   bool failed() const;
   bool has_first_frame() const { return first_frame_.load(); }
@@ -101,7 +104,7 @@ class BenchSession {
   const double update_hz_;
   SharedStages& stages_;
 
-  std::unique_ptr<SessionStream> stream_;
+  std::unique_ptr<ResumableSession> stream_;
   std::thread reader_, sender_;
   std::atomic<bool> first_frame_{false};
   std::atomic<bool> stop_updates_{false};

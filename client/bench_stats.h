@@ -72,6 +72,12 @@ struct SessionMeasurement {
   // to converge once motion stops. nullopt when that frame never came.
   std::optional<double> settle_ms;
   std::string error;  // the session's failure, if it failed
+  // Moves to another server (its server drained or died): how many, and
+  // for each completed one the time without frames (the last frame of the
+  // old server to the first of the new) and from the failure to the first
+  // frame showing every acknowledged update.
+  int moves = 0;
+  std::vector<double> move_gap_ms, move_to_acked_ms;
 
   double fps() const { return window_s > 0.0 ? frames / window_s : 0.0; }
 };

@@ -397,6 +397,7 @@ absl::StatusOr<nlohmann::json> ErrorOverTime(Connection& connection,
 
 // Runs one step with `count` sessions.
 absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const ConnectionOptions& connection,
+                                   const v1::LoadSceneRequest& load,
                                    std::vector<BenchServer>& servers, const Workload& workload,
                                    Interferer* interferer, int count, const std::string& label,
                                    Progress& progress, const std::atomic<bool>& interrupted,
@@ -420,7 +421,10 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
         std::make_unique<BenchSession>(server.address, workload, options.update_hz, stages);
     progress.Show(absl::StrCat(label, " opening session ", i + 1, "/", count));
     if (trace && i == 0) session->KeepSettleFrames();
-    const absl::Status opened = session->Open(channel->stub(), config);
+    ResumeOptions resume{
+        .connection = connection, .load = load, .give_up_after_s = options.resume_for_s};
+    resume.connection.server = server.address;
+    const absl::Status opened = session->Open(channel->stub(), config, std::move(resume));
     if (!opened.ok())
       Log(LogLevel::kWarning, absl::StrCat("session ", i + 1, ": ", DescribeStatus(opened)));
     sessions.push_back(std::move(session));
@@ -638,8 +642,8 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
     SettleTrace trace;
     GS_ASSIGN_OR_RETURN(
         StepResult step,
-        RunStep(options, connection, servers, workload, interferer.get(), count, label, progress,
-                interrupted, options.reference_spp > 0 ? &trace : nullptr));
+        RunStep(options, connection, load, servers, workload, interferer.get(), count, label,
+                progress, interrupted, options.reference_spp > 0 ? &trace : nullptr));
     if (options.reference_spp > 0 && !interrupted) {
       absl::StatusOr<nlohmann::json> figure =
           TimeToConverge(*servers[0].connection, load, options, trace);
@@ -666,6 +670,9 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
               << (step.interval_ms.max ? FormatFixed(*step.interval_ms.max, 0) : "-") << " ms"
               << (step.failed_sessions ? absl::StrCat(", ", step.failed_sessions, " failed") : "")
               << std::endl;
+    if (const std::string moves = FormatMoves(step); !moves.empty()) {
+      std::cout << label << " " << moves << std::endl;
+    }
     for (const SessionMeasurement& m : step.per_session) {
       if (!m.error.empty())
         Log(LogLevel::kWarning, absl::StrCat("session on ", m.server, ": ", m.error));

@@ -10,9 +10,9 @@
 #include "frame_writer.h"
 #include "interrupt.h"
 #include "progress_line.h"
+#include "resumable_session.h"
 #include "scene_loader.h"
 #include "session_common.h"
-#include "session_stream.h"
 #include "stats_table.h"
 #include "util/log.h"
 
@@ -33,8 +33,11 @@ absl::Status RunStream(const ConnectionOptions& connection_options, const Stream
   const v1::SessionConfig config =
       ContinuousConfig(scene->id(), options.solver, options.view, options.fps);
 
-  GS_ASSIGN_OR_RETURN(std::unique_ptr<SessionStream> stream,
-                      SessionStream::Open(connection.stub(), config, connection.server()));
+  ResumeOptions resume{
+      .connection = connection_options, .load = load, .give_up_after_s = options.resume_for_s};
+  GS_ASSIGN_OR_RETURN(
+      std::unique_ptr<ResumableSession> stream,
+      ResumableSession::Open(connection.stub(), config, connection.server(), std::move(resume)));
   std::cout << FormatSessionOpened(stream->opened()) << std::endl;
   progress.Wait("waiting for the first frame");
 
@@ -86,6 +89,9 @@ absl::Status RunStream(const ConnectionOptions& connection_options, const Stream
   }
   const absl::Status ended = EndSession(*stream);
   progress.Done();
+  const std::vector<ResumableSession::Move> moves = stream->moves();
+  if (!moves.empty()) scene->Abandon();  // its server went away
+  for (const ResumableSession::Move& move : moves) std::cout << FormatMove(move) << std::endl;
 
   std::cout << FormatStatsTable(stats.Summarize())
             << FormatWrittenFrames(writer, saved, options.view.encoding.format(), pictures)

@@ -15,35 +15,39 @@ namespace gistream::client {
 namespace {
 constexpr absl::string_view kRpcPayload = "gistream.client/rpc";
 
-// Adds "authorization: Bearer TOKEN" to every call of the channel, over TLS
-// and loopback plaintext alike (gRPC's call credentials refuse plaintext).
-class BearerInterceptor final : public grpc::experimental::Interceptor {
+using Headers = std::vector<std::pair<std::string, std::string>>;
+
+// Adds headers to every call of the channel: "authorization: Bearer TOKEN"
+// (over TLS and loopback plaintext alike: gRPC's call credentials refuse
+// plaintext) and "x-gistream-affinity: KEY" (what a balancer hashes).
+class HeaderInterceptor final : public grpc::experimental::Interceptor {
  public:
-  explicit BearerInterceptor(std::string header) : header_(std::move(header)) {}
+  explicit HeaderInterceptor(const Headers& headers) : headers_(headers) {}
   void Intercept(grpc::experimental::InterceptorBatchMethods* methods) override {
     if (methods->QueryInterceptionHookPoint(
             grpc::experimental::InterceptionHookPoints::PRE_SEND_INITIAL_METADATA)) {
-      methods->GetSendInitialMetadata()->emplace("authorization", header_);
+      for (const auto& [name, value] : headers_) {
+        methods->GetSendInitialMetadata()->emplace(name, value);
+      }
     }
     methods->Proceed();
   }
 
  private:
-  const std::string header_;
+  const Headers headers_;  // a copy: a few short strings per call
 };
 
-class BearerInterceptorFactory final
+class HeaderInterceptorFactory final
     : public grpc::experimental::ClientInterceptorFactoryInterface {
  public:
-  explicit BearerInterceptorFactory(const std::string& token)
-      : header_(absl::StrCat("Bearer ", token)) {}
+  explicit HeaderInterceptorFactory(Headers headers) : headers_(std::move(headers)) {}
   grpc::experimental::Interceptor* CreateClientInterceptor(
       grpc::experimental::ClientRpcInfo* /*info*/) override {
-    return new BearerInterceptor(header_);
+    return new HeaderInterceptor(headers_);
   }
 
  private:
-  const std::string header_;
+  const Headers headers_;
 };
 
 std::shared_ptr<grpc::ChannelCredentials> Credentials(const ConnectionOptions& options) {
@@ -76,11 +80,12 @@ std::string DescribeStatus(const absl::Status& status) {
 
 std::shared_ptr<grpc::Channel> MakeChannel(const ConnectionOptions& options,
                                            const grpc::ChannelArguments& args) {
-  if (options.token.empty()) {
-    return grpc::CreateCustomChannel(options.server, Credentials(options), args);
-  }
+  Headers headers;
+  if (!options.token.empty()) headers.emplace_back("authorization", "Bearer " + options.token);
+  if (!options.affinity.empty()) headers.emplace_back("x-gistream-affinity", options.affinity);
+  if (headers.empty()) return grpc::CreateCustomChannel(options.server, Credentials(options), args);
   std::vector<std::unique_ptr<grpc::experimental::ClientInterceptorFactoryInterface>> factories;
-  factories.push_back(std::make_unique<BearerInterceptorFactory>(options.token));
+  factories.push_back(std::make_unique<HeaderInterceptorFactory>(std::move(headers)));
   return grpc::experimental::CreateCustomChannelWithInterceptors(
       options.server, Credentials(options), args, std::move(factories));
 }

@@ -63,6 +63,10 @@ int main(int argc, char** argv) {
       command_line.connection.token.empty() && token != nullptr) {
     command_line.connection.token = token;
   }
+  if (const char* affinity = std::getenv("GISTREAM_AFFINITY");
+      command_line.connection.affinity.empty() && affinity != nullptr && *affinity != '\0') {
+    command_line.connection.affinity = affinity;
+  }
   if (line->help) {
     std::cout << HelpText(line->command);
     return 0;

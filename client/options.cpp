@@ -55,8 +55,8 @@ std::optional<Command> CommandFromName(absl::string_view name) {
 }
 
 // Flags every command accepts, so `--server` may come after the command too.
-const std::vector<FlagSpec> kConnectionFlags = {{"server"}, {"timeout"}, {"tls", false}, {"ca"},
-                                                {"cert"},   {"key"},     {"token"}};
+const std::vector<FlagSpec> kConnectionFlags = {
+    {"server"}, {"timeout"}, {"tls", false}, {"ca"}, {"cert"}, {"key"}, {"token"}, {"affinity"}};
 const std::vector<FlagSpec> kSceneFlags = {
     {"scene"}, {"environment"}, {"environment-intensity"}, {"keep-scene", false}};
 const std::vector<FlagSpec> kSolverFlags = {{"solver"}, {"param", true, true}};
@@ -105,6 +105,21 @@ absl::Status ApplyConnection(const ParsedFlags& flags, ConnectionOptions& connec
   if (auto token = flags.Get("token")) {
     if (token->empty()) return Usage("--token: empty");
     connection.token = *token;
+  }
+  if (auto affinity = flags.Get("affinity")) {
+    if (affinity->empty()) return Usage("--affinity: empty");
+    connection.affinity = *affinity;
+  }
+  return absl::OkStatus();
+}
+
+// --resume-for SEC (stream, bench): how long a session's move may try.
+absl::Status ApplyResumeFor(const ParsedFlags& flags, float& seconds) {
+  if (auto value = flags.Get("resume-for")) {
+    GS_ASSIGN_OR_RETURN(seconds, ParseFloat("--resume-for", *value));
+    if (!(seconds >= 0.0f && seconds <= 3600.0f)) {
+      return Usage("--resume-for: seconds from 0 to 3600");
+    }
   }
   return absl::OkStatus();
 }
@@ -234,6 +249,7 @@ absl::StatusOr<StreamOptions> ParseStream(const ParsedFlags& flags) {
     if (value->empty()) return Usage("--out: empty directory name");
     options.out_dir = *value;
   }
+  GS_RETURN_IF_ERROR(ApplyResumeFor(flags, options.resume_for_s));
   return options;
 }
 
@@ -280,6 +296,7 @@ absl::StatusOr<BenchOptions> ParseBench(const ParsedFlags& flags) {
   GS_RETURN_IF_ERROR(ApplyScene(flags, options.scene));
   GS_RETURN_IF_ERROR(ApplySolver(flags, options.solver));
   GS_RETURN_IF_ERROR(ApplyView(flags, options.view));
+  GS_RETURN_IF_ERROR(ApplyResumeFor(flags, options.resume_for_s));
   if (auto value = flags.Get("workload")) {
     if (value->empty()) return Usage("--workload: empty");
     options.workload = *value;
@@ -488,7 +505,7 @@ absl::StatusOr<CommandLine> ParseCommandLine(std::span<const std::string> args,
       break;
     case Command::kStream:
       specs = Concat({&kConnectionFlags, &kSceneFlags, &kSolverFlags, &kViewFlags});
-      specs.insert(specs.end(), {{"frames"}, {"fps"}, {"out"}});
+      specs.insert(specs.end(), {{"frames"}, {"fps"}, {"out"}, {"resume-for"}});
       break;
     case Command::kScript:
       specs = Concat({&kConnectionFlags});
@@ -510,6 +527,7 @@ absl::StatusOr<CommandLine> ParseCommandLine(std::span<const std::string> args,
                                  {"fps"},
                                  {"interfere"},
                                  {"reference-spp"},
+                                 {"resume-for"},
                                  {"out"}});
       break;
   }

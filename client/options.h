@@ -35,6 +35,9 @@ struct ConnectionOptions {
   // Sent as "authorization: Bearer TOKEN" on every call (--token, else
   // $GISTREAM_TOKEN); empty: none.
   std::string token;
+  // Sent as "x-gistream-affinity: KEY" on every call (--affinity, else
+  // $GISTREAM_AFFINITY): what a balancer hashes to pick the server.
+  std::string affinity;
 };
 
 // Where the scene comes from (LoadScene).
@@ -76,6 +79,7 @@ struct StreamOptions {
   uint64_t frames = 30;  // 0: until interrupted
   float fps = 30.0f;     // continuous pacing cap; 0: the server's default
   std::filesystem::path out_dir = "out";
+  float resume_for_s = 15.0f;  // a move's time to reconnect (0: no moves)
 };
 
 struct ScriptOptions {
@@ -109,6 +113,7 @@ struct BenchOptions {
   double warmup_s = 2.0;
   bool channel_per_session = false;  // else one channel per server
   float fps = 30.0f;                 // session frame cap; 0: the server's default
+  float resume_for_s = 15.0f;        // a session's move to reconnect (0: none)
   std::string interfere;             // a `render ...` command line run in a loop
   int reference_spp = 0;             // > 0: time to converge against a pathtrace reference
   std::filesystem::path out_dir = "out/bench";

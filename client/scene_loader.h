@@ -48,6 +48,8 @@ class LoadedScene {
   LoadedScene& operator=(const LoadedScene&) = delete;
 
   const v1::LoadSceneResponse& info() const { return info_; }
+  // Not unloaded at the end: its server went away (the session moved).
+  void Abandon() { keep_ = true; }
   const std::string& id() const { return info_.scene_id(); }
 
  private:

@@ -39,25 +39,6 @@ v1::SessionConfig ContinuousConfig(const std::string& scene_id, const SolverOpti
   return config;
 }
 
-absl::Status EndSession(SessionStream& stream) {
-  stream.CloseWrites();
-  v1::SessionEvent event;
-  while (stream.Next(&event)) {
-    if (event.has_rejected()) {
-      Log(LogLevel::kWarning, absl::StrCat("update seq ", event.rejected().seq(),
-                                           " rejected: ", event.rejected().message()));
-    }
-  }
-  const absl::Status status = stream.Finish();
-  if (status.ok() || !stream.cancelled_by_client() || !absl::IsCancelled(status)) return status;
-  if (stream.grace_expired()) {
-    Log(LogLevel::kWarning,
-        "the server did not end the session after the client's half-close; cancelled it");
-    return absl::OkStatus();
-  }
-  return InterruptedError();
-}
-
 double FrameStatValue(const v1::Frame& frame, const std::string& name) {
   const auto it = frame.stats().find(name);
   return it == frame.stats().end() ? 0.0 : it->second;

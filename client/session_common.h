@@ -6,9 +6,13 @@
 #include <optional>
 #include <string>
 
+#include <absl/strings/str_cat.h>
+
+#include "commands.h"
 #include "frame_writer.h"
 #include "options.h"
 #include "session_stream.h"
+#include "util/log.h"
 #include "util/status.h"
 
 namespace gistream::client {
@@ -23,7 +27,26 @@ v1::SessionConfig ContinuousConfig(const std::string& scene_id, const SolverOpti
 // when it ignored the half-close and the grace period cancelled it (a
 // warning). InterruptedError() when the user's second Ctrl-C cancelled it;
 // the server's status otherwise.
-absl::Status EndSession(SessionStream& stream);
+// Either stream type (SessionStream, ResumableSession).
+template <typename Stream>
+absl::Status EndSession(Stream& stream) {
+  stream.CloseWrites();
+  v1::SessionEvent event;
+  while (stream.Next(&event)) {
+    if (event.has_rejected()) {
+      Log(LogLevel::kWarning, absl::StrCat("update seq ", event.rejected().seq(),
+                                           " rejected: ", event.rejected().message()));
+    }
+  }
+  const absl::Status status = stream.Finish();
+  if (status.ok() || !stream.cancelled_by_client() || !absl::IsCancelled(status)) return status;
+  if (stream.grace_expired()) {
+    Log(LogLevel::kWarning,
+        "the server did not end the session after the client's half-close; cancelled it");
+    return absl::OkStatus();
+  }
+  return InterruptedError();
+}
 
 // "wrote 30 frames to out (frame_00000.jpg .. frame_00029.jpg)"; for a
 // video format, "wrote P pictures to out/stream.h264 (N frames received)"

@@ -27,6 +27,9 @@ global options (also accepted after the command):
   --cert FILE     PEM client certificate for mutual TLS, with --key FILE
   --token TOKEN   bearer token (default $GISTREAM_TOKEN; prefer the variable:
                   the command line is visible to other users)
+  --affinity KEY  sent as x-gistream-affinity on every call (default
+                  $GISTREAM_AFFINITY): a balancer routes calls with one key
+                  to one server (deploy/README.md), else it hashes the token
   -h, --help      show help; `gistream COMMAND --help` for a command
   --version       print "gistream VERSION" and exit (on its own)
 
@@ -87,7 +90,8 @@ a one-line summary and the per-stage timings.
 constexpr absl::string_view kStream =
     R"(usage: gistream [--server ADDR] stream [--scene NAME_OR_FILE] [--solver NAME]
                 [--param KEY=VALUE]... [--size WxH] [--format F]
-                [--frames N] [--fps F] [--out DIR] [view and scene options]
+                [--frames N] [--fps F] [--out DIR] [--resume-for SEC]
+                [view and scene options]
 
 Opens an interactive session with continuous pacing and saves every frame it
 receives as DIR/frame_00000.jpg, frame_00001.jpg, ... (extension by format;
@@ -99,6 +103,10 @@ At the end prints a per-stage timing table (runs, skipped, CPU and GPU
 median/p95 in ms), the frame time median/p95, the achieved frame rate and the
 frames the server dropped. Ctrl-C ends the session cleanly and prints the
 table; a second Ctrl-C cancels it.
+When the server drains (it is shutting down) or goes away, the session
+moves: the scene is loaded again through the same address (a balancer
+routes it to another server), the session reopened with the same settings,
+and frames go on; each move is printed with its time.
 
   --scene NAME_OR_FILE   default cornell_box (file or name, as for render)
   --solver NAME          default direct
@@ -111,6 +119,8 @@ table; a second Ctrl-C cancels it.
   --fps F                frame-rate cap asked of the server (default 30;
                          0: the server's default cap)
   --out DIR              output directory (default out/)
+  --resume-for SEC       how long one move may keep trying before the
+                         session fails (default 15; 0: never move)
   also: --quality, --exposure, --crf, --bitrate, --key-interval,
         --send-unchanged, --camera-eye, --camera-target, --yfov,
         --refine-samples, --environment, --environment-intensity,
@@ -162,7 +172,7 @@ constexpr absl::string_view kBench =
                 [--workload orbit|light|object|mixed|animation|FILE.json]
                 [--node NAME_OR_ID] [--update-hz HZ] [--channels shared|per-session]
                 [--fps F|uncapped] [--interfere "render ..."] [--out DIR]
-                [--reference-spp N]
+                [--reference-spp N] [--resume-for SEC]
                 [--scene NAME_OR_FILE] [--solver NAME] [--param KEY=VALUE]...
                 [--size WxH] [--format jpeg|png|exr] [--quality Q]
 
@@ -212,6 +222,11 @@ fps_vs_sessions.png and latency_vs_sessions.png into DIR.
                        and the convergence stats), and per step relMSE
                        during the motion, the first frame after the stop
                        and the time to within 2x and 1.05x of a full solve
+  --resume-for SEC     a session whose server drains or dies moves (as in
+                       stream) for up to SEC (default 15; 0: it fails);
+                       each step then prints the sessions moved and the
+                       time without frames and from the failure to the
+                       first frame showing every acknowledged update
   --scene, --solver, --param, --size, --format, --quality, --exposure as
   for stream (defaults: cornell_box, direct, 128x128, jpeg).
 With several servers (--server a,b) sessions are placed round-robin and

@@ -1,0 +1,340 @@
+#include "resumable_session.h"
+
+#include <algorithm>
+#include <thread>
+
+#include <absl/strings/str_cat.h>
+#include <absl/strings/str_format.h>
+#include <google/protobuf/descriptor.h>
+#include <google/protobuf/reflection.h>
+
+#include "util/log.h"
+
+namespace gistream::client {
+namespace {
+
+using google::protobuf::FieldDescriptor;
+using google::protobuf::Message;
+
+// Fields that name an update's target (a node, a light, a material).
+bool IsTargetField(const FieldDescriptor& field) {
+  return field.cpp_type() == FieldDescriptor::CPPTYPE_UINT32 &&
+         (field.name() == "node" || field.name() == "light" || field.name() == "material");
+}
+
+double MsSince(ResumableSession::Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(ResumableSession::Clock::now() - t).count();
+}
+
+}  // namespace
+
+bool ResumableStatus(const absl::Status& status) {
+  switch (status.code()) {
+    case absl::StatusCode::kUnavailable:
+    case absl::StatusCode::kCancelled:
+    case absl::StatusCode::kInternal:
+    case absl::StatusCode::kUnknown: return true;
+    default: return false;
+  }
+}
+
+std::string UpdateTargetKey(const v1::Update& update) {
+  if (update.change_case() == v1::Update::CHANGE_NOT_SET ||
+      update.change_case() == v1::Update::kAnimation) {
+    return "";
+  }
+  // The change's kind, its target and the fields it sets (proto3: the
+  // fields that differ from their defaults, which is what the server reads).
+  const google::protobuf::OneofDescriptor* oneof =
+      update.GetDescriptor()->FindOneofByName("change");
+  const FieldDescriptor* which = update.GetReflection()->GetOneofFieldDescriptor(update, oneof);
+  if (which == nullptr || which->cpp_type() != FieldDescriptor::CPPTYPE_MESSAGE) return "";
+  const Message& change = update.GetReflection()->GetMessage(update, which);
+  std::vector<const FieldDescriptor*> fields;
+  change.GetReflection()->ListFields(change, &fields);
+  std::string key = absl::StrCat(which->number(), ":");
+  for (const FieldDescriptor* field : fields) {
+    if (IsTargetField(*field)) {
+      absl::StrAppend(&key, field->name(), "=", change.GetReflection()->GetUInt32(change, field),
+                      ";");
+    } else {
+      absl::StrAppend(&key, field->number(), ",");
+    }
+  }
+  return key;
+}
+
+absl::StatusOr<std::unique_ptr<ResumableSession>> ResumableSession::Open(
+    v1::Gistream::Stub& stub, const v1::SessionConfig& config, absl::string_view server,
+    ResumeOptions resume) {
+  GS_ASSIGN_OR_RETURN(std::unique_ptr<SessionStream> stream,
+                      SessionStream::Open(stub, config, server));
+  std::unique_ptr<ResumableSession> session(
+      new ResumableSession(std::string(server), config, std::move(resume)));
+  session->stream_ = std::move(stream);
+  return session;
+}
+
+ResumableSession::~ResumableSession() {
+  std::shared_ptr<SessionStream> stream;
+  {
+    std::lock_guard lock(mutex_);
+    cancelled_ = true;  // a move under way stops at its next attempt
+    stream = stream_;
+  }
+  if (stream) stream->Cancel();
+  if (mover_.joinable()) mover_.join();
+}
+
+v1::SessionOpened ResumableSession::opened() const {
+  std::lock_guard lock(mutex_);
+  return stream_->opened();
+}
+
+bool ResumableSession::SendUpdate(const v1::Update& update) {
+  std::lock_guard lock(mutex_);
+  if (writes_closed_ || cancelled_) return false;
+  if (resume_.give_up_after_s > 0.0) {
+    std::string key = UpdateTargetKey(update);
+    if (!key.empty()) std::erase_if(log_, [&](const auto& logged) { return logged.first == key; });
+    log_.emplace_back(std::move(key), update);
+  }
+  // Under the lock: a move replays the log and swaps the call under it
+  // too, so an update is either in its replay or sent on the new call.
+  const bool sent = stream_->SendUpdate(update);
+  return sent || resume_.give_up_after_s > 0.0;
+}
+
+void ResumableSession::OnFrame(const v1::Frame& frame, const SessionStream* from) {
+  std::lock_guard lock(mutex_);
+  const Clock::time_point now = Clock::now();
+  const std::optional<Clock::time_point> previous = std::exchange(last_frame_at_, now);
+  acked_seq_ = std::max(acked_seq_, frame.last_update_seq());
+  if (!move_started_ || moves_.empty()) return;
+  Move& move = moves_.back();
+  if (from == moved_from_) {
+    // The old server's, while a drain's move is under way: what it
+    // acknowledges the new server must show too.
+    move.acked_seq = std::max(move.acked_seq, frame.last_update_seq());
+    return;
+  }
+  if (!move.ms_to_frame) {
+    move.ms_to_frame = MsSince(*move_started_);
+    move.gap_ms = std::chrono::duration<double, std::milli>(now - previous.value_or(now)).count();
+  }
+  if (!move.ms_to_acked && frame.last_update_seq() >= move.acked_seq) {
+    move.ms_to_acked = MsSince(*move_started_);
+    Log(LogLevel::kInfo,
+        absl::StrCat("session resumed: frames again ", *move.ms_to_frame,
+                     " ms after the move began, with every acknowledged update (seq ",
+                     move.acked_seq, ") ", *move.ms_to_acked, " ms after"));
+    move_started_.reset();
+  }
+}
+
+bool ResumableSession::Next(v1::SessionEvent* event) {
+  for (;;) {
+    std::shared_ptr<SessionStream> stream;
+    {
+      std::lock_guard lock(mutex_);
+      if (ended_) return false;  // Finish was taken
+      stream = stream_;
+    }
+    if (stream->Next(event)) {
+      if (event->has_draining()) {
+        bool move = false;
+        {
+          std::lock_guard lock(mutex_);
+          move = resume_.give_up_after_s > 0.0 && !writes_closed_ && !cancelled_;
+        }
+        Log(LogLevel::kInfo, absl::StrCat("the server drains (", event->draining().reason(), "; ",
+                                          event->draining().deadline_ms(), " ms left)",
+                                          move ? ": moving the session" : ""));
+        if (move) {
+          // Make before break: the move runs beside this reader, which
+          // goes on with the old server's frames until the swap.
+          std::lock_guard lock(mutex_);
+          if (!moving_) {
+            moving_ = true;
+            move_result_ = absl::OkStatus();
+            if (mover_.joinable()) mover_.join();  // an earlier one, finished
+            mover_ = std::thread([this] {
+              const absl::Status moved = MoveTo("draining");
+              std::lock_guard done(mutex_);
+              move_result_ = moved;
+              moving_ = false;
+              move_cv_.notify_all();
+            });
+          }
+        }
+        continue;
+      }
+      if (event->has_frame()) OnFrame(event->frame(), stream.get());
+      return true;
+    }
+    const absl::Status status = stream->Finish();
+    bool replaced = false, resume = false;
+    {
+      std::unique_lock lock(mutex_);
+      // A drain's move under way: its outcome decides.
+      move_cv_.wait(lock, [this] { return !moving_; });
+      if (stream == stream_ && !move_result_.ok() && !writes_closed_ && !cancelled_) {
+        final_status_ = move_result_;
+        ended_ = true;
+        return false;
+      }
+      replaced = stream != stream_;
+      resume = !replaced && resume_.give_up_after_s > 0.0 && !writes_closed_ && !cancelled_ &&
+               !stream->cancelled_by_client() && ResumableStatus(status);
+      if (!replaced && !resume) {
+        final_status_ = status;
+        ended_ = true;
+        last_cancelled_by_client_ = stream->cancelled_by_client();
+        last_grace_expired_ = stream->grace_expired();
+        return false;
+      }
+    }
+    if (replaced) continue;  // the call a move left
+    Log(LogLevel::kWarning,
+        absl::StrCat("the session's call ended (", DescribeStatus(status), "): moving it"));
+    const absl::Status moved = MoveTo(DescribeStatus(status));
+    if (!moved.ok()) {
+      std::lock_guard lock(mutex_);
+      final_status_ = moved;
+      ended_ = true;
+      return false;
+    }
+  }
+}
+
+absl::Status ResumableSession::MoveTo(const std::string& reason) {
+  const Clock::time_point start = Clock::now();
+  {
+    std::lock_guard lock(mutex_);
+    Move move;
+    move.reason = reason;
+    move.at_s = std::chrono::duration<double>(start - opened_at_).count();
+    move.acked_seq = acked_seq_;
+    moves_.push_back(move);
+    move_started_ = start;
+    moved_from_ = stream_.get();
+  }
+  const auto give_up = start + std::chrono::duration_cast<Clock::duration>(
+                                   std::chrono::duration<double>(resume_.give_up_after_s));
+  auto backoff = std::chrono::milliseconds(100);
+  absl::Status last;
+  for (int attempt = 1;; ++attempt) {
+    {
+      std::lock_guard lock(mutex_);
+      moves_.back().attempts = attempt;
+      if (writes_closed_ || cancelled_) return absl::CancelledError("closed during a move");
+    }
+    // A fresh channel: the old one's connection may still lead to the
+    // server that drains.
+    ConnectionOptions options = resume_.connection;
+    options.timeout_seconds = std::min(options.timeout_seconds, resume_.give_up_after_s);
+    auto connection = std::make_unique<Connection>(options);
+    absl::StatusOr<std::unique_ptr<LoadedScene>> scene =
+        LoadedScene::Load(*connection, resume_.load, /*keep=*/false);
+    absl::StatusOr<std::unique_ptr<SessionStream>> stream = absl::UnavailableError("no scene");
+    if (scene.ok()) {
+      v1::SessionConfig config = config_;
+      config.set_scene_id((*scene)->id());
+      stream = SessionStream::Open(connection->stub(), config, server_);
+    } else {
+      stream = scene.status();
+    }
+    if (stream.ok()) {
+      std::shared_ptr<SessionStream> old;
+      size_t replayed = 0;
+      {
+        std::lock_guard lock(mutex_);
+        for (const auto& [key, update] : log_) {
+          if (!(*stream)->SendUpdate(update)) break;
+          ++replayed;
+        }
+        old = std::exchange(stream_, std::shared_ptr<SessionStream>(*std::move(stream)));
+        connections_.push_back(std::move(connection));
+        scenes_.push_back(*std::move(scene));
+        if (writes_closed_) stream_->CloseWrites();
+      }
+      Log(LogLevel::kInfo,
+          absl::StrCat("session moved (", reason, ") after ", attempt, " attempt(s), ",
+                       MsSince(start), " ms: replayed ", replayed, " update(s)"));
+      old->Cancel();
+      return absl::OkStatus();
+    }
+    last = stream.status();
+    if (!ResumableStatus(last) && !absl::IsResourceExhausted(last) && !absl::IsNotFound(last)) {
+      break;  // refused for itself: another try gets the same answer
+    }
+    if (Clock::now() + backoff > give_up) break;
+    std::this_thread::sleep_for(backoff);
+    backoff = std::min(backoff * 2, std::chrono::milliseconds(1000));
+  }
+  std::lock_guard lock(mutex_);
+  moves_.back().error = DescribeStatus(last);
+  move_started_.reset();
+  return absl::Status(last.code(),
+                      absl::StrCat("could not move the session (", reason, "): ", last.message()));
+}
+
+void ResumableSession::CloseWrites(std::chrono::milliseconds grace) {
+  std::lock_guard lock(mutex_);
+  writes_closed_ = true;
+  stream_->CloseWrites(grace);
+}
+
+void ResumableSession::Cancel() {
+  std::shared_ptr<SessionStream> stream;
+  {
+    std::lock_guard lock(mutex_);
+    cancelled_ = true;
+    stream = stream_;
+  }
+  stream->Cancel();
+}
+
+absl::Status ResumableSession::Finish() {
+  std::lock_guard lock(mutex_);
+  return final_status_;
+}
+
+bool ResumableSession::cancelled_by_client() const {
+  std::lock_guard lock(mutex_);
+  return last_cancelled_by_client_ || cancelled_;
+}
+
+bool ResumableSession::grace_expired() const {
+  std::lock_guard lock(mutex_);
+  return last_grace_expired_;
+}
+
+std::vector<ResumableSession::Move> ResumableSession::moves() const {
+  std::lock_guard lock(mutex_);
+  return moves_;
+}
+
+size_t ResumableSession::logged_updates() const {
+  std::lock_guard lock(mutex_);
+  return log_.size();
+}
+
+std::string FormatMove(const ResumableSession::Move& move) {
+  std::string line = absl::StrFormat("moved at %.1f s (%s), %d attempt%s: ", move.at_s, move.reason,
+                                     move.attempts, move.attempts == 1 ? "" : "s");
+  if (!move.error.empty()) return absl::StrCat(line, "gave up: ", move.error);
+  absl::StrAppend(&line, move.ms_to_frame
+                             ? absl::StrFormat("the new server's first frame after %.0f ms "
+                                               "(%.0f ms without frames)",
+                                               *move.ms_to_frame, move.gap_ms.value_or(0.0))
+                             : "no frame since");
+  if (move.ms_to_acked) {
+    absl::StrAppend(&line,
+                    absl::StrFormat(", with every acknowledged update (seq %d) after %.0f ms",
+                                    move.acked_seq, *move.ms_to_acked));
+  }
+  return line;
+}
+
+}  // namespace gistream::client

@@ -1,0 +1,152 @@
+// A continuous session that outlives its server (issue 31, drain and
+// resume). It keeps what it needs to rebuild its state elsewhere: the
+// scene's source (the LoadSceneRequest), the session's config and every
+// update sent since the scene was loaded (compacted: a later update that
+// sets the same fields of the same target replaces an earlier one). When
+// the server says it drains (a Draining event) or the call breaks
+// (UNAVAILABLE, or a stream reset by a balancer when the server died), it
+// connects again to the same address (through a balancer: another
+// server), loads the scene, opens the session with the same config, sends
+// the updates again with their sequence numbers, and goes on: Next keeps
+// returning events. No acknowledged update is lost: every update is
+// replayed, acknowledged (echoed by a frame) or not.
+//
+// The interface is SessionStream's, so `stream` and `bench` use either.
+#pragma once
+
+#include <chrono>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "connection.h"
+#include "gistream/v1/gistream.pb.h"
+#include "options.h"
+#include "scene_loader.h"
+#include "session_stream.h"
+#include "util/status.h"
+
+namespace gistream::client {
+
+struct ResumeOptions {
+  // Where to connect again (the same address: a balancer routes the call
+  // to a server that serves) and the scene to load there.
+  ConnectionOptions connection;
+  v1::LoadSceneRequest load;
+  // How long one move may keep trying (connect, load, open) before the
+  // session fails with the last error; 0 turns resuming off.
+  double give_up_after_s = 15.0;
+};
+
+// Whether a session's call that ended with `status` (not cancelled by this
+// client) can be resumed elsewhere: the server went away (UNAVAILABLE,
+// CANCELLED by its shutdown) or a proxy reset the stream (INTERNAL,
+// UNKNOWN). A refusal of the request itself (INVALID_ARGUMENT, NOT_FOUND,
+// RESOURCE_EXHAUSTED, ...) is not.
+bool ResumableStatus(const absl::Status& status);
+
+// The update log's key: updates with the same key set the same fields of
+// the same target, so a later one makes an earlier one redundant. Empty for
+// updates that do not compact (animation playback, whose effect depends on
+// order and time).
+std::string UpdateTargetKey(const v1::Update& update);
+
+class ResumableSession {
+ public:
+  using Clock = std::chrono::steady_clock;
+
+  // One move to another server.
+  struct Move {
+    std::string reason;      // "draining" or the broken call's status
+    double at_s = 0.0;       // since the session opened
+    uint64_t acked_seq = 0;  // the last update a frame had echoed before it
+    int attempts = 0;
+    // From the failure (or the Draining event) to the first frame of the
+    // new session, and to the first frame that shows every acknowledged
+    // update (its last_update_seq >= acked_seq); unset until seen.
+    std::optional<double> ms_to_frame, ms_to_acked;
+    // What the viewer saw: the time without frames, from the last frame
+    // of the old server to the first of the new. A drain moves while the
+    // old server still streams (make before break), so it is about one
+    // frame interval; a server that died leaves the whole move as a gap.
+    std::optional<double> gap_ms;
+    std::string error;  // set when the move gave up
+  };
+
+  // Opens the first session on `stub` (the scene `config` names is loaded
+  // already, by the caller).
+  static absl::StatusOr<std::unique_ptr<ResumableSession>> Open(v1::Gistream::Stub& stub,
+                                                                const v1::SessionConfig& config,
+                                                                absl::string_view server,
+                                                                ResumeOptions resume);
+  ~ResumableSession();
+  ResumableSession(const ResumableSession&) = delete;
+  ResumableSession& operator=(const ResumableSession&) = delete;
+
+  // The current session's (after a move, the new server's).
+  v1::SessionOpened opened() const;
+
+  // Logs the update, then sends it on the current call. True unless writes
+  // are closed: an update sent while a move is under way is replayed by it.
+  bool SendUpdate(const v1::Update& update);
+  // Blocks for the next event, moving to another server when this one
+  // drains or goes away; false at the end (Finish says why). One reader.
+  bool Next(v1::SessionEvent* event);
+  void CloseWrites(std::chrono::milliseconds grace = std::chrono::seconds(5));
+  void Cancel();
+  absl::Status Finish();
+  bool cancelled_by_client() const;
+  bool grace_expired() const;
+
+  std::vector<Move> moves() const;
+  size_t logged_updates() const;
+
+ private:
+  ResumableSession(std::string server, v1::SessionConfig config, ResumeOptions resume)
+      : server_(std::move(server)), config_(std::move(config)), resume_(std::move(resume)) {}
+  // Connects, loads, opens and replays until it works or the move's time
+  // is up; then swaps the call and cancels the old one. On the reader
+  // thread when the call broke, on mover_ when the server drains (the
+  // reader goes on with the old server's frames meanwhile).
+  absl::Status MoveTo(const std::string& reason);
+  void OnFrame(const v1::Frame& frame, const SessionStream* from);
+
+  const std::string server_;
+  const v1::SessionConfig config_;
+  const ResumeOptions resume_;
+  const Clock::time_point opened_at_ = Clock::now();
+
+  mutable std::mutex mutex_;  // guards everything below
+  std::shared_ptr<SessionStream> stream_;
+  // In order, compacted: (UpdateTargetKey, update).
+  std::vector<std::pair<std::string, v1::Update>> log_;
+  bool writes_closed_ = false;
+  bool cancelled_ = false;
+  uint64_t acked_seq_ = 0;
+  std::vector<Move> moves_;
+  std::optional<Clock::time_point> move_started_;
+  const SessionStream* moved_from_ = nullptr;  // the call the move leaves
+  std::optional<Clock::time_point> last_frame_at_;
+  std::thread mover_;  // a drain's move
+  bool moving_ = false;
+  absl::Status move_result_;
+  std::condition_variable move_cv_;
+  // The servers moved to: their connection and scene, unloaded at the end.
+  std::vector<std::unique_ptr<Connection>> connections_;
+  std::vector<std::unique_ptr<LoadedScene>> scenes_;
+  absl::Status final_status_;
+  bool ended_ = false;  // Next returned false: final_status_ holds why
+  bool last_cancelled_by_client_ = false;
+  bool last_grace_expired_ = false;
+};
+
+// "moved at 3.2 s (draining), 1 attempt: the new server's first frame
+// after 2100 ms (70 ms without frames), with every acknowledged update
+// (seq 17) after 2100 ms"
+std::string FormatMove(const ResumableSession::Move& move);
+
+}  // namespace gistream::client
