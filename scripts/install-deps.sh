@@ -17,6 +17,7 @@ PACKAGES=(
   clang libclang-rt-14-dev  # CI's sanitizer and libFuzzer build (scripts/ci-sanitizers.sh)
   clang-format  # the `format` test and `make format` (.clang-format)
   libmeshoptimizer-dev  # proxy geometry for the GI passes (server/scene/proxy_levels.h)
+  haproxy  # the fleet test (tests/deploy/fleet_test.py): three servers behind a real balancer
 )
 
 missing=()
@@ -33,7 +34,7 @@ command -v npm >/dev/null 2>&1 || missing+=(npm)
 if [ "${GISTREAM_NO_TEST_DEPS:-0}" = 1 ]; then
   kept=()
   for p in "${missing[@]}"; do
-    case "$p" in chromium|nodejs|npm|clang|libclang-rt-14-dev|clang-format) ;; *) kept+=("$p") ;; esac
+    case "$p" in chromium|nodejs|npm|clang|libclang-rt-14-dev|clang-format|haproxy) ;; *) kept+=("$p") ;; esac
   done
   missing=("${kept[@]+"${kept[@]}"}")
 fi
