@@ -403,6 +403,7 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
                                    Progress& progress, const std::atomic<bool>& interrupted,
                                    SettleTrace* trace) {
   SharedStages stages;
+  std::map<std::string, std::shared_ptr<MoveGroup>> move_groups;
   std::vector<std::unique_ptr<Connection>> own_connections;
   std::vector<std::unique_ptr<BenchSession>> sessions;
   for (int i = 0; i < count && !interrupted; ++i) {
@@ -421,8 +422,13 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
         std::make_unique<BenchSession>(server.address, workload, options.update_hz, stages);
     progress.Show(absl::StrCat(label, " opening session ", i + 1, "/", count));
     if (trace && i == 0) session->KeepSettleFrames();
-    ResumeOptions resume{
-        .connection = connection, .load = load, .give_up_after_s = options.resume_for_s};
+    // The sessions of one server move together: one load where they land.
+    std::shared_ptr<MoveGroup>& group = move_groups[server.address];
+    if (!group) group = std::make_shared<MoveGroup>();
+    ResumeOptions resume{.connection = connection,
+                         .load = load,
+                         .give_up_after_s = options.resume_for_s,
+                         .group = group};
     resume.connection.server = server.address;
     const absl::Status opened = session->Open(channel->stub(), config, std::move(resume));
     if (!opened.ok())

@@ -33,8 +33,10 @@ absl::Status RunStream(const ConnectionOptions& connection_options, const Stream
   const v1::SessionConfig config =
       ContinuousConfig(scene->id(), options.solver, options.view, options.fps);
 
-  ResumeOptions resume{
-      .connection = connection_options, .load = load, .give_up_after_s = options.resume_for_s};
+  ResumeOptions resume{.connection = connection_options,
+                       .load = load,
+                       .give_up_after_s = options.resume_for_s,
+                       .group = nullptr};
   GS_ASSIGN_OR_RETURN(
       std::unique_ptr<ResumableSession> stream,
       ResumableSession::Open(connection.stub(), config, connection.server(), std::move(resume)));

@@ -64,6 +64,18 @@ std::string UpdateTargetKey(const v1::Update& update) {
   return key;
 }
 
+absl::StatusOr<std::shared_ptr<MoveTarget>> MoveGroup::Acquire(
+    const ConnectionOptions& connection, const v1::LoadSceneRequest& load,
+    const std::shared_ptr<MoveTarget>& failed) {
+  std::lock_guard lock(mutex_);  // the others wait for the one loading
+  if (current_ && current_ != failed) return current_;
+  auto target = std::make_shared<MoveTarget>();
+  target->connection = std::make_unique<Connection>(connection);
+  GS_ASSIGN_OR_RETURN(target->scene, LoadedScene::Load(*target->connection, load, /*keep=*/false));
+  current_ = target;
+  return target;
+}
+
 absl::StatusOr<std::unique_ptr<ResumableSession>> ResumableSession::Open(
     v1::Gistream::Stub& stub, const v1::SessionConfig& config, absl::string_view server,
     ResumeOptions resume) {
@@ -223,26 +235,29 @@ absl::Status ResumableSession::MoveTo(const std::string& reason) {
                                    std::chrono::duration<double>(resume_.give_up_after_s));
   auto backoff = std::chrono::milliseconds(100);
   absl::Status last;
+  std::shared_ptr<MoveTarget> failed_target;
   for (int attempt = 1;; ++attempt) {
     {
       std::lock_guard lock(mutex_);
       moves_.back().attempts = attempt;
       if (writes_closed_ || cancelled_) return absl::CancelledError("closed during a move");
     }
-    // A fresh channel: the old one's connection may still lead to the
-    // server that drains.
+    // A fresh channel (the old one's connection may still lead to the
+    // server that drains), shared with the group's other sessions.
     ConnectionOptions options = resume_.connection;
     options.timeout_seconds = std::min(options.timeout_seconds, resume_.give_up_after_s);
-    auto connection = std::make_unique<Connection>(options);
-    absl::StatusOr<std::unique_ptr<LoadedScene>> scene =
-        LoadedScene::Load(*connection, resume_.load, /*keep=*/false);
+    MoveGroup own;
+    MoveGroup& group = resume_.group ? *resume_.group : own;
+    absl::StatusOr<std::shared_ptr<MoveTarget>> target =
+        group.Acquire(options, resume_.load, failed_target);
     absl::StatusOr<std::unique_ptr<SessionStream>> stream = absl::UnavailableError("no scene");
-    if (scene.ok()) {
+    if (target.ok()) {
       v1::SessionConfig config = config_;
-      config.set_scene_id((*scene)->id());
-      stream = SessionStream::Open(connection->stub(), config, server_);
+      config.set_scene_id((*target)->scene->id());
+      stream = SessionStream::Open((*target)->connection->stub(), config, server_);
+      if (!stream.ok()) failed_target = *target;
     } else {
-      stream = scene.status();
+      stream = target.status();
     }
     if (stream.ok()) {
       std::shared_ptr<SessionStream> old;
@@ -254,8 +269,7 @@ absl::Status ResumableSession::MoveTo(const std::string& reason) {
           ++replayed;
         }
         old = std::exchange(stream_, std::shared_ptr<SessionStream>(*std::move(stream)));
-        connections_.push_back(std::move(connection));
-        scenes_.push_back(*std::move(scene));
+        targets_.push_back(*std::move(target));
         if (writes_closed_) stream_->CloseWrites();
       }
       Log(LogLevel::kInfo,

@@ -32,6 +32,31 @@
 
 namespace gistream::client {
 
+// Where sessions that moved went: a connection and the scene loaded there.
+struct MoveTarget {
+  std::unique_ptr<Connection> connection;
+  // Unloaded when the last user is gone; declared after the connection it
+  // calls on, so destroyed before it.
+  std::unique_ptr<LoadedScene> scene;
+};
+
+// Sessions of one client that move together (bench's sessions, whose
+// server died under all of them) load the scene once: the first to move
+// loads it, the others open their sessions on the same scene. A target
+// that fails a session (its server went away too) is loaded anew.
+class MoveGroup {
+ public:
+  // The group's current target, loading one when there is none or when
+  // `failed` is the current one. Blocks while another session loads.
+  absl::StatusOr<std::shared_ptr<MoveTarget>> Acquire(const ConnectionOptions& connection,
+                                                      const v1::LoadSceneRequest& load,
+                                                      const std::shared_ptr<MoveTarget>& failed);
+
+ private:
+  std::mutex mutex_;
+  std::shared_ptr<MoveTarget> current_;
+};
+
 struct ResumeOptions {
   // Where to connect again (the same address: a balancer routes the call
   // to a server that serves) and the scene to load there.
@@ -40,6 +65,9 @@ struct ResumeOptions {
   // How long one move may keep trying (connect, load, open) before the
   // session fails with the last error; 0 turns resuming off.
   double give_up_after_s = 15.0;
+  // Shared by the sessions that should land together (may be null: the
+  // session loads its own copy).
+  std::shared_ptr<MoveGroup> group;
 };
 
 // Whether a session's call that ended with `status` (not cancelled by this
@@ -135,9 +163,8 @@ class ResumableSession {
   bool moving_ = false;
   absl::Status move_result_;
   std::condition_variable move_cv_;
-  // The servers moved to: their connection and scene, unloaded at the end.
-  std::vector<std::unique_ptr<Connection>> connections_;
-  std::vector<std::unique_ptr<LoadedScene>> scenes_;
+  // The servers moved to: their connection and scene (unloaded at the end).
+  std::vector<std::shared_ptr<MoveTarget>> targets_;
   absl::Status final_status_;
   bool ended_ = false;  // Next returned false: final_status_ holds why
   bool last_cancelled_by_client_ = false;
