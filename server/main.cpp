@@ -92,6 +92,12 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
                              scenes nobody uses for this long; 0: never
                              (default 900)
   --max-sessions N           concurrent sessions (default 32)
+  --max-render-busy F        admission by measured GPU time: a new session is
+                             refused (RESOURCE_EXHAUSTED, retry later or on
+                             another server) when the render thread's busy
+                             share over the last 5 s plus one more active
+                             session's share would pass F (0..1; default 0:
+                             only --max-sessions limits); deployments use 0.85
   --max-scenes N             scenes held at once (default 16)
   --max-memory-bytes N       memory budget for scenes (decoded images
                              included), solver state and G-buffers, CPU and
@@ -203,6 +209,8 @@ Flags ParseFlags(int argc, char** argv) {
        [&](auto flag, auto v) {
          f.engine.max_sessions = ParseUnsigned<uint32_t>(flag, v, 1, 100'000);
        }},
+      {"--max-render-busy",
+       [&](auto flag, auto v) { f.engine.max_render_busy = ParseDouble(flag, v, 0.0, 1.0); }},
       {"--max-scenes",
        [&](auto flag, auto v) {
          f.engine.max_scenes = ParseUnsigned<uint32_t>(flag, v, 1, 100'000);

@@ -49,15 +49,16 @@ MetricFamily Family(std::string name, std::string help, MetricType type, double 
 std::string CodeName(absl::StatusCode code) { return absl::StatusCodeToString(code); }
 
 // gistream_sessions_by_state{solver, state}: state "streaming" (frames
-// rendered as they come) or "resting" (a still, finished picture: nothing
-// rendered until a change).
+// rendered as they come), "resting" (a still, finished picture: nothing
+// rendered until a change) or "draining" (the server shuts down and has
+// told the session to move).
 MetricFamily SessionsByState(const EngineStats& stats) {
   std::map<std::pair<std::string, std::string>, double> counts;
   for (const SessionStatus& s : stats.session_status) {
-    counts[{s.solver, s.at_rest ? "resting" : "streaming"}] += 1.0;
+    counts[{s.solver, stats.draining ? "draining" : s.at_rest ? "resting" : "streaming"}] += 1.0;
   }
   MetricFamily family{"gistream_sessions_by_state",
-                      "Open sessions by solver and state (streaming, resting)",
+                      "Open sessions by solver and state (streaming, resting, draining)",
                       MetricType::Gauge,
                       {}};
   for (const auto& [key, count] : counts) {
@@ -137,6 +138,18 @@ struct Metrics::Impl {
     out.push_back(Family("gistream_sessions", "Open sessions", MetricType::Gauge, stats.sessions));
     out.push_back(SessionsByState(stats));
     out.push_back(Family("gistream_scenes", "Loaded scenes", MetricType::Gauge, stats.scenes));
+    // Capacity (issue 31): what an autoscaler reads (deploy/k8s/autoscaling.yaml).
+    out.push_back(Family("gistream_render_busy_ratio",
+                         "Share of the last 5 s the render thread worked (all sessions' GL "
+                         "work, readback and encode hand-off): the GPU time in use",
+                         MetricType::Gauge, stats.render_busy_ratio));
+    out.push_back(Family("gistream_render_busy_limit",
+                         "Admission limit on gistream_render_busy_ratio (--max-render-busy; "
+                         "0: off)",
+                         MetricType::Gauge, stats.max_render_busy));
+    out.push_back(Family("gistream_active_sessions",
+                         "Open sessions that cost render time now (not at rest)", MetricType::Gauge,
+                         stats.active_sessions));
     out.push_back(Family("gistream_gl_object_bytes",
                          "Bytes held by the engine's GL objects (scenes, solvers, views)",
                          MetricType::Gauge, double(stats.gl_object_bytes)));

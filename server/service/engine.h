@@ -248,6 +248,10 @@ struct EngineOptions {
   // (SceneInfo::proxy_trees_skipped). gistreamd --max-load-seconds.
   std::chrono::milliseconds max_load_time{60'000};
   uint32_t max_sessions = 32;
+  // Admission by GPU time (issue 31): a new session is refused when the
+  // render thread's busy share over the last 5 s plus one active session's
+  // share (busy / active sessions) would exceed this; 0: off.
+  double max_render_busy = 0.0;
   uint32_t max_scenes = 16;
   // Per-tenant limits (util/tenancy.h); a tenant not listed has none of its
   // own. Exceeding one answers RESOURCE_EXHAUSTED naming the quota.
@@ -342,6 +346,14 @@ struct EngineStats {
   // scenes, solvers and views now, and the limit.
   uint64_t memory_used_bytes = 0;
   uint64_t memory_limit_bytes = 0;
+  // Capacity (issue 31): the render thread's busy share of the last 5 s
+  // (every session's GL work and readback runs there), the sessions that
+  // cost render time now (open, not at rest), and the limit of
+  // EngineOptions::max_render_busy (0: off).
+  double render_busy_ratio = 0.0;
+  uint32_t active_sessions = 0;
+  double max_render_busy = 0.0;
+  bool draining = false;  // BeginDrain: every session is told to move
 };
 
 class Engine {

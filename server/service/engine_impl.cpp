@@ -1,5 +1,6 @@
 #include "service/engine_impl.h"
 
+#include <absl/strings/str_format.h>
 #include <absl/strings/str_join.h>
 
 #include <algorithm>
@@ -264,7 +265,11 @@ EngineStats EngineImpl::stats() const {
     status.pending_updates = uint32_t(s->pending.size());
     status.last_update_seq = s->last_seq;
     status.at_rest = s->resting.load();
+    out.active_sessions += status.at_rest ? 0 : 1;
   }
+  out.render_busy_ratio = render_thread_ ? render_thread_->busy_ratio() : 0.0;
+  out.max_render_busy = options_.max_render_busy;
+  out.draining = draining_;
   out.scenes = uint32_t(scenes_.size());
   out.frames_rendered = frames_rendered_.load();
   out.keep_alives_at_rest = keep_alives_at_rest_.load();
@@ -662,6 +667,7 @@ absl::StatusOr<std::shared_ptr<EngineImpl::SessionRecord>> EngineImpl::CreateSes
       return absl::ResourceExhaustedError(
           absl::StrCat("sessions: ", open, " sessions are open, the limit (--max-sessions)"));
     }
+    GS_RETURN_IF_ERROR(AdmitByRenderTimeLocked());
     if (const uint32_t limit = QuotaOf(config.tenant).sessions; limit > 0 && tenant_open >= limit) {
       return QuotaExceeded(config.tenant, "sessions", tenant_open, 1, limit);
     }
@@ -673,6 +679,23 @@ absl::StatusOr<std::shared_ptr<EngineImpl::SessionRecord>> EngineImpl::CreateSes
   session->scene->sessions += 1;
   sessions_[session->id] = session;
   return session;
+}
+
+absl::Status EngineImpl::AdmitByRenderTimeLocked() const {
+  if (options_.max_render_busy <= 0.0 || !render_thread_) return absl::OkStatus();
+  uint32_t active = 0;
+  for (const auto& [id, s] : sessions_) active += !s->transient && !s->resting.load() ? 1 : 0;
+  if (active == 0) return absl::OkStatus();  // nothing measured costs anything yet
+  // The next session is assumed to cost what an active one costs on
+  // average now: its share of the render thread's busy time.
+  const double busy = render_thread_->busy_ratio();
+  const double expected = busy + busy / active;
+  if (expected <= options_.max_render_busy) return absl::OkStatus();
+  return absl::ResourceExhaustedError(absl::StrFormat(
+      "capacity: the render thread was busy %.0f %% of the last 5 s with %u active session(s); "
+      "one more would need about %.0f %%, over the limit of %.0f %% (--max-render-busy). "
+      "Retry in a few seconds, or on another server",
+      100.0 * busy, active, 100.0 * expected, 100.0 * options_.max_render_busy));
 }
 
 absl::StatusOr<SessionOpenInfo> EngineImpl::OpenSession(const SessionConfig& config,

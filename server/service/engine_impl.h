@@ -185,6 +185,9 @@ class EngineImpl final : public Engine {
     uint32_t memory_width = 0, memory_height = 0;
   };
 
+  // RESOURCE_EXHAUSTED when one more active session would push the render
+  // thread past EngineOptions::max_render_busy. Needs mutex_.
+  absl::Status AdmitByRenderTimeLocked() const;
   absl::StatusOr<std::shared_ptr<SessionRecord>> CreateSession(const SessionConfig& config,
                                                                std::shared_ptr<FrameSink> sink,
                                                                bool transient);

@@ -98,9 +98,11 @@ void RenderThread::Loop() {
       wake_ = false;
       stop = stopping_;
     }
+    const Clock::time_point busy_from = Clock::now();
     for (auto& job : jobs) job();
     if (stop) return;
     next = tick_();
+    busy_.AddBusy(busy_from, Clock::now());
   }
 }
 

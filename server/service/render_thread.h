@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "gl/egl_context.h"
+#include "service/busy_meter.h"
 #include "util/status.h"
 
 namespace gistream {
@@ -47,6 +48,8 @@ class RenderThread {
   void Stop(std::function<void()> last = {});
 
   const gl::EglContext& context() const { return *context_; }
+  // Its busy share (jobs and ticks, not waits) over the last 5 s.
+  double busy_ratio() const { return busy_.Ratio(); }
   // On the render thread, after a GPU reset: drops the context (every GL
   // object in it must be gone already) and makes a new one current on the
   // same device. On failure the thread has no context.
@@ -65,6 +68,7 @@ class RenderThread {
   std::deque<std::function<void()>> jobs_;
   bool wake_ = false;
   bool stopping_ = false;
+  BusyMeter busy_;
   std::thread thread_;
 };
 

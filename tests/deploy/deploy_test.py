@@ -135,6 +135,33 @@ class ChartTest(unittest.TestCase):
         volumes = {v["name"]: v for v in pod["volumes"]}
         self.assertEqual(volumes["scenes"]["persistentVolumeClaim"]["claimName"], "scenes")
 
+    def test_admission_and_autoscaling_on_render_time(self):
+        # Admission by GPU time is on by default; no HPA unless asked.
+        docs = render()
+        _, _, args = self.check_server(docs, 50051, 50052, 10)
+        self.assertEqual(float(flag(args, "--max-render-busy")), 0.85)
+        self.assertNotIn("HorizontalPodAutoscaler", docs)
+        docs = render({"metrics": {"enabled": True},
+                       "autoscaling": {"enabled": True, "maxReplicas": 5}})
+        _, _, args = self.check_server(docs, 50051, 50052, 10)
+        (hpa,) = docs["HorizontalPodAutoscaler"]
+        spec = hpa["spec"]
+        self.assertEqual(spec["scaleTargetRef"]["name"],
+                         self.deployment(docs)["metadata"]["name"])
+        self.assertEqual((spec["minReplicas"], spec["maxReplicas"]), (1, 5))
+        (metric,) = spec["metrics"]
+        self.assertEqual(metric["pods"]["metric"]["name"], "gistream_render_busy_ratio")
+        # The target leaves room under the admission limit for new sessions.
+        target = float(metric["pods"]["target"]["averageValue"])
+        self.assertLess(target, float(flag(args, "--max-render-busy")))
+        # Scale-down removes one pod at a time: each drains, as the PDB allows.
+        (policy,) = spec["behavior"]["scaleDown"]["policies"]
+        self.assertEqual((policy["type"], policy["value"]), ("Pods", 1))
+        (pdb,) = docs["PodDisruptionBudget"]
+        self.assertEqual(pdb["spec"]["maxUnavailable"], 1)
+        # The metric the HPA reads is served.
+        self.assertEqual(flag(args, "--metrics-listen"), "0.0.0.0:9464")
+
     def test_metrics_without_service_monitor(self):
         docs = render({"metrics": {"enabled": True}})
         self.assertNotIn("ServiceMonitor", docs)
@@ -188,6 +215,7 @@ class ManifestTest(unittest.TestCase):
         self.assertGreater(duration_s(service["stop_grace_period"]), deadline)
         self.assertEqual(flag(command, "--listen"), "0.0.0.0:50051")
         self.assertTrue(flag(command, "--tls-cert") and flag(command, "--auth-tokens"))
+        self.assertTrue(0.0 < float(flag(command, "--max-render-busy")) <= 1.0)
         health = flag(command, "--health-listen").split(":")[-1]
         self.assertIn(f"127.0.0.1:{health}", service["healthcheck"]["test"])
         self.assertIn("health", service["healthcheck"]["test"])

@@ -187,6 +187,10 @@ TEST_F(MetricsTest, ScrapeCountsFramesRejectionsAndFailedCallsByCodeName) {
   EXPECT_EQ(Sum(samples, "gistream_scenes"), 1.0);
   EXPECT_TRUE(Has(samples, "gistream_gl_object_bytes"));
   EXPECT_TRUE(Has(samples, "gistream_gpu_memory_total_bytes"));
+  // Capacity: what an autoscaler reads (the fake engine reports no load).
+  EXPECT_TRUE(Has(samples, "gistream_render_busy_ratio"));
+  EXPECT_TRUE(Has(samples, "gistream_render_busy_limit"));
+  EXPECT_TRUE(Has(samples, "gistream_active_sessions"));
   EXPECT_GT(Sum(samples, "process_resident_memory_bytes"), 0.0);
   EXPECT_TRUE(Has(samples, "gistream_build_info", {{"version", std::string(Version())}}));
 
