@@ -108,8 +108,8 @@ bool ResumableSession::SendUpdate(const v1::Update& update) {
   if (writes_closed_ || cancelled_) return false;
   if (resume_.give_up_after_s > 0.0) {
     std::string key = UpdateTargetKey(update);
-    if (!key.empty()) std::erase_if(log_, [&](const auto& logged) { return logged.first == key; });
-    log_.emplace_back(std::move(key), update);
+    if (!key.empty()) std::erase_if(log_, [&](const Logged& logged) { return logged.key == key; });
+    log_.push_back({std::move(key), ++logged_, update});
   }
   // Under the lock: a move replays the log and swaps the call under it
   // too, so an update is either in its replay or sent on the new call.
@@ -147,10 +147,20 @@ void ResumableSession::OnFrame(const v1::Frame& frame, const SessionStream* from
 bool ResumableSession::Next(v1::SessionEvent* event) {
   for (;;) {
     std::shared_ptr<SessionStream> stream;
+    bool pending = false;
     {
       std::lock_guard lock(mutex_);
       if (ended_) return false;  // Finish was taken
       stream = stream_;
+      if (!pending_events_.empty()) {
+        *event = std::move(pending_events_.front());
+        pending_events_.pop_front();
+        pending = true;
+      }
+    }
+    if (pending) {  // what a drain's move read from the new call first
+      if (event->has_frame()) OnFrame(event->frame(), stream.get());
+      return true;
     }
     if (stream->Next(event)) {
       if (event->has_draining()) {
@@ -171,7 +181,7 @@ bool ResumableSession::Next(v1::SessionEvent* event) {
             move_result_ = absl::OkStatus();
             if (mover_.joinable()) mover_.join();  // an earlier one, finished
             mover_ = std::thread([this] {
-              const absl::Status moved = MoveTo("draining");
+              const absl::Status moved = MoveTo("draining", /*make_before_break=*/true);
               std::lock_guard done(mutex_);
               move_result_ = moved;
               moving_ = false;
@@ -209,7 +219,7 @@ bool ResumableSession::Next(v1::SessionEvent* event) {
     if (replaced) continue;  // the call a move left
     Log(LogLevel::kWarning,
         absl::StrCat("the session's call ended (", DescribeStatus(status), "): moving it"));
-    const absl::Status moved = MoveTo(DescribeStatus(status));
+    const absl::Status moved = MoveTo(DescribeStatus(status), /*make_before_break=*/false);
     if (!moved.ok()) {
       std::lock_guard lock(mutex_);
       final_status_ = moved;
@@ -219,7 +229,7 @@ bool ResumableSession::Next(v1::SessionEvent* event) {
   }
 }
 
-absl::Status ResumableSession::MoveTo(const std::string& reason) {
+absl::Status ResumableSession::MoveTo(const std::string& reason, bool make_before_break) {
   const Clock::time_point start = Clock::now();
   {
     std::lock_guard lock(mutex_);
@@ -259,17 +269,43 @@ absl::Status ResumableSession::MoveTo(const std::string& reason) {
     } else {
       stream = target.status();
     }
+    std::deque<v1::SessionEvent> first_events;
+    uint64_t replayed_upto = 0;
+    size_t replayed = 0;
+    if (stream.ok()) {
+      std::lock_guard lock(mutex_);
+      for (const Logged& logged : log_) {
+        if (!(*stream)->SendUpdate(logged.update)) break;
+        ++replayed;
+      }
+      replayed_upto = logged_;
+    }
+    if (stream.ok() && make_before_break) {
+      // The old server still streams: switch once the new one has a frame.
+      v1::SessionEvent event;
+      bool framed = false;
+      while (!framed && (*stream)->Next(&event)) {
+        framed = event.has_frame();
+        first_events.push_back(event);
+      }
+      if (!framed) {
+        const absl::Status ended = (*stream)->Finish();
+        stream =
+            ended.ok() ? absl::UnavailableError("the new session ended before a frame") : ended;
+        failed_target = target.ok() ? *target : nullptr;
+      }
+    }
     if (stream.ok()) {
       std::shared_ptr<SessionStream> old;
-      size_t replayed = 0;
       {
         std::lock_guard lock(mutex_);
-        for (const auto& [key, update] : log_) {
-          if (!(*stream)->SendUpdate(update)) break;
-          ++replayed;
+        // What was sent on the old call meanwhile (logged after the replay).
+        for (const Logged& logged : log_) {
+          if (logged.number > replayed_upto) (*stream)->SendUpdate(logged.update);
         }
         old = std::exchange(stream_, std::shared_ptr<SessionStream>(*std::move(stream)));
         targets_.push_back(*std::move(target));
+        pending_events_ = std::move(first_events);
         if (writes_closed_) stream_->CloseWrites();
       }
       Log(LogLevel::kInfo,

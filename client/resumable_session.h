@@ -16,6 +16,7 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -140,7 +141,9 @@ class ResumableSession {
   // is up; then swaps the call and cancels the old one. On the reader
   // thread when the call broke, on mover_ when the server drains (the
   // reader goes on with the old server's frames meanwhile).
-  absl::Status MoveTo(const std::string& reason);
+  // With `make_before_break` (a drain) the swap waits for the new call's
+  // first frame, which the reader then delivers first.
+  absl::Status MoveTo(const std::string& reason, bool make_before_break);
   void OnFrame(const v1::Frame& frame, const SessionStream* from);
 
   const std::string server_;
@@ -150,8 +153,17 @@ class ResumableSession {
 
   mutable std::mutex mutex_;  // guards everything below
   std::shared_ptr<SessionStream> stream_;
-  // In order, compacted: (UpdateTargetKey, update).
-  std::vector<std::pair<std::string, v1::Update>> log_;
+  // In order, compacted: an entry per UpdateTargetKey, numbered as sent.
+  struct Logged {
+    std::string key;
+    uint64_t number = 0;
+    v1::Update update;
+  };
+  std::vector<Logged> log_;
+  uint64_t logged_ = 0;  // the last number given
+  // A drain's new call, its events up to its first frame (make before
+  // break: the swap waits for it); the reader hands them out first.
+  std::deque<v1::SessionEvent> pending_events_;
   bool writes_closed_ = false;
   bool cancelled_ = false;
   uint64_t acked_seq_ = 0;
