@@ -172,6 +172,7 @@ class FleetTest(unittest.TestCase):
             self.assertEqual(after[k], new, f"{k} moved between old servers")
         # 1/4 expected; consistent hashing with HAProxy's default weights
         # spreads within about +-10 points for 80 keys.
+        print(f"{len(moved)} of {len(keys)} keys moved to the fourth server")
         self.assertGreater(len(moved), 0.1 * len(keys), f"{len(moved)} of {len(keys)} moved")
         self.assertLess(len(moved), 0.45 * len(keys), f"{len(moved)} of {len(keys)} moved")
 
