@@ -191,7 +191,16 @@ bool ResumableSession::Next(v1::SessionEvent* event) {
         }
         continue;
       }
-      if (event->has_frame()) OnFrame(event->frame(), stream.get());
+      if (event->has_frame()) {
+        {
+          // After a move, frames rendered before the replayed updates were
+          // applied show the scene as loaded: not shown.
+          std::lock_guard lock(mutex_);
+          if (stream == stream_ && event->frame().last_update_seq() < hide_below_seq_) continue;
+          if (stream == stream_) hide_below_seq_ = 0;
+        }
+        OnFrame(event->frame(), stream.get());
+      }
       return true;
     }
     const absl::Status status = stream->Finish();
@@ -270,23 +279,26 @@ absl::Status ResumableSession::MoveTo(const std::string& reason, bool make_befor
       stream = target.status();
     }
     std::deque<v1::SessionEvent> first_events;
-    uint64_t replayed_upto = 0;
+    uint64_t replayed_upto = 0, replayed_seq = 0;
     size_t replayed = 0;
     if (stream.ok()) {
       std::lock_guard lock(mutex_);
       for (const Logged& logged : log_) {
         if (!(*stream)->SendUpdate(logged.update)) break;
         ++replayed;
+        replayed_seq = std::max(replayed_seq, logged.update.seq());
       }
       replayed_upto = logged_;
     }
     if (stream.ok() && make_before_break) {
-      // The old server still streams: switch once the new one has a frame.
+      // The old server still streams: switch once the new one has a frame
+      // that shows the replayed updates (earlier ones would show the scene
+      // as loaded: the block jumping back for a frame).
       v1::SessionEvent event;
       bool framed = false;
       while (!framed && (*stream)->Next(&event)) {
-        framed = event.has_frame();
-        first_events.push_back(event);
+        framed = event.has_frame() && event.frame().last_update_seq() >= replayed_seq;
+        if (!event.has_frame() || framed) first_events.push_back(event);
       }
       if (!framed) {
         const absl::Status ended = (*stream)->Finish();
@@ -306,6 +318,7 @@ absl::Status ResumableSession::MoveTo(const std::string& reason, bool make_befor
         old = std::exchange(stream_, std::shared_ptr<SessionStream>(*std::move(stream)));
         targets_.push_back(*std::move(target));
         pending_events_ = std::move(first_events);
+        hide_below_seq_ = replayed_seq;
         if (writes_closed_) stream_->CloseWrites();
       }
       Log(LogLevel::kInfo,

@@ -164,6 +164,8 @@ class ResumableSession {
   // A drain's new call, its events up to its first frame (make before
   // break: the swap waits for it); the reader hands them out first.
   std::deque<v1::SessionEvent> pending_events_;
+  // After a move: the new call's frames older than its replay are skipped.
+  uint64_t hide_below_seq_ = 0;
   bool writes_closed_ = false;
   bool cancelled_ = false;
   uint64_t acked_seq_ = 0;

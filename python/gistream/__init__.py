@@ -12,6 +12,12 @@
             for frame in session.frames(10):
                 print(frame.frame_number, frame.last_update_seq, frame.total_ms)
 
+A session on a scene the client loaded moves by itself when its server
+drains (SIGTERM) or dies: the scene is loaded again through the same
+address (behind a balancer: another server; `affinity=` keeps one piece of
+work on one server), the session reopened and its updates sent again;
+`session.moves` lists the moves. `resume=False` turns this off.
+
 A server with TLS and tokens (gistreamd --tls-cert ... --auth-tokens ...):
 
     client = gistream.Client("render.example:50051", token="...",  # or $GISTREAM_TOKEN

@@ -5,13 +5,15 @@ line replaced by the loopback servers). Checks, in order:
 1. affinity: every call with one x-gistream-affinity key reaches one
    server (ServerStatus.instance), and the keys spread over the servers;
 2. adding a fourth server moves about a quarter of the keys, every one of
-   them to the new server (consistent hashing);
-3. drain: SIGTERM to the server that holds a `gistream bench` run's
+   them to the new server (consistent hashing); the four serve the rest;
+3. the Python client's session moves when its server drains, and its first
+   frame from the new server shows every acknowledged update;
+4. drain: SIGTERM to the server that holds a `gistream bench` run's
    sessions: each session is told to move, moves through the balancer to
    another server with its updates, the bench ends with every move complete
    (a frame showing every acknowledged update), and the drained server exits
    0 once its sessions have left;
-4. failover: kill -9 of the server that holds the next run's sessions: the
+5. failover: kill -9 of the server that holds the next run's sessions: the
    same, the sessions moving when their calls break.
 
 No wall-clock thresholds: the move times bench prints are recorded in
@@ -164,8 +166,12 @@ class FleetTest(unittest.TestCase):
         bigger = Balancer([a for _, a in self.servers], port)
         try:
             after = {k: instance_for(bigger.address, k).pop() for k in keys}
-        finally:
+        except Exception:
             bigger.close()
+            raise
+        # The four-server fleet serves the tests that stop servers.
+        self.balancer.close()
+        type(self).balancer = bigger
         new = [i for i, (p, a) in self.by_pid.items() if a == self.servers[3][1]][0]
         moved = [k for k in keys if before[k] != after[k]]
         for k in moved:
@@ -199,7 +205,38 @@ class FleetTest(unittest.TestCase):
         self.assertNotEqual(now, holder)
         return proc, out
 
-    def test_3_drain(self):
+    def test_3_python_session_moves_on_drain(self):
+        """The Python client (python/gistream) moves by itself too."""
+        import gistream
+        key = "python-tenant"
+        (holder,) = instance_for(self.balancer.address, key)
+        proc, _ = self.by_pid[holder]
+        with gistream.Client(self.balancer.address, timeout=60, affinity=key) as client:
+            scene = client.load_scene("cornell_box")
+            with client.session(scene.scene_id, size=(32, 32), fps=30) as session:
+                seqs = [session.update(node=gistream.node_transform(5, translation=(0.01 * i, 0, 0)))
+                        for i in range(1, 4)]
+                acked = 0
+                for frame in session.frames(200, stop_at_rest=False):
+                    acked = max(acked, frame.last_update_seq)
+                    if acked >= seqs[-1]:
+                        break
+                self.assertEqual(acked, seqs[-1])
+                proc.send_signal(signal.SIGTERM)
+                # Frames go on; the first from the new server shows every
+                # acknowledged update (they were replayed).
+                for frame in session.frames(200, stop_at_rest=False):
+                    if session.moves:
+                        self.assertGreaterEqual(frame.last_update_seq, acked)
+                        break
+                self.assertEqual(len(session.moves), 1, session.moves)
+                self.assertEqual(session.moves[0][0], "draining")
+                print(f"python session moved in {session.moves[0][1] * 1000:.0f} ms")
+        self.assertEqual(proc.wait(timeout=60), 0)
+        (now,) = instance_for(self.balancer.address, key)
+        self.assertNotEqual(now, holder)
+
+    def test_4_drain(self):
         def drain(proc):
             proc.send_signal(signal.SIGTERM)
 
@@ -212,7 +249,7 @@ class FleetTest(unittest.TestCase):
         self.assertIn("draining: 2 session(s) told to move", log)
         self.assertIn("draining", out)
 
-    def test_4_failover_after_kill(self):
+    def test_5_failover_after_kill(self):
         proc, _ = self.run_bench_and_stop("failover-tenant", lambda p: p.kill())
         self.assertEqual(proc.wait(timeout=30), -signal.SIGKILL)
 
