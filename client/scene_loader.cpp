@@ -6,6 +6,7 @@
 #include <absl/strings/escaping.h>
 #include <absl/strings/match.h>
 #include <absl/strings/str_cat.h>
+#include <absl/strings/str_join.h>
 #include <nlohmann/json.hpp>
 
 #include "file_io.h"
@@ -157,6 +158,10 @@ std::string DescribeScene(absl::string_view label, const v1::LoadSceneResponse& 
           ? absl::StrCat("; past the server's --max-load-seconds: ", info.proxy_trees_skipped(),
                          " primitive(s) without proxy trees, ", info.proxy_levels_skipped(),
                          " with fewer levels")
+          : "",
+      info.ignored_extensions_size() > 0
+          ? absl::StrCat("\nignored glTF extensions (rendered without them): ",
+                         absl::StrJoin(info.ignored_extensions(), ", "))
           : "");
 }
 

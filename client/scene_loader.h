@@ -61,7 +61,8 @@ class LoadedScene {
   bool keep_;
 };
 
-// "scene cornell_box (id 3): 36 triangles, 9 nodes, 0 lights, 4 materials"
+// "scene cornell_box (id 3): 36 triangles, 9 nodes, 0 lights, 4 materials",
+// and a second line naming the glTF extensions the server ignored.
 std::string DescribeScene(absl::string_view label, const v1::LoadSceneResponse& info);
 
 }  // namespace gistream::client

@@ -123,6 +123,8 @@ json SceneJson(const ViewerOptions& options) {
               {"solvers", SolversJson(options.solvers, options)},
               {"scenes", names},
               {"scene_name", name},
+              {"ignored_extensions", std::vector<std::string>(scene.ignored_extensions().begin(),
+                                                              scene.ignored_extensions().end())},
               {"params",
                std::map<std::string, std::string>(config.params().begin(), config.params().end())}};
   if (scene.cameras_size() > 0) {

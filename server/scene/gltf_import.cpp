@@ -100,6 +100,7 @@ absl::StatusOr<Scene> ImportGltf(std::span<const uint8_t> bytes, const ImportOpt
 
   Scene scene;
   scene.name = options.name;
+  scene.ignored_extensions = gltf::IgnoredExtensions(model);
   GS_ASSIGN_OR_RETURN(scene.lights, gltf::ImportLights(model));
   std::vector<int> camera_map;
   GS_ASSIGN_OR_RETURN(scene.cameras, gltf::ImportCameras(model, &camera_map));

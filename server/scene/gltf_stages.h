@@ -15,6 +15,11 @@
 
 namespace gistream::gltf {
 
+// gltf_extensions.cpp: the extensions the file uses (extensionsUsed, and
+// any found on materials, textures, nodes, meshes and the document) that
+// import does not read, sorted: what LoadScene reports as ignored.
+std::vector<std::string> IgnoredExtensions(const tinygltf::Model& model);
+
 // gltf_lights.cpp: KHR_lights_punctual lights.
 absl::StatusOr<std::vector<Light>> ImportLights(const tinygltf::Model& model);
 

@@ -227,6 +227,11 @@ struct Scene {
   std::vector<Skin> skins;
   std::vector<Animation> animations;
 
+  // glTF extensions the file uses that gistream renders without (sorted;
+  // LoadScene's answer lists them): e.g. KHR_materials_ior, whose index of
+  // refraction the BRDF does not read (README, "glTF support").
+  std::vector<std::string> ignored_extensions;
+
   // Filled by import: totals over every node instance of every mesh.
   uint64_t triangle_count = 0;
   uint64_t vertex_count = 0;

@@ -164,6 +164,8 @@ struct SceneInfo {
   // whole-primitive levels (or the full mesh). 0 for a scene loaded before.
   uint32_t proxy_trees_skipped = 0;
   uint32_t proxy_levels_skipped = 0;
+  // glTF extensions the file uses that the render ignores (Scene's).
+  std::vector<std::string> ignored_extensions;
 };
 
 // ---------------------------------------------------------------- sessions

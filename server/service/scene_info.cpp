@@ -13,6 +13,7 @@ SceneInfo DescribeScene(const SceneId& id, const SceneState& state) {
   info.triangle_count = scene.triangle_count;
   info.vertex_count = scene.vertex_count;
   info.has_environment = scene.environment.has_value();
+  info.ignored_extensions = scene.ignored_extensions;
   for (size_t i = 0; i < scene.animations.size(); ++i) {
     const Animation& a = scene.animations[i];
     info.animations.push_back({uint32_t(i), a.name, a.start, a.end});

@@ -124,5 +124,19 @@ TEST(DescribeScene, SaysWhenTheServerSkippedProxies) {
       << DescribeScene("x64", info);
 }
 
+// The glTF extensions the server rendered without are named (issue 29).
+TEST(DescribeScene, NamesTheIgnoredExtensions) {
+  v1::LoadSceneResponse info;
+  info.set_scene_id("box-1");
+  EXPECT_EQ(DescribeScene("box", info).find("ignored"), std::string::npos);
+  info.add_ignored_extensions("KHR_materials_ior");
+  info.add_ignored_extensions("KHR_materials_specular");
+  EXPECT_NE(DescribeScene("box", info)
+                .find("\nignored glTF extensions (rendered without them): KHR_materials_ior, "
+                      "KHR_materials_specular"),
+            std::string::npos)
+      << DescribeScene("box", info);
+}
+
 }  // namespace
 }  // namespace gistream::client
