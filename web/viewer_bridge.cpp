@@ -1,6 +1,7 @@
 #include <atomic>
 #include "viewer_bridge.h"
 
+#include "resumable_session.h"
 #include "util/log.h"
 
 #include <algorithm>
@@ -174,9 +175,28 @@ struct Link {
   grpc::ClientContext context;
   std::unique_ptr<grpc::ClientReaderWriter<v1::SessionRequest, v1::SessionEvent>> stream;
   std::mutex write_mutex;  // one write at a time (the reader thread sends the config)
+  bool replayed = false;   // config and the page's changes sent (ChangeLog::mutex)
   bool Write(const v1::SessionRequest& r) {
     std::lock_guard lock(write_mutex);
     return stream->Write(r);
+  }
+};
+
+// The page's changes to the scene (lights, materials, camera), compacted as
+// a moving client's are (client/resumable_session.h): sent again after the
+// config of every session the viewer opens, so a backend that restarted or
+// a server the balancer moved the viewer to shows what the page had set.
+// A new scene from the picker starts it afresh.
+struct ChangeLog {
+  std::mutex mutex;
+  std::vector<std::pair<std::string, v1::SessionRequest>> entries;
+  void Add(const v1::SessionRequest& request) {
+    if (!request.has_update()) return;
+    const std::string key = client::UpdateTargetKey(request.update());
+    if (!key.empty()) {
+      std::erase_if(entries, [&](const auto& entry) { return entry.first == key; });
+    }
+    entries.emplace_back(key, request);
   }
 };
 
@@ -232,10 +252,18 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
     // Events are read on their own thread (the gRPC sync API blocks) and
     // handed to this session's executor.
     std::weak_ptr<Viewer> weak = weak_from_this();
-    std::thread([weak, link = link_, config = options_.config, executor = ws_.get_executor()] {
+    std::thread([weak, link = link_, config = options_.config, changes = changes_,
+                 executor = ws_.get_executor()] {
       v1::SessionRequest first;
       *first.mutable_config() = config;
-      link->Write(first);
+      {
+        // Under the log's lock: a change the page sends meanwhile is either
+        // in this replay or written after it.
+        std::lock_guard lock(changes->mutex);
+        link->Write(first);
+        for (const auto& [key, request] : changes->entries) link->Write(request);
+        link->replayed = true;
+      }
       v1::SessionEvent event;
       while (link->stream->Read(&event)) {
         std::string message;
@@ -252,6 +280,20 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
                         .dump();
         } else if (event.has_opened()) {
           message = json{{"type", "opened"}, {"session_id", event.opened().session_id()}}.dump();
+        } else if (event.has_draining()) {
+          // The server shuts down: open the session again now (behind a
+          // balancer it lands on another server; the scene is reloaded
+          // there by name and the page's changes replayed).
+          net::post(executor, [weak, link] {
+            auto self = weak.lock();
+            if (!self || self->link_ != link) return;
+            self->Send(
+                json{{"type", "error"}, {"message", "the server is draining: moving the session"}}
+                    .dump(),
+                false, false);
+            self->StartLink();
+          });
+          continue;
         } else {
           continue;
         }
@@ -272,10 +314,11 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
 
   // The session ended. After a backend restart the scene id is unknown
   // (NOT_FOUND): the scene is loaded again by name and a new session
-  // opened; while the backend is unreachable or drains (UNAVAILABLE) the
-  // session is reopened every second, up to kMaxReconnects times. The page
-  // is told each step.
+  // opened (the page's changes replayed); while the backend is unreachable
+  // or drains (UNAVAILABLE, CANCELLED) the session is reopened every
+  // second, up to kMaxReconnects times. The page is told each step.
   void OnLinkClosed(grpc::StatusCode code, const std::string& text) {
+    if (page_gone_) return;
     Send(json{{"type", "closed"}, {"code", int(code)}, {"message", text}}.dump(), false, false);
     Log(code == grpc::StatusCode::CANCELLED ? LogLevel::kDebug : LogLevel::kWarning,
         "viewer " + peer_ + ": session ended: " + std::to_string(int(code)) + " " + text);
@@ -289,7 +332,11 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
       LoadScene(options_.scene_name);
       return;
     }
-    if (code == grpc::StatusCode::UNAVAILABLE && reconnects_ < kMaxReconnects) {
+    // CANCELLED: a server shutting down cancels the calls it will not
+    // serve (the gateway's own cancels replace the link, which is then no
+    // longer current and does not get here).
+    if ((code == grpc::StatusCode::UNAVAILABLE || code == grpc::StatusCode::CANCELLED) &&
+        reconnects_ < kMaxReconnects) {
       reconnects_ += 1;
       Send(json{{"type", "error"},
                 {"message", "server unavailable: reconnecting (" + std::to_string(reconnects_) +
@@ -375,6 +422,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   void Read() {
     ws_.async_read(buffer_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
       if (ec) {
+        self->page_gone_ = true;  // no reconnects for a page that left
         self->link_->context.TryCancel();
         return;
       }
@@ -394,9 +442,16 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
       if (message.at("type") == "config") {
         ApplyConfig(message);
       } else if (message.at("type") == "scene") {
+        {
+          std::lock_guard lock(changes_->mutex);  // another scene: its own changes
+          changes_->entries.clear();
+        }
         LoadScene(message.at("name").get<std::string>());
       } else {
-        link_->Write(RequestFromJson(message));
+        const v1::SessionRequest request = RequestFromJson(message);
+        std::lock_guard lock(changes_->mutex);
+        changes_->Add(request);
+        if (link_->replayed) link_->Write(request);
       }
     } catch (const std::exception& e) {
       Send(json{{"type", "error"}, {"message", std::string("bad message: ") + e.what()}}.dump(),
@@ -471,6 +526,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
                     [self = shared_from_this()](beast::error_code ec, std::size_t) {
                       self->queue_.pop_front();
                       if (ec) {
+                        self->page_gone_ = true;
                         self->link_->context.TryCancel();
                         self->queue_.clear();
                         self->writing_ = false;
@@ -498,6 +554,8 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   std::string peer_;  // the browser's address, for log lines
   static constexpr int kMaxReconnects = 60;
   int reconnects_ = 0, reloads_ = 0;
+  bool page_gone_ = false;  // its WebSocket failed: the link was cancelled for good
+  std::shared_ptr<ChangeLog> changes_ = std::make_shared<ChangeLog>();
   net::steady_timer retry_{ws_.get_executor()};
 };
 

@@ -226,6 +226,7 @@ sys.exit("healthz stayed 200 with gistreamd gone")
 EOF
 "$BIN/gistreamd" --listen "127.0.0.1:$PORT" --scenes "$SCENES" >"$TMP/d2.log" 2>"$TMP/d2.err" &
 PID=$!
+echo $PID >"$TMP/backend.pid"
 for _ in $(seq 300); do grep -q "listening on" "$TMP/d2.log" && break; sleep 0.1; done
 PYTHONPATH="$(dirname "$0")" python3 - "$HOSTPORT" <<'EOF' || fail "a viewer after the backend restarted"
 import socket, struct, sys, time, json
@@ -259,6 +260,52 @@ EOF
 grep -q "backend 127.0.0.1:$PORT not serving" "$TMP/w5.err" || fail "the backend's loss was not logged"
 grep -q "viewer 127.0.0.1:[0-9]* opened" "$TMP/w5.err" || fail "a viewer was not logged"
 kill $WEB 2>/dev/null; wait $WEB 2>/dev/null
+
+# A viewer open across a backend restart keeps what its page changed
+# (issue 31, drain and resume): the gateway replays the page's changes on
+# the new server's session (the lamp's strength, seq 41 here).
+start_web w5b --solver direct
+PYTHONPATH="$(dirname "$0")" python3 - "$HOSTPORT" "$BIN" "127.0.0.1:$PORT" "$SCENES" "$TMP" <<'EOF' || fail "the page's changes after a backend restart"
+import json, subprocess, sys, time
+from ws_client import Viewer
+host, port = sys.argv[1].rsplit(":", 1)
+bin_dir, backend, scenes, tmp = sys.argv[2:6]
+viewer = Viewer(host, port)
+def until_frame(texts, deadline):
+    while time.monotonic() < deadline:
+        opcode, message = viewer.message()
+        if opcode == 2:
+            return True
+        texts.append(json.loads(message).get("message", ""))
+    return False
+texts = []
+if not until_frame(texts, time.monotonic() + 60):
+    sys.exit("no first frame")
+viewer.send({"type": "material", "material": 3, "emissive_strength": 20.0, "seq": 41})
+time.sleep(1.0)
+old = int(open(f"{tmp}/backend.pid").read())
+subprocess.run(["kill", str(old)])  # SIGTERM: the drain
+time.sleep(1.0)
+new = subprocess.Popen([f"{bin_dir}/gistreamd", "--listen", backend, "--scenes", scenes],
+                       stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+open(f"{tmp}/backend.pid", "w").write(str(new.pid))
+if not new.stdout.readline().startswith("listening on"):
+    sys.exit("gistreamd did not restart")
+texts = []
+deadline = time.monotonic() + 60  # a hang bound
+while time.monotonic() < deadline:
+    if until_frame(texts, deadline) and any("loading it again" in t for t in texts):
+        break
+else:
+    sys.exit(f"no frame after the restart; messages: {texts}")
+status = subprocess.run([f"{bin_dir}/gistream", "--server", backend, "status"],
+                        capture_output=True, text=True).stdout
+rows = [l for l in status.splitlines() if "session-" in l]
+print("after the restart:", rows)
+sys.exit(0 if rows and rows[0].split()[-1] == "41" else f"the new session's last seq is not 41:\n{status}")
+EOF
+kill $WEB 2>/dev/null; wait $WEB 2>/dev/null
+PID=$(cat "$TMP/backend.pid")
 
 # What a page may ask for (issue 30): --solvers and --page-params limit the
 # picker and are enforced on the WebSocket; --max-messages drops a flood.
