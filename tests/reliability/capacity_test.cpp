@@ -6,12 +6,12 @@
 // llvmpipe, 32 x 32.
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <chrono>
 #include <memory>
 #include <thread>
 
 #include "reliability/reliability_fixture.h"
+#include "support/frame_queue.h"
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {
@@ -25,14 +25,6 @@ bool Eventually(Pred pred, std::chrono::milliseconds limit = 60s) {
   while (!pred() && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(10ms);
   return pred();
 }
-
-class CountingSink final : public FrameSink {
- public:
-  void OnFrame(std::shared_ptr<const EncodedFrame>) override { frames += 1; }
-  void OnUpdateRejected(uint64_t, const absl::Status&) override {}
-  void OnSessionFailed(const absl::Status&) override {}
-  std::atomic<int> frames{0};
-};
 
 SessionConfig Config(const std::string& scene) {
   SessionConfig config;
@@ -57,13 +49,13 @@ TEST(Capacity, ASessionPastTheRenderBusyLimitIsRefusedUntilTheOthersRest) {
   EXPECT_EQ(e.stats().max_render_busy, 0.01);
 
   // The first session is admitted whatever the load (nothing active).
-  auto first_sink = std::make_shared<CountingSink>();
+  auto first_sink = std::make_shared<testing::FrameQueue>();
   auto first = e.OpenSession(Config(scene->id), first_sink);
   ASSERT_TRUE(first.ok()) << first.status();
-  ASSERT_TRUE(Eventually([&] { return first_sink->frames > 0; }));
+  ASSERT_NE(first_sink->Next(), nullptr);
   // While it renders (its first frame, then refinement) the render thread
   // is measurably busy and the session counts as active.
-  auto second_sink = std::make_shared<CountingSink>();
+  auto second_sink = std::make_shared<testing::FrameQueue>();
   absl::StatusOr<SessionOpenInfo> refused = absl::UnknownError("not tried");
   ASSERT_TRUE(Eventually([&] {
     const EngineStats stats = e.stats();
