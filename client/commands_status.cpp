@@ -27,7 +27,10 @@ absl::Status RunStatus(const ConnectionOptions& connection_options, const Status
   v1::ServerStatus status;
   GS_RETURN_IF_ERROR(
       connection.Call(&v1::Gistream::Stub::GetServerStatus, v1::GetServerStatusRequest(), &status));
-  std::cout << "server           " << connection.server() << "\n"
+  std::cout << "server           " << connection.server()
+            << (status.instance().empty() ? ""
+                                          : absl::StrCat(" (instance ", status.instance(), ")"))
+            << "\n"
             << "version          " << (status.version().empty() ? "-" : status.version()) << "\n"
             << "uptime           " << Uptime(status.uptime_s()) << "\n"
             << "GL vendor        " << status.gl_vendor() << "\n"
