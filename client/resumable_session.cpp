@@ -195,9 +195,12 @@ bool ResumableSession::Next(v1::SessionEvent* event) {
         {
           // After a move, frames rendered before the replayed updates were
           // applied show the scene as loaded: not shown.
+          // A frame the old call still delivered after a drain's move
+          // swapped it out is older than the new server's first: dropped.
           std::lock_guard lock(mutex_);
-          if (stream == stream_ && event->frame().last_update_seq() < hide_below_seq_) continue;
-          if (stream == stream_) hide_below_seq_ = 0;
+          if (stream != stream_) continue;
+          if (event->frame().last_update_seq() < hide_below_seq_) continue;
+          hide_below_seq_ = 0;
         }
         OnFrame(event->frame(), stream.get());
       }
