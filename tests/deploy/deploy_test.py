@@ -183,29 +183,47 @@ class ManifestTest(unittest.TestCase):
         self.assertEqual(sorted(manifest, key=key), sorted(rendered, key=key))
 
     def test_balancer_reaches_the_chart_service_by_hash(self):
+        """deploy/k8s/balancer.yaml runs deploy/haproxy/haproxy.cfg (the file
+        the fleet test runs) unchanged, with TLS on both sides, against the
+        chart's headless Service."""
         with open(os.path.join(ROOT, "deploy", "k8s", "balancer.yaml")) as f:
             docs = {d["kind"]: d for d in yaml.safe_load_all(f) if d}
-        envoy = yaml.safe_load(docs["ConfigMap"]["data"]["envoy.yaml"])["static_resources"]
-        (cluster,) = envoy["clusters"]
-        self.assertEqual(cluster["type"], "STRICT_DNS")  # every pod of the headless Service
-        self.assertEqual(cluster["lb_policy"], "RING_HASH")
-        address = cluster["load_assignment"]["endpoints"][0]["lb_endpoints"][0]["endpoint"][
-            "address"]["socket_address"]
+        with open(os.path.join(ROOT, "deploy", "haproxy", "haproxy.cfg")) as f:
+            tested = f.read()
+        self.assertEqual(docs["ConfigMap"]["data"]["haproxy.cfg"], tested)
+        self.assertIn("balance hdr(x-gistream-affinity)", tested)
+        self.assertIn("hash-type consistent", tested)
+        pod = docs["Deployment"]["spec"]["template"]["spec"]
+        (container,) = pod["containers"]
+        env = {e["name"]: e.get("value") for e in container["env"]}
+        # Every variable the file reads is set: both TLS sides on.
+        for name in set(re.findall(r"\$\{(\w+)\}", tested)):
+            self.assertIn(name, env, name)
         (service,) = render()["Service"]
-        self.assertEqual(address["address"], service["metadata"]["name"])
-        self.assertEqual(service["spec"]["clusterIP"], "None")
-        self.assertEqual(address["port_value"], 50051)
-        self.assertIn("UpstreamTlsContext", cluster["transport_socket"]["typed_config"]["@type"])
-        manager = envoy["listeners"][0]["filter_chains"][0]["filters"][0]["typed_config"]
-        (route,) = manager["route_config"]["virtual_hosts"][0]["routes"]
-        self.assertEqual(route["route"]["timeout"], "0s")  # sessions are long streams
-        self.assertEqual([h["header"]["header_name"] for h in route["route"]["hash_policy"]],
-                         ["x-gistream-affinity", "authorization"])
-        # The pods' CA comes from the chart's TLS secret.
-        volumes = {v["name"]: v for v in docs["Deployment"]["spec"]["template"]["spec"]["volumes"]}
+        host, port = env["GISTREAM_SERVERS"].rsplit(":", 1)
+        self.assertEqual(host, service["metadata"]["name"] + ".$(POD_NAMESPACE).svc.cluster.local")
+        self.assertEqual(service["spec"]["clusterIP"], "None")  # DNS lists every ready pod
+        self.assertEqual(int(port), 50051)
+        self.assertEqual(env["GISTREAM_UPSTREAM_NAME"], service["metadata"]["name"])
+        self.assertEqual(int(env["GISTREAM_LB_BIND"].lstrip(":")),
+                         container["ports"][0]["containerPort"])
+        # Enough server slots for the autoscaler's largest fleet.
+        slots = int(re.search(r"server-template \w+ (\d+)", tested).group(1))
+        with open(os.path.join(ROOT, "deploy", "helm", "gistream", "values.yaml")) as f:
+            self.assertGreaterEqual(slots, yaml.safe_load(f)["autoscaling"]["maxReplicas"])
+        # The pods' CA comes from the chart's TLS secret; the key sits where
+        # HAProxy looks for it ("<certificate>.key").
+        volumes = {v["name"]: v for v in pod["volumes"]}
         self.assertEqual(volumes["upstream"]["secret"]["secretName"],
                          render()["Deployment"][0]["spec"]["template"]["spec"]["volumes"][0][
                              "secret"]["secretName"])
+        mounts = {m["name"]: m["mountPath"] for m in container["volumeMounts"]}
+        items = {i["key"]: i["path"] for i in volumes["tls"]["secret"]["items"]}
+        self.assertEqual(env["GISTREAM_LB_CERT"], mounts["tls"] + "/" + items["tls.crt"])
+        self.assertEqual(items["tls.key"], items["tls.crt"] + ".key")
+        self.assertEqual(env["GISTREAM_UPSTREAM_CA"], mounts["upstream"] + "/ca.crt")
+        self.assertIn("/etc/haproxy/config/haproxy.cfg", container["args"])
+        self.assertEqual(mounts["config"], "/etc/haproxy/config")
 
     def test_compose(self):
         with open(os.path.join(ROOT, "deploy", "compose.yaml")) as f:

@@ -46,12 +46,12 @@ def free_port():
         return s.getsockname()[1]
 
 
-def start_server():
+def start_server(extra=()):
     # Its log goes to a file (a pipe nobody reads would fill and block it).
     log = tempfile.NamedTemporaryFile(prefix="gistreamd_", suffix=".log", delete=False)
     proc = subprocess.Popen(
         [os.environ["GISTREAMD"], "--listen", "127.0.0.1:0", "--scenes",
-         os.environ["GISTREAM_SCENES"], "--shutdown-deadline-s", "20"],
+         os.environ["GISTREAM_SCENES"], "--shutdown-deadline-s", "20", *extra],
         stdout=subprocess.PIPE, stderr=log, text=True)
     proc.log_path = log.name
     line = proc.stdout.readline()
@@ -74,16 +74,17 @@ def render_config(servers, bind):
 
 
 class Balancer:
-    def __init__(self, servers, port):
+    def __init__(self, servers, port, env=None):
         self.dir = tempfile.mkdtemp(prefix="gistream_fleet_")
         self.config = os.path.join(self.dir, "haproxy.cfg")
         with open(self.config, "w") as f:
             f.write(render_config(servers, f"127.0.0.1:{port}"))
+        env = {**os.environ, **(env or {})}
         check = subprocess.run(["haproxy", "-c", "-f", self.config], capture_output=True,
-                               text=True)
+                               text=True, env=env)
         if check.returncode != 0:
             raise RuntimeError(f"haproxy -c: {check.stdout}{check.stderr}")
-        self.proc = subprocess.Popen(["haproxy", "-db", "-f", self.config],
+        self.proc = subprocess.Popen(["haproxy", "-db", "-f", self.config], env=env,
                                      stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         self.address = f"127.0.0.1:{port}"
         deadline = time.monotonic() + 10
@@ -252,6 +253,53 @@ class FleetTest(unittest.TestCase):
     def test_5_failover_after_kill(self):
         proc, _ = self.run_bench_and_stop("failover-tenant", lambda p: p.kill())
         self.assertEqual(proc.wait(timeout=30), -signal.SIGKILL)
+
+
+
+class TlsFleetTest(unittest.TestCase):
+    """The configuration deploy/k8s/balancer.yaml runs: TLS from the client
+    to HAProxy and from HAProxy to gistreamd (GISTREAM_LB_CERT,
+    GISTREAM_UPSTREAM_CA and GISTREAM_UPSTREAM_NAME), certificates from
+    scripts/dev_certs.sh."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.mkdtemp(prefix="gistream_fleet_tls_")
+        subprocess.run([os.path.join(HERE, "..", "..", "scripts", "dev_certs.sh"), cls.dir],
+                       check=True)
+        tls = lambda name: os.path.join(cls.dir, name)
+        # HAProxy finds a certificate's key in "<certificate>.key" (the k8s
+        # manifest mounts the secret's tls.key there).
+        with open(tls("server.key")) as src, open(tls("server.crt.key"), "w") as dst:
+            dst.write(src.read())
+        cls.ca = tls("ca.crt")
+        cls.server, address = start_server(
+            ["--tls-cert", tls("server.crt"), "--tls-key", tls("server.key")])
+        cls.port = free_port()
+        cls.balancer = Balancer([address], cls.port, env={
+            "GISTREAM_LB_CERT": tls("server.crt"),
+            "GISTREAM_UPSTREAM_CA": cls.ca,
+            "GISTREAM_UPSTREAM_NAME": "localhost",
+        })
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.balancer.close()
+        cls.server.terminate()
+        cls.server.wait(timeout=30)
+
+    def test_tls_on_both_sides(self):
+        with open(self.ca, "rb") as f:
+            credentials = grpc.ssl_channel_credentials(root_certificates=f.read())
+        with grpc.secure_channel(self.balancer.address, credentials) as channel:
+            status = gistream_pb2_grpc.GistreamStub(channel).GetServerStatus(
+                gistream_pb2.GetServerStatusRequest(), timeout=10)
+        self.assertEqual(status.instance.split("/")[-1], str(self.server.pid))
+        # The frontend speaks nothing but TLS.
+        with grpc.insecure_channel(self.balancer.address) as channel:
+            with self.assertRaises(grpc.RpcError):
+                gistream_pb2_grpc.GistreamStub(channel).GetServerStatus(
+                    gistream_pb2.GetServerStatusRequest(), timeout=5)
 
 
 if __name__ == "__main__":
