@@ -51,8 +51,12 @@ test: build
 format:
 	@bash scripts/format.sh --fix
 
+# COMMIT: the commit built, shown by --version (default this checkout's
+# HEAD; set it when CONTEXT is another tree).
+COMMIT ?= $(shell git rev-parse --short=12 HEAD 2>/dev/null)
 image:
-	$(ENGINE) $(ENGINE_OPTS) build $(BUILD_OPTS) -f $(CONTEXT)/deploy/Dockerfile -t $(IMAGE) $(CONTEXT)
+	$(ENGINE) $(ENGINE_OPTS) build $(BUILD_OPTS) --build-arg GISTREAM_COMMIT=$(COMMIT) \
+	  -f $(CONTEXT)/deploy/Dockerfile -t $(IMAGE) $(CONTEXT)
 
 clean:
 	rm -rf $(BUILD_DIR) out

@@ -3,7 +3,8 @@
 # as shipped (TLS, bearer tokens, read-only root, no capabilities), waits for
 # health on the plaintext health port, renders one frame over TLS with a
 # token (and sees UNAUTHENTICATED without one), then stops it and checks it
-# exited 0 within the grace period. Prints build time, image size, startup
+# exited 0 within the grace period, and that gistreamd and gistream-web
+# print a version with the commit. Prints build time, image size, startup
 # and first-frame time.
 #
 #   deploy/smoke_test.sh [--no-build]
@@ -102,4 +103,16 @@ code=$(engine inspect --format '{{.State.ExitCode}}' "$cid")
 awk -v s="$stopped" -v g="$GRACE_S" 'BEGIN { exit !(s < g) }' || fail "stop took $stopped s (grace $GRACE_S s)"
 engine logs "$cid" 2>&1 | grep -q "shut down" || fail "no 'shut down' in the log"
 echo "smoke: stopped in $stopped s (grace $GRACE_S s), exit 0"
+
+# Both servers start from the image and name the commit they were built
+# from (`make image` passes it; the context has no .git).
+for bin in gistreamd gistream-web; do
+  # shellcheck disable=SC2086
+  version=$(engine run --rm $RUN_OPTS --entrypoint "/usr/local/bin/$bin" "$IMAGE" --version) ||
+    fail "$bin --version"
+  echo "smoke: $version"
+  if [ "${1:-}" != "--no-build" ] && ! [[ $version =~ \+[0-9a-f]{7,}$ ]]; then
+    fail "$bin's version names no commit: $version"
+  fi
+done
 echo "smoke: PASS"

@@ -1,5 +1,6 @@
 #include "http_server.h"
 
+#include "gateway_metrics.h"
 #include "util/log.h"
 
 #include <chrono>
@@ -98,8 +99,10 @@ PendingConnections& Pending() {
 
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
-  HttpSession(tcp::socket socket, const ViewerOptions& options)
-      : stream_(std::move(socket)), options_(options) {}
+  // `metrics_port`: a connection to --metrics-listen, which answers
+  // /metrics alone (the viewers' port does not serve it).
+  HttpSession(tcp::socket socket, const ViewerOptions& options, bool metrics_port)
+      : stream_(std::move(socket)), options_(options), metrics_port_(metrics_port) {}
   ~HttpSession() { Unregister(); }
   void Start() {
     while (Pending().size() >= std::max<size_t>(options_.max_pending_connections, 1) &&
@@ -138,9 +141,20 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     response->result(http::status::not_found);
     response->set(http::field::content_type, "text/plain");
     response->body() = "not found\n";
+    path_ = target.substr(0, target.find('?'));
+    if (metrics_port_) {
+      if (path_ == "/metrics") {
+        response->result(http::status::ok);
+        response->set(http::field::content_type, "text/plain; version=0.0.4");
+        response->body() = Metrics().Text(LiveViewers(), options_.backend.get());
+      }
+      Send(response);
+      return;
+    }
     if (beast::websocket::is_upgrade(request_) && target.rfind("/ws", 0) == 0) {
       const std::string origin(request_[http::field::origin]);
       if (LiveViewers() >= options_.max_viewers) {
+        Metrics().UpgradeRefused(GatewayMetrics::Refusal::kViewers);
         response->result(http::status::service_unavailable);
         response->set(http::field::retry_after, "5");
         response->body() = "too many viewers (gistream-web --max-viewers " +
@@ -150,9 +164,11 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       }
       if (OriginAllowed(origin, std::string(request_[http::field::host]),
                         options_.allowed_origins)) {
+        Metrics().RequestAnswered("/ws", 101);
         StartViewer(stream_.release_socket(), std::move(request_), options_);
         return;
       }
+      Metrics().UpgradeRefused(GatewayMetrics::Refusal::kOrigin);
       // A page on another site must not drive sessions under this
       // gateway's token (cross-site WebSocket hijacking).
       Log(LogLevel::kWarning, "refused a WebSocket from origin '" + origin + "' (--allow-origin)");
@@ -161,7 +177,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       Send(response);
       return;
     }
-    const std::string path = target.substr(0, target.find('?'));
+    const std::string& path = path_;
     if (path == "/healthz") {
       // Whether browsers can be served now: the gateway answers, and so
       // does its gistreamd (a restarted, draining or unreachable backend
@@ -190,6 +206,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   }
 
   void Send(const std::shared_ptr<http::response<http::string_body>>& response) {
+    Metrics().RequestAnswered(path_, response->result_int());
     response->prepare_payload();
     stream_.expires_after(kHeaderTimeout);  // a reader that never reads is closed too
     http::async_write(stream_, *response,
@@ -203,6 +220,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   beast::flat_buffer buffer_;
   http::request<http::string_body> request_;
   const ViewerOptions& options_;
+  const bool metrics_port_;
+  std::string path_;  // the request's path, for the request counter
   PendingConnections::List::iterator slot_;
   bool registered_ = false;
 };
@@ -221,57 +240,56 @@ bool PendingConnections::CloseOldest() {
   return false;
 }
 
-void Accept(tcp::acceptor& acceptor, net::steady_timer& back_off, const ViewerOptions& options) {
-  acceptor.async_accept([&acceptor, &back_off, &options](beast::error_code ec, tcp::socket socket) {
-    if (!ec) {
-      std::make_shared<HttpSession>(std::move(socket), options)->Start();
-      Accept(acceptor, back_off, options);
-      return;
-    }
-    if (ec == boost::system::errc::too_many_files_open ||
-        ec == boost::system::errc::too_many_files_open_in_system) {
-      // Out of descriptors: free the oldest pending connection's and try
-      // again shortly rather than spinning on the same error.
-      const bool freed = Pending().CloseOldest();
-      static uint64_t logged = 0;
-      if (logged++ % 1000 == 0) {
-        Log(LogLevel::kWarning,
-            "accept: " + ec.message() + " (" +
-                (freed ? "closed the oldest pending connection" : "none pending") +
-                "; backing off)");
-      }
-      back_off.expires_after(kAcceptBackOff);
-      back_off.async_wait([&acceptor, &back_off, &options](beast::error_code) {
-        Accept(acceptor, back_off, options);
+void Accept(tcp::acceptor& acceptor, net::steady_timer& back_off, const ViewerOptions& options,
+            bool metrics_port) {
+  acceptor.async_accept(
+      [&acceptor, &back_off, &options, metrics_port](beast::error_code ec, tcp::socket socket) {
+        if (!ec) {
+          std::make_shared<HttpSession>(std::move(socket), options, metrics_port)->Start();
+          Accept(acceptor, back_off, options, metrics_port);
+          return;
+        }
+        if (ec == boost::system::errc::too_many_files_open ||
+            ec == boost::system::errc::too_many_files_open_in_system) {
+          // Out of descriptors: free the oldest pending connection's and try
+          // again shortly rather than spinning on the same error.
+          const bool freed = Pending().CloseOldest();
+          static uint64_t logged = 0;
+          if (logged++ % 1000 == 0) {
+            Log(LogLevel::kWarning,
+                "accept: " + ec.message() + " (" +
+                    (freed ? "closed the oldest pending connection" : "none pending") +
+                    "; backing off)");
+          }
+          back_off.expires_after(kAcceptBackOff);
+          back_off.async_wait([&acceptor, &back_off, &options, metrics_port](beast::error_code) {
+            Accept(acceptor, back_off, options, metrics_port);
+          });
+          return;
+        }
+        Accept(acceptor, back_off, options, metrics_port);
       });
-      return;
-    }
-    Accept(acceptor, back_off, options);
-  });
 }
 
-}  // namespace
-
-int Serve(const std::string& address, const ViewerOptions& options,
-          const std::function<void(const std::string&)>& on_listening) {
+// Binds and listens on `address` ("HOST:PORT", port 0 picks one) for the
+// flag `flag`; 0, else the exit code after printing why.
+int Listen(tcp::acceptor& acceptor, const std::string& address, const char* flag) {
   const size_t colon = address.rfind(':');
   if (colon == std::string::npos) {
-    std::cerr << "error: --listen: expected HOST:PORT, got '" << address << "'\n";
+    std::cerr << "error: " << flag << ": expected HOST:PORT, got '" << address << "'\n";
     return 2;
   }
-  net::io_context io{1};
   beast::error_code ec;
   const auto host = net::ip::make_address(address.substr(0, colon), ec);
   if (ec) {
-    std::cerr << "error: --listen: " << ec.message() << "\n";
+    std::cerr << "error: " << flag << ": " << ec.message() << "\n";
     return 2;
   }
-  tcp::acceptor acceptor(io);
   const std::string port_text = address.substr(colon + 1);
   char* end = nullptr;
   const long port = std::strtol(port_text.c_str(), &end, 10);
   if (port_text.empty() || *end != '\0' || port < 0 || port > 65535) {
-    std::cerr << "error: --listen: port '" << port_text << "' is not 0..65535\n";
+    std::cerr << "error: " << flag << ": port '" << port_text << "' is not 0..65535\n";
     return 2;
   }
   const tcp::endpoint endpoint(host, uint16_t(port));
@@ -280,13 +298,38 @@ int Serve(const std::string& address, const ViewerOptions& options,
   if (!ec) acceptor.bind(endpoint, ec);
   if (!ec) acceptor.listen(net::socket_base::max_listen_connections, ec);
   if (ec) {
-    std::cerr << "error: --listen " << address << ": " << ec.message() << "\n";
+    std::cerr << "error: " << flag << " " << address << ": " << ec.message() << "\n";
     return 1;
   }
+  return 0;
+}
+
+std::string Bound(const tcp::acceptor& acceptor) {
   const tcp::endpoint bound = acceptor.local_endpoint();
-  on_listening(bound.address().to_string() + ":" + std::to_string(bound.port()));
-  net::steady_timer back_off(io);
-  Accept(acceptor, back_off, options);
+  return bound.address().to_string() + ":" + std::to_string(bound.port());
+}
+
+}  // namespace
+
+int Serve(const std::string& address, const ViewerOptions& options,
+          const std::function<void(const std::string&)>& on_listening) {
+  net::io_context io{1};
+  tcp::acceptor acceptor(io), metrics(io);
+  if (const int rc = Listen(acceptor, address, "--listen"); rc != 0) return rc;
+  if (!options.metrics_listen.empty()) {
+    if (const int rc = Listen(metrics, options.metrics_listen, "--metrics-listen"); rc != 0) {
+      return rc;
+    }
+  }
+  on_listening(Bound(acceptor));
+  net::steady_timer back_off(io), metrics_back_off(io);
+  Accept(acceptor, back_off, options, false);
+  if (metrics.is_open()) {
+    const std::string bound = Bound(metrics);
+    std::cout << "metrics on http://" << bound << "/metrics" << std::endl;
+    Log(LogLevel::kInfo, "metrics on http://" + bound + "/metrics");
+    Accept(metrics, metrics_back_off, options, true);
+  }
   io.run();
   return 0;
 }

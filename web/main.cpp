@@ -8,7 +8,7 @@
 //                [--tls] [--ca FILE] [--cert FILE --key FILE] [--token TOKEN]
 //                [--allow-origin ORIGIN]... [--max-connections N]
 //                [--max-viewers N] [--solvers NAME,...] [--page-params NAME,...|none]
-//                [--max-messages N] [--version]
+//                [--max-messages N] [--metrics-listen HOST:PORT] [--version]
 // The upstream channel to gistreamd takes the CLI's TLS and token options
 // (client/connection.h); the token defaults to $GISTREAM_TOKEN.
 #include <algorithm>
@@ -49,6 +49,7 @@ int Usage() {
          "                    [--cert FILE --key FILE] [--token TOKEN] [--allow-origin ORIGIN]...\n"
          "                    [--max-connections N] [--max-viewers N] [--solvers NAME,...]\n"
          "                    [--page-params NAME,...|none] [--max-messages N]\n"
+         "                    [--metrics-listen HOST:PORT]\n"
          "--tls/--ca/--cert/--key/--token: the channel to gistreamd, as in gistream\n"
          "(token default $GISTREAM_TOKEN).\n"
          "--scenes: the page's scene picker (default: the bundled scenes).\n"
@@ -63,6 +64,8 @@ int Usage() {
          "--max-connections N: connections still sending their request (default 256;\n"
          "at the limit a new one closes the oldest); --max-viewers N: WebSocket\n"
          "viewers at once (default 64; beyond: 503). Both 1 to 100000.\n"
+         "--metrics-listen HOST:PORT: serve Prometheus metrics on http://HOST:PORT/metrics\n"
+         "(a port of its own, not the viewers'; default off).\n"
          "--version: print the version and exit.\n"
          "Serves the viewer on http://HOST:PORT/ (default 127.0.0.1:8080), bridged to\n"
          "gistreamd at --server (default $GISTREAM_SERVER, else 127.0.0.1:50051).\n";
@@ -154,6 +157,8 @@ int main(int argc, char** argv) {
         return Usage();
       }
       options.max_messages_per_second = n;
+    } else if (flag == "--metrics-listen") {
+      options.metrics_listen = value;
     } else if (flag == "--allow-origin") {
       options.allowed_origins.push_back(value);
     } else if (flag == "--ca" || flag == "--cert" || flag == "--key") {

@@ -1,6 +1,7 @@
 #include <atomic>
 #include "viewer_bridge.h"
 
+#include "gateway_metrics.h"
 #include "resumable_session.h"
 #include "util/log.h"
 
@@ -236,6 +237,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
     peer_ = ec ? "?" : remote.address().to_string() + ":" + std::to_string(remote.port());
     Log(LogLevel::kInfo, "viewer " + peer_ + " opened (" + (h264_ ? "h264" : "jpeg") + ", " +
                              std::to_string(live_viewers.load()) + " live)");
+    Metrics().ViewerOpened(h264_);
     SendScene();
     StartLink();
     Read();
@@ -268,8 +270,10 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
       while (link->stream->Read(&event)) {
         std::string message;
         bool binary = false, key = false, has_image = false;
+        uint64_t seq = 0;
         if (event.has_frame()) {
           message = FrameMessage(event.frame());
+          seq = event.frame().last_update_seq();
           binary = true;
           key = event.frame().key_frame();
           has_image = !event.frame().image().empty();
@@ -287,6 +291,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
           net::post(executor, [weak, link] {
             auto self = weak.lock();
             if (!self || self->link_ != link) return;
+            Metrics().SessionReopened(GatewayMetrics::Reopen::kDraining);
             self->Send(
                 json{{"type", "error"}, {"message", "the server is draining: moving the session"}}
                     .dump(),
@@ -297,13 +302,13 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
         } else {
           continue;
         }
-        net::post(executor,
-                  [weak, link, message = std::move(message), binary, key, has_image]() mutable {
-                    auto self = weak.lock();
-                    if (self && self->link_ == link) {
-                      self->OnServerMessage(std::move(message), binary, key, has_image);
-                    }
-                  });
+        net::post(executor, [weak, link, message = std::move(message), binary, key, has_image,
+                             seq]() mutable {
+          auto self = weak.lock();
+          if (self && self->link_ == link) {
+            self->OnServerMessage(std::move(message), binary, key, has_image, seq);
+          }
+        });
       }
       const grpc::Status status = link->stream->Finish();
       net::post(executor, [weak, link, text = status.error_message(), code = status.error_code()] {
@@ -324,6 +329,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
         "viewer " + peer_ + ": session ended: " + std::to_string(int(code)) + " " + text);
     if (code == grpc::StatusCode::NOT_FOUND && reloads_ == 0) {
       reloads_ += 1;
+      Metrics().SessionReopened(GatewayMetrics::Reopen::kSceneLost);
       Send(json{{"type", "error"},
                 {"message", "the server lost scene " + options_.scene_name +
                                 " (it restarted?): loading it again"}}
@@ -338,6 +344,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
     if ((code == grpc::StatusCode::UNAVAILABLE || code == grpc::StatusCode::CANCELLED) &&
         reconnects_ < kMaxReconnects) {
       reconnects_ += 1;
+      Metrics().SessionReopened(GatewayMetrics::Reopen::kUnavailable);
       Send(json{{"type", "error"},
                 {"message", "server unavailable: reconnecting (" + std::to_string(reconnects_) +
                                 " of " + std::to_string(kMaxReconnects) + ")"}}
@@ -351,11 +358,18 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
     }
   }
 
-  void OnServerMessage(std::string message, bool binary, bool key, bool has_image) {
+  void OnServerMessage(std::string message, bool binary, bool key, bool has_image, uint64_t seq) {
     if (binary) reconnects_ = reloads_ = 0;  // frames flow again
     if (!binary) {
       Send(std::move(message), false, false);
       return;
+    }
+    // The updates this frame is the first to show.
+    const auto now = std::chrono::steady_clock::now();
+    while (!forwarded_.empty() && forwarded_.front().first <= seq) {
+      Metrics().UpdateAnswered(
+          std::chrono::duration<double>(now - forwarded_.front().second).count());
+      forwarded_.pop_front();
     }
     // A browser behind by two frames loses the queued ones. Delta frames
     // after a lost H.264 frame cannot be decoded: drop them until a key
@@ -363,6 +377,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
     size_t queued_frames = 0;
     for (size_t i = writing_ ? 1 : 0; i < queue_.size(); ++i) queued_frames += queue_[i].frame;
     if (queued_frames >= 2) {
+      Metrics().FramesDropped(queued_frames);
       std::deque<Outgoing> kept;
       for (size_t i = 0; i < queue_.size(); ++i) {
         if ((i == 0 && writing_) || !queue_[i].frame) kept.push_back(std::move(queue_[i]));
@@ -375,7 +390,10 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
         link_->Write(r);
       }
     }
-    if (h264_ && awaiting_key_ && has_image && !key) return;
+    if (h264_ && awaiting_key_ && has_image && !key) {
+      Metrics().FramesDropped(1);
+      return;
+    }
     if (key && has_image) awaiting_key_ = false;
     Send(std::move(message), true, true);
   }
@@ -449,6 +467,11 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
         LoadScene(message.at("name").get<std::string>());
       } else {
         const v1::SessionRequest request = RequestFromJson(message);
+        if (request.has_update() && request.update().seq() > 0) {
+          // Timed to the first frame that shows it (a page's seqs rise).
+          if (forwarded_.size() >= kMaxForwarded) forwarded_.pop_front();
+          forwarded_.emplace_back(request.update().seq(), std::chrono::steady_clock::now());
+        }
         std::lock_guard lock(changes_->mutex);
         changes_->Add(request);
         if (link_->replayed) link_->Write(request);
@@ -499,6 +522,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
       return true;
     }
     dropped_ += 1;
+    Metrics().MessageDropped();
     if (now - last_drop_notice_ >= std::chrono::seconds(1)) {
       last_drop_notice_ = now;
       Send(json{{"type", "error"},
@@ -523,7 +547,8 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
     writing_ = true;
     ws_.binary(queue_.front().binary);
     ws_.async_write(net::buffer(queue_.front().data),
-                    [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                    [self = shared_from_this()](beast::error_code ec, std::size_t bytes) {
+                      if (!ec && self->queue_.front().frame) Metrics().FrameSent(bytes);
                       self->queue_.pop_front();
                       if (ec) {
                         self->page_gone_ = true;
@@ -557,6 +582,10 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   bool page_gone_ = false;  // its WebSocket failed: the link was cancelled for good
   std::shared_ptr<ChangeLog> changes_ = std::make_shared<ChangeLog>();
   net::steady_timer retry_{ws_.get_executor()};
+  // Updates forwarded and not yet shown by a frame: (seq, when), oldest
+  // first, for gistream_web_update_to_frame_seconds.
+  static constexpr size_t kMaxForwarded = 256;
+  std::deque<std::pair<uint64_t, std::chrono::steady_clock::time_point>> forwarded_;
 };
 
 }  // namespace

@@ -58,6 +58,8 @@ struct ViewerOptions {
   // The backend's health, polled (backend_health.h): /healthz answers 503
   // while it does not serve. Null: /healthz answers for the gateway alone.
   std::shared_ptr<const BackendHealth> backend;
+  // Where /metrics is served (--metrics-listen HOST:PORT; empty: nowhere).
+  std::string metrics_listen;
 };
 
 // Viewers running now (each holds a gistreamd session).

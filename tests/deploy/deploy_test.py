@@ -162,6 +162,44 @@ class ChartTest(unittest.TestCase):
         # The metric the HPA reads is served.
         self.assertEqual(flag(args, "--metrics-listen"), "0.0.0.0:9464")
 
+    def test_web_gateway(self):
+        """gistream-web in the chart (web.enabled): TLS to the chart's
+        gistreamd checked against its CA, its token from a Secret, a GI
+        solver, bounded pages, probes on /healthz, metrics on their port."""
+        self.assertNotIn("web", [d["metadata"]["name"].split("-")[-1]
+                                 for d in render().get("Deployment", [])])
+        docs = render({"web": {"enabled": True, "allowOrigins": ["https://viewer.example"]}})
+        (web,) = [d for d in docs["Deployment"] if d["metadata"]["name"] == "gistream-web"]
+        pod = web["spec"]["template"]["spec"]
+        (container,) = pod["containers"]
+        args = container["args"]
+        self.assertEqual(container["command"], ["/usr/local/bin/gistream-web"])
+        (gistreamd_service,) = [s for s in docs["Service"]
+                                if s["metadata"]["name"] == "gistream-gistreamd"]
+        host, port = flag(args, "--server").rsplit(":", 1)
+        self.assertEqual((host, int(port)), (gistreamd_service["metadata"]["name"], 50051))
+        self.assertEqual(flag(args, "--solver"), "antiradiance")
+        self.assertNotIn("pathtrace", flag(args, "--solvers"))
+        self.assertEqual(flag(args, "--page-params"), "none")
+        self.assertEqual(flag(args, "--allow-origin"), "https://viewer.example")
+        ports = {p["name"]: p["containerPort"] for p in container["ports"]}
+        self.assertEqual(flag(args, "--listen"), f"0.0.0.0:{ports['http']}")
+        self.assertEqual(flag(args, "--metrics-listen"), f"0.0.0.0:{ports['metrics']}")
+        self.assertEqual(container["readinessProbe"]["httpGet"]["path"], "/healthz")
+        (token,) = container["env"]
+        self.assertEqual(token["name"], "GISTREAM_TOKEN")
+        self.assertEqual(token["valueFrom"]["secretKeyRef"]["key"], "token")
+        # The CA that checks gistreamd is the chart's TLS secret's.
+        (tls,) = pod["volumes"]
+        self.assertEqual(tls["secret"]["secretName"], "gistream-tls")
+        (mount,) = container["volumeMounts"]
+        self.assertEqual(flag(args, "--ca"), mount["mountPath"] + "/ca.crt")
+        self.assertTrue(container["securityContext"]["readOnlyRootFilesystem"])
+        self.assertTrue(pod["securityContext"]["runAsNonRoot"])
+        (service,) = [s for s in docs["Service"] if s["metadata"]["name"] == "gistream-web"]
+        self.assertEqual(service["spec"]["selector"], web["spec"]["selector"]["matchLabels"])
+        self.assertEqual({p["targetPort"] for p in service["spec"]["ports"]}, set(ports))
+
     def test_metrics_without_service_monitor(self):
         docs = render({"metrics": {"enabled": True}})
         self.assertNotIn("ServiceMonitor", docs)

@@ -310,7 +310,7 @@ PID=$(cat "$TMP/backend.pid")
 # What a page may ask for (issue 30): --solvers and --page-params limit the
 # picker and are enforced on the WebSocket; --max-messages drops a flood.
 start_web w6 --solver direct --solvers direct,antiradiance --page-params area_samples \
-  --max-messages 5
+  --max-messages 5 --metrics-listen 127.0.0.1:0
 PYTHONPATH="$(dirname "$0")" python3 - "$HOSTPORT" <<'EOF' || fail "page limits"
 import sys, time
 from ws_client import Viewer
@@ -344,5 +344,68 @@ expect_error("params.shadow_res: not settable from this page")
 for i in range(40):
     send({"type": "key_frame"})
 expect_error("too many messages")
+EOF
+
+# Metrics (issue 31): on --metrics-listen's port alone, counting what the
+# gateway did above (a flood dropped) and below (an origin refused, a
+# viewer's update timed to the frame that shows it).
+for _ in $(seq 100); do grep -q "^metrics on" "$TMP/w6.log" && break; sleep 0.1; done
+METRICS=$(sed -n 's/^metrics on http:\/\/\([^/ ]*\)\/metrics/\1/p' "$TMP/w6.log")
+[ -n "$METRICS" ] || fail "gistream-web printed no metrics address"
+PYTHONPATH="$(dirname "$0")" python3 - "$HOSTPORT" "$METRICS" <<'EOF' || fail "metrics"
+import re, socket, struct, json, sys, urllib.error, urllib.request
+from ws_client import Viewer
+host, port = sys.argv[1].rsplit(":", 1)
+
+def scrape():
+    with urllib.request.urlopen(f"http://{sys.argv[2]}/metrics", timeout=10) as r:
+        return r.read().decode()
+
+def value(text, name, labels=""):
+    m = re.search(rf"^{re.escape(name + labels)} (\S+)$", text, re.M)
+    return float(m.group(1)) if m else None
+
+try:
+    urllib.request.urlopen(f"http://{sys.argv[1]}/metrics", timeout=10)
+    sys.exit("the viewers' port serves /metrics")
+except urllib.error.HTTPError as e:
+    if e.code != 404:
+        sys.exit(f"the viewers' port answered /metrics with {e.code}, not 404")
+s = socket.create_connection((host, int(port)), timeout=10)
+s.sendall((f"GET /ws HTTP/1.1\r\nHost: {host}:{port}\r\nUpgrade: websocket\r\n"
+           "Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+           "Sec-WebSocket-Version: 13\r\nOrigin: http://evil.example\r\n\r\n").encode())
+s.recv(4096)
+s.close()
+viewer = Viewer(host, port)
+viewer.next_text()  # the scene
+viewer.send({"type": "material", "material": 3, "emissive_strength": 12.0, "seq": 7})
+for _ in range(40):  # frames, or a keep-alive a second at rest
+    opcode, payload = viewer.message()
+    if opcode == 1:
+        print("text:", payload[:200])
+    if opcode == 2:
+        n = struct.unpack("<I", payload[:4])[0]
+        if json.loads(payload[4:4 + n])["seq"] >= 7:
+            break
+else:
+    sys.exit("no frame showing seq 7")
+text = scrape()
+checks = {
+    ("gistream_web_viewers_opened_total", '{format="jpeg"}'): lambda v: v >= 2,
+    ("gistream_web_upgrades_refused_total", '{reason="origin"}'): lambda v: v >= 1,
+    ("gistream_web_messages_dropped_total", ""): lambda v: v >= 1,
+    ("gistream_web_frames_sent_total", ""): lambda v: v >= 1,
+    ("gistream_web_frame_bytes_sent_total", ""): lambda v: v > 0,
+    ("gistream_web_update_to_frame_seconds_count", ""): lambda v: v >= 1,
+    ("gistream_web_viewers", ""): lambda v: v == 1,
+    ("gistream_web_backend_serving", ""): lambda v: v == 1,
+    ("gistream_web_http_requests_total", '{code="404",path="/metrics"}'): lambda v: v >= 1,
+}
+for (name, labels), ok in checks.items():
+    v = value(text, name, labels)
+    print(f"{name}{labels} = {v}")
+    if v is None or not ok(v):
+        sys.exit(f"{name}{labels} is {v}:\n{text}")
 EOF
 echo "PASS"
