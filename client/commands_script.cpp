@@ -14,6 +14,7 @@
 #include "frame_writer.h"
 #include "interrupt.h"
 #include "progress_line.h"
+#include "resumable_session.h"
 #include "scene_loader.h"
 #include "script.h"
 #include "session_common.h"
@@ -97,9 +98,13 @@ absl::Status RunScript(const ConnectionOptions& connection_options, const Script
         absl::StrCat(options.file.string(), ": ", timeline.status().message()));
   }
 
-  GS_ASSIGN_OR_RETURN(
-      std::unique_ptr<SessionStream> stream,
-      SessionStream::Open(connection.stub(), MakeConfig(script, scene->id()), connection.server()));
+  ResumeOptions resume{.connection = connection_options,
+                       .load = load,
+                       .give_up_after_s = options.resume_for_s,
+                       .group = nullptr};
+  GS_ASSIGN_OR_RETURN(std::unique_ptr<ResumableSession> stream,
+                      ResumableSession::Open(connection.stub(), MakeConfig(script, scene->id()),
+                                             connection.server(), std::move(resume)));
   std::cout << FormatSessionOpened(stream->opened()) << std::endl;
   // Frame by frame, with a bar and an ETA from the frames so far.
   progress.Wait(absl::StrCat("frame 1/", timeline->frames()));
@@ -183,6 +188,9 @@ absl::Status RunScript(const ConnectionOptions& connection_options, const Script
   std::cout << FormatStatsTable(stats.Summarize())
             << FormatWrittenFrames(writer, static_cast<uint64_t>(saved), script.encoding.format())
             << std::endl;
+  for (const ResumableSession::Move& move : stream->moves()) {
+    std::cout << FormatMove(move) << std::endl;
+  }
   if (!ended.ok()) return ended;
   if (!interrupted && saved < timeline->frames()) {
     return absl::AbortedError(absl::StrCat("the server ended the session after ", saved, " of ",

@@ -265,6 +265,7 @@ absl::StatusOr<ScriptOptions> ParseScript(const ParsedFlags& flags) {
     options.out_dir = *value;
   }
   options.keep_scene = flags.Has("keep-scene");
+  GS_RETURN_IF_ERROR(ApplyResumeFor(flags, options.resume_for_s));
   return options;
 }
 
@@ -509,7 +510,7 @@ absl::StatusOr<CommandLine> ParseCommandLine(std::span<const std::string> args,
       break;
     case Command::kScript:
       specs = Concat({&kConnectionFlags});
-      specs.insert(specs.end(), {{"out"}, {"keep-scene", false}});
+      specs.insert(specs.end(), {{"out"}, {"keep-scene", false}, {"resume-for"}});
       break;
     case Command::kEval:
       specs = Concat({&kConnectionFlags});

@@ -86,6 +86,7 @@ struct ScriptOptions {
   std::filesystem::path file;
   std::filesystem::path out_dir = "out";
   bool keep_scene = false;
+  float resume_for_s = 15.0f;  // a move's time to reconnect (0: no moves)
 };
 
 struct StatusOptions {};

@@ -117,6 +117,36 @@ bool ResumableSession::SendUpdate(const v1::Update& update) {
   return sent || resume_.give_up_after_s > 0.0;
 }
 
+bool ResumableSession::RequestFrame(uint32_t count) {
+  std::lock_guard lock(mutex_);
+  if (writes_closed_ || cancelled_) return false;
+  frames_requested_ += count;
+  // Under the lock, as SendUpdate: a request is either owed by the call a
+  // move leaves (and asked again of the new one) or sent on the new call.
+  const bool sent = stream_->RequestFrame(count);
+  return sent || resume_.give_up_after_s > 0.0;
+}
+
+void ResumableSession::RequestOwedFrames(SessionStream& stream, bool handshake,
+                                         std::deque<v1::SessionEvent>& first_events) {
+  if (!on_request_) return;
+  uint64_t owed = frames_requested_ - std::min(frames_received_, frames_requested_);
+  bool handshake_kept = false;
+  if (handshake) {
+    if (owed == 0) {
+      // Nobody asked for the frame that proved the new server works.
+      std::erase_if(first_events, [](const v1::SessionEvent& e) { return e.has_frame(); });
+    } else {
+      owed -= 1;  // it answers the first request owed
+      handshake_kept = true;
+    }
+  }
+  if (owed > 0) stream.RequestFrame(uint32_t(std::min<uint64_t>(owed, UINT32_MAX)));
+  // The new call's count: the kept handshake is received when handed out.
+  frames_requested_ = owed + (handshake_kept ? 1 : 0);
+  frames_received_ = 0;
+}
+
 void ResumableSession::OnFrame(const v1::Frame& frame, const SessionStream* from) {
   std::lock_guard lock(mutex_);
   const Clock::time_point now = Clock::now();
@@ -159,7 +189,13 @@ bool ResumableSession::Next(v1::SessionEvent* event) {
       }
     }
     if (pending) {  // what a drain's move read from the new call first
-      if (event->has_frame()) OnFrame(event->frame(), stream.get());
+      if (event->has_frame()) {
+        {
+          std::lock_guard lock(mutex_);
+          frames_received_ += 1;
+        }
+        OnFrame(event->frame(), stream.get());
+      }
       return true;
     }
     if (stream->Next(event)) {
@@ -199,6 +235,7 @@ bool ResumableSession::Next(v1::SessionEvent* event) {
           // swapped it out is older than the new server's first: dropped.
           std::lock_guard lock(mutex_);
           if (stream != stream_) continue;
+          frames_received_ += 1;  // shown or not, it answered a request
           if (event->frame().last_update_seq() < hide_below_seq_) continue;
           hide_below_seq_ = 0;
         }
@@ -296,7 +333,9 @@ absl::Status ResumableSession::MoveTo(const std::string& reason, bool make_befor
     if (stream.ok() && make_before_break) {
       // The old server still streams: switch once the new one has a frame
       // that shows the replayed updates (earlier ones would show the scene
-      // as loaded: the block jumping back for a frame).
+      // as loaded: the block jumping back for a frame). Paced on request,
+      // the new server renders one when asked (RequestOwedFrames).
+      if (on_request_) (*stream)->RequestFrame(1);
       v1::SessionEvent event;
       bool framed = false;
       while (!framed && (*stream)->Next(&event)) {
@@ -315,13 +354,24 @@ absl::Status ResumableSession::MoveTo(const std::string& reason, bool make_befor
       {
         std::lock_guard lock(mutex_);
         // What was sent on the old call meanwhile (logged after the replay).
+        // The new call's first frame predates it: not shown (the old call
+        // may have shown those updates already; the picture must not go
+        // back), and frames are shown from the one that has them.
+        uint64_t newest_seq = replayed_seq;
         for (const Logged& logged : log_) {
-          if (logged.number > replayed_upto) (*stream)->SendUpdate(logged.update);
+          if (logged.number <= replayed_upto) continue;
+          (*stream)->SendUpdate(logged.update);
+          newest_seq = std::max(newest_seq, logged.update.seq());
         }
+        const bool first_frame_current = newest_seq == replayed_seq;
+        if (!first_frame_current) {
+          std::erase_if(first_events, [](const v1::SessionEvent& e) { return e.has_frame(); });
+        }
+        RequestOwedFrames(**stream, make_before_break && first_frame_current, first_events);
         old = std::exchange(stream_, std::shared_ptr<SessionStream>(*std::move(stream)));
         targets_.push_back(*std::move(target));
         pending_events_ = std::move(first_events);
-        hide_below_seq_ = replayed_seq;
+        hide_below_seq_ = newest_seq;
         if (writes_closed_) stream_->CloseWrites();
       }
       Log(LogLevel::kInfo,

@@ -11,7 +11,9 @@
 // returning events. No acknowledged update is lost: every update is
 // replayed, acknowledged (echoed by a frame) or not.
 //
-// The interface is SessionStream's, so `stream` and `bench` use either.
+// The interface is SessionStream's, so `stream`, `bench` and `script` use
+// either. A session paced on request (`script`) gets, on the new server,
+// the frames it had asked for and not yet received.
 #pragma once
 
 #include <chrono>
@@ -122,6 +124,9 @@ class ResumableSession {
   // Logs the update, then sends it on the current call. True unless writes
   // are closed: an update sent while a move is under way is replayed by it.
   bool SendUpdate(const v1::Update& update);
+  // Asks for `count` frames (on-request pacing). A move asks the new server
+  // for those the old one had not delivered. True unless writes are closed.
+  bool RequestFrame(uint32_t count = 1);
   // Blocks for the next event, moving to another server when this one
   // drains or goes away; false at the end (Finish says why). One reader.
   bool Next(v1::SessionEvent* event);
@@ -145,6 +150,13 @@ class ResumableSession {
   // first frame, which the reader then delivers first.
   absl::Status MoveTo(const std::string& reason, bool make_before_break);
   void OnFrame(const v1::Frame& frame, const SessionStream* from);
+  // On-request pacing: at a move's swap (under the lock), asks `stream` for
+  // the frames the old call owes. `handshake`: `first_events` holds the
+  // frame a drain's move asked for to see the new server's first picture
+  // (showing every update sent); it answers the first frame owed, or is
+  // dropped when nothing was owed.
+  void RequestOwedFrames(SessionStream& stream, bool handshake,
+                         std::deque<v1::SessionEvent>& first_events);
 
   const std::string server_;
   const v1::SessionConfig config_;
@@ -164,6 +176,10 @@ class ResumableSession {
   // A drain's new call, its events up to its first frame (make before
   // break: the swap waits for it); the reader hands them out first.
   std::deque<v1::SessionEvent> pending_events_;
+  // On-request pacing: frames asked of the current call, and received
+  // from it (their difference is what a move asks the next server for).
+  const bool on_request_ = config_.has_on_request();
+  uint64_t frames_requested_ = 0, frames_received_ = 0;
   // After a move: the new call's frames older than its replay are skipped.
   uint64_t hide_below_seq_ = 0;
   bool writes_closed_ = false;

@@ -129,15 +129,21 @@ and frames go on; each move is printed with its time.
 
 constexpr absl::string_view kScript =
     R"(usage: gistream [--server ADDR] script FILE [--out DIR] [--keep-scene]
+                [--resume-for SEC]
 
 Plays the JSON timeline FILE in a session paced on request: for each frame
 it sends that frame's updates (increasing seq numbers), asks for one frame,
 waits for the frame that includes the last update, and saves it as
 DIR/frame_00000.jpg, ... Frames must echo the update seq numbers in order.
-At the end prints the same timing table as `stream`.
+At the end prints the same timing table as `stream`. When the server
+drains or goes away, the session moves as `stream`'s does (the scene loaded
+again through the same address, the updates sent so far replayed, the
+frame asked for asked of the new server) and the script goes on.
 
-  --out DIR      output directory (default out/)
-  --keep-scene   leave the scene loaded on the server afterwards
+  --out DIR          output directory (default out/)
+  --keep-scene       leave the scene loaded on the server afterwards
+  --resume-for SEC   how long one move may keep trying before the script
+                     fails (default 15; 0: never move)
 
 The script format is described in README.md (see scenes/cornell_orbit.json):
 scene, solver, params, size, format, frames, tracks (camera_orbit,

@@ -23,6 +23,7 @@ is bounded (bench --duration, timeouts on every wait).
 Run by ctest (fleet) with GISTREAMD, GISTREAM, GISTREAM_SCENES and
 PYTHONPATH (build/python) set."""
 
+import json
 import os
 import re
 import signal
@@ -254,6 +255,53 @@ class FleetTest(unittest.TestCase):
         proc, _ = self.run_bench_and_stop("failover-tenant", lambda p: p.kill())
         self.assertEqual(proc.wait(timeout=30), -signal.SIGKILL)
 
+    def test_6_script_moves_on_drain(self):
+        """`gistream script` (frames on request) moves too: every frame is
+        written, each showing exactly the updates sent for it (the script's
+        echo check), the one asked for during the move asked again of the
+        new server. Its own balancer: the server left by the tests above
+        and a fresh one."""
+        live = [a for p, a in self.servers if p.poll() is None]
+        fresh = start_server()
+        self.servers.append(fresh)
+        procs = {}
+        for proc, address in [(p, a) for p, a in self.servers if p.poll() is None]:
+            with grpc.insecure_channel(address) as channel:
+                procs[gistream_pb2_grpc.GistreamStub(channel).GetServerStatus(
+                    gistream_pb2.GetServerStatusRequest(), timeout=30).instance] = proc
+        balancer = Balancer(live + [fresh[1]], free_port())
+        try:
+            key = "script-tenant"
+            (holder,) = instance_for(balancer.address, key)
+            work = tempfile.mkdtemp(prefix="gistream_fleet_script_")
+            frames = 40
+            with open(os.path.join(work, "orbit.json"), "w") as f:
+                f.write(json.dumps({
+                    "scene": "cornell_box", "solver": "direct", "size": [32, 32],
+                    "format": "png", "frames": frames,
+                    "tracks": [{"type": "camera_orbit", "target": [0.278, 0.274, 0.28],
+                                "radius": 1.08, "height": 0.274, "start_deg": -104,
+                                "end_deg": -76, "yfov_degrees": 39.3}]}))
+            out_dir = os.path.join(work, "out")
+            run = subprocess.Popen(
+                [os.environ["GISTREAM"], "--server", balancer.address, "--affinity", key,
+                 "script", os.path.join(work, "orbit.json"), "--out", out_dir],
+                stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+            written = lambda: len(os.listdir(out_dir)) if os.path.isdir(out_dir) else 0
+            deadline = time.monotonic() + 60
+            while written() < 8 and time.monotonic() < deadline and run.poll() is None:
+                time.sleep(0.02)
+            self.assertGreaterEqual(written(), 8, "the script wrote no frames")
+            self.assertLess(written(), frames, "the script ended before the drain")
+            procs[holder].send_signal(signal.SIGTERM)
+            out, _ = run.communicate(timeout=120)
+            self.assertEqual(run.returncode, 0, out)
+            self.assertEqual(written(), frames, out)
+            self.assertRegex(out, r"moved at [0-9.]+ s \(draining\)", out)
+            print("\n".join(l for l in out.splitlines() if "moved" in l or "wrote" in l))
+            self.assertEqual(procs[holder].wait(timeout=60), 0)
+        finally:
+            balancer.close()
 
 
 class TlsFleetTest(unittest.TestCase):
