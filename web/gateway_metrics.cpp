@@ -61,6 +61,7 @@ struct GatewayMetrics::Impl {
           .Register(registry);
   prometheus::Counter& refused_origin = refused.Add({{"reason", "origin"}});
   prometheus::Counter& refused_viewers = refused.Add({{"reason", "viewers"}});
+  prometheus::Counter& refused_token = refused.Add({{"reason", "token"}});
   prometheus::Family<prometheus::Counter>& opened =
       prometheus::BuildCounter()
           .Name("gistream_web_viewers_opened_total")
@@ -118,7 +119,10 @@ void GatewayMetrics::RequestAnswered(std::string_view path, unsigned status) {
 }
 
 void GatewayMetrics::UpgradeRefused(Refusal why) {
-  (why == Refusal::kOrigin ? impl_->refused_origin : impl_->refused_viewers).Increment();
+  (why == Refusal::kOrigin    ? impl_->refused_origin
+   : why == Refusal::kViewers ? impl_->refused_viewers
+                              : impl_->refused_token)
+      .Increment();
 }
 
 void GatewayMetrics::ViewerOpened(bool h264) {

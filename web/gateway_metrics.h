@@ -17,7 +17,7 @@ class BackendHealth;
 class GatewayMetrics {
  public:
   // Why an upgrade to /ws was answered without a viewer.
-  enum class Refusal { kOrigin, kViewers };
+  enum class Refusal { kOrigin, kViewers, kToken };
   // Why a viewer's gistreamd session was opened again.
   enum class Reopen { kDraining, kUnavailable, kSceneLost };
 

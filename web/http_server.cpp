@@ -164,8 +164,29 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       }
       if (OriginAllowed(origin, std::string(request_[http::field::host]),
                         options_.allowed_origins)) {
+        std::string who;
+        if (options_.viewer_tokens) {
+          const std::optional<std::string> token = ViewerToken(request_);
+          const std::optional<TenantId> tenant =
+              token ? options_.viewer_tokens->TenantOf(*token) : std::nullopt;
+          if (!tenant) {
+            // Logged without the token, at most once a second.
+            Metrics().UpgradeRefused(GatewayMetrics::Refusal::kToken);
+            LogRefusal("refused a WebSocket " +
+                       std::string(token ? "with an unknown" : "without a") +
+                       " viewer token from " + Peer() + " (--viewer-tokens)");
+            response->result(http::status::unauthorized);
+            response->set(http::field::www_authenticate, "Bearer realm=\"gistream-web\"");
+            response->body() =
+                "a viewer token is required (open the page as /#token=TOKEN; gistream-web "
+                "--viewer-tokens)\n";
+            Send(response);
+            return;
+          }
+          who = *tenant;
+        }
         Metrics().RequestAnswered("/ws", 101);
-        StartViewer(stream_.release_socket(), std::move(request_), options_);
+        StartViewer(stream_.release_socket(), std::move(request_), options_, std::move(who));
         return;
       }
       Metrics().UpgradeRefused(GatewayMetrics::Refusal::kOrigin);
@@ -203,6 +224,29 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       }
     }
     Send(response);
+  }
+
+  std::string Peer() {
+    beast::error_code ec;
+    const tcp::endpoint remote = stream_.socket().remote_endpoint(ec);
+    return ec ? "?" : remote.address().to_string();
+  }
+
+  // A refusal's log line, at most one a second (a client retrying in a
+  // loop must not flood the log); the ones left out are counted.
+  static void LogRefusal(const std::string& line) {
+    static std::chrono::steady_clock::time_point last{};
+    static uint64_t suppressed = 0;
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last < std::chrono::seconds(1)) {
+      suppressed += 1;
+      return;
+    }
+    last = now;
+    Log(LogLevel::kWarning,
+        line + (suppressed > 0 ? " (and " + std::to_string(suppressed) + " more since the last)"
+                               : ""));
+    suppressed = 0;
   }
 
   void Send(const std::shared_ptr<http::response<http::string_body>>& response) {

@@ -8,7 +8,8 @@
 //                [--tls] [--ca FILE] [--cert FILE --key FILE] [--token TOKEN]
 //                [--allow-origin ORIGIN]... [--max-connections N]
 //                [--max-viewers N] [--solvers NAME,...] [--page-params NAME,...|none]
-//                [--max-messages N] [--metrics-listen HOST:PORT] [--version]
+//                [--max-messages N] [--metrics-listen HOST:PORT]
+//                [--viewer-tokens FILE] [--version]
 // The upstream channel to gistreamd takes the CLI's TLS and token options
 // (client/connection.h); the token defaults to $GISTREAM_TOKEN.
 #include <algorithm>
@@ -49,7 +50,7 @@ int Usage() {
          "                    [--cert FILE --key FILE] [--token TOKEN] [--allow-origin ORIGIN]...\n"
          "                    [--max-connections N] [--max-viewers N] [--solvers NAME,...]\n"
          "                    [--page-params NAME,...|none] [--max-messages N]\n"
-         "                    [--metrics-listen HOST:PORT]\n"
+         "                    [--metrics-listen HOST:PORT] [--viewer-tokens FILE]\n"
          "--tls/--ca/--cert/--key/--token: the channel to gistreamd, as in gistream\n"
          "(token default $GISTREAM_TOKEN).\n"
          "--scenes: the page's scene picker (default: the bundled scenes).\n"
@@ -66,6 +67,9 @@ int Usage() {
          "viewers at once (default 64; beyond: 503). Both 1 to 100000.\n"
          "--metrics-listen HOST:PORT: serve Prometheus metrics on http://HOST:PORT/metrics\n"
          "(a port of its own, not the viewers'; default off).\n"
+         "--viewer-tokens FILE: viewers must present a token of FILE (gistreamd's\n"
+         "--auth-tokens format): the page is opened as http://HOST:PORT/#token=TOKEN\n"
+         "(default: no viewer tokens; the Origin check alone).\n"
          "--version: print the version and exit.\n"
          "Serves the viewer on http://HOST:PORT/ (default 127.0.0.1:8080), bridged to\n"
          "gistreamd at --server (default $GISTREAM_SERVER, else 127.0.0.1:50051).\n";
@@ -157,6 +161,13 @@ int main(int argc, char** argv) {
         return Usage();
       }
       options.max_messages_per_second = n;
+    } else if (flag == "--viewer-tokens") {
+      absl::StatusOr<AuthTokens> tokens = AuthTokens::Load(value);
+      if (!tokens.ok()) {
+        std::cerr << "gistream-web: --viewer-tokens: " << tokens.status().message() << "\n";
+        return 2;
+      }
+      options.viewer_tokens = std::make_shared<const AuthTokens>(*std::move(tokens));
     } else if (flag == "--metrics-listen") {
       options.metrics_listen = value;
     } else if (flag == "--allow-origin") {

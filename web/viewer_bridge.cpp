@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include <absl/strings/escaping.h>
 #include <boost/asio/post.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/beast/core.hpp>
@@ -205,8 +206,12 @@ std::atomic<size_t> live_viewers{0};
 
 class Viewer : public std::enable_shared_from_this<Viewer> {
  public:
-  Viewer(tcp::socket socket, const ViewerOptions& options, bool h264)
-      : ws_(std::move(socket)), options_(options), h264_(h264), link_(std::make_shared<Link>()) {
+  Viewer(tcp::socket socket, const ViewerOptions& options, bool h264, std::string who)
+      : ws_(std::move(socket)),
+        options_(options),
+        h264_(h264),
+        who_(std::move(who)),
+        link_(std::make_shared<Link>()) {
     options_.config.mutable_encoding()->set_format(h264 ? v1::IMAGE_FORMAT_H264
                                                         : v1::IMAGE_FORMAT_JPEG);
     live_viewers.fetch_add(1);
@@ -219,6 +224,14 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
 
   void Start(http::request<http::string_body> request) {
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    // A page that offers subprotocols gets "gistream" selected (a browser
+    // fails a connection whose answer selects none of those it offered).
+    if (request[http::field::sec_websocket_protocol].find(kSubprotocol) !=
+        beast::string_view::npos) {
+      ws_.set_option(websocket::stream_base::decorator([](websocket::response_type& response) {
+        response.set(http::field::sec_websocket_protocol, kSubprotocol);
+      }));
+    }
     ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
       if (!ec) self->OnAccepted();
     });
@@ -236,6 +249,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
     const auto remote = beast::get_lowest_layer(ws_).socket().remote_endpoint(ec);
     peer_ = ec ? "?" : remote.address().to_string() + ":" + std::to_string(remote.port());
     Log(LogLevel::kInfo, "viewer " + peer_ + " opened (" + (h264_ ? "h264" : "jpeg") + ", " +
+                             (who_.empty() ? "" : who_ + ", ") +
                              std::to_string(live_viewers.load()) + " live)");
     Metrics().ViewerOpened(h264_);
     SendScene();
@@ -564,6 +578,7 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
   websocket::stream<beast::tcp_stream> ws_;
   ViewerOptions options_;
   const bool h264_;
+  const std::string who_;  // the viewer token's name ("" without viewer tokens)
   std::shared_ptr<Link> link_;
   beast::flat_buffer buffer_;
   std::deque<Outgoing> queue_;
@@ -592,11 +607,36 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
 
 size_t LiveViewers() { return live_viewers.load(); }
 
+std::optional<std::string> ViewerToken(const http::request<http::string_body>& request) {
+  const beast::string_view authorization_header = request[http::field::authorization];
+  const std::string_view authorization(authorization_header.data(), authorization_header.size());
+  if (authorization.substr(0, 7) == "Bearer ") return std::string(authorization.substr(7));
+  const beast::string_view offered_header = request[http::field::sec_websocket_protocol];
+  const std::string_view offered(offered_header.data(), offered_header.size());
+  for (size_t begin = 0; begin < offered.size();) {
+    const size_t end = std::min(offered.find(',', begin), offered.size());
+    std::string_view protocol = offered.substr(begin, end - begin);
+    while (!protocol.empty() && protocol.front() == ' ') protocol.remove_prefix(1);
+    while (!protocol.empty() && protocol.back() == ' ') protocol.remove_suffix(1);
+    if (protocol.substr(0, sizeof(kTokenSubprotocolPrefix) - 1) == kTokenSubprotocolPrefix) {
+      std::string token;
+      const std::string_view encoded = protocol.substr(sizeof(kTokenSubprotocolPrefix) - 1);
+      if (absl::WebSafeBase64Unescape(absl::string_view(encoded.data(), encoded.size()), &token)) {
+        return token;
+      }
+      return std::nullopt;
+    }
+    begin = end + 1;
+  }
+  return std::nullopt;
+}
+
 void StartViewer(tcp::socket socket, http::request<http::string_body> request,
-                 const ViewerOptions& options) {
+                 const ViewerOptions& options, std::string who) {
   const std::string target(request.target());
   const bool h264 = target.find("format=h264") != std::string::npos;
-  std::make_shared<Viewer>(std::move(socket), options, h264)->Start(std::move(request));
+  std::make_shared<Viewer>(std::move(socket), options, h264, std::move(who))
+      ->Start(std::move(request));
 }
 
 }  // namespace gistream::web

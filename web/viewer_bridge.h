@@ -14,6 +14,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,7 @@
 #include "gistream/v1/gistream.grpc.pb.h"
 
 #include "backend_health.h"
+#include "util/auth_tokens.h"
 
 namespace gistream::web {
 
@@ -60,15 +62,32 @@ struct ViewerOptions {
   std::shared_ptr<const BackendHealth> backend;
   // Where /metrics is served (--metrics-listen HOST:PORT; empty: nowhere).
   std::string metrics_listen;
+  // The viewers' tokens (--viewer-tokens FILE, gistreamd's token-file
+  // format): when set, a WebSocket upgrade must carry one (ViewerToken),
+  // else 401. Null: no viewer authentication (the Origin check alone).
+  std::shared_ptr<const AuthTokens> viewer_tokens;
 };
+
+// The WebSocket subprotocol the page offers and the gateway selects, and
+// the prefix of the one that carries a viewer token: browsers cannot set
+// headers on a WebSocket, so the page offers "gistream" and
+// "gistream.token.<base64url of the token>".
+inline constexpr char kSubprotocol[] = "gistream";
+inline constexpr char kTokenSubprotocolPrefix[] = "gistream.token.";
+
+// The viewer token an upgrade request carries: `Authorization: Bearer T`
+// (non-browser clients) or the token subprotocol; nullopt when neither.
+std::optional<std::string> ViewerToken(
+    const boost::beast::http::request<boost::beast::http::string_body>& request);
 
 // Viewers running now (each holds a gistreamd session).
 size_t LiveViewers();
 
 // Takes over the socket of an HTTP upgrade request to /ws (query:
-// format=jpeg|h264) and runs until either side closes.
+// format=jpeg|h264) and runs until either side closes. `who`: the viewer
+// token's name, for log lines (empty without viewer tokens).
 void StartViewer(boost::asio::ip::tcp::socket socket,
                  boost::beast::http::request<boost::beast::http::string_body> request,
-                 const ViewerOptions& options);
+                 const ViewerOptions& options, std::string who);
 
 }  // namespace gistream::web

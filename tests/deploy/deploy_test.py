@@ -199,6 +199,18 @@ class ChartTest(unittest.TestCase):
         (service,) = [s for s in docs["Service"] if s["metadata"]["name"] == "gistream-web"]
         self.assertEqual(service["spec"]["selector"], web["spec"]["selector"]["matchLabels"])
         self.assertEqual({p["targetPort"] for p in service["spec"]["ports"]}, set(ports))
+        self.assertIsNone(flag(args, "--viewer-tokens"))
+        # Viewer tokens from a Secret, where the flag reads them.
+        docs = render({"web": {"enabled": True, "viewerTokensSecretName": "viewers"}})
+        (web,) = [d for d in docs["Deployment"] if d["metadata"]["name"] == "gistream-web"]
+        pod = web["spec"]["template"]["spec"]
+        (container,) = pod["containers"]
+        mounts = {m["name"]: m["mountPath"] for m in container["volumeMounts"]}
+        volumes = {v["name"]: v for v in pod["volumes"]}
+        self.assertEqual(volumes["viewers"]["secret"]["secretName"], "viewers")
+        (item,) = volumes["viewers"]["secret"]["items"]
+        self.assertEqual(flag(container["args"], "--viewer-tokens"),
+                         mounts["viewers"] + "/" + item["path"])
 
     def test_metrics_without_service_monitor(self):
         docs = render({"metrics": {"enabled": True}})

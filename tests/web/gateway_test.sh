@@ -408,4 +408,59 @@ for (name, labels), ok in checks.items():
     if v is None or not ok(v):
         sys.exit(f"{name}{labels} is {v}:\n{text}")
 EOF
+kill $WEB 2>/dev/null; wait $WEB 2>/dev/null
+
+# Viewer tokens (issue 31): with --viewer-tokens a WebSocket needs a token
+# of the file, as `Authorization: Bearer` or as the page's subprotocol
+# (base64url); the page itself and /healthz stay open.
+printf '# viewers\nviewer-token-0123456789 alice\n' > "$TMP/viewers"
+start_web w7 --viewer-tokens "$TMP/viewers"
+python3 - "$HOSTPORT" <<'EOF' || fail "viewer tokens"
+import base64, socket, sys, urllib.request
+host, port = sys.argv[1].rsplit(":", 1)
+
+def upgrade(extra):
+    s = socket.create_connection((host, int(port)), timeout=10)
+    s.sendall((f"GET /ws HTTP/1.1\r\nHost: {host}:{port}\r\nUpgrade: websocket\r\n"
+               "Connection: Upgrade\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\n"
+               f"Sec-WebSocket-Version: 13\r\nOrigin: http://{host}:{port}\r\n{extra}\r\n").encode())
+    head = b""
+    while b"\r\n\r\n" not in head:
+        chunk = s.recv(4096)
+        if not chunk:
+            break
+        head += chunk
+    s.close()
+    return head.decode(errors="replace")
+
+b64 = lambda t: base64.urlsafe_b64encode(t.encode()).decode().rstrip("=")
+cases = [("no token", "", "401"),
+         ("a wrong bearer token", "Authorization: Bearer viewer-token-wrong-000000\r\n", "401"),
+         ("a wrong subprotocol token",
+          f"Sec-WebSocket-Protocol: gistream, gistream.token.{b64('viewer-token-wrong-000')}\r\n", "401"),
+         ("a bearer token", "Authorization: Bearer viewer-token-0123456789\r\n", "101"),
+         ("the page's subprotocol token",
+          f"Sec-WebSocket-Protocol: gistream, gistream.token.{b64('viewer-token-0123456789')}\r\n", "101")]
+for name, extra, want in cases:
+    head = upgrade(extra)
+    line = head.split("\r\n")[0]
+    print(f"{name}: {line}")
+    if f" {want} " not in line + " ":
+        sys.exit(f"{name}: expected {want}, got {line!r}")
+    if "subprotocol" in name and want == "101" and "Sec-WebSocket-Protocol: gistream\r\n" not in head:
+        sys.exit(f"the gateway did not select the 'gistream' subprotocol:\n{head}")
+with urllib.request.urlopen(f"http://{sys.argv[1]}/", timeout=10) as r:
+    print("the page without a token:", r.status)
+with urllib.request.urlopen(f"http://{sys.argv[1]}/healthz", timeout=10) as r:
+    print("healthz without a token:", r.status)
+EOF
+grep -q "refused a WebSocket without a viewer token from 127.0.0.1" "$TMP/w7.err" ||
+  fail "the refusal was not logged"
+grep -q "viewer-token-0123456789" "$TMP/w7.err" && fail "a token was logged"
+grep -q "opened (jpeg, alice" "$TMP/w7.err" || fail "the viewer's name was not logged"
+printf 'short alice\n' > "$TMP/bad_viewers"
+"$BIN/gistream-web" --viewer-tokens "$TMP/bad_viewers" >"$TMP/bad.out" 2>&1
+[ $? -eq 2 ] || fail "a bad --viewer-tokens file was not a usage error"
+grep -q "viewer-tokens" "$TMP/bad.out" || fail "a bad --viewer-tokens file: $(cat "$TMP/bad.out")"
+kill $WEB 2>/dev/null; wait $WEB 2>/dev/null
 echo "PASS"

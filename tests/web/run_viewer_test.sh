@@ -24,8 +24,11 @@ PID=$!
 for _ in $(seq 100); do grep -q "listening on" "$TMP/d.log" && break; sleep 0.1; done
 ADDR=$(sed -n 's/^listening on //p' "$TMP/d.log")
 [ -n "$ADDR" ] || { cat "$TMP/d.err"; echo "FAIL: gistreamd did not start"; exit 1; }
+# The page authenticates as a viewer (--viewer-tokens; opened as /#token=).
+export VIEWER_TOKEN=viewer-test-token-0123
+printf '%s tester\n' "$VIEWER_TOKEN" > "$TMP/viewers"
 "$BIN/gistream-web" --server "$ADDR" --listen 127.0.0.1:0 --size 320x240 --solver direct \
-  --param area_samples=16 \
+  --param area_samples=16 --viewer-tokens "$TMP/viewers" \
   >"$TMP/w.log" 2>"$TMP/w.err" &
 WEB=$!
 for _ in $(seq 600); do grep -q "serving" "$TMP/w.log" && break; sleep 0.1; done

@@ -35,7 +35,14 @@ try {
   const page = await browser.newPage();
   await page.setViewport({ width: 1000, height: 560 });
   page.on("console", m => console.log(`page: ${m.text()}`));
-  await page.goto(`${url}?format=${format}`, { waitUntil: "load" });
+  // With VIEWER_TOKEN the gateway wants a viewer token: the page is opened
+  // as /#token=..., keeps it for the tab and clears the address bar.
+  const token = process.env.VIEWER_TOKEN;
+  await page.goto(`${url}?format=${format}` + (token ? `#token=${encodeURIComponent(token)}` : ""),
+                  { waitUntil: "load" });
+  if (token && (await page.evaluate(() => location.hash)) !== "") {
+    fail("the token stayed in the address bar");
+  }
 
   const waitFor = (fn, what, arg, timeout = 120000) =>
     page.waitForFunction(fn, { timeout, polling: 50 }, arg).catch(() => fail(`timed out: ${what}`));
