@@ -17,6 +17,7 @@
 #include <absl/strings/str_cat.h>
 #include <absl/strings/str_join.h>
 #include <absl/strings/str_split.h>
+#include <google/protobuf/util/json_util.h>
 
 #include "bench_report.h"
 #include "bench_session.h"
@@ -298,10 +299,11 @@ absl::StatusOr<nlohmann::json> TimeToConverge(Connection& connection,
 
 // A path-traced reference of `reference_spp` of the scene as `updates`
 // leave it, on a fresh private copy (progressive: the server keeps the
-// accumulation between the calls of one copy).
-absl::StatusOr<RgbaImage> RenderReference(Connection& connection, const v1::LoadSceneRequest& load,
-                                          const BenchOptions& options,
-                                          const std::vector<v1::Update>& updates) {
+// accumulation between the calls of one copy): the EXR bytes.
+absl::StatusOr<std::string> RenderReference(Connection& connection,
+                                            const v1::LoadSceneRequest& load,
+                                            const BenchOptions& options,
+                                            const std::vector<v1::Update>& updates) {
   v1::LoadSceneRequest own = load;
   own.set_private_copy(true);
   GS_ASSIGN_OR_RETURN(std::unique_ptr<LoadedScene> copy, LoadedScene::Load(connection, own, false));
@@ -324,13 +326,27 @@ absl::StatusOr<RgbaImage> RenderReference(Connection& connection, const v1::Load
     }
     GS_RETURN_IF_ERROR(connection.Call(&v1::Gistream::Stub::Render, r, &frame, 600.0));
   }
-  return DecodeRgba(frame.image());
+  return std::move(*frame.mutable_image());
+}
+
+// The updates a reference applied, as a JSON array of protobuf-JSON Update
+// messages (references/, for checking them against a fresh render).
+std::string UpdatesJson(const std::vector<v1::Update>& updates) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const v1::Update& u : updates) {
+    std::string text;
+    if (google::protobuf::util::MessageToJsonString(u, &text).ok()) {
+      out.push_back(nlohmann::json::parse(text));
+    }
+  }
+  return out.dump(1);
 }
 
 // Issue 27's error over time: every frame of the first session from the
 // window's start, against a reference of the state it shows (the updates
 // up to its sequence number; one reference per number, rendered after the
-// run). Appends its rows to `csv` and returns the step's summary: relMSE
+// run, written to references/step<k>_seq<n>.exr with the updates it
+// applied in .json). Appends its rows to `csv` and returns the step's summary: relMSE
 // mean and p95 during the motion, the first frame after the stop, and the
 // time from the stop until every later frame stays within 2x and 1.05x of
 // the full solve's error.
@@ -340,8 +356,14 @@ absl::StatusOr<nlohmann::json> ErrorOverTime(Connection& connection,
                                              double full_solve_rel_mse, int step,
                                              std::string& csv) {
   std::map<uint64_t, RgbaImage> references;
+  const std::filesystem::path dir = options.out_dir / "references";
   for (const auto& [seq, updates] : trace.updates_of_seq) {
-    GS_ASSIGN_OR_RETURN(references[seq], RenderReference(connection, load, options, updates));
+    GS_ASSIGN_OR_RETURN(const std::string exr, RenderReference(connection, load, options, updates));
+    GS_ASSIGN_OR_RETURN(references[seq], DecodeRgba(exr));
+    // Kept beside frames.csv: the reference and the updates it applied.
+    const std::string stem = absl::StrCat("step", step, "_seq", seq);
+    GS_RETURN_IF_ERROR(WriteFile(dir / (stem + ".exr"), exr));
+    GS_RETURN_IF_ERROR(WriteFile(dir / (stem + ".json"), UpdatesJson(updates)));
   }
   std::vector<double> motion;
   std::optional<double> first_after_stop, stop_ms;

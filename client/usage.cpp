@@ -227,7 +227,9 @@ fps_vs_sessions.png and latency_vs_sessions.png into DIR.
                        frames.csv (step,session,frame,seq,t_ms,phase,relmse
                        and the convergence stats), and per step relMSE
                        during the motion, the first frame after the stop
-                       and the time to within 2x and 1.05x of a full solve
+                       and the time to within 2x and 1.05x of a full solve;
+                       each reference and the updates it applied in DIR/
+                       references/step<k>_seq<n>.exr and .json
   --resume-for SEC     a session whose server drains or dies moves (as in
                        stream) for up to SEC (default 15; 0: it fails);
                        each step then prints the sessions moved and the

@@ -7,10 +7,15 @@ UNAUTHENTICATED without one). Run by ctest (python_client) with PYTHONPATH
 set to build/python and GISTREAMD/GISTREAM_SCENES pointing at the binary
 and the scene folder."""
 
+import csv
+import json
 import os
+import re
 import subprocess
 import tempfile
 import unittest
+
+from google.protobuf import json_format
 
 import grpc
 
@@ -118,6 +123,73 @@ class ClientTest(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class BenchReferencesTest(unittest.TestCase):
+    """`gistream bench --reference-spp` (issue 27): frames.csv has a row per
+    frame of the first session, each against references/step1_seq<n>.exr,
+    the path-traced reference of the state that frame shows; that file
+    equals a fresh render of the state its .json names, reached another
+    way: the updates sent through a session on a fresh private copy, then
+    a Render without updates (the bench sends them inside the Render)."""
+
+    def test_references_match_a_fresh_render(self):
+        server = subprocess.Popen(
+            [os.environ["GISTREAMD"], "--listen", "127.0.0.1:0", "--scenes",
+             os.environ["GISTREAM_SCENES"]],
+            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+        try:
+            address = server.stdout.readline().split()[-1]
+            out = tempfile.mkdtemp(prefix="gistream_bench_refs_")
+            run = subprocess.run(
+                [os.environ["GISTREAM"], "--server", address, "bench", "--sessions", "1",
+                 "--duration", "1s", "--warmup", "0s", "--size", "16x16", "--format", "exr",
+                 "--workload", "object", "--update-hz", "5", "--reference-spp", "8",
+                 "--param", "area_samples=4", "--out", out],
+                capture_output=True, text=True, timeout=240)
+            self.assertEqual(run.returncode, 0, run.stdout + run.stderr)
+            with open(os.path.join(out, "frames.csv")) as f:
+                rows = list(csv.DictReader(f))
+            seqs = sorted({int(r["seq"]) for r in rows})
+            self.assertGreaterEqual(len(seqs), 2, rows)
+            refs = os.path.join(out, "references")
+            for seq in seqs:
+                self.assertTrue(os.path.isfile(os.path.join(refs, f"step1_seq{seq}.exr")), seq)
+                with open(os.path.join(refs, f"step1_seq{seq}.json")) as f:
+                    updates = [json_format.ParseDict(u, gistream.pb.Update()) for u in json.load(f)]
+                # The state of seq n: its updates end with update n.
+                self.assertEqual(max(u.seq for u in updates), seq)
+            last = seqs[-1]
+            with open(os.path.join(refs, f"step1_seq{last}.json")) as f:
+                updates = [json_format.ParseDict(u, gistream.pb.Update()) for u in json.load(f)]
+            with open(os.path.join(refs, f"step1_seq{last}.exr"), "rb") as f:
+                reference = f.read()
+            with gistream.Client(address, timeout=120) as client:
+                copy = client.stub.LoadScene(
+                    gistream.pb.LoadSceneRequest(name="cornell_box", private_copy=True),
+                    timeout=120)
+                with client.session(copy.scene_id, size=(16, 16), fps=60) as session:
+                    for u in updates:
+                        kind = u.WhichOneof("change")
+                        seq = session.update(**{{"node_transform": "node"}.get(kind, kind):
+                                                getattr(u, kind)})
+                    for frame in session.frames(100, stop_at_rest=False):
+                        if frame.last_update_seq >= seq:
+                            break
+                fresh = client.render(copy.scene_id, solver="pathtrace",
+                                      params={"spp": 8, "seed": 1}, size=(16, 16), format="exr")
+            # The same path tracer, samples and seed on the same state: the
+            # same file, but for the capture date OpenImageIO writes into
+            # the EXR header.
+            undated = lambda exr: re.sub(rb"capDate\x00string\x00\x13\x00\x00\x00.{19}", b"",
+                                         exr, count=1, flags=re.S)
+            self.assertNotEqual(undated(reference), reference)
+            self.assertEqual(undated(fresh.image), undated(reference))
+            print(f"frames.csv: {len(rows)} rows over seqs {seqs}; reference of seq {last} "
+                  f"equals a fresh render ({len(reference)} bytes)")
+        finally:
+            server.terminate()
+            server.wait(timeout=30)
 
 
 class TlsTokenTest(unittest.TestCase):
