@@ -132,6 +132,14 @@ absl::StatusOr<Material> ReadMaterial(const tinygltf::Material& in, const std::s
   GS_ASSIGN_OR_RETURN(out.metallic_roughness_texture,
                       images->Texture(pbr.metallicRoughnessTexture,
                                       pbr_field + ".metallicRoughnessTexture", /*srgb=*/false));
+  if (ClassifyDielectricSpecular(in) == DielectricSpecular::kNone) {
+    // KHR_materials_specular without a specular layer on a non-metal
+    // (exporters write diffuse walls so, with ior 1): Lambertian, which the
+    // BRDF is exactly at metallic 0 and roughness 1 (brdf.glsl); the
+    // texture's roughness would take that away, its metallic is 0 anyway.
+    out.roughness_factor = 1.0f;
+    out.metallic_roughness_texture = -1;
+  }
 
   if (!in.emissiveFactor.empty()) {
     if (in.emissiveFactor.size() != 3) {

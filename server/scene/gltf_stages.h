@@ -20,6 +20,20 @@ namespace gistream::gltf {
 // import does not read, sorted: what LoadScene reports as ignored.
 std::vector<std::string> IgnoredExtensions(const tinygltf::Model& model);
 
+// gltf_extensions.cpp: what KHR_materials_ior and KHR_materials_specular
+// make of a material's dielectric specular layer (F0 = min(((ior - 1) /
+// (ior + 1))^2 specularColorFactor, 1) specularFactor, F90 =
+// specularFactor), against the BRDF's fixed F0 0.04 and F90 1
+// (shaders/common/brdf.glsl):
+//   kAbsent   neither extension;
+//   kDefault  F0 0.04 and F90 1: what the BRDF does already;
+//   kNone     no specular layer (specularFactor 0) on a non-metal: the
+//             material is Lambertian, exactly (import sets roughness 1);
+//   kIgnored  anything else (another F0 or F90, a specular texture): shaded
+//             with F0 0.04 and F90 1, and reported as ignored.
+enum class DielectricSpecular { kAbsent, kDefault, kNone, kIgnored };
+DielectricSpecular ClassifyDielectricSpecular(const tinygltf::Material& material);
+
 // gltf_lights.cpp: KHR_lights_punctual lights.
 absl::StatusOr<std::vector<Light>> ImportLights(const tinygltf::Model& model);
 
