@@ -43,6 +43,9 @@ while IFS= read -r file; do
   while IFS= read -r inc; do
     [[ $inc == */* ]] || continue  # a header next to the file
     prefix=${inc%%/*}
+    # A solver's own binding table (shaders/<solver>/bindings.glsl, read by
+    # its GLSL and its C++): only that solver's folder may include it.
+    if [[ $inc == */bindings.glsl && $file == server/solvers/"$prefix"/* ]]; then continue; fi
     ok=0
     for a in ${ALLOWED[$row]} $EXTERNAL; do [[ $prefix == "$a" ]] && ok=1; done
     if (( !ok )); then

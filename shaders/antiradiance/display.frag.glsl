@@ -7,12 +7,13 @@
 // the reflected indirect radiance toward the eye from the glossy leaves'
 // bins instead (glossy_transfer.h), interpolated between bins and splatted
 // the same way; where no glossy leaf is near, albedo(v) / pi x E.
+#include "antiradiance/bindings.glsl"
 #include "render/shade_surface.glsl"
 #include "antiradiance/elements.glsl"
 #include "antiradiance/glossy.glsl"
-layout(std430, binding = 10) readonly buffer GlossyRadiance { vec4 glossy_radiance[]; };  // slot x bin
+layout(std430, binding = AR_BINDING_GLOSSY_RADIANCE) readonly buffer GlossyRadiance { vec4 glossy_radiance[]; };  // slot x bin
 uniform float uBinSpacing;  // sqrt(4 pi / m)
-layout(std430, binding = 7) readonly buffer Grid { uint grid[]; };  // cell starts (cells + 1), leaf ids
+layout(std430, binding = AR_BINDING_GRID) readonly buffer Grid { uint grid[]; };  // cell starts (cells + 1), leaf ids
 uniform vec3 uGridMin;
 uniform ivec3 uGridDims;
 uniform float uGridCell;

@@ -5,6 +5,7 @@
 // the leaf's BRDF, its roughness raised to what the bins resolve (as the
 // transfer matrix), so the direct highlight lands in the bins as the
 // indirect one does. One invocation per (glossy leaf, bin).
+#include "antiradiance/bindings.glsl"
 layout(local_size_x = 64) in;
 #include "render/direct_light.glsl"
 #include "antiradiance/glossy.glsl"
@@ -13,8 +14,8 @@ struct GlossyElement {
   vec4 normal;         // xyz unit normal, w roughness (raised to the bins')
   vec4 base_metallic;  // rgb base colour, a metallic
 };
-layout(std430, binding = 6) readonly buffer GlossyElements { GlossyElement glossy_elements[]; };
-layout(std430, binding = 7) writeonly buffer GlossyDirect { vec4 glossy_direct[]; };
+layout(std430, binding = AR_BINDING_GLOSSY_ELEMENTS) readonly buffer GlossyElements { GlossyElement glossy_elements[]; };
+layout(std430, binding = AR_BINDING_GLOSSY_DIRECT) writeonly buffer GlossyDirect { vec4 glossy_direct[]; };
 uniform int uCount;
 void main() {
   int id = int(gl_GlobalInvocationID.x);

@@ -11,11 +11,12 @@
 // Finally L = a(v) / pi * (E_direct + E_indirect) + emission, a(v) the
 // albedo of a Lambertian receiver, the BRDF's directional albedo of a
 // glossy one.
+#include "avg/bindings.glsl"
 #include "avg/receiver.glsl"
-layout(binding = 8) uniform sampler2D uGPosition;
-layout(binding = 9) uniform sampler2D uGNormal;
-layout(binding = 12) uniform sampler2D uIndirect;  // split layout
-layout(binding = 13) uniform sampler2D uDirect;    // split layout
+layout(binding = GS_UNIT_GBUFFER_POSITION) uniform sampler2D uGPosition;
+layout(binding = GS_UNIT_GBUFFER_NORMAL) uniform sampler2D uGNormal;
+layout(binding = AVG_UNIT_SPLIT_INDIRECT) uniform sampler2D uIndirect;  // split layout
+layout(binding = AVG_UNIT_SPLIT_DIRECT) uniform sampler2D uDirect;    // split layout
 uniform ivec2 uImageSize;
 uniform ivec2 uTileSize;
 uniform float uPixelAngle;  // 2 tan(yfov / 2) / height: pixel size at unit distance

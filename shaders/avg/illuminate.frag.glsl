@@ -10,12 +10,13 @@
 // Glossy receivers weight each VPL and each light by the BRDF,
 // f(v, l) cos_x (common/brdf.glsl; v towards the camera), and write the
 // reflected radiance demodulated by a(v) (avg/receiver.glsl).
+#include "avg/bindings.glsl"
 #include "render/direct_light.glsl"
 #include "avg/receiver.glsl"
 #include "avg/vpl.glsl"
-layout(binding = 7) uniform sampler2DArrayShadow uVplShadows;
-layout(binding = 8) uniform sampler2D uGPosition;
-layout(binding = 9) uniform sampler2D uGNormal;
+layout(binding = AVG_UNIT_VPL_SHADOWS) uniform sampler2DArrayShadow uVplShadows;
+layout(binding = GS_UNIT_GBUFFER_POSITION) uniform sampler2D uGPosition;
+layout(binding = GS_UNIT_GBUFFER_NORMAL) uniform sampler2D uGNormal;
 uniform ivec2 uImageSize;
 uniform ivec2 uTileSize;  // ceil(image size / 4)
 uniform int uVplCount;

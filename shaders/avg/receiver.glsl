@@ -7,9 +7,10 @@
 // ones the reflected radiance demodulated by the BRDF's directional albedo,
 // pi L / a(v) (BrdfUniformAlbedo), which is exactly E when the light
 // arrives from all directions alike; the filter multiplies a(v) / pi back.
+#include "bindings.glsl"
 #include "common/brdf.glsl"
-layout(binding = 10) uniform sampler2D uGAlbedo;    // a: metallic
-layout(binding = 11) uniform sampler2D uGEmission;  // a: roughness
+layout(binding = GS_UNIT_GBUFFER_ALBEDO) uniform sampler2D uGAlbedo;    // a: metallic
+layout(binding = GS_UNIT_GBUFFER_EMISSION) uniform sampler2D uGEmission;  // a: roughness
 uniform vec3 uCameraPos;
 
 SurfaceBrdf ReceiverBrdf(ivec2 px) {

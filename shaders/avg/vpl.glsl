@@ -1,5 +1,6 @@
 // VPLs on the GPU (std430 mirror of server/solvers/avg/vpl_shadow_maps.h)
 // and their hemispherical (paraboloid) shadow maps, one layer each.
+#include "avg/bindings.glsl"
 #include "common/math.glsl"
 
 struct Vpl {
@@ -8,7 +9,7 @@ struct Vpl {
   vec4 flux;          // rgb reflected power (W)
 };
 
-layout(std430, binding = 6) readonly buffer Vpls { Vpl vpls[]; };
+layout(std430, binding = AVG_BINDING_VPLS) readonly buffer Vpls { Vpl vpls[]; };
 
 // Orthonormal basis (t, b, n) around unit n (Duff et al. 2017), identical
 // to the CPU's.

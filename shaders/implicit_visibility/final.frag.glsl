@@ -2,8 +2,9 @@
 // display: L = L_emitted + albedo / pi * (E_direct + E_indirect), direct
 // light per pixel (shadow maps, as `direct`), indirect interpolated from
 // the vertices (Section 4.3.1, "For final display ...").
+#include "implicit_visibility/bindings.glsl"
 #include "render/shade_surface.glsl"
-layout(binding = 13) uniform sampler2D uIndirect;  // rgb: E_indirect, a: 1 where drawn
+layout(binding = IV_UNIT_INDIRECT) uniform sampler2D uIndirect;  // rgb: E_indirect, a: 1 where drawn
 in vec2 vUv;
 out vec4 oRadiance;
 void main() {

@@ -4,17 +4,18 @@
 // summed over the bins), and turns it into outgoing radiance with its
 // albedo, L' = albedo / pi * (E_direct + E). Reads one radiance buffer,
 // writes the other (Jacobi), so the order of the leaves does not matter.
+#include "implicit_visibility/bindings.glsl"
 #include "common/math.glsl"
 #include "implicit_visibility/leaves.glsl"
 layout(local_size_x = 64) in;
-layout(std430, binding = 1) readonly buffer Leaves { Leaf leaves[]; };
-layout(std430, binding = 2) readonly buffer DirectE { vec4 e_direct[]; };
-layout(std430, binding = 3) readonly buffer EnvE { vec4 e_env[]; };
-layout(std430, binding = 4) readonly buffer Offsets { uint offsets[]; };
-layout(std430, binding = 5) readonly buffer Links { uvec2 links[]; };  // source, weight bits
-layout(std430, binding = 6) readonly buffer RadianceIn { vec4 radiance_in[]; };
-layout(std430, binding = 7) writeonly buffer RadianceOut { vec4 radiance_out[]; };
-layout(std430, binding = 8) writeonly buffer IndirectE { vec4 e_indirect[]; };
+layout(std430, binding = IV_GATHER_LEAVES) readonly buffer Leaves { Leaf leaves[]; };
+layout(std430, binding = IV_GATHER_DIRECT_E) readonly buffer DirectE { vec4 e_direct[]; };
+layout(std430, binding = IV_GATHER_ENV_E) readonly buffer EnvE { vec4 e_env[]; };
+layout(std430, binding = IV_GATHER_OFFSETS) readonly buffer Offsets { uint offsets[]; };
+layout(std430, binding = IV_GATHER_LINKS) readonly buffer Links { uvec2 links[]; };  // source, weight bits
+layout(std430, binding = IV_GATHER_RADIANCE_IN) readonly buffer RadianceIn { vec4 radiance_in[]; };
+layout(std430, binding = IV_GATHER_RADIANCE_OUT) writeonly buffer RadianceOut { vec4 radiance_out[]; };
+layout(std430, binding = IV_GATHER_INDIRECT_E) writeonly buffer IndirectE { vec4 e_indirect[]; };
 uniform int uLeafCount;
 void main() {
   int i = int(gl_GlobalInvocationID.x);

@@ -3,13 +3,14 @@
 // shadow-mapped lights (the same DirectIrradiance as `direct`), plus the
 // environment through the leaf's open bins (Section 4.4); the leaves'
 // first outgoing radiance L = albedo / pi * E (the first bounce's source).
+#include "implicit_visibility/bindings.glsl"
 #include "render/direct_light.glsl"
 #include "implicit_visibility/leaves.glsl"
 layout(local_size_x = 64) in;
-layout(std430, binding = 4) readonly buffer Leaves { Leaf leaves[]; };
-layout(std430, binding = 5) writeonly buffer DirectE { vec4 e_direct[]; };
-layout(std430, binding = 6) readonly buffer EnvE { vec4 e_env[]; };
-layout(std430, binding = 7) writeonly buffer Radiance { vec4 radiance[]; };
+layout(std430, binding = IV_LEAF_LEAVES) readonly buffer Leaves { Leaf leaves[]; };
+layout(std430, binding = IV_LEAF_DIRECT_E) writeonly buffer DirectE { vec4 e_direct[]; };
+layout(std430, binding = IV_LEAF_ENV_E) readonly buffer EnvE { vec4 e_env[]; };
+layout(std430, binding = IV_LEAF_RADIANCE) writeonly buffer Radiance { vec4 radiance[]; };
 uniform int uLeafCount;
 void main() {
   int i = int(gl_GlobalInvocationID.x);

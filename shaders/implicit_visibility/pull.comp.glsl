@@ -2,10 +2,11 @@
 // illumination, pull up (Section 4.3.1): the internal nodes of one height
 // level [uBegin, uEnd) take the area-weighted average of their children's
 // outgoing radiance. Levels run bottom-up, one dispatch each.
+#include "implicit_visibility/bindings.glsl"
 layout(local_size_x = 64) in;
-layout(std430, binding = 1) readonly buffer Children { ivec4 children[]; };
-layout(std430, binding = 2) readonly buffer Areas { float area[]; };
-layout(std430, binding = 3) buffer Radiance { vec4 radiance[]; };
+layout(std430, binding = IV_PULL_CHILDREN) readonly buffer Children { ivec4 children[]; };
+layout(std430, binding = IV_PULL_AREAS) readonly buffer Areas { float area[]; };
+layout(std430, binding = IV_PULL_RADIANCE) buffer Radiance { vec4 radiance[]; };
 uniform int uBegin;
 uniform int uEnd;
 void main() {

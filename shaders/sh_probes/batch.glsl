@@ -2,7 +2,8 @@
 // a texel dispatch covers only the listed probes, work group z = face +
 // 6 x (index in the list), x and y within the face; with 0 it covers the
 // whole atlas (x, y, z = atlas texel and layer).
-layout(std430, binding = 10) readonly buffer BatchProbes { int batch_probes[]; };
+#include "sh_probes/bindings.glsl"
+layout(std430, binding = SH_BINDING_BATCH) readonly buffer BatchProbes { int batch_probes[]; };
 uniform int uBatchCount;
 
 // The atlas texel of this invocation; false when it lies outside the

@@ -3,9 +3,10 @@
 // progressive update): shown = mix(solution, shown, uHysteresis) once per
 // frame, so probes re-rendered a few per frame fade in rather than jump.
 // uScale != 1 scales both first (a dimmer's factor made the solution).
+#include "sh_probes/bindings.glsl"
 layout(local_size_x = 64) in;
-layout(std430, binding = 6) buffer Solution { vec4 solution[]; };
-layout(std430, binding = 9) buffer Shown { vec4 shown[]; };
+layout(std430, binding = SH_BINDING_COEFFICIENTS) buffer Solution { vec4 solution[]; };
+layout(std430, binding = SH_BINDING_SHOWN) buffer Shown { vec4 shown[]; };
 uniform int uCount;
 uniform float uHysteresis;
 uniform float uScale;

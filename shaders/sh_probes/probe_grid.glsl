@@ -1,6 +1,7 @@
 // The probe grid: positions, the atlas that holds every probe's six faces,
 // SH coefficients, and irradiance at a surface point by (visibility-)
 // weighted trilinear interpolation (Nijasure et al. 2005, Sections 3.3, 6).
+#include "sh_probes/bindings.glsl"
 #include "sh_probes/sh.glsl"
 
 uniform vec3 uGridOrigin;   // scene bounds min
@@ -12,10 +13,10 @@ uniform int uCoefficients;  // bands^2
 uniform int uIndirectShadows;
 
 // Coefficient k of probe p at coefficients[k * probes + p] (rgb).
-layout(std430, binding = 6) readonly buffer ShCoefficients { vec4 coefficients[]; };
+layout(std430, binding = SH_BINDING_COEFFICIENTS) readonly buffer ShCoefficients { vec4 coefficients[]; };
 // 1 for a probe that sees the scene, 0 for one inside geometry.
-layout(std430, binding = 7) readonly buffer ProbeValid { float probe_valid[]; };
-layout(binding = 12) uniform sampler2DArray uProbeDistance;  // 0: nothing hit
+layout(std430, binding = SH_BINDING_VALID) readonly buffer ProbeValid { float probe_valid[]; };
+layout(binding = SH_UNIT_DISTANCE) uniform sampler2DArray uProbeDistance;  // 0: nothing hit
 
 int ProbeCount() { return uGridDims.x * uGridDims.y * uGridDims.z; }
 int ProbeIndex(ivec3 c) { return c.x + uGridDims.x * (c.y + uGridDims.y * c.z); }

@@ -4,13 +4,14 @@
 // L = albedo / pi * (E_direct + E_indirect) (Section 3, step 2). Emission
 // is not stored: the probes carry reflected light only, since emitters
 // already light surfaces through the direct term.
+#include "sh_probes/bindings.glsl"
 #include "render/direct_light.glsl"
 #include "sh_probes/texel.glsl"
 #include "sh_probes/batch.glsl"
 layout(local_size_x = 8, local_size_y = 8) in;
-layout(binding = 0, rgba32f) uniform image2DArray uDirect;
-layout(binding = 1, rgba32f) readonly uniform image2DArray uIndirect;
-layout(binding = 2, rgba32f) writeonly uniform image2DArray uRadiance;
+layout(binding = SH_IMAGE_DIRECT, rgba32f) uniform image2DArray uDirect;
+layout(binding = SH_IMAGE_INDIRECT, rgba32f) readonly uniform image2DArray uIndirect;
+layout(binding = SH_IMAGE_RADIANCE, rgba32f) writeonly uniform image2DArray uRadiance;
 uniform int uComputeDirect;  // 1: recompute E_direct (lights or geometry changed)
 uniform int uUseIndirect;    // 0 on the first bounce
 void main() {

@@ -5,9 +5,10 @@
 // around what moved (old and new place). A probe sees the change when a
 // segment crosses the box, or the probe sits in it: only then can its cube
 // map's content differ after the move.
+#include "sh_probes/bindings.glsl"
 #include "sh_probes/probe_grid.glsl"
 layout(local_size_x = 64) in;
-layout(std430, binding = 11) writeonly buffer SeesChange { int sees_change[]; };
+layout(std430, binding = SH_BINDING_SEES_CHANGE) writeonly buffer SeesChange { int sees_change[]; };
 uniform vec3 uBoxMin;
 uniform vec3 uBoxMax;
 shared int any_hit;

@@ -3,19 +3,20 @@
 // Y_lm times each texel's solid angle (Eq. 2), and marks the probe invalid
 // when most of what it sees are back faces (it sits inside geometry).
 // With uBatchCount > 0 only the listed probes.
+#include "sh_probes/bindings.glsl"
 #include "sh_probes/sh.glsl"
 layout(local_size_x = 64) in;
-layout(binding = 2, rgba32f) readonly uniform image2DArray uRadiance;
-layout(binding = 13) uniform sampler2DArray uProbeNormal;
-layout(binding = 12) uniform sampler2DArray uProbeDistance;
-layout(std430, binding = 6) writeonly buffer ShCoefficients { vec4 coefficients[]; };
-layout(std430, binding = 7) writeonly buffer ProbeValid { float probe_valid[]; };
+layout(binding = SH_IMAGE_RADIANCE, rgba32f) readonly uniform image2DArray uRadiance;
+layout(binding = SH_UNIT_NORMAL) uniform sampler2DArray uProbeNormal;
+layout(binding = SH_UNIT_DISTANCE) uniform sampler2DArray uProbeDistance;
+layout(std430, binding = SH_BINDING_COEFFICIENTS) writeonly buffer ShCoefficients { vec4 coefficients[]; };
+layout(std430, binding = SH_BINDING_VALID) writeonly buffer ProbeValid { float probe_valid[]; };
 uniform int uFaceSize;
 uniform int uAtlasTiles;
 uniform int uProbeCount;
 uniform int uCoefficients;
 // A batch (sh_probes/batch.glsl): work group i projects probe batch_probes[i].
-layout(std430, binding = 10) readonly buffer BatchProbes { int batch_probes[]; };
+layout(std430, binding = SH_BINDING_BATCH) readonly buffer BatchProbes { int batch_probes[]; };
 uniform int uBatchCount;
 shared vec3 partial[64][SH_MAX];
 shared vec2 partial_faces[64];  // (hits, back faces)

@@ -1,8 +1,9 @@
 // A texel of the probe atlas: which probe and direction it belongs to, and
 // the surface point it saw (shared by render_cubemaps and interpolate).
+#include "sh_probes/bindings.glsl"
 #include "sh_probes/probe_grid.glsl"
-layout(binding = 13) uniform sampler2DArray uProbeNormal;  // w: 1 = back face
-layout(binding = 14) uniform sampler2DArray uProbeAlbedo;
+layout(binding = SH_UNIT_NORMAL) uniform sampler2DArray uProbeNormal;  // w: 1 = back face
+layout(binding = SH_UNIT_ALBEDO) uniform sampler2DArray uProbeAlbedo;
 
 struct ProbeTexel {
   bool hit;

@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "absl/strings/str_cat.h"
+#include "antiradiance/bindings.glsl"  // shaders/: the slots its passes declare
 #include "gl/buffers.h"
 #include "gl/compute.h"
 #include "solvers/antiradiance/scene_patches.h"
@@ -19,9 +20,6 @@ namespace {
 
 using antiradiance::Scheme;
 
-constexpr GLuint kElementBinding = 6, kGridBinding = 7;
-constexpr GLuint kGlossyRadianceBinding = 10,
-                 kBinDirectionBinding = 11;  // antiradiance/glossy.glsl
 constexpr int kMaxGridDim = 64;
 constexpr size_t kMaxResidualStats = 32;
 // Memory limits per solver instance (the paper's Table 2 scenes need
@@ -358,8 +356,8 @@ std::vector<glm::vec3> AntiradianceSolver::DirectAtLeaves(const antiradiance::Pa
   const gl::Buffer input = gl::StorageBuffer(elements);
   const gl::Buffer output = gl::ZeroedBuffer(leaves.size() * sizeof(glm::vec4));
   lighting_.Bind(direct_program_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kElementBinding, input.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGridBinding, output.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AR_BINDING_ELEMENTS, input.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AR_BINDING_ELEMENT_DIRECT, output.id());
   direct_program_.Set("uCount", int(leaves.size()));
   direct_program_.Use();
   glDispatchCompute(gl::GroupCount(leaves.size(), 64), 1, 1);
@@ -391,9 +389,9 @@ std::vector<glm::vec3> AntiradianceSolver::GlossyDirectAtLeaves(
   const gl::Buffer elements = gl::StorageBuffer(input);
   const gl::Buffer output = gl::ZeroedBuffer(cells * sizeof(glm::vec4));
   lighting_.Bind(glossy_direct_program_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kElementBinding, elements.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGridBinding, output.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBinDirectionBinding, bin_directions_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AR_BINDING_GLOSSY_ELEMENTS, elements.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AR_BINDING_GLOSSY_DIRECT, output.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AR_BINDING_BIN_DIRECTIONS, bin_directions_.id());
   glossy_direct_program_.Set("uCount", count);
   glossy_direct_program_.Set("uBins", bins_.count());
   glossy_direct_program_.Use();
@@ -501,11 +499,11 @@ absl::Status AntiradianceSolver::Shade(SolverContext& ctx, const ViewCamera& /*c
   }
   gbuffer.BeginShadePass();
   lighting_.Bind(display_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kElementBinding, elements_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGridBinding, grid_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AR_BINDING_ELEMENTS, elements_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AR_BINDING_GRID, grid_.id());
   if (!glossy_radiance_) glossy_radiance_ = gl::StorageBuffer(std::vector<glm::vec4>(1));
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kGlossyRadianceBinding, glossy_radiance_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kBinDirectionBinding, bin_directions_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AR_BINDING_GLOSSY_RADIANCE, glossy_radiance_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AR_BINDING_BIN_DIRECTIONS, bin_directions_.id());
   display_.Set("uBins", bins_.count());
   display_.Set("uBinSpacing", bins_.spacing());
   display_.Set("uGridMin", grid_min_);

@@ -8,6 +8,8 @@
 
 #include <glm/gtc/constants.hpp>
 
+#include "avg/bindings.glsl"  // shaders/: the slots its passes declare
+
 namespace gistream {
 namespace {
 
@@ -425,8 +427,8 @@ absl::Status AvgSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
     glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
     glViewport(0, 0, size.x, size.y);
     gbuffer.BindTextures();
-    glBindTextureUnit(12, split_.indirect());
-    glBindTextureUnit(13, split_.direct());
+    glBindTextureUnit(AVG_UNIT_SPLIT_INDIRECT, split_.indirect());
+    glBindTextureUnit(AVG_UNIT_SPLIT_DIRECT, split_.direct());
     filter_.Set("uImageSize", size);
     filter_.Set("uTileSize", split_.tile());
     filter_.Set("uCameraPos", camera.position);

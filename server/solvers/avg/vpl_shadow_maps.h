@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "gl/handle.h"
+#include "avg/bindings.glsl"  // shaders/: the slots its passes declare
 #include "gl/program.h"
 #include "scene/draw_list.h"
 #include "scene/gpu_scene.h"
@@ -58,8 +59,9 @@ class VplShadowMaps {
   // The bytes of that batch's cubes (32-bit depth, six faces each).
   static uint64_t CubeBatchBytes(int resolution, int vpls);
 
-  static constexpr GLuint kVplBinding = 6;
-  static constexpr GLuint kShadowUnit = 7;
+  // The slots its shaders declare (shaders/avg/bindings.glsl).
+  static constexpr GLuint kVplBinding = AVG_BINDING_VPLS;
+  static constexpr GLuint kShadowUnit = AVG_UNIT_VPL_SHADOWS;
 
  private:
   void Allocate(int layers, int resolution);

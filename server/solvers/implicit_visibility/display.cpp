@@ -4,6 +4,7 @@
 
 #include "gl/buffers.h"
 #include "gl/textures.h"
+#include "implicit_visibility/bindings.glsl"  // shaders/: the slots its passes declare
 
 namespace gistream {
 
@@ -74,7 +75,7 @@ void Display::Draw(const ViewCamera& camera, const GBuffer& gbuffer, GLuint indi
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
   vertex_irradiance_.Set("uViewProj", camera.Projection() * camera.View());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, indirect_buffer);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_VERTEX_INDIRECT_E, indirect_buffer);
   vertex_irradiance_.Use();
   glBindVertexArray(vao_.id());
   if (index_count_ > 0) glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
@@ -82,7 +83,7 @@ void Display::Draw(const ViewCamera& camera, const GBuffer& gbuffer, GLuint indi
 
   // Direct per pixel + indirect + emission.
   gbuffer.BeginShadePass();
-  glBindTextureUnit(13, irradiance_.id());
+  glBindTextureUnit(IV_UNIT_INDIRECT, irradiance_.id());
   lighting.Bind(final_);
   final_.Set("uIndirectScale", indirect_scale);
   fullscreen_.Draw(final_);

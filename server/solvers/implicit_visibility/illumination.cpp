@@ -6,6 +6,7 @@
 
 #include "gl/buffers.h"
 #include "gl/compute.h"
+#include "implicit_visibility/bindings.glsl"  // shaders/: the slots its passes declare
 
 namespace gistream {
 namespace {
@@ -83,9 +84,9 @@ void Illumination::UploadEnvironment(const std::vector<glm::vec3>& e_env) {
 }
 
 void Illumination::Pull(GLuint radiance) {
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, children_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, areas_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, radiance);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_PULL_CHILDREN, children_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_PULL_AREAS, areas_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_PULL_RADIANCE, radiance);
   pull_.Use();
   for (size_t h = 1; h < level_begin_.size(); ++h) {
     const int begin = level_begin_[h - 1], end = level_begin_[h];
@@ -115,10 +116,10 @@ Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_b
   if (leaf_count_ == 0) return result;
   // The first bounce's source: direct light (and environment) at the leaves.
   lighting.Bind(direct_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, leaves_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, e_direct_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, e_env_.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, radiance_[0].id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_LEAF_LEAVES, leaves_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_LEAF_DIRECT_E, e_direct_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_LEAF_ENV_E, e_env_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_LEAF_RADIANCE, radiance_[0].id());
   direct_.Set("uLeafCount", leaf_count_);
   direct_.Use();
   glDispatchCompute(gl::GroupCount(size_t(leaf_count_), 64), 1, 1);
@@ -134,14 +135,14 @@ Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_b
       result.cancelled = true;
       return result;
     }
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, leaves_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, e_direct_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 3, e_env_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 4, offsets_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 5, links_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 6, radiance_[in].id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 7, radiance_[1 - in].id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 8, e_indirect_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_LEAVES, leaves_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_DIRECT_E, e_direct_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_ENV_E, e_env_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_OFFSETS, offsets_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_LINKS, links_.id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_RADIANCE_IN, radiance_[in].id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_RADIANCE_OUT, radiance_[1 - in].id());
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_INDIRECT_E, e_indirect_.id());
     gather_.Set("uLeafCount", leaf_count_);
     gather_.Use();
     glDispatchCompute(gl::GroupCount(size_t(leaf_count_), 64), 1, 1);

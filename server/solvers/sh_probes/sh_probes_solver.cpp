@@ -8,6 +8,7 @@
 
 #include "gl/buffers.h"
 #include "gl/compute.h"
+#include "sh_probes/bindings.glsl"  // shaders/: the slots its passes declare
 #include "solvers/sh_probes/spherical_harmonics.h"
 #include "solvers/sh_probes/tail_estimate.h"
 
@@ -17,9 +18,12 @@ namespace {
 constexpr GLbitfield kComputeBarrier = GL_SHADER_IMAGE_ACCESS_BARRIER_BIT |
                                        GL_SHADER_STORAGE_BARRIER_BIT |
                                        GL_TEXTURE_FETCH_BARRIER_BIT | GL_BUFFER_UPDATE_BARRIER_BIT;
-constexpr GLuint kCoefficientBinding = 6, kValidBinding = 7, kPreviousBinding = 8,
-                 kShownBinding = 9, kBatchBinding = 10, kSeesBinding = 11;
-constexpr GLuint kDistanceUnit = 12, kNormalUnit = 13, kAlbedoUnit = 14;
+// The slots its shaders declare (shaders/sh_probes/bindings.glsl).
+constexpr GLuint kCoefficientBinding = SH_BINDING_COEFFICIENTS, kValidBinding = SH_BINDING_VALID,
+                 kPreviousBinding = SH_BINDING_PREVIOUS, kShownBinding = SH_BINDING_SHOWN,
+                 kBatchBinding = SH_BINDING_BATCH, kSeesBinding = SH_BINDING_SEES_CHANGE;
+constexpr GLuint kDistanceUnit = SH_UNIT_DISTANCE, kNormalUnit = SH_UNIT_NORMAL,
+                 kAlbedoUnit = SH_UNIT_ALBEDO;
 
 float Luminance(const glm::vec4& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
@@ -519,9 +523,10 @@ void ShProbesSolver::RenderCubemaps(bool compute_direct, bool use_indirect,
   SetBatch(render_, probes);
   render_.Set("uComputeDirect", compute_direct ? 1 : 0);
   render_.Set("uUseIndirect", use_indirect ? 1 : 0);
-  glBindImageTexture(0, atlas_.direct(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
-  glBindImageTexture(1, atlas_.indirect(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
-  glBindImageTexture(2, atlas_.radiance(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(SH_IMAGE_DIRECT, atlas_.direct(), 0, GL_TRUE, 0, GL_READ_WRITE, GL_RGBA32F);
+  glBindImageTexture(SH_IMAGE_INDIRECT, atlas_.indirect(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
+  glBindImageTexture(SH_IMAGE_RADIANCE, atlas_.radiance(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
+                     GL_RGBA32F);
   render_.Use();
   DispatchTexels(probes);
 }
@@ -540,7 +545,7 @@ void ShProbesSolver::DispatchTexels(const std::vector<int>* probes) const {
 double ShProbesSolver::ProjectToSh(double* total, const std::vector<int>* probes) {
   BindProbeData(project_, coefficients_);
   SetBatch(project_, probes);
-  glBindImageTexture(2, atlas_.radiance(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
+  glBindImageTexture(SH_IMAGE_RADIANCE, atlas_.radiance(), 0, GL_TRUE, 0, GL_READ_ONLY, GL_RGBA32F);
   project_.Use();
   glDispatchCompute(probes ? GLuint(probes->size()) : GLuint(layout_.probes()), 1, 1);
   glMemoryBarrier(kComputeBarrier);
@@ -578,7 +583,8 @@ double ShProbesSolver::ProjectToSh(double* total, const std::vector<int>* probes
 void ShProbesSolver::Interpolate(const std::vector<int>* probes) {
   BindProbeData(interpolate_, coefficients_);
   SetBatch(interpolate_, probes);
-  glBindImageTexture(1, atlas_.indirect(), 0, GL_TRUE, 0, GL_WRITE_ONLY, GL_RGBA32F);
+  glBindImageTexture(SH_IMAGE_INDIRECT, atlas_.indirect(), 0, GL_TRUE, 0, GL_WRITE_ONLY,
+                     GL_RGBA32F);
   interpolate_.Use();
   DispatchTexels(probes);
 }
