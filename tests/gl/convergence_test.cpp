@@ -4,6 +4,7 @@
 // (default 0.01); the count parameter is only a safety cap. Stats:
 // `residual`, the iterations used and `cap_reached`.
 #include <map>
+#include <set>
 #include <string>
 
 #include <absl/strings/str_cat.h>
@@ -11,6 +12,7 @@
 
 #include "support/measurement.h"
 #include "support/render_helpers.h"
+#include "support/registered_solvers.h"
 
 namespace gistream {
 namespace {
@@ -84,6 +86,15 @@ INSTANTIATE_TEST_SUITE_P(Solvers, Convergence, ::testing::ValuesIn(kSolvers),
                          [](const ::testing::TestParamInfo<Iterative>& param_info) {
                            return std::string(param_info.param.solver);
                          });
+
+TEST(Convergence, CoversEveryRegisteredSolver) {
+  std::set<std::string> run;
+  for (const Iterative& it : kSolvers) run.insert(it.solver);
+  testing::ExpectCoversEveryRegisteredSolver(
+      run, {{"direct", "not iterative: one pass"},
+            {"pathtrace", "not iterative: samples, not a tolerance"},
+            {"avg", "not iterative: Keller's split ends each VPL path (AvgStiffFurnace)"}});
+}
 
 }  // namespace
 }  // namespace gistream

@@ -9,11 +9,13 @@
 
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 
 #include "support/deforming_scene.h"
 #include "support/measurement.h"
 #include "support/render_helpers.h"
+#include "support/registered_solvers.h"
 
 namespace gistream {
 namespace {
@@ -137,8 +139,7 @@ TEST_P(DeformingSolvers, SeekedSolveEqualsAFreshSolveOfThePose) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Registered, DeformingSolvers,
-                         ::testing::Values("direct", "pathtrace", "sh_probes", "avg",
-                                           "implicit_visibility", "antiradiance"),
+                         ::testing::ValuesIn(testing::RegisteredSolverNames()),
                          [](const ::testing::TestParamInfo<std::string>& param_info) {
                            return param_info.param;
                          });

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "support/render_helpers.h"
+#include "support/registered_solvers.h"
 
 namespace gistream {
 namespace {
@@ -74,27 +75,35 @@ TEST_P(Dimmer, ScalesTheImageWithoutASolve) {
   EXPECT_GT(lit, 0.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    GiSolvers, Dimmer,
-    ::testing::Values(
-        Case{"sh_probes",
-             {{"grid", "4"}, {"face_size", "8"}, {"area_samples", "8"}, {"shadow_res", "64"}},
-             {"rasterize_cubemaps", "render_cubemaps", "sh_project"}},
-        Case{"avg",
-             {{"vpls", "64"},
-              {"grid", "16"},
-              {"shadow_res", "16"},
-              {"area_samples", "8"},
-              {"direct_shadow_res", "64"}},
-             {"voxelize"},
-             "vpl_maps_redrawn"},
-        Case{"implicit_visibility",
-             {{"bins_per_face", "4"}, {"area_samples", "8"}, {"shadow_res", "64"}},
-             {"create_links", "illumination"}},
-        Case{"antiradiance",
-             {{"bins", "32"}, {"iterations", "2"}, {"area_samples", "8"}, {"shadow_res", "64"}},
-             {"link", "global_pass", "push_pull"}}),
-    [](const ::testing::TestParamInfo<Case>& p) { return p.param.solver; });
+const std::vector<Case> kDimmerCases = {
+    Case{"sh_probes",
+         {{"grid", "4"}, {"face_size", "8"}, {"area_samples", "8"}, {"shadow_res", "64"}},
+         {"rasterize_cubemaps", "render_cubemaps", "sh_project"}},
+    Case{"avg",
+         {{"vpls", "64"},
+          {"grid", "16"},
+          {"shadow_res", "16"},
+          {"area_samples", "8"},
+          {"direct_shadow_res", "64"}},
+         {"voxelize"},
+         "vpl_maps_redrawn"},
+    Case{"implicit_visibility",
+         {{"bins_per_face", "4"}, {"area_samples", "8"}, {"shadow_res", "64"}},
+         {"create_links", "illumination"}},
+    Case{"antiradiance",
+         {{"bins", "32"}, {"iterations", "2"}, {"area_samples", "8"}, {"shadow_res", "64"}},
+         {"link", "global_pass", "push_pull"}}};
+
+INSTANTIATE_TEST_SUITE_P(GiSolvers, Dimmer, ::testing::ValuesIn(kDimmerCases),
+                         [](const ::testing::TestParamInfo<Case>& p) { return p.param.solver; });
+
+TEST(Dimmer, CoversEveryRegisteredSolver) {
+  std::set<std::string> run;
+  for (const Case& c : kDimmerCases) run.insert(c.solver);
+  testing::ExpectCoversEveryRegisteredSolver(
+      run, {{"direct", "no GI stage for a dimmer to skip: it shades direct light each frame"},
+            {"pathtrace", "progressive: a light change restarts its accumulation"}});
+}
 
 }  // namespace
 }  // namespace gistream

@@ -19,6 +19,7 @@
 // direct light at all.
 #include <cmath>
 #include <map>
+#include <set>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -27,6 +28,7 @@
 #include "support/gltf_builder.h"
 #include "support/measurement.h"
 #include "support/render_helpers.h"
+#include "support/registered_solvers.h"
 
 namespace gistream {
 namespace {
@@ -136,9 +138,20 @@ TEST_P(DoubleSidedEmissionGi, BothPlanesAlike) {
       << solver << " top " << top << " bottom " << bottom;
 }
 
-INSTANTIATE_TEST_SUITE_P(Solvers, DoubleSidedEmissionGi,
-                         ::testing::Values("sh_probes", "avg", "implicit_visibility",
-                                           "antiradiance"));
+const std::vector<const char*> kDoubleSidedSolvers = {"sh_probes", "avg", "implicit_visibility",
+                                                      "antiradiance"};
+
+INSTANTIATE_TEST_SUITE_P(Solvers, DoubleSidedEmissionGi, ::testing::ValuesIn(kDoubleSidedSolvers));
+
+TEST(DoubleSidedEmissionGi, CoversEveryRegisteredSolver) {
+  testing::ExpectCoversEveryRegisteredSolver(
+      {kDoubleSidedSolvers.begin(), kDoubleSidedSolvers.end()},
+      {{"direct",
+        "the expected value: the plane's light is the direct term (the test's reference)"},
+       {"pathtrace",
+        "the reference renderer; near-field emitters are its own test "
+        "(NearFieldEmitter)"}});
+}
 
 }  // namespace
 }  // namespace gistream
