@@ -304,6 +304,55 @@ class FleetTest(unittest.TestCase):
             balancer.close()
 
 
+class AuthThrottleTest(unittest.TestCase):
+    """Failed authentications (issue 30): gistreamd logs them (rate-limited,
+    never the token); HAProxy refuses an address past 20 in 10 s (the file's
+    stick table), gistreamd's auth filter not seeing addresses."""
+
+    TOKEN = "fleet-test-token-0123456789"
+
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = tempfile.mkdtemp(prefix="gistream_fleet_auth_")
+        tokens = os.path.join(cls.dir, "tokens")
+        with open(tokens, "w") as f:
+            f.write(f"{cls.TOKEN} tester\n")
+        cls.server, address = start_server(["--auth-tokens", tokens])
+        cls.balancer = Balancer([address], free_port())
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.balancer.close()
+        cls.server.terminate()
+        cls.server.wait(timeout=30)
+
+    def call(self, token):
+        with grpc.insecure_channel(self.balancer.address) as channel:
+            try:
+                gistream_pb2_grpc.GistreamStub(channel).GetServerStatus(
+                    gistream_pb2.GetServerStatusRequest(), timeout=10,
+                    metadata=[("authorization", f"Bearer {token}")])
+                return grpc.StatusCode.OK
+            except grpc.RpcError as e:
+                return e.code()
+
+    def test_guessing_is_throttled_per_address(self):
+        self.assertEqual(self.call(self.TOKEN), grpc.StatusCode.OK)
+        codes = [self.call(f"guess-{i:020d}") for i in range(30)]
+        print("wrong tokens:", [c.name for c in codes])
+        unauthenticated = codes.count(grpc.StatusCode.UNAUTHENTICATED)
+        self.assertGreaterEqual(unauthenticated, 20, codes)
+        self.assertLessEqual(unauthenticated, 22, codes)  # the rate is read per request
+        self.assertEqual(codes[-1], grpc.StatusCode.UNAVAILABLE, codes)  # HTTP 429
+        # The address stays refused while its rate is high, a right token too.
+        self.assertEqual(self.call(self.TOKEN), grpc.StatusCode.UNAVAILABLE)
+        with open(self.server.log_path) as f:
+            log = f.read()
+        self.assertIn("authentication failed: ", log)
+        self.assertNotIn("guess-", log)  # tokens are never logged
+        self.assertLessEqual(log.count("authentication failed: "), 5, log)  # a line a second
+
+
 class TlsFleetTest(unittest.TestCase):
     """The configuration deploy/k8s/balancer.yaml runs: TLS from the client
     to HAProxy and from HAProxy to gistreamd (GISTREAM_LB_CERT,

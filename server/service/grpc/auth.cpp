@@ -8,7 +8,12 @@
 #include <grpc/grpc_security_constants.h>
 #include <grpc/slice.h>
 
+#include <atomic>
+#include <chrono>
+#include <mutex>
 #include <optional>
+
+#include "util/log.h"
 
 namespace gistream::service {
 namespace {
@@ -42,6 +47,25 @@ grpc::Status ToGrpc(const absl::Status& status) {
   return grpc::Status(static_cast<grpc::StatusCode>(status.code()), std::string(status.message()));
 }
 
+// Failed authentications are logged, at most one line a second with the
+// count since the last (a guesser must not flood the log; the token is
+// never written). gRPC 1.51's auth filter does not tell the caller's
+// address, so throttling per source is the balancer's (deploy/haproxy).
+void LogFailedAuthentication(std::string_view path, const absl::Status& why) {
+  static std::atomic<uint64_t> failures{0};
+  static std::mutex mutex;
+  static std::chrono::steady_clock::time_point last{};
+  failures.fetch_add(1, std::memory_order_relaxed);
+  const auto now = std::chrono::steady_clock::now();
+  std::unique_lock lock(mutex, std::try_to_lock);
+  if (!lock.owns_lock() || now - last < std::chrono::seconds(1)) return;
+  last = now;
+  const uint64_t count = failures.exchange(0, std::memory_order_relaxed);
+  Log(LogLevel::kWarning,
+      absl::StrCat("authentication failed: ", count, " call(s) since the last report (the last: ",
+                   absl::string_view(path.data(), path.size()), ", ", why.message(), ")"));
+}
+
 // The check of both processors: open methods pass, every other call needs a
 // listed bearer token.
 absl::Status CheckCall(std::string_view path, const std::optional<std::string_view>& header,
@@ -50,7 +74,9 @@ absl::Status CheckCall(std::string_view path, const std::optional<std::string_vi
   // The header stays in the call's metadata: CallerTenant reads the tenant
   // from it (an AuthContext property would be shared by the calls of one
   // connection, which may carry different tokens).
-  return TenantOfHeader(header ? &*header : nullptr, tokens).status();
+  absl::Status status = TenantOfHeader(header ? &*header : nullptr, tokens).status();
+  if (!status.ok()) LogFailedAuthentication(path, status);
+  return status;
 }
 
 std::string_view View(const grpc_slice& s) {
