@@ -23,6 +23,7 @@
 #include "scene/scene_files.h"
 #include "scene/scene_memory.h"
 #include "scene/validate_update.h"
+#include "service/scene_import.h"
 #include "service/scene_info.h"
 #include "solvers/registry.h"
 #include "util/log.h"
@@ -130,10 +131,6 @@ void ReportAgainstPlan(const SolverDescription& solver, const std::vector<std::s
 bool AnyAnimationPlaying(const SceneState& state) {
   return std::any_of(state.animations().begin(), state.animations().end(),
                      [](const AnimationPlayback& a) { return a.playing; });
-}
-
-std::span<const uint8_t> Bytes(const std::string& s) {
-  return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
 }
 
 // Sink that hands the first frame of a Render() call to a promise.
@@ -399,65 +396,14 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   }
 
   // Parse and validate on this thread: nothing reaches the GPU before this
-  // has passed.
-  // What the import reads and decodes is reserved before it is decoded
-  // (scene/import_memory.h), and held until the scene itself is.
+  // has passed. What the import reads and decodes is reserved before it is
+  // decoded, and held until the scene itself is.
   ImportMemory transient(accounts_.server());
-  // The proxies stop at --max-load-seconds (the scene loads without the
-  // rest); the caller's stop ends the load between stages and slices.
-  LoadControl control;
-  control.optional_deadline = LoadControl::Clock::now() + options_.max_load_time;
-  control.stop = source.stop;
-  ProxyReport proxies;
-  Scene scene;
-  if (!source.name.empty()) {
-    GS_ASSIGN_OR_RETURN(scene,
-                        ImportSceneByName(options_.scene_dir, source.name, options_.import_limits,
-                                          &transient, &control, &proxies));
-  } else {
-    ImportOptions import;
-    import.limits = options_.import_limits;
-    import.name = "upload";
-    import.memory = &transient;
-    import.control = &control;
-    import.proxy_report = &proxies;
-    GS_ASSIGN_OR_RETURN(scene, ImportGltf(Bytes(source.bytes), import));
-  }
-  if (proxies.trees_skipped + proxies.levels_skipped > 0) {
-    Log(LogLevel::kInfo,
-        absl::StrCat("load: the proxies ran past --max-load-seconds (",
-                     options_.max_load_time.count() / 1000.0, " s): ", proxies.trees_skipped,
-                     " primitive(s) without their cluster trees, ", proxies.levels_skipped,
-                     " with levels cut short; they draw coarser levels or the full mesh"));
-  }
-  if (has_env) {
-    std::vector<uint8_t> env_file;
-    std::span<const uint8_t> env_bytes = Bytes(source.environment_bytes);
-    if (!source.environment_name.empty()) {
-      GS_ASSIGN_OR_RETURN(
-          std::filesystem::path path,
-          ResolveSceneUri(options_.scene_dir, source.environment_name, "environment_name"));
-      // A regular file only, opened without blocking (a FIFO would wedge
-      // this thread), and no larger than a scene may be.
-      GS_ASSIGN_OR_RETURN(env_file, ReadFileLimited(path, options_.import_limits.max_scene_bytes,
-                                                    "environment_name"));
-      GS_RETURN_IF_ERROR(transient.Reserve(
-          env_file.size(), absl::StrCat("environment_name: ", env_file.size(), " bytes read")));
-      env_bytes = env_file;
-    }
-    Environment env;
-    GS_ASSIGN_OR_RETURN(env.image, DecodeImage(env_bytes, ImageKind::kEnvironment,
-                                               options_.import_limits, "environment", &transient));
-    env.intensity = source.environment_intensity > 0.0f ? source.environment_intensity : 1.0f;
-    env.max_radiance = MaxPixel(env.image);
-    if (env.intensity * env.max_radiance > kMaxRadiance) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("environment_intensity: ", env.intensity, " x the map's brightest pixel ",
-                       env.max_radiance, " exceeds the limit of ", kMaxRadiance, " nits"));
-    }
-    scene.environment = std::move(env);
-  }
-  GS_RETURN_IF_ERROR(control.Check("load: before the upload"));
+  GS_ASSIGN_OR_RETURN(ImportedScene imported,
+                      ImportSceneSource(source, options_.scene_dir, options_.import_limits,
+                                        options_.max_load_time, transient));
+  Scene& scene = imported.scene;
+  const ProxyReport& proxies = imported.proxies;
 
   auto record = std::make_shared<SceneRecord>();
   record->tenant = source.tenant;
