@@ -1091,6 +1091,134 @@ absl::Status EngineImpl::ShadeSample(GpuSceneRecord& scene, SolverEntry& entry, 
   return absl::OkStatus();
 }
 
+void EngineImpl::ApplyUpdates(SessionRecord& session, ViewRecord& view, GpuSceneRecord& scene,
+                              const std::deque<Update>& updates) {
+  SceneState& state = *scene.state;
+  if (!view.initialized) {
+    view.initialized = true;
+    view.camera = DefaultCamera(state, session.config.width, session.config.height);
+    if (session.config.camera) ApplyCameraUpdate(state, *session.config.camera, view.camera);
+  }
+  gl::StageTimer::Scope stage(timer_, "apply_updates", /*cpu_stage=*/true);
+  // The animation clock first, so that a seek among the updates is exact.
+  const auto now = Clock::now();
+  if (scene.animation_tick) {
+    state.Advance(std::chrono::duration<double>(now - *scene.animation_tick).count());
+  }
+  scene.animation_tick = now;
+  ChangeMask materials = kChangeNone;
+  for (const Update& u : updates) {
+    if (const auto* camera = std::get_if<CameraUpdate>(&u.change)) {
+      ApplyCameraUpdate(state, *camera, view.camera);
+      view.camera_changed = true;
+      view.camera_version += 1;
+    } else if (absl::Status limits = state.CheckApply(u.change); !limits.ok()) {
+      // Within its own limits, but not with the current state (a world
+      // position through the hierarchy, colour x intensity, ...).
+      session.sink->OnUpdateRejected(u.seq, limits);
+    } else {
+      materials |= state.Apply(u.change) & (kChangeMaterials | kChangeEmission);
+    }
+    view.last_seq = std::max(view.last_seq, u.seq);
+  }
+  if (materials) scene.gpu->UpdateMaterials(state);
+}
+
+absl::StatusOr<EngineImpl::ReadPixels> EngineImpl::ReadBack(
+    const SessionRecord& session, ViewRecord& view, const std::function<std::string()>& stages) {
+  const EncodingOptions& enc = session.config.encoding;
+  ReadPixels out;
+  if (enc.format == ImageFormat::kExr) {
+    timer_.Skip("tonemap");
+    gl::StageTimer::Scope stage(timer_, "readback");
+    out.hdr = passes_->ReadHdr(view.gbuffer);
+  } else {
+    {
+      gl::StageTimer::Scope stage(timer_, "tonemap");
+      passes_->Tonemap(view.gbuffer, enc.exposure);
+    }
+    gl::StageTimer::Scope stage(timer_, "readback");
+    out.ldr = passes_->ReadLdr(view.gbuffer);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  // No frame with NaN or Inf leaves the server: it is a solver bug (inputs
+  // are bounded, scene/magnitude_limits.h), reported as such. EXR scans the
+  // float readback it has anyway; JPEG/PNG count in the tone-map pass, which
+  // reads every HDR pixel already, and read back one counter.
+  const size_t non_finite = enc.format == ImageFormat::kExr
+                                ? size_t(std::count_if(out.hdr.begin(), out.hdr.end(),
+                                                       [](float v) { return !std::isfinite(v); }))
+                                : size_t(passes_->NonFinitePixels());
+  if (non_finite > 0) {
+    return absl::InternalError(absl::StrCat(
+        "solver '", session.config.solver, "' (stages ", stages(), "): produced ", non_finite,
+        enc.format == ImageFormat::kExr ? " non-finite values" : " non-finite pixels",
+        "; the frame is not sent"));
+  }
+  return out;
+}
+
+absl::Status EngineImpl::EncodeFrame(SessionRecord& session, ViewRecord& view,
+                                     const ReadPixels& pixels, EncodedFrame& frame) {
+  const EncodingOptions& enc = session.config.encoding;
+  // Pixels equal to the last frame's are not encoded again (the frame
+  // says `unchanged`), unless a key frame was asked for.
+  bool key_frame = false;
+  {
+    std::lock_guard lock(mutex_);
+    key_frame = std::exchange(session.key_frame_requested, false);
+  }
+  const std::span<const uint8_t> bytes =
+      enc.format == ImageFormat::kExr
+          ? std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(pixels.hdr.data()),
+                                     pixels.hdr.size() * sizeof(float))
+          : std::span<const uint8_t>(pixels.ldr);
+  const bool same = !enc.send_unchanged && view.encoder.SameAsLast(bytes);
+  frame.unchanged = same && !key_frame;
+  if (frame.unchanged) {
+    timer_.Skip("encode");
+    frame.key_frame = false;
+    return absl::OkStatus();
+  }
+  gl::StageTimer::Scope stage(timer_, "encode", /*cpu_stage=*/true);
+  const int w = int(view.gbuffer.width()), h = int(view.gbuffer.height());
+  const float fps =
+      session.config.max_fps > 0.0f ? session.config.max_fps : options_.default_max_fps;
+  GS_ASSIGN_OR_RETURN(EncodedImage image,
+                      view.encoder.Encode(enc, fps, pixels.ldr, pixels.hdr, w, h, key_frame));
+  frame.image = std::move(image.bytes);
+  frame.key_frame = image.key_frame;
+  return absl::OkStatus();
+}
+
+void EngineImpl::AddViewStats(ViewRecord& view, const GpuSceneRecord& scene, const Solver& solver,
+                              const SceneState& state, uint32_t refine_target,
+                              std::vector<std::pair<std::string, double>>& stats) {
+  stats.emplace_back("camera_changed", view.camera_changed ? 1.0 : 0.0);
+  // How long the picture has had to converge since the last change of each
+  // kind (issue 27): frames sent and milliseconds since the camera moved
+  // and since the scene version this view shows changed.
+  {
+    const auto now = Clock::now();
+    const bool first = view.frame_number == 1;
+    if (view.camera_changed || first) view.camera_since = {now, view.frame_number};
+    if (state.version() != view.scene_version_seen || first) {
+      view.scene_since = {now, view.frame_number};
+      view.scene_version_seen = state.version();
+    }
+    SetSinceChangeStats(view, now, stats);
+  }
+  stats.emplace_back("scene_gpu_bytes", double(scene.gpu->gpu_bytes()));
+  stats.emplace_back("cached_solvers", double(scene.solvers.size()));
+  // 0 while the solver's view-independent update runs on (slices, a
+  // background job): the frame shows the last consistent solution.
+  stats.emplace_back("update_complete", solver.UpdateComplete() ? 1.0 : 0.0);
+  // Refinement progress: samples per pixel in the picture shown, of the
+  // view's target (1 of 1 when it does not refine).
+  stats.emplace_back("refine_samples", double(view.refinement.samples()));
+  stats.emplace_back("refine_target", double(refine_target));
+}
+
 absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRecord& session,
                                                                        ViewRecord& view,
                                                                        std::deque<Update> updates) {
@@ -1104,36 +1232,7 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   timer_.Reset();
   view.settled = false;
 
-  if (!view.initialized) {
-    view.initialized = true;
-    view.camera = DefaultCamera(state, session.config.width, session.config.height);
-    if (session.config.camera) ApplyCameraUpdate(state, *session.config.camera, view.camera);
-  }
-  {
-    gl::StageTimer::Scope stage(timer_, "apply_updates", /*cpu_stage=*/true);
-    // The animation clock first, so that a seek among the updates is exact.
-    const auto now = Clock::now();
-    if (scene.animation_tick) {
-      state.Advance(std::chrono::duration<double>(now - *scene.animation_tick).count());
-    }
-    scene.animation_tick = now;
-    ChangeMask materials = kChangeNone;
-    for (const Update& u : updates) {
-      if (const auto* camera = std::get_if<CameraUpdate>(&u.change)) {
-        ApplyCameraUpdate(state, *camera, view.camera);
-        view.camera_changed = true;
-        view.camera_version += 1;
-      } else if (absl::Status limits = state.CheckApply(u.change); !limits.ok()) {
-        // Within its own limits, but not with the current state (a world
-        // position through the hierarchy, colour x intensity, ...).
-        session.sink->OnUpdateRejected(u.seq, limits);
-      } else {
-        materials |= state.Apply(u.change) & (kChangeMaterials | kChangeEmission);
-      }
-      view.last_seq = std::max(view.last_seq, u.seq);
-    }
-    if (materials) scene.gpu->UpdateMaterials(state);
-  }
+  ApplyUpdates(session, view, scene, updates);
   GS_RETURN_IF_ERROR(ReserveView(session, scene, view));
   // Skinned and morphed meshes are posed on the GPU once per scene version,
   // for every rasterising pass of every session; a scene without them has
@@ -1225,66 +1324,10 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   }
 
   auto frame = std::make_shared<EncodedFrame>();
-  const EncodingOptions& enc = session.config.encoding;
-  std::vector<float> hdr;
-  std::vector<uint8_t> ldr;
-  if (enc.format == ImageFormat::kExr) {
-    timer_.Skip("tonemap");
-    gl::StageTimer::Scope stage(timer_, "readback");
-    hdr = passes_->ReadHdr(view.gbuffer);
-  } else {
-    {
-      gl::StageTimer::Scope stage(timer_, "tonemap");
-      passes_->Tonemap(view.gbuffer, enc.exposure);
-    }
-    gl::StageTimer::Scope stage(timer_, "readback");
-    ldr = passes_->ReadLdr(view.gbuffer);
-  }
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  // No frame with NaN or Inf leaves the server: it is a solver bug (inputs
-  // are bounded, scene/magnitude_limits.h), reported as such. EXR scans the
-  // float readback it has anyway; JPEG/PNG count in the tone-map pass, which
-  // reads every HDR pixel already, and read back one counter.
-  const size_t non_finite =
-      enc.format == ImageFormat::kExr
-          ? size_t(std::count_if(hdr.begin(), hdr.end(), [](float v) { return !std::isfinite(v); }))
-          : size_t(passes_->NonFinitePixels());
-  if (non_finite > 0) {
-    return absl::InternalError(absl::StrCat(
-        "solver '", session.config.solver, "' (stages ",
-        absl::StrJoin(entry.solver->Plan(state, changes), ", "), "): produced ", non_finite,
-        enc.format == ImageFormat::kExr ? " non-finite values" : " non-finite pixels",
-        "; the frame is not sent"));
-  }
-  {
-    // Pixels equal to the last frame's are not encoded again (the frame
-    // says `unchanged`), unless a key frame was asked for.
-    bool key_frame = false;
-    {
-      std::lock_guard lock(mutex_);
-      key_frame = std::exchange(session.key_frame_requested, false);
-    }
-    const std::span<const uint8_t> pixels =
-        enc.format == ImageFormat::kExr
-            ? std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(hdr.data()),
-                                       hdr.size() * sizeof(float))
-            : std::span<const uint8_t>(ldr);
-    const bool same = !enc.send_unchanged && view.encoder.SameAsLast(pixels);
-    frame->unchanged = same && !key_frame;
-    if (frame->unchanged) {
-      timer_.Skip("encode");
-      frame->key_frame = false;
-    } else {
-      gl::StageTimer::Scope stage(timer_, "encode", /*cpu_stage=*/true);
-      const int w = int(view.gbuffer.width()), h = int(view.gbuffer.height());
-      const float fps =
-          session.config.max_fps > 0.0f ? session.config.max_fps : options_.default_max_fps;
-      GS_ASSIGN_OR_RETURN(EncodedImage image,
-                          view.encoder.Encode(enc, fps, ldr, hdr, w, h, key_frame));
-      frame->image = std::move(image.bytes);
-      frame->key_frame = image.key_frame;
-    }
-  }
+  GS_ASSIGN_OR_RETURN(const ReadPixels pixels, ReadBack(session, view, [&] {
+                        return absl::StrJoin(entry.solver->Plan(state, changes), ", ");
+                      }));
+  GS_RETURN_IF_ERROR(EncodeFrame(session, view, pixels, *frame));
   frame->timings = std::move(view.carry);
   view.carry.clear();
   MergeTimings(frame->timings, timer_.Finish());
@@ -1294,36 +1337,14 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   frame->frame_number = ++view.frame_number;
   frame->width = view.gbuffer.width();
   frame->height = view.gbuffer.height();
-  frame->format = enc.format;
+  frame->format = session.config.encoding.format;
   frame->scene_version = state.version();
   frame->last_update_seq = view.last_seq;
   frame->solver = session.config.solver;
   frame->stats = session.config.pacing == Pacing::kOnRequest && sample > 0
                      ? std::move(view.solve_stats)
                      : entry.solver->Stats();
-  frame->stats.emplace_back("camera_changed", view.camera_changed ? 1.0 : 0.0);
-  // How long the picture has had to converge since the last change of each
-  // kind (issue 27): frames sent and milliseconds since the camera moved
-  // and since the scene version this view shows changed.
-  {
-    const auto now = Clock::now();
-    const bool first = view.frame_number == 1;
-    if (view.camera_changed || first) view.camera_since = {now, view.frame_number};
-    if (state.version() != view.scene_version_seen || first) {
-      view.scene_since = {now, view.frame_number};
-      view.scene_version_seen = state.version();
-    }
-    SetSinceChangeStats(view, now, frame->stats);
-  }
-  frame->stats.emplace_back("scene_gpu_bytes", double(scene.gpu->gpu_bytes()));
-  frame->stats.emplace_back("cached_solvers", double(scene.solvers.size()));
-  // 0 while the solver's view-independent update runs on (slices, a
-  // background job): the frame shows the last consistent solution.
-  frame->stats.emplace_back("update_complete", entry.solver->UpdateComplete() ? 1.0 : 0.0);
-  // Refinement progress: samples per pixel in the picture shown, of the
-  // view's target (1 of 1 when it does not refine).
-  frame->stats.emplace_back("refine_samples", double(view.refinement.samples()));
-  frame->stats.emplace_back("refine_target", double(refine_target));
+  AddViewStats(view, scene, *entry.solver, state, refine_target, frame->stats);
   // Settled: the picture equals the last one, no update came with it and
   // the solver owes nothing (no slices, no background job, no animation):
   // a continuous view then rests (RenderFrame). Keep-alives at rest say 1.

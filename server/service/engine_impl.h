@@ -227,9 +227,35 @@ class EngineImpl final : public Engine {
   // the solver's final pass) and adds it to the view's accumulation.
   absl::Status ShadeSample(GpuSceneRecord& scene, SolverEntry& entry, SolverContext& ctx,
                            ViewRecord& view, uint32_t sample, uint32_t refine_target);
+  // One frame of `session`'s view, step by step: ApplyUpdates, the
+  // solver's Plan and Update, the refinement samples (ShadeSample),
+  // ReadBack, EncodeFrame, then the frame's stats (AddViewStats). Null (no
+  // frame yet) when a frame requested on its own is not complete.
   absl::StatusOr<std::shared_ptr<EncodedFrame>> ProduceFrame(SessionRecord& session,
                                                              ViewRecord& view,
                                                              std::deque<Update> updates);
+  // The view's first camera, then the updates in order: camera updates to
+  // the view, the rest to the scene (those its state refuses reported to
+  // the session's sink); stage apply_updates.
+  void ApplyUpdates(SessionRecord& session, ViewRecord& view, GpuSceneRecord& scene,
+                    const std::deque<Update>& updates);
+  // The view's picture read back: float HDR for EXR, else tone-mapped
+  // 8-bit. INTERNAL naming the solver and `stages()` when a pixel is NaN
+  // or Inf (no such frame leaves the server).
+  struct ReadPixels {
+    std::vector<float> hdr;
+    std::vector<uint8_t> ldr;
+  };
+  absl::StatusOr<ReadPixels> ReadBack(const SessionRecord& session, ViewRecord& view,
+                                      const std::function<std::string()>& stages);
+  // Encodes `pixels` into `frame`, or marks it unchanged when they equal
+  // the last frame's (unless a key frame was asked for).
+  absl::Status EncodeFrame(SessionRecord& session, ViewRecord& view, const ReadPixels& pixels,
+                           EncodedFrame& frame);
+  // The view's convergence and memory stats a frame carries (issue 27).
+  void AddViewStats(ViewRecord& view, const GpuSceneRecord& scene, const Solver& solver,
+                    const SceneState& state, uint32_t refine_target,
+                    std::vector<std::pair<std::string, double>>& stats);
   // Frees a closed session's view; a solver that no open session uses any
   // more and whose background job runs is dropped, the job cancelled
   // (nobody waits for what it would deliver).

@@ -143,7 +143,7 @@ class BenchReferencesTest(unittest.TestCase):
             out = tempfile.mkdtemp(prefix="gistream_bench_refs_")
             run = subprocess.run(
                 [os.environ["GISTREAM"], "--server", address, "bench", "--sessions", "1",
-                 "--duration", "1s", "--warmup", "0s", "--size", "16x16", "--format", "exr",
+                 "--duration", "2s", "--warmup", "0s", "--size", "16x16", "--format", "exr",
                  "--workload", "object", "--update-hz", "5", "--reference-spp", "8",
                  "--param", "area_samples=4", "--out", out],
                 capture_output=True, text=True, timeout=240)
@@ -151,14 +151,16 @@ class BenchReferencesTest(unittest.TestCase):
             with open(os.path.join(out, "frames.csv")) as f:
                 rows = list(csv.DictReader(f))
             seqs = sorted({int(r["seq"]) for r in rows})
-            self.assertGreaterEqual(len(seqs), 2, rows)
+            # Under load (ctest -j) a few frames, at least one showing an update.
+            self.assertGreaterEqual(seqs[-1], 1, rows)
             refs = os.path.join(out, "references")
             for seq in seqs:
                 self.assertTrue(os.path.isfile(os.path.join(refs, f"step1_seq{seq}.exr")), seq)
                 with open(os.path.join(refs, f"step1_seq{seq}.json")) as f:
                     updates = [json_format.ParseDict(u, gistream.pb.Update()) for u in json.load(f)]
-                # The state of seq n: its updates end with update n.
-                self.assertEqual(max(u.seq for u in updates), seq)
+                # The state of seq n: its updates end with update n (none
+                # for a frame before the first update).
+                self.assertEqual(max((u.seq for u in updates), default=0), seq)
             last = seqs[-1]
             with open(os.path.join(refs, f"step1_seq{last}.json")) as f:
                 updates = [json_format.ParseDict(u, gistream.pb.Update()) for u in json.load(f)]
