@@ -56,8 +56,8 @@ struct GatewayMetrics::Impl {
       prometheus::BuildCounter()
           .Name("gistream_web_upgrades_refused_total")
           .Help(
-              "WebSocket upgrades refused: reason origin (not in --allow-origin) or viewers "
-              "(--max-viewers reached)")
+              "WebSocket upgrades refused: reason origin (not in --allow-origin), viewers "
+              "(--max-viewers reached) or token (no valid --viewer-tokens token)")
           .Register(registry);
   prometheus::Counter& refused_origin = refused.Add({{"reason", "origin"}});
   prometheus::Counter& refused_viewers = refused.Add({{"reason", "viewers"}});
