@@ -32,6 +32,23 @@ namespace net = boost::asio;
 using tcp = net::ip::tcp;
 using json = nlohmann::json;
 
+// The subprotocols an upgrade request offers (Sec-WebSocket-Protocol,
+// comma-separated), trimmed.
+std::vector<std::string_view> OfferedSubprotocols(const http::request<http::string_body>& request) {
+  const beast::string_view header = request[http::field::sec_websocket_protocol];
+  const std::string_view offered(header.data(), header.size());
+  std::vector<std::string_view> out;
+  for (size_t begin = 0; begin < offered.size();) {
+    const size_t end = std::min(offered.find(',', begin), offered.size());
+    std::string_view protocol = offered.substr(begin, end - begin);
+    while (!protocol.empty() && protocol.front() == ' ') protocol.remove_prefix(1);
+    while (!protocol.empty() && protocol.back() == ' ') protocol.remove_suffix(1);
+    if (!protocol.empty()) out.push_back(protocol);
+    begin = end + 1;
+  }
+  return out;
+}
+
 json Vec(const v1::Vec3& v) { return json::array({v.x(), v.y(), v.z()}); }
 
 void SetVec(const json& j, v1::Vec3* out) {
@@ -226,8 +243,8 @@ class Viewer : public std::enable_shared_from_this<Viewer> {
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
     // A page that offers subprotocols gets "gistream" selected (a browser
     // fails a connection whose answer selects none of those it offered).
-    if (request[http::field::sec_websocket_protocol].find(kSubprotocol) !=
-        beast::string_view::npos) {
+    const std::vector<std::string_view> offered = OfferedSubprotocols(request);
+    if (std::find(offered.begin(), offered.end(), kSubprotocol) != offered.end()) {
       ws_.set_option(websocket::stream_base::decorator([](websocket::response_type& response) {
         response.set(http::field::sec_websocket_protocol, kSubprotocol);
       }));
@@ -611,22 +628,15 @@ std::optional<std::string> ViewerToken(const http::request<http::string_body>& r
   const beast::string_view authorization_header = request[http::field::authorization];
   const std::string_view authorization(authorization_header.data(), authorization_header.size());
   if (authorization.substr(0, 7) == "Bearer ") return std::string(authorization.substr(7));
-  const beast::string_view offered_header = request[http::field::sec_websocket_protocol];
-  const std::string_view offered(offered_header.data(), offered_header.size());
-  for (size_t begin = 0; begin < offered.size();) {
-    const size_t end = std::min(offered.find(',', begin), offered.size());
-    std::string_view protocol = offered.substr(begin, end - begin);
-    while (!protocol.empty() && protocol.front() == ' ') protocol.remove_prefix(1);
-    while (!protocol.empty() && protocol.back() == ' ') protocol.remove_suffix(1);
-    if (protocol.substr(0, sizeof(kTokenSubprotocolPrefix) - 1) == kTokenSubprotocolPrefix) {
-      std::string token;
-      const std::string_view encoded = protocol.substr(sizeof(kTokenSubprotocolPrefix) - 1);
-      if (absl::WebSafeBase64Unescape(absl::string_view(encoded.data(), encoded.size()), &token)) {
-        return token;
-      }
+  constexpr std::string_view prefix = kTokenSubprotocolPrefix;
+  for (const std::string_view protocol : OfferedSubprotocols(request)) {
+    if (protocol.substr(0, prefix.size()) != prefix) continue;
+    const std::string_view encoded = protocol.substr(prefix.size());
+    std::string token;
+    if (!absl::WebSafeBase64Unescape(absl::string_view(encoded.data(), encoded.size()), &token)) {
       return std::nullopt;
     }
-    begin = end + 1;
+    return token;
   }
   return std::nullopt;
 }
