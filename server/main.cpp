@@ -130,6 +130,11 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
   --refine-samples N         samples per pixel a still view accumulates (sub-
                              pixel jitter, box filter) before it rests; 1:
                              pixel centres only (default 16, at most 1024)
+  --refine-history N         weight, in samples, of the picture kept when the
+                             scene changes under a still camera (clipped to
+                             the new picture's colours, faded out by the last
+                             sample); 0: a change restarts the picture
+                             (default 0, at most 64)
   --version                  print "gistreamd VERSION" and exit
   --list-solvers             print the registered solvers, one name per line,
                              and exit
@@ -282,6 +287,11 @@ Flags ParseFlags(int argc, char** argv) {
        [&](auto flag, auto v) {
          f.engine.refine_samples =
              ParseUnsigned<uint32_t>(flag, v, 1, EngineOptions::kMaxRefineSamples);
+       }},
+      {"--refine-history",
+       [&](auto flag, auto v) {
+         f.engine.refine_history =
+             ParseUnsigned<uint32_t>(flag, v, 0, EngineOptions::kMaxRefineHistory);
        }},
   };
 

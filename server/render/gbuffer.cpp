@@ -31,18 +31,21 @@ absl::Status GBuffer::Resize(uint32_t width, uint32_t height) {
   hdr_ = gl::RenderTarget(GL_RGBA32F, w, h, /*linear=*/true);
   ldr_ = gl::RenderTarget(GL_RGBA8, w, h);
   accumulation_ = gl::RenderTarget(GL_RGBA32F, w, h);
+  history_ = gl::RenderTarget(GL_RGBA32F, w, h);
   fbo_ =
       gl::FramebufferOf({position_.id(), normal_.id(), albedo_.id(), emission_.id()}, depth_.id());
   hdr_fbo_ = gl::FramebufferOf({hdr_.id()});
   ldr_fbo_ = gl::FramebufferOf({ldr_.id()});
   accumulation_fbo_ = gl::FramebufferOf({accumulation_.id()});
+  history_fbo_ = gl::FramebufferOf({history_.id()});
   view_ = gl::ZeroedBuffer(sizeof(glm::vec4));
 
   // Allocation failures are the client's size meeting this GPU's memory,
   // not a bug: an error status for the session, never an abort.
   const GLenum error = gl::AllocationError();
   bool complete = true;
-  for (const gl::Framebuffer* f : {&fbo_, &hdr_fbo_, &ldr_fbo_, &accumulation_fbo_}) {
+  for (const gl::Framebuffer* f :
+       {&fbo_, &hdr_fbo_, &ldr_fbo_, &accumulation_fbo_, &history_fbo_}) {
     complete = complete &&
                glCheckNamedFramebufferStatus(f->id(), GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
   }

@@ -1,8 +1,9 @@
 // Per-view G-buffer: world position (w = 1 on geometry), normal, albedo
 // (a: metallic), emission (a: roughness), depth, and the eye it was drawn
 // from; plus the HDR radiance target the solvers shade into and
-// the 8-bit target tone mapping writes, and the mean of a still view's
-// refinement samples (render/refinement.h).
+// the 8-bit target tone mapping writes, and the mean of a view's
+// refinement samples with the history kept across a change
+// (render/refinement.h).
 #pragma once
 
 #include <cstdint>
@@ -25,9 +26,9 @@ class GBuffer {
   uint32_t height() const { return height_; }
   // Bytes its textures hold: position RGBA32F, normal RGBA16F, albedo RGBA8,
   // emission RGBA32F, depth 32F, hdr RGBA32F, ldr RGBA8, accumulation
-  // RGBA32F = 84 per pixel.
+  // RGBA32F, history RGBA32F = 100 per pixel.
   uint64_t gpu_bytes() const { return uint64_t(width_) * height_ * kBytesPerPixel; }
-  static constexpr uint64_t kBytesPerPixel = 16 + 8 + 4 + 16 + 4 + 16 + 4 + 16;
+  static constexpr uint64_t kBytesPerPixel = 16 + 8 + 4 + 16 + 4 + 16 + 4 + 16 + 16;
 
   GLuint fbo() const { return fbo_.id(); }          // the four G-buffer targets + depth
   GLuint hdr_fbo() const { return hdr_fbo_.id(); }  // the radiance target
@@ -40,6 +41,9 @@ class GBuffer {
   GLuint ldr_fbo() const { return ldr_fbo_.id(); }  // tone-mapped RGBA8
   GLuint ldr() const { return ldr_.id(); }
   GLuint accumulation_fbo() const { return accumulation_fbo_.id(); }  // refinement mean
+  GLuint accumulation() const { return accumulation_.id(); }
+  GLuint history_fbo() const { return history_fbo_.id(); }  // the picture before a change
+  GLuint history() const { return history_.id(); }
 
   // Binds position/normal/albedo/emission to texture units first..first+3
   // (shaders/render/gbuffer_read.glsl reads them at GS_UNIT_GBUFFER).
@@ -54,8 +58,8 @@ class GBuffer {
 
  private:
   uint32_t width_ = 0, height_ = 0;
-  gl::Texture position_, normal_, albedo_, emission_, depth_, hdr_, ldr_, accumulation_;
-  gl::Framebuffer fbo_, hdr_fbo_, ldr_fbo_, accumulation_fbo_;
+  gl::Texture position_, normal_, albedo_, emission_, depth_, hdr_, ldr_, accumulation_, history_;
+  gl::Framebuffer fbo_, hdr_fbo_, ldr_fbo_, accumulation_fbo_, history_fbo_;
   gl::Buffer view_;  // std140 { vec4 eye; }
 };
 

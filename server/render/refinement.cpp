@@ -1,6 +1,8 @@
 #include "render/refinement.h"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace gistream {
 namespace {
@@ -23,13 +25,70 @@ float Rotated(float u) {
 
 }  // namespace
 
-int Refinement::Next(const Key& key, uint32_t target) {
-  if (!(key == key_) || !key.solution_final || target <= 1 || samples_ == 0) {
+std::optional<Refinement::Sample> Refinement::Next(const Key& key, uint32_t target,
+                                                   uint32_t history) {
+  const bool same = key == key_ && key.solution_final;
+  if (target <= 1 || samples_ == 0 || !key.SameView(key_) || (!same && history == 0)) {
+    // The view changed (or nothing was shown yet, or no history is kept):
+    // the samples restart at the pixel centre.
     key_ = key;
     samples_ = 0;
-    return 0;
+    accumulation_ = 0;
+    history_ = 0;
+    history_invalid_ = {};
+    return Sample{0, 0, false};
   }
-  return samples_ >= target ? -1 : int(samples_);
+  if (!same) {
+    // Only what the view shows changed: the picture shown is the history.
+    key_ = key;
+    samples_ = 0;
+    accumulation_ += 1;
+    history_ = history;
+    history_invalid_ = {};
+    return Sample{0, accumulation_ % target, true};
+  }
+  return Continue(target);
+}
+
+std::optional<Refinement::Sample> Refinement::Continue(uint32_t target) const {
+  if (samples_ >= target) return std::nullopt;
+  return Sample{samples_, (samples_ + accumulation_) % std::max(target, 1u), false};
+}
+
+float Refinement::HistoryWeight(uint32_t target) const {
+  if (history_ == 0 || target < 2 || samples_ >= target) return 0.0f;
+  // `history_` at one sample, 0 at `target`.
+  return float(history_) * float(target - samples_) / float(target - 1);
+}
+
+Refinement::PixelBox MovedPixels(const ViewCamera& camera, const Bounds& moved) {
+  if (moved.empty()) return {};
+  const glm::ivec2 size(int(camera.width), int(camera.height));
+  const Refinement::PixelBox all{glm::ivec2(0), size};
+  // Pixel centres (no jitter) of the box's corners; a corner at or behind
+  // the eye's plane could be anywhere on screen: all of it.
+  ViewCamera centred = camera;
+  centred.jitter = glm::vec2(0.0f);
+  const glm::mat4 view = centred.View();
+  const glm::mat4 proj = centred.Projection();
+  glm::vec2 lo(std::numeric_limits<float>::max()), hi(std::numeric_limits<float>::lowest());
+  for (int i = 0; i < 8; ++i) {
+    const glm::vec3 corner((i & 1) ? moved.max.x : moved.min.x, (i & 2) ? moved.max.y : moved.min.y,
+                           (i & 4) ? moved.max.z : moved.min.z);
+    const glm::vec4 eye = view * glm::vec4(corner, 1.0f);
+    if (!(eye.z < -1e-6f * glm::length(glm::vec3(eye)))) return all;
+    const glm::vec4 clip = proj * eye;
+    const glm::vec2 ndc = glm::vec2(clip) / clip.w;
+    if (!std::isfinite(ndc.x) || !std::isfinite(ndc.y)) return all;
+    const glm::vec2 pixel = (ndc * 0.5f + 0.5f) * glm::vec2(size);
+    lo = glm::min(lo, pixel);
+    hi = glm::max(hi, pixel);
+  }
+  // Widened by the show pass's 3x3 neighbourhood and a pixel of jitter.
+  const glm::vec2 max_pixel(size);
+  const glm::vec2 a = glm::clamp(glm::floor(lo) - 2.0f, glm::vec2(0.0f), max_pixel);
+  const glm::vec2 b = glm::clamp(glm::ceil(hi) + 2.0f, glm::vec2(0.0f), max_pixel);
+  return {glm::ivec2(a), glm::ivec2(b)};
 }
 
 glm::vec2 Refinement::Jitter(uint32_t k) {

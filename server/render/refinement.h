@@ -1,17 +1,40 @@
-// Refinement of a still view (issue 27): while camera, scene version and
-// solver solution stay the same, each frame shades more sub-pixel jittered
-// samples (G-buffer and the solver's final pass; as many as the frame's
-// budget allows, one in a frame that applied an update) and the view shows
-// their mean: a box pixel filter, like pathtrace's, converging to the
+// Refinement of a view (issue 27): while camera, scene version and solver
+// solution stay the same, each frame shades more sub-pixel jittered samples
+// (G-buffer and the solver's final pass; as many as the frame's budget
+// allows, one in a frame that applied an update) and the view shows their
+// mean: a box pixel filter, like pathtrace's, converging to the
 // box-filtered picture, edges and emitters anti-aliased. The first sample
 // is the pixel centre, so a frame of one sample is the picture an
-// unrefined view shows. A change resets the samples; once `target` samples
-// are in, the picture is complete and the engine shades nothing more.
+// unrefined view shows. Once `target` samples are in, the picture is
+// complete and the engine shades nothing more.
+//
+// What a change invalidates decides what is kept:
+// - The view (camera, size, solver instance): nothing. The samples restart
+//   at the pixel centre.
+// - Only what the view shows (a new scene version, a solution still being
+//   updated), the camera unchanged: the samples restart, but the picture
+//   shown so far is kept as history, with the weight of `history` samples,
+//   and fades out linearly as the new samples come in; it is gone once
+//   `target` samples are in, so a complete picture is the mean of its own
+//   samples only. Where the history no longer shows
+//   the scene it is not used: within the screen box of what moved (old and
+//   new place), and elsewhere it is clamped to the range of the new
+//   samples' 3x3 neighbourhood (shaders/render/show_refined.frag.glsl), as
+//   temporal anti-aliasing does. The jitter goes on across such changes
+//   (Sample::jitter), so the frames of a moving scene seen by a still
+//   camera anti-alias each other.
+//   With a history weight of 0 (the engine's default, EngineOptions::
+//   refine_history) such a change restarts the picture like a change of
+//   the view.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include <glm/glm.hpp>
+
+#include "render/camera.h"
+#include "scene/scene.h"
 
 namespace gistream {
 
@@ -27,21 +50,57 @@ class Refinement {
     // while it is not, each frame may show a newer one and is not refined.
     bool solution_final = false;
     bool operator==(const Key&) const = default;
+    // The same camera, size and solver: the pixels show the same surfaces
+    // but for what moved.
+    bool SameView(const Key& o) const {
+      return camera_version == o.camera_version && solver == o.solver && width == o.width &&
+             height == o.height;
+    }
   };
 
-  // The sample this frame shades, from 0, or -1 when the picture is
-  // complete (the accumulation holds `target` samples of this key).
-  // Restarts at 0 on another key (a camera change, a new scene version,
-  // another solver or size), a solution that is not final, or target <= 1.
-  int Next(const Key& key, uint32_t target);
+  struct Sample {
+    uint32_t index = 0;  // in the accumulation: 0 starts it (a copy)
+    // Its sub-pixel offset is Jitter(jitter): (index + a) mod target for
+    // the a-th accumulation since the view last changed. An accumulation
+    // thus shades the same `target` offsets as a fresh view's (0, the pixel
+    // centre, first), so a complete picture does not depend on the changes
+    // before it, and the frames of a change going on (sample 0 of
+    // successive accumulations) step through those offsets, anti-aliasing
+    // each other through the history.
+    uint32_t jitter = 0;
+    // The picture shown so far becomes the history (copy it before this
+    // sample is shaded over it).
+    bool keep_history = false;
+  };
+
+  // Pixels [min, max) (rows from the bottom, as GL's) where the history
+  // shows what moved; empty when min >= max.
+  struct PixelBox {
+    glm::ivec2 min{0}, max{0};
+  };
+
+  // The sample this frame shades, or none when the picture is complete
+  // (the accumulation holds `target` samples of this key). Restarts on
+  // another key, or a solution that is not final; target <= 1 restarts
+  // every frame and keeps no history. `history`: the weight, in samples, of
+  // the picture kept after a change of what the view shows (0: none, the
+  // change restarts it; 7: the picture right after it is (new sample + 7 x
+  // history) / 8, an exponential moving average of alpha 1/8 while the
+  // changes go on, every frame).
+  std::optional<Sample> Next(const Key& key, uint32_t target, uint32_t history);
   // Another sample of the same key in the same frame (the solver's solution
-  // cannot change within it, final or not), or -1 once `target` are in.
-  int Continue(uint32_t target) const { return samples_ >= target ? -1 : int(samples_); }
+  // cannot change within it, final or not), or none once `target` are in.
+  std::optional<Sample> Continue(uint32_t target) const;
   // The sample Next or Continue returned was accumulated.
   void Added() { samples_ += 1; }
-  // Samples in the accumulation (the picture shown: 1 when not refining).
+  // Samples in the accumulation (1 when not refining).
   uint32_t samples() const { return samples_; }
-  void Reset() { samples_ = 0; }
+  // The history's weight in the picture shown, in samples: `history` after
+  // a change, falling linearly to 0 at `target` samples; 0 without history.
+  float HistoryWeight(uint32_t target) const;
+  // Where the history must not be used (set with keep_history's sample).
+  void SetHistoryInvalid(const PixelBox& box) { history_invalid_ = box; }
+  const PixelBox& history_invalid() const { return history_invalid_; }
 
   // Sample k's offset from the pixel centre in pixels, in [-0.5, 0.5)^2:
   // the Halton (2, 3) sequence rotated by half a pixel (Cranley-Patterson),
@@ -51,6 +110,16 @@ class Refinement {
  private:
   Key key_{};
   uint32_t samples_ = 0;
+  uint32_t accumulation_ = 0;  // accumulations since the view last changed
+  uint32_t history_ = 0;       // the kept picture's weight at one sample
+  PixelBox history_invalid_{};
 };
+
+// The pixels `camera` (without its jitter) sees of the world box `moved`
+// (what moved since the history's picture, old and new place), widened by
+// two pixels for the show pass's 3x3 neighbourhood and the jitter; all of
+// the view when a corner is at or behind the eye's plane; empty for an
+// empty box. For Refinement::SetHistoryInvalid.
+Refinement::PixelBox MovedPixels(const ViewCamera& camera, const Bounds& moved);
 
 }  // namespace gistream

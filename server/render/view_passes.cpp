@@ -1,6 +1,7 @@
 #include "render/view_passes.h"
 #include "gl/bindings.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -38,6 +39,9 @@ absl::StatusOr<ViewPasses> ViewPasses::Create() {
   GS_ASSIGN_OR_RETURN(passes.copy_hdr_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "render/copy_hdr.frag.glsl"}}));
+  GS_ASSIGN_OR_RETURN(passes.show_refined_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "render/show_refined.frag.glsl"}}));
   passes.non_finite_ = gl::Buffer::Create();
   glNamedBufferStorage(passes.non_finite_.id(), sizeof(GLuint), nullptr,
                        GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
@@ -65,12 +69,12 @@ absl::Status ViewPasses::DrawGBuffer(const SceneState& state, const GpuScene& gp
   return absl::OkStatus();
 }
 
-void ViewPasses::Accumulate(const GBuffer& gbuffer, uint32_t sample) {
+void ViewPasses::Accumulate(const GBuffer& gbuffer, uint32_t index) {
   const GLint w = GLint(gbuffer.width()), h = GLint(gbuffer.height());
-  if (sample == 0) {
+  if (index == 0) {
     glBlitNamedFramebuffer(gbuffer.hdr_fbo(), gbuffer.accumulation_fbo(), 0, 0, w, h, 0, 0, w, h,
                            GL_COLOR_BUFFER_BIT, GL_NEAREST);
-    return;  // the HDR target holds the mean of one sample already
+    return;
   }
   // mean_{k+1} = mean_k + (x - mean_k) / (k + 1), by blending: source
   // weight a = 1 / (k + 1), destination 1 - a (a float target blends in
@@ -79,18 +83,37 @@ void ViewPasses::Accumulate(const GBuffer& gbuffer, uint32_t sample) {
   glViewport(0, 0, w, h);
   glDisable(GL_DEPTH_TEST);
   glEnable(GL_BLEND);
-  glBlendColor(0.0f, 0.0f, 0.0f, 1.0f / float(sample + 1));
+  glBlendColor(0.0f, 0.0f, 0.0f, 1.0f / float(index + 1));
   glBlendFunc(GL_CONSTANT_ALPHA, GL_ONE_MINUS_CONSTANT_ALPHA);
   glBindTextureUnit(GS_UNIT_HDR, gbuffer.hdr());
   fullscreen_.Draw(copy_hdr_);
   glDisable(GL_BLEND);
-  ShowAccumulation(gbuffer);
 }
 
-void ViewPasses::ShowAccumulation(const GBuffer& gbuffer) {
+void ViewPasses::KeepHistory(const GBuffer& gbuffer) {
   const GLint w = GLint(gbuffer.width()), h = GLint(gbuffer.height());
-  glBlitNamedFramebuffer(gbuffer.accumulation_fbo(), gbuffer.hdr_fbo(), 0, 0, w, h, 0, 0, w, h,
+  glBlitNamedFramebuffer(gbuffer.hdr_fbo(), gbuffer.history_fbo(), 0, 0, w, h, 0, 0, w, h,
                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
+}
+
+void ViewPasses::ShowAccumulation(const GBuffer& gbuffer, const Shown& shown) {
+  const GLint w = GLint(gbuffer.width()), h = GLint(gbuffer.height());
+  if (!(shown.history_weight > 0.0f)) {
+    glBlitNamedFramebuffer(gbuffer.accumulation_fbo(), gbuffer.hdr_fbo(), 0, 0, w, h, 0, 0, w, h,
+                           GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    return;
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
+  glViewport(0, 0, w, h);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glBindTextureUnit(GS_UNIT_REFINE_MEAN, gbuffer.accumulation());
+  glBindTextureUnit(GS_UNIT_REFINE_HISTORY, gbuffer.history());
+  show_refined_.Set("uSamples", float(std::max(shown.samples, 1u)));
+  show_refined_.Set("uHistoryWeight", shown.history_weight);
+  show_refined_.Set("uInvalidMin", shown.invalid_min);
+  show_refined_.Set("uInvalidMax", shown.invalid_max);
+  fullscreen_.Draw(show_refined_);
 }
 
 void ViewPasses::Tonemap(const GBuffer& gbuffer, float exposure_ev) {

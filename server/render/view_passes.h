@@ -21,13 +21,24 @@ class ViewPasses {
   absl::Status DrawGBuffer(const SceneState& state, const GpuScene& gpu, const ViewCamera& camera,
                            GBuffer& gbuffer);
   // Refinement (render/refinement.h): folds the HDR radiance just shaded
-  // into the accumulation as its sample `sample` (0 starts it: a copy;
-  // then a running mean, weight 1 / (sample + 1)), and leaves the mean in
-  // the HDR target for tone mapping and readback.
-  void Accumulate(const GBuffer& gbuffer, uint32_t sample);
-  // The accumulated mean into the HDR target again (a complete picture,
-  // shown without shading).
-  void ShowAccumulation(const GBuffer& gbuffer);
+  // into the accumulation as its sample `index` (0 starts it: a copy;
+  // then a running mean, weight 1 / (index + 1)). ShowAccumulation then
+  // puts the picture into the HDR target.
+  void Accumulate(const GBuffer& gbuffer, uint32_t index);
+  // The picture shown so far (the HDR target) becomes the history, before
+  // a sample is shaded over it.
+  void KeepHistory(const GBuffer& gbuffer);
+  // What the view shows, into the HDR target for tone mapping and
+  // readback: the mean of the accumulation's `samples` samples, with the
+  // history at `history_weight` samples where it is valid
+  // (shaders/render/show_refined.frag.glsl); the mean alone when the
+  // weight is 0.
+  struct Shown {
+    uint32_t samples = 1;
+    float history_weight = 0.0f;
+    glm::ivec2 invalid_min{0}, invalid_max{0};  // pixels without history
+  };
+  void ShowAccumulation(const GBuffer& gbuffer, const Shown& shown);
   // HDR radiance -> gbuffer.ldr(): exposure 2^ev, filmic curve, sRGB.
   // Also counts the HDR pixels that are not finite (NonFinitePixels).
   void Tonemap(const GBuffer& gbuffer, float exposure_ev);
@@ -43,7 +54,8 @@ class ViewPasses {
  private:
   gl::Program gbuffer_;
   gl::Program tonemap_;
-  gl::Program copy_hdr_;  // the HDR target's texels, for accumulation
+  gl::Program copy_hdr_;      // the HDR target's texels, for accumulation
+  gl::Program show_refined_;  // the mean with the history
   gl::FullscreenPass fullscreen_;
   gl::Buffer non_finite_;  // one uint, SSBO binding 7 of the tone map
 };

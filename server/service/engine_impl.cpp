@@ -569,6 +569,11 @@ absl::Status EngineImpl::ValidateConfig(const SessionConfig& c) const {
     return absl::InvalidArgumentError(absl::StrCat(
         "frame_budget_ms: ", c.frame_budget_ms, " is out of range [0, ", kMaxFrameBudgetMs, "]"));
   }
+  if (c.refine_history && *c.refine_history > EngineOptions::kMaxRefineHistory) {
+    return absl::InvalidArgumentError(absl::StrCat("refine_history: ", *c.refine_history,
+                                                   " is outside [0, ",
+                                                   EngineOptions::kMaxRefineHistory, "]"));
+  }
   if (c.refine_samples > EngineOptions::kMaxRefineSamples) {
     return absl::InvalidArgumentError(absl::StrCat("refine_samples: ", c.refine_samples,
                                                    " is out of range [0, ",
@@ -1069,9 +1074,18 @@ void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
 }
 
 absl::Status EngineImpl::ShadeSample(GpuSceneRecord& scene, SolverEntry& entry, SolverContext& ctx,
-                                     ViewRecord& view, uint32_t sample, uint32_t refine_target) {
+                                     ViewRecord& view, const Refinement::Sample& sample,
+                                     uint32_t refine_target) {
   ViewCamera camera = view.camera;
-  camera.jitter = Refinement::Jitter(sample);
+  camera.jitter = Refinement::Jitter(sample.jitter);
+  if (sample.keep_history) {
+    // Before this sample is shaded over the picture shown: it is the
+    // history, but not where something moved since.
+    passes_->KeepHistory(view.gbuffer);
+    view.refinement.SetHistoryInvalid(
+        MovedPixels(view.camera, view.shown_transforms.Since(*scene.gpu, *scene.state)));
+  }
+  if (sample.index == 0) view.shown_transforms.Solved(*scene.state);
   if (entry.solver->NeedsGBuffer()) {
     gl::StageTimer::Scope stage(timer_, "gbuffer");
     GS_RETURN_IF_ERROR(passes_->DrawGBuffer(*scene.state, *scene.gpu, camera, view.gbuffer));
@@ -1080,14 +1094,18 @@ absl::Status EngineImpl::ShadeSample(GpuSceneRecord& scene, SolverEntry& entry, 
     timer_.Skip("gbuffer");
   }
   GS_RETURN_IF_ERROR(entry.solver->Shade(ctx, camera, view.gbuffer));
+  view.refinement.Added();
   if (refine_target > 1) {
     gl::StageTimer::Scope stage(timer_, "refine");
-    passes_->Accumulate(view.gbuffer, sample);
+    passes_->Accumulate(view.gbuffer, sample.index);
+    const Refinement::PixelBox& invalid = view.refinement.history_invalid();
+    passes_->ShowAccumulation(
+        view.gbuffer, {view.refinement.samples(), view.refinement.HistoryWeight(refine_target),
+                       invalid.min, invalid.max});
   } else {
     timer_.Skip("refine");
   }
-  view.refinement.Added();
-  if (sample == 0) view.solve_stats = entry.solver->Stats();
+  if (sample.index == 0) view.solve_stats = entry.solver->Stats();
   return absl::OkStatus();
 }
 
@@ -1217,6 +1235,9 @@ void EngineImpl::AddViewStats(ViewRecord& view, const GpuSceneRecord& scene, con
   // view's target (1 of 1 when it does not refine).
   stats.emplace_back("refine_samples", double(view.refinement.samples()));
   stats.emplace_back("refine_target", double(refine_target));
+  // The weight, in samples, of the picture shown before the last change
+  // of what the view shows (0: none; render/refinement.h).
+  stats.emplace_back("refine_history", double(view.refinement.HistoryWeight(refine_target)));
 }
 
 absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRecord& session,
@@ -1283,26 +1304,27 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   // `sample` at its sub-pixel jitter, or, once the samples are all in
   // (-1), shows their mean again and shades nothing.
   const uint32_t refine_target = RefineTarget(session, *entry.solver, state);
-  const int sample =
-      view.refinement.Next({state.version(), view.camera_version, entry.solver.get(),
-                            view.camera.width, view.camera.height, entry.solver->UpdateComplete()},
-                           refine_target);
-  if (sample < 0) {
+  const std::optional<Refinement::Sample> sample = view.refinement.Next(
+      {state.version(), view.camera_version, entry.solver.get(), view.camera.width,
+       view.camera.height, entry.solver->UpdateComplete()},
+      refine_target, session.config.refine_history.value_or(options_.refine_history));
+  if (!sample) {
     // No change since the picture was complete, so the solver's plan is
     // its changeless one, all of it shading, none of it run.
     if (view.carry.empty()) view.plan.clear();
     timer_.Skip("gbuffer");
     gl::StageTimer::Scope stage(timer_, "refine");
-    passes_->ShowAccumulation(view.gbuffer);
+    passes_->ShowAccumulation(view.gbuffer, {view.refinement.samples()});
   } else {
     // Frames that bring no update (a still view refining, a Render's
     // slices) shade as many samples as fit the frame's budget; a frame
     // that applied an update shades one, so interaction keeps its latency.
     const bool more = updates.empty() && refine_target > 1;
     if (more) glFinish();  // the solver's work is not this sample's
-    for (int next = sample; next >= 0; next = view.refinement.Continue(refine_target)) {
+    for (std::optional<Refinement::Sample> next = sample; next;
+         next = view.refinement.Continue(refine_target)) {
       const auto sample_start = Clock::now();
-      GS_RETURN_IF_ERROR(ShadeSample(scene, entry, ctx, view, uint32_t(next), refine_target));
+      GS_RETURN_IF_ERROR(ShadeSample(scene, entry, ctx, view, *next, refine_target));
       if (!more || ctx.stop.stop_requested()) break;
       glFinish();
       const auto now = Clock::now();
@@ -1341,7 +1363,7 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   frame->scene_version = state.version();
   frame->last_update_seq = view.last_seq;
   frame->solver = session.config.solver;
-  frame->stats = session.config.pacing == Pacing::kOnRequest && sample > 0
+  frame->stats = session.config.pacing == Pacing::kOnRequest && sample && sample->index > 0
                      ? std::move(view.solve_stats)
                      : entry.solver->Stats();
   AddViewStats(view, scene, *entry.solver, state, refine_target, frame->stats);

@@ -18,6 +18,7 @@
 #include "render/camera.h"
 #include "render/gbuffer.h"
 #include "render/refinement.h"
+#include "solvers/moved_bounds.h"
 #include "render/view_passes.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene_state.h"
@@ -144,8 +145,10 @@ class EngineImpl final : public Engine {
     uint64_t last_seq = 0;
     bool camera_changed = true;
     uint64_t camera_version = 0;  // camera changes so far (the refinement's key)
-    // The still view's jittered samples (render/refinement.h).
+    // The view's jittered samples (render/refinement.h), and the transforms
+    // of the picture it shows (what moved since, for the history).
     Refinement refinement;
+    MovedBounds shown_transforms;
     // The solver's stats after the slice that shaded sample 0: a frame
     // requested on its own reports its solve, not its last refinement
     // slice's no-op update.
@@ -224,9 +227,12 @@ class EngineImpl final : public Engine {
   // A keep-alive for a view at rest: the last frame again, no image, no GL.
   void SendKeepAlive(SessionRecord& session, ViewRecord& view, RenderThread::Clock::time_point now);
   // Shades refinement sample `sample` of `view` at its jitter (G-buffer,
-  // the solver's final pass) and adds it to the view's accumulation.
+  // the solver's final pass), adds it to the view's accumulation and shows
+  // the picture (with the history a change kept, render/refinement.h).
   absl::Status ShadeSample(GpuSceneRecord& scene, SolverEntry& entry, SolverContext& ctx,
-                           ViewRecord& view, uint32_t sample, uint32_t refine_target);
+                           ViewRecord& view, const Refinement::Sample& sample,
+                           uint32_t refine_target);
+
   // One frame of `session`'s view, step by step: ApplyUpdates, the
   // solver's Plan and Update, the refinement samples (ShadeSample),
   // ReadBack, EncodeFrame, then the frame's stats (AddViewStats). Null (no

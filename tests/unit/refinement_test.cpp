@@ -1,10 +1,13 @@
 // Refinement of a still view (render/refinement.h): the jitter sequence is
-// a stratified box filter over the pixel starting at its centre, and the
-// sample counter restarts on every change of what the samples show.
+// a stratified box filter over the pixel starting at its centre, the
+// sample counter restarts on every change of what the samples show, and a
+// change under the same view keeps the picture as history.
 #include "render/refinement.h"
 
+#include <algorithm>
 #include <cmath>
 #include <set>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -45,8 +48,8 @@ Refinement::Key Key(uint64_t scene_version = 1, uint64_t camera_version = 0) {
 // Adds samples until Next says the picture is complete; returns how many.
 int FillTo(Refinement& r, const Refinement::Key& key, uint32_t target) {
   int shaded = 0;
-  for (int sample = r.Next(key, target); sample >= 0; sample = r.Next(key, target)) {
-    EXPECT_EQ(sample, int(r.samples()));
+  for (auto sample = r.Next(key, target, 7); sample; sample = r.Next(key, target, 7)) {
+    EXPECT_EQ(sample->index, r.samples());
     r.Added();
     if (++shaded > 1000) break;
   }
@@ -57,39 +60,160 @@ TEST(Refinement, CountsToTheTargetThenShadesNothing) {
   Refinement r;
   EXPECT_EQ(FillTo(r, Key(), 8), 8);
   EXPECT_EQ(r.samples(), 8u);
-  EXPECT_EQ(r.Next(Key(), 8), -1);
-  EXPECT_EQ(r.Next(Key(), 8), -1);  // stays complete
+  EXPECT_FALSE(r.Next(Key(), 8, 7));
+  EXPECT_FALSE(r.Next(Key(), 8, 7));  // stays complete
   EXPECT_EQ(r.samples(), 8u);
+  EXPECT_EQ(r.HistoryWeight(8), 0.0f);
 }
 
-TEST(Refinement, EachChangeOfWhatTheSamplesShowRestarts) {
+// A change of the view (camera, size, solver) keeps nothing: the samples
+// restart at the pixel centre, without history.
+TEST(Refinement, AChangeOfTheViewRestartsWithoutHistory) {
   const int other_solver = 1;
-  Refinement::Key moved_camera = Key(1, 1), new_version = Key(2, 0), resized = Key(),
-                  solver = Key(), unsolved = Key();
+  Refinement::Key moved_camera = Key(1, 1), resized = Key(), solver = Key();
   resized.width = 64;
   solver.solver = &other_solver;
-  unsolved.solution_final = false;
-  for (const Refinement::Key& change : {moved_camera, new_version, resized, solver, unsolved}) {
+  for (const Refinement::Key& change : {moved_camera, resized, solver}) {
     Refinement r;
     ASSERT_EQ(FillTo(r, Key(), 4), 4);
-    EXPECT_EQ(r.Next(change, 4), 0);
+    const auto s = r.Next(change, 4, 7);
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->index, 0u);
+    EXPECT_EQ(s->jitter, 0u);
+    EXPECT_FALSE(s->keep_history);
     r.Added();
     EXPECT_EQ(r.samples(), 1u);
+    EXPECT_EQ(r.HistoryWeight(4), 0.0f);
   }
 }
 
-TEST(Refinement, AnUnfinishedSolutionOrTargetOneNeverAccumulates) {
+// A change of what the view shows (a new scene version, a solution being
+// updated) under the same view restarts the samples but keeps the picture
+// as history, at its weight (7 samples here), fading linearly to nothing
+// at the target; the accumulations are counted. Without history (weight
+// 0) it restarts like a change of the view.
+TEST(Refinement, AChangeOfWhatTheViewShowsKeepsTheHistoryUntilItsSamplesAreIn) {
+  Refinement::Key new_version = Key(2, 0), unsolved = Key();
+  unsolved.solution_final = false;
+  const float k = 8.0f;  // a history of 7 samples' weight
+  for (const Refinement::Key& change : {new_version, unsolved}) {
+    Refinement r;
+    ASSERT_EQ(FillTo(r, Key(), 16), 16);
+    const auto s = r.Next(change, 16, 7);
+    ASSERT_TRUE(s);
+    EXPECT_EQ(s->index, 0u);
+    EXPECT_EQ(s->jitter, 1u);
+    EXPECT_TRUE(s->keep_history);
+    r.Added();
+    EXPECT_EQ(r.samples(), 1u);
+    EXPECT_EQ(r.HistoryWeight(16), k - 1.0f);
+    for (uint32_t n = 2; n <= 16; ++n) {
+      const auto more = r.Continue(16);
+      ASSERT_TRUE(more);
+      EXPECT_FALSE(more->keep_history);
+      EXPECT_EQ(more->index, n - 1u);
+      EXPECT_EQ(more->jitter, n % 16u);  // (index + 1) mod 16
+      r.Added();
+      EXPECT_FLOAT_EQ(r.HistoryWeight(16), (k - 1.0f) * float(16 - n) / 15.0f);
+    }
+    EXPECT_EQ(r.HistoryWeight(16), 0.0f);
+  }
+  // A target below the history's weight: the history is gone at the
+  // target, so a complete picture never holds it.
+  Refinement r;
+  ASSERT_EQ(FillTo(r, Key(), 4), 4);
+  ASSERT_TRUE(r.Next(new_version, 4, 7));
+  r.Added();
+  EXPECT_EQ(r.HistoryWeight(4), k - 1.0f);
+  ASSERT_EQ(FillTo(r, new_version, 4), 3);
+  EXPECT_EQ(r.HistoryWeight(4), 0.0f);
+}
+
+// Every accumulation shades the same `target` offsets as a fresh view's,
+// starting one further along each time: a complete picture does not depend
+// on the changes before it.
+TEST(Refinement, EveryAccumulationShadesTheFreshViewsOffsets) {
+  for (int changes = 1; changes <= 6; ++changes) {
+    Refinement r;
+    ASSERT_EQ(FillTo(r, Key(), 4), 4);
+    std::set<uint32_t> jitters;
+    for (int c = 1; c < changes; ++c) {  // changes going on: a sample each
+      ASSERT_TRUE(r.Next(Key(uint64_t(c) + 1), 4, 7));
+      r.Added();
+    }
+    const Refinement::Key last = Key(uint64_t(changes) + 1);
+    for (auto s = r.Next(last, 4, 7); s; s = r.Next(last, 4, 7)) {
+      jitters.insert(s->jitter);
+      r.Added();
+    }
+    EXPECT_EQ(jitters, (std::set<uint32_t>{0, 1, 2, 3})) << changes << " changes";
+  }
+}
+
+// While the solution is not final every frame is a change: one sample a
+// frame, each with the last picture as history (an exponential moving
+// average); target 1 never accumulates nor keeps history.
+TEST(Refinement, WithoutHistoryAChangeOfWhatTheViewShowsRestartsAtTheCentre) {
+  Refinement r;
+  ASSERT_EQ(FillTo(r, Key(), 4), 4);
+  const auto s = r.Next(Key(2, 0), 4, /*history=*/0);
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->index, 0u);
+  EXPECT_EQ(s->jitter, 0u);
+  EXPECT_FALSE(s->keep_history);
+  r.Added();
+  EXPECT_EQ(r.HistoryWeight(4), 0.0f);
+}
+
+TEST(Refinement, AnUnfinishedSolutionBlendsFramesAndTargetOneNeverAccumulates) {
   Refinement::Key unsolved = Key();
   unsolved.solution_final = false;
   Refinement a, b;
-  for (int i = 0; i < 5; ++i) {
-    EXPECT_EQ(a.Next(unsolved, 16), 0);
+  for (uint32_t i = 0; i < 5; ++i) {
+    const auto sa = a.Next(unsolved, 16, 7);
+    ASSERT_TRUE(sa);
+    EXPECT_EQ(sa->index, 0u);
+    EXPECT_EQ(sa->jitter, i);  // successive accumulations step on
+    EXPECT_EQ(sa->keep_history, i > 0);
     a.Added();
-    EXPECT_EQ(b.Next(Key(), 1), 0);
+    const auto sb = b.Next(Key(), 1, 7);
+    ASSERT_TRUE(sb);
+    EXPECT_EQ(sb->index, 0u);
+    EXPECT_EQ(sb->jitter, 0u);
+    EXPECT_FALSE(sb->keep_history);
     b.Added();
     EXPECT_EQ(a.samples(), 1u);
     EXPECT_EQ(b.samples(), 1u);
+    EXPECT_EQ(b.HistoryWeight(1), 0.0f);
   }
+}
+
+// The history is not used where something moved: the box a camera sees of
+// the moved world box, two pixels wider; all of the view when the box
+// reaches behind the eye.
+TEST(Refinement, MovedPixelsIsTheScreenBoxOfWhatMoved) {
+  ViewCamera camera;  // at the origin, looking down -Z
+  camera.width = camera.height = 64;
+  camera.yfov = 2.0f * std::atan(1.0f);  // tan(yfov / 2) = 1: x, y = -z at the edges
+  camera.jitter = glm::vec2(0.3f);       // ignored
+  Bounds b;
+  b.Extend(glm::vec3(0.0f, 0.0f, -2.0f));
+  b.Extend(glm::vec3(1.0f, 1.0f, -2.0f));  // ndc [0, 0.5]^2: pixels [32, 48)
+  const Refinement::PixelBox box = MovedPixels(camera, b);
+  EXPECT_EQ(box.min, glm::ivec2(30));
+  EXPECT_EQ(box.max, glm::ivec2(50));
+  EXPECT_EQ(MovedPixels(camera, Bounds{}).max, glm::ivec2(0));  // nothing moved
+  Bounds behind = b;
+  behind.Extend(glm::vec3(0.0f, 0.0f, 1.0f));
+  const Refinement::PixelBox all = MovedPixels(camera, behind);
+  EXPECT_EQ(all.min, glm::ivec2(0));
+  EXPECT_EQ(all.max, glm::ivec2(64));
+  Bounds aside;  // off screen to the right: clamped to the view's edge
+  aside.Extend(glm::vec3(5.0f, 0.0f, -2.0f));
+  aside.Extend(glm::vec3(6.0f, 0.5f, -2.0f));
+  const Refinement::PixelBox edge = MovedPixels(camera, aside);
+  EXPECT_EQ(edge.min.x, 64);
+  EXPECT_EQ(edge.max.x, 64);
 }
 
 }  // namespace
