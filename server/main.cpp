@@ -6,6 +6,7 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <optional>
 #include <cerrno>
 #include <charconv>
 #include <chrono>
@@ -50,7 +51,8 @@ struct Flags {
   std::string metrics_token;   // path of a file holding it; empty: open
   std::string health_listen;   // empty: health on --listen only
   EngineOptions engine;
-  uint64_t max_message_bytes = 0;  // 0: max_scene_bytes + 16 MiB
+  uint64_t max_message_bytes = 0;               // 0: max_scene_bytes + 16 MiB
+  std::optional<uint64_t> max_transport_bytes;  // unset: a quarter of the budget, >= 256 MiB
   double shutdown_deadline_s = 10.0;
   LogLevel log_level = LogLevel::kInfo;
   unsigned cpu_threads = 0;                      // 0: DefaultCpuThreads()
@@ -117,6 +119,10 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
                              passes draw coarser proxies). Default 60
   --max-image-pixels N       pixels per texture/environment image (default 67108864)
   --max-message-bytes N      largest gRPC message (default max-scene-bytes + 16 MiB)
+  --max-transport-bytes N    memory gRPC's transport may hold for all calls
+                             (uploads being read); past it new calls get
+                             RESOURCE_EXHAUSTED (default a quarter of the
+                             memory budget, at least 256 MiB; 0: unbounded)
   --default-fps F            frame cap for continuous sessions that give none (default 30)
   --shutdown-deadline-s F    on SIGTERM/SIGINT, seconds running calls get before
                              they are cancelled (default 10)
@@ -251,6 +257,10 @@ Flags ParseFlags(int argc, char** argv) {
        [&](auto flag, auto v) {
          f.engine.import_limits.max_image_pixels =
              ParseUnsigned<uint64_t>(flag, v, 1, uint64_t{1} << 32);
+       }},
+      {"--max-transport-bytes",
+       [&](auto flag, auto v) {
+         f.max_transport_bytes = ParseUnsigned<uint64_t>(flag, v, 0, UINT64_MAX);
        }},
       {"--max-message-bytes",
        [&](auto flag, auto v) {
@@ -487,6 +497,20 @@ int Main(int argc, char** argv) {
   options.listen = flags.listen;
   options.max_receive_message_bytes = static_cast<int>(flags.max_message_bytes);
   options.max_send_message_bytes = static_cast<int>(flags.max_message_bytes);
+  {
+    const uint64_t budget =
+        flags.engine.max_memory_bytes > 0 ? flags.engine.max_memory_bytes : DefaultMemoryLimit();
+    options.transport_memory_bytes = flags.max_transport_bytes
+                                         ? *flags.max_transport_bytes
+                                         : std::max<uint64_t>(budget / 4, uint64_t(256) << 20);
+    Log(LogLevel::kInfo,
+        absl::StrCat("transport memory: ",
+                     options.transport_memory_bytes > 0
+                         ? FormatBytes(options.transport_memory_bytes)
+                         : std::string("unbounded"),
+                     flags.max_transport_bytes ? " (--max-transport-bytes)"
+                                               : " (a quarter of the memory budget)"));
+  }
   options.service.observer = metrics;
   options.service.tokens = tokens;
   options.tls = std::move(tls);

@@ -24,6 +24,7 @@
 #include "scene/updates.h"
 #include "service/observer.h"
 #include "solvers/solver_params.h"
+#include "util/memory_budget.h"
 #include "util/stage_timing.h"
 #include "util/status.h"
 #include "util/tenancy.h"
@@ -387,6 +388,14 @@ class Engine {
   // (or, unused, after EngineOptions::idle_timeout). A named scene loaded
   // again by its tenant is the same scene (another reference).
   virtual absl::StatusOr<SceneInfo> LoadScene(const SceneSource& source) = 0;
+  // Reserves the bytes of an upload the caller holds (a LoadScene request's
+  // scene and environment bytes, kept until its load ends) from the
+  // server's memory budget, before the load waits for a worker: uploads
+  // queued together cannot pass the budget, and one that does not fit is
+  // refused before it is copied or parsed (RESOURCE_EXHAUSTED naming
+  // `what`). LoadScene reserves what it copies and parses itself.
+  virtual absl::StatusOr<MemoryBudget::Reservation> ReserveUpload(uint64_t bytes,
+                                                                  const std::string& what) = 0;
   // Drops one LoadScene reference of `tenant`'s scene `id`; NOT_FOUND for
   // an id of another tenant, as for one that does not exist.
   virtual absl::Status UnloadScene(const SceneId& id, const TenantId& tenant) = 0;

@@ -316,6 +316,11 @@ std::vector<SolverDescription> EngineImpl::ListSolvers() const { return AllSolve
 
 // ---------------------------------------------------------------- scenes
 
+absl::StatusOr<MemoryBudget::Reservation> EngineImpl::ReserveUpload(uint64_t bytes,
+                                                                    const std::string& what) {
+  return accounts_.server().Reserve(bytes, what);
+}
+
 absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   if (source.name.empty() == source.bytes.empty()) {
     return absl::InvalidArgumentError("source: give exactly one of name or gltf bytes");

@@ -42,6 +42,8 @@ class EngineImpl final : public Engine {
   EngineStats stats() const override;
   std::vector<SolverDescription> ListSolvers() const override;
   absl::StatusOr<SceneInfo> LoadScene(const SceneSource& source) override;
+  absl::StatusOr<MemoryBudget::Reservation> ReserveUpload(uint64_t bytes,
+                                                          const std::string& what) override;
   using Engine::UnloadScene;
   absl::Status UnloadScene(const SceneId& id, const TenantId& tenant) override;
   absl::StatusOr<SessionOpenInfo> OpenSession(const SessionConfig& config,

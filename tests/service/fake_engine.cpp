@@ -42,7 +42,14 @@ std::vector<SolverDescription> Solvers() {
 }  // namespace
 
 FakeEngine::FakeEngine(const EngineOptions& options)
-    : options_(options), thread_([this](std::stop_token stop) { FrameLoop(stop); }) {}
+    : upload_budget_(options.max_memory_bytes),
+      options_(options),
+      thread_([this](std::stop_token stop) { FrameLoop(stop); }) {}
+
+absl::StatusOr<MemoryBudget::Reservation> FakeEngine::ReserveUpload(uint64_t bytes,
+                                                                    const std::string& what) {
+  return upload_budget_.Reserve(bytes, what);
+}
 
 FakeEngine::~FakeEngine() { Shutdown(); }
 
@@ -77,6 +84,8 @@ EngineStats FakeEngine::stats() const {
 std::vector<SolverDescription> FakeEngine::ListSolvers() const { return Solvers(); }
 
 absl::StatusOr<SceneInfo> FakeEngine::LoadScene(const SceneSource& source) {
+  upload_bytes_during_load_.store(
+      std::max(upload_bytes_during_load_.load(), upload_budget_.used()));
   std::string name;
   if (!source.name.empty()) {
     if (!kBundledScenes.contains(source.name)) {

@@ -46,6 +46,8 @@ class FakeEngine final : public Engine {
   EngineStats stats() const override;
   std::vector<SolverDescription> ListSolvers() const override;
   absl::StatusOr<SceneInfo> LoadScene(const SceneSource& source) override;
+  absl::StatusOr<MemoryBudget::Reservation> ReserveUpload(uint64_t bytes,
+                                                          const std::string& what) override;
   using Engine::UnloadScene;
   absl::Status UnloadScene(const SceneId& id, const TenantId& tenant) override;
   absl::StatusOr<SessionOpenInfo> OpenSession(const SessionConfig& config,
@@ -58,6 +60,11 @@ class FakeEngine final : public Engine {
   void Shutdown() override;
 
   // ---- test hooks
+  // The budget ReserveUpload reserves from (EngineOptions::max_memory_bytes,
+  // else DefaultMemoryLimit()); its bytes in use, and the most seen in use
+  // while a LoadScene ran.
+  MemoryBudget& upload_budget() { return upload_budget_; }
+  uint64_t upload_bytes_during_load() const { return upload_bytes_during_load_.load(); }
   uint32_t session_count() const;
   // Seqs of the updates applied to a session, in the order applied (kept
   // after the session closes).
@@ -83,6 +90,8 @@ class FakeEngine final : public Engine {
   static constexpr uint32_t kMaterials = 2;
 
  private:
+  MemoryBudget upload_budget_;
+  std::atomic<uint64_t> upload_bytes_during_load_{0};
   struct FakeScene {
     SceneInfo info;
     uint64_t version = 1;

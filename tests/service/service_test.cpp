@@ -156,6 +156,49 @@ TEST_F(ServiceTest, LoadSceneErrorsMapToGrpcCodes) {
   EXPECT_FALSE(status.error_message().empty());
 }
 
+// A LoadScene's upload is reserved from the memory budget as soon as the
+// caller is authenticated, before it waits for a worker, and held until
+// its load ends: uploads queued together cannot pass the budget, and one
+// that does not fit is refused before it is copied or parsed (issue 30,
+// item 4).
+TEST(UploadBudget, AnUploadIsReservedBeforeItsLoadAndReturnedAfter) {
+  EngineOptions options;
+  options.max_memory_bytes = 1 << 20;
+  FakeEngine engine(options);
+  TestServer server(engine);
+  auto load = [&](size_t bytes, pb::LoadSceneResponse* response) {
+    grpc::ClientContext context;
+    SetDeadline(&context);
+    pb::LoadSceneRequest request;
+    std::string glb = "glTF";
+    glb.resize(bytes, '\0');
+    request.set_gltf(glb);
+    return server.stub().LoadScene(&context, request, response);
+  };
+  pb::LoadSceneResponse response;
+  // Larger than the whole budget: refused, naming the upload and the budget.
+  const grpc::Status big = load(2 << 20, &response);
+  EXPECT_EQ(big.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED) << big.error_message();
+  EXPECT_TRUE(absl::StrContains(big.error_message(), "LoadScene: 2097152 bytes uploaded"))
+      << big.error_message();
+  EXPECT_TRUE(absl::StrContains(big.error_message(), "memory budget")) << big.error_message();
+  EXPECT_EQ(engine.upload_bytes_during_load(), 0u) << "the refused upload never reached a load";
+  // One that fits: held while its load runs, returned after.
+  const grpc::Status fits = load(64 << 10, &response);
+  EXPECT_TRUE(fits.ok()) << fits.error_message();
+  EXPECT_EQ(engine.upload_bytes_during_load(), uint64_t(64 << 10));
+  EXPECT_TRUE(WaitFor([&] { return engine.upload_budget().used() == 0; }));
+  // Others' uploads in flight (held here) leave less: the same upload is
+  // refused while they hold the budget, and fits again once they are done.
+  {
+    auto others = engine.upload_budget().Reserve((1 << 20) - (32 << 10), "others");
+    ASSERT_TRUE(others.ok());
+    const grpc::Status queued = load(64 << 10, &response);
+    EXPECT_EQ(queued.error_code(), grpc::StatusCode::RESOURCE_EXHAUSTED);
+  }
+  EXPECT_TRUE(load(64 << 10, &response).ok());
+}
+
 TEST_F(ServiceTest, UnloadSceneStatuses) {
   const std::string scene = LoadSceneOrDie(stub(), "cornell_box");
   grpc::ClientContext session_context;

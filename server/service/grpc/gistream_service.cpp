@@ -84,7 +84,8 @@ void GistreamService::StopWorkers() { pool_.Stop(); }
 
 template <typename Work>
 grpc::ServerUnaryReactor* GistreamService::RunOnPool(grpc::CallbackServerContext* context,
-                                                     const char* method, Work work) {
+                                                     const char* method, Work work,
+                                                     uint64_t upload_bytes) {
   grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
   // Before anything of the request is looked at (TokenAuthProcessor has
   // usually rejected an unknown caller already).
@@ -96,8 +97,23 @@ grpc::ServerUnaryReactor* GistreamService::RunOnPool(grpc::CallbackServerContext
     reactor->Finish(status);
     return reactor;
   }
-  absl::Status submitted =
-      pool_.Submit([this, reactor, context, method, work, tenant = *std::move(tenant)]() {
+  // The request's upload, held by gRPC until the call finishes: counted
+  // while it waits for a worker, not only once its load parses it.
+  std::shared_ptr<MemoryBudget::Reservation> upload;
+  if (upload_bytes > 0) {
+    absl::StatusOr<MemoryBudget::Reservation> held = engine_.ReserveUpload(
+        upload_bytes, absl::StrCat(method, ": ", upload_bytes, " bytes uploaded"));
+    if (!held.ok()) {
+      const grpc::Status status = ToGrpcStatus(held.status());
+      NoteFailure(method, context, status);
+      if (options_.observer) options_.observer->OnRpcFinished(method, held.status().code());
+      reactor->Finish(status);
+      return reactor;
+    }
+    upload = std::make_shared<MemoryBudget::Reservation>(*std::move(held));
+  }
+  absl::Status submitted = pool_.Submit(
+      [this, reactor, context, method, work, upload, tenant = *std::move(tenant)]() mutable {
         grpc::Status status;
         if (context->IsCancelled()) {
           status = grpc::Status(grpc::StatusCode::CANCELLED, "cancelled before it ran");
@@ -109,6 +125,7 @@ grpc::ServerUnaryReactor* GistreamService::RunOnPool(grpc::CallbackServerContext
           options_.observer->OnRpcFinished(method, FromGrpcCode(status.error_code()));
         }
         reactor->Finish(status);  // the last use of context/request/response
+        upload.reset();           // the request goes with the call
       });
   if (!submitted.ok()) {
     const grpc::Status status = ToGrpcStatus(submitted);
@@ -123,7 +140,8 @@ grpc::ServerUnaryReactor* GistreamService::LoadScene(grpc::CallbackServerContext
                                                      const pb::LoadSceneRequest* request,
                                                      pb::LoadSceneResponse* response) {
   return RunOnPool(
-      context, "LoadScene", [this, context, request, response](const TenantId& tenant) {
+      context, "LoadScene",
+      [this, context, request, response](const TenantId& tenant) {
         absl::StatusOr<SceneSource> source = SceneSourceFromProto(*request);
         if (!source.ok()) return ToGrpcStatus(source.status());
         source->tenant = tenant;
@@ -150,7 +168,8 @@ grpc::ServerUnaryReactor* GistreamService::LoadScene(grpc::CallbackServerContext
                 ")"));
         SceneInfoToProto(*info, response);
         return grpc::Status::OK;
-      });
+      },
+      uint64_t(request->gltf().size()) + request->environment_image().size());
 }
 
 grpc::ServerUnaryReactor* GistreamService::UnloadScene(grpc::CallbackServerContext* context,

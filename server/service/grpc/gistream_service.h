@@ -55,10 +55,12 @@ class GistreamService final : public ::gistream::v1::Gistream::CallbackService {
 
  private:
   // Runs `work` (returning grpc::Status) on the pool and finishes the call
-  // with its result.
+  // with its result. `upload_bytes` of the request (a LoadScene's scene and
+  // environment) are reserved from the memory budget first, once the caller
+  // is authenticated, and held until `work` ends (Engine::ReserveUpload).
   template <typename Work>
   grpc::ServerUnaryReactor* RunOnPool(grpc::CallbackServerContext* context, const char* method,
-                                      Work work);
+                                      Work work, uint64_t upload_bytes = 0);
 
   // Counts and logs (at info, with the code's name) a call that failed.
   void NoteFailure(std::string_view method, grpc::CallbackServerContext* context,

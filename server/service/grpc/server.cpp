@@ -1,5 +1,7 @@
 #include "service/grpc/server.h"
 
+#include <grpcpp/resource_quota.h>
+
 #include <grpc/grpc.h>
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/health_check_service_interface.h>
@@ -49,6 +51,13 @@ absl::StatusOr<std::unique_ptr<GistreamServer>> GistreamServer::Start(
   // would silently share its traffic instead of failing to start.
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
   builder.SetMaxReceiveMessageSize(options.max_receive_message_bytes);
+  if (options.transport_memory_bytes > 0) {
+    // Uploads arrive whole before a handler sees them: this bounds what
+    // concurrent ones hold while they are read (issue 30, item 4).
+    grpc::ResourceQuota quota("gistreamd transport");
+    quota.Resize(size_t(options.transport_memory_bytes));
+    builder.SetResourceQuota(quota);
+  }
   builder.SetMaxSendMessageSize(options.max_send_message_bytes);
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIME_MS, Millis(options.keepalive_time));
   builder.AddChannelArgument(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, Millis(options.keepalive_timeout));

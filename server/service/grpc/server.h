@@ -27,6 +27,11 @@ struct ServerOptions {
   /// Largest request / response message (LoadScene carries whole .glb files).
   int max_receive_message_bytes = 272 << 20;
   int max_send_message_bytes = 272 << 20;
+  /// Memory gRPC's transport may hold for all calls together (read buffers
+  /// of uploads on their way in, above all): past it, new calls are refused
+  /// with RESOURCE_EXHAUSTED (HTTP/2 ENHANCE_YOUR_CALM) instead of being
+  /// read. 0: gRPC's default (unbounded).
+  uint64_t transport_memory_bytes = 0;
   /// HTTP/2 keepalive pings on idle connections, so dead clients free their sessions.
   std::chrono::milliseconds keepalive_time{30'000};
   std::chrono::milliseconds keepalive_timeout{10'000};
