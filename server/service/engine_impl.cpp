@@ -355,6 +355,12 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
     const std::function<void()> end;
     ~EndLeading() { end(); }
   } end_leading_on_return{end_leading};
+  // What the import parsed and decoded is freed by the time this returns
+  // (the upload soon after, with its request): the heap is trimmed then.
+  struct TrimHeapAfter {
+    EngineImpl* engine;
+    ~TrimHeapAfter() { engine->RequestHeapTrim(); }
+  } trim_heap_after{this};
   if (!source.name.empty() && !has_env && !source.private_copy) {
     std::shared_ptr<SceneRecord> existing;
     std::shared_future<void> other_load;
@@ -805,6 +811,11 @@ Clock::time_point EngineImpl::Tick() {
   if (started_) CheckGpuReset();  // also between frames (an injected reset)
   ExpireIdle();
   ReapRetired();
+  // Once a dropped scene's solvers are gone too, its freed heap goes back
+  // to the system (RSS follows the budget down after an unload).
+  if (retiring_.empty() && heap_trimmer_.Poll(Clock::now())) {
+    Log(LogLevel::kDebug, "returned freed heap memory to the system (malloc_trim)");
+  }
   // Snapshot the sessions, ordered so the one after the last served comes
   // first: every due session gets one frame per round.
   std::vector<std::shared_ptr<SessionRecord>> order;
@@ -872,6 +883,7 @@ Clock::time_point EngineImpl::Tick() {
   }
   // Retired solvers are destroyed soon after their jobs end.
   if (!retiring_.empty()) next = std::min(next, Clock::now() + std::chrono::milliseconds(50));
+  next = std::min(next, heap_trimmer_.due());
   return next;
 }
 
@@ -902,6 +914,11 @@ void EngineImpl::DropGpuScene(const SceneId& id) {
   if (it == gpu_scenes_.end()) return;
   for (auto& [key, entry] : it->second.solvers) Retire(std::move(entry.solver));
   gpu_scenes_.erase(it);
+  heap_trimmer_.Request(Clock::now());
+}
+
+void EngineImpl::RequestHeapTrim() {
+  render_thread_->Post([this] { heap_trimmer_.Request(Clock::now()); });
 }
 
 void EngineImpl::ExpireIdle() {

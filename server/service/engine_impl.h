@@ -27,6 +27,7 @@
 #include "service/frame_rate.h"
 #include "service/render_thread.h"
 #include "solvers/solver.h"
+#include "util/heap_trim.h"
 #include "util/memory_accounts.h"
 
 namespace gistream {
@@ -138,6 +139,10 @@ class EngineImpl final : public Engine {
   void CancelBackgroundJobs();
   // Drops scene `id`'s GPU record, its solvers through Retire.
   void DropGpuScene(const SceneId& id);
+  // Asks the render thread to return freed heap to the system soon
+  // (heap_trimmer_): after a load, whatever its outcome. Any thread.
+  void RequestHeapTrim();
+  HeapTrimmer heap_trimmer_;                       // render thread
   std::vector<std::unique_ptr<Solver>> retiring_;  // render thread
   uint64_t solver_clock_ = 0;                      // render thread
   struct ViewRecord {
