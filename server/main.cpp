@@ -113,6 +113,9 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
   --max-height N             largest frame height (default 4096)
   --max-scene-bytes N        largest glb/gltf, buffers included (default 268435456)
   --max-triangles N          triangles over all mesh instances (default 4000000)
+  --max-draw-items N         primitives drawn: each mesh's primitives x the nodes
+                             instancing it (default 262144)
+  --max-materials N          materials of a scene (default 65536)
   --max-load-seconds F       a scene load's proxy levels and cluster trees stop
                              this long after it began; the scene loads without
                              the rest (LoadScene's proxy_trees_skipped; its GI
@@ -252,6 +255,16 @@ Flags ParseFlags(int argc, char** argv) {
        [&](auto flag, auto v) {
          f.engine.import_limits.max_triangles =
              ParseUnsigned<uint64_t>(flag, v, 1, uint64_t{1} << 32);
+       }},
+      {"--max-draw-items",
+       [&](auto flag, auto v) {
+         f.engine.import_limits.max_draw_items =
+             ParseUnsigned<uint64_t>(flag, v, 1, uint64_t{1} << 32);
+       }},
+      {"--max-materials",
+       [&](auto flag, auto v) {
+         f.engine.import_limits.max_materials =
+             ParseUnsigned<uint32_t>(flag, v, 1, uint32_t{1} << 24);
        }},
       {"--max-image-pixels",
        [&](auto flag, auto v) {

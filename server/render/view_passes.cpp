@@ -32,7 +32,8 @@ absl::StatusOr<ViewPasses> ViewPasses::Create() {
   ViewPasses passes;
   GS_ASSIGN_OR_RETURN(passes.gbuffer_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/gbuffer.vert.glsl"},
-                                          {GL_FRAGMENT_SHADER, "render/gbuffer.frag.glsl"}}));
+                                          {GL_FRAGMENT_SHADER, "render/gbuffer.frag.glsl"}},
+                                         {"GS_DRAW_LIST"}));
   GS_ASSIGN_OR_RETURN(passes.tonemap_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "render/tonemap.frag.glsl"}}));
@@ -65,7 +66,16 @@ absl::Status ViewPasses::DrawGBuffer(const SceneState& state, const GpuScene& gp
   const ViewCamera view = WithDepthRange(camera, state, gpu.WorldBounds(state));
   gbuffer_.Set("uViewProj", view.Projection() * view.View());
   gbuffer_.Use();
-  gpu.Draw(gbuffer_, state, true);
+  const ListKey key{state.serial(), state.version(), &gpu};
+  if (key != gbuffer_list_key_) {
+    const int no_tag = 0;
+    gbuffer_list_.Clear();
+    gbuffer_list_.AddView(gpu, state, nullptr, nullptr, no_tag, DrawTags::kValue,
+                          DrawTextures::kBind);
+    gbuffer_list_.Upload();
+    gbuffer_list_key_ = key;
+  }
+  gbuffer_list_.Draw(gpu, 0);
   return absl::OkStatus();
 }
 

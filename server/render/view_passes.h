@@ -8,6 +8,7 @@
 #include "gl/program.h"
 #include "render/camera.h"
 #include "render/gbuffer.h"
+#include "scene/draw_list.h"
 #include "scene/gpu_scene.h"
 
 namespace gistream {
@@ -17,7 +18,11 @@ class ViewPasses {
   static absl::StatusOr<ViewPasses> Create();
 
   // Resizes `gbuffer` to the camera (RESOURCE_EXHAUSTED when the GPU cannot
-  // hold it, see GBuffer::Resize) and rasterises the scene into it.
+  // hold it, see GBuffer::Resize) and rasterises the scene into it: one
+  // indirect multi-draw per set of material textures (scene/draw_list.h),
+  // so many primitives or instances cost what their triangles cost, not a
+  // draw call each (issue 30). The list is rebuilt only when the scene's
+  // state changes (its serial and version), not per refinement sample.
   absl::Status DrawGBuffer(const SceneState& state, const GpuScene& gpu, const ViewCamera& camera,
                            GBuffer& gbuffer);
   // Refinement (render/refinement.h): folds the HDR radiance just shaded
@@ -53,6 +58,14 @@ class ViewPasses {
 
  private:
   gl::Program gbuffer_;
+  // The G-buffer's draw list, and the state it was made from.
+  DrawList gbuffer_list_;
+  struct ListKey {
+    uint64_t serial = 0, version = 0;
+    const GpuScene* gpu = nullptr;
+    bool operator==(const ListKey&) const = default;
+  };
+  ListKey gbuffer_list_key_;
   gl::Program tonemap_;
   gl::Program copy_hdr_;      // the HDR target's texels, for accumulation
   gl::Program show_refined_;  // the mean with the history

@@ -149,7 +149,16 @@ absl::Status CheckGeometryBudget(const tinygltf::Model& model, const NodeGraph& 
   uint64_t triangles = 0;
   uint64_t instanced = 0;
   uint64_t vertices = 0;
+  uint64_t draw_items = 0;
+  if (model.materials.size() > limits.max_materials) {
+    return absl::ResourceExhaustedError(absl::StrCat("materials: ", model.materials.size(),
+                                                     " materials exceed the limit of ",
+                                                     limits.max_materials, " (--max-materials)"));
+  }
   for (size_t m = 0; m < model.meshes.size(); ++m) {
+    if (!MulAdd(model.meshes[m].primitives.size(), instances[m], draw_items, &draw_items)) {
+      return absl::ResourceExhaustedError(absl::StrCat("meshes[", m, "]: draw counts overflow"));
+    }
     for (size_t p = 0; p < model.meshes[m].primitives.size(); ++p) {
       const Primitive& prim = model.meshes[m].primitives[p];
       const std::string field = PrimitiveField(m, p);
@@ -168,6 +177,12 @@ absl::Status CheckGeometryBudget(const tinygltf::Model& model, const NodeGraph& 
         return absl::ResourceExhaustedError(field + ": geometry counts overflow");
       }
     }
+  }
+  if (draw_items > limits.max_draw_items) {
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "meshes: ", draw_items,
+        " primitives drawn (primitives x the nodes instancing their mesh) exceed the limit of ",
+        limits.max_draw_items, " (--max-draw-items)"));
   }
   if (triangles > limits.max_triangles || instanced > limits.max_triangles) {
     return absl::ResourceExhaustedError(absl::StrCat(

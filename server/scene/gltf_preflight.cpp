@@ -741,6 +741,12 @@ absl::Status PreflightJson(const Container& container, const ImportOptions& opti
     return absl::ResourceExhaustedError(absl::StrCat(
         "nodes: ", nodes->size(), " nodes exceed the limit of ", options.limits.max_nodes));
   }
+  if (const json* materials = Array(doc, "materials");
+      materials != nullptr && materials->size() > options.limits.max_materials) {
+    return absl::ResourceExhaustedError(
+        absl::StrCat("materials: ", materials->size(), " materials exceed the limit of ",
+                     options.limits.max_materials, " (--max-materials)"));
+  }
   GS_RETURN_IF_ERROR(CheckTypes(doc));
   GS_RETURN_IF_ERROR(CheckPrimitives(doc));
   GS_ASSIGN_OR_RETURN(const std::vector<uint64_t> buffer_sizes,

@@ -62,6 +62,14 @@ SceneBytes CountSceneBytes(const Scene& scene) {
     }
   }
   bytes.gpu = vertices * (12 + 12 + 8) + indices * 4;
+  // The G-buffer's draw list (render/view_passes.h): a command and a
+  // record per primitive drawn, on the CPU and in a GL buffer.
+  uint64_t draw_items = 0;
+  for (const Node& node : scene.nodes) {
+    if (node.mesh >= 0) draw_items += scene.meshes[size_t(node.mesh)].primitives.size();
+  }
+  bytes.cpu += draw_items * kDrawListBytesPerDraw;
+  bytes.gpu += draw_items * kDrawListBytesPerDraw;
   for (const Image& image : scene.images) {
     bytes.cpu += ImageBytes(image);
     bytes.gpu += uint64_t(image.width) * uint64_t(image.height) * (image.is_float ? 16 : 4) * 4 / 3;

@@ -1,5 +1,7 @@
 #include "scene/scene_state.h"
 
+#include <atomic>
+
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtx/matrix_decompose.hpp>
 #include <glm/gtx/quaternion.hpp>
@@ -19,6 +21,11 @@ glm::quat RotationTowards(const glm::vec3& dir) {
   return glm::rotation(from, dir);
 }
 }  // namespace
+
+SceneState::Serial::Serial() {
+  static std::atomic<uint64_t> next{1};
+  value = next.fetch_add(1, std::memory_order_relaxed);
+}
 
 SceneState::SceneState(std::shared_ptr<const Scene> scene)
     : scene_(std::move(scene)),

@@ -40,6 +40,10 @@ class SceneState {
 
   const Scene& scene() const { return *scene_; }
   uint64_t version() const { return version_; }
+  // Distinct for every SceneState this process creates (an address may be
+  // reused after one is freed; this is not): with version(), a key for
+  // what is derived from the state and cached.
+  uint64_t serial() const { return serial_.value; }
 
   const std::vector<Node>& nodes() const { return nodes_; }
   const std::vector<glm::mat4>& world() const { return world_; }
@@ -109,6 +113,17 @@ class SceneState {
   std::vector<int> deforming_;
   bool deform_ = true;  // false on CheckApply's trial copy (it checks nodes only)
   uint64_t version_ = 1;
+  // A copy (a trial state, CheckUpdate) gets its own serial.
+  struct Serial {
+    uint64_t value;
+    Serial();
+    Serial(const Serial&) : Serial() {}
+    Serial& operator=(const Serial&) {
+      value = Serial().value;
+      return *this;
+    }
+  };
+  Serial serial_;
   std::deque<std::pair<uint64_t, ChangeMask>> log_;  // (version, what changed)
 };
 

@@ -6,12 +6,13 @@
 in vec3 vWorld;
 in vec3 vNormal;
 in vec2 vUv;
+flat in int vMaterial;
 layout(location = 0) out vec4 oPosition;
 layout(location = 1) out vec4 oNormal;
 layout(location = 2) out vec4 oAlbedo;
 layout(location = 3) out vec4 oEmission;
 void main() {
-  Material m = materials[uMaterial];
+  Material m = materials[vMaterial];
   vec3 n = SafeNormalize(vNormal, vec3(0.0, 1.0, 0.0));
   // Surfaces are lit on the side the viewer sees.
   if (!gl_FrontFacing) n = -n;

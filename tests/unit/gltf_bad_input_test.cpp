@@ -380,6 +380,35 @@ TEST(BadInput, TooManyNodes) {
                "nodes: 11 nodes exceed the limit of 10");
 }
 
+TEST(BadInput, TooManyDrawItemsOverInstances) {
+  // Three primitives in one mesh, instanced by four nodes: 12 draws (a
+  // frame's cost, issue 30), whatever the triangles.
+  TestGltf g = Quad();
+  for (int i = 0; i < 2; ++i) {
+    g.doc["meshes"][0]["primitives"].push_back(g.doc["meshes"][0]["primitives"][0]);
+  }
+  for (int i = 0; i < 3; ++i) g.AddRoot({{"mesh", 0}});
+  ImportOptions options;
+  options.limits.max_draw_items = 11;
+  EXPECT_ERROR(Import(g.ToGltf(), options), kResourceExhausted,
+               "meshes: 12 primitives drawn (primitives x the nodes instancing their mesh) "
+               "exceed the limit of 11 (--max-draw-items)");
+  options.limits.max_draw_items = 12;
+  EXPECT_TRUE(Import(g.ToGltf(), options).ok());
+}
+
+TEST(BadInput, TooManyMaterials) {
+  TestGltf g = Quad();
+  for (int i = 0; i < 5; ++i) g.AddMaterial({{"name", "m"}});
+  ImportOptions options;
+  options.limits.max_materials = 4;
+  // Refused before the document is parsed (the preflight), naming the figure.
+  EXPECT_ERROR(Import(g.ToGltf(), options), kResourceExhausted,
+               "materials: 5 materials exceed the limit of 4 (--max-materials)");
+  options.limits.max_materials = 5;
+  EXPECT_TRUE(Import(g.ToGltf(), options).ok());
+}
+
 TEST(BadInput, SceneTooLarge) {
   ImportOptions options;
   options.limits.max_scene_bytes = 100;

@@ -32,14 +32,17 @@ TEST(PosedMemory, EachDeformingNodeCountsACopyOfItsMesh) {
   ASSERT_TRUE(NodeMeshDeforms(tube, testing::DeformingTube::kTubeNode));
   const uint64_t one = CountSceneBytes(tube).cpu;
 
-  // A second skinned instance of the tube: one more node, one more copy.
+  // A second skinned instance of the tube: one more node, one more copy
+  // (and its primitives' G-buffer draws).
   Scene two = tube;
   two.nodes.push_back(two.nodes[testing::DeformingTube::kTubeNode]);
   two.roots.push_back(int(two.nodes.size()) - 1);
   ASSERT_TRUE(NodeMeshDeforms(two, two.nodes.size() - 1));
-  EXPECT_EQ(CountSceneBytes(two).cpu - one, sizeof(Node) + CopyBytes(tube.meshes[0]));
+  EXPECT_EQ(CountSceneBytes(two).cpu - one,
+            sizeof(Node) + CopyBytes(tube.meshes[0]) +
+                kDrawListBytesPerDraw * tube.meshes[0].primitives.size());
 
-  // A rigid mesh: its instance holds no copy.
+  // A rigid mesh: its instance holds no copy (only its draws).
   Scene rigid = tube;
   Mesh plain = tube.meshes[0];
   plain.primitives[0].targets.clear();
@@ -52,7 +55,8 @@ TEST(PosedMemory, EachDeformingNodeCountsACopyOfItsMesh) {
   rigid.nodes.push_back(node);
   rigid.roots.push_back(int(rigid.nodes.size()) - 1);
   ASSERT_FALSE(NodeMeshDeforms(rigid, rigid.nodes.size() - 1));
-  EXPECT_EQ(CountSceneBytes(rigid).cpu - one, sizeof(Node) + CopyBytes(plain));
+  EXPECT_EQ(CountSceneBytes(rigid).cpu - one,
+            sizeof(Node) + CopyBytes(plain) + kDrawListBytesPerDraw * plain.primitives.size());
 
   // And the state does hold what was counted: a posed copy of the tube's
   // size for its node, none for the rigid one.
