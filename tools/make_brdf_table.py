@@ -2,7 +2,7 @@
 """Writes shaders/common/brdf_albedo_table.glsl: the GGX lobe's directional
 albedo under uniform light, E(n.v, roughness) = F0 (A - B) + B, with
 A = int D G2/(4 n.l n.v) n.l dl (F = 1) and B the same with F = (1 - v.h)^5
-(Schlick split in two), for the BRDF of server/solvers/pathtrace/ggx.h
+(Schlick split in two), for the BRDF of server/solvers/shading/ggx.h
 (GGX D, Smith height-correlated G2, alpha = roughness^2 clamped at
 roughness 0.03), standard library only;
 tests/unit/ggx_test.cpp checks the table against ggx.cpp's own integral.

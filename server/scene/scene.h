@@ -58,7 +58,7 @@ struct Material {
   float emissive_strength = 1.0f;     // KHR_materials_emissive_strength
   int emissive_texture = -1;
   // glTF metallic-roughness (the GGX BRDF, shaders/common/brdf.glsl and
-  // solvers/pathtrace/ggx.h). Import sets both from the file (absent: 1 and
+  // solvers/shading/ggx.h). Import sets both from the file (absent: 1 and
   // 1, glTF 2.0 5.22); this default, metallic 0 and roughness 1, is the
   // Lambertian surface that the default material and scenes built in code
   // have always been.

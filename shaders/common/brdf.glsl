@@ -1,5 +1,5 @@
 // glTF metallic-roughness BRDF, the GLSL twin of the path tracer's
-// solvers/pathtrace/ggx.h (the formulas, the Fresnel coupling of the
+// solvers/shading/ggx.h (the formulas, the Fresnel coupling of the
 // diffuse lobe and the energy loss are explained there):
 //   f = D G2 F / (4 n.l n.v) + (1 - F(n.v)) (1 - F(n.l)) (1 - metallic) baseColor / pi
 // D: GGX (Walter et al. 2007, eq. 33), alpha = roughness^2; G2: Smith

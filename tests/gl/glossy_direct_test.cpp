@@ -1,5 +1,5 @@
 // Glossy surfaces (glTF metallic-roughness, GGX) lit directly, in `direct`
-// (shaders/common/brdf.glsl) and `pathtrace` (solvers/pathtrace/ggx.h),
+// (shaders/common/brdf.glsl) and `pathtrace` (solvers/shading/ggx.h),
 // against the closed form: a point light over a glossy plane and nothing
 // else, so the plane sends L = f(v, l) I cos(theta) / r^2 to the eye, with
 // f from ggx.h evaluated here.
@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "solvers/pathtrace/ggx.h"
+#include "solvers/shading/ggx.h"
 #include "support/gltf_builder.h"
 #include "support/render_helpers.h"
 
@@ -58,8 +58,8 @@ glm::vec3 Expected(const GlossyCase& c, const glm::vec3& p, const glm::vec3& eye
   // World (x, y, z) -> local (x, z, y): y is the normal; handedness does
   // not matter to an isotropic BRDF.
   const glm::vec3 wo(v.x, v.z, v.y), wi(l.x, l.z, l.y);
-  const pathtrace::Brdf brdf{c.base_color, c.metallic, c.roughness};
-  return pathtrace::Eval(brdf, wo, wi) * (kIntensity * wi.z / r2);
+  const shading::Brdf brdf{c.base_color, c.metallic, c.roughness};
+  return shading::Eval(brdf, wo, wi) * (kIntensity * wi.z / r2);
 }
 
 class GlossyDirect : public ::testing::TestWithParam<GlossyCase> {

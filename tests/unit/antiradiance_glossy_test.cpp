@@ -42,10 +42,10 @@ double Luminance(const glm::vec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.07
 
 struct GlossyScene {
   GlossyScene(const std::vector<std::vector<SourceTriangle>>& groups, float max_edge, int m,
-              const std::vector<pathtrace::Brdf>& per_root) {
+              const std::vector<shading::Brdf>& per_root) {
     patches = BuildPatches(groups, max_edge);
     bins = *DirectionalBins::Create(m);
-    brdf.assign(size_t(patches.size()), pathtrace::Brdf());
+    brdf.assign(size_t(patches.size()), shading::Brdf());
     for (size_t r = 0; r < patches.roots.size(); ++r) {
       const int end = r + 1 < patches.roots.size() ? patches.roots[r + 1] : patches.size();
       for (int i = patches.roots[r]; i < end; ++i) brdf[size_t(i)] = per_root[r];
@@ -64,13 +64,13 @@ struct GlossyScene {
   }
   Patches patches;
   DirectionalBins bins;
-  std::vector<pathtrace::Brdf> brdf;
+  std::vector<shading::Brdf> brdf;
   GlossyTransfer transfer;
   std::unique_ptr<Transport> transport;
 };
 
-pathtrace::Brdf Material(float metallic, float roughness) {
-  pathtrace::Brdf b;
+shading::Brdf Material(float metallic, float roughness) {
+  shading::Brdf b;
   b.base_color = glm::vec3(1.0f);
   b.metallic = metallic;
   b.roughness = roughness;
@@ -84,12 +84,12 @@ TEST(AntiradianceGlossy, TransferReflectsTheDirectionalAlbedo) {
   // a rough and a shiny metal, a glossy dielectric and a coloured metal.
   const DirectionalBins bins = *DirectionalBins::Create(128);
   Patches p = BuildPatches({Quad({0, 0, 0}, kX, -kZ, 1, 1)}, 2.0f);
-  pathtrace::Brdf gold = Material(1, 0.3f);
+  shading::Brdf gold = Material(1, 0.3f);
   gold.base_color = {1.0f, 0.78f, 0.34f};
-  for (const pathtrace::Brdf& b : {Material(1, 0.5f), Material(1, 0.2f), Material(0, 0.3f), gold}) {
+  for (const shading::Brdf& b : {Material(1, 0.5f), Material(1, 0.2f), Material(0, 0.3f), gold}) {
     const std::string name = absl::StrCat("m", b.metallic, "_r", b.roughness, "_b", b.base_color.b);
     const GlossyTransfer t =
-        *GlossyTransfer::Build(p, bins, std::vector<pathtrace::Brdf>(size_t(p.size()), b), 1 << 30);
+        *GlossyTransfer::Build(p, bins, std::vector<shading::Brdf>(size_t(p.size()), b), 1 << 30);
     const int leaf = p.Leaves()[0];
     const glm::vec3& n = p.normal[size_t(leaf)];
     double s = 0.0;
@@ -141,9 +141,9 @@ TEST(AntiradianceGlossy, WhiteFurnaceReflectsTheBrdfAlbedo) {
   // pass the incident radiance is ~1 (the box gathers 99.9 % per pass;
   // per bin it varies with the links' spreading), so the reflected
   // exitance is pi times the white-sky albedo.
-  for (const pathtrace::Brdf& b : {Material(1, 0.5f), Material(0, 0.3f), Material(1, 0.2f)}) {
+  for (const shading::Brdf& b : {Material(1, 0.5f), Material(0, 0.3f), Material(1, 0.2f)}) {
     const std::string name = absl::StrCat("m", b.metallic, "_r", b.roughness);
-    GlossyScene s(Box(), 0.25f, 128, std::vector<pathtrace::Brdf>(6, b));
+    GlossyScene s(Box(), 0.25f, 128, std::vector<shading::Brdf>(6, b));
     ASSERT_EQ(s.transfer.matrices(), 6);  // one per wall normal
     std::vector<glm::vec3> emit(size_t(s.patches.size()), glm::vec3(1.0f));
     TransportSettings settings;
@@ -179,8 +179,8 @@ TEST(AntiradianceGlossy, WhiteFurnaceReflectsTheBrdfAlbedo) {
 TEST(AntiradianceGlossy, IteratedFurnaceStaysBelowTheAlbedoBound) {
   // Emission 1 iterated to convergence: L = L_e / (1 - albedo) at most
   // with the largest directional albedo, never more.
-  const pathtrace::Brdf b = Material(1, 0.4f);
-  GlossyScene s(Box(), 0.25f, 128, std::vector<pathtrace::Brdf>(6, b));
+  const shading::Brdf b = Material(1, 0.4f);
+  GlossyScene s(Box(), 0.25f, 128, std::vector<shading::Brdf>(6, b));
   std::vector<glm::vec3> emit(size_t(s.patches.size()), glm::vec3(1.0f));
   TransportSettings settings;
   settings.iterations = 400;
@@ -234,7 +234,7 @@ TEST(AntiradianceGlossy, HighlightLeavesAtTheMirrorDirection) {
       Quad({0, 0, 0}, kX, -kZ, 1, 1),
       Quad(c, glm::normalize(glm::cross(-light_dir, kZ)), -kZ, 0.3f, 0.3f)};
   ASSERT_LT(glm::dot(g[1][0].normal, light_dir), -0.99f);  // the emitter faces the floor
-  GlossyScene s(g, 0.5f, 256, {Material(1, 0.45f), pathtrace::Brdf()});
+  GlossyScene s(g, 0.5f, 256, {Material(1, 0.45f), shading::Brdf()});
   TransportSettings settings;
   settings.iterations = 1;
   s.transport->Solve({}, s.Emission(1, 1.0f), settings);
@@ -268,7 +268,7 @@ TEST(AntiradianceGlossy, MirrorMetalStaysFinite) {
   // antiradiance's own over-cancellation.
   std::vector<std::vector<SourceTriangle>> g = Box();
   g.push_back(Quad({0, 0, 0}, kX, kZ, 0.4f, 0.4f));
-  GlossyScene s(g, 0.25f, 128, std::vector<pathtrace::Brdf>(7, Material(1, 0.03f)));
+  GlossyScene s(g, 0.25f, 128, std::vector<shading::Brdf>(7, Material(1, 0.03f)));
   std::vector<glm::vec3> emit = s.Emission(0, 1.0f);
   TransportSettings settings;
   settings.iterations = 32;
@@ -287,7 +287,7 @@ TEST(AntiradianceGlossy, MirrorMetalStaysFinite) {
 TEST(AntiradianceGlossy, LambertianLeavesAreUnchanged) {
   // Lambertian leaves get no slot: a transport with the (empty) glossy
   // transfer is bitwise the diffuse one.
-  GlossyScene s(Box(), 0.25f, 128, std::vector<pathtrace::Brdf>(6, pathtrace::Brdf()));
+  GlossyScene s(Box(), 0.25f, 128, std::vector<shading::Brdf>(6, shading::Brdf()));
   EXPECT_EQ(s.transfer.count(), 0);
   for (int i = 0; i < s.patches.size(); ++i) s.patches.albedo[size_t(i)] = glm::vec3(0.7f);
   Transport plain(s.patches, s.bins, CreateLinks(s.patches, s.bins, nullptr));

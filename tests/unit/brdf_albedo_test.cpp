@@ -12,8 +12,8 @@
 #include <absl/strings/str_cat.h>
 #include <gtest/gtest.h>
 
-#include "solvers/pathtrace/ggx.h"
-#include "solvers/pathtrace/sampling.h"
+#include "solvers/shading/ggx.h"
+#include "solvers/shading/sampling.h"
 #include "support/measurement.h"
 
 namespace gistream {
@@ -78,7 +78,7 @@ TEST(BrdfAlbedo, LambertianWhiteSkyIsTheBaseColourBitwise) {
 
 // Gold (metallic 1, roughness 0.3): no diffuse lobe; F0 (A - B) + B with the
 // table's white-sky (A, B), and that agrees with the path tracer's BRDF
-// (pathtrace/ggx.h) sampled over cosine-weighted view directions:
+// (shading/ggx.h) sampled over cosine-weighted view directions:
 // 2 int E(mu) mu dmu = E[f cos / pdf] for mu = sqrt(u). 400k samples, 4
 // sigma < 0.003; the table itself is within 0.01 (Ggx.GlslAlbedoTable*).
 TEST(BrdfAlbedo, GlossyWhiteSkyMatchesTheTableAndTheBrdf) {
@@ -99,8 +99,8 @@ TEST(BrdfAlbedo, GlossyWhiteSkyMatchesTheTableAndTheBrdf) {
       testing::RecordMeasurement("gold_white_sky_A", ws.x);
       testing::RecordMeasurement("gold_white_sky_B", ws.y);
     }
-    const pathtrace::Brdf brdf{c.base, c.metallic, c.roughness};
-    pathtrace::Rng rng(5, 18);
+    const shading::Brdf brdf{c.base, c.metallic, c.roughness};
+    shading::Rng rng(5, 18);
     glm::dvec3 sum(0.0);
     const int n = 400000;
     for (int k = 0; k < n; ++k) {
@@ -108,7 +108,7 @@ TEST(BrdfAlbedo, GlossyWhiteSkyMatchesTheTableAndTheBrdf) {
       const double s = std::sqrt(std::max(0.0, 1.0 - mu * mu));
       const glm::vec3 wo(float(s * std::cos(phi)), float(s * std::sin(phi)), float(mu));
       const glm::vec3 u(rng.Uniform(), rng.Uniform(), rng.Uniform());
-      sum += glm::dvec3(pathtrace::Sample(brdf, wo, u).weight);
+      sum += glm::dvec3(shading::Sample(brdf, wo, u).weight);
     }
     const glm::dvec3 reference = sum / double(n);
     for (int k = 0; k < 3; ++k) {

@@ -1,6 +1,6 @@
-// The path tracer's GGX BRDF (solvers/pathtrace/ggx.h) against its
+// The path tracer's GGX BRDF (solvers/shading/ggx.h) against its
 // analytic properties, by numerical integration over the hemisphere.
-#include "solvers/pathtrace/ggx.h"
+#include "solvers/shading/ggx.h"
 
 #include <cmath>
 #include <fstream>
@@ -14,9 +14,9 @@
 
 #include "support/measurement.h"
 
-#include "solvers/pathtrace/sampling.h"
+#include "solvers/shading/sampling.h"
 
-namespace gistream::pathtrace {
+namespace gistream::shading {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -227,4 +227,4 @@ TEST(Ggx, GlslAlbedoTableMatchesTheBrdf) {
 }
 
 }  // namespace
-}  // namespace gistream::pathtrace
+}  // namespace gistream::shading

@@ -24,7 +24,7 @@
 #include "scene/gltf_import.h"
 #include "scene/scene_state.h"
 #include "solvers/pathtrace/integrator.h"
-#include "solvers/pathtrace/sampling.h"
+#include "solvers/shading/sampling.h"
 #include "solvers/pathtrace/scene_bvh.h"
 #include "util/parallel_for.h"
 
@@ -56,7 +56,7 @@ FurnaceEstimate TraceFurnace(float albedo, int paths, int max_depth = 0) {
   std::vector<double> value(size_t(paths), 0.0);
   std::vector<uint64_t> rays(size_t(paths), 0);
   ParallelFor(size_t(paths), 64, [&](size_t i) {
-    pathtrace::Rng rng(0x5eed, uint64_t(i));
+    shading::Rng rng(0x5eed, uint64_t(i));
     // Directions spread over the sphere (the furnace is the same everywhere).
     const float z = 1.0f - 2.0f * rng.Uniform();
     const float phi = 6.2831853f * rng.Uniform();

@@ -25,9 +25,9 @@
 
 #include "scene/gltf_import.h"
 #include "scene/scene_state.h"
-#include "solvers/pathtrace/ggx.h"
+#include "solvers/shading/ggx.h"
 #include "solvers/pathtrace/integrator.h"
-#include "solvers/pathtrace/sampling.h"
+#include "solvers/shading/sampling.h"
 #include "solvers/pathtrace/scene_bvh.h"
 #include "util/parallel_for.h"
 
@@ -39,7 +39,7 @@ const glm::vec3 kOrigin(0.1f, -0.2f, 0.05f);  // inside the 2 m cube
 
 // Directional albedo of white metal at view cosine cos_o (midpoint rule).
 double MetalAlbedo(float roughness, double cos_o) {
-  const pathtrace::Brdf brdf{glm::vec3(1.0f), 1.0f, roughness};
+  const shading::Brdf brdf{glm::vec3(1.0f), 1.0f, roughness};
   const glm::vec3 wo(float(std::sqrt(1.0 - cos_o * cos_o)), 0.0f, float(cos_o));
   const int n = 600;
   double sum = 0.0;
@@ -48,7 +48,7 @@ double MetalAlbedo(float roughness, double cos_o) {
     for (int j = 0; j < 2 * n; ++j) {
       const double phi = (j + 0.5) * kPi / n;
       const glm::vec3 wi(float(s * std::cos(phi)), float(s * std::sin(phi)), float(c));
-      sum += pathtrace::Eval(brdf, wo, wi).x * c;
+      sum += shading::Eval(brdf, wo, wi).x * c;
     }
   }
   return sum * (1.0 / n) * (kPi / n);
@@ -75,7 +75,7 @@ Estimate Trace(float roughness, const glm::vec3& dir, int paths, int max_depth) 
   const pathtrace::Integrator integrator(state, **bvh, nullptr, settings);
   std::vector<double> value(size_t(paths), 0.0);
   ParallelFor(size_t(paths), 64, [&](size_t i) {
-    pathtrace::Rng rng(0x91055, uint64_t(i));
+    shading::Rng rng(0x91055, uint64_t(i));
     pathtrace::PathStats stats;
     value[i] = double(integrator.Li(kOrigin, dir, rng, stats).g);
   });

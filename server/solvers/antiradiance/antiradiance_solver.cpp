@@ -202,12 +202,12 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
   }
   // Glossy leaves (glossy_transfer.h): the material's metallic-roughness
   // factors (textures are not sampled per leaf, as the albedo above).
-  job->brdf.assign(size_t(job->patches->size()), pathtrace::Brdf());
+  job->brdf.assign(size_t(job->patches->size()), shading::Brdf());
   for (int i : job->leaves) {
     const int material = settings_.glossy ? job->patches->tag[size_t(i)] : -1;
     if (material < 0 || size_t(material) >= ctx.state.materials().size()) continue;
     const Material& m = ctx.state.materials()[size_t(material)];
-    pathtrace::Brdf& b = job->brdf[size_t(i)];
+    shading::Brdf& b = job->brdf[size_t(i)];
     b.base_color = job->patches->albedo[size_t(i)];
     b.metallic = m.metallic_factor;
     b.roughness = m.roughness_factor;
@@ -369,7 +369,7 @@ std::vector<glm::vec3> AntiradianceSolver::DirectAtLeaves(const antiradiance::Pa
 }
 
 std::vector<glm::vec3> AntiradianceSolver::GlossyDirectAtLeaves(
-    const antiradiance::Patches& patches, const std::vector<pathtrace::Brdf>& brdf,
+    const antiradiance::Patches& patches, const std::vector<shading::Brdf>& brdf,
     const std::vector<int>& slots) {
   // The glossy leaves in slot order (GlossyElement in
   // antiradiance/element_glossy_direct.comp.glsl), roughness raised to the
@@ -378,7 +378,7 @@ std::vector<glm::vec3> AntiradianceSolver::GlossyDirectAtLeaves(
   const float min_roughness = antiradiance::GlossyTransfer::BinRoughness(bins_);
   for (int i = 0; i < patches.size(); ++i) {
     if (slots[size_t(i)] < 0) continue;
-    const pathtrace::Brdf& b = brdf[size_t(i)];
+    const shading::Brdf& b = brdf[size_t(i)];
     input.push_back(glm::vec4(patches.position[size_t(i)], 0.0f));
     input.push_back(glm::vec4(patches.normal[size_t(i)], std::max(b.roughness, min_roughness)));
     input.push_back(glm::vec4(b.base_color, b.metallic));

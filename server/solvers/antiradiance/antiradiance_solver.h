@@ -82,7 +82,7 @@ class AntiradianceSolver final : public Solver {
     // Glossy leaves (glossy_transfer.h): the BRDF per node, the direct
     // light's exitant radiance per glossy slot and bin, and the matrices
     // (built in the job; the transport refers to them).
-    std::vector<pathtrace::Brdf> brdf;
+    std::vector<shading::Brdf> brdf;
     std::vector<glm::vec3> glossy_direct;
     std::unique_ptr<antiradiance::GlossyTransfer> glossy;
     absl::Status status;  // a limit the links exceed
@@ -107,7 +107,7 @@ class AntiradianceSolver final : public Solver {
   // The direct light's exitant radiance per bin at the glossy leaves
   // (slots per node, GlossyTransfer::Slots), glossy slot x bin.
   std::vector<glm::vec3> GlossyDirectAtLeaves(const antiradiance::Patches& patches,
-                                              const std::vector<pathtrace::Brdf>& brdf,
+                                              const std::vector<shading::Brdf>& brdf,
                                               const std::vector<int>& slots);
 
   // Configuration

@@ -32,7 +32,7 @@ float GlossyTransfer::BinRoughness(const DirectionalBins& bins) {
 }
 
 std::vector<int> GlossyTransfer::Slots(const Patches& patches,
-                                       const std::vector<pathtrace::Brdf>& brdf) {
+                                       const std::vector<shading::Brdf>& brdf) {
   std::vector<int> slot(size_t(patches.size()), -1);
   int next = 0;
   for (int i : patches.Leaves()) {
@@ -43,7 +43,7 @@ std::vector<int> GlossyTransfer::Slots(const Patches& patches,
 
 absl::StatusOr<GlossyTransfer> GlossyTransfer::Build(const Patches& patches,
                                                      const DirectionalBins& bins,
-                                                     const std::vector<pathtrace::Brdf>& brdf,
+                                                     const std::vector<shading::Brdf>& brdf,
                                                      uint64_t max_bytes) {
   GlossyTransfer g;
   g.m_ = bins.count();
@@ -53,7 +53,7 @@ absl::StatusOr<GlossyTransfer> GlossyTransfer::Build(const Patches& patches,
   std::vector<int> first_node;  // per matrix, a node that has it
   for (int i = 0; i < patches.size(); ++i) {
     if (g.slot_[size_t(i)] < 0) continue;
-    const pathtrace::Brdf& b = brdf[size_t(i)];
+    const shading::Brdf& b = brdf[size_t(i)];
     const glm::vec3& n = patches.normal[size_t(i)];
     const Key key = {
         b.base_color.r, b.base_color.g, b.base_color.b, b.metallic, b.roughness, n.x, n.y, n.z};
@@ -76,8 +76,8 @@ absl::StatusOr<GlossyTransfer> GlossyTransfer::Build(const Patches& patches,
   ParallelFor(first_node.size(), 1, [&](size_t mi) {
     const int node = first_node[mi];
     const glm::vec3& n = patches.normal[size_t(node)];
-    const pathtrace::Brdf& material = brdf[size_t(node)];
-    pathtrace::Brdf blurred = material;
+    const shading::Brdf& material = brdf[size_t(node)];
+    shading::Brdf blurred = material;
     blurred.roughness = std::max(material.roughness, min_roughness);
     glm::vec3 tu, tv;
     Frame(n, &tu, &tv);
@@ -114,7 +114,7 @@ absl::StatusOr<GlossyTransfer> GlossyTransfer::Build(const Patches& patches,
       for (size_t j = 0; j < h; ++j) {
         glm::vec3 f(0.0f);
         for (int q = 0; q < kSubSamples; ++q) {
-          f += pathtrace::Eval(blurred, wo[o * kSubSamples + size_t(q)], wo[j * kSubSamples]);
+          f += shading::Eval(blurred, wo[o * kSubSamples + size_t(q)], wo[j * kSubSamples]);
         }
         kernel[o * h + j] = f / float(kSubSamples);
       }

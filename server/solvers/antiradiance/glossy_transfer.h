@@ -3,7 +3,7 @@
 // bust use a Lafortune BRDF, Fig. 15): a leaf's exitant radiance in bin
 // omega_o is the sum over the incident bins omega_j of
 //   L(omega_o) = sum_j f(omega_j, omega_o) <n|omega_j>_+ omega_bin L_in(omega_j)
-// with brdf.glsl's GGX (solvers/pathtrace/ggx.h). Per (material, normal)
+// with brdf.glsl's GGX (solvers/shading/ggx.h). Per (material, normal)
 // this is a bin-to-bin matrix T over the leaf's upper hemisphere of bins
 // (the bins are world-space, so two leaves share T only when their normals
 // are equal, e.g. the faces of a box).
@@ -31,7 +31,7 @@
 #include "absl/status/statusor.h"
 #include "solvers/antiradiance/directional_bins.h"
 #include "solvers/antiradiance/patches.h"
-#include "solvers/pathtrace/ggx.h"
+#include "solvers/shading/ggx.h"
 
 namespace gistream::antiradiance {
 
@@ -39,11 +39,11 @@ class GlossyTransfer {
  public:
   // The slot of each node (-1: a Lambertian leaf, or not a leaf), from the
   // leaves' BRDFs (`brdf` per node; every non-Lambertian leaf is glossy).
-  static std::vector<int> Slots(const Patches& patches, const std::vector<pathtrace::Brdf>& brdf);
+  static std::vector<int> Slots(const Patches& patches, const std::vector<shading::Brdf>& brdf);
   // The matrices of every glossy leaf; ResourceExhausted (naming
   // params.bins) beyond `max_bytes`.
   static absl::StatusOr<GlossyTransfer> Build(const Patches& patches, const DirectionalBins& bins,
-                                              const std::vector<pathtrace::Brdf>& brdf,
+                                              const std::vector<shading::Brdf>& brdf,
                                               uint64_t max_bytes);
   // The sharpest roughness the bins resolve: alpha = roughness^2 no smaller
   // than half the bins' spacing sqrt(4 pi / m), so the reflected lobe (about

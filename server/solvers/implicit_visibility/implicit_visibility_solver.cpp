@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "util/parallel_for.h"
-#include "solvers/pathtrace/env_light.h"
+#include "solvers/shading/env_light.h"
 
 namespace gistream {
 
@@ -151,7 +151,7 @@ void ImplicitVisibilitySolver::UpdateEnvironment(const SceneState& state) {
   const Scene& scene = state.scene();
   if (scene.environment && !leaf_links_.env_offset.empty() &&
       state.environment_intensity() > 0.0f) {
-    const pathtrace::EnvironmentLight env(scene.environment->image);
+    const shading::EnvironmentLight env(scene.environment->image);
     // Radiance per bin direction once, then each leaf's open bins (4.4).
     std::vector<glm::vec3> bin_radiance(size_t(bins_.count()));
     for (int b = 0; b < bins_.count(); ++b) {

@@ -5,6 +5,8 @@
 #include <limits>
 
 namespace gistream::pathtrace {
+
+using namespace shading;  // the shared BRDF and sampling (solvers/shading/)
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
@@ -86,7 +88,7 @@ glm::vec3 Integrator::Surface::FCos(const glm::vec3& wi) const {
 
 float Integrator::Surface::Pdf(const glm::vec3& wi) const {
   if (brdf.Lambertian()) return glm::dot(normal, wi) / kPi;
-  return pathtrace::Pdf(brdf, ToLocal(wo), ToLocal(wi));
+  return shading::Pdf(brdf, ToLocal(wo), ToLocal(wi));
 }
 
 glm::vec3 Integrator::Emission(const Triangle& t, float u, float v) const {

@@ -16,12 +16,18 @@
 #include <glm/glm.hpp>
 
 #include "scene/scene_state.h"
-#include "solvers/pathtrace/env_light.h"
-#include "solvers/pathtrace/ggx.h"
-#include "solvers/pathtrace/sampling.h"
+#include "solvers/shading/env_light.h"
+#include "solvers/shading/ggx.h"
+#include "solvers/shading/sampling.h"
 #include "solvers/pathtrace/scene_bvh.h"
 
 namespace gistream::pathtrace {
+
+// The shading math the path tracer shares with the GI solvers
+// (solvers/shading/): its BRDF, sampling and environment light.
+using shading::Brdf;
+using shading::EnvironmentLight;
+using shading::Rng;
 
 struct IntegratorSettings {
   // Bounces at most; 0 = no cap (Russian roulette alone ends paths). A cap

@@ -12,7 +12,7 @@ namespace gistream {
 
 using pathtrace::Integrator;
 using pathtrace::PathStats;
-using pathtrace::Rng;
+using shading::Rng;
 
 SolverDescription PathtraceSolver::Describe() {
   SolverDescription d;
@@ -138,7 +138,7 @@ void PathtraceSolver::TraceRows(const SceneState& state, Accumulation& acc, int 
     PathStats stats;
     uint64_t bad = 0;
     for (int x = 0; x < w; ++x) {
-      Rng rng(pathtrace::Mix64(seed_ ^ pathtrace::Mix64(sample)),
+      Rng rng(shading::Mix64(seed_ ^ shading::Mix64(sample)),
               uint64_t(y) * uint64_t(w) + uint64_t(x));
       // Pixel (x, y) counts rows from the bottom, as GL does.
       const glm::vec2 ndc((float(x) + rng.Uniform()) / float(w) * 2.0f - 1.0f,

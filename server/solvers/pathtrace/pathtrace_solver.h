@@ -7,7 +7,7 @@
 #include <memory>
 #include <vector>
 
-#include "solvers/pathtrace/env_light.h"
+#include "solvers/shading/env_light.h"
 #include "solvers/pathtrace/integrator.h"
 #include "solvers/pathtrace/scene_bvh.h"
 #include "solvers/memory_estimate.h"

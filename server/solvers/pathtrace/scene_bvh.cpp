@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "solvers/pathtrace/sampling.h"
+#include "solvers/shading/sampling.h"
 
 namespace gistream::pathtrace {
 
@@ -197,7 +197,7 @@ void SceneBvh::UpdateEmitters(const SceneState& state) {
     if (t.material < 0) continue;
     const Material& m = state.materials()[size_t(t.material)];
     t.double_sided = m.double_sided;
-    const float lum = Luminance(m.emission());
+    const float lum = shading::Luminance(m.emission());
     if (!(lum > 0.0f) || !std::isfinite(lum)) continue;
     t.emitter = int(emitters_.size());
     emitters_.push_back(uint32_t(i));

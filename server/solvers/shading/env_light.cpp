@@ -1,11 +1,11 @@
-#include "solvers/pathtrace/env_light.h"
+#include "solvers/shading/env_light.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "solvers/pathtrace/sampling.h"
+#include "solvers/shading/sampling.h"
 
-namespace gistream::pathtrace {
+namespace gistream::shading {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
@@ -97,4 +97,4 @@ glm::vec3 EnvironmentLight::Sample(float u1, float u2, float rotation, float& pd
   return dir;
 }
 
-}  // namespace gistream::pathtrace
+}  // namespace gistream::shading

@@ -1,11 +1,11 @@
-#include "solvers/pathtrace/ggx.h"
+#include "solvers/shading/ggx.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "solvers/pathtrace/sampling.h"
+#include "solvers/shading/sampling.h"
 
-namespace gistream::pathtrace {
+namespace gistream::shading {
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
@@ -139,4 +139,4 @@ BrdfSample Sample(const Brdf& brdf, const glm::vec3& wo, const glm::vec3& u) {
   return out;
 }
 
-}  // namespace gistream::pathtrace
+}  // namespace gistream::shading

@@ -8,7 +8,7 @@
 
 #include <glm/glm.hpp>
 
-namespace gistream::pathtrace {
+namespace gistream::shading {
 
 // PCG32 (O'Neill), XSH RR variant.
 class Rng {
@@ -70,4 +70,4 @@ inline float PowerHeuristic(float pdf_a, float pdf_b) {
   return a + b > 0.0f ? a / (a + b) : 0.0f;
 }
 
-}  // namespace gistream::pathtrace
+}  // namespace gistream::shading

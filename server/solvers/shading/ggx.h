@@ -36,7 +36,7 @@
 
 #include <glm/glm.hpp>
 
-namespace gistream::pathtrace {
+namespace gistream::shading {
 
 // Roughness below this is clamped: alpha >= kMinRoughness^2 keeps D finite
 // (at most 1 / (pi alpha^2) ~ 4e5) for mirror-like materials.
@@ -86,4 +86,4 @@ BrdfSample Sample(const Brdf& brdf, const glm::vec3& wo, const glm::vec3& u);
 // of Visible Normals", listing 1); pdf G1(wo) max(0, wo.h) D(h) / wo.z.
 glm::vec3 SampleVisibleNormal(const glm::vec3& wo, float alpha, float u1, float u2);
 
-}  // namespace gistream::pathtrace
+}  // namespace gistream::shading

@@ -16,7 +16,7 @@
 
 #include "scene/scene.h"
 
-namespace gistream::pathtrace {
+namespace gistream::shading {
 
 class EnvironmentLight {
  public:
@@ -46,4 +46,4 @@ class EnvironmentLight {
   double total_ = 0.0;
 };
 
-}  // namespace gistream::pathtrace
+}  // namespace gistream::shading
