@@ -17,6 +17,7 @@
 #include "render/gbuffer.h"
 #include "service/test_server.h"
 #include "solvers/registry.h"
+#include "support/frame_queue.h"
 #include "support/render_helpers.h"
 #include "util/memory_budget.h"
 
@@ -99,6 +100,45 @@ TEST(MemoryBudget, EverySolverEstimatesItsDefaults) {
   const EngineStats stats = E().stats();
   EXPECT_GT(stats.memory_used_bytes, 0u);
   EXPECT_LE(stats.memory_used_bytes, stats.memory_limit_bytes);
+}
+
+// antiradiance's estimate against what it builds (issue 30: the links
+// were estimated 30 times low): a session's reservation, less its view's,
+// covers the tables and both copies of the links that its stats report,
+// and is not more than twice them.
+TEST(MemoryBudget, AntiradianceEstimateCoversWhatItBuilds) {
+  EngineOptions options;
+  options.scene_dir = std::filesystem::path(GISTREAM_SOURCE_DIR) / "scenes";
+  auto engine = Engine::Create(options);
+  ASSERT_TRUE(engine.ok()) << engine.status();
+  Engine& e = **engine;
+  auto info = e.LoadScene(testing::SceneByName("cornell_box.gltf"));
+  ASSERT_TRUE(info.ok()) << info.status();
+  const uint64_t with_scene = e.stats().memory_used_bytes;
+  auto sink = std::make_shared<testing::FrameQueue>();
+  SessionConfig config;
+  config.scene = info->id;
+  config.solver = "antiradiance";
+  config.params = {{"elements", "triangles"}, {"patch_size", "0.05"}, {"bins", "256"}};
+  config.width = config.height = 16;
+  config.encoding.format = ImageFormat::kPng;
+  auto session = e.OpenSession(config, sink);
+  ASSERT_TRUE(session.ok()) << session.status();
+  auto frame = sink->WaitFor([](const EncodedFrame& f) {
+    return testing::FrameStat(f, "links_pending") == 0.0 && testing::FrameStat(f, "link_bytes") > 0;
+  });
+  ASSERT_TRUE(frame);
+  const double built = testing::FrameStat(*frame, "table_bytes") +
+                       2.0 * testing::FrameStat(*frame, "link_bytes") +
+                       testing::FrameStat(*frame, "shadow_map_bytes");
+  // The view: G-buffer and encoder buffers, at most 200 bytes per pixel.
+  const double reserved = double(e.stats().memory_used_bytes - with_scene) - 16.0 * 16.0 * 200.0;
+  RecordProperty("reserved_bytes", std::to_string(reserved));
+  RecordProperty("built_bytes", std::to_string(built));
+  EXPECT_GE(reserved, built) << "estimate below what the solver built";
+  EXPECT_LE(reserved, 2.0 * built) << "estimate more than twice what the solver built";
+  e.CloseSession(session->id);
+  e.Shutdown();
 }
 
 TEST(MemoryBudget, UnloadAndCloseReturnTheBudgetToItsBaseline) {
