@@ -140,7 +140,7 @@ TEST(AvgRender, ThinWallDoesNotLeak) {
   testing::RecordMeasurement("dark_side_without_visibility", leak_nv);
   // Measured: dark / lit = 1.7 % with visibility, 12 % without. What is
   // left comes from VPLs in the voxels the sheet shares with the ceiling
-  // and floor, whose mean plane can lie on the dark side (ARCHITECTURE.md).
+  // and floor, whose mean plane can lie on the dark side (server/solvers/avg/README.md).
   EXPECT_GT(lit_mean, 0.01);
   EXPECT_LT(dark_mean, 0.03 * lit_mean);
   EXPECT_LT(dark_mean, 0.25 * leak_nv);

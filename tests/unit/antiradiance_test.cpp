@@ -325,7 +325,7 @@ TEST(AntiradianceEnergy, StiffFurnaceConvergesNearTheExactValue) {
   // before the far links' sigma points): on this coarse box the iterated
   // value follows the hierarchy's non-uniform per-leaf errors more than
   // the uniform gather (0.9993 per pass); the 16 x 16 box reads -0.14 % at
-  // 0.99 (docs/ARCHITECTURE.md, antiradiance's Energy).
+  // 0.99 (server/solvers/antiradiance/README.md, Energy).
   const DirectionalBins bins = *DirectionalBins::Create(128);
   for (float rho : {0.5f, 0.9f, 0.99f}) {
     const Patches p = VertexFurnace(8, rho);
