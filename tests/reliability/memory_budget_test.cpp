@@ -77,7 +77,7 @@ TEST(MemoryBudget, TinyAntiradiancePatchSizeIsRefusedByItsEstimate) {
   auto frame = E().Render(Request(scene.id(), "antiradiance", {},
                                   {{"elements", "triangles"}, {"patch_size", "0.000001"}}));
   EXPECT_STATUS(StatusOf(frame), kResourceExhausted,
-                "antiradiance: patch_size=1e-06 bins=128 (largest part: I_ex/L_in tables of ");
+                "antiradiance: patch_size=1e-06 bins=128 (largest part: links of ");
   EXPECT_STATUS(StatusOf(frame), kResourceExhausted, "of the server's memory budget");
   if (can_measure) {
     // 256 MiB: the engine's own working set varies; the tables would be 400 GiB.
