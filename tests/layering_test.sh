@@ -9,8 +9,8 @@ cd "$ROOT"
 
 # folder: allowed include prefixes (first path component of "x/...")
 declare -A ALLOWED=(
-  [server/util]="util"
-  [server/encode]="util encode"
+  [common/util]="util"
+  [common/encode]="util encode"
   [server/gl]="util gl"
   [server/scene]="util encode gl scene"
   [server/render]="util encode gl scene render"
@@ -25,7 +25,7 @@ declare -A ALLOWED=(
 EXTERNAL="absl"
 
 # The table row of a file: the longest folder in ALLOWED that holds it
-# (server/encode/video belongs to server/encode).
+# (common/encode/video belongs to common/encode).
 row_of() {
   local f=$1 best=""
   for dir in "${!ALLOWED[@]}"; do
@@ -53,7 +53,7 @@ while IFS= read -r file; do
       failed=1
     fi
   done < <(sed -n 's/^#include "\([^"]*\)".*/\1/p' "$file")
-done < <(find server client \( -name '*.cpp' -o -name '*.h' \) | sort)
+done < <(find common server client \( -name '*.cpp' -o -name '*.h' \) | sort)
 (( checked > 100 )) || { echo "FAIL: only $checked files checked"; exit 1; }
 if (( failed )); then exit 1; fi
 echo "layering: $checked files, every include follows the module table"

@@ -1,4 +1,4 @@
-// Video encoding (server/encode/video, service/frame_encoder) without GL:
+// Video encoding (common/encode/video, service/frame_encoder) without GL:
 // libx264 access units decode with libavcodec to a picture close to the
 // input; key frames come first, at the set interval and on request; odd
 // sizes are padded; unchanged pixels are recognised; a missing encoder is
