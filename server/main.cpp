@@ -27,8 +27,8 @@
 #include <thread>
 
 #include "metrics/metrics.h"
-#include "service/engine.h"
-#include "service/grpc/server.h"
+#include "engine/engine.h"
+#include "service/server.h"
 #include "solvers/registry.h"
 #include "util/auth_tokens.h"
 #include "util/cpu_pool.h"

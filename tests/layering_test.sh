@@ -15,9 +15,9 @@ declare -A ALLOWED=(
   [server/scene]="util encode gl scene"
   [server/render]="util encode gl scene render"
   [server/solvers]="util encode gl scene render solvers"
-  [server/service]="util encode gl scene render solvers service"
-  [server/service/grpc]="util service gistream grpc"
-  [server/metrics]="util service metrics"
+  [server/engine]="util encode gl scene render solvers engine"
+  [server/service]="util engine service gistream grpc"
+  [server/metrics]="util engine metrics"
   [client]="util encode gistream grpc client"
 )
 

@@ -10,8 +10,8 @@
 #include <string>
 #include <string_view>
 
-#include "service/engine.h"
-#include "service/observer.h"
+#include "engine/engine.h"
+#include "engine/observer.h"
 #include "util/status.h"
 
 namespace gistream::metrics {

@@ -16,7 +16,7 @@
 #include "scene/gltf_import.h"
 #include "scene/scene_state.h"
 #include "scene/validate_update.h"
-#include "service/grpc/translate.h"
+#include "service/translate.h"
 
 using namespace gistream;
 

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "service/engine.h"
+#include "engine/engine.h"
 
 namespace gistream::reliability {
 

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "reliability/reliability_fixture.h"
-#include "service/grpc/translate.h"
+#include "service/translate.h"
 
 namespace gistream::reliability {
 namespace {

@@ -14,7 +14,7 @@
 
 #include "reliability/reliability_fixture.h"
 #include "render/gbuffer.h"
-#include "service/frame_encoder.h"
+#include "engine/frame_encoder.h"
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {

@@ -32,8 +32,8 @@
 #include <thread>
 #include <vector>
 
-#include "service/engine.h"
-#include "service/frame_rate.h"
+#include "engine/engine.h"
+#include "engine/frame_rate.h"
 
 namespace gistream::testing {
 

@@ -5,7 +5,7 @@
 // unchanged frames never break the chain.
 #include <gtest/gtest.h>
 
-#include "service/grpc/frame_slot.h"
+#include "service/frame_slot.h"
 
 namespace gistream::service {
 namespace {

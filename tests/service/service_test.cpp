@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "fake_engine.h"
-#include "service/grpc/session_reactor.h"
+#include "service/session_reactor.h"
 #include "test_server.h"
 
 namespace gistream::testing {

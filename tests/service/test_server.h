@@ -12,8 +12,8 @@
 
 #include "gistream/v1/gistream.grpc.pb.h"
 #include "grpc/health/v1/health.grpc.pb.h"
-#include "service/engine.h"
-#include "service/grpc/server.h"
+#include "engine/engine.h"
+#include "service/server.h"
 
 namespace gistream::testing {
 

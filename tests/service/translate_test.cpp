@@ -1,5 +1,5 @@
 // protobuf <-> domain translation: wire defaults and wire-form validation.
-#include "service/grpc/translate.h"
+#include "service/translate.h"
 
 #include <absl/strings/match.h>
 #include <gtest/gtest.h>

@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "service/engine.h"
+#include "engine/engine.h"
 
 namespace gistream::testing {
 

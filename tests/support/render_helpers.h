@@ -12,7 +12,7 @@
 
 #include "encode/encode.h"
 #include "render/camera.h"
-#include "service/engine.h"
+#include "engine/engine.h"
 
 namespace gistream::testing {
 

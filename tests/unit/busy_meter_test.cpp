@@ -1,6 +1,6 @@
 // The render thread's busy share (service/busy_meter.h), on a synthetic
 // clock: what admission by GPU time and gistream_render_busy_ratio read.
-#include "service/busy_meter.h"
+#include "engine/busy_meter.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // that is shorter; old frames fall out of the window.
 #include <gtest/gtest.h>
 
-#include "service/frame_rate.h"
+#include "engine/frame_rate.h"
 
 namespace gistream {
 namespace {

@@ -12,7 +12,7 @@
 #include "encode/encode.h"
 #include "encode/video/video_decoder.h"
 #include "encode/video/video_encoder.h"
-#include "service/frame_encoder.h"
+#include "engine/frame_encoder.h"
 
 namespace gistream {
 namespace {

@@ -29,7 +29,7 @@
 #include "encode/encode.h"
 #include "encode/video/video_decoder.h"
 #include "encode/video/video_encoder.h"
-#include "service/engine.h"
+#include "engine/engine.h"
 
 namespace gistream {
 namespace {

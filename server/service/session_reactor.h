@@ -33,9 +33,9 @@
 #include <grpcpp/grpcpp.h>
 
 #include "gistream/v1/gistream.grpc.pb.h"
-#include "service/engine.h"
-#include "service/grpc/frame_slot.h"
-#include "service/grpc/worker_pool.h"
+#include "engine/engine.h"
+#include "service/frame_slot.h"
+#include "service/worker_pool.h"
 
 namespace gistream::service {
 

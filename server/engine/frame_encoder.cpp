@@ -1,4 +1,4 @@
-#include "service/frame_encoder.h"
+#include "engine/frame_encoder.h"
 
 #include <algorithm>
 #include <cstring>

@@ -1,4 +1,4 @@
-#include "service/grpc/frame_slot.h"
+#include "service/frame_slot.h"
 
 namespace gistream::service {
 namespace {

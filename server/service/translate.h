@@ -18,7 +18,7 @@
 #include <grpcpp/support/status.h>
 
 #include "gistream/v1/gistream.pb.h"
-#include "service/engine.h"
+#include "engine/engine.h"
 #include "util/process_stats.h"
 #include "util/status.h"
 

@@ -22,7 +22,7 @@
 #include "scene/import_limits.h"
 #include "scene/scene.h"
 #include "scene/updates.h"
-#include "service/observer.h"
+#include "engine/observer.h"
 #include "solvers/solver_params.h"
 #include "util/memory_budget.h"
 #include "util/stage_timing.h"

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "encode/video/video_encoder.h"
-#include "service/engine.h"
+#include "engine/engine.h"
 #include "util/status.h"
 
 namespace gistream {

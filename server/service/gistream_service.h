@@ -8,10 +8,10 @@
 #include <grpcpp/grpcpp.h>
 
 #include "gistream/v1/gistream.grpc.pb.h"
-#include "service/engine.h"
+#include "engine/engine.h"
 #include "util/auth_tokens.h"
-#include "service/grpc/session_reactor.h"
-#include "service/grpc/worker_pool.h"
+#include "service/session_reactor.h"
+#include "service/worker_pool.h"
 
 namespace gistream::service {
 

@@ -1,4 +1,4 @@
-#include "service/grpc/auth.h"
+#include "service/auth.h"
 
 #include <absl/strings/match.h>
 #include <absl/strings/str_cat.h>

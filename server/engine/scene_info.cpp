@@ -1,4 +1,4 @@
-#include "service/scene_info.h"
+#include "engine/scene_info.h"
 
 #include <glm/gtx/matrix_decompose.hpp>
 

@@ -1,4 +1,4 @@
-#include "service/scene_import.h"
+#include "engine/scene_import.h"
 
 #include <span>
 #include <string>

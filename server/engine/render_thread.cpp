@@ -1,4 +1,4 @@
-#include "service/render_thread.h"
+#include "engine/render_thread.h"
 
 #include "gl/debug_output.h"
 

@@ -1,4 +1,4 @@
-#include "service/grpc/gistream_service.h"
+#include "service/gistream_service.h"
 
 #include <unistd.h>
 
@@ -7,8 +7,8 @@
 
 #include <absl/strings/str_cat.h>
 
-#include "service/grpc/auth.h"
-#include "service/grpc/translate.h"
+#include "service/auth.h"
+#include "service/translate.h"
 #include "util/log.h"
 #include "util/process_stats.h"
 #include "util/version.h"

@@ -14,7 +14,7 @@
 #include "scene/import_memory.h"
 #include "scene/load_control.h"
 #include "scene/scene.h"
-#include "service/engine.h"
+#include "engine/engine.h"
 #include "util/status.h"
 
 namespace gistream {

@@ -1,4 +1,4 @@
-#include "service/grpc/server.h"
+#include "service/server.h"
 
 #include <grpcpp/resource_quota.h>
 

@@ -1,9 +1,9 @@
-#include "service/grpc/session_reactor.h"
+#include "service/session_reactor.h"
 
 #include <algorithm>
 #include <utility>
 
-#include "service/grpc/translate.h"
+#include "service/translate.h"
 #include "util/log.h"
 
 namespace gistream::service {

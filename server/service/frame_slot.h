@@ -14,7 +14,7 @@
 #include <deque>
 #include <memory>
 
-#include "service/engine.h"
+#include "engine/engine.h"
 
 namespace gistream::service {
 

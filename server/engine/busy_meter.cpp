@@ -1,4 +1,4 @@
-#include "service/busy_meter.h"
+#include "engine/busy_meter.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "service/grpc/translate.h"
+#include "service/translate.h"
 
 #include <limits>
 #include <string>

@@ -2,7 +2,7 @@
 #pragma once
 
 #include "scene/scene_state.h"
-#include "service/engine.h"
+#include "engine/engine.h"
 
 namespace gistream {
 

@@ -12,7 +12,7 @@
 #include <thread>
 
 #include "gl/egl_context.h"
-#include "service/busy_meter.h"
+#include "engine/busy_meter.h"
 #include "util/status.h"
 
 namespace gistream {

@@ -14,10 +14,10 @@
 
 #include <grpcpp/grpcpp.h>
 
-#include "service/engine.h"
-#include "service/grpc/auth.h"
-#include "service/grpc/gistream_service.h"
-#include "service/grpc/reflection_v1.h"
+#include "engine/engine.h"
+#include "service/auth.h"
+#include "service/gistream_service.h"
+#include "service/reflection_v1.h"
 
 namespace gistream::service {
 

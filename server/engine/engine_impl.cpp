@@ -1,4 +1,4 @@
-#include "service/engine_impl.h"
+#include "engine/engine_impl.h"
 
 #include <absl/strings/str_format.h>
 #include <absl/strings/str_join.h>
@@ -23,8 +23,8 @@
 #include "scene/scene_files.h"
 #include "scene/scene_memory.h"
 #include "scene/validate_update.h"
-#include "service/scene_import.h"
-#include "service/scene_info.h"
+#include "engine/scene_import.h"
+#include "engine/scene_info.h"
 #include "solvers/registry.h"
 #include "util/log.h"
 #include "util/user_string.h"

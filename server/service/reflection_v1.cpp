@@ -1,4 +1,4 @@
-#include "service/grpc/reflection_v1.h"
+#include "service/reflection_v1.h"
 
 #include <set>
 
