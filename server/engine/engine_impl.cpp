@@ -143,13 +143,13 @@ class PromiseSink final : public FrameSink {
 
  private:
   void Set(absl::StatusOr<EncodedFrame> value) {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     if (done_) return;
     done_ = true;
     promise_.set_value(std::move(value));
   }
-  std::mutex mutex_;
-  bool done_ = false;
+  absl::Mutex mutex_;
+  bool done_ ABSL_GUARDED_BY(mutex_) = false;
   std::promise<absl::StatusOr<EncodedFrame>> promise_;
 };
 
@@ -167,10 +167,13 @@ absl::Status EngineImpl::Start() {
     Log(LogLevel::kWarning,
         absl::StrCat("test fault injection is on: ", options_.test_fault_dir.string()));
   }
-  GS_ASSIGN_OR_RETURN(render_thread_,
-                      RenderThread::Start(options_.egl_device, [this] { return Tick(); }));
+  GS_ASSIGN_OR_RETURN(render_thread_, RenderThread::Start(options_.egl_device, [this] {
+                        render_role_.Bind();  // the scheduler runs on the render thread
+                        return Tick();
+                      }));
   return render_thread_->Call<absl::Status>(
       [this]() -> absl::Status {
+        render_role_.Bind();
         device_.vendor = GlString(GL_VENDOR);
         device_.renderer = GlString(GL_RENDERER);
         device_.version = GlString(GL_VERSION);
@@ -199,7 +202,7 @@ EngineImpl::~EngineImpl() { Shutdown(); }
 void EngineImpl::BeginDrain(std::chrono::milliseconds deadline) {
   std::vector<std::shared_ptr<SessionRecord>> sessions;
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     if (shut_down_ || draining_) return;
     draining_ = true;
     for (auto& [id, s] : sessions_) {
@@ -214,7 +217,7 @@ void EngineImpl::BeginDrain(std::chrono::milliseconds deadline) {
 void EngineImpl::Shutdown() {
   std::vector<std::shared_ptr<SessionRecord>> sessions;
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     if (shut_down_) return;
     shut_down_ = true;
     for (auto& [id, s] : sessions_) {
@@ -225,6 +228,7 @@ void EngineImpl::Shutdown() {
   if (!render_thread_) return;
   // Free every GL object on the thread that owns the context.
   render_thread_->Stop([this] {
+    render_role_.Assert();
     // Every job is asked to stop before any solver is destroyed: one
     // solver's destructor waits for its job, which may be queued on the
     // pool behind another's.
@@ -237,14 +241,14 @@ void EngineImpl::Shutdown() {
     glFinish();
   });
   for (auto& s : sessions) s->sink->OnSessionFailed(Unavailable());
-  std::lock_guard lock(mutex_);
+  absl::MutexLock lock(&mutex_);
   sessions_.clear();
   scenes_.clear();
 }
 
 EngineStats EngineImpl::stats() const {
   const auto now = FrameRate::Clock::now();
-  std::lock_guard lock(mutex_);
+  absl::MutexLock lock(&mutex_);
   EngineStats out;
   for (const auto& [id, s] : sessions_) {
     if (s->transient) continue;
@@ -345,7 +349,7 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   const auto end_leading = [&] {
     if (!leading) return;
     {
-      std::lock_guard lock(mutex_);
+      absl::MutexLock lock(&mutex_);
       loading_.erase(loading_key);
     }
     leading->set_value();
@@ -365,7 +369,7 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
     std::shared_ptr<SceneRecord> existing;
     std::shared_future<void> other_load;
     {
-      std::lock_guard lock(mutex_);
+      absl::MutexLock lock(&mutex_);
       if (shut_down_) return Unavailable();
       if (draining_) return Draining();
       for (auto& [id, record] : scenes_) {
@@ -394,6 +398,7 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
       // have failed, or the scene may have been unloaded since.
       return render_thread_->Call<absl::StatusOr<SceneInfo>>(
           [this, existing]() -> absl::StatusOr<SceneInfo> {
+            render_role_.Assert();
             auto it = gpu_scenes_.find(existing->id);
             if (it == gpu_scenes_.end()) {
               return absl::AbortedError(
@@ -437,7 +442,7 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
                    absl::StrCat("scene: its geometry and images (", FormatBytes(scene_bytes.cpu),
                                 " CPU, ", FormatBytes(scene_bytes.gpu), " GPU)")));
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     if (shut_down_) return Unavailable();
     if (draining_) return Draining();
     if (gpu_lost_) return GpuLost();
@@ -451,10 +456,11 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   }
   auto info = render_thread_->Call<absl::StatusOr<SceneInfo>>(
       [this, record, memory]() -> absl::StatusOr<SceneInfo> {
+        render_role_.Assert();
         {
           // An UnloadScene of this id (listed by stats() while it loads)
           // may have come first: its GPU copy would then never be freed.
-          std::lock_guard lock(mutex_);
+          absl::MutexLock lock(&mutex_);
           if (scenes_.count(record->id) == 0) {
             return absl::AbortedError(
                 absl::StrCat("scene_id: '", Echo(record->id), "' was unloaded while it loaded"));
@@ -477,7 +483,7 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
       },
       Unavailable());
   if (!info.ok()) {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     scenes_.erase(record->id);
     return info;
   }
@@ -487,7 +493,7 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
 }
 
 absl::Status EngineImpl::UnloadScene(const SceneId& id, const TenantId& tenant) {
-  std::lock_guard lock(mutex_);
+  absl::MutexLock lock(&mutex_);
   if (shut_down_) return Unavailable();
   GS_ASSIGN_OR_RETURN(std::shared_ptr<SceneRecord> scene, FindSceneLocked(tenant, id));
   if (scene->loads == 0) {
@@ -523,6 +529,7 @@ bool EngineImpl::DropIfUnreferencedLocked(const std::shared_ptr<SceneRecord>& sc
   scenes_.erase(it);
   if (!shut_down_) {
     render_thread_->Post([this, id = scene->id] {
+      render_role_.Assert();
       DropGpuScene(id);
       RefreshMemoryStats(/*force=*/true);
     });
@@ -610,7 +617,7 @@ absl::StatusOr<std::shared_ptr<EngineImpl::SessionRecord>> EngineImpl::CreateSes
   session->sink = std::move(sink);
   session->transient = transient;
 
-  std::lock_guard lock(mutex_);
+  absl::MutexLock lock(&mutex_);
   if (shut_down_) return Unavailable();
   if (draining_ && !transient) return Draining();
   if (gpu_lost_) return GpuLost();
@@ -672,7 +679,7 @@ absl::StatusOr<SessionOpenInfo> EngineImpl::OpenSession(const SessionConfig& con
 }
 
 absl::Status EngineImpl::PushUpdate(const SessionId& id, Update update) {
-  std::lock_guard lock(mutex_);
+  absl::MutexLock lock(&mutex_);
   if (shut_down_) return Unavailable();
   auto it = sessions_.find(id);
   if (it == sessions_.end())
@@ -691,7 +698,7 @@ absl::Status EngineImpl::PushUpdate(const SessionId& id, Update update) {
 
 absl::Status EngineImpl::RequestFrames(const SessionId& id, uint32_t count) {
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     if (shut_down_) return Unavailable();
     auto it = sessions_.find(id);
     if (it == sessions_.end()) {
@@ -706,7 +713,7 @@ absl::Status EngineImpl::RequestFrames(const SessionId& id, uint32_t count) {
 
 absl::Status EngineImpl::RequestKeyFrame(const SessionId& id) {
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     if (shut_down_) return Unavailable();
     auto it = sessions_.find(id);
     if (it == sessions_.end()) {
@@ -722,7 +729,7 @@ absl::Status EngineImpl::RequestKeyFrame(const SessionId& id) {
 void EngineImpl::CloseSession(const SessionId& id) {
   std::shared_ptr<SessionRecord> session;
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     auto it = sessions_.find(id);
     if (it == sessions_.end()) return;
     session = it->second;
@@ -738,6 +745,7 @@ void EngineImpl::CloseSession(const SessionId& id) {
     }
   }
   render_thread_->Post([this, id, scene = session->scene->id, key = session->solver_key] {
+    render_role_.Assert();
     ReleaseSessionGpu(id, scene, key);
   });
 }
@@ -753,7 +761,7 @@ void EngineImpl::ReleaseSessionGpu(const SessionId& id, const SceneId& scene,
     return;
   }
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     for (const auto& [sid, s] : sessions_) {
       if (s->scene->id == scene && s->solver_key == solver_key) return;  // still used
     }
@@ -820,7 +828,7 @@ Clock::time_point EngineImpl::Tick() {
   // first: every due session gets one frame per round.
   std::vector<std::shared_ptr<SessionRecord>> order;
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     auto start = sessions_.upper_bound(last_served_);
     for (auto it = start; it != sessions_.end(); ++it) order.push_back(it->second);
     for (auto it = sessions_.begin(); it != start; ++it) order.push_back(it->second);
@@ -830,7 +838,7 @@ Clock::time_point EngineImpl::Tick() {
     ViewRecord& view = views_[session->id];
     bool due = false;
     {
-      std::lock_guard lock(mutex_);
+      absl::MutexLock lock(&mutex_);
       if (session->closed) continue;
       if (session->config.pacing == Pacing::kOnRequest) {
         // A frame waiting on a background job is polled, not spun on.
@@ -873,7 +881,7 @@ Clock::time_point EngineImpl::Tick() {
                                   std::chrono::duration<double>(1.0 / double(fps)));
       next = std::min(next, view.next_due);
     } else {
-      std::lock_guard lock(mutex_);
+      absl::MutexLock lock(&mutex_);
       if (session->requested > 0) next = std::min(next, std::max(view.poll_at, Clock::now()));
     }
   }
@@ -918,7 +926,10 @@ void EngineImpl::DropGpuScene(const SceneId& id) {
 }
 
 void EngineImpl::RequestHeapTrim() {
-  render_thread_->Post([this] { heap_trimmer_.Request(Clock::now()); });
+  render_thread_->Post([this] {
+    render_role_.Assert();
+    heap_trimmer_.Request(Clock::now());
+  });
 }
 
 void EngineImpl::ExpireIdle() {
@@ -927,7 +938,7 @@ void EngineImpl::ExpireIdle() {
   std::vector<std::shared_ptr<SessionRecord>> expired;
   std::vector<SceneId> freed;
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     if (shut_down_) return;
     for (const auto& [id, s] : sessions_) {
       if (s->config.pacing == Pacing::kContinuous) {
@@ -1017,7 +1028,7 @@ void EngineImpl::SendKeepAlive(SessionRecord& session, ViewRecord& view,
   SetSinceChangeStats(view, now, frame->stats);
   keep_alives_at_rest_.fetch_add(1);
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     session.frames += 1;  // reaches the client: not idle (ExpireIdle)
   }
   view.encoder.MarkSent(*frame, now);
@@ -1029,7 +1040,7 @@ void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
   const ScopedLogContext log_context({session.id, session.scene->id});
   std::deque<Update> updates;
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     updates.swap(session.pending);
   }
   absl::StatusOr<std::shared_ptr<EncodedFrame>> frame =
@@ -1037,20 +1048,20 @@ void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
   if (CheckGpuReset()) return;  // the session failed with every other one
   if (frame.ok() && *frame == nullptr) {
     // A slice of a frame still in progress: the session stays due.
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     session.requested += 1;
     return;
   }
   if (!frame.ok()) {
     Log(LogLevel::kError, absl::StrCat("frame failed: ", frame.status().ToString()));
     session.sink->OnSessionFailed(frame.status());
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     session.closed = true;
     return;
   }
   frames_rendered_.fetch_add(1);
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     session.frames += 1;
     session.last_seq = (*frame)->last_update_seq;
     session.width = (*frame)->width;
@@ -1205,7 +1216,7 @@ absl::Status EngineImpl::EncodeFrame(SessionRecord& session, ViewRecord& view,
   // says `unchanged`), unless a key frame was asked for.
   bool key_frame = false;
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     key_frame = std::exchange(session.key_frame_requested, false);
   }
   const std::span<const uint8_t> bytes =
@@ -1408,7 +1419,7 @@ void EngineImpl::EvictIdleSolvers(GpuSceneRecord& scene, const SceneRecord* owne
   if (scene.solvers.size() <= options_.max_solvers_per_scene) return;
   std::set<std::string> live{keep};
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     for (const auto& [id, s] : sessions_) {
       if (s->scene.get() == owner) live.insert(s->solver_key);
     }
@@ -1449,7 +1460,7 @@ bool EngineImpl::CheckGpuReset() {
                                      "): failing all sessions, recreating the context"));
   std::vector<std::shared_ptr<SessionRecord>> sessions;
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     for (auto& [id, s] : sessions_) {
       if (!s->closed) sessions.push_back(s);
       s->closed = true;
@@ -1509,14 +1520,14 @@ absl::Status EngineImpl::RecoverFromGpuReset() {
 }
 
 void EngineImpl::SetServingListener(std::function<void(bool serving)> listener) {
-  std::lock_guard lock(mutex_);
+  absl::MutexLock lock(&mutex_);
   serving_listener_ = std::move(listener);
 }
 
 void EngineImpl::NotifyServing(bool serving) {
   std::function<void(bool)> listener;
   {
-    std::lock_guard lock(mutex_);
+    absl::MutexLock lock(&mutex_);
     listener = serving_listener_;
   }
   if (listener) listener(serving);

@@ -1,5 +1,9 @@
 // Engine implementation: bookkeeping of scenes and sessions on the calling
-// threads (under one mutex), every GL object on the render thread.
+// threads (under one mutex), every GL object on the render thread. Which
+// thread owns what is stated as clang thread-safety annotations: fields
+// ABSL_GUARDED_BY(mutex_) need the mutex, fields ABSL_GUARDED_BY(render_role_)
+// belong to the render thread (util/thread_role.h), and -Wthread-safety
+// (clang builds, CI's sanitizer trees) checks every access.
 #pragma once
 
 #include <atomic>
@@ -7,12 +11,13 @@
 #include <future>
 #include <map>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <stop_token>
 #include <string>
 #include <unordered_map>
 
+#include "absl/base/thread_annotations.h"
+#include "absl/synchronization/mutex.h"
 #include "gl/memory_info.h"
 #include "gl/stage_timer.h"
 #include "render/camera.h"
@@ -29,6 +34,7 @@
 #include "solvers/solver.h"
 #include "util/heap_trim.h"
 #include "util/memory_accounts.h"
+#include "util/thread_role.h"
 
 namespace gistream {
 
@@ -40,25 +46,39 @@ class EngineImpl final : public Engine {
   absl::Status Start();
 
   DeviceInfo device_info() const override { return device_; }
-  EngineStats stats() const override;
+  EngineStats stats() const override ABSL_LOCKS_EXCLUDED(mutex_);
   std::vector<SolverDescription> ListSolvers() const override;
-  absl::StatusOr<SceneInfo> LoadScene(const SceneSource& source) override;
+  absl::StatusOr<SceneInfo> LoadScene(const SceneSource& source) override
+      ABSL_LOCKS_EXCLUDED(mutex_);
   absl::StatusOr<MemoryBudget::Reservation> ReserveUpload(uint64_t bytes,
                                                           const std::string& what) override;
   using Engine::UnloadScene;
-  absl::Status UnloadScene(const SceneId& id, const TenantId& tenant) override;
+  absl::Status UnloadScene(const SceneId& id, const TenantId& tenant) override
+      ABSL_LOCKS_EXCLUDED(mutex_);
   absl::StatusOr<SessionOpenInfo> OpenSession(const SessionConfig& config,
-                                              std::shared_ptr<FrameSink> sink) override;
-  absl::Status PushUpdate(const SessionId& id, Update update) override;
-  absl::Status RequestFrames(const SessionId& id, uint32_t count) override;
-  absl::Status RequestKeyFrame(const SessionId& id) override;
-  void CloseSession(const SessionId& id) override;
-  absl::StatusOr<EncodedFrame> Render(const RenderRequest& request) override;
-  void BeginDrain(std::chrono::milliseconds deadline) override;
-  void Shutdown() override;
-  void SetServingListener(std::function<void(bool serving)> listener) override;
+                                              std::shared_ptr<FrameSink> sink) override
+      ABSL_LOCKS_EXCLUDED(mutex_);
+  absl::Status PushUpdate(const SessionId& id, Update update) override ABSL_LOCKS_EXCLUDED(mutex_);
+  absl::Status RequestFrames(const SessionId& id, uint32_t count) override
+      ABSL_LOCKS_EXCLUDED(mutex_);
+  absl::Status RequestKeyFrame(const SessionId& id) override ABSL_LOCKS_EXCLUDED(mutex_);
+  void CloseSession(const SessionId& id) override ABSL_LOCKS_EXCLUDED(mutex_);
+  absl::StatusOr<EncodedFrame> Render(const RenderRequest& request) override
+      ABSL_LOCKS_EXCLUDED(mutex_);
+  void BeginDrain(std::chrono::milliseconds deadline) override ABSL_LOCKS_EXCLUDED(mutex_);
+  void Shutdown() override ABSL_LOCKS_EXCLUDED(mutex_);
+  void SetServingListener(std::function<void(bool serving)> listener) override
+      ABSL_LOCKS_EXCLUDED(mutex_);
 
  private:
+  // Guards the scene and session maps, and the record fields marked
+  // `mutex-guarded` below (fields of nested records, which the analysis
+  // cannot tie to this mutex).
+  mutable absl::Mutex mutex_;
+  // The render thread, which owns the GL context and every field below
+  // marked ABSL_GUARDED_BY(render_role_).
+  ThreadRole render_role_{"render thread"};
+
   // Shared between threads; fields after `mutex-guarded` need mutex_.
   struct SceneRecord {
     SceneId id;
@@ -127,24 +147,25 @@ class EngineImpl final : public Engine {
   // Drops least recently used solvers of `scene` beyond
   // options_.max_solvers_per_scene, sparing `keep` and those of open
   // sessions on `owner`. Render thread.
-  void EvictIdleSolvers(GpuSceneRecord& scene, const SceneRecord* owner, const std::string& keep);
+  void EvictIdleSolvers(GpuSceneRecord& scene, const SceneRecord* owner, const std::string& keep)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_) ABSL_LOCKS_EXCLUDED(mutex_);
   // Destroys a dropped solver now, or, while a background job of it still
   // runs (Solver::BackgroundBusy), keeps it in retiring_ until the job
   // ends (asked to stop: Solver::CancelBackground, so within a step): its
   // destructor would wait for the job on the render thread. ReapRetired (every Tick) destroys those
   // whose jobs ended. Render thread.
-  void Retire(std::unique_ptr<Solver> solver);
-  void ReapRetired();
+  void Retire(std::unique_ptr<Solver> solver) ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
+  void ReapRetired() ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
   // Asks every solver's background job to stop (shutdown, a lost context).
-  void CancelBackgroundJobs();
+  void CancelBackgroundJobs() ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
   // Drops scene `id`'s GPU record, its solvers through Retire.
-  void DropGpuScene(const SceneId& id);
+  void DropGpuScene(const SceneId& id) ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
   // Asks the render thread to return freed heap to the system soon
   // (heap_trimmer_): after a load, whatever its outcome. Any thread.
   void RequestHeapTrim();
-  HeapTrimmer heap_trimmer_;                       // render thread
-  std::vector<std::unique_ptr<Solver>> retiring_;  // render thread
-  uint64_t solver_clock_ = 0;                      // render thread
+  HeapTrimmer heap_trimmer_ ABSL_GUARDED_BY(render_role_);
+  std::vector<std::unique_ptr<Solver>> retiring_ ABSL_GUARDED_BY(render_role_);
+  uint64_t solver_clock_ ABSL_GUARDED_BY(render_role_) = 0;
   struct ViewRecord {
     ViewCamera camera;
     GBuffer gbuffer;
@@ -197,48 +218,56 @@ class EngineImpl final : public Engine {
 
   // RESOURCE_EXHAUSTED when one more active session would push the render
   // thread past EngineOptions::max_render_busy. Needs mutex_.
-  absl::Status AdmitByRenderTimeLocked() const;
+  absl::Status AdmitByRenderTimeLocked() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   absl::StatusOr<std::shared_ptr<SessionRecord>> CreateSession(const SessionConfig& config,
                                                                std::shared_ptr<FrameSink> sink,
-                                                               bool transient);
+                                                               bool transient)
+      ABSL_LOCKS_EXCLUDED(mutex_);
   absl::Status ValidateConfig(const SessionConfig& config) const;
   // `tenant`'s scene `id`, or NOT_FOUND (also for another tenant's id).
   absl::StatusOr<std::shared_ptr<SceneRecord>> FindSceneLocked(const TenantId& tenant,
-                                                               const SceneId& id) const;
+                                                               const SceneId& id) const
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   // Forgets `scene` when nothing references it any more and frees its GPU
   // copy on the render thread; true when it did.
-  bool DropIfUnreferencedLocked(const std::shared_ptr<SceneRecord>& scene);
+  bool DropIfUnreferencedLocked(const std::shared_ptr<SceneRecord>& scene)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   TenantQuota QuotaOf(const TenantId& tenant) const;
   // Checks `tenant`'s scene quotas for one more scene of `upload_bytes`.
-  absl::Status CheckSceneQuotaLocked(const TenantId& tenant, uint64_t upload_bytes) const;
+  absl::Status CheckSceneQuotaLocked(const TenantId& tenant, uint64_t upload_bytes) const
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   // Ends sessions and frees scenes idle for options_.idle_timeout. Render thread.
-  void ExpireIdle();
+  void ExpireIdle() ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_) ABSL_LOCKS_EXCLUDED(mutex_);
 
   // Render thread.
-  RenderThread::Clock::time_point Tick();
-  void RenderFrame(SessionRecord& session, ViewRecord& view);
+  RenderThread::Clock::time_point Tick() ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_)
+      ABSL_LOCKS_EXCLUDED(mutex_);
+  void RenderFrame(SessionRecord& session, ViewRecord& view)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_) ABSL_LOCKS_EXCLUDED(mutex_);
   // Samples per pixel `session`'s view accumulates when still: its
   // refine_samples (or the default); 1 for a solver that does not shade
   // from the G-buffer (pathtrace refines itself) and while an animation
   // plays (no two frames show the same state).
   uint32_t RefineTarget(const SessionRecord& session, const Solver& solver,
-                        const SceneState& state) const;
+                        const SceneState& state) const ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
   // Whether `view`, at rest, still shows the finished picture: the same
   // scene version and solver, nothing animating (session updates and key
   // frame requests are checked by the caller, under the lock).
-  bool StillAtRest(const SessionRecord& session, const ViewRecord& view);
+  bool StillAtRest(const SessionRecord& session, const ViewRecord& view)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
   // Frame stats frames_since_camera_change, ms_since_camera_change and the
   // same for the scene: set, or updated in place.
   static void SetSinceChangeStats(const ViewRecord& view, RenderThread::Clock::time_point now,
                                   std::vector<std::pair<std::string, double>>& stats);
   // A keep-alive for a view at rest: the last frame again, no image, no GL.
-  void SendKeepAlive(SessionRecord& session, ViewRecord& view, RenderThread::Clock::time_point now);
+  void SendKeepAlive(SessionRecord& session, ViewRecord& view, RenderThread::Clock::time_point now)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_) ABSL_LOCKS_EXCLUDED(mutex_);
   // Shades refinement sample `sample` of `view` at its jitter (G-buffer,
   // the solver's final pass), adds it to the view's accumulation and shows
   // the picture (with the history a change kept, render/refinement.h).
   absl::Status ShadeSample(GpuSceneRecord& scene, SolverEntry& entry, SolverContext& ctx,
                            ViewRecord& view, const Refinement::Sample& sample,
-                           uint32_t refine_target);
+                           uint32_t refine_target) ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
 
   // One frame of `session`'s view, step by step: ApplyUpdates, the
   // solver's Plan and Update, the refinement samples (ShadeSample),
@@ -246,12 +275,13 @@ class EngineImpl final : public Engine {
   // frame yet) when a frame requested on its own is not complete.
   absl::StatusOr<std::shared_ptr<EncodedFrame>> ProduceFrame(SessionRecord& session,
                                                              ViewRecord& view,
-                                                             std::deque<Update> updates);
+                                                             std::deque<Update> updates)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
   // The view's first camera, then the updates in order: camera updates to
   // the view, the rest to the scene (those its state refuses reported to
   // the session's sink); stage apply_updates.
   void ApplyUpdates(SessionRecord& session, ViewRecord& view, GpuSceneRecord& scene,
-                    const std::deque<Update>& updates);
+                    const std::deque<Update>& updates) ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
   // The view's picture read back: float HDR for EXR, else tone-mapped
   // 8-bit. INTERNAL naming the solver and `stages()` when a pixel is NaN
   // or Inf (no such frame leaves the server).
@@ -260,59 +290,62 @@ class EngineImpl final : public Engine {
     std::vector<uint8_t> ldr;
   };
   absl::StatusOr<ReadPixels> ReadBack(const SessionRecord& session, ViewRecord& view,
-                                      const std::function<std::string()>& stages);
+                                      const std::function<std::string()>& stages)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
   // Encodes `pixels` into `frame`, or marks it unchanged when they equal
   // the last frame's (unless a key frame was asked for).
   absl::Status EncodeFrame(SessionRecord& session, ViewRecord& view, const ReadPixels& pixels,
-                           EncodedFrame& frame);
+                           EncodedFrame& frame) ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_)
+      ABSL_LOCKS_EXCLUDED(mutex_);
   // The view's convergence and memory stats a frame carries (issue 27).
   void AddViewStats(ViewRecord& view, const GpuSceneRecord& scene, const Solver& solver,
                     const SceneState& state, uint32_t refine_target,
-                    std::vector<std::pair<std::string, double>>& stats);
+                    std::vector<std::pair<std::string, double>>& stats)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
   // Frees a closed session's view; a solver that no open session uses any
   // more and whose background job runs is dropped, the job cancelled
   // (nobody waits for what it would deliver).
-  void ReleaseSessionGpu(const SessionId& id, const SceneId& scene, const std::string& solver_key);
+  void ReleaseSessionGpu(const SessionId& id, const SceneId& scene, const std::string& solver_key)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_) ABSL_LOCKS_EXCLUDED(mutex_);
   // Reserves `view`'s G-buffer, readback and encoder buffers for its
   // camera's size, again when that changes (a camera update resizes it).
   absl::Status ReserveView(const SessionRecord& session, const GpuSceneRecord& scene,
-                           ViewRecord& view);
+                           ViewRecord& view) ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
   // Estimates the session's solver (solvers/memory_estimate.h), reserves it
   // from accounts_ and creates it into `entry`; on failure nothing is held.
   absl::Status BuildSolver(const SessionRecord& session, const GpuSceneRecord& scene,
-                           SolverEntry& entry);
+                           SolverEntry& entry) ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
   // A lost context (or an injected reset): fails every session and Render
   // UNAVAILABLE, health NOT_SERVING, then recreates the context and
   // re-uploads every scene from its CPU state (health SERVING again); exits
   // the process (code 70) when that fails.
   // True when a reset was handled (every view, `view` of a caller too, is
   // gone).
-  bool CheckGpuReset();
-  absl::Status RecoverFromGpuReset();
-  void NotifyServing(bool serving);
+  bool CheckGpuReset() ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_) ABSL_LOCKS_EXCLUDED(mutex_);
+  absl::Status RecoverFromGpuReset() ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
+  void NotifyServing(bool serving) ABSL_LOCKS_EXCLUDED(mutex_);
   // Recomputes the GL object bytes and queries the driver's GPU memory into
   // the atomics below; unless `force`, at most every 250 ms.
-  void RefreshMemoryStats(bool force);
+  void RefreshMemoryStats(bool force) ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
 
   EngineOptions options_;
   MemoryAccounts accounts_;  // the server's budget and tenants' gpu_bytes quotas
   DeviceInfo device_;
   std::unique_ptr<RenderThread> render_thread_;
 
-  mutable std::mutex mutex_;
-  std::map<SceneId, std::shared_ptr<SceneRecord>> scenes_;
+  std::map<SceneId, std::shared_ptr<SceneRecord>> scenes_ ABSL_GUARDED_BY(mutex_);
   // Named loads under way, by tenant + "\n" + name: a second load of the
   // name waits for the first (LoadScene).
-  std::map<std::string, std::shared_future<void>> loading_;
-  std::map<SessionId, std::shared_ptr<SessionRecord>> sessions_;
-  bool shut_down_ = false;
-  bool draining_ = false;  // BeginDrain: no new sessions or loads
+  std::map<std::string, std::shared_future<void>> loading_ ABSL_GUARDED_BY(mutex_);
+  std::map<SessionId, std::shared_ptr<SessionRecord>> sessions_ ABSL_GUARDED_BY(mutex_);
+  bool shut_down_ ABSL_GUARDED_BY(mutex_) = false;
+  bool draining_ ABSL_GUARDED_BY(mutex_) = false;  // BeginDrain: no new sessions or loads
   std::atomic<uint64_t> frames_rendered_{0};
   std::atomic<uint64_t> keep_alives_at_rest_{0};  // frames sent without rendering
   std::atomic<bool> gpu_lost_{false};
-  uint64_t gpu_resets_ = 0;  // render thread
-  bool started_ = false;     // render thread: Start's job ran (render_thread_ is set)
-  std::function<void(bool)> serving_listener_;  // mutex-guarded
+  uint64_t gpu_resets_ ABSL_GUARDED_BY(render_role_) = 0;
+  bool started_ ABSL_GUARDED_BY(render_role_) = false;  // Start's job ran (render_thread_ is set)
+  std::function<void(bool)> serving_listener_ ABSL_GUARDED_BY(mutex_);
   // Written by RefreshMemoryStats (render thread), read by stats().
   std::atomic<uint64_t> gl_object_bytes_{0};
   std::atomic<uint32_t> retiring_solvers_{0};
@@ -321,13 +354,13 @@ class EngineImpl final : public Engine {
   std::atomic<uint64_t> gpu_memory_available_{0};
 
   // Render thread only.
-  std::unordered_map<SceneId, GpuSceneRecord> gpu_scenes_;
-  std::unordered_map<SessionId, ViewRecord> views_;
-  std::unique_ptr<ViewPasses> passes_;
-  gl::StageTimer timer_;
-  SessionId last_served_;
-  std::optional<gl::GpuMemoryQuery> memory_query_;
-  RenderThread::Clock::time_point memory_refreshed_{};
+  std::unordered_map<SceneId, GpuSceneRecord> gpu_scenes_ ABSL_GUARDED_BY(render_role_);
+  std::unordered_map<SessionId, ViewRecord> views_ ABSL_GUARDED_BY(render_role_);
+  std::unique_ptr<ViewPasses> passes_ ABSL_GUARDED_BY(render_role_);
+  gl::StageTimer timer_ ABSL_GUARDED_BY(render_role_);
+  SessionId last_served_ ABSL_GUARDED_BY(render_role_);
+  std::optional<gl::GpuMemoryQuery> memory_query_ ABSL_GUARDED_BY(render_role_);
+  RenderThread::Clock::time_point memory_refreshed_ ABSL_GUARDED_BY(render_role_){};
 };
 
 }  // namespace gistream
