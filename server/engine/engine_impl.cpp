@@ -325,161 +325,85 @@ absl::StatusOr<MemoryBudget::Reservation> EngineImpl::ReserveUpload(uint64_t byt
   return accounts_.server().Reserve(bytes, what);
 }
 
-absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
+namespace {
+
+// LoadScene's request checks, before anything is read or reserved.
+absl::Status CheckSceneSource(const SceneSource& source, const ImportLimits& limits) {
   if (source.name.empty() == source.bytes.empty()) {
     return absl::InvalidArgumentError("source: give exactly one of name or gltf bytes");
   }
-  if (source.bytes.size() > options_.import_limits.max_scene_bytes) {
-    return absl::ResourceExhaustedError(absl::StrCat("gltf: ", source.bytes.size(),
-                                                     " bytes exceed the limit of ",
-                                                     options_.import_limits.max_scene_bytes));
+  if (source.bytes.size() > limits.max_scene_bytes) {
+    return absl::ResourceExhaustedError(absl::StrCat(
+        "gltf: ", source.bytes.size(), " bytes exceed the limit of ", limits.max_scene_bytes));
   }
   if (!std::isfinite(source.environment_intensity) || source.environment_intensity < 0.0f) {
     return absl::InvalidArgumentError(absl::StrCat(
         "environment_intensity: ", source.environment_intensity, " must be finite and >= 0"));
   }
-  const bool has_env = !source.environment_name.empty() || !source.environment_bytes.empty();
-  // A named scene loaded twice by one tenant is the same scene: its state
-  // is shared among that tenant's sessions, never with another tenant's.
-  // Loads of one name at the same moment are one load (issue 30): the first
-  // parses and uploads, the others wait for it (polling the caller's stop)
-  // and then take the scene it made, or load it themselves if it failed.
-  std::shared_ptr<std::promise<void>> leading;  // this call loads the name
-  const std::string loading_key = source.tenant + "\n" + source.name;
-  const auto end_leading = [&] {
-    if (!leading) return;
-    {
-      absl::MutexLock lock(&mutex_);
-      loading_.erase(loading_key);
-    }
-    leading->set_value();
-    leading.reset();
-  };
-  struct EndLeading {
-    const std::function<void()> end;
-    ~EndLeading() { end(); }
-  } end_leading_on_return{end_leading};
+  return absl::OkStatus();
+}
+
+bool HasEnvironment(const SceneSource& source) {
+  return !source.environment_name.empty() || !source.environment_bytes.empty();
+}
+
+// A named scene loaded twice by one tenant is the same scene (its state
+// shared among that tenant's sessions, never with another tenant's):
+// loads by name without an environment or a private copy.
+bool SharesByName(const SceneSource& source) {
+  return !source.name.empty() && !HasEnvironment(source) && !source.private_copy;
+}
+
+}  // namespace
+
+// LoadScene, step by step: the request's checks; a load of a name this
+// tenant has (or is loading) joins it; else the import on this thread
+// (parse, validate, decode: nothing reaches the GPU before it has
+// passed), the scene's memory reserved, its record registered, and the
+// upload on the render thread.
+absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
+  GS_RETURN_IF_ERROR(CheckSceneSource(source, options_.import_limits));
   // What the import parsed and decoded is freed by the time this returns
   // (the upload soon after, with its request): the heap is trimmed then.
   struct TrimHeapAfter {
     EngineImpl* engine;
     ~TrimHeapAfter() { engine->RequestHeapTrim(); }
   } trim_heap_after{this};
-  if (!source.name.empty() && !has_env && !source.private_copy) {
-    std::shared_ptr<SceneRecord> existing;
-    std::shared_future<void> other_load;
-    {
-      absl::MutexLock lock(&mutex_);
-      if (shut_down_) return Unavailable();
-      if (draining_) return Draining();
-      for (auto& [id, record] : scenes_) {
-        if (record->source_name == source.name && record->tenant == source.tenant) {
-          existing = record;
-        }
-      }
-      if (existing) {
-        existing->loads += 1;
-        existing->last_used = Clock::now();
-      } else if (auto it = loading_.find(loading_key); it != loading_.end()) {
-        other_load = it->second;
-      } else {
-        leading = std::make_shared<std::promise<void>>();
-        loading_[loading_key] = leading->get_future().share();
-      }
-    }
-    if (other_load.valid()) {
-      while (other_load.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
-        if (source.stop) GS_RETURN_IF_ERROR(source.stop());
-      }
-      return LoadScene(source);
-    }
-    if (existing) {
-      // Its upload may still be queued (this job runs after it), or may
-      // have failed, or the scene may have been unloaded since.
-      return render_thread_->Call<absl::StatusOr<SceneInfo>>(
-          [this, existing]() -> absl::StatusOr<SceneInfo> {
-            render_role_.Assert();
-            auto it = gpu_scenes_.find(existing->id);
-            if (it == gpu_scenes_.end()) {
-              return absl::AbortedError(
-                  absl::StrCat("name: scene '", Echo(existing->id),
-                               "' was unloaded or failed to load meanwhile; load it again"));
-            }
-            return DescribeScene(existing->id, *it->second.state);
-          },
-          Unavailable());
-    }
+  NameClaim claim(*this, source.tenant + "\n" + source.name);
+  if (SharesByName(source)) {
+    GS_ASSIGN_OR_RETURN(std::optional<SceneInfo> joined, JoinNamedLoad(source, claim));
+    if (joined) return *std::move(joined);
   }
-
-  // Parse and validate on this thread: nothing reaches the GPU before this
-  // has passed. What the import reads and decodes is reserved before it is
-  // decoded, and held until the scene itself is.
+  // What the import reads and decodes is reserved before it is decoded,
+  // and held until the scene itself is.
   ImportMemory transient(accounts_.server());
   GS_ASSIGN_OR_RETURN(ImportedScene imported,
                       ImportSceneSource(source, options_.scene_dir, options_.import_limits,
                                         options_.max_load_time, transient));
-  Scene& scene = imported.scene;
-  const ProxyReport& proxies = imported.proxies;
-
   auto record = std::make_shared<SceneRecord>();
   record->tenant = source.tenant;
   record->upload_bytes = source.bytes.size() + source.environment_bytes.size();
   record->loads = 1;
   record->last_used = Clock::now();
-  record->source_name = has_env || source.private_copy ? "" : source.name;
-  record->scene = std::make_shared<const Scene>(std::move(scene));
+  record->source_name = SharesByName(source) ? source.name : "";
+  record->scene = std::make_shared<const Scene>(std::move(imported.scene));
   record->light_instances = uint32_t(LightInstanceNodes(*record->scene).size());
-  // Its CPU copy (decoded images included) and its GPU upload, before the
-  // upload; held by its GPU record until the scene is freed.
   // The files and the parser's copies are gone and the decoded images are
-  // the scene's now: its own reservation takes over from the import's.
+  // the scene's now: its own reservation (CPU copy and GPU upload, held by
+  // its GPU record until the scene is freed) takes over from the import's.
   transient.Release();
   const SceneBytes scene_bytes = CountSceneBytes(*record->scene);
-  auto memory = std::make_shared<MemoryBudget::Reservation>();
   GS_ASSIGN_OR_RETURN(
-      *memory, accounts_.server().Reserve(
-                   scene_bytes.total(),
-                   absl::StrCat("scene: its geometry and images (", FormatBytes(scene_bytes.cpu),
-                                " CPU, ", FormatBytes(scene_bytes.gpu), " GPU)")));
-  {
-    absl::MutexLock lock(&mutex_);
-    if (shut_down_) return Unavailable();
-    if (draining_) return Draining();
-    if (gpu_lost_) return GpuLost();
-    if (scenes_.size() >= options_.max_scenes) {
-      return absl::ResourceExhaustedError(absl::StrCat("scenes: the server holds ", scenes_.size(),
-                                                       " scenes, the limit (--max-scenes)"));
-    }
-    GS_RETURN_IF_ERROR(CheckSceneQuotaLocked(record->tenant, record->upload_bytes));
-    record->id = RandomId(source.name.empty() ? "upload" : source.name);
-    scenes_[record->id] = record;
-  }
-  auto info = render_thread_->Call<absl::StatusOr<SceneInfo>>(
-      [this, record, memory]() -> absl::StatusOr<SceneInfo> {
+      MemoryBudget::Reservation memory,
+      accounts_.server().Reserve(
+          scene_bytes.total(),
+          absl::StrCat("scene: its geometry and images (", FormatBytes(scene_bytes.cpu), " CPU, ",
+                       FormatBytes(scene_bytes.gpu), " GPU)")));
+  GS_RETURN_IF_ERROR(RegisterScene(source, record));
+  absl::StatusOr<SceneInfo> info = render_thread_->Call<absl::StatusOr<SceneInfo>>(
+      [this, record, memory = std::make_shared<MemoryBudget::Reservation>(std::move(memory))] {
         render_role_.Assert();
-        {
-          // An UnloadScene of this id (listed by stats() while it loads)
-          // may have come first: its GPU copy would then never be freed.
-          absl::MutexLock lock(&mutex_);
-          if (scenes_.count(record->id) == 0) {
-            return absl::AbortedError(
-                absl::StrCat("scene_id: '", Echo(record->id), "' was unloaded while it loaded"));
-          }
-        }
-        GpuSceneRecord gpu;
-        gpu.memory.server = std::move(*memory);
-        gpu.tenant = record->tenant;
-        gpu.state = std::make_unique<SceneState>(record->scene);
-        GS_ASSIGN_OR_RETURN(gpu.gpu, GpuScene::Upload(*gpu.state));
-        // The tenant's gpu_bytes quota counts the upload as measured, with
-        // its solvers' estimates and its views (MemoryAccounts).
-        GS_ASSIGN_OR_RETURN(gpu.memory.tenant_gpu,
-                            accounts_.ReserveTenantGpu(record->tenant, gpu.gpu->gpu_bytes(),
-                                                       "scene: its GPU upload"));
-        SceneInfo described = DescribeScene(record->id, *gpu.state);
-        gpu_scenes_[record->id] = std::move(gpu);
-        RefreshMemoryStats(/*force=*/true);
-        return described;
+        return UploadScene(*record, std::move(*memory));
       },
       Unavailable());
   if (!info.ok()) {
@@ -487,9 +411,110 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
     scenes_.erase(record->id);
     return info;
   }
-  info->proxy_trees_skipped = proxies.trees_skipped;
-  info->proxy_levels_skipped = proxies.levels_skipped;
+  info->proxy_trees_skipped = imported.proxies.trees_skipped;
+  info->proxy_levels_skipped = imported.proxies.levels_skipped;
   return info;
+}
+
+EngineImpl::NameClaim::~NameClaim() {
+  if (!leading_) return;
+  {
+    absl::MutexLock lock(&engine_.mutex_);
+    engine_.loading_.erase(key_);
+  }
+  leading_->set_value();
+}
+
+absl::StatusOr<std::optional<SceneInfo>> EngineImpl::JoinNamedLoad(const SceneSource& source,
+                                                                   NameClaim& claim) {
+  std::shared_ptr<SceneRecord> existing;
+  std::shared_future<void> other_load;
+  {
+    absl::MutexLock lock(&mutex_);
+    if (shut_down_) return Unavailable();
+    if (draining_) return Draining();
+    for (auto& [id, record] : scenes_) {
+      if (record->source_name == source.name && record->tenant == source.tenant) {
+        existing = record;
+      }
+    }
+    if (existing) {
+      existing->loads += 1;
+      existing->last_used = Clock::now();
+    } else if (auto it = loading_.find(claim.key_); it != loading_.end()) {
+      other_load = it->second;
+    } else {
+      claim.leading_ = std::make_shared<std::promise<void>>();
+      loading_[claim.key_] = claim.leading_->get_future().share();
+    }
+  }
+  if (other_load.valid()) {
+    // Loads of one name at the same moment are one load (issue 30): wait
+    // for the first (polling the caller's stop), then take the scene it
+    // made, or load it here if it failed.
+    while (other_load.wait_for(std::chrono::milliseconds(50)) != std::future_status::ready) {
+      if (source.stop) GS_RETURN_IF_ERROR(source.stop());
+    }
+    return LoadScene(source);
+  }
+  if (!existing) return std::nullopt;  // this call leads: it loads the name
+  // Its upload may still be queued (this job runs after it), or may have
+  // failed, or the scene may have been unloaded since.
+  return render_thread_->Call<absl::StatusOr<std::optional<SceneInfo>>>(
+      [this, existing]() -> absl::StatusOr<std::optional<SceneInfo>> {
+        render_role_.Assert();
+        auto it = gpu_scenes_.find(existing->id);
+        if (it == gpu_scenes_.end()) {
+          return absl::AbortedError(
+              absl::StrCat("name: scene '", Echo(existing->id),
+                           "' was unloaded or failed to load meanwhile; load it again"));
+        }
+        return DescribeScene(existing->id, *it->second.state);
+      },
+      Unavailable());
+}
+
+absl::Status EngineImpl::RegisterScene(const SceneSource& source,
+                                       const std::shared_ptr<SceneRecord>& record) {
+  absl::MutexLock lock(&mutex_);
+  if (shut_down_) return Unavailable();
+  if (draining_) return Draining();
+  if (gpu_lost_) return GpuLost();
+  if (scenes_.size() >= options_.max_scenes) {
+    return absl::ResourceExhaustedError(absl::StrCat("scenes: the server holds ", scenes_.size(),
+                                                     " scenes, the limit (--max-scenes)"));
+  }
+  GS_RETURN_IF_ERROR(CheckSceneQuotaLocked(record->tenant, record->upload_bytes));
+  record->id = RandomId(source.name.empty() ? "upload" : source.name);
+  scenes_[record->id] = record;
+  return absl::OkStatus();
+}
+
+absl::StatusOr<SceneInfo> EngineImpl::UploadScene(const SceneRecord& record,
+                                                  MemoryBudget::Reservation memory) {
+  {
+    // An UnloadScene of this id (listed by stats() while it loads) may
+    // have come first: its GPU copy would then never be freed.
+    absl::MutexLock lock(&mutex_);
+    if (scenes_.count(record.id) == 0) {
+      return absl::AbortedError(
+          absl::StrCat("scene_id: '", Echo(record.id), "' was unloaded while it loaded"));
+    }
+  }
+  GpuSceneRecord gpu;
+  gpu.memory.server = std::move(memory);
+  gpu.tenant = record.tenant;
+  gpu.state = std::make_unique<SceneState>(record.scene);
+  GS_ASSIGN_OR_RETURN(gpu.gpu, GpuScene::Upload(*gpu.state));
+  // The tenant's gpu_bytes quota counts the upload as measured, with its
+  // solvers' estimates and its views (MemoryAccounts).
+  GS_ASSIGN_OR_RETURN(
+      gpu.memory.tenant_gpu,
+      accounts_.ReserveTenantGpu(record.tenant, gpu.gpu->gpu_bytes(), "scene: its GPU upload"));
+  SceneInfo described = DescribeScene(record.id, *gpu.state);
+  gpu_scenes_[record.id] = std::move(gpu);
+  RefreshMemoryStats(/*force=*/true);
+  return described;
 }
 
 absl::Status EngineImpl::UnloadScene(const SceneId& id, const TenantId& tenant) {
@@ -1281,23 +1306,63 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
     return absl::InternalError(absl::StrCat("scene '", session.scene->id, "' has no GPU data"));
   }
   GpuSceneRecord& scene = scene_it->second;
-  SceneState& state = *scene.state;
   const auto frame_start = Clock::now();
   timer_.Reset();
   view.settled = false;
 
   ApplyUpdates(session, view, scene, updates);
   GS_RETURN_IF_ERROR(ReserveView(session, scene, view));
+  DeformScene(scene);
+  GS_ASSIGN_OR_RETURN(SolverEntry * entry, AcquireSolver(session, scene));
+  SolverContext ctx{*scene.state, *scene.gpu, timer_};
+  ctx.reserve = accounts_.ReserverFor(scene.tenant);
+  ctx.budget_ms = session.config.frame_budget_ms > 0.0 ? session.config.frame_budget_ms
+                                                       : options_.frame_budget_ms;
+  ctx.stop = session.stop.get_token();
+  GS_ASSIGN_OR_RETURN(const ChangeMask changes, PlanAndSolve(view, *entry, ctx));
+  if (!entry->solver->UpdateComplete() && session.config.pacing == Pacing::kOnRequest) {
+    // Its view-independent update runs on (slices, a background job): a
+    // frame requested on its own waits for it, the other sessions' frames
+    // in between, polling every kPollInterval.
+    view.poll_at = Clock::now() + kPollInterval;
+    return CarrySlice(view, frame_start);
+  }
+  const FrameDraw draw{RefineTarget(session, *entry->solver, *scene.state), updates.empty(),
+                       frame_start};
+  GS_ASSIGN_OR_RETURN(const std::optional<Refinement::Sample> sample,
+                      Draw(session, view, scene, *entry, ctx, draw));
+  const bool refined = view.refinement.samples() >= draw.refine_target;
+  if (session.config.pacing == Pacing::kOnRequest &&
+      (!entry->solver->FrameComplete() || !refined)) {
+    // A frame requested on its own is sent complete (every pathtrace
+    // sample, every refinement sample): keep this slice's timings and run
+    // the next slice at the session's next turn, after the other sessions'
+    // frames.
+    return CarrySlice(view, frame_start);
+  }
+  auto frame = std::make_shared<EncodedFrame>();
+  GS_ASSIGN_OR_RETURN(const ReadPixels pixels, ReadBack(session, view, [&] {
+                        return absl::StrJoin(entry->solver->Plan(*scene.state, changes), ", ");
+                      }));
+  GS_RETURN_IF_ERROR(EncodeFrame(session, view, pixels, *frame));
+  Publish(session, view, scene, *entry, sample, draw, *frame);
+  return frame;
+}
+
+void EngineImpl::DeformScene(GpuSceneRecord& scene) {
   // Skinned and morphed meshes are posed on the GPU once per scene version,
   // for every rasterising pass of every session; a scene without them has
   // no deform stage.
-  if (scene.gpu->DeformPending(state)) {
+  if (scene.gpu->DeformPending(*scene.state)) {
     gl::StageTimer::Scope stage(timer_, "deform");
-    scene.gpu->Deform(state);
+    scene.gpu->Deform(*scene.state);
   } else if (scene.gpu->deforms()) {
     timer_.Skip("deform");
   }
+}
 
+absl::StatusOr<EngineImpl::SolverEntry*> EngineImpl::AcquireSolver(const SessionRecord& session,
+                                                                   GpuSceneRecord& scene) {
   SolverEntry& entry = scene.solvers[session.solver_key];
   if (!entry.solver) {
     EvictIdleSolvers(scene, session.scene.get(), session.solver_key);
@@ -1307,40 +1372,43 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
     }
   }
   entry.last_used = ++solver_clock_;
-  const ChangeMask changes = entry.fresh ? kChangeAll : state.ChangesSince(entry.version);
+  return &entry;
+}
+
+absl::StatusOr<ChangeMask> EngineImpl::PlanAndSolve(ViewRecord& view, SolverEntry& entry,
+                                                    SolverContext& ctx) {
+  const ChangeMask changes = entry.fresh ? kChangeAll : ctx.state.ChangesSince(entry.version);
   // The engine asks the solver which of its stages this change needs; the
   // frame reports every stage of the solver's table against that plan.
-  for (std::string& stage : entry.solver->Plan(state, changes)) {
+  for (std::string& stage : entry.solver->Plan(ctx.state, changes)) {
     if (std::find(view.plan.begin(), view.plan.end(), stage) == view.plan.end()) {
       view.plan.push_back(std::move(stage));
     }
   }
-  SolverContext ctx{state, *scene.gpu, timer_};
-  ctx.reserve = accounts_.ReserverFor(scene.tenant);
-  ctx.budget_ms = session.config.frame_budget_ms > 0.0 ? session.config.frame_budget_ms
-                                                       : options_.frame_budget_ms;
-  ctx.stop = session.stop.get_token();
   GS_RETURN_IF_ERROR(entry.solver->Update(ctx, changes));
-  entry.version = state.version();
+  entry.version = ctx.state.version();
   entry.fresh = false;
-  if (!entry.solver->UpdateComplete() && session.config.pacing == Pacing::kOnRequest) {
-    // Its view-independent update runs on (slices, a background job): a
-    // frame requested on its own waits for it, the other sessions' frames
-    // in between, polling every kPollInterval.
-    view.poll_at = Clock::now() + kPollInterval;
-    MergeTimings(view.carry, timer_.Finish());
-    view.carry_ms += std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
-    return std::shared_ptr<EncodedFrame>();
-  }
+  return changes;
+}
 
+std::shared_ptr<EncodedFrame> EngineImpl::CarrySlice(ViewRecord& view,
+                                                     Clock::time_point frame_start) {
+  MergeTimings(view.carry, timer_.Finish());
+  view.carry_ms += std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
+  return nullptr;
+}
+
+absl::StatusOr<std::optional<Refinement::Sample>> EngineImpl::Draw(
+    const SessionRecord& session, ViewRecord& view, GpuSceneRecord& scene, SolverEntry& entry,
+    SolverContext& ctx, const FrameDraw& draw) {
   // A still view refines (render/refinement.h): this frame shades sample
   // `sample` at its sub-pixel jitter, or, once the samples are all in
-  // (-1), shows their mean again and shades nothing.
-  const uint32_t refine_target = RefineTarget(session, *entry.solver, state);
+  // (nullopt), shows their mean again and shades nothing.
+  const SceneState& state = *scene.state;
   const std::optional<Refinement::Sample> sample = view.refinement.Next(
       {state.version(), view.camera_version, entry.solver.get(), view.camera.width,
        view.camera.height, entry.solver->UpdateComplete()},
-      refine_target, session.config.refine_history.value_or(options_.refine_history));
+      draw.refine_target, session.config.refine_history.value_or(options_.refine_history));
   if (!sample) {
     // No change since the picture was complete, so the solver's plan is
     // its changeless one, all of it shading, none of it run.
@@ -1348,70 +1416,62 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
     timer_.Skip("gbuffer");
     gl::StageTimer::Scope stage(timer_, "refine");
     passes_->ShowAccumulation(view.gbuffer, {view.refinement.samples()});
-  } else {
-    // Frames that bring no update (a still view refining, a Render's
-    // slices) shade as many samples as fit the frame's budget; a frame
-    // that applied an update shades one, so interaction keeps its latency.
-    const bool more = updates.empty() && refine_target > 1;
-    if (more) glFinish();  // the solver's work is not this sample's
-    for (std::optional<Refinement::Sample> next = sample; next;
-         next = view.refinement.Continue(refine_target)) {
-      const auto sample_start = Clock::now();
-      GS_RETURN_IF_ERROR(ShadeSample(scene, entry, ctx, view, *next, refine_target));
-      if (!more || ctx.stop.stop_requested()) break;
-      glFinish();
-      const auto now = Clock::now();
-      const auto ms = [](Clock::duration d) {
-        return std::chrono::duration<double, std::milli>(d).count();
-      };
-      if (ms(now - frame_start) + ms(now - sample_start) > ctx.budget_ms) break;
-    }
+    return sample;
   }
-  const bool refined = view.refinement.samples() >= refine_target;
-  if (session.config.pacing == Pacing::kOnRequest && (!entry.solver->FrameComplete() || !refined)) {
-    // A frame requested on its own is sent complete (every pathtrace
-    // sample, every refinement sample): keep this slice's timings and run
-    // the next slice at the session's next turn, after the other sessions'
-    // frames.
-    MergeTimings(view.carry, timer_.Finish());
-    view.carry_ms += std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
-    return std::shared_ptr<EncodedFrame>();
+  // Frames that bring no update (a still view refining, a Render's slices)
+  // shade as many samples as fit the frame's budget; a frame that applied
+  // an update shades one, so interaction keeps its latency.
+  const bool more = draw.no_updates && draw.refine_target > 1;
+  if (more) glFinish();  // the solver's work is not this sample's
+  const auto ms = [](Clock::duration d) {
+    return std::chrono::duration<double, std::milli>(d).count();
+  };
+  for (std::optional<Refinement::Sample> next = sample; next;
+       next = view.refinement.Continue(draw.refine_target)) {
+    const auto sample_start = Clock::now();
+    GS_RETURN_IF_ERROR(ShadeSample(scene, entry, ctx, view, *next, draw.refine_target));
+    if (!more || ctx.stop.stop_requested()) break;
+    glFinish();
+    const auto now = Clock::now();
+    if (ms(now - draw.frame_start) + ms(now - sample_start) > ctx.budget_ms) break;
   }
+  return sample;
+}
 
-  auto frame = std::make_shared<EncodedFrame>();
-  GS_ASSIGN_OR_RETURN(const ReadPixels pixels, ReadBack(session, view, [&] {
-                        return absl::StrJoin(entry.solver->Plan(state, changes), ", ");
-                      }));
-  GS_RETURN_IF_ERROR(EncodeFrame(session, view, pixels, *frame));
-  frame->timings = std::move(view.carry);
+void EngineImpl::Publish(SessionRecord& session, ViewRecord& view, const GpuSceneRecord& scene,
+                         const SolverEntry& entry, const std::optional<Refinement::Sample>& sample,
+                         const FrameDraw& draw, EncodedFrame& frame) {
+  const SceneState& state = *scene.state;
+  frame.timings = std::move(view.carry);
   view.carry.clear();
-  MergeTimings(frame->timings, timer_.Finish());
-  ReportAgainstPlan(entry.solver->description(), view.plan, frame->timings);
-  frame->planned_stages = std::move(view.plan);
+  MergeTimings(frame.timings, timer_.Finish());
+  ReportAgainstPlan(entry.solver->description(), view.plan, frame.timings);
+  frame.planned_stages = std::move(view.plan);
   view.plan.clear();
-  frame->frame_number = ++view.frame_number;
-  frame->width = view.gbuffer.width();
-  frame->height = view.gbuffer.height();
-  frame->format = session.config.encoding.format;
-  frame->scene_version = state.version();
-  frame->last_update_seq = view.last_seq;
-  frame->solver = session.config.solver;
-  frame->stats = session.config.pacing == Pacing::kOnRequest && sample && sample->index > 0
-                     ? std::move(view.solve_stats)
-                     : entry.solver->Stats();
-  AddViewStats(view, scene, *entry.solver, state, refine_target, frame->stats);
+  frame.frame_number = ++view.frame_number;
+  frame.width = view.gbuffer.width();
+  frame.height = view.gbuffer.height();
+  frame.format = session.config.encoding.format;
+  frame.scene_version = state.version();
+  frame.last_update_seq = view.last_seq;
+  frame.solver = session.config.solver;
+  frame.stats = session.config.pacing == Pacing::kOnRequest && sample && sample->index > 0
+                    ? std::move(view.solve_stats)
+                    : entry.solver->Stats();
+  AddViewStats(view, scene, *entry.solver, state, draw.refine_target, frame.stats);
   // Settled: the picture equals the last one, no update came with it and
   // the solver owes nothing (no slices, no background job, no animation):
   // a continuous view then rests (RenderFrame). Keep-alives at rest say 1.
-  view.settled = frame->unchanged && refined && updates.empty() && !view.camera_changed &&
+  const bool refined = view.refinement.samples() >= draw.refine_target;
+  view.settled = frame.unchanged && refined && draw.no_updates && !view.camera_changed &&
                  entry.solver->UpdateComplete() && entry.solver->FrameComplete() &&
                  !entry.solver->BackgroundBusy() && !AnyAnimationPlaying(state);
-  frame->stats.emplace_back("at_rest", 0.0);
+  frame.stats.emplace_back("at_rest", 0.0);
   view.camera_changed = false;
-  frame->total_ms =
-      view.carry_ms + std::chrono::duration<double, std::milli>(Clock::now() - frame_start).count();
+  frame.total_ms =
+      view.carry_ms +
+      std::chrono::duration<double, std::milli>(Clock::now() - draw.frame_start).count();
   view.carry_ms = 0.0;
-  return frame;
 }
 
 void EngineImpl::EvictIdleSolvers(GpuSceneRecord& scene, const SceneRecord* owner,

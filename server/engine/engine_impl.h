@@ -216,6 +216,37 @@ class EngineImpl final : public Engine {
     uint32_t memory_width = 0, memory_height = 0;
   };
 
+  // LoadScene's steps. A named load's claim on its name (loading_): when
+  // this call leads the load of the name, the claim ends it on return,
+  // whatever the outcome, and wakes the loads that wait for it.
+  class NameClaim {
+   public:
+    NameClaim(EngineImpl& engine, std::string key) : engine_(engine), key_(std::move(key)) {}
+    ~NameClaim() ABSL_LOCKS_EXCLUDED(engine_.mutex_);
+    NameClaim(const NameClaim&) = delete;
+    NameClaim& operator=(const NameClaim&) = delete;
+
+   private:
+    friend class EngineImpl;
+    EngineImpl& engine_;
+    const std::string key_;                        // tenant + "\n" + name
+    std::shared_ptr<std::promise<void>> leading_;  // set when this call loads the name
+  };
+  // The tenant's scene of that name, described, when it has one (or one
+  // loaded meanwhile by a concurrent load of the name, which this waits
+  // for); nullopt when this call is to load it (`claim` then leads).
+  absl::StatusOr<std::optional<SceneInfo>> JoinNamedLoad(const SceneSource& source,
+                                                         NameClaim& claim)
+      ABSL_LOCKS_EXCLUDED(mutex_);
+  // Gives an imported scene's record its id and a place in scenes_, within
+  // the server's and the tenant's scene limits.
+  absl::Status RegisterScene(const SceneSource& source, const std::shared_ptr<SceneRecord>& record)
+      ABSL_LOCKS_EXCLUDED(mutex_);
+  // The scene's GPU copy, holding `memory` (its reservation) and the
+  // tenant's GPU quota; ABORTED when it was unloaded while it loaded.
+  absl::StatusOr<SceneInfo> UploadScene(const SceneRecord& record, MemoryBudget::Reservation memory)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_) ABSL_LOCKS_EXCLUDED(mutex_);
+
   // RESOURCE_EXHAUSTED when one more active session would push the render
   // thread past EngineOptions::max_render_busy. Needs mutex_.
   absl::Status AdmitByRenderTimeLocked() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
@@ -269,13 +300,53 @@ class EngineImpl final : public Engine {
                            ViewRecord& view, const Refinement::Sample& sample,
                            uint32_t refine_target) ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
 
-  // One frame of `session`'s view, step by step: ApplyUpdates, the
-  // solver's Plan and Update, the refinement samples (ShadeSample),
-  // ReadBack, EncodeFrame, then the frame's stats (AddViewStats). Null (no
-  // frame yet) when a frame requested on its own is not complete.
+  // One frame of `session`'s view, a pipeline of named steps:
+  // ApplyUpdates (stage apply_updates), ReserveView, DeformScene (deform),
+  // AcquireSolver, PlanAndSolve (the solver's Plan and Update: its
+  // stages), Draw (the G-buffer and the solver's final pass per
+  // refinement sample, ShadeSample), ReadBack (readback), EncodeFrame
+  // (encode) and Publish (the frame's timings, plan and stats). Null (no
+  // frame yet) when a frame requested on its own is not complete: the
+  // slice's timings are carried to the frame that completes it
+  // (CarrySlice).
   absl::StatusOr<std::shared_ptr<EncodedFrame>> ProduceFrame(SessionRecord& session,
                                                              ViewRecord& view,
                                                              std::deque<Update> updates)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
+  // Poses skinned and morphed meshes once per scene version (stage deform).
+  void DeformScene(GpuSceneRecord& scene) ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
+  // The session's solver on `scene`, built (within the memory budget,
+  // evicting idle ones) when it has none.
+  absl::StatusOr<SolverEntry*> AcquireSolver(const SessionRecord& session, GpuSceneRecord& scene)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
+  // The solver's Plan for the scene's changes since it last ran (added to
+  // the view's plan, reported against the stages run) and its Update; the
+  // changes it saw.
+  absl::StatusOr<ChangeMask> PlanAndSolve(ViewRecord& view, SolverEntry& entry, SolverContext& ctx)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
+  // Keeps an incomplete frame's slice timings in the view; returns null.
+  std::shared_ptr<EncodedFrame> CarrySlice(ViewRecord& view, RenderThread::Clock::time_point start)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
+  // What the draw step of a frame needs beside the view.
+  struct FrameDraw {
+    uint32_t refine_target = 1;  // RefineTarget
+    bool no_updates = true;      // the frame applied no update
+    RenderThread::Clock::time_point frame_start;
+  };
+  // Shades the view's next refinement samples (as many as the frame's
+  // budget allows when it brought no update, else one), or shows the
+  // finished accumulation again; the first sample shaded, nullopt when none.
+  absl::StatusOr<std::optional<Refinement::Sample>> Draw(const SessionRecord& session,
+                                                         ViewRecord& view, GpuSceneRecord& scene,
+                                                         SolverEntry& entry, SolverContext& ctx,
+                                                         const FrameDraw& draw)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
+  // Fills the encoded frame's header: timings (with the carried slices')
+  // against the plan, numbers, the solver's and the view's stats; decides
+  // whether the view has settled (RenderFrame then rests it).
+  void Publish(SessionRecord& session, ViewRecord& view, const GpuSceneRecord& scene,
+               const SolverEntry& entry, const std::optional<Refinement::Sample>& sample,
+               const FrameDraw& draw, EncodedFrame& frame)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
   // The view's first camera, then the updates in order: camera updates to
   // the view, the rest to the scene (those its state refuses reported to
