@@ -16,7 +16,7 @@ PACKAGES=(
   openssl python3-yaml  # test certificates (scripts/dev_certs.sh), the deployment test (tests/deploy)
   clang libclang-rt-14-dev  # CI's sanitizer and libFuzzer build (scripts/ci-sanitizers.sh)
   clang-format  # the `format` test and `make format` (.clang-format)
-  libmeshoptimizer-dev  # proxy geometry for the GI passes (server/scene/proxy_levels.h)
+  libmeshoptimizer-dev  # proxy geometry for the GI passes (server/scene/proxies/proxy_levels.h)
   haproxy  # the fleet test (tests/deploy/fleet_test.py): three servers behind a real balancer
 )
 

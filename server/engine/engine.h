@@ -19,7 +19,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include "scene/import_limits.h"
+#include "scene/gltf/import_limits.h"
 #include "scene/scene.h"
 #include "scene/updates.h"
 #include "engine/observer.h"
@@ -94,7 +94,7 @@ struct SceneSource {
   bool private_copy = false;
   // Polled between the load's stages and slices: non-OK (CANCELLED when the
   // client left, DEADLINE_EXCEEDED when its deadline passed) stops the load
-  // with that code, nothing kept (scene/load_control.h). Empty: never.
+  // with that code, nothing kept (scene/gltf/load_control.h). Empty: never.
   std::function<absl::Status()> stop;
 };
 

@@ -16,13 +16,13 @@
 #include <utility>
 
 #include "encode/encode.h"
-#include "scene/gltf_import.h"
-#include "scene/image_decode.h"
+#include "scene/gltf/gltf_import.h"
+#include "scene/gltf/image_decode.h"
 #include "gl/fault_injection.h"
 #include "scene/magnitude_limits.h"
-#include "scene/scene_files.h"
-#include "scene/scene_memory.h"
-#include "scene/validate_update.h"
+#include "scene/gltf/scene_files.h"
+#include "scene/gpu/scene_memory.h"
+#include "scene/state/validate_update.h"
 #include "engine/scene_import.h"
 #include "engine/scene_info.h"
 #include "solvers/registry.h"

@@ -6,10 +6,10 @@
 
 #include <absl/strings/str_cat.h>
 
-#include "scene/gltf_import.h"
-#include "scene/image_decode.h"
+#include "scene/gltf/gltf_import.h"
+#include "scene/gltf/image_decode.h"
 #include "scene/magnitude_limits.h"
-#include "scene/scene_files.h"
+#include "scene/gltf/scene_files.h"
 #include "util/log.h"
 
 namespace gistream {

@@ -2,7 +2,7 @@
 // scene directory, or uploaded bytes) parsed and validated, and the
 // environment map read and decoded, before anything reaches the GPU. What
 // it reads and decodes is reserved in `transient` first
-// (scene/import_memory.h). The proxies stop at `max_load_time` (the scene
+// (scene/gltf/import_memory.h). The proxies stop at `max_load_time` (the scene
 // loads without the rest, `proxies` says how much); the source's stop ends
 // it between stages and slices.
 #pragma once
@@ -10,9 +10,9 @@
 #include <chrono>
 #include <filesystem>
 
-#include "scene/import_limits.h"
-#include "scene/import_memory.h"
-#include "scene/load_control.h"
+#include "scene/gltf/import_limits.h"
+#include "scene/gltf/import_memory.h"
+#include "scene/gltf/load_control.h"
 #include "scene/scene.h"
 #include "engine/engine.h"
 #include "util/status.h"

@@ -1,7 +1,7 @@
 // What LoadScene reports about a scene in its current state.
 #pragma once
 
-#include "scene/scene_state.h"
+#include "scene/state/scene_state.h"
 #include "engine/engine.h"
 
 namespace gistream {

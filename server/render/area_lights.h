@@ -9,7 +9,7 @@
 
 #include <glm/glm.hpp>
 
-#include "scene/scene_state.h"
+#include "scene/state/scene_state.h"
 
 namespace gistream {
 

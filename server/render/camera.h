@@ -6,7 +6,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 
-#include "scene/scene_state.h"
+#include "scene/state/scene_state.h"
 #include "scene/updates.h"
 
 namespace gistream {

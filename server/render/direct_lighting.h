@@ -16,7 +16,7 @@
 #include "render/area_lights.h"
 #include "render/emitter_polygons.h"
 #include "render/shadow_maps.h"
-#include "scene/gpu_scene.h"
+#include "scene/gpu/gpu_scene.h"
 #include "scene/updates.h"
 #include "util/params.h"
 

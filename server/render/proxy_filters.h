@@ -8,7 +8,7 @@
 
 #include <glm/glm.hpp>
 
-#include "scene/gpu_scene.h"
+#include "scene/gpu/gpu_scene.h"
 
 namespace gistream {
 

@@ -7,8 +7,8 @@
 
 #include "gl/handle.h"
 #include "gl/program.h"
-#include "scene/draw_list.h"
-#include "scene/gpu_scene.h"
+#include "scene/gpu/draw_list.h"
+#include "scene/gpu/gpu_scene.h"
 
 namespace gistream {
 
@@ -22,7 +22,7 @@ class ShadowMaps {
   // Renders cube `index` around `position`; depth = distance / far. Each
   // item draws its coarsest proxy level within one texel's world size at
   // its distance, into the faces that can see it (render/proxy_filters.h),
-  // in one indirect draw (scene/draw_list.h); `full_detail` draws every
+  // in one indirect draw (scene/gpu/draw_list.h); `full_detail` draws every
   // item in full into every face.
   void RenderCube(const GpuScene& gpu, const SceneState& state, int index,
                   const glm::vec3& position, float far, bool full_detail = false);

@@ -8,8 +8,8 @@
 #include "gl/program.h"
 #include "render/camera.h"
 #include "render/gbuffer.h"
-#include "scene/draw_list.h"
-#include "scene/gpu_scene.h"
+#include "scene/gpu/draw_list.h"
+#include "scene/gpu/gpu_scene.h"
 
 namespace gistream {
 
@@ -19,7 +19,7 @@ class ViewPasses {
 
   // Resizes `gbuffer` to the camera (RESOURCE_EXHAUSTED when the GPU cannot
   // hold it, see GBuffer::Resize) and rasterises the scene into it: one
-  // indirect multi-draw per set of material textures (scene/draw_list.h),
+  // indirect multi-draw per set of material textures (scene/gpu/draw_list.h),
   // so many primitives or instances cost what their triangles cost, not a
   // draw call each (issue 30). The list is rebuilt only when the scene's
   // state changes (its serial and version), not per refinement sample.

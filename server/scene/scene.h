@@ -76,14 +76,14 @@ struct Material {
 };
 
 // A simplified copy of a primitive's triangles for the view-independent GI
-// passes (scene/proxy_levels.h): indices into the primitive's own vertices
+// passes (scene/proxies/proxy_levels.h): indices into the primitive's own vertices
 // and an upper bound of its symmetric Hausdorff distance to the full mesh.
 struct ProxyLevel {
   std::vector<uint32_t> indices;  // triangle list, a subset of the primitive's vertices
   float error = 0.0f;             // local units
 };
 
-// A node of a primitive's proxy cluster tree (scene/proxy_clusters.h): a
+// A node of a primitive's proxy cluster tree (scene/proxies/proxy_clusters.h): a
 // k-d split of its triangles, each node with its local box, a simplified
 // copy of its triangles with the node's border locked (so any cut through
 // the tree is watertight) and that copy's error bound; leaves also hold
@@ -139,7 +139,7 @@ struct Skin {
   int skeleton = -1;  // the common root node, -1 when not given
 };
 
-// glTF animation data (see scene/animation.h for sampling).
+// glTF animation data (see scene/state/animation.h for sampling).
 enum class AnimationPath { kTranslation, kRotation, kScale, kWeights };
 enum class Interpolation { kLinear, kStep, kCubicSpline };
 

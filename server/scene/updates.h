@@ -1,6 +1,6 @@
 // Domain form of the updates clients push. The service layer translates
 // protobuf into these; validation (ids, NaN/Inf, ranges) happens in
-// scene/validate_update.h before anything reaches the render thread.
+// scene/state/validate_update.h before anything reaches the render thread.
 #pragma once
 
 #include <cstdint>

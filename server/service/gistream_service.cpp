@@ -146,7 +146,7 @@ grpc::ServerUnaryReactor* GistreamService::LoadScene(grpc::CallbackServerContext
         if (!source.ok()) return ToGrpcStatus(source.status());
         source->tenant = tenant;
         // A client that leaves or whose deadline passes stops the load between
-        // its slices (scene/load_control.h), naming the stage.
+        // its slices (scene/gltf/load_control.h), naming the stage.
         source->stop = [context]() -> absl::Status {
           if (!context->IsCancelled()) return absl::OkStatus();
           if (context->deadline() <= std::chrono::system_clock::now()) {

@@ -13,7 +13,7 @@
 #include <optional>
 #include <vector>
 
-#include "scene/scene_state.h"
+#include "scene/state/scene_state.h"
 #include "scene/updates.h"
 
 namespace gistream {

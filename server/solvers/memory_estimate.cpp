@@ -6,7 +6,7 @@
 
 #include "render/area_lights.h"
 #include "render/direct_lighting.h"
-#include "scene/draw_list.h"
+#include "scene/gpu/draw_list.h"
 #include "util/memory_budget.h"
 
 namespace gistream {

@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
-#include "scene/gpu_scene.h"
-#include "scene/scene_state.h"
+#include "scene/gpu/gpu_scene.h"
+#include "scene/state/scene_state.h"
 #include "solvers/solver_params.h"
 
 namespace gistream {

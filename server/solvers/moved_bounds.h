@@ -8,8 +8,8 @@
 
 #include <glm/glm.hpp>
 
-#include "scene/gpu_scene.h"
-#include "scene/scene_state.h"
+#include "scene/gpu/gpu_scene.h"
+#include "scene/state/scene_state.h"
 
 namespace gistream {
 

@@ -17,8 +17,8 @@
 #include "gl/stage_timer.h"
 #include "render/camera.h"
 #include "render/gbuffer.h"
-#include "scene/gpu_scene.h"
-#include "scene/scene_state.h"
+#include "scene/gpu/gpu_scene.h"
+#include "scene/state/scene_state.h"
 #include "solvers/solver_params.h"
 #include "util/memory_accounts.h"
 

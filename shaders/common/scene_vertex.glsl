@@ -2,7 +2,7 @@
 // world-space transform: every pass that rasterises the scene reads its
 // vertices through these, so the layout lives in one place.
 //
-// With GS_DRAW_LIST defined (a program drawn from a scene/draw_list.h
+// With GS_DRAW_LIST defined (a program drawn from a scene/gpu/draw_list.h
 // list), the transform, a pass-defined tag and the material index come
 // from the draw's record, read as instanced attributes (a command's base
 // instance plus the instance picks it), instead of the uModel, uNormalMatrix

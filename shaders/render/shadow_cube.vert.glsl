@@ -3,7 +3,7 @@
 #extension GL_ARB_shader_viewport_layer_array : require
 #endif
 // Distance cubes (render/shadow_maps, avg's VPL cubes). Drawn from a draw
-// list (scene/draw_list.h, GS_DRAW_LIST) whose records' tags are faces
+// list (scene/gpu/draw_list.h, GS_DRAW_LIST) whose records' tags are faces
 // (DrawTags::kEachBit): each instance projects the draw onto its one face.
 // With GS_LAYER_FROM_VERTEX (ARB_shader_viewport_layer_array) this shader
 // writes the layer and there is no geometry shader; else

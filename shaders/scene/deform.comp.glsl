@@ -1,7 +1,7 @@
 #version 450 core
 // Morphing and linear blend skinning of one deforming draw's vertices
 // (glTF 2.0 3.7.2.2 "Morph Targets", 3.7.3.3 "Joint Hierarchy"): the GPU
-// twin of scene/deform.cpp's DeformPrimitive, which is the reference
+// twin of scene/state/deform.cpp's DeformPrimitive, which is the reference
 // (tests/gl/gpu_deform_test.cpp holds this pass to it). Reads the rest
 // pose at uSrc, writes the posed vertex at uDst of GpuScene's buffer.
 #include "bindings.glsl"

@@ -8,9 +8,9 @@
 #include <span>
 
 #include "fuzz/fuzz_check.h"
-#include "scene/gltf_import.h"
-#include "scene/scene_memory.h"
-#include "scene/scene_state.h"
+#include "scene/gltf/gltf_import.h"
+#include "scene/gpu/scene_memory.h"
+#include "scene/state/scene_state.h"
 
 using namespace gistream;
 

@@ -8,7 +8,7 @@
 #include <span>
 
 #include "fuzz/fuzz_check.h"
-#include "scene/image_decode.h"
+#include "scene/gltf/image_decode.h"
 
 using namespace gistream;
 

@@ -13,9 +13,9 @@
 #include <google/protobuf/stubs/logging.h>
 
 #include "fuzz/fuzz_check.h"
-#include "scene/gltf_import.h"
-#include "scene/scene_state.h"
-#include "scene/validate_update.h"
+#include "scene/gltf/gltf_import.h"
+#include "scene/state/scene_state.h"
+#include "scene/state/validate_update.h"
 #include "service/translate.h"
 
 using namespace gistream;

@@ -18,8 +18,8 @@
 #include <gtest/gtest.h>
 
 #include "gl/stage_timer.h"
-#include "scene/gltf_import.h"
-#include "scene/gpu_scene.h"
+#include "scene/gltf/gltf_import.h"
+#include "scene/gpu/gpu_scene.h"
 #include "solvers/avg/avg_solver.h"
 #include "support/frame_queue.h"
 #include "support/gl_context.h"

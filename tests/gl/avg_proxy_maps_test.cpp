@@ -9,7 +9,7 @@
 
 #include "render/proxy_filters.h"
 #include "render/shadow_maps.h"
-#include "scene/gpu_scene.h"
+#include "scene/gpu/gpu_scene.h"
 #include "solvers/avg/vpl_shadow_maps.h"
 #include "support/gl_context.h"
 #include "support/test_meshes.h"

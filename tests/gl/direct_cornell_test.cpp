@@ -2,7 +2,7 @@
 // image regions must show what direct light alone produces.
 #include <gtest/gtest.h>
 
-#include "scene/gltf_import.h"
+#include "scene/gltf/gltf_import.h"
 #include "support/render_helpers.h"
 
 namespace gistream {

@@ -1,4 +1,4 @@
-// The indirect draw list (scene/draw_list.h, issue 19): instances of one
+// The indirect draw list (scene/gpu/draw_list.h, issue 19): instances of one
 // mesh at the same proxy choice become one instanced command, and a depth
 // cube drawn from the list (a record per face, the layer written by the
 // vertex shader or by the geometry shader fallback) is bitwise the cube
@@ -17,9 +17,9 @@
 #include "render/cube_faces.h"
 #include "render/proxy_filters.h"
 #include "render/shadow_maps.h"
-#include "scene/draw_list.h"
-#include "scene/gpu_scene.h"
-#include "scene/proxy_levels.h"
+#include "scene/gpu/draw_list.h"
+#include "scene/gpu/gpu_scene.h"
+#include "scene/proxies/proxy_levels.h"
 #include "support/gl_context.h"
 #include "support/test_meshes.h"
 

@@ -1,5 +1,5 @@
-// The GPU deformation pass (scene/gpu_deform.h, shaders/scene/deform.comp.glsl)
-// against the one CPU implementation (scene/deform.h's DeformPrimitive, which
+// The GPU deformation pass (scene/gpu/gpu_deform.h, shaders/scene/deform.comp.glsl)
+// against the one CPU implementation (scene/state/deform.h's DeformPrimitive, which
 // SceneState::NodeMesh holds): the same vertices, skinned and morphed, read
 // back from GpuScene's vertex buffer.
 #include <gtest/gtest.h>
@@ -7,9 +7,9 @@
 #include <cmath>
 #include <memory>
 
-#include "scene/deform.h"
-#include "scene/gpu_scene.h"
-#include "scene/scene_state.h"
+#include "scene/state/deform.h"
+#include "scene/gpu/gpu_scene.h"
+#include "scene/state/scene_state.h"
 #include "support/deforming_scene.h"
 #include "support/gl_context.h"
 #include "support/measurement.h"

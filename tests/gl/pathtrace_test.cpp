@@ -9,7 +9,7 @@
 
 #include <gtest/gtest.h>
 
-#include "scene/gltf_import.h"
+#include "scene/gltf/gltf_import.h"
 #include "support/gltf_builder.h"
 #include "support/render_helpers.h"
 

@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 
 #include "gl/stage_timer.h"
-#include "scene/gpu_scene.h"
+#include "scene/gpu/gpu_scene.h"
 #include "solvers/antiradiance/shared_elements.h"
 #include "solvers/hierarchy/subdivide.h"
 #include "solvers/implicit_visibility/scene_elements.h"

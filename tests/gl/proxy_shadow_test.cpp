@@ -7,8 +7,8 @@
 #include <cmath>
 
 #include "render/shadow_maps.h"
-#include "scene/gpu_scene.h"
-#include "scene/proxy_levels.h"
+#include "scene/gpu/gpu_scene.h"
+#include "scene/proxies/proxy_levels.h"
 #include "support/gl_context.h"
 #include "support/test_meshes.h"
 

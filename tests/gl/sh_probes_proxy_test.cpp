@@ -16,7 +16,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "render/proxy_filters.h"
-#include "scene/gpu_scene.h"
+#include "scene/gpu/gpu_scene.h"
 #include "solvers/sh_probes/probe_grid.h"
 #include "solvers/sh_probes/probe_raster.h"
 #include "support/gl_context.h"

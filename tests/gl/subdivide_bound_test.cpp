@@ -2,9 +2,9 @@
 // estimates use, is an upper bound on what SubdivideLongEdges makes.
 #include <gtest/gtest.h>
 
-#include "scene/gltf_import.h"
-#include "scene/gpu_scene.h"
-#include "scene/scene_state.h"
+#include "scene/gltf/gltf_import.h"
+#include "scene/gpu/gpu_scene.h"
+#include "scene/state/scene_state.h"
 #include "solvers/hierarchy/subdivide.h"
 #include "support/gl_context.h"
 

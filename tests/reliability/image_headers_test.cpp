@@ -8,7 +8,7 @@
 
 #include "encode/encode.h"
 #include "reliability/reliability_fixture.h"
-#include "scene/image_decode.h"
+#include "scene/gltf/image_decode.h"
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {

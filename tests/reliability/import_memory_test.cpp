@@ -1,6 +1,6 @@
 // Issue 13, finding 2 (unbounded memory), import part: what an import reads
 // and decodes is reserved from the server's memory budget before it is
-// decoded (scene/import_memory.h): an image whose file is small but whose
+// decoded (scene/gltf/import_memory.h): an image whose file is small but whose
 // pixels are not is refused from its header, naming it, and nothing stays
 // reserved.
 #include <gtest/gtest.h>

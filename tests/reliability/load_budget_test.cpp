@@ -1,4 +1,4 @@
-// A scene load's time is bounded (issue 19, scene/load_control.h): past
+// A scene load's time is bounded (issue 19, scene/gltf/load_control.h): past
 // EngineOptions::max_load_time (gistreamd --max-load-seconds) the proxies
 // stop and the scene loads and renders without them, saying so; a load
 // whose caller stops (client gone or past its deadline) answers that code

@@ -193,7 +193,7 @@ TEST(MemoryBudget, ASceneOverTheBudgetIsRefusedAndHoldsNothing) {
     return testing::SceneFromBytes(doc.dump());
   };
   // A 2048 x 2048 texture decodes to 16 MiB: refused from its header by the
-  // import (scene/import_memory.h), before a pixel is decoded.
+  // import (scene/gltf/import_memory.h), before a pixel is decoded.
   EXPECT_STATUS(StatusOf((*engine)->LoadScene(textured(2048))), kResourceExhausted,
                 "images[0]: 2048x2048 decoded pixels needs 16.0 MiB");
   EXPECT_EQ((*engine)->stats().memory_used_bytes, 0u);

@@ -1,5 +1,5 @@
 // A LoadScene whose client deadline passes while the server builds the
-// scene's proxies (issue 19, scene/load_control.h): the gRPC handler turns
+// scene's proxies (issue 19, scene/gltf/load_control.h): the gRPC handler turns
 // the cancelled call into a stop, and the load ends with DEADLINE_EXCEEDED
 // at its next slice instead of running to the end; the engine keeps
 // nothing. Real engine (EGL; llvmpipe without a GPU).

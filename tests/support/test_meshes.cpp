@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "scene/proxy_levels.h"
+#include "scene/proxies/proxy_levels.h"
 
 namespace gistream::testing {
 namespace {

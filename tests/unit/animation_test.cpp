@@ -1,4 +1,4 @@
-// Animation sampling (scene/animation.h) against hand-computed values for
+// Animation sampling (scene/state/animation.h) against hand-computed values for
 // LINEAR, STEP and CUBICSPLINE (glTF 2.0 Appendix C), and the import of
 // glTF animations with invalid ones rejected naming their JSON path.
 // Tolerance: 1e-5 absolute on every sampled component (float arithmetic on
@@ -9,7 +9,7 @@
 #include <glm/gtc/quaternion.hpp>
 
 #include "gltf_test_util.h"
-#include "scene/animation.h"
+#include "scene/state/animation.h"
 
 namespace gistream {
 namespace {

@@ -7,7 +7,7 @@
 
 #include <glm/gtc/constants.hpp>
 
-#include "scene/gltf_import.h"
+#include "scene/gltf/gltf_import.h"
 #include "solvers/brdf_albedo.h"
 #include "solvers/avg/quasi_random.h"
 #include "solvers/avg/tri_box_overlap.h"

@@ -8,7 +8,7 @@
 
 #include "support/measurement.h"
 
-#include "scene/gltf_import.h"
+#include "scene/gltf/gltf_import.h"
 #include "solvers/avg/voxel_grid.h"
 #include "solvers/avg/vpl_lights.h"
 #include "solvers/avg/vpl_tracer.h"

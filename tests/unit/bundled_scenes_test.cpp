@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 
-#include "scene/gltf_import.h"
+#include "scene/gltf/gltf_import.h"
 
 namespace gistream {
 namespace {

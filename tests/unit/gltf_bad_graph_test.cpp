@@ -2,7 +2,7 @@
 #include <gtest/gtest.h>
 
 #include "gltf_test_util.h"
-#include "scene/gltf_import.h"
+#include "scene/gltf/gltf_import.h"
 
 namespace gistream {
 namespace {

@@ -5,7 +5,7 @@
 
 #include "encode/encode.h"
 #include "gltf_test_util.h"
-#include "scene/gltf_import.h"
+#include "scene/gltf/gltf_import.h"
 
 namespace gistream {
 namespace {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "scene/gltf_import.h"
+#include "scene/gltf/gltf_import.h"
 
 namespace gistream::testing {
 

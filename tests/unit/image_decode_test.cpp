@@ -1,6 +1,6 @@
 // DecodeImage: magic-byte detection, one reader per format, limits checked
 // on the header before pixels are decoded.
-#include "scene/image_decode.h"
+#include "scene/gltf/image_decode.h"
 
 #include <gtest/gtest.h>
 

@@ -10,7 +10,7 @@
 #include <memory>
 
 #include "gltf_test_util.h"
-#include "scene/scene_state.h"
+#include "scene/state/scene_state.h"
 #include "solvers/antiradiance/patches.h"
 
 namespace gistream {

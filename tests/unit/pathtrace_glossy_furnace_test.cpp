@@ -23,8 +23,8 @@
 
 #include "support/measurement.h"
 
-#include "scene/gltf_import.h"
-#include "scene/scene_state.h"
+#include "scene/gltf/gltf_import.h"
+#include "scene/state/scene_state.h"
 #include "solvers/shading/ggx.h"
 #include "solvers/pathtrace/integrator.h"
 #include "solvers/shading/sampling.h"

@@ -11,7 +11,7 @@
 
 #include <gtest/gtest.h>
 
-#include "scene/scene_state.h"
+#include "scene/state/scene_state.h"
 #include "solvers/pathtrace/refit_quality.h"
 #include "solvers/pathtrace/scene_bvh.h"
 #include "support/deforming_scene.h"

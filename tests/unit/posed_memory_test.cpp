@@ -6,9 +6,9 @@
 
 #include <memory>
 
-#include "scene/deform.h"
-#include "scene/scene_memory.h"
-#include "scene/scene_state.h"
+#include "scene/state/deform.h"
+#include "scene/gpu/scene_memory.h"
+#include "scene/state/scene_state.h"
 #include "support/deforming_scene.h"
 
 namespace gistream {

@@ -1,6 +1,6 @@
 // Proxy levels (issue 19): each simplified level's geometric error, measured
 // here on the mesh by brute force, is within the bound import recorded.
-#include "scene/proxy_levels.h"
+#include "scene/proxies/proxy_levels.h"
 
 #include <gtest/gtest.h>
 
@@ -13,9 +13,9 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "scene/proxy_clusters.h"
-#include "scene/scene_memory.h"
-#include "scene/surface_distance.h"
+#include "scene/proxies/proxy_clusters.h"
+#include "scene/gpu/scene_memory.h"
+#include "scene/proxies/surface_distance.h"
 #include "support/test_meshes.h"
 
 namespace gistream {

@@ -1,14 +1,14 @@
 // A scene's proxies within a load's time budget and stop (issue 19,
-// scene/load_control.h): a passed deadline keeps what is done (levels
+// scene/gltf/load_control.h): a passed deadline keeps what is done (levels
 // first, trees dropped) and says so; a stop ends the build with its code,
 // naming the primitive and stage.
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "scene/load_control.h"
-#include "scene/proxy_clusters.h"
-#include "scene/proxy_levels.h"
+#include "scene/gltf/load_control.h"
+#include "scene/proxies/proxy_clusters.h"
+#include "scene/proxies/proxy_levels.h"
 #include "support/test_meshes.h"
 
 namespace gistream {

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "scene/proxy_levels.h"
+#include "scene/proxies/proxy_levels.h"
 #include "solvers/avg/voxel_grid.h"
 #include "support/test_meshes.h"
 

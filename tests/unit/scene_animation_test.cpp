@@ -8,8 +8,8 @@
 #include <limits>
 #include <memory>
 
-#include "scene/scene_state.h"
-#include "scene/validate_update.h"
+#include "scene/state/scene_state.h"
+#include "scene/state/validate_update.h"
 #include "support/deforming_scene.h"
 
 namespace gistream {

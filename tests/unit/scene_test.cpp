@@ -5,7 +5,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "scene/mesh_normals.h"
+#include "scene/gltf/mesh_normals.h"
 
 namespace gistream {
 namespace {

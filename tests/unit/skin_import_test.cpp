@@ -1,5 +1,5 @@
 // Skins and morph targets: import (validated, JSON paths named) and the one
-// CPU deformation function (scene/deform.h) against hand-computed
+// CPU deformation function (scene/state/deform.h) against hand-computed
 // vertices. Tolerance: 1e-5 absolute per component.
 #include <gtest/gtest.h>
 
@@ -7,7 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "gltf_test_util.h"
-#include "scene/deform.h"
+#include "scene/state/deform.h"
 
 namespace gistream {
 namespace {

@@ -1,8 +1,8 @@
-// The proxy levels' distance measure (scene/surface_distance.h, issue 19):
+// The proxy levels' distance measure (scene/proxies/surface_distance.h, issue 19):
 // the early-stopping query is an upper bound within its threshold, and the
 // one-sided bound holds for slivers (sampled in pieces) against a brute-force
 // measurement.
-#include "scene/surface_distance.h"
+#include "scene/proxies/surface_distance.h"
 
 #include <gtest/gtest.h>
 

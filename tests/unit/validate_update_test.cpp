@@ -1,5 +1,5 @@
 // ValidateUpdate: ids, finiteness and ranges, each message naming the field.
-#include "scene/validate_update.h"
+#include "scene/state/validate_update.h"
 
 #include <gtest/gtest.h>
 

@@ -3,7 +3,7 @@
 // (hierarchy::ProxyLevelMesh).
 #include <gtest/gtest.h>
 
-#include "scene/proxy_levels.h"
+#include "scene/proxies/proxy_levels.h"
 #include "solvers/hierarchy/element_source.h"
 #include "solvers/hierarchy/vertex_transfer.h"
 #include "support/test_meshes.h"

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "scene/scene_state.h"
+#include "scene/state/scene_state.h"
 #include "solvers/antiradiance/patches.h"
 
 namespace gistream::antiradiance {

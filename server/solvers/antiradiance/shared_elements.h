@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "scene/gpu_scene.h"
-#include "scene/scene_state.h"
+#include "scene/gpu/gpu_scene.h"
+#include "scene/state/scene_state.h"
 #include "solvers/antiradiance/patches.h"
 #include "solvers/hierarchy/elements.h"
 

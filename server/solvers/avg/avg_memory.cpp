@@ -3,7 +3,7 @@
 
 #include "solvers/avg/avg_solver.h"
 #include "solvers/avg/vpl_shadow_maps.h"
-#include "scene/draw_list.h"
+#include "scene/gpu/draw_list.h"
 
 namespace gistream {
 

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "scene/proxy_levels.h"
-#include "scene/surface_distance.h"
+#include "scene/proxies/proxy_levels.h"
+#include "scene/proxies/surface_distance.h"
 #include "solvers/brdf_albedo.h"
 #include "solvers/avg/tri_box_overlap.h"
 

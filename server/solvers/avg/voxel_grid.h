@@ -19,7 +19,7 @@
 
 #include <glm/glm.hpp>
 
-#include "scene/scene_state.h"
+#include "scene/state/scene_state.h"
 
 namespace gistream::avg {
 
@@ -63,7 +63,7 @@ class VoxelGrid {
   // materials) into a `resolution`^3 grid over the scene's bounds padded by
   // one voxel. Resolution 1..1024.
   // Each primitive is drawn from its coarsest proxy level within half a
-  // voxel (scene/proxy_levels.h), or in full with `full_detail`.
+  // voxel (scene/proxies/proxy_levels.h), or in full with `full_detail`.
   static VoxelGrid Build(const SceneState& state, int resolution, bool full_detail = false);
 
   // Voxelizes only what moved (materials unchanged): `moved` is a world box

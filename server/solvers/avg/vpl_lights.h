@@ -11,7 +11,7 @@
 #include <glm/glm.hpp>
 
 #include "render/area_lights.h"
-#include "scene/scene_state.h"
+#include "scene/state/scene_state.h"
 
 namespace gistream::avg {
 

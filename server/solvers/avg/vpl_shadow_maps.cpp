@@ -135,7 +135,7 @@ void VplShadowMaps::RenderFromCubes(const GpuScene& gpu, const SceneState& state
     // else the faces that may see it (the draw's tag) and the coarsest
     // copy within a face texel at its nearest distance
     // (render/proxy_filters.h); one indirect draw list for the batch, a
-    // view per VPL (scene/draw_list.h).
+    // view per VPL (scene/gpu/draw_list.h).
     list_.Clear();
     for (int j = 0; j < n; ++j) {
       const Vpl& vpl = cpu_vpls_[size_t(b + j)];

@@ -12,8 +12,8 @@
 #include "gl/handle.h"
 #include "avg/bindings.glsl"  // shaders/: the slots its passes declare
 #include "gl/program.h"
-#include "scene/draw_list.h"
-#include "scene/gpu_scene.h"
+#include "scene/gpu/draw_list.h"
+#include "scene/gpu/gpu_scene.h"
 #include "solvers/avg/vpl_tracer.h"
 
 namespace gistream::avg {

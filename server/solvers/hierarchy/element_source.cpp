@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "scene/proxy_levels.h"
+#include "scene/proxies/proxy_levels.h"
 
 namespace gistream::hierarchy {
 namespace {

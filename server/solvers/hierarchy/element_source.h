@@ -1,5 +1,5 @@
 // The mesh the element hierarchy is made of (issue 19): a primitive with
-// proxy levels (scene/proxy_levels.h) gives its elements from the coarsest
+// proxy levels (scene/proxies/proxy_levels.h) gives its elements from the coarsest
 // level whose recorded error is within kProxyErrorFraction of the element
 // target size (the subdivision limit, hierarchy/subdivide.h), and that
 // level is then subdivided as a full mesh would be. Dong et al. 2007 and
@@ -12,7 +12,7 @@
 namespace gistream::hierarchy {
 
 // Primitives with fewer triangles keep their full mesh (as the cluster
-// trees start above 4,096, scene/proxy_clusters.h): the white furnace's
+// trees start above 4,096, scene/proxies/proxy_clusters.h): the white furnace's
 // cube (3,072 triangles) lost 5.6 % of its energy at albedo 0.99 with
 // implicit_visibility's elements made from its 48-triangle level, whose
 // faces meet in T-junctions along the cube's edges (EverySolver/Furnace

@@ -12,7 +12,7 @@
 
 #include <glm/glm.hpp>
 
-#include "scene/gpu_scene.h"
+#include "scene/gpu/gpu_scene.h"
 #include "scene/scene.h"
 
 namespace gistream::hierarchy {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <limits>
 
-#include "scene/surface_distance.h"
+#include "scene/proxies/surface_distance.h"
 #include "util/parallel_for.h"
 
 namespace gistream::hierarchy {

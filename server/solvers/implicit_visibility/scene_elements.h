@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "gl/stage_timer.h"
-#include "scene/gpu_scene.h"
+#include "scene/gpu/gpu_scene.h"
 #include "solvers/hierarchy/elements.h"
 #include "solvers/hierarchy/subdivide.h"
 

@@ -15,7 +15,7 @@
 
 #include <glm/glm.hpp>
 
-#include "scene/scene_state.h"
+#include "scene/state/scene_state.h"
 #include "solvers/shading/env_light.h"
 #include "solvers/shading/ggx.h"
 #include "solvers/shading/sampling.h"

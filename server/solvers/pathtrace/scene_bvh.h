@@ -17,7 +17,7 @@
 #include <embree3/rtcore.h>
 #include <glm/glm.hpp>
 
-#include "scene/scene_state.h"
+#include "scene/state/scene_state.h"
 #include "solvers/pathtrace/refit_quality.h"
 #include "util/status.h"
 

@@ -6,7 +6,7 @@
 // the node (render/proxy_filters: CubeFilters); `full_detail` draws the
 // full meshes into every face, as before proxies.
 //
-// Submission (issue 19): one indirect draw list (scene/draw_list.h) per
+// Submission (issue 19): one indirect draw list (scene/gpu/draw_list.h) per
 // pass, a view per probe with a record per face that may see each node,
 // its draws grouped by the textures they sample; each probe costs one
 // glMultiDrawElementsIndirect per texture set, and the node instances of a
@@ -20,8 +20,8 @@
 
 #include "gl/handle.h"
 #include "gl/program.h"
-#include "scene/draw_list.h"
-#include "scene/gpu_scene.h"
+#include "scene/gpu/draw_list.h"
+#include "scene/gpu/gpu_scene.h"
 #include "solvers/sh_probes/probe_grid.h"
 
 namespace gistream {

@@ -1,0 +1,180 @@
+#include <map>
+#include <utility>
+#include <string>
+
+#include "scene/gltf/gltf_stages.h"
+#include "scene/gltf/gltf_util.h"
+#include "scene/gltf/image_decode.h"
+#include "scene/magnitude_limits.h"
+#include "scene/gltf/scene_files.h"
+#include "util/log.h"
+
+namespace gistream::gltf {
+namespace {
+
+// Decodes each image at most once, in the order materials first use them.
+class ImageLoader {
+ public:
+  ImageLoader(const tinygltf::Model& model, const ImportOptions& options, uint64_t* budget,
+              std::vector<Image>* images)
+      : model_(model), options_(options), budget_(budget), images_(images) {}
+
+  // Scene image index for the texture `info` names; -1 when none. `srgb`:
+  // colour (sRGB-encoded) or data (linear, e.g. metallic-roughness); an image
+  // used both ways is decoded once per way.
+  absl::StatusOr<int> Texture(const tinygltf::TextureInfo& info, const std::string& field,
+                              bool srgb = true) {
+    if (info.index == -1) return -1;
+    GS_RETURN_IF_ERROR(
+        CheckIndex(field + ".index", info.index, model_.textures.size(), "textures"));
+    if (info.texCoord != 0) {
+      return absl::InvalidArgumentError(
+          absl::StrCat(field, ".texCoord: ", info.texCoord, " is not supported (only TEXCOORD_0)"));
+    }
+    if (info.extensions.count("KHR_texture_transform") != 0) {
+      LogOnce(LogLevel::kWarning, "gltf-texture-transform",
+              field + ": KHR_texture_transform is ignored");
+    }
+    const int source = model_.textures[size_t(info.index)].source;
+    const auto known = decoded_.find({source, srgb});
+    if (known != decoded_.end()) return known->second;
+    GS_ASSIGN_OR_RETURN(Image image, Decode(source));
+    image.srgb = srgb;
+    const int index = static_cast<int>(images_->size());
+    images_->push_back(std::move(image));
+    decoded_[{source, srgb}] = index;
+    return index;
+  }
+
+ private:
+  absl::StatusOr<Image> Decode(int source) {
+    const tinygltf::Image& in = model_.images[size_t(source)];
+    const std::string field = Item("images", source);
+    std::vector<uint8_t> file;
+    std::span<const uint8_t> bytes;
+    if (in.bufferView >= 0) {
+      GS_RETURN_IF_ERROR(CheckIndex(field + ".bufferView", in.bufferView, model_.bufferViews.size(),
+                                    "bufferViews"));
+      // ValidateBufferViews has checked the view against its buffer.
+      const tinygltf::BufferView& view = model_.bufferViews[size_t(in.bufferView)];
+      bytes = std::span<const uint8_t>(model_.buffers[size_t(view.buffer)].data)
+                  .subspan(view.byteOffset, view.byteLength);
+    } else if (!in.uri.empty()) {
+      GS_ASSIGN_OR_RETURN(const std::filesystem::path path,
+                          ResolveSceneUri(options_.base_dir, in.uri, field + ".uri"));
+      GS_ASSIGN_OR_RETURN(file, ReadFileLimited(path, *budget_, field + ".uri"));
+      *budget_ -= file.size();
+      if (options_.memory != nullptr) {
+        GS_RETURN_IF_ERROR(options_.memory->Reserve(
+            file.size(), absl::StrCat(field, ".uri: ", file.size(), " bytes read")));
+      }
+      bytes = file;
+    } else {
+      bytes = in.image;  // a data: URI, decoded by tinygltf
+    }
+    GS_ASSIGN_OR_RETURN(Image image, DecodeImage(bytes, ImageKind::kTexture, options_.limits, field,
+                                                 options_.memory));
+    image.name = in.name;
+    const uint64_t pixels = uint64_t(image.width) * uint64_t(image.height);
+    if (pixels > options_.limits.max_total_image_pixels - total_pixels_) {
+      return absl::ResourceExhaustedError(
+          absl::StrCat(field, ": decoded images exceed the limit of ",
+                       options_.limits.max_total_image_pixels, " pixels per scene"));
+    }
+    total_pixels_ += pixels;
+    return image;
+  }
+
+  const tinygltf::Model& model_;
+  const ImportOptions& options_;
+  uint64_t* budget_;
+  std::vector<Image>* images_;
+  std::map<std::pair<int, bool>, int> decoded_;  // (glTF image, srgb) -> scene image
+  uint64_t total_pixels_ = 0;
+};
+
+absl::StatusOr<float> EmissiveStrength(const tinygltf::Material& in, const std::string& field) {
+  const auto ext = in.extensions.find("KHR_materials_emissive_strength");
+  if (ext == in.extensions.end()) return 1.0f;
+  const std::string strength_field =
+      field + ".extensions.KHR_materials_emissive_strength.emissiveStrength";
+  if (!ext->second.IsObject()) return absl::InvalidArgumentError(strength_field + ": missing");
+  const tinygltf::Value& value = ext->second.Get("emissiveStrength");
+  if (!value.IsNumber()) {
+    if (!ext->second.Has("emissiveStrength")) return 1.0f;  // the extension's default
+    return absl::InvalidArgumentError(strength_field + ": not a number");
+  }
+  const double strength = value.GetNumberAsDouble();
+  GS_RETURN_IF_ERROR(CheckNumber(strength_field, strength, 0.0, kMaxRadiance));
+  return static_cast<float>(strength);
+}
+
+absl::StatusOr<Material> ReadMaterial(const tinygltf::Material& in, const std::string& field,
+                                      ImageLoader* images) {
+  Material out;
+  out.name = in.name;
+  const tinygltf::PbrMetallicRoughness& pbr = in.pbrMetallicRoughness;
+  const std::string pbr_field = field + ".pbrMetallicRoughness";
+  if (pbr.baseColorFactor.size() != 4) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        pbr_field, ".baseColorFactor: ", pbr.baseColorFactor.size(), " values, expected 4"));
+  }
+  // Albedo above 1 would create energy.
+  GS_RETURN_IF_ERROR(CheckRange(pbr_field + ".baseColorFactor", pbr.baseColorFactor, 0.0, 1.0));
+  out.base_color_factor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1],
+                                    pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
+  GS_ASSIGN_OR_RETURN(out.base_color_texture,
+                      images->Texture(pbr.baseColorTexture, pbr_field + ".baseColorTexture"));
+  GS_RETURN_IF_ERROR(CheckNumber(pbr_field + ".metallicFactor", pbr.metallicFactor, 0.0, 1.0));
+  GS_RETURN_IF_ERROR(CheckNumber(pbr_field + ".roughnessFactor", pbr.roughnessFactor, 0.0, 1.0));
+  out.metallic_factor = static_cast<float>(pbr.metallicFactor);
+  out.roughness_factor = static_cast<float>(pbr.roughnessFactor);
+  GS_ASSIGN_OR_RETURN(out.metallic_roughness_texture,
+                      images->Texture(pbr.metallicRoughnessTexture,
+                                      pbr_field + ".metallicRoughnessTexture", /*srgb=*/false));
+  if (ClassifyDielectricSpecular(in) == DielectricSpecular::kNone) {
+    // KHR_materials_specular without a specular layer on a non-metal
+    // (exporters write diffuse walls so, with ior 1): Lambertian, which the
+    // BRDF is exactly at metallic 0 and roughness 1 (brdf.glsl); the
+    // texture's roughness would take that away, its metallic is 0 anyway.
+    out.roughness_factor = 1.0f;
+    out.metallic_roughness_texture = -1;
+  }
+
+  if (!in.emissiveFactor.empty()) {
+    if (in.emissiveFactor.size() != 3) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          field, ".emissiveFactor: ", in.emissiveFactor.size(), " values, expected 3"));
+    }
+    GS_RETURN_IF_ERROR(CheckRange(field + ".emissiveFactor", in.emissiveFactor, 0.0, 1.0));
+    out.emissive_factor =
+        glm::vec3(in.emissiveFactor[0], in.emissiveFactor[1], in.emissiveFactor[2]);
+  }
+  GS_ASSIGN_OR_RETURN(out.emissive_strength, EmissiveStrength(in, field));
+  GS_ASSIGN_OR_RETURN(out.emissive_texture,
+                      images->Texture(in.emissiveTexture, field + ".emissiveTexture"));
+  out.double_sided = in.doubleSided;
+  return out;
+}
+
+}  // namespace
+
+absl::Status ImportMaterials(const tinygltf::Model& model, const ImportOptions& options,
+                             uint64_t* budget, Scene* scene) {
+  // Every texture must name an image, used or not.
+  for (size_t t = 0; t < model.textures.size(); ++t) {
+    const int source = model.textures[t].source;
+    const std::string field = Item("textures", t) + ".source";
+    if (source == -1) return absl::InvalidArgumentError(field + ": missing (no image)");
+    GS_RETURN_IF_ERROR(CheckIndex(field, source, model.images.size(), "images"));
+  }
+  ImageLoader images(model, options, budget, &scene->images);
+  for (size_t m = 0; m < model.materials.size(); ++m) {
+    GS_ASSIGN_OR_RETURN(Material material,
+                        ReadMaterial(model.materials[m], Item("materials", m), &images));
+    scene->materials.push_back(std::move(material));
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace gistream::gltf
