@@ -143,12 +143,12 @@ class PromiseSink final : public FrameSink {
 
  private:
   void Set(absl::StatusOr<EncodedFrame> value) {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     if (done_) return;
     done_ = true;
     promise_.set_value(std::move(value));
   }
-  absl::Mutex mutex_;
+  Mutex mutex_;
   bool done_ ABSL_GUARDED_BY(mutex_) = false;
   std::promise<absl::StatusOr<EncodedFrame>> promise_;
 };
@@ -202,7 +202,7 @@ EngineImpl::~EngineImpl() { Shutdown(); }
 void EngineImpl::BeginDrain(std::chrono::milliseconds deadline) {
   std::vector<std::shared_ptr<SessionRecord>> sessions;
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     if (shut_down_ || draining_) return;
     draining_ = true;
     for (auto& [id, s] : sessions_) {
@@ -217,7 +217,7 @@ void EngineImpl::BeginDrain(std::chrono::milliseconds deadline) {
 void EngineImpl::Shutdown() {
   std::vector<std::shared_ptr<SessionRecord>> sessions;
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     if (shut_down_) return;
     shut_down_ = true;
     for (auto& [id, s] : sessions_) {
@@ -241,14 +241,14 @@ void EngineImpl::Shutdown() {
     glFinish();
   });
   for (auto& s : sessions) s->sink->OnSessionFailed(Unavailable());
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(mutex_);
   sessions_.clear();
   scenes_.clear();
 }
 
 EngineStats EngineImpl::stats() const {
   const auto now = FrameRate::Clock::now();
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(mutex_);
   EngineStats out;
   for (const auto& [id, s] : sessions_) {
     if (s->transient) continue;
@@ -407,7 +407,7 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
       },
       Unavailable());
   if (!info.ok()) {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     scenes_.erase(record->id);
     return info;
   }
@@ -419,7 +419,7 @@ absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
 EngineImpl::NameClaim::~NameClaim() {
   if (!leading_) return;
   {
-    absl::MutexLock lock(&engine_.mutex_);
+    MutexLock lock(engine_.mutex_);
     engine_.loading_.erase(key_);
   }
   leading_->set_value();
@@ -430,7 +430,7 @@ absl::StatusOr<std::optional<SceneInfo>> EngineImpl::JoinNamedLoad(const SceneSo
   std::shared_ptr<SceneRecord> existing;
   std::shared_future<void> other_load;
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     if (shut_down_) return Unavailable();
     if (draining_) return Draining();
     for (auto& [id, record] : scenes_) {
@@ -476,7 +476,7 @@ absl::StatusOr<std::optional<SceneInfo>> EngineImpl::JoinNamedLoad(const SceneSo
 
 absl::Status EngineImpl::RegisterScene(const SceneSource& source,
                                        const std::shared_ptr<SceneRecord>& record) {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(mutex_);
   if (shut_down_) return Unavailable();
   if (draining_) return Draining();
   if (gpu_lost_) return GpuLost();
@@ -495,7 +495,7 @@ absl::StatusOr<SceneInfo> EngineImpl::UploadScene(const SceneRecord& record,
   {
     // An UnloadScene of this id (listed by stats() while it loads) may
     // have come first: its GPU copy would then never be freed.
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     if (scenes_.count(record.id) == 0) {
       return absl::AbortedError(
           absl::StrCat("scene_id: '", Echo(record.id), "' was unloaded while it loaded"));
@@ -518,7 +518,7 @@ absl::StatusOr<SceneInfo> EngineImpl::UploadScene(const SceneRecord& record,
 }
 
 absl::Status EngineImpl::UnloadScene(const SceneId& id, const TenantId& tenant) {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(mutex_);
   if (shut_down_) return Unavailable();
   GS_ASSIGN_OR_RETURN(std::shared_ptr<SceneRecord> scene, FindSceneLocked(tenant, id));
   if (scene->loads == 0) {
@@ -642,7 +642,7 @@ absl::StatusOr<std::shared_ptr<EngineImpl::SessionRecord>> EngineImpl::CreateSes
   session->sink = std::move(sink);
   session->transient = transient;
 
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(mutex_);
   if (shut_down_) return Unavailable();
   if (draining_ && !transient) return Draining();
   if (gpu_lost_) return GpuLost();
@@ -704,7 +704,7 @@ absl::StatusOr<SessionOpenInfo> EngineImpl::OpenSession(const SessionConfig& con
 }
 
 absl::Status EngineImpl::PushUpdate(const SessionId& id, Update update) {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(mutex_);
   if (shut_down_) return Unavailable();
   auto it = sessions_.find(id);
   if (it == sessions_.end())
@@ -723,7 +723,7 @@ absl::Status EngineImpl::PushUpdate(const SessionId& id, Update update) {
 
 absl::Status EngineImpl::RequestFrames(const SessionId& id, uint32_t count) {
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     if (shut_down_) return Unavailable();
     auto it = sessions_.find(id);
     if (it == sessions_.end()) {
@@ -738,7 +738,7 @@ absl::Status EngineImpl::RequestFrames(const SessionId& id, uint32_t count) {
 
 absl::Status EngineImpl::RequestKeyFrame(const SessionId& id) {
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     if (shut_down_) return Unavailable();
     auto it = sessions_.find(id);
     if (it == sessions_.end()) {
@@ -754,7 +754,7 @@ absl::Status EngineImpl::RequestKeyFrame(const SessionId& id) {
 void EngineImpl::CloseSession(const SessionId& id) {
   std::shared_ptr<SessionRecord> session;
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     auto it = sessions_.find(id);
     if (it == sessions_.end()) return;
     session = it->second;
@@ -786,7 +786,7 @@ void EngineImpl::ReleaseSessionGpu(const SessionId& id, const SceneId& scene,
     return;
   }
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     for (const auto& [sid, s] : sessions_) {
       if (s->scene->id == scene && s->solver_key == solver_key) return;  // still used
     }
@@ -853,7 +853,7 @@ Clock::time_point EngineImpl::Tick() {
   // first: every due session gets one frame per round.
   std::vector<std::shared_ptr<SessionRecord>> order;
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     auto start = sessions_.upper_bound(last_served_);
     for (auto it = start; it != sessions_.end(); ++it) order.push_back(it->second);
     for (auto it = sessions_.begin(); it != start; ++it) order.push_back(it->second);
@@ -863,7 +863,7 @@ Clock::time_point EngineImpl::Tick() {
     ViewRecord& view = views_[session->id];
     bool due = false;
     {
-      absl::MutexLock lock(&mutex_);
+      MutexLock lock(mutex_);
       if (session->closed) continue;
       if (session->config.pacing == Pacing::kOnRequest) {
         // A frame waiting on a background job is polled, not spun on.
@@ -906,7 +906,7 @@ Clock::time_point EngineImpl::Tick() {
                                   std::chrono::duration<double>(1.0 / double(fps)));
       next = std::min(next, view.next_due);
     } else {
-      absl::MutexLock lock(&mutex_);
+      MutexLock lock(mutex_);
       if (session->requested > 0) next = std::min(next, std::max(view.poll_at, Clock::now()));
     }
   }
@@ -963,7 +963,7 @@ void EngineImpl::ExpireIdle() {
   std::vector<std::shared_ptr<SessionRecord>> expired;
   std::vector<SceneId> freed;
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     if (shut_down_) return;
     for (const auto& [id, s] : sessions_) {
       if (s->config.pacing == Pacing::kContinuous) {
@@ -1053,7 +1053,7 @@ void EngineImpl::SendKeepAlive(SessionRecord& session, ViewRecord& view,
   SetSinceChangeStats(view, now, frame->stats);
   keep_alives_at_rest_.fetch_add(1);
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     session.frames += 1;  // reaches the client: not idle (ExpireIdle)
   }
   view.encoder.MarkSent(*frame, now);
@@ -1065,7 +1065,7 @@ void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
   const ScopedLogContext log_context({session.id, session.scene->id});
   std::deque<Update> updates;
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     updates.swap(session.pending);
   }
   absl::StatusOr<std::shared_ptr<EncodedFrame>> frame =
@@ -1073,20 +1073,20 @@ void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
   if (CheckGpuReset()) return;  // the session failed with every other one
   if (frame.ok() && *frame == nullptr) {
     // A slice of a frame still in progress: the session stays due.
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     session.requested += 1;
     return;
   }
   if (!frame.ok()) {
     Log(LogLevel::kError, absl::StrCat("frame failed: ", frame.status().ToString()));
     session.sink->OnSessionFailed(frame.status());
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     session.closed = true;
     return;
   }
   frames_rendered_.fetch_add(1);
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     session.frames += 1;
     session.last_seq = (*frame)->last_update_seq;
     session.width = (*frame)->width;
@@ -1241,7 +1241,7 @@ absl::Status EngineImpl::EncodeFrame(SessionRecord& session, ViewRecord& view,
   // says `unchanged`), unless a key frame was asked for.
   bool key_frame = false;
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     key_frame = std::exchange(session.key_frame_requested, false);
   }
   const std::span<const uint8_t> bytes =
@@ -1479,7 +1479,7 @@ void EngineImpl::EvictIdleSolvers(GpuSceneRecord& scene, const SceneRecord* owne
   if (scene.solvers.size() <= options_.max_solvers_per_scene) return;
   std::set<std::string> live{keep};
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     for (const auto& [id, s] : sessions_) {
       if (s->scene.get() == owner) live.insert(s->solver_key);
     }
@@ -1520,7 +1520,7 @@ bool EngineImpl::CheckGpuReset() {
                                      "): failing all sessions, recreating the context"));
   std::vector<std::shared_ptr<SessionRecord>> sessions;
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     for (auto& [id, s] : sessions_) {
       if (!s->closed) sessions.push_back(s);
       s->closed = true;
@@ -1580,14 +1580,14 @@ absl::Status EngineImpl::RecoverFromGpuReset() {
 }
 
 void EngineImpl::SetServingListener(std::function<void(bool serving)> listener) {
-  absl::MutexLock lock(&mutex_);
+  MutexLock lock(mutex_);
   serving_listener_ = std::move(listener);
 }
 
 void EngineImpl::NotifyServing(bool serving) {
   std::function<void(bool)> listener;
   {
-    absl::MutexLock lock(&mutex_);
+    MutexLock lock(mutex_);
     listener = serving_listener_;
   }
   if (listener) listener(serving);

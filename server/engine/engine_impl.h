@@ -17,7 +17,6 @@
 #include <unordered_map>
 
 #include "absl/base/thread_annotations.h"
-#include "absl/synchronization/mutex.h"
 #include "gl/memory_info.h"
 #include "gl/stage_timer.h"
 #include "render/camera.h"
@@ -34,6 +33,7 @@
 #include "solvers/solver.h"
 #include "util/heap_trim.h"
 #include "util/memory_accounts.h"
+#include "util/mutex.h"
 #include "util/thread_role.h"
 
 namespace gistream {
@@ -74,7 +74,7 @@ class EngineImpl final : public Engine {
   // Guards the scene and session maps, and the record fields marked
   // `mutex-guarded` below (fields of nested records, which the analysis
   // cannot tie to this mutex).
-  mutable absl::Mutex mutex_;
+  mutable Mutex mutex_;
   // The render thread, which owns the GL context and every field below
   // marked ABSL_GUARDED_BY(render_role_).
   ThreadRole render_role_{"render thread"};

@@ -2,7 +2,7 @@
 // -Werror: once as written (must compile) and once with -DVIOLATE (must
 // fail), so the annotations the engine relies on are proved to be checked.
 #include "absl/base/thread_annotations.h"
-#include "absl/synchronization/mutex.h"
+#include "util/mutex.h"
 #include "util/thread_role.h"
 
 namespace {
@@ -10,7 +10,7 @@ namespace {
 class Engine {
  public:
   void FromAnyThread() ABSL_LOCKS_EXCLUDED(mutex_) {
-    absl::MutexLock lock(&mutex_);
+    gistream::MutexLock lock(mutex_);
     ++sessions_;
   }
   void PostedJob() {
@@ -29,7 +29,7 @@ class Engine {
  private:
   void DrawOnRenderThread() ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_) { ++frames_; }
 
-  absl::Mutex mutex_;
+  gistream::Mutex mutex_;
   gistream::ThreadRole render_role_{"render thread"};
   int sessions_ ABSL_GUARDED_BY(mutex_) = 0;
   int frames_ ABSL_GUARDED_BY(render_role_) = 0;
