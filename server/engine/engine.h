@@ -366,6 +366,10 @@ struct EngineStats {
   // EngineOptions::max_render_busy (0: off).
   double render_busy_ratio = 0.0;
   uint32_t active_sessions = 0;
+  // Fair share (issue 30, item 3): times a due frame waited because its
+  // tenant had used more render time than another tenant with a frame due.
+  // Grows only while the render thread is saturated by several tenants.
+  uint64_t fair_share_deferrals = 0;
   double max_render_busy = 0.0;
   bool draining = false;  // BeginDrain: every session is told to move
 };

@@ -11,6 +11,7 @@
 #include <future>
 #include <iterator>
 #include <random>
+#include <limits>
 #include <set>
 #include <thread>
 #include <utility>
@@ -38,6 +39,11 @@ using Clock = RenderThread::Clock;
 constexpr double kMaxFrameBudgetMs = 10'000.0;
 // How often a frame that waits on a solver's background job polls it.
 constexpr auto kPollInterval = std::chrono::milliseconds(2);
+// Fair share between tenants (EngineImpl::FairShareAhead): how far (ms of
+// render time) a tenant may run ahead of the one that used least before it
+// waits, and how much credit an idle tenant keeps.
+constexpr double kFairSliceMs = 30.0;
+constexpr double kFairWindowMs = 200.0;
 
 absl::Status Unavailable() { return absl::UnavailableError("server is shutting down"); }
 absl::Status Draining() {
@@ -274,6 +280,7 @@ EngineStats EngineImpl::stats() const {
   out.scenes = uint32_t(scenes_.size());
   out.frames_rendered = frames_rendered_.load();
   out.keep_alives_at_rest = keep_alives_at_rest_.load();
+  out.fair_share_deferrals = fair_share_deferrals_.load();
   for (const auto& [id, s] : scenes_) {
     out.scene_ids.push_back(id);
     out.scene_tenants.push_back(s->tenant);
@@ -859,7 +866,15 @@ Clock::time_point EngineImpl::Tick() {
     for (auto it = sessions_.begin(); it != start; ++it) order.push_back(it->second);
   }
   Clock::time_point next = Clock::time_point::max();
+  const std::vector<TenantId> wanting = FairShareWanting(order, Clock::now());
   for (const auto& session : order) {
+    // Fair share: a tenant more than a slice of render time ahead of the
+    // tenant that used least (among those with a frame due) waits.
+    if (FairShareAhead(session->scene->tenant, wanting)) {
+      fair_share_deferrals_.fetch_add(1, std::memory_order_relaxed);
+      next = std::min(next, Clock::now() + std::chrono::milliseconds(1));
+      continue;
+    }
     ViewRecord& view = views_[session->id];
     bool due = false;
     {
@@ -899,6 +914,8 @@ Clock::time_point EngineImpl::Tick() {
     const uint64_t resets = gpu_resets_;
     RenderFrame(*session, view);
     last_served_ = session->id;
+    tenant_render_ms_[session->scene->tenant] +=
+        std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     // A GPU reset during the frame dropped every view (`view` too).
     if (gpu_resets_ != resets) return Clock::now();
     if (session->config.pacing == Pacing::kContinuous) {
@@ -918,6 +935,42 @@ Clock::time_point EngineImpl::Tick() {
   if (!retiring_.empty()) next = std::min(next, Clock::now() + std::chrono::milliseconds(50));
   next = std::min(next, heap_trimmer_.due());
   return next;
+}
+
+std::vector<TenantId> EngineImpl::FairShareWanting(
+    const std::vector<std::shared_ptr<SessionRecord>>& order, Clock::time_point now) {
+  std::set<TenantId> present, wanting;
+  {
+    MutexLock lock(mutex_);
+    for (const auto& session : order) {
+      present.insert(session->scene->tenant);
+      if (session->closed) continue;
+      const auto view = views_.find(session->id);
+      bool wants = view == views_.end();  // its first frame
+      if (!wants && session->config.pacing == Pacing::kOnRequest) {
+        wants = session->requested > 0 && now >= view->second.poll_at;
+      } else if (!wants) {
+        wants = now >= view->second.next_due &&
+                (!view->second.rest || !session->pending.empty() || session->key_frame_requested);
+      }
+      if (wants) wanting.insert(session->scene->tenant);
+    }
+  }
+  std::erase_if(tenant_render_ms_, [&](const auto& t) { return present.count(t.first) == 0; });
+  // A tenant that was idle (or is new) banks no more than kFairWindowMs of
+  // credit: it cannot then hold the thread for longer than that.
+  double lead = 0.0;
+  for (const TenantId& t : wanting) lead = std::max(lead, tenant_render_ms_[t]);
+  for (const TenantId& t : wanting) {
+    tenant_render_ms_[t] = std::max(tenant_render_ms_[t], lead - kFairWindowMs);
+  }
+  return {wanting.begin(), wanting.end()};
+}
+
+bool EngineImpl::FairShareAhead(const TenantId& tenant, const std::vector<TenantId>& wanting) {
+  double floor = std::numeric_limits<double>::infinity();
+  for (const TenantId& t : wanting) floor = std::min(floor, tenant_render_ms_[t]);
+  return tenant_render_ms_[tenant] > floor + kFairSliceMs;
 }
 
 void EngineImpl::Retire(std::unique_ptr<Solver> solver) {

@@ -267,6 +267,24 @@ class EngineImpl final : public Engine {
   // Checks `tenant`'s scene quotas for one more scene of `upload_bytes`.
   absl::Status CheckSceneQuotaLocked(const TenantId& tenant, uint64_t upload_bytes) const
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
+  // Fair share of the render thread between tenants (issue 30, item 3):
+  // each tenant's render time so far is in tenant_render_ms_. A session
+  // whose tenant is more than kFairSliceMs ahead of the least render time
+  // among the tenants with a frame due (FairShareWanting, at the start of
+  // each Tick) waits (FairShareAhead), so a saturated thread is shared per
+  // tenant, not per session: a tenant with four streams gets what one with
+  // one gets. Work-conserving: a tenant alone, or the one furthest behind,
+  // never waits. Sessions within a tenant keep Tick's round robin.
+  // FairShareWanting also forgets tenants with no session and limits an
+  // idle tenant's credit to kFairWindowMs.
+  std::vector<TenantId> FairShareWanting(const std::vector<std::shared_ptr<SessionRecord>>& order,
+                                         RenderThread::Clock::time_point now)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_) ABSL_LOCKS_EXCLUDED(mutex_);
+  bool FairShareAhead(const TenantId& tenant, const std::vector<TenantId>& wanting)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
+  std::unordered_map<TenantId, double> tenant_render_ms_ ABSL_GUARDED_BY(render_role_);
+  std::atomic<uint64_t> fair_share_deferrals_{0};
+
   // Ends sessions and frees scenes idle for options_.idle_timeout. Render thread.
   void ExpireIdle() ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_) ABSL_LOCKS_EXCLUDED(mutex_);
 

@@ -147,6 +147,11 @@ struct Metrics::Impl {
                          "Admission limit on gistream_render_busy_ratio (--max-render-busy; "
                          "0: off)",
                          MetricType::Gauge, stats.max_render_busy));
+    out.push_back(Family("gistream_fair_share_deferrals_total",
+                         "Times a due frame waited because its tenant had used more render "
+                         "time than another tenant with a frame due (the render thread is "
+                         "saturated and shared between tenants)",
+                         MetricType::Counter, double(stats.fair_share_deferrals)));
     out.push_back(Family("gistream_active_sessions",
                          "Open sessions that cost render time now (not at rest)", MetricType::Gauge,
                          stats.active_sessions));
