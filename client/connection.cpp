@@ -9,6 +9,7 @@
 #include <grpcpp/support/client_interceptor.h>
 
 #include <absl/strings/cord.h>
+#include <absl/strings/match.h>
 #include <absl/strings/str_cat.h>
 
 namespace gistream::client {
@@ -60,6 +61,14 @@ std::shared_ptr<grpc::ChannelCredentials> Credentials(const ConnectionOptions& o
 }
 }  // namespace
 
+bool IsTransportRefusal(absl::StatusCode code, absl::string_view message) {
+  // HTTP/2 error code 11 is ENHANCE_YOUR_CALM: what gRPC's resource quota
+  // answers (RST_STREAM) when a call would pass the server's
+  // --max-transport-bytes.
+  return code == absl::StatusCode::kResourceExhausted &&
+         absl::StrContains(message, "RST_STREAM with error code 11");
+}
+
 absl::Status FromGrpc(const grpc::Status& status, absl::string_view server) {
   if (status.ok()) return absl::OkStatus();
   const auto code = static_cast<absl::StatusCode>(status.error_code());
@@ -67,8 +76,24 @@ absl::Status FromGrpc(const grpc::Status& status, absl::string_view server) {
   if (code == absl::StatusCode::kUnavailable || code == absl::StatusCode::kDeadlineExceeded) {
     message = absl::StrCat("gistreamd at ", server, ": ", message);
   }
+  if (IsTransportRefusal(code, message)) {
+    // gRPC's own words name neither the cause nor the flag.
+    message = absl::StrCat("gistreamd at ", server,
+                           " refused the call before reading it (HTTP/2 ENHANCE_YOUR_CALM): the "
+                           "requests it is receiving fill its transport memory "
+                           "(--max-transport-bytes); retry in a few seconds or use another server "
+                           "[",
+                           message, "]");
+  }
   absl::Status result(code, message);
   result.SetPayload(kRpcPayload, absl::Cord("1"));
+  return result;
+}
+
+absl::Status WithPrefix(const absl::Status& status, absl::string_view prefix) {
+  absl::Status result(status.code(), absl::StrCat(prefix, status.message()));
+  status.ForEachPayload(
+      [&](absl::string_view key, const absl::Cord& value) { result.SetPayload(key, value); });
   return result;
 }
 

@@ -18,8 +18,14 @@ namespace gistream::client {
 // server, since they usually mean it is not where the user thinks. The result
 // is marked as coming from the server (IsRpcError), so that main prints its
 // code name: "error: INVALID_ARGUMENT: params.area_samples: ...".
+// A call the server's transport refused unread (its --max-transport-bytes
+// full) is explained as such, naming the flag.
 absl::Status FromGrpc(const grpc::Status& status, absl::string_view server);
+// Whether `code` and gRPC's `message` are that transport refusal.
+bool IsTransportRefusal(absl::StatusCode code, absl::string_view message);
 bool IsRpcError(const absl::Status& status);
+// `status` with `prefix` before its message, its code and marks kept.
+absl::Status WithPrefix(const absl::Status& status, absl::string_view prefix);
 // "CODE: message", without the payloads absl::Status::ToString appends.
 std::string DescribeStatus(const absl::Status& status);
 

@@ -11,6 +11,7 @@
 
 #include "file_io.h"
 #include "util/log.h"
+#include "util/memory_budget.h"
 
 namespace gistream::client {
 namespace {
@@ -132,7 +133,15 @@ absl::StatusOr<std::unique_ptr<LoadedScene>> LoadedScene::Load(Connection& conne
                                                                const v1::LoadSceneRequest& request,
                                                                bool keep) {
   v1::LoadSceneResponse response;
-  GS_RETURN_IF_ERROR(connection.Call(&v1::Gistream::Stub::LoadScene, request, &response));
+  absl::Status loaded = connection.Call(&v1::Gistream::Stub::LoadScene, request, &response);
+  if (!loaded.ok() && loaded.code() == absl::StatusCode::kResourceExhausted &&
+      absl::StrContains(loaded.message(), "ENHANCE_YOUR_CALM")) {
+    // The field that made the request large: the upload.
+    const size_t bytes = request.gltf().size() + request.environment_image().size();
+    return WithPrefix(loaded, absl::StrCat(request.gltf().empty() ? "environment_image" : "gltf",
+                                           ": the ", FormatBytes(bytes), " upload was not read: "));
+  }
+  GS_RETURN_IF_ERROR(loaded);
   return std::unique_ptr<LoadedScene>(new LoadedScene(connection, std::move(response), keep));
 }
 

@@ -157,4 +157,27 @@ wait $PID && rc=0 || rc=$?
 wait $RPID && rrc=0 || rrc=$?
 [ $rrc -ne 0 ] && grep -Eq "UNAVAILABLE|CANCELLED" "$TMP/long.log" ||
   { cat "$TMP/long.log"; echo "FAIL: the long Render got no clean status at shutdown"; exit 1; }
+# An upload the server's transport cannot hold (--max-transport-bytes 1 MB,
+# an 8 MB glTF) is refused unread, and the client says why: the field, the
+# cause and the server's flag (gRPC's own words are only "RST_STREAM with
+# error code 11").
+python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); d["extras"]={"pad":"x"*8000000}; json.dump(d,open(sys.argv[2],"w"))' \
+  "$SCENES/cornell_box_coarse.gltf" "$TMP/big.gltf"
+"$BIN/gistreamd" --listen 127.0.0.1:0 --scenes "$SCENES" --max-transport-bytes 1000000 \
+  >"$TMP/out3.log" 2>"$TMP/err3.log" &
+PID=$!
+for _ in $(seq 1 300); do
+  grep -q "^listening on" "$TMP/out3.log" && break
+  sleep 0.1
+done
+ADDR3=$(sed -n 's/^listening on //p' "$TMP/out3.log")
+[ -n "$ADDR3" ] || { cat "$TMP/err3.log"; echo "FAIL: no 'listening on' line (third server)"; exit 1; }
+if "$BIN/gistream" --server "$ADDR3" render --scene "$TMP/big.gltf" --solver direct --size 16x16 \
+  --out "$TMP/big.png" >"$TMP/big.log" 2>&1; then
+  echo "FAIL: an 8 MB upload passed a 1 MB transport limit"; exit 1
+fi
+grep -q "RESOURCE_EXHAUSTED: gltf: .*--max-transport-bytes" "$TMP/big.log" ||
+  { cat "$TMP/big.log"; echo "FAIL: the transport refusal names neither the field nor the flag"; exit 1; }
+kill -TERM $PID
+wait $PID || true
 echo "smoke test passed"

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "connection.h"
 #include "options.h"
 
 namespace gistream::client {
@@ -198,6 +199,36 @@ TEST(CommandLine, TlsAndTokenOptions) {
   EXPECT_NE(UsageError({"status", "--ca", "/nonexistent/ca.crt"}).find("--ca: cannot read"),
             std::string::npos);
   EXPECT_NE(UsageError({"status", "--cert", ca}).find("--cert and --key"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace gistream::client
+
+namespace gistream::client {
+namespace {
+
+// gRPC's resource quota refuses a call unread with RST_STREAM code 11
+// (ENHANCE_YOUR_CALM) and those words alone: the client names the cause
+// and the server's flag, keeps the code and the mark of a server error.
+TEST(TransportRefusal, IsExplainedNamingTheFlag) {
+  const absl::Status status = FromGrpc(
+      grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, "Received RST_STREAM with error code 11"),
+      "127.0.0.1:50051");
+  EXPECT_EQ(status.code(), absl::StatusCode::kResourceExhausted);
+  EXPECT_TRUE(IsRpcError(status));
+  EXPECT_NE(status.message().find("--max-transport-bytes"), std::string::npos) << status;
+  EXPECT_NE(status.message().find("ENHANCE_YOUR_CALM"), std::string::npos) << status;
+  EXPECT_NE(status.message().find("127.0.0.1:50051"), std::string::npos) << status;
+  // The upload's field in front, the rest kept.
+  const absl::Status named = WithPrefix(status, "gltf: the 8.0 MiB upload was not read: ");
+  EXPECT_TRUE(IsRpcError(named));
+  EXPECT_EQ(named.code(), absl::StatusCode::kResourceExhausted);
+  EXPECT_EQ(named.message().substr(0, 5), "gltf:");
+  // Other RESOURCE_EXHAUSTED answers are left as the server wrote them.
+  const absl::Status quota = FromGrpc(
+      grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, "scenes: the server holds 8 scenes"),
+      "127.0.0.1:50051");
+  EXPECT_EQ(quota.message(), "scenes: the server holds 8 scenes");
 }
 
 }  // namespace

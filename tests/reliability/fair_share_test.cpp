@@ -88,8 +88,8 @@ TEST(FairShare, ATenantWithOneStreamGetsAboutWhatATenantWithFourGets) {
   // Per session (round robin alone) tenant b would get a quarter of tenant
   // a's render time; per tenant about as much. At least 0.6 of it, and
   // tenant a is not starved either (at least 0.6 of b's).
-  std::cout << "render time over 3 s: tenant a (4 streams) " << a_ms << " ms, tenant b (1) "
-            << b_ms << " ms, deferrals " << e.stats().fair_share_deferrals << "\n";
+  std::cout << "render time over 3 s: tenant a (4 streams) " << a_ms << " ms, tenant b (1) " << b_ms
+            << " ms, deferrals " << e.stats().fair_share_deferrals << "\n";
   ASSERT_GT(a_ms + b_ms, 1000.0) << "the render thread was not saturated";
   EXPECT_GE(b_ms, 0.6 * a_ms) << "tenant b's one stream got " << b_ms
                               << " ms of render time, tenant a's four " << a_ms;
