@@ -52,11 +52,12 @@ gl::Texture UploadImage(const Image& image) {
 
 }  // namespace
 
-absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& state) {
-  const Scene& scene = state.scene();
-  // Import bounds images by --max-image-pixels and a per-side limit that
-  // may exceed what this GPU can hold; that is the client's data meeting
-  // this GPU, so a status, not a silently black texture.
+namespace {
+
+// Import bounds images by --max-image-pixels and a per-side limit that may
+// exceed what this GPU can hold; that is the client's data meeting this
+// GPU, so a status, not a silently black texture.
+absl::Status CheckTextureSizes(const Scene& scene) {
   GLint max_size = 0;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
   for (size_t i = 0; i < scene.images.size(); ++i) {
@@ -68,11 +69,45 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
           max_size, " per side)"));
     }
   }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& state) {
+  GS_RETURN_IF_ERROR(CheckTextureSizes(state.scene()));
   // Only this upload's errors below; earlier ones were reported already.
   while (glGetError() != GL_NO_ERROR) {
   }
   auto gpu = std::make_unique<GpuScene>();
+  gpu->UploadGeometry(state);
+  if (!state.deforming_nodes().empty()) {
+    GS_ASSIGN_OR_RETURN(gpu->deform_, GpuDeform::Create(state, gpu->draws_));
+    gpu->gpu_bytes_ += gpu->deform_->gpu_bytes();
+    gpu->deform_->Run(state, gpu->vertices_.id());
+  }
+  gpu->deformed_version_ = state.version();
+  gpu->UploadTextures(state.scene());
+  gpu->materials_ = gl::Buffer::Create();
+  glNamedBufferStorage(gpu->materials_.id(),
+                       GLsizeiptr((state.scene().materials.size() + 1) * sizeof(GpuMaterial)),
+                       nullptr, GL_DYNAMIC_STORAGE_BIT);
+  gpu->UpdateMaterials(state);
+  // Out of GPU memory is RESOURCE_EXHAUSTED for this load (the objects made
+  // so far are freed with `gpu`), not a scene that renders wrong.
+  if (const GLenum error = gl::AllocationError(); error == GL_OUT_OF_MEMORY) {
+    return absl::ResourceExhaustedError(
+        absl::StrCat("scene: the GPU could not hold its ", gpu->gpu_bytes_ >> 20,
+                     " MiB of geometry and textures (GL_OUT_OF_MEMORY)"));
+  } else if (error != GL_NO_ERROR) {
+    return absl::InternalError(
+        absl::StrCat("scene: uploading to the GPU failed with GL error 0x", absl::Hex(error)));
+  }
+  return gpu;
+}
 
+void GpuScene::UploadGeometry(const SceneState& state) {
+  const Scene& scene = state.scene();
   // Geometry: one vertex/index range per primitive, shared by its instances.
   std::vector<Vertex> vertices;
   std::vector<uint32_t> indices;
@@ -92,40 +127,8 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
       ranges[m].push_back(r);
     }
   }
-  // Proxy levels after every full mesh, each drawn with its primitive's
-  // base vertex; (first level, count) per mesh and primitive.
-  std::vector<std::vector<std::pair<int, int>>> level_ranges(scene.meshes.size());
-  for (size_t m = 0; m < scene.meshes.size(); ++m) {
-    for (const Primitive& p : scene.meshes[m].primitives) {
-      level_ranges[m].push_back({int(gpu->levels_.size()), int(p.proxies.size())});
-      for (const ProxyLevel& level : p.proxies) {
-        gpu->levels_.push_back(
-            {uint32_t(indices.size()), uint32_t(level.indices.size()), level.error});
-        indices.insert(indices.end(), level.indices.begin(), level.indices.end());
-      }
-    }
-  }
-  // Cluster trees after the levels: each leaf's full triangles and each
-  // node's copy; (first cluster, count) per mesh and primitive.
-  std::vector<std::vector<std::pair<int, int>>> cluster_ranges(scene.meshes.size());
-  const auto append = [&](const std::vector<uint32_t>& list, float error) {
-    const DrawLevel range{uint32_t(indices.size()), uint32_t(list.size()), error};
-    indices.insert(indices.end(), list.begin(), list.end());
-    return range;
-  };
-  for (size_t m = 0; m < scene.meshes.size(); ++m) {
-    for (const Primitive& p : scene.meshes[m].primitives) {
-      cluster_ranges[m].push_back({int(gpu->clusters_.size()), int(p.clusters.size())});
-      for (const ProxyCluster& c : p.clusters) {
-        DrawCluster& d = gpu->clusters_.emplace_back();
-        d.bounds = c.bounds;
-        d.full = append(c.indices, 0.0f);
-        d.level = append(c.level.indices, c.level.error);
-        d.children[0] = c.children[0];
-        d.children[1] = c.children[1];
-      }
-    }
-  }
+  const auto level_ranges = AppendProxyLevels(scene, indices);
+  const auto cluster_ranges = AppendClusters(scene, indices);
   for (size_t n = 0; n < scene.nodes.size(); ++n) {
     const int mesh = scene.nodes[n].mesh;
     if (mesh < 0) continue;
@@ -138,24 +141,67 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
         vertices.resize(vertices.size() + count);
         std::copy_n(vertices.begin() + r.base_vertex, count, vertices.begin() + base);
       }
-      gpu->draws_.push_back({r.first_index, r.index_count, base, r.base_vertex, count,
-                             scene.meshes[size_t(mesh)].primitives[p].material, int(n), mesh,
-                             int(p)});
-      std::tie(gpu->draws_.back().first_level, gpu->draws_.back().level_count) =
+      draws_.push_back({r.first_index, r.index_count, base, r.base_vertex, count,
+                        scene.meshes[size_t(mesh)].primitives[p].material, int(n), mesh, int(p)});
+      std::tie(draws_.back().first_level, draws_.back().level_count) =
           level_ranges[size_t(mesh)][p];
-      std::tie(gpu->draws_.back().first_cluster, gpu->draws_.back().cluster_count) =
+      std::tie(draws_.back().first_cluster, draws_.back().cluster_count) =
           cluster_ranges[size_t(mesh)][p];
     }
   }
+  vertices_ = gl::StorageBuffer(vertices);
+  indices_ = gl::StorageBuffer(indices);
+  gpu_bytes_ += vertices.size() * sizeof(Vertex) + indices.size() * sizeof(uint32_t);
+  CreateVertexArray();
+}
 
-  gpu->vertices_ = gl::StorageBuffer(vertices);
-  gpu->indices_ = gl::StorageBuffer(indices);
-  gpu->gpu_bytes_ += vertices.size() * sizeof(Vertex) + indices.size() * sizeof(uint32_t);
+GpuScene::MeshRanges GpuScene::AppendProxyLevels(const Scene& scene,
+                                                 std::vector<uint32_t>& indices) {
+  // Proxy levels after every full mesh, each drawn with its primitive's
+  // base vertex; (first level, count) per mesh and primitive.
+  MeshRanges level_ranges(scene.meshes.size());
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    for (const Primitive& p : scene.meshes[m].primitives) {
+      level_ranges[m].push_back({int(levels_.size()), int(p.proxies.size())});
+      for (const ProxyLevel& level : p.proxies) {
+        levels_.push_back({uint32_t(indices.size()), uint32_t(level.indices.size()), level.error});
+        indices.insert(indices.end(), level.indices.begin(), level.indices.end());
+      }
+    }
+  }
+  return level_ranges;
+}
 
-  gpu->vao_ = gl::VertexArray::Create();
-  const GLuint vao = gpu->vao_.id();
-  glVertexArrayVertexBuffer(vao, 0, gpu->vertices_.id(), 0, sizeof(Vertex));
-  glVertexArrayElementBuffer(vao, gpu->indices_.id());
+GpuScene::MeshRanges GpuScene::AppendClusters(const Scene& scene, std::vector<uint32_t>& indices) {
+  // Cluster trees after the levels: each leaf's full triangles and each
+  // node's copy; (first cluster, count) per mesh and primitive.
+  MeshRanges cluster_ranges(scene.meshes.size());
+  const auto append = [&](const std::vector<uint32_t>& list, float error) {
+    const DrawLevel range{uint32_t(indices.size()), uint32_t(list.size()), error};
+    indices.insert(indices.end(), list.begin(), list.end());
+    return range;
+  };
+  for (size_t m = 0; m < scene.meshes.size(); ++m) {
+    for (const Primitive& p : scene.meshes[m].primitives) {
+      cluster_ranges[m].push_back({int(clusters_.size()), int(p.clusters.size())});
+      for (const ProxyCluster& c : p.clusters) {
+        DrawCluster& d = clusters_.emplace_back();
+        d.bounds = c.bounds;
+        d.full = append(c.indices, 0.0f);
+        d.level = append(c.level.indices, c.level.error);
+        d.children[0] = c.children[0];
+        d.children[1] = c.children[1];
+      }
+    }
+  }
+  return cluster_ranges;
+}
+
+void GpuScene::CreateVertexArray() {
+  vao_ = gl::VertexArray::Create();
+  const GLuint vao = vao_.id();
+  glVertexArrayVertexBuffer(vao, 0, vertices_.id(), 0, sizeof(Vertex));
+  glVertexArrayElementBuffer(vao, indices_.id());
   const GLuint offsets[3] = {offsetof(Vertex, position), offsetof(Vertex, normal),
                              offsetof(Vertex, uv)};
   const GLint sizes[3] = {3, 3, 2};
@@ -176,40 +222,18 @@ absl::StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneState& sta
   glVertexArrayAttribIFormat(vao, kDrawTagAttrib, 2, GL_INT, GLuint(sizeof(glm::mat4)));
   glVertexArrayAttribBinding(vao, kDrawTagAttrib, kDrawRecordBufferBinding);
   glVertexArrayBindingDivisor(vao, kDrawRecordBufferBinding, 1);
+}
 
-  if (!state.deforming_nodes().empty()) {
-    GS_ASSIGN_OR_RETURN(gpu->deform_, GpuDeform::Create(state, gpu->draws_));
-    gpu->gpu_bytes_ += gpu->deform_->gpu_bytes();
-    gpu->deform_->Run(state, gpu->vertices_.id());
-  }
-  gpu->deformed_version_ = state.version();
-
+void GpuScene::UploadTextures(const Scene& scene) {
   for (const Image& image : scene.images) {
-    gpu->textures_.push_back(UploadImage(image));
-    gpu->gpu_bytes_ +=
+    textures_.push_back(UploadImage(image));
+    gpu_bytes_ +=
         uint64_t(image.width) * uint64_t(image.height) * (image.is_float ? 16 : 4) * 4 / 3;
   }
   Image white;
   white.width = white.height = 1;
   white.pixels8 = {255, 255, 255, 255};
-  gpu->white_ = UploadImage(white);
-
-  gpu->materials_ = gl::Buffer::Create();
-  glNamedBufferStorage(gpu->materials_.id(),
-                       GLsizeiptr((scene.materials.size() + 1) * sizeof(GpuMaterial)), nullptr,
-                       GL_DYNAMIC_STORAGE_BIT);
-  gpu->UpdateMaterials(state);
-  // Out of GPU memory is RESOURCE_EXHAUSTED for this load (the objects made
-  // so far are freed with `gpu`), not a scene that renders wrong.
-  if (const GLenum error = gl::AllocationError(); error == GL_OUT_OF_MEMORY) {
-    return absl::ResourceExhaustedError(
-        absl::StrCat("scene: the GPU could not hold its ", gpu->gpu_bytes_ >> 20,
-                     " MiB of geometry and textures (GL_OUT_OF_MEMORY)"));
-  } else if (error != GL_NO_ERROR) {
-    return absl::InternalError(
-        absl::StrCat("scene: uploading to the GPU failed with GL error 0x", absl::Hex(error)));
-  }
-  return gpu;
+  white_ = UploadImage(white);
 }
 
 void GpuScene::UpdateMaterials(const SceneState& state) {

@@ -161,6 +161,19 @@ class GpuScene {
   static constexpr GLuint kDrawRecordBufferBinding = 1;
 
  private:
+  // Upload's steps. The vertex and index buffers: every primitive once,
+  // then its proxy levels and cluster trees, a deforming instance's own
+  // vertex copy; one DrawItem per instance and primitive.
+  void UploadGeometry(const SceneState& state);
+  // (first, count) per mesh and primitive.
+  using MeshRanges = std::vector<std::vector<std::pair<int, int>>>;
+  MeshRanges AppendProxyLevels(const Scene& scene, std::vector<uint32_t>& indices);
+  MeshRanges AppendClusters(const Scene& scene, std::vector<uint32_t>& indices);
+  // The vertex layout, and a draw list's per-instance records.
+  void CreateVertexArray();
+  // One texture per scene image, and the 1x1 white fallback.
+  void UploadTextures(const Scene& scene);
+
   gl::VertexArray vao_;
   gl::Buffer vertices_;
   gl::Buffer indices_;
