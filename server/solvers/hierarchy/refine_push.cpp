@@ -35,99 +35,85 @@ std::vector<std::array<int, 4>> BinNeighbours(const CubeBins& bins) {
   return out;
 }
 
-}  // namespace
+// One leaf's links under construction.
+struct Row {
+  std::vector<uint32_t> source;
+  std::vector<float> weight;
+  std::vector<uint16_t> env_bin;
+  std::vector<float> env_weight;
+  uint64_t blocked = 0, empty = 0;
+};
 
-LeafLinks RefinePush(const Elements& elements, const CubeBins& bins, const BinTable& table,
-                     bool environment, RefineStats* stats) {
-  const size_t leaves = size_t(elements.leaf_count());
-  struct Row {
-    std::vector<uint32_t> source;
-    std::vector<float> weight;
-    std::vector<uint16_t> env_bin;
-    std::vector<float> env_weight;
-    uint64_t blocked = 0, empty = 0;
+// What one leaf sees through each of its bins, step by step: the shortest
+// link of each bin pushed down its ancestor chain (PushAlongAncestors),
+// the bins that look at a surface filled from its discs (FillFromDiscs),
+// then the leaf's gather weights (Gather).
+class LeafBins {
+ public:
+  // Per-bin state, reused from leaf to leaf by each thread.
+  struct Scratch {
+    std::vector<uint64_t> best_of;     // the bin's shortest link
+    std::vector<uint32_t> covered_of;  // its coverage, summed over levels
+    std::vector<uint8_t> on_disc;      // its direction meets a linked disc
   };
-  std::vector<Row> rows(leaves);
-  const std::vector<std::array<int, 4>> neighbours = BinNeighbours(bins);
-  ParallelFor(leaves, 32, [&](size_t leaf) {
-    Row& row = rows[leaf];
-    thread_local std::vector<uint64_t> scratch_best;
-    thread_local std::vector<uint32_t> scratch_covered;
-    thread_local std::vector<uint8_t> scratch_on_disc;
-    const glm::vec3 n = elements.normal[leaf];
-    const glm::vec3 p = elements.position[leaf];
-    const float cosine_sum = bins.CosineSum(n);
-    const float norm = cosine_sum > 0.0f ? kPi / cosine_sum : 0.0f;
+
+  LeafBins(const Elements& elements, const CubeBins& bins,
+           const std::vector<std::array<int, 4>>& neighbours, size_t leaf, Scratch& scratch)
+      : elements_(elements),
+        bins_(bins),
+        neighbours_(neighbours),
+        leaf_(leaf),
+        n_(elements.normal[leaf]),
+        p_(elements.position[leaf]),
+        best_of_(scratch.best_of),
+        covered_of_(scratch.covered_of),
+        on_disc_(scratch.on_disc) {
+    best_of_.assign(size_t(bins.count()), BinTable::kEmpty);
+    covered_of_.assign(size_t(bins.count()), 0);
+    on_disc_.assign(size_t(bins.count()), 0);
+  }
+
+  // Refinement: the shortest link of each bin along the ancestor chain
+  // wins; coverage adds up over the levels the links were made at.
+  void PushAlongAncestors(const BinTable& table) {
     int chain[64];
     int depth = 0;
-    for (int node = int(leaf); node >= 0 && depth < 64; node = elements.parent[size_t(node)]) {
+    for (int node = int(leaf_); node >= 0 && depth < 64; node = elements_.parent[size_t(node)]) {
       chain[depth++] = node;
     }
-    // Refinement: the shortest link of each bin along the ancestor chain
-    // wins; coverage adds up over the levels the links were made at.
-    std::vector<uint64_t>& best_of = scratch_best;
-    std::vector<uint32_t>& covered_of = scratch_covered;
-    best_of.assign(size_t(bins.count()), BinTable::kEmpty);
-    covered_of.assign(size_t(bins.count()), 0);
-    for (int b = 0; b < bins.count(); ++b) {
-      if (!(glm::dot(n, bins.Direction(b)) > 0.0f)) continue;
+    for (int b = 0; b < bins_.count(); ++b) {
+      if (!Up(b)) continue;
       uint64_t best = BinTable::kEmpty;
       uint32_t covered = 0;
       for (int k = 0; k < depth; ++k) {
         best = std::min(best, table.Entry(chain[k], b));
         covered = std::min(covered + table.Coverage(chain[k], b), BinTable::kFullCoverage);
       }
-      best_of[size_t(b)] = best;
-      covered_of[size_t(b)] = covered;
+      best_of_[size_t(b)] = best;
+      covered_of_[size_t(b)] = covered;
     }
-    // A bin of the upper hemisphere whose upper-hemisphere neighbours all
-    // hold a link lies inside a covered region of the leaf's view.
-    auto enclosed = [&](int b) {
-      int linked = 0;
-      for (const int o : neighbours[size_t(b)]) {
-        if (!(glm::dot(n, bins.Direction(o)) > 0.0f)) continue;  // below the horizon
-        if (best_of[size_t(o)] == BinTable::kEmpty) return false;
-        ++linked;
-      }
-      return linked >= 2;
-    };
-    // Whether the bin's central direction from the leaf meets the disc
-    // that circumscribes `node`'s share of its surface (radius
-    // sqrt(2 A / pi): the discs of a vertex grid then leave no gaps).
-    auto meets = [&](int b, uint64_t entry) {
-      if (entry == BinTable::kEmpty) return false;
-      const size_t s = size_t(BinTable::Other(entry));
-      const glm::vec3 d = bins.Direction(b);
-      const glm::vec3 ns = elements.normal[s];
-      const float denom = glm::dot(d, ns);
-      if (!(std::abs(denom) > 1e-6f)) return false;
-      const float t = glm::dot(elements.position[s] - p, ns) / denom;
-      if (!(t > 0.0f)) return false;
-      const glm::vec3 off = p + t * d - elements.position[s];
-      return glm::dot(off, off) <= 2.0f * elements.area[s] / kPi;
-    };
-    // A bin whose direction meets its own element's or a neighbour's
-    // (circumscribed) disc looks at that surface: it is covered, and by
-    // that element when empty; repeated, so a band of such bins fills from
-    // its edge. Near an edge the adjacent wall's discs are seen at grazing
-    // angles and left the bins near the horizon empty or partly covered
-    // although the wall is there (furnace: such leaves gathered 90-95 % of
-    // pi, the closed box 98.9 % on average, lost on every bounce). Open
-    // directions meet no disc, so nothing leaks there.
-    std::vector<uint8_t>& on_disc = scratch_on_disc;
-    on_disc.assign(size_t(bins.count()), 0);
-    for (int b = 0; b < bins.count(); ++b) {
-      if (glm::dot(n, bins.Direction(b)) > 0.0f && meets(b, best_of[size_t(b)]))
-        on_disc[size_t(b)] = 1;
+  }
+
+  // A bin whose direction meets its own element's or a neighbour's
+  // (circumscribed) disc looks at that surface: it is covered, and by that
+  // element when empty; repeated, so a band of such bins fills from its
+  // edge. Near an edge the adjacent wall's discs are seen at grazing angles
+  // and left the bins near the horizon empty or partly covered although the
+  // wall is there (furnace: such leaves gathered 90-95 % of pi, the closed
+  // box 98.9 % on average, lost on every bounce). Open directions meet no
+  // disc, so nothing leaks there.
+  void FillFromDiscs() {
+    for (int b = 0; b < bins_.count(); ++b) {
+      if (Up(b) && Meets(b, best_of_[size_t(b)])) on_disc_[size_t(b)] = 1;
     }
     for (int pass = 0; pass < kDiscFillPasses; ++pass) {
       bool changed = false;
-      for (int b = 0; b < bins.count(); ++b) {
-        if (on_disc[size_t(b)] || !(glm::dot(n, bins.Direction(b)) > 0.0f)) continue;
-        for (const int o : neighbours[size_t(b)]) {
-          if (meets(b, best_of[size_t(o)])) {
-            if (best_of[size_t(b)] == BinTable::kEmpty) best_of[size_t(b)] = best_of[size_t(o)];
-            on_disc[size_t(b)] = 1;
+      for (int b = 0; b < bins_.count(); ++b) {
+        if (on_disc_[size_t(b)] || !Up(b)) continue;
+        for (const int o : neighbours_[size_t(b)]) {
+          if (Meets(b, best_of_[size_t(o)])) {
+            if (best_of_[size_t(b)] == BinTable::kEmpty) best_of_[size_t(b)] = best_of_[size_t(o)];
+            on_disc_[size_t(b)] = 1;
             changed = true;
             break;
           }
@@ -135,18 +121,26 @@ LeafLinks RefinePush(const Elements& elements, const CubeBins& bins, const BinTa
       }
       if (!changed) break;
     }
-    for (int b = 0; b < bins.count(); ++b) {
-      const float c = glm::dot(n, bins.Direction(b));
+  }
+
+  // The leaf's links: per bin of its upper hemisphere, the bin's element
+  // weighted by its quadrature and coverage (Eq. 5), the rest of the bin
+  // to the environment.
+  void Gather(bool environment, Row& row) const {
+    const float cosine_sum = bins_.CosineSum(n_);
+    const float norm = cosine_sum > 0.0f ? kPi / cosine_sum : 0.0f;
+    for (int b = 0; b < bins_.count(); ++b) {
+      const float c = glm::dot(n_, bins_.Direction(b));
       if (!(c > 0.0f)) continue;
-      uint64_t best = best_of[size_t(b)];
-      const bool inside = on_disc[size_t(b)] || enclosed(b);
+      uint64_t best = best_of_[size_t(b)];
+      const bool inside = on_disc_[size_t(b)] || Enclosed(b);
       if (best == BinTable::kEmpty && inside) {
         // An empty bin amid linked ones is a gap between discs (they do not
         // tile a surface), not a view of the sky: it sees what its nearest
         // neighbour sees. Counting it empty lost its light on every bounce
         // (1.8 % of a closed box's bins at N = 12).
-        for (const int o : neighbours[size_t(b)]) {
-          if (glm::dot(n, bins.Direction(o)) > 0.0f) best = std::min(best, best_of[size_t(o)]);
+        for (const int o : neighbours_[size_t(b)]) {
+          if (Up(o)) best = std::min(best, best_of_[size_t(o)]);
         }
       }
       // Eq. 5 assumes the closest element covers its bin. We hold to it
@@ -156,15 +150,15 @@ LeafLinks RefinePush(const Elements& elements, const CubeBins& bins, const BinTa
       // discs, which the surface behind them fills), and weigh by the
       // measured coverage elsewhere (small or distant elements,
       // silhouettes: bins next to an empty one).
-      const float measured = float(covered_of[size_t(b)]) / float(BinTable::kFullCoverage);
+      const float measured = float(covered_of_[size_t(b)]) / float(BinTable::kFullCoverage);
       const float cover = measured >= kSnapCoverage || inside ? 1.0f : measured;
-      const float quadrature = norm * c * bins.SolidAngle(b);
+      const float quadrature = norm * c * bins_.SolidAngle(b);
       if (best == BinTable::kEmpty) {
         ++row.empty;
       } else {
         const int src = BinTable::Other(best);
         // The source sends light only from its front (a back face blocks).
-        if (glm::dot(elements.normal[size_t(src)], p - elements.position[size_t(src)]) > 0.0f) {
+        if (glm::dot(elements_.normal[size_t(src)], p_ - elements_.position[size_t(src)]) > 0.0f) {
           const float w = quadrature * cover;
           if (w > 0.0f) {
             row.source.push_back(uint32_t(src));
@@ -179,7 +173,52 @@ LeafLinks RefinePush(const Elements& elements, const CubeBins& bins, const BinTa
         row.env_weight.push_back(quadrature * (1.0f - cover));
       }
     }
-  });
+  }
+
+ private:
+  bool Up(int b) const { return glm::dot(n_, bins_.Direction(b)) > 0.0f; }
+
+  // A bin of the upper hemisphere whose upper-hemisphere neighbours all
+  // hold a link lies inside a covered region of the leaf's view.
+  bool Enclosed(int b) const {
+    int linked = 0;
+    for (const int o : neighbours_[size_t(b)]) {
+      if (!Up(o)) continue;  // below the horizon
+      if (best_of_[size_t(o)] == BinTable::kEmpty) return false;
+      ++linked;
+    }
+    return linked >= 2;
+  }
+
+  // Whether the bin's central direction from the leaf meets the disc that
+  // circumscribes `entry`'s element's share of its surface (radius
+  // sqrt(2 A / pi): the discs of a vertex grid then leave no gaps).
+  bool Meets(int b, uint64_t entry) const {
+    if (entry == BinTable::kEmpty) return false;
+    const size_t s = size_t(BinTable::Other(entry));
+    const glm::vec3 d = bins_.Direction(b);
+    const glm::vec3 ns = elements_.normal[s];
+    const float denom = glm::dot(d, ns);
+    if (!(std::abs(denom) > 1e-6f)) return false;
+    const float t = glm::dot(elements_.position[s] - p_, ns) / denom;
+    if (!(t > 0.0f)) return false;
+    const glm::vec3 off = p_ + t * d - elements_.position[s];
+    return glm::dot(off, off) <= 2.0f * elements_.area[s] / kPi;
+  }
+
+  const Elements& elements_;
+  const CubeBins& bins_;
+  const std::vector<std::array<int, 4>>& neighbours_;
+  const size_t leaf_;
+  const glm::vec3 n_, p_;
+  std::vector<uint64_t>& best_of_;
+  std::vector<uint32_t>& covered_of_;
+  std::vector<uint8_t>& on_disc_;
+};
+
+// The rows, one after another (offsets per leaf), and their counts.
+LeafLinks Flatten(const std::vector<Row>& rows, bool environment, RefineStats* stats) {
+  const size_t leaves = rows.size();
   LeafLinks out;
   out.offset.assign(leaves + 1, 0);
   out.env_offset.assign(environment ? leaves + 1 : 0, 0);
@@ -209,6 +248,22 @@ LeafLinks RefinePush(const Elements& elements, const CubeBins& bins, const BinTa
   s.leaf_links = out.source.size();
   if (stats) *stats = s;
   return out;
+}
+
+}  // namespace
+
+LeafLinks RefinePush(const Elements& elements, const CubeBins& bins, const BinTable& table,
+                     bool environment, RefineStats* stats) {
+  std::vector<Row> rows(size_t(elements.leaf_count()));
+  const std::vector<std::array<int, 4>> neighbours = BinNeighbours(bins);
+  ParallelFor(rows.size(), 32, [&](size_t leaf) {
+    thread_local LeafBins::Scratch scratch;
+    LeafBins view(elements, bins, neighbours, leaf, scratch);
+    view.PushAlongAncestors(table);
+    view.FillFromDiscs();
+    view.Gather(environment, rows[leaf]);
+  });
+  return Flatten(rows, environment, stats);
 }
 
 }  // namespace gistream::hierarchy
