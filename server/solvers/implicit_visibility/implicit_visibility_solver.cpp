@@ -169,12 +169,33 @@ void ImplicitVisibilitySolver::UpdateEnvironment(const SceneState& state) {
   illumination_.UploadEnvironment(e_env);
 }
 
+// Update's steps: the surfels and hierarchy once (BuildOnce), the elements
+// and a background relink on a geometry change (UpdateElements), the
+// relink's links when they are in (TakeLinks), the shadow maps while links
+// or maps are pending (DrawWhilePending), a dimmer's rescale
+// (ScaleForDimmer), else the shadow maps and the gather (Gather).
 absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask changes) {
-  const bool first = !scene_.built();
-  const bool geometry = first || (changes & kChangeShape);
-  const bool materials = first || (changes & kChangeMaterials);
-  bool lights = geometry || (changes & (kChangeLights | kChangeEmission));
-  const bool environment = geometry || (changes & kChangeEnvironment);
+  Changed changed;
+  changed.first = !scene_.built();
+  changed.geometry = changed.first || (changes & kChangeShape);
+  changed.materials = changed.first || (changes & kChangeMaterials);
+  changed.lights = changed.geometry || (changes & (kChangeLights | kChangeEmission));
+  changed.environment = changed.geometry || (changes & kChangeEnvironment);
+  BuildOnce(ctx, changed.first);
+  latest_version_ = ctx.state.version();
+  GS_RETURN_IF_ERROR(UpdateElements(ctx, changes, changed));
+  const bool relinked = TakeLinks(ctx, changed);
+  if (relink_.running() || lighting_.pending()) {
+    GS_ASSIGN_OR_RETURN(const bool gather, DrawWhilePending(ctx, changes, changed, relinked));
+    if (!gather) return absl::OkStatus();
+    changed.lights = false;  // drawn above
+  }
+  GS_ASSIGN_OR_RETURN(const bool scaled, ScaleForDimmer(ctx, changes, changed));
+  if (scaled) return absl::OkStatus();
+  return Gather(ctx, changes, changed);
+}
+
+void ImplicitVisibilitySolver::BuildOnce(SolverContext& ctx, bool first) {
   if (first) {
     scene_.Build(ctx.state, ctx.gpu, ctx.timer, settings_.direct.full_detail);
     display_.UploadTriangles(scene_.triangles());
@@ -183,83 +204,103 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
     ctx.timer.Skip("create_surfels");
     ctx.timer.Skip("create_hierarchy");
   }
-  latest_version_ = ctx.state.version();
-  if (geometry) {
-    {
-      gl::StageTimer::Scope stage(ctx.timer, "update_elements", /*cpu_stage=*/true);
-      // A deformation moves the deforming meshes' discs to the pose; the
-      // hierarchy stays (Section 4.2.1), so a relink running on the
-      // last layout's copy stays valid and a new one follows it.
-      if (!first && (changes & kChangeDeformation)) scene_.UpdatePose(ctx.state);
-      scene_.UpdateGeometry(ctx.state);
-      if (materials) scene_.UpdateAlbedo(ctx.state);
-      illumination_.UploadElements(scene_.elements(), scene_.albedo());
-      display_.UploadVertices(scene_.vertex_world());
-    }
-    // The links are built by a background job on the CPU pool, the first
-    // solve's too; until they are in, frames show the last solution on the
-    // moved geometry (the display interpolates it at the new vertices),
-    // and before the first one direct light alone.
-    GS_RETURN_IF_ERROR(StartRelink(ctx));
-    illumination_stale_ = true;
-  } else {
+}
+
+absl::Status ImplicitVisibilitySolver::UpdateElements(SolverContext& ctx, ChangeMask changes,
+                                                      const Changed& changed) {
+  if (!changed.geometry) {
     ctx.timer.Skip("update_elements");
+    return absl::OkStatus();
   }
+  {
+    gl::StageTimer::Scope stage(ctx.timer, "update_elements", /*cpu_stage=*/true);
+    // A deformation moves the deforming meshes' discs to the pose; the
+    // hierarchy stays (Section 4.2.1), so a relink running on the last
+    // layout's copy stays valid and a new one follows it.
+    if (!changed.first && (changes & kChangeDeformation)) scene_.UpdatePose(ctx.state);
+    scene_.UpdateGeometry(ctx.state);
+    if (changed.materials) scene_.UpdateAlbedo(ctx.state);
+    illumination_.UploadElements(scene_.elements(), scene_.albedo());
+    display_.UploadVertices(scene_.vertex_world());
+  }
+  // The links are built by a background job on the CPU pool, the first
+  // solve's too; until they are in, frames show the last solution on the
+  // moved geometry (the display interpolates it at the new vertices), and
+  // before the first one direct light alone.
+  GS_RETURN_IF_ERROR(StartRelink(ctx));
+  illumination_stale_ = true;
+  return absl::OkStatus();
+}
+
+bool ImplicitVisibilitySolver::TakeLinks(SolverContext& ctx, const Changed& changed) {
   const bool relinked = FinishRelink(ctx);
   if (relinked) illumination_stale_ = true;  // new links: gather them
   // The environment's share per leaf follows the links and the
   // environment; it is gathered with the next illumination, which may be
   // frames later (shadow maps still drawing).
-  if (environment || relinked) environment_stale_ = true;
+  if (changed.environment || relinked) environment_stale_ = true;
   if (!relinked) {
     ctx.timer.Skip("create_links");
     ctx.timer.Skip("refine_push");
   }
-  if (relink_.running() || lighting_.pending()) {
-    // The links or the shadow maps do not match the elements yet: keep the
-    // last solution (and the last shadow maps, which the leaves' direct
-    // light reads); the light is gathered once both are in. The maps are
-    // redrawn in slices of the frame budget meanwhile.
-    if (lights) {
-      gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
-      GS_RETURN_IF_ERROR(
-          lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes, ctx.budget_ms));
-    } else if (lighting_.pending()) {
-      gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
-      lighting_.Continue(ctx.gpu, ctx.state, ctx.budget_ms);
-    } else {
-      ctx.timer.Skip("shadow_maps");
-    }
-    if (materials && !geometry) scene_.UpdateAlbedo(ctx.state);
-    if (materials || environment || lights) illumination_stale_ = true;
-    // Links just taken are gathered even while a newer relink runs (the
-    // geometry moved on while they were built): under continuous motion
-    // each relink ends with the next one starting, and waiting for one
-    // with none behind it showed direct light alone until the motion
-    // stopped (issue 27: relMSE 17x the full solve's through the motion).
-    // They are gathered on the current elements' direct light and albedo.
-    if (lighting_.pending() || (relink_.running() && !relinked)) {
-      ctx.timer.Skip("illumination");
-      return absl::OkStatus();
-    }
-    // The maps' last slice was drawn now and the links are in: gather.
-    lights = false;  // drawn above
+  return relinked;
+}
+
+absl::StatusOr<bool> ImplicitVisibilitySolver::DrawWhilePending(SolverContext& ctx,
+                                                                ChangeMask changes,
+                                                                const Changed& changed,
+                                                                bool relinked) {
+  // The links or the shadow maps do not match the elements yet: keep the
+  // last solution (and the last shadow maps, which the leaves' direct
+  // light reads); the light is gathered once both are in. The maps are
+  // redrawn in slices of the frame budget meanwhile.
+  if (changed.lights) {
+    gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
+    GS_RETURN_IF_ERROR(
+        lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes, ctx.budget_ms));
+  } else if (lighting_.pending()) {
+    gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
+    lighting_.Continue(ctx.gpu, ctx.state, ctx.budget_ms);
+  } else {
+    ctx.timer.Skip("shadow_maps");
   }
-  if (const std::optional<float> k = (geometry || materials || illumination_stale_)
-                                         ? std::nullopt
-                                         : emission_.Factor(ctx.state, changes)) {
-    // A dimmer: the gathered light scales with the lights (linear
-    // transport, solvers/emission_scale.h); the direct light's buffers
-    // change, no shadow map is redrawn and no bounce runs.
-    {
-      gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
-      GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes));
-    }
+  if (changed.materials && !changed.geometry) scene_.UpdateAlbedo(ctx.state);
+  if (changed.materials || changed.environment || changed.lights) illumination_stale_ = true;
+  // Links just taken are gathered even while a newer relink runs (the
+  // geometry moved on while they were built): under continuous motion each
+  // relink ends with the next one starting, and waiting for one with none
+  // behind it showed direct light alone until the motion stopped (issue
+  // 27: relMSE 17x the full solve's through the motion). They are gathered
+  // on the current elements' direct light and albedo.
+  if (lighting_.pending() || (relink_.running() && !relinked)) {
     ctx.timer.Skip("illumination");
-    indirect_scale_ = *k;
-    return absl::OkStatus();
+    return false;
   }
-  if (lights) {
+  return true;  // the maps' last slice was drawn now and the links are in
+}
+
+absl::StatusOr<bool> ImplicitVisibilitySolver::ScaleForDimmer(SolverContext& ctx,
+                                                              ChangeMask changes,
+                                                              const Changed& changed) {
+  const std::optional<float> k = (changed.geometry || changed.materials || illumination_stale_)
+                                     ? std::nullopt
+                                     : emission_.Factor(ctx.state, changes);
+  if (!k) return false;
+  // A dimmer: the gathered light scales with the lights (linear transport,
+  // solvers/emission_scale.h); the direct light's buffers change, no
+  // shadow map is redrawn and no bounce runs.
+  {
+    gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
+    GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes));
+  }
+  ctx.timer.Skip("illumination");
+  indirect_scale_ = *k;
+  return true;
+}
+
+absl::Status ImplicitVisibilitySolver::Gather(SolverContext& ctx, ChangeMask changes,
+                                              const Changed& changed) {
+  if (changed.lights) {
     // The shared shadow maps, as `direct` draws them: the first bounce's
     // source at the leaves and the per-pixel direct light.
     gl::StageTimer::Scope stage(ctx.timer, "shadow_maps");
@@ -267,12 +308,13 @@ absl::Status ImplicitVisibilitySolver::Update(SolverContext& ctx, ChangeMask cha
   } else {
     ctx.timer.Skip("shadow_maps");
   }
-  if (!geometry && !materials && !lights && !environment && !illumination_stale_) {
+  if (!changed.geometry && !changed.materials && !changed.lights && !changed.environment &&
+      !illumination_stale_) {
     ctx.timer.Skip("illumination");
     return absl::OkStatus();
   }
   gl::StageTimer::Scope stage(ctx.timer, "illumination");
-  if ((materials && !geometry) || illumination_stale_) {
+  if ((changed.materials && !changed.geometry) || illumination_stale_) {
     scene_.UpdateAlbedo(ctx.state);
     illumination_.UploadElements(scene_.elements(), scene_.albedo());
   }

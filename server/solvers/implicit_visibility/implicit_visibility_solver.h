@@ -87,6 +87,25 @@ class ImplicitVisibilitySolver final : public Solver {
     JobStageTimes times;  // create_links, refine_push
   };
   absl::Status CheckBinBytes() const;
+  // What a change touches (Update's steps read it).
+  struct Changed {
+    bool first = false;  // nothing built yet
+    bool geometry = false, materials = false, lights = false, environment = false;
+  };
+  void BuildOnce(SolverContext& ctx, bool first);
+  absl::Status UpdateElements(SolverContext& ctx, ChangeMask changes, const Changed& changed);
+  // A finished relink's links taken (true), stages skipped otherwise.
+  bool TakeLinks(SolverContext& ctx, const Changed& changed);
+  // While links or shadow maps are pending: the maps in slices; true when
+  // both are in and the light is to be gathered now.
+  absl::StatusOr<bool> DrawWhilePending(SolverContext& ctx, ChangeMask changes,
+                                        const Changed& changed, bool relinked);
+  // A pure dimmer rescales the last solution (true) instead of a gather.
+  absl::StatusOr<bool> ScaleForDimmer(SolverContext& ctx, ChangeMask changes,
+                                      const Changed& changed);
+  // The shadow maps and the bounces (stage illumination) when anything
+  // changed.
+  absl::Status Gather(SolverContext& ctx, ChangeMask changes, const Changed& changed);
   // The first solve and later geometry changes: a background relink (or,
   // while one runs, a note to start another with the newest geometry when
   // it ends).
