@@ -421,27 +421,29 @@ std::string ReadPem(std::string_view flag, const std::string& path) {
   return text.str();
 }
 
-int Main(int argc, char** argv) {
-  Flags flags = ParseFlags(argc, argv);
-  SetLogLevel(flags.log_level);
-  const sigset_t signals = BlockShutdownSignals();
-  Log(LogLevel::kInfo, absl::StrCat("gistreamd ", AV(Version())));
+// Read before the engine starts, so a bad path fails fast; the tenants'
+// quotas go to the engine.
+std::shared_ptr<const AuthTokens> LoadTokens(Flags& flags) {
+  if (flags.auth_tokens.empty()) return nullptr;
+  absl::StatusOr<AuthTokens> loaded = AuthTokens::Load(flags.auth_tokens);
+  if (!loaded.ok()) UsageError(std::string(loaded.status().message()));
+  flags.engine.quotas = loaded->quotas();
+  auto tokens = std::make_shared<const AuthTokens>(*std::move(loaded));
+  Log(LogLevel::kInfo,
+      absl::StrCat("auth: ", tokens->size(), " tokens for ", tokens->quotas().size(), " tenants"));
+  return tokens;
+}
 
-  // Read before the engine starts, so a bad path fails fast.
-  std::shared_ptr<const AuthTokens> tokens;
-  if (!flags.auth_tokens.empty()) {
-    absl::StatusOr<AuthTokens> loaded = AuthTokens::Load(flags.auth_tokens);
-    if (!loaded.ok()) UsageError(std::string(loaded.status().message()));
-    flags.engine.quotas = loaded->quotas();
-    tokens = std::make_shared<const AuthTokens>(*std::move(loaded));
-    Log(LogLevel::kInfo, absl::StrCat("auth: ", tokens->size(), " tokens for ",
-                                      tokens->quotas().size(), " tenants"));
-  }
-  std::string metrics_token = ReadPem("--metrics-token-file", flags.metrics_token);
-  metrics_token.erase(metrics_token.find_last_not_of(" \t\r\n") + 1);  // a trailing newline
-  if (!flags.metrics_token.empty() && metrics_token.empty()) {
+std::string LoadMetricsToken(const Flags& flags) {
+  std::string token = ReadPem("--metrics-token-file", flags.metrics_token);
+  token.erase(token.find_last_not_of(" \t\r\n") + 1);  // a trailing newline
+  if (!flags.metrics_token.empty() && token.empty()) {
     UsageError(absl::StrCat("--metrics-token-file: '", flags.metrics_token, "' holds no token"));
   }
+  return token;
+}
+
+service::TlsFiles LoadTls(const Flags& flags) {
   service::TlsFiles tls{ReadPem("--tls-cert", flags.tls_cert), ReadPem("--tls-key", flags.tls_key),
                         ReadPem("--tls-client-ca", flags.tls_client_ca)};
   if (tls.cert_chain_pem.empty() && !flags.insecure && !service::IsLoopbackAddress(flags.listen)) {
@@ -449,6 +451,103 @@ int Main(int argc, char** argv) {
                             ", which is not a loopback address: give --tls-cert and --tls-key, "
                             "or --insecure if something in front of gistreamd encrypts"));
   }
+  return tls;
+}
+
+uint64_t MemoryBudgetBytes(const Flags& flags) {
+  return flags.engine.max_memory_bytes > 0 ? flags.engine.max_memory_bytes : DefaultMemoryLimit();
+}
+
+// The CPU pool sized, and the process's limits logged, before the engine.
+void ConfigureProcess(const Flags& flags) {
+  CpuPool::Configure(flags.cpu_threads);
+  Log(LogLevel::kInfo,
+      absl::StrCat("CPU pool: ", CpuPool::Get().threads(), " threads",
+                   flags.cpu_threads > 0 ? " (--cpu-threads)" : " (affinity and cgroup quota)"));
+  const uint64_t cgroup = CgroupMemoryLimit();
+  Log(LogLevel::kInfo,
+      absl::StrCat("memory budget: ", FormatBytes(MemoryBudgetBytes(flags)),
+                   flags.engine.max_memory_bytes > 0 ? " (--max-memory-bytes)"
+                   : cgroup > 0 ? absl::StrCat(" (3/4 of the lower of physical memory and the "
+                                               "cgroup limit ",
+                                               FormatBytes(cgroup), ")")
+                                : std::string(" (3/4 of physical memory)")));
+}
+
+// Serves --metrics-listen over `engine`; false (logged) when it cannot.
+bool ServeMetrics(metrics::Metrics& metrics, const Flags& flags, Engine& engine,
+                  const std::string& token, bool with_tokens) {
+  if (absl::Status serving = metrics.Serve(flags.metrics_listen, engine, token); !serving.ok()) {
+    std::fprintf(stderr, "gistreamd: %s\n", serving.ToString().c_str());
+    return false;
+  }
+  const std::string host = flags.metrics_listen.substr(0, flags.metrics_listen.rfind(':'));
+  Log(LogLevel::kInfo, absl::StrCat("metrics on http://", host, ":", metrics.port(), "/metrics",
+                                    token.empty() ? "" : " (token required)"));
+  if (token.empty() && (with_tokens || !service::IsLoopbackAddress(flags.metrics_listen))) {
+    // Server-wide figures (every tenant's frames, memory, sessions).
+    Log(LogLevel::kWarning,
+        "metrics are served without a token: anyone who reaches the port reads every tenant's "
+        "figures (--metrics-token-file)");
+  }
+  return true;
+}
+
+service::ServerOptions MakeServerOptions(const Flags& flags, service::TlsFiles tls) {
+  service::ServerOptions options;
+  options.listen = flags.listen;
+  options.max_receive_message_bytes = static_cast<int>(flags.max_message_bytes);
+  options.max_send_message_bytes = static_cast<int>(flags.max_message_bytes);
+  options.transport_memory_bytes =
+      flags.max_transport_bytes
+          ? *flags.max_transport_bytes
+          : std::max<uint64_t>(MemoryBudgetBytes(flags) / 4, uint64_t(256) << 20);
+  Log(LogLevel::kInfo,
+      absl::StrCat("transport memory: ",
+                   options.transport_memory_bytes > 0 ? FormatBytes(options.transport_memory_bytes)
+                                                      : std::string("unbounded"),
+                   flags.max_transport_bytes ? " (--max-transport-bytes)"
+                                             : " (a quarter of the memory budget)"));
+  options.tls = std::move(tls);
+  options.allow_insecure = flags.insecure;
+  options.health_listen = flags.health_listen;
+  return options;
+}
+
+// The first SIGINT or SIGTERM, waited for; while this lives a second one
+// exits at once (SignalWaiter), so it outlives the shutdown it starts.
+class ShutdownSignal {
+ public:
+  explicit ShutdownSignal(const sigset_t& signals)
+      : waiter_(signals, [this](int sig) {
+          {
+            std::lock_guard lock(mutex_);
+            received_ = sig;
+          }
+          cv_.notify_all();
+        }) {}
+  // Blocks until the first signal; returns it.
+  int Wait() {
+    std::unique_lock lock(mutex_);
+    cv_.wait(lock, [&] { return received_ != 0; });
+    return received_;
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  int received_ = 0;
+  SignalWaiter waiter_;  // last: its thread stops before the fields it uses go
+};
+
+int Main(int argc, char** argv) {
+  Flags flags = ParseFlags(argc, argv);
+  SetLogLevel(flags.log_level);
+  const sigset_t signals = BlockShutdownSignals();
+  Log(LogLevel::kInfo, absl::StrCat("gistreamd ", AV(Version())));
+  const std::shared_ptr<const AuthTokens> tokens = LoadTokens(flags);
+  const std::string metrics_token = LoadMetricsToken(flags);
+  service::TlsFiles tls = LoadTls(flags);
 
   // Declared before the engine and server, which report to it.
   std::shared_ptr<metrics::Metrics> metrics;
@@ -456,23 +555,7 @@ int Main(int argc, char** argv) {
     metrics = std::make_shared<metrics::Metrics>();
     flags.engine.observer = metrics;
   }
-  // The one CPU pool, sized before any CPU stage can start it.
-  CpuPool::Configure(flags.cpu_threads);
-  Log(LogLevel::kInfo,
-      absl::StrCat("CPU pool: ", CpuPool::Get().threads(), " threads",
-                   flags.cpu_threads > 0 ? " (--cpu-threads)" : " (affinity and cgroup quota)"));
-  {
-    const uint64_t cgroup = CgroupMemoryLimit();
-    const uint64_t budget =
-        flags.engine.max_memory_bytes > 0 ? flags.engine.max_memory_bytes : DefaultMemoryLimit();
-    Log(LogLevel::kInfo,
-        absl::StrCat("memory budget: ", FormatBytes(budget),
-                     flags.engine.max_memory_bytes > 0 ? " (--max-memory-bytes)"
-                     : cgroup > 0 ? absl::StrCat(" (3/4 of the lower of physical memory and the "
-                                                 "cgroup limit ",
-                                                 FormatBytes(cgroup), ")")
-                                  : std::string(" (3/4 of physical memory)")));
-  }
+  ConfigureProcess(flags);
   // Test-only GPU fault injection (gl/fault_injection.h), never a flag.
   if (const char* faults = std::getenv("GISTREAM_TEST_FAULT_DIR"); faults && *faults) {
     flags.engine.test_fault_dir = faults;
@@ -487,48 +570,14 @@ int Main(int argc, char** argv) {
   Log(LogLevel::kInfo,
       absl::StrCat("GL: ", device.vendor, " / ", device.renderer, " / ", device.version));
   Log(LogLevel::kInfo, absl::StrCat("EGL device: ", device.egl_device));
-
-  if (metrics) {
-    if (absl::Status serving = metrics->Serve(flags.metrics_listen, **engine, metrics_token);
-        !serving.ok()) {
-      std::fprintf(stderr, "gistreamd: %s\n", serving.ToString().c_str());
-      (*engine)->Shutdown();
-      return 1;
-    }
-    const std::string host = flags.metrics_listen.substr(0, flags.metrics_listen.rfind(':'));
-    Log(LogLevel::kInfo, absl::StrCat("metrics on http://", host, ":", metrics->port(), "/metrics",
-                                      metrics_token.empty() ? "" : " (token required)"));
-    if (metrics_token.empty() && (tokens || !service::IsLoopbackAddress(flags.metrics_listen))) {
-      // Server-wide figures (every tenant's frames, memory, sessions).
-      Log(LogLevel::kWarning,
-          "metrics are served without a token: anyone who reaches the port reads every tenant's "
-          "figures (--metrics-token-file)");
-    }
+  if (metrics && !ServeMetrics(*metrics, flags, **engine, metrics_token, tokens != nullptr)) {
+    (*engine)->Shutdown();
+    return 1;
   }
 
-  service::ServerOptions options;
-  options.listen = flags.listen;
-  options.max_receive_message_bytes = static_cast<int>(flags.max_message_bytes);
-  options.max_send_message_bytes = static_cast<int>(flags.max_message_bytes);
-  {
-    const uint64_t budget =
-        flags.engine.max_memory_bytes > 0 ? flags.engine.max_memory_bytes : DefaultMemoryLimit();
-    options.transport_memory_bytes = flags.max_transport_bytes
-                                         ? *flags.max_transport_bytes
-                                         : std::max<uint64_t>(budget / 4, uint64_t(256) << 20);
-    Log(LogLevel::kInfo,
-        absl::StrCat("transport memory: ",
-                     options.transport_memory_bytes > 0
-                         ? FormatBytes(options.transport_memory_bytes)
-                         : std::string("unbounded"),
-                     flags.max_transport_bytes ? " (--max-transport-bytes)"
-                                               : " (a quarter of the memory budget)"));
-  }
+  service::ServerOptions options = MakeServerOptions(flags, std::move(tls));
   options.service.observer = metrics;
   options.service.tokens = tokens;
-  options.tls = std::move(tls);
-  options.allow_insecure = flags.insecure;
-  options.health_listen = flags.health_listen;
   absl::StatusOr<std::unique_ptr<service::GistreamServer>> server =
       service::GistreamServer::Start(**engine, options);
   if (!server.ok()) {
@@ -537,18 +586,7 @@ int Main(int argc, char** argv) {
     (*engine)->Shutdown();
     return 1;
   }
-
-  std::mutex mutex;
-  std::condition_variable cv;
-  int signal_received = 0;
-  SignalWaiter waiter(signals, [&](int sig) {
-    {
-      std::lock_guard lock(mutex);
-      signal_received = sig;
-    }
-    cv.notify_all();
-  });
-
+  ShutdownSignal shutdown(signals);
   Log(LogLevel::kInfo,
       absl::StrCat("transport: ",
                    !options.tls.cert_chain_pem.empty()
@@ -558,10 +596,7 @@ int Main(int argc, char** argv) {
   std::printf("listening on %s\n", (*server)->address().c_str());
   std::fflush(stdout);
 
-  {
-    std::unique_lock lock(mutex);
-    cv.wait(lock, [&] { return signal_received != 0; });
-  }
+  const int signal_received = shutdown.Wait();
   Log(LogLevel::kInfo, absl::StrCat("received ", strsignal(signal_received)));
   const auto deadline = std::chrono::duration_cast<std::chrono::milliseconds>(
       std::chrono::duration<double>(flags.shutdown_deadline_s));
