@@ -67,37 +67,36 @@ absl::StatusOr<DirectLighting> DirectLighting::Create() {
   return lighting;
 }
 
-absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu,
-                                    const DirectLightingSettings& settings, ChangeMask changes,
-                                    double budget_ms) {
-  std::vector<EmitterTriangle> emitters = CollectEmitters(state);
-  std::vector<EmitterSample> emitter_samples = SampleEmitters(emitters, settings.area_samples);
-
-  int cube_count = 0, dir_count = 0;
+absl::StatusOr<uint64_t> DirectLighting::ShadowBytes(const SceneState& state, size_t area_samples,
+                                                     int resolution) {
+  int cube_count = int(area_samples), dir_count = 0;
   for (const LightInstance& l : state.lights()) {
     (l.light.type == LightType::kDirectional ? dir_count : cube_count)++;
   }
-  cube_count += int(emitter_samples.size());
   // One cube per point/spot light and area sample, in one cube-map array:
   // refuse what the GL or memory cannot hold rather than render unshadowed.
   GLint max_layers = 0;
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
-  const uint64_t bytes = uint64_t(settings.shadow_resolution) *
-                         uint64_t(settings.shadow_resolution) * 4 *
+  const uint64_t bytes = uint64_t(resolution) * uint64_t(resolution) * 4 *
                          (6 * uint64_t(cube_count) + uint64_t(dir_count));
   if (6 * int64_t(cube_count) > int64_t(max_layers) || bytes > kMaxShadowBytes) {
     return absl::InvalidArgumentError(
         absl::StrCat("params.area_samples/params.shadow_res: ", cube_count, " shadow cubes (",
-                     emitter_samples.size(), " area samples + point/spot lights) at ",
-                     settings.shadow_resolution, "^2 need ", 6 * cube_count, " layers and ",
-                     bytes >> 20, " MiB; this GL allows ", max_layers / 6,
-                     " cubes and the limit is ", kMaxShadowBytes >> 20, " MiB"));
+                     area_samples, " area samples + point/spot lights) at ", resolution, "^2 need ",
+                     6 * cube_count, " layers and ", bytes >> 20, " MiB; this GL allows ",
+                     max_layers / 6, " cubes and the limit is ", kMaxShadowBytes >> 20, " MiB"));
   }
+  return bytes;
+}
 
+DirectLighting::Pending DirectLighting::NextLightSet(const SceneState& state, const GpuScene& gpu,
+                                                     const DirectLightingSettings& settings,
+                                                     std::vector<EmitterTriangle> emitters,
+                                                     std::vector<EmitterSample> samples) {
   // The light set to show next: buffers, and where every map is drawn from.
   Pending next;
   next.emitters = std::move(emitters);
-  next.samples = std::move(emitter_samples);
+  next.samples = std::move(samples);
   next.polygons = PolygonsOf(next.emitters, next.samples);
   next.resolution = settings.shadow_resolution;
   next.full_detail = settings.full_detail;
@@ -134,6 +133,20 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
                          glm::vec4(sample.radiance, far)});
     next.cube_views.push_back({origin, far});
   }
+  return next;
+}
+
+absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu,
+                                    const DirectLightingSettings& settings, ChangeMask changes,
+                                    double budget_ms) {
+  std::vector<EmitterTriangle> emitters = CollectEmitters(state);
+  std::vector<EmitterSample> emitter_samples = SampleEmitters(emitters, settings.area_samples);
+  GS_ASSIGN_OR_RETURN(const uint64_t bytes,
+                      ShadowBytes(state, emitter_samples.size(), settings.shadow_resolution));
+  Pending next =
+      NextLightSet(state, gpu, settings, std::move(emitters), std::move(emitter_samples));
+  const int cube_count = int(next.cube_views.size());
+  const int dir_count = int(next.dir_views.size());
 
   // A new layout reallocates the maps; moved geometry changes what every
   // map sees: both redraw everything. Otherwise only the maps whose origin,

@@ -135,6 +135,18 @@ class DirectLighting {
             double budget_ms);
   // Shows `set`: its buffers and views become the bound ones.
   void Commit(Pending set);
+  // Update's steps. The shadow maps' bytes for the state's lights and
+  // `area_samples` samples at `resolution`, or INVALID_ARGUMENT naming the
+  // parameters when the GL's layers or kMaxShadowBytes cannot hold them.
+  static absl::StatusOr<uint64_t> ShadowBytes(const SceneState& state, size_t area_samples,
+                                              int resolution);
+  // The light set to show next: its buffers (punctual lights, area
+  // samples, emitter polygons) and where each map is drawn from; no map is
+  // marked to draw yet.
+  static Pending NextLightSet(const SceneState& state, const GpuScene& gpu,
+                              const DirectLightingSettings& settings,
+                              std::vector<EmitterTriangle> emitters,
+                              std::vector<EmitterSample> samples);
 
   ShadowMaps shadows_;  // shown
   ShadowMaps back_;     // drawn into while a sliced set is pending
