@@ -171,24 +171,7 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
   auto job = std::make_shared<SolveJob>();
   if (relink || !patches_) {
     GS_ASSIGN_OR_RETURN(job->patches, PatchesNow(ctx));
-    const antiradiance::Patches& p = *job->patches;
-    // Section 3.3: relink only the pairs of roots (charts / mesh instances)
-    // that touch a moved one; the layout is the same as long as the scene's
-    // meshes are (only transforms change), which same_layout checks.
-    job->same_layout =
-        transport_ && patches_ && p.roots == patches_->roots && p.size() == patches_->size();
-    job->moved.assign(p.roots.size(), true);
-    if (job->same_layout) {
-      for (size_t r = 0; r < p.roots.size(); ++r) {
-        const int end = r + 1 < p.roots.size() ? p.roots[r + 1] : p.size();
-        job->moved[r] = false;
-        for (int i = p.roots[r]; i < end && !job->moved[r]; ++i) {
-          job->moved[r] = p.position[size_t(i)] != patches_->position[size_t(i)] ||
-                          p.normal[size_t(i)] != patches_->normal[size_t(i)] ||
-                          p.area[size_t(i)] != patches_->area[size_t(i)];
-        }
-      }
-    }
+    FindMovedRoots(*job);
     job->relink = true;
   } else {
     // Same elements and links (lights, emission, albedo, environment, or
@@ -196,22 +179,7 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
     job->patches = std::make_unique<antiradiance::Patches>(*patches_);
   }
   job->leaves = job->patches->Leaves();
-  for (int i : job->leaves) {
-    job->patches->albedo[size_t(i)] =
-        antiradiance::MaterialAlbedo(ctx.state, job->patches->tag[size_t(i)]);
-  }
-  // Glossy leaves (glossy_transfer.h): the material's metallic-roughness
-  // factors (textures are not sampled per leaf, as the albedo above).
-  job->brdf.assign(size_t(job->patches->size()), shading::Brdf());
-  for (int i : job->leaves) {
-    const int material = settings_.glossy ? job->patches->tag[size_t(i)] : -1;
-    if (material < 0 || size_t(material) >= ctx.state.materials().size()) continue;
-    const Material& m = ctx.state.materials()[size_t(material)];
-    shading::Brdf& b = job->brdf[size_t(i)];
-    b.base_color = job->patches->albedo[size_t(i)];
-    b.metallic = m.metallic_factor;
-    b.roughness = m.roughness_factor;
-  }
+  SetLeafMaterials(ctx, *job);
   if (!job->relink || job->same_layout) job->link_set = link_set_;  // (relinked in the job)
   {
     // Section 3.3: direct light initializes the elements through the
@@ -226,48 +194,91 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
   // Section 3.3: iterate from the shown solution (same nodes; Solve checks
   // the layout). The render thread does not change it before the job ends.
   const antiradiance::Transport* warm = transport_.get();
-  solve_.Start(job, [bins, settings, warm](SolveJob& j) {
-    if (j.relink) {
-      j.times.Time("link", [&] {
-        if (j.same_layout) {
-          j.link_set.Relink(*j.patches, *bins, j.moved);
-        } else {
-          j.link_set.Build(*j.patches, *bins);
-        }
-      });
-    }
-    const uint64_t links = j.link_set.size();
-    if (links * sizeof(antiradiance::Link) > kMaxLinkBytes) {
-      j.status = absl::ResourceExhaustedError(absl::StrCat(
-          "params.bins: ", links, " links (", (links * sizeof(antiradiance::Link)) >> 20,
-          " MiB, limit ", kMaxLinkBytes >> 20, " MiB); use fewer bins"));
-      return;
-    }
-    j.transport = std::make_unique<antiradiance::Transport>(*j.patches, *bins, j.link_set.Sorted());
-    // The glossy leaves' BRDF matrices (glossy_transfer.h).
-    absl::StatusOr<antiradiance::GlossyTransfer> glossy;
-    j.times.Time("local_pass", [&] {
-      glossy = antiradiance::GlossyTransfer::Build(*j.patches, *bins, j.brdf, kMaxTableBytes);
-    });
-    if (!glossy.ok()) {
-      j.status = glossy.status();
-      return;
-    }
-    j.glossy = std::make_unique<antiradiance::GlossyTransfer>(*std::move(glossy));
-    j.transport->SetGlossy(j.glossy.get(), std::move(j.glossy_direct));
-    // Emission is the direct term's (area-light samples), not transported again.
-    j.result = j.transport->Solve(
-        j.direct, {}, settings,
-        [&](const char* stage, bool begin) {
-          if (begin) {
-            j.times.Begin();
-          } else {
-            j.times.End(stage);
-          }
-        },
-        warm);
-  });
+  solve_.Start(job, [bins, settings, warm](SolveJob& j) { RunSolveJob(*bins, settings, warm, j); });
   return absl::OkStatus();
+}
+
+void AntiradianceSolver::FindMovedRoots(SolveJob& job) const {
+  const antiradiance::Patches& p = *job.patches;
+  // Section 3.3: relink only the pairs of roots (charts / mesh instances)
+  // that touch a moved one; the layout is the same as long as the scene's
+  // meshes are (only transforms change), which same_layout checks.
+  job.same_layout =
+      transport_ && patches_ && p.roots == patches_->roots && p.size() == patches_->size();
+  job.moved.assign(p.roots.size(), true);
+  if (!job.same_layout) return;
+  for (size_t r = 0; r < p.roots.size(); ++r) {
+    const int end = r + 1 < p.roots.size() ? p.roots[r + 1] : p.size();
+    job.moved[r] = false;
+    for (int i = p.roots[r]; i < end && !job.moved[r]; ++i) {
+      job.moved[r] = p.position[size_t(i)] != patches_->position[size_t(i)] ||
+                     p.normal[size_t(i)] != patches_->normal[size_t(i)] ||
+                     p.area[size_t(i)] != patches_->area[size_t(i)];
+    }
+  }
+}
+
+void AntiradianceSolver::SetLeafMaterials(const SolverContext& ctx, SolveJob& job) const {
+  for (int i : job.leaves) {
+    job.patches->albedo[size_t(i)] =
+        antiradiance::MaterialAlbedo(ctx.state, job.patches->tag[size_t(i)]);
+  }
+  // Glossy leaves (glossy_transfer.h): the material's metallic-roughness
+  // factors (textures are not sampled per leaf, as the albedo above).
+  job.brdf.assign(size_t(job.patches->size()), shading::Brdf());
+  for (int i : job.leaves) {
+    const int material = settings_.glossy ? job.patches->tag[size_t(i)] : -1;
+    if (material < 0 || size_t(material) >= ctx.state.materials().size()) continue;
+    const Material& m = ctx.state.materials()[size_t(material)];
+    shading::Brdf& b = job.brdf[size_t(i)];
+    b.base_color = job.patches->albedo[size_t(i)];
+    b.metallic = m.metallic_factor;
+    b.roughness = m.roughness_factor;
+  }
+}
+
+void AntiradianceSolver::RunSolveJob(const antiradiance::DirectionalBins& bins,
+                                     const antiradiance::TransportSettings& settings,
+                                     const antiradiance::Transport* warm, SolveJob& j) {
+  if (j.relink) {
+    j.times.Time("link", [&] {
+      if (j.same_layout) {
+        j.link_set.Relink(*j.patches, bins, j.moved);
+      } else {
+        j.link_set.Build(*j.patches, bins);
+      }
+    });
+  }
+  const uint64_t links = j.link_set.size();
+  if (links * sizeof(antiradiance::Link) > kMaxLinkBytes) {
+    j.status = absl::ResourceExhaustedError(
+        absl::StrCat("params.bins: ", links, " links (", (links * sizeof(antiradiance::Link)) >> 20,
+                     " MiB, limit ", kMaxLinkBytes >> 20, " MiB); use fewer bins"));
+    return;
+  }
+  j.transport = std::make_unique<antiradiance::Transport>(*j.patches, bins, j.link_set.Sorted());
+  // The glossy leaves' BRDF matrices (glossy_transfer.h).
+  absl::StatusOr<antiradiance::GlossyTransfer> glossy;
+  j.times.Time("local_pass", [&] {
+    glossy = antiradiance::GlossyTransfer::Build(*j.patches, bins, j.brdf, kMaxTableBytes);
+  });
+  if (!glossy.ok()) {
+    j.status = glossy.status();
+    return;
+  }
+  j.glossy = std::make_unique<antiradiance::GlossyTransfer>(*std::move(glossy));
+  j.transport->SetGlossy(j.glossy.get(), std::move(j.glossy_direct));
+  // Emission is the direct term's (area-light samples), not transported again.
+  j.result = j.transport->Solve(
+      j.direct, {}, settings,
+      [&](const char* stage, bool begin) {
+        if (begin) {
+          j.times.Begin();
+        } else {
+          j.times.End(stage);
+        }
+      },
+      warm);
 }
 
 absl::Status AntiradianceSolver::TakeSolve(SolverContext& ctx, SolveJob& job) {

@@ -96,6 +96,15 @@ class AntiradianceSolver final : public Solver {
   // Starts a SolveJob: new elements and links when `relink`, the direct
   // light at the leaves from the shadow maps shown now.
   absl::Status StartSolve(const SolverContext& ctx, bool relink);
+  // StartSolve's steps: which roots moved since the shown patches (and
+  // whether the layout is the same), the leaves' albedo and BRDF from their
+  // materials, and the job itself on the CPU pool (link, glossy matrices,
+  // transport).
+  void FindMovedRoots(SolveJob& job) const;
+  void SetLeafMaterials(const SolverContext& ctx, SolveJob& job) const;
+  static void RunSolveJob(const antiradiance::DirectionalBins& bins,
+                          const antiradiance::TransportSettings& settings,
+                          const antiradiance::Transport* warm, SolveJob& job);
   // Shows a finished job's solution (its stage times go to this frame).
   absl::Status TakeSolve(SolverContext& ctx, SolveJob& job);
   // The display's splats and grid for patches_ / leaves_.
