@@ -9,6 +9,20 @@ TMP=$(mktemp -d)
 trap 'kill -9 $PID 2>/dev/null || true; rm -rf "$TMP"' EXIT
 
 PID=""
+# start_server NAME [FLAGS...]: starts gistreamd on a free loopback port,
+# logs in $TMP/NAME.{out,err}, sets PID and ADDR once it listens.
+start_server() {
+  local name=$1
+  shift
+  "$BIN/gistreamd" --listen 127.0.0.1:0 --scenes "$SCENES" "$@" >"$TMP/$name.out" 2>"$TMP/$name.err" &
+  PID=$!
+  for _ in $(seq 1 300); do
+    grep -q "^listening on" "$TMP/$name.out" && break
+    sleep 0.1
+  done
+  ADDR=$(sed -n 's/^listening on //p' "$TMP/$name.out")
+  [ -n "$ADDR" ] || { cat "$TMP/$name.err"; echo "FAIL: no 'listening on' line ($name)"; exit 1; }
+}
 # --version: "NAME VERSION" on stdout, exit 0, no server needed.
 "$BIN/gistreamd" --version >"$TMP/v1.txt" || { echo "FAIL: gistreamd --version exited non-zero"; exit 1; }
 grep -Eq '^gistreamd [0-9]+\.[0-9]+\.[0-9]+' "$TMP/v1.txt" || { cat "$TMP/v1.txt"; echo "FAIL: gistreamd --version"; exit 1; }
@@ -17,15 +31,8 @@ grep -Eq '^gistream [0-9]+\.[0-9]+\.[0-9]+' "$TMP/v2.txt" || { cat "$TMP/v2.txt"
 [ "$(cut -d' ' -f2 "$TMP/v1.txt")" = "$(cut -d' ' -f2 "$TMP/v2.txt")" ] ||
   { echo "FAIL: gistreamd and gistream report different versions"; exit 1; }
 
-"$BIN/gistreamd" --listen 127.0.0.1:0 --scenes "$SCENES" >"$TMP/out.log" 2>"$TMP/err.log" &
-PID=$!
-for _ in $(seq 1 300); do
-  grep -q "^listening on" "$TMP/out.log" && break
-  sleep 0.1
-done
-ADDR=$(sed -n 's/^listening on //p' "$TMP/out.log")
-[ -n "$ADDR" ] || { cat "$TMP/err.log"; echo "FAIL: no 'listening on' line"; exit 1; }
-[ "$(wc -l <"$TMP/out.log")" -eq 1 ] || { echo "FAIL: stdout has more than one line"; exit 1; }
+start_server main
+[ "$(wc -l <"$TMP/main.out")" -eq 1 ] || { echo "FAIL: stdout has more than one line"; exit 1; }
 
 C="$BIN/gistream --server $ADDR"
 # Into files first: `grep -q` stops reading early, and with pipefail the
@@ -131,21 +138,13 @@ kill -TERM $PID
 for _ in $(seq 1 100); do kill -0 $PID 2>/dev/null || break; sleep 0.1; done
 if kill -0 $PID 2>/dev/null; then echo "FAIL: gistreamd ignored SIGTERM"; exit 1; fi
 wait $PID && rc=0 || rc=$?
-[ $rc -eq 0 ] || { cat "$TMP/err.log"; echo "FAIL: gistreamd exited $rc on SIGTERM"; exit 1; }
+[ $rc -eq 0 ] || { cat "$TMP/main.err"; echo "FAIL: gistreamd exited $rc on SIGTERM"; exit 1; }
 
 # SIGTERM under a long Render (4096 spp would trace for minutes): the server
 # stops within its 1 s shutdown deadline plus one slice, and the client gets
 # a status. 20 s bounds a hang; it is not a timing threshold.
-"$BIN/gistreamd" --listen 127.0.0.1:0 --scenes "$SCENES" --shutdown-deadline-s 1 \
-  >"$TMP/out2.log" 2>"$TMP/err2.log" &
-PID=$!
-for _ in $(seq 1 300); do
-  grep -q "^listening on" "$TMP/out2.log" && break
-  sleep 0.1
-done
-ADDR2=$(sed -n 's/^listening on //p' "$TMP/out2.log")
-[ -n "$ADDR2" ] || { cat "$TMP/err2.log"; echo "FAIL: no 'listening on' line (second server)"; exit 1; }
-"$BIN/gistream" --server "$ADDR2" render --scene cornell_box --solver pathtrace --param spp=4096 \
+start_server long --shutdown-deadline-s 1
+"$BIN/gistream" --server "$ADDR" render --scene cornell_box --solver pathtrace --param spp=4096 \
   --size 64x64 --format exr --out "$TMP/long.exr" >"$TMP/long.log" 2>&1 &
 RPID=$!
 sleep 1
@@ -153,7 +152,7 @@ kill -TERM $PID
 for _ in $(seq 1 200); do kill -0 $PID 2>/dev/null || break; sleep 0.1; done
 if kill -0 $PID 2>/dev/null; then echo "FAIL: gistreamd still running 20 s after SIGTERM under a long Render"; exit 1; fi
 wait $PID && rc=0 || rc=$?
-[ $rc -eq 0 ] || { cat "$TMP/err2.log"; echo "FAIL: gistreamd exited $rc on SIGTERM under a long Render"; exit 1; }
+[ $rc -eq 0 ] || { cat "$TMP/long.err"; echo "FAIL: gistreamd exited $rc on SIGTERM under a long Render"; exit 1; }
 wait $RPID && rrc=0 || rrc=$?
 [ $rrc -ne 0 ] && grep -Eq "UNAVAILABLE|CANCELLED" "$TMP/long.log" ||
   { cat "$TMP/long.log"; echo "FAIL: the long Render got no clean status at shutdown"; exit 1; }
@@ -163,16 +162,8 @@ wait $RPID && rrc=0 || rrc=$?
 # error code 11").
 python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); d["extras"]={"pad":"x"*8000000}; json.dump(d,open(sys.argv[2],"w"))' \
   "$SCENES/cornell_box_coarse.gltf" "$TMP/big.gltf"
-"$BIN/gistreamd" --listen 127.0.0.1:0 --scenes "$SCENES" --max-transport-bytes 1000000 \
-  >"$TMP/out3.log" 2>"$TMP/err3.log" &
-PID=$!
-for _ in $(seq 1 300); do
-  grep -q "^listening on" "$TMP/out3.log" && break
-  sleep 0.1
-done
-ADDR3=$(sed -n 's/^listening on //p' "$TMP/out3.log")
-[ -n "$ADDR3" ] || { cat "$TMP/err3.log"; echo "FAIL: no 'listening on' line (third server)"; exit 1; }
-if "$BIN/gistream" --server "$ADDR3" render --scene "$TMP/big.gltf" --solver direct --size 16x16 \
+start_server transport --max-transport-bytes 1000000
+if "$BIN/gistream" --server "$ADDR" render --scene "$TMP/big.gltf" --solver direct --size 16x16 \
   --out "$TMP/big.png" >"$TMP/big.log" 2>&1; then
   echo "FAIL: an 8 MB upload passed a 1 MB transport limit"; exit 1
 fi
