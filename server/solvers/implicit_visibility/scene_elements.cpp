@@ -31,90 +31,113 @@ glm::vec3 Texel(const Image& image, glm::vec2 uv) {
 
 }  // namespace
 
+// Build's element meshes, one per key: (mesh, primitive) in first-use
+// order, a deforming node's instance keyed (-1 - node, primitive) (its
+// elements follow its posed mesh, SceneState::NodeMesh, shared with no
+// other instance).
+struct SceneElements::Keyed {
+  std::vector<std::pair<int, int>> keys;
+  std::vector<int> key_mesh;  // the scene mesh of each key
+  std::vector<std::shared_ptr<hierarchy::ElementMesh>> meshes;
+  std::vector<std::shared_ptr<const Primitive>> primitives;  // the elements' (subdivided)
+  std::vector<std::shared_ptr<const Primitive>> displays;    // what the display draws
+  std::vector<hierarchy::VertexTransfer> transfers;          // display onto elements
+  std::vector<hierarchy::Midpoints> midpoints;
+
+  static std::pair<int, int> KeyOf(const SceneState& state, const DrawItem& d) {
+    return std::make_pair(state.Deforms(size_t(d.node)) ? -1 - d.node : d.mesh, d.primitive);
+  }
+  const Primitive& PrimitiveOf(const SceneState& state, size_t k) const {
+    const size_t p = size_t(keys[k].second);
+    return keys[k].first < 0 ? state.NodeMesh(size_t(-1 - keys[k].first)).primitives[p]
+                             : state.scene().meshes[size_t(keys[k].first)].primitives[p];
+  }
+  size_t Find(const std::pair<int, int>& key) const {
+    return size_t(std::find(keys.begin(), keys.end(), key) - keys.begin());
+  }
+};
+
 void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::StageTimer& timer,
                           bool full_detail) {
+  Keyed keyed;
   sources_.clear();
-  // (mesh, primitive) in first-use order; a deforming node's instance is
-  // keyed (-1 - node, primitive): its elements follow its posed mesh
-  // (SceneState::NodeMesh), shared with no other instance.
-  std::vector<std::pair<int, int>> keys;
-  auto key_of = [&](const DrawItem& d) {
-    return std::make_pair(state.Deforms(size_t(d.node)) ? -1 - d.node : d.mesh, d.primitive);
-  };
-  auto primitive_of = [&](const std::pair<int, int>& key) -> const Primitive& {
-    const size_t p = size_t(key.second);
-    return key.first < 0 ? state.NodeMesh(size_t(-1 - key.first)).primitives[p]
-                         : state.scene().meshes[size_t(key.first)].primitives[p];
-  };
-  std::vector<int> key_mesh;  // the scene mesh of each key
   for (const DrawItem& d : gpu.draws()) {
     sources_.push_back({d.node, d.mesh, d.primitive, nullptr, nullptr, 0});
-    if (std::find(keys.begin(), keys.end(), key_of(d)) == keys.end()) {
-      keys.push_back(key_of(d));
-      key_mesh.push_back(d.mesh);
+    if (keyed.Find(Keyed::KeyOf(state, d)) == keyed.keys.size()) {
+      keyed.keys.push_back(Keyed::KeyOf(state, d));
+      keyed.key_mesh.push_back(d.mesh);
     }
   }
-  std::vector<std::shared_ptr<hierarchy::ElementMesh>> meshes(keys.size());
-  std::vector<std::shared_ptr<const Primitive>> primitives(keys.size());
-  std::vector<std::shared_ptr<const Primitive>> displays(keys.size());
-  std::vector<hierarchy::VertexTransfer> transfers(keys.size());
-  std::vector<hierarchy::Midpoints> midpoints(keys.size());
   {
     gl::StageTimer::Scope stage(timer, "create_surfels", /*cpu_stage=*/true);
-    std::vector<float> max_edge(keys.size());
-    std::vector<int> level(keys.size(), -1);
-    for (size_t k = 0; k < keys.size(); ++k) {
-      max_edge[k] = hierarchy::LocalMaxEdge(state, gpu, key_mesh[k], keys[k].second);
-      // A deforming primitive has no proxies (its pose would void the bound).
-      if (keys[k].first >= 0)
-        level[k] = hierarchy::ElementLevel(primitive_of(keys[k]), max_edge[k], full_detail);
-    }
-    ParallelFor(keys.size(), 1, [&](size_t k) {
-      const Primitive& full = primitive_of(keys[k]);
-      if (level[k] < 0) {
-        primitives[k] = std::make_shared<const Primitive>(
-            hierarchy::SubdivideLongEdges(full, max_edge[k], &midpoints[k]));
-        displays[k] = primitives[k];
-      } else {
-        primitives[k] = std::make_shared<const Primitive>(hierarchy::SubdivideLongEdges(
-            hierarchy::ProxyLevelMesh(full, level[k]), max_edge[k], &midpoints[k]));
-        displays[k] = std::make_shared<const Primitive>(
-            hierarchy::SubdivideLongEdges(hierarchy::SurfaceOf(full), max_edge[k]));
-      }
-      meshes[k] = std::make_shared<hierarchy::ElementMesh>();
-      meshes[k]->surfels = hierarchy::CreateSurfels(*primitives[k]);
-    });
-    // The full mesh's vertices onto the proxy's triangles, once per key
-    // (each a ParallelFor of its own).
-    for (size_t k = 0; k < keys.size(); ++k) {
-      if (displays[k] != primitives[k])
-        transfers[k] = hierarchy::TransferVertices(*displays[k], *primitives[k]);
-    }
+    CreateSurfels(state, gpu, full_detail, keyed);
   }
   {
     gl::StageTimer::Scope stage(timer, "create_hierarchy", /*cpu_stage=*/true);
-    ParallelFor(keys.size(), 1, [&](size_t k) {
-      meshes[k]->tree = hierarchy::CreateHierarchy(meshes[k]->surfels);
+    ParallelFor(keyed.keys.size(), 1, [&](size_t k) {
+      keyed.meshes[k]->tree = hierarchy::CreateHierarchy(keyed.meshes[k]->surfels);
     });
   }
   std::vector<hierarchy::ElementInstance> instances;
   std::vector<size_t> key_of_source(sources_.size());
   for (size_t i = 0; i < sources_.size(); ++i) {
-    InstanceSource& s = sources_[i];
-    const size_t k =
-        size_t(std::find(keys.begin(), keys.end(), key_of(gpu.draws()[i])) - keys.begin());
-    instances.push_back({meshes[k], 0, {}});
-    s.elements = primitives[k];
-    s.display = displays[k];
+    const size_t k = keyed.Find(Keyed::KeyOf(state, gpu.draws()[i]));
+    instances.push_back({keyed.meshes[k], 0, {}});
+    sources_[i].elements = keyed.primitives[k];
+    sources_[i].display = keyed.displays[k];
     key_of_source[i] = k;
   }
   deforming_.clear();
-  for (size_t k = 0; k < keys.size(); ++k) {
-    if (keys[k].first >= 0) continue;
-    deforming_.push_back(
-        {-1 - keys[k].first, keys[k].second, primitives[k], std::move(midpoints[k]), meshes[k]});
+  for (size_t k = 0; k < keyed.keys.size(); ++k) {
+    if (keyed.keys[k].first >= 0) continue;
+    deforming_.push_back({-1 - keyed.keys[k].first, keyed.keys[k].second, keyed.primitives[k],
+                          std::move(keyed.midpoints[k]), keyed.meshes[k]});
   }
   elements_ = hierarchy::Elements(std::move(instances));
+  BuildDisplayMesh(keyed, key_of_source);
+  built_ = true;
+}
+
+void SceneElements::CreateSurfels(const SceneState& state, const GpuScene& gpu, bool full_detail,
+                                  Keyed& keyed) {
+  const size_t count = keyed.keys.size();
+  keyed.meshes.resize(count);
+  keyed.primitives.resize(count);
+  keyed.displays.resize(count);
+  keyed.transfers.resize(count);
+  keyed.midpoints.resize(count);
+  std::vector<float> max_edge(count);
+  std::vector<int> level(count, -1);
+  for (size_t k = 0; k < count; ++k) {
+    max_edge[k] = hierarchy::LocalMaxEdge(state, gpu, keyed.key_mesh[k], keyed.keys[k].second);
+    // A deforming primitive has no proxies (its pose would void the bound).
+    if (keyed.keys[k].first >= 0)
+      level[k] = hierarchy::ElementLevel(keyed.PrimitiveOf(state, k), max_edge[k], full_detail);
+  }
+  ParallelFor(count, 1, [&](size_t k) {
+    const Primitive& full = keyed.PrimitiveOf(state, k);
+    if (level[k] < 0) {
+      keyed.primitives[k] = std::make_shared<const Primitive>(
+          hierarchy::SubdivideLongEdges(full, max_edge[k], &keyed.midpoints[k]));
+      keyed.displays[k] = keyed.primitives[k];
+    } else {
+      keyed.primitives[k] = std::make_shared<const Primitive>(hierarchy::SubdivideLongEdges(
+          hierarchy::ProxyLevelMesh(full, level[k]), max_edge[k], &keyed.midpoints[k]));
+      keyed.displays[k] = std::make_shared<const Primitive>(
+          hierarchy::SubdivideLongEdges(hierarchy::SurfaceOf(full), max_edge[k]));
+    }
+    keyed.meshes[k] = std::make_shared<hierarchy::ElementMesh>();
+    keyed.meshes[k]->surfels = hierarchy::CreateSurfels(*keyed.primitives[k]);
+  });
+  // The full mesh's vertices onto the proxy's triangles, once per key
+  // (each a ParallelFor of its own).
+  for (size_t k = 0; k < count; ++k) {
+    if (keyed.displays[k] != keyed.primitives[k])
+      keyed.transfers[k] = hierarchy::TransferVertices(*keyed.displays[k], *keyed.primitives[k]);
+  }
+}
+
+void SceneElements::BuildDisplayMesh(const Keyed& keyed, const std::vector<size_t>& key_of_source) {
   // The display mesh: a leaf per vertex where the elements are the full
   // mesh, else the full mesh's vertices with their transfer.
   triangles_.clear();
@@ -135,14 +158,13 @@ void SceneElements::Build(const SceneState& state, const GpuScene& gpu, gl::Stag
       continue;
     }
     proxy_leaves_ += int(s.elements->positions.size());
-    const hierarchy::VertexTransfer& t = transfers[key_of_source[i]];
+    const hierarchy::VertexTransfer& t = keyed.transfers[key_of_source[i]];
     for (size_t v = 0; v < t.corner.size(); ++v) {
       vertex_leaves_.push_back(glm::uvec3(leaf_offset) + t.corner[v]);
       vertex_weights_.push_back(t.weight[v]);
     }
   }
   vertex_world_.assign(vertex_leaves_.size(), glm::vec3(0.0f));
-  built_ = true;
 }
 
 void SceneElements::UpdatePose(const SceneState& state) {

@@ -76,6 +76,15 @@ class SceneElements {
     hierarchy::Midpoints midpoints;
     std::shared_ptr<const hierarchy::ElementMesh> mesh;  // current surfels, Build's tree
   };
+  // Build's steps (Keyed: the element meshes per mesh and primitive).
+  struct Keyed;
+  // Stage create_surfels: each key's elements (its proxy level or the
+  // full mesh, long edges subdivided), surfels and display transfer.
+  static void CreateSurfels(const SceneState& state, const GpuScene& gpu, bool full_detail,
+                            Keyed& keyed);
+  // The display's triangles and each vertex's leaves and weights.
+  void BuildDisplayMesh(const Keyed& keyed, const std::vector<size_t>& key_of_source);
+
   bool built_ = false;
   std::vector<InstanceSource> sources_;
   std::vector<DeformingSource> deforming_;
