@@ -70,95 +70,113 @@ absl::StatusOr<GlossyTransfer> GlossyTransfer::Build(const Patches& patches,
         " MiB); use fewer bins"));
   }
   g.matrices_.resize(first_node.size());
-  const float omega = bins.omega_bin();
-  const float sub_radius = 0.5f * std::sqrt(omega / kPi);  // half the bin's radius
   const float min_roughness = BinRoughness(bins);
   ParallelFor(first_node.size(), 1, [&](size_t mi) {
     const int node = first_node[mi];
-    const glm::vec3& n = patches.normal[size_t(node)];
-    const shading::Brdf& material = brdf[size_t(node)];
-    shading::Brdf blurred = material;
-    blurred.roughness = std::max(material.roughness, min_roughness);
-    glm::vec3 tu, tv;
-    Frame(n, &tu, &tv);
-    auto local = [&](const glm::vec3& d) {
-      return glm::vec3(glm::dot(d, tu), glm::dot(d, tv), glm::dot(d, n));
-    };
-    Matrix& mat = g.matrices_[mi];
-    double s = 0.0;  // S(n), transport.h
-    for (int j = 0; j < bins.count(); ++j) {
-      const float c = glm::dot(n, bins.direction(j));
-      if (c > 0.0f) mat.hemisphere.push_back(uint16_t(j)), s += c;
-    }
-    const float pi_over_s = kPi / float(s * omega);
-    const size_t h = mat.hemisphere.size();
-    // The exitant bins' sub-sample directions, local frame.
-    std::vector<glm::vec3> wo(h * kSubSamples);
-    for (size_t o = 0; o < h; ++o) {
-      const glm::vec3 d = bins.direction(mat.hemisphere[o]);
-      glm::vec3 du, dv;
-      Frame(d, &du, &dv);
-      wo[o * kSubSamples] = local(d);
-      for (int q = 1; q < kSubSamples; ++q) {
-        const float phi = 2.0f * kPi * float(q) / float(kSubSamples - 1);
-        const glm::vec3 e =
-            glm::normalize(d + sub_radius * (std::cos(phi) * du + std::sin(phi) * dv));
-        wo[o * kSubSamples + size_t(q)] = local(e);
-      }
-    }
-    // K[o][j]: the blurred BRDF averaged over the sub-samples of one end,
-    // then symmetrized (f is reciprocal, so K = (A + A^T) / 2 is the mean
-    // over both ends' sub-samples).
-    std::vector<glm::vec3> kernel(h * h, glm::vec3(0.0f));
-    for (size_t o = 0; o < h; ++o) {
-      for (size_t j = 0; j < h; ++j) {
-        glm::vec3 f(0.0f);
-        for (int q = 0; q < kSubSamples; ++q) {
-          f += shading::Eval(blurred, wo[o * kSubSamples + size_t(q)], wo[j * kSubSamples]);
-        }
-        kernel[o * h + j] = f / float(kSubSamples);
-      }
-    }
-    for (size_t o = 0; o < h; ++o) {
-      for (size_t j = 0; j < o; ++j) {
-        const glm::vec3 mean = 0.5f * (kernel[o * h + j] + kernel[j * h + o]);
-        kernel[o * h + j] = kernel[j * h + o] = mean;
-      }
-    }
-    // Symmetric scaling K' = D K D (Sinkhorn-Knopp, damped by the square
-    // root) so that every row reflects the true directional albedo under
-    // uniform light: sum_j K'[o][j] <n|omega_j> omega_bin = albedo(omega_o).
-    // K' stays symmetric, so each column (what one incident bin sends out)
-    // carries the same albedo: uniform light gives albedo(omega_o) per bin
-    // and no incident bin leaves with more than albedo(omega_j) of its flux.
-    std::vector<glm::vec3> albedo(h), d(h, glm::vec3(1.0f));
-    std::vector<float> cw(h);
-    for (size_t o = 0; o < h; ++o) {
-      const float c = wo[o * kSubSamples].z;
-      cw[o] = c * omega;
-      albedo[o] =
-          BrdfDirectionalAlbedo(material.base_color, material.metallic, material.roughness, c);
-    }
-    for (int it = 0; it < kScalingIterations; ++it) {
-      for (size_t o = 0; o < h; ++o) {
-        glm::vec3 row(0.0f);
-        for (size_t j = 0; j < h; ++j) row += kernel[o * h + j] * d[j] * cw[j];
-        for (int ch = 0; ch < 3; ++ch) {
-          const float r = d[o][ch] * row[ch];
-          d[o][ch] = r > 0.0f ? d[o][ch] * std::sqrt(albedo[o][ch] / r) : 0.0f;
-        }
-      }
-    }
-    // T[o][j] = K'[o][j] <n|omega_j> omega_bin pi / S(n) (the bins' cosine
-    // correction, as the diffuse K: uniform L_in = 1 gives albedo pi / S).
-    mat.t.resize(h * h);
-    for (size_t o = 0; o < h; ++o) {
-      for (size_t j = 0; j < h; ++j) {
-        mat.t[o * h + j] = d[o] * kernel[o * h + j] * d[j] * (cw[j] * pi_over_s);
-      }
-    }
+    g.matrices_[mi] =
+        BuildMatrix(bins, patches.normal[size_t(node)], brdf[size_t(node)], min_roughness);
   });
   return g;
+}
+
+GlossyTransfer::Matrix GlossyTransfer::BuildMatrix(const DirectionalBins& bins, const glm::vec3& n,
+                                                   const shading::Brdf& material,
+                                                   float min_roughness) {
+  const float omega = bins.omega_bin();
+  shading::Brdf blurred = material;
+  blurred.roughness = std::max(material.roughness, min_roughness);
+  Matrix mat;
+  double s = 0.0;  // S(n), transport.h
+  for (int j = 0; j < bins.count(); ++j) {
+    const float c = glm::dot(n, bins.direction(j));
+    if (c > 0.0f) mat.hemisphere.push_back(uint16_t(j)), s += c;
+  }
+  const float pi_over_s = kPi / float(s * omega);
+  const size_t h = mat.hemisphere.size();
+  const std::vector<glm::vec3> wo = SubSampleDirections(bins, n, mat.hemisphere);
+  std::vector<glm::vec3> kernel = BlurredKernel(blurred, wo, h);
+  // Symmetric scaling K' = D K D (Sinkhorn-Knopp, damped by the square
+  // root) so that every row reflects the true directional albedo under
+  // uniform light: sum_j K'[o][j] <n|omega_j> omega_bin = albedo(omega_o).
+  // K' stays symmetric, so each column (what one incident bin sends out)
+  // carries the same albedo: uniform light gives albedo(omega_o) per bin
+  // and no incident bin leaves with more than albedo(omega_j) of its flux.
+  std::vector<glm::vec3> albedo(h), d(h, glm::vec3(1.0f));
+  std::vector<float> cw(h);
+  for (size_t o = 0; o < h; ++o) {
+    const float c = wo[o * kSubSamples].z;
+    cw[o] = c * omega;
+    albedo[o] =
+        BrdfDirectionalAlbedo(material.base_color, material.metallic, material.roughness, c);
+  }
+  for (int it = 0; it < kScalingIterations; ++it) {
+    for (size_t o = 0; o < h; ++o) {
+      glm::vec3 row(0.0f);
+      for (size_t j = 0; j < h; ++j) row += kernel[o * h + j] * d[j] * cw[j];
+      for (int ch = 0; ch < 3; ++ch) {
+        const float r = d[o][ch] * row[ch];
+        d[o][ch] = r > 0.0f ? d[o][ch] * std::sqrt(albedo[o][ch] / r) : 0.0f;
+      }
+    }
+  }
+  // T[o][j] = K'[o][j] <n|omega_j> omega_bin pi / S(n) (the bins' cosine
+  // correction, as the diffuse K: uniform L_in = 1 gives albedo pi / S).
+  mat.t.resize(h * h);
+  for (size_t o = 0; o < h; ++o) {
+    for (size_t j = 0; j < h; ++j) {
+      mat.t[o * h + j] = d[o] * kernel[o * h + j] * d[j] * (cw[j] * pi_over_s);
+    }
+  }
+  return mat;
+}
+
+std::vector<glm::vec3> GlossyTransfer::SubSampleDirections(
+    const DirectionalBins& bins, const glm::vec3& n, const std::vector<uint16_t>& hemisphere) {
+  const float sub_radius = 0.5f * std::sqrt(bins.omega_bin() / kPi);  // half the bin's radius
+  glm::vec3 tu, tv;
+  Frame(n, &tu, &tv);
+  auto local = [&](const glm::vec3& d) {
+    return glm::vec3(glm::dot(d, tu), glm::dot(d, tv), glm::dot(d, n));
+  };
+  // The exitant bins' sub-sample directions, local frame.
+  std::vector<glm::vec3> wo(hemisphere.size() * kSubSamples);
+  for (size_t o = 0; o < hemisphere.size(); ++o) {
+    const glm::vec3 d = bins.direction(hemisphere[o]);
+    glm::vec3 du, dv;
+    Frame(d, &du, &dv);
+    wo[o * kSubSamples] = local(d);
+    for (int q = 1; q < kSubSamples; ++q) {
+      const float phi = 2.0f * kPi * float(q) / float(kSubSamples - 1);
+      const glm::vec3 e =
+          glm::normalize(d + sub_radius * (std::cos(phi) * du + std::sin(phi) * dv));
+      wo[o * kSubSamples + size_t(q)] = local(e);
+    }
+  }
+  return wo;
+}
+
+std::vector<glm::vec3> GlossyTransfer::BlurredKernel(const shading::Brdf& blurred,
+                                                     const std::vector<glm::vec3>& wo, size_t h) {
+  // K[o][j]: the blurred BRDF averaged over the sub-samples of one end,
+  // then symmetrized (f is reciprocal, so K = (A + A^T) / 2 is the mean
+  // over both ends' sub-samples).
+  std::vector<glm::vec3> kernel(h * h, glm::vec3(0.0f));
+  for (size_t o = 0; o < h; ++o) {
+    for (size_t j = 0; j < h; ++j) {
+      glm::vec3 f(0.0f);
+      for (int q = 0; q < kSubSamples; ++q) {
+        f += shading::Eval(blurred, wo[o * kSubSamples + size_t(q)], wo[j * kSubSamples]);
+      }
+      kernel[o * h + j] = f / float(kSubSamples);
+    }
+  }
+  for (size_t o = 0; o < h; ++o) {
+    for (size_t j = 0; j < o; ++j) {
+      const glm::vec3 mean = 0.5f * (kernel[o * h + j] + kernel[j * h + o]);
+      kernel[o * h + j] = kernel[j * h + o] = mean;
+    }
+  }
+  return kernel;
 }
 
 void GlossyTransfer::Reflect(int s, const glm::vec3* l_in, glm::vec3* out) const {

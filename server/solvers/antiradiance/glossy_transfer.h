@@ -63,6 +63,19 @@ class GlossyTransfer {
     std::vector<uint16_t> hemisphere;  // bins with <n|omega> > 0
     std::vector<glm::vec3> t;          // [o * h + j], h = hemisphere.size()
   };
+  // Build's steps for one (material, normal): the hemisphere's bins and
+  // the transfer matrix T (BlurredKernel's K scaled to the BRDF's albedo).
+  static Matrix BuildMatrix(const DirectionalBins& bins, const glm::vec3& n,
+                            const shading::Brdf& material, float min_roughness);
+  // kSubSamples directions per hemisphere bin (its centre first), in the
+  // frame of `n`.
+  static std::vector<glm::vec3> SubSampleDirections(const DirectionalBins& bins, const glm::vec3& n,
+                                                    const std::vector<uint16_t>& hemisphere);
+  // The blurred BRDF between the h bins, averaged over sub-samples and
+  // symmetrized.
+  static std::vector<glm::vec3> BlurredKernel(const shading::Brdf& blurred,
+                                              const std::vector<glm::vec3>& wo, size_t h);
+
   int m_ = 0;
   std::vector<int> slot_;                 // per node
   std::vector<uint32_t> matrix_of_slot_;  // per slot
