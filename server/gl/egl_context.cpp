@@ -88,44 +88,52 @@ absl::StatusOr<std::vector<EglDeviceInfo>> EnumerateEglDevices() {
   return out;
 }
 
-absl::StatusOr<std::unique_ptr<EglContext>> EglContext::Create(int device_index) {
-  GS_ASSIGN_OR_RETURN(EglExt ext, LoadExtensions());
-  const std::vector<EGLDeviceEXT> devices = QueryDevices(ext);
-  if (devices.empty()) return absl::FailedPreconditionError("EGL: no devices found");
+namespace {
 
-  int chosen = -1;
-  std::string why;
+// The device to render on: the requested one, else the first hardware
+// device, else the first software one; and why, for the description.
+absl::StatusOr<std::pair<int, std::string>> ChooseDevice(const EglExt& ext,
+                                                         const std::vector<EGLDeviceEXT>& devices,
+                                                         int device_index) {
   if (device_index >= 0) {
     if (device_index >= int(devices.size())) {
       return absl::InvalidArgumentError(absl::StrCat(
           "--egl-device: ", device_index, " is out of range (", devices.size(), " EGL devices)"));
     }
-    chosen = device_index;
-    why = "requested";
-  } else {
-    for (size_t i = 0; i < devices.size() && chosen < 0; ++i) {
-      if (!Describe(ext, devices[i], int(i)).software)
-        chosen = int(i), why = "first hardware device";
-    }
-    for (size_t i = 0; i < devices.size() && chosen < 0; ++i) {
-      if (Describe(ext, devices[i], int(i)).software) chosen = int(i), why = "software device";
-    }
-    if (chosen < 0) chosen = 0, why = "first device";
+    return std::make_pair(device_index, std::string("requested"));
   }
-  const EglDeviceInfo info = Describe(ext, devices[size_t(chosen)], chosen);
+  for (size_t i = 0; i < devices.size(); ++i) {
+    if (!Describe(ext, devices[i], int(i)).software)
+      return std::make_pair(int(i), std::string("first hardware device"));
+  }
+  for (size_t i = 0; i < devices.size(); ++i) {
+    if (Describe(ext, devices[i], int(i)).software)
+      return std::make_pair(int(i), std::string("software device"));
+  }
+  return std::make_pair(0, std::string("first device"));
+}
 
-  EGLDisplay display =
-      ext.get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[size_t(chosen)], nullptr);
-  if (display == EGL_NO_DISPLAY) {
+// An initialized display of the device with what a surfaceless OpenGL
+// context needs; its config (null with EGL_KHR_no_config_context).
+struct EglDisplay {
+  EGLDisplay display = EGL_NO_DISPLAY;
+  EGLint major = 0, minor = 0;
+  bool no_config = false;
+  EGLConfig config = nullptr;
+};
+
+absl::StatusOr<EglDisplay> InitializeDisplay(const EglExt& ext, EGLDeviceEXT device, int chosen) {
+  EglDisplay d;
+  d.display = ext.get_platform_display(EGL_PLATFORM_DEVICE_EXT, device, nullptr);
+  if (d.display == EGL_NO_DISPLAY) {
     return absl::FailedPreconditionError(
         absl::StrCat("EGL: no display for device ", chosen, ": ", EglErrorName(eglGetError())));
   }
-  EGLint major = 0, minor = 0;
-  if (!eglInitialize(display, &major, &minor)) {
+  if (!eglInitialize(d.display, &d.major, &d.minor)) {
     return absl::FailedPreconditionError(absl::StrCat("EGL: eglInitialize failed on device ",
                                                       chosen, ": ", EglErrorName(eglGetError())));
   }
-  const std::string display_ext = eglQueryString(display, EGL_EXTENSIONS);
+  const std::string display_ext = eglQueryString(d.display, EGL_EXTENSIONS);
   if (!HasExtension(display_ext, "EGL_KHR_surfaceless_context")) {
     return absl::FailedPreconditionError("EGL: EGL_KHR_surfaceless_context is required");
   }
@@ -133,17 +141,18 @@ absl::StatusOr<std::unique_ptr<EglContext>> EglContext::Create(int device_index)
     return absl::FailedPreconditionError("EGL: eglBindAPI(EGL_OPENGL_API) failed");
   }
   const EGLint config_attribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_NONE};
-  EGLConfig config = nullptr;
   EGLint num_configs = 0;
-  const bool no_config = HasExtension(display_ext, "EGL_KHR_no_config_context");
-  if (!no_config &&
-      (!eglChooseConfig(display, config_attribs, &config, 1, &num_configs) || num_configs == 0)) {
+  d.no_config = HasExtension(display_ext, "EGL_KHR_no_config_context");
+  if (!d.no_config && (!eglChooseConfig(d.display, config_attribs, &d.config, 1, &num_configs) ||
+                       num_configs == 0)) {
     return absl::FailedPreconditionError("EGL: no OpenGL-capable config");
   }
+  return d;
+}
 
-  auto self = std::unique_ptr<EglContext>(new EglContext());
-  self->display_ = display;
-  // Robust context with reset notification first, a plain one as fallback.
+// An OpenGL 4.5 core context: robust with reset notification first, a
+// plain one as fallback; EGL_NO_CONTEXT when neither is made.
+std::pair<EGLContext, bool> CreateCoreContext(const EglDisplay& d) {
   for (bool robust : {true, false}) {
     std::vector<EGLint> attribs = {
         EGL_CONTEXT_MAJOR_VERSION,       4,
@@ -158,23 +167,36 @@ absl::StatusOr<std::unique_ptr<EglContext>> EglContext::Create(int device_index)
                       EGL_CONTEXT_OPENGL_RESET_NOTIFICATION_STRATEGY, EGL_LOSE_CONTEXT_ON_RESET});
     }
     attribs.push_back(EGL_NONE);
-    EGLContext ctx = eglCreateContext(display, no_config ? EGL_NO_CONFIG_KHR : config,
+    EGLContext ctx = eglCreateContext(d.display, d.no_config ? EGL_NO_CONFIG_KHR : d.config,
                                       EGL_NO_CONTEXT, attribs.data());
-    if (ctx != EGL_NO_CONTEXT) {
-      self->context_ = ctx;
-      self->robust_ = robust;
-      break;
-    }
+    if (ctx != EGL_NO_CONTEXT) return {ctx, robust};
   }
+  return {EGL_NO_CONTEXT, false};
+}
+
+}  // namespace
+
+absl::StatusOr<std::unique_ptr<EglContext>> EglContext::Create(int device_index) {
+  GS_ASSIGN_OR_RETURN(EglExt ext, LoadExtensions());
+  const std::vector<EGLDeviceEXT> devices = QueryDevices(ext);
+  if (devices.empty()) return absl::FailedPreconditionError("EGL: no devices found");
+  GS_ASSIGN_OR_RETURN(const auto choice, ChooseDevice(ext, devices, device_index));
+  const auto& [chosen, why] = choice;
+  const EglDeviceInfo info = Describe(ext, devices[size_t(chosen)], chosen);
+  GS_ASSIGN_OR_RETURN(const EglDisplay display,
+                      InitializeDisplay(ext, devices[size_t(chosen)], chosen));
+  auto self = std::unique_ptr<EglContext>(new EglContext());
+  self->display_ = display.display;
+  std::tie(self->context_, self->robust_) = CreateCoreContext(display);
   if (!self->context_) {
     return absl::FailedPreconditionError(
         absl::StrCat("EGL: could not create an OpenGL 4.5 core context on device ", chosen, ": ",
                      EglErrorName(eglGetError())));
   }
-  self->description_ = absl::StrCat("EGL ", major, ".", minor, " device ", chosen, " of ",
-                                    devices.size(), " (", why, info.software ? ", software" : "",
-                                    info.drm_path.empty() ? "" : ", " + info.drm_path,
-                                    self->robust_ ? ", robust" : "", ")");
+  self->description_ = absl::StrCat(
+      "EGL ", display.major, ".", display.minor, " device ", chosen, " of ", devices.size(), " (",
+      why, info.software ? ", software" : "", info.drm_path.empty() ? "" : ", " + info.drm_path,
+      self->robust_ ? ", robust" : "", ")");
   return self;
 }
 
