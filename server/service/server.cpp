@@ -28,25 +28,8 @@ std::string WithPort(const std::string& listen, int port) {
 GistreamServer::GistreamServer(Engine& engine, const ServerOptions& options)
     : engine_(engine), service_(std::make_unique<GistreamService>(engine, options.service)) {}
 
-absl::StatusOr<std::unique_ptr<GistreamServer>> GistreamServer::Start(
-    Engine& engine, const ServerOptions& options) {
-  // Both are process-wide switches that apply to servers built afterwards.
-  grpc::EnableDefaultHealthCheckService(true);
-  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
-
-  GS_ASSIGN_OR_RETURN(std::shared_ptr<grpc::ServerCredentials> credentials,
-                      MakeServerCredentials(options.listen, options.tls, options.allow_insecure,
-                                            options.service.tokens));
-  std::unique_ptr<GistreamServer> self(new GistreamServer(engine, options));
-  grpc::ServerBuilder builder;
-  builder.AddListeningPort(options.listen, credentials, &self->port_);
-  builder.RegisterService(self->service_.get());
-  // Generic tools ask for grpc.reflection.v1 first; libgrpc++ 1.51 serves
-  // only v1alpha (the plugin above), so v1 is ours.
-  self->reflection_v1_ = std::make_unique<ReflectionV1>(std::vector<std::string>{
-      kServiceName, "grpc.health.v1.Health", "grpc.reflection.v1.ServerReflection",
-      "grpc.reflection.v1alpha.ServerReflection"});
-  builder.RegisterService(self->reflection_v1_.get());
+void GistreamServer::ConfigureTransport(grpc::ServerBuilder& builder,
+                                        const ServerOptions& options) {
   // gRPC sets SO_REUSEPORT by default: a second gistreamd on the same port
   // would silently share its traffic instead of failing to start.
   builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
@@ -67,30 +50,25 @@ absl::StatusOr<std::unique_ptr<GistreamServer>> GistreamServer::Start(
                              Millis(options.min_client_ping_interval));
   builder.AddChannelArgument(GRPC_ARG_HTTP2_MIN_SENT_PING_INTERVAL_WITHOUT_DATA_MS,
                              Millis(options.keepalive_time));
+}
 
-  self->server_ = builder.BuildAndStart();
-  if (self->server_ == nullptr || self->port_ == 0) {
-    self->server_.reset();
-    return absl::UnavailableError(absl::StrCat("cannot listen on ", options.listen,
-                                               " (address in use, not local, or malformed)"));
+absl::Status GistreamServer::StartHealth(const std::string& listen) {
+  if (listen.empty()) return absl::OkStatus();
+  // Only the default health service: nothing else is registered here.
+  grpc::ServerBuilder health_builder;
+  health_builder.AddListeningPort(listen, grpc::InsecureServerCredentials(), &health_port_);
+  health_builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
+  health_server_ = health_builder.BuildAndStart();
+  if (health_server_ == nullptr || health_port_ == 0) {
+    health_server_.reset();
+    server_->Shutdown();
+    return absl::UnavailableError(absl::StrCat("cannot listen on ", listen, " (--health-listen)"));
   }
-  self->address_ = WithPort(options.listen, self->port_);
+  return absl::OkStatus();
+}
 
-  if (!options.health_listen.empty()) {
-    // Only the default health service: nothing else is registered here.
-    grpc::ServerBuilder health_builder;
-    health_builder.AddListeningPort(options.health_listen, grpc::InsecureServerCredentials(),
-                                    &self->health_port_);
-    health_builder.AddChannelArgument(GRPC_ARG_ALLOW_REUSEPORT, 0);
-    self->health_server_ = health_builder.BuildAndStart();
-    if (self->health_server_ == nullptr || self->health_port_ == 0) {
-      self->health_server_.reset();
-      self->server_->Shutdown();
-      return absl::UnavailableError(
-          absl::StrCat("cannot listen on ", options.health_listen, " (--health-listen)"));
-    }
-  }
-  for (grpc::Server* server : {self->server_.get(), self->health_server_.get()}) {
+void GistreamServer::ReportServing(Engine& engine) {
+  for (grpc::Server* server : {server_.get(), health_server_.get()}) {
     grpc::HealthCheckServiceInterface* health =
         server != nullptr ? server->GetHealthCheckService() : nullptr;
     if (health != nullptr) {
@@ -99,14 +77,46 @@ absl::StatusOr<std::unique_ptr<GistreamServer>> GistreamServer::Start(
     }
   }
   // A GPU reset turns health NOT_SERVING until the engine has recovered.
-  engine.SetServingListener([servers = std::vector<grpc::Server*>{
-                                 self->server_.get(), self->health_server_.get()}](bool serving) {
-    for (grpc::Server* server : servers) {
-      grpc::HealthCheckServiceInterface* h =
-          server != nullptr ? server->GetHealthCheckService() : nullptr;
-      if (h != nullptr) h->SetServingStatus(serving);
-    }
-  });
+  engine.SetServingListener(
+      [servers = std::vector<grpc::Server*>{server_.get(), health_server_.get()}](bool serving) {
+        for (grpc::Server* server : servers) {
+          grpc::HealthCheckServiceInterface* h =
+              server != nullptr ? server->GetHealthCheckService() : nullptr;
+          if (h != nullptr) h->SetServingStatus(serving);
+        }
+      });
+}
+
+absl::StatusOr<std::unique_ptr<GistreamServer>> GistreamServer::Start(
+    Engine& engine, const ServerOptions& options) {
+  // Both are process-wide switches that apply to servers built afterwards.
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+
+  GS_ASSIGN_OR_RETURN(std::shared_ptr<grpc::ServerCredentials> credentials,
+                      MakeServerCredentials(options.listen, options.tls, options.allow_insecure,
+                                            options.service.tokens));
+  std::unique_ptr<GistreamServer> self(new GistreamServer(engine, options));
+  grpc::ServerBuilder builder;
+  builder.AddListeningPort(options.listen, credentials, &self->port_);
+  builder.RegisterService(self->service_.get());
+  // Generic tools ask for grpc.reflection.v1 first; libgrpc++ 1.51 serves
+  // only v1alpha (the plugin above), so v1 is ours.
+  self->reflection_v1_ = std::make_unique<ReflectionV1>(std::vector<std::string>{
+      kServiceName, "grpc.health.v1.Health", "grpc.reflection.v1.ServerReflection",
+      "grpc.reflection.v1alpha.ServerReflection"});
+  builder.RegisterService(self->reflection_v1_.get());
+  ConfigureTransport(builder, options);
+  self->server_ = builder.BuildAndStart();
+  if (self->server_ == nullptr || self->port_ == 0) {
+    self->server_.reset();
+    return absl::UnavailableError(absl::StrCat("cannot listen on ", options.listen,
+                                               " (address in use, not local, or malformed)"));
+  }
+  self->address_ = WithPort(options.listen, self->port_);
+
+  GS_RETURN_IF_ERROR(self->StartHealth(options.health_listen));
+  self->ReportServing(engine);
   return self;
 }
 

@@ -76,6 +76,12 @@ class GistreamServer {
 
  private:
   GistreamServer(Engine& engine, const ServerOptions& options);
+  // Start's steps: message sizes, the transport's memory, keepalive; the
+  // plaintext health-only server of --health-listen; health SERVING, and
+  // NOT_SERVING while the engine recovers from a GPU reset.
+  static void ConfigureTransport(grpc::ServerBuilder& builder, const ServerOptions& options);
+  absl::Status StartHealth(const std::string& listen);
+  void ReportServing(Engine& engine);
 
   // Configuration
   Engine& engine_;
