@@ -876,24 +876,9 @@ Clock::time_point EngineImpl::Tick() {
       continue;
     }
     ViewRecord& view = views_[session->id];
-    bool due = false;
-    {
-      MutexLock lock(mutex_);
-      if (session->closed) continue;
-      if (session->config.pacing == Pacing::kOnRequest) {
-        // A frame waiting on a background job is polled, not spun on.
-        due = session->requested > 0 && Clock::now() >= view.poll_at;
-        if (due) session->requested -= 1;
-        if (session->requested > 0 && !due) next = std::min(next, view.poll_at);
-      } else {
-        due = Clock::now() >= view.next_due;
-        // At rest, only an update or a key frame request makes it due.
-        if (view.rest && (!session->pending.empty() || session->key_frame_requested)) {
-          view.rest.reset();
-          session->resting = false;
-        }
-      }
-    }
+    const std::optional<bool> due_now = TakeTurn(*session, view, next);
+    if (!due_now) continue;  // closed
+    const bool due = *due_now;
     if (due && view.rest) {
       if (StillAtRest(*session, view)) {
         const auto now = Clock::now();
@@ -971,6 +956,25 @@ bool EngineImpl::FairShareAhead(const TenantId& tenant, const std::vector<Tenant
   double floor = std::numeric_limits<double>::infinity();
   for (const TenantId& t : wanting) floor = std::min(floor, tenant_render_ms_[t]);
   return tenant_render_ms_[tenant] > floor + kFairSliceMs;
+}
+
+std::optional<bool> EngineImpl::TakeTurn(SessionRecord& session, ViewRecord& view,
+                                         Clock::time_point& next) {
+  MutexLock lock(mutex_);
+  if (session.closed) return std::nullopt;
+  if (session.config.pacing == Pacing::kOnRequest) {
+    // A frame waiting on a background job is polled, not spun on.
+    const bool due = session.requested > 0 && Clock::now() >= view.poll_at;
+    if (due) session.requested -= 1;
+    if (session.requested > 0 && !due) next = std::min(next, view.poll_at);
+    return due;
+  }
+  // At rest, only an update or a key frame request makes it due.
+  if (view.rest && (!session.pending.empty() || session.key_frame_requested)) {
+    view.rest.reset();
+    session.resting = false;
+  }
+  return Clock::now() >= view.next_due;
 }
 
 void EngineImpl::Retire(std::unique_ptr<Solver> solver) {

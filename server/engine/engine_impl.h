@@ -289,6 +289,13 @@ class EngineImpl final : public Engine {
   void ExpireIdle() ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_) ABSL_LOCKS_EXCLUDED(mutex_);
 
   // Render thread.
+  // Whether `session`'s view is due for a frame now (an on-request frame
+  // is then taken from its count; a resting view with an update or a key
+  // frame request wakes up), and when it next could be (into `next`);
+  // nullopt for a closed session.
+  std::optional<bool> TakeTurn(SessionRecord& session, ViewRecord& view,
+                               RenderThread::Clock::time_point& next)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_) ABSL_LOCKS_EXCLUDED(mutex_);
   RenderThread::Clock::time_point Tick() ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_)
       ABSL_LOCKS_EXCLUDED(mutex_);
   void RenderFrame(SessionRecord& session, ViewRecord& view)
