@@ -29,7 +29,9 @@ SessionConfig Streaming(const SceneId& scene, const TenantId& tenant) {
   config.width = 32;
   config.height = 32;
   config.max_fps = 240.0f;  // 5 streams x 240 fps x 6 ms: the render thread saturates
-  config.encoding.format = ImageFormat::kPng;
+  // Float frames: every sample changes them, so none is held back as
+  // unchanged (a converged 8-bit picture would hide its render time).
+  config.encoding.format = ImageFormat::kExr;
   return config;
 }
 
