@@ -10,8 +10,8 @@
 #include <functional>
 #include <future>
 #include <iterator>
-#include <random>
 #include <limits>
+#include <random>
 #include <set>
 #include <thread>
 #include <utility>
@@ -866,11 +866,13 @@ Clock::time_point EngineImpl::Tick() {
     for (auto it = sessions_.begin(); it != start; ++it) order.push_back(it->second);
   }
   Clock::time_point next = Clock::time_point::max();
-  const std::vector<TenantId> wanting = FairShareWanting(order, Clock::now());
+  const FrameDemand demand = FairShareWanting(order, Clock::now());
   for (const auto& session : order) {
     // Fair share: a tenant more than a slice of render time ahead of the
     // tenant that used least (among those with a frame due) waits.
-    if (FairShareAhead(session->scene->tenant, wanting)) {
+    // (A session with no frame due goes on below: its next turn is timed.)
+    if (demand.sessions.count(session->id) > 0 &&
+        FairShareAhead(session->scene->tenant, demand.tenants)) {
       fair_share_deferrals_.fetch_add(1, std::memory_order_relaxed);
       next = std::min(next, Clock::now() + std::chrono::milliseconds(1));
       continue;
@@ -922,9 +924,10 @@ Clock::time_point EngineImpl::Tick() {
   return next;
 }
 
-std::vector<TenantId> EngineImpl::FairShareWanting(
+EngineImpl::FrameDemand EngineImpl::FairShareWanting(
     const std::vector<std::shared_ptr<SessionRecord>>& order, Clock::time_point now) {
   std::set<TenantId> present, wanting;
+  std::set<SessionId> sessions;
   {
     MutexLock lock(mutex_);
     for (const auto& session : order) {
@@ -938,7 +941,10 @@ std::vector<TenantId> EngineImpl::FairShareWanting(
         wants = now >= view->second.next_due &&
                 (!view->second.rest || !session->pending.empty() || session->key_frame_requested);
       }
-      if (wants) wanting.insert(session->scene->tenant);
+      if (wants) {
+        wanting.insert(session->scene->tenant);
+        sessions.insert(session->id);
+      }
     }
   }
   std::erase_if(tenant_render_ms_, [&](const auto& t) { return present.count(t.first) == 0; });
@@ -949,7 +955,7 @@ std::vector<TenantId> EngineImpl::FairShareWanting(
   for (const TenantId& t : wanting) {
     tenant_render_ms_[t] = std::max(tenant_render_ms_[t], lead - kFairWindowMs);
   }
-  return {wanting.begin(), wanting.end()};
+  return {{wanting.begin(), wanting.end()}, std::move(sessions)};
 }
 
 bool EngineImpl::FairShareAhead(const TenantId& tenant, const std::vector<TenantId>& wanting) {

@@ -12,6 +12,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <stop_token>
 #include <string>
 #include <unordered_map>
@@ -269,7 +270,7 @@ class EngineImpl final : public Engine {
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(mutex_);
   // Fair share of the render thread between tenants (issue 30, item 3):
   // each tenant's render time so far is in tenant_render_ms_. A session
-  // whose tenant is more than kFairSliceMs ahead of the least render time
+  // with a frame due whose tenant is more than kFairSliceMs ahead of the least render time
   // among the tenants with a frame due (FairShareWanting, at the start of
   // each Tick) waits (FairShareAhead), so a saturated thread is shared per
   // tenant, not per session: a tenant with four streams gets what one with
@@ -277,8 +278,12 @@ class EngineImpl final : public Engine {
   // never waits. Sessions within a tenant keep Tick's round robin.
   // FairShareWanting also forgets tenants with no session and limits an
   // idle tenant's credit to kFairWindowMs.
-  std::vector<TenantId> FairShareWanting(const std::vector<std::shared_ptr<SessionRecord>>& order,
-                                         RenderThread::Clock::time_point now)
+  struct FrameDemand {
+    std::vector<TenantId> tenants;  // with a frame due now
+    std::set<SessionId> sessions;   // whose frame is due now
+  };
+  FrameDemand FairShareWanting(const std::vector<std::shared_ptr<SessionRecord>>& order,
+                               RenderThread::Clock::time_point now)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_) ABSL_LOCKS_EXCLUDED(mutex_);
   bool FairShareAhead(const TenantId& tenant, const std::vector<TenantId>& wanting)
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
