@@ -15,6 +15,7 @@
 namespace gistream::client {
 namespace {
 constexpr absl::string_view kRpcPayload = "gistream.client/rpc";
+constexpr absl::string_view kTransportRefusalPayload = "gistream.client/transport-refusal";
 
 using Headers = std::vector<std::pair<std::string, std::string>>;
 
@@ -87,6 +88,9 @@ absl::Status FromGrpc(const grpc::Status& status, absl::string_view server) {
   }
   absl::Status result(code, message);
   result.SetPayload(kRpcPayload, absl::Cord("1"));
+  if (IsTransportRefusal(code, status.error_message())) {
+    result.SetPayload(kTransportRefusalPayload, absl::Cord("1"));
+  }
   return result;
 }
 
@@ -95,6 +99,10 @@ absl::Status WithPrefix(const absl::Status& status, absl::string_view prefix) {
   status.ForEachPayload(
       [&](absl::string_view key, const absl::Cord& value) { result.SetPayload(key, value); });
   return result;
+}
+
+bool IsTransportRefusal(const absl::Status& status) {
+  return status.GetPayload(kTransportRefusalPayload).has_value();
 }
 
 bool IsRpcError(const absl::Status& status) { return status.GetPayload(kRpcPayload).has_value(); }

@@ -23,6 +23,8 @@ namespace gistream::client {
 absl::Status FromGrpc(const grpc::Status& status, absl::string_view server);
 // Whether `code` and gRPC's `message` are that transport refusal.
 bool IsTransportRefusal(absl::StatusCode code, absl::string_view message);
+// Whether a status from FromGrpc is that refusal.
+bool IsTransportRefusal(const absl::Status& status);
 bool IsRpcError(const absl::Status& status);
 // `status` with `prefix` before its message, its code and marks kept.
 absl::Status WithPrefix(const absl::Status& status, absl::string_view prefix);

@@ -134,8 +134,7 @@ absl::StatusOr<std::unique_ptr<LoadedScene>> LoadedScene::Load(Connection& conne
                                                                bool keep) {
   v1::LoadSceneResponse response;
   absl::Status loaded = connection.Call(&v1::Gistream::Stub::LoadScene, request, &response);
-  if (!loaded.ok() && loaded.code() == absl::StatusCode::kResourceExhausted &&
-      absl::StrContains(loaded.message(), "ENHANCE_YOUR_CALM")) {
+  if (IsTransportRefusal(loaded)) {
     // The field that made the request large: the upload.
     const size_t bytes = request.gltf().size() + request.environment_image().size();
     return WithPrefix(loaded, absl::StrCat(request.gltf().empty() ? "environment_image" : "gltf",

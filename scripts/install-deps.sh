@@ -14,7 +14,7 @@ PACKAGES=(
   chromium nodejs  # the viewer test (tests/web) drives headless Chromium through puppeteer-core
   python3 python3-grpcio python3-protobuf  # the Python client package (python/) and its test
   openssl python3-yaml  # test certificates (scripts/dev_certs.sh), the deployment test (tests/deploy)
-  clang libclang-rt-14-dev  # CI's sanitizer and libFuzzer build (scripts/ci-sanitizers.sh)
+  clang libclang-rt-14-dev  # CI's sanitizer and libFuzzer build (scripts/ci-sanitizers.sh), the thread_safety_analysis test
   clang-format  # the `format` test and `make format` (.clang-format)
   libmeshoptimizer-dev  # proxy geometry for the GI passes (server/scene/proxies/proxy_levels.h)
   haproxy  # the fleet test (tests/deploy/fleet_test.py): three servers behind a real balancer

@@ -216,6 +216,7 @@ TEST(TransportRefusal, IsExplainedNamingTheFlag) {
       "127.0.0.1:50051");
   EXPECT_EQ(status.code(), absl::StatusCode::kResourceExhausted);
   EXPECT_TRUE(IsRpcError(status));
+  EXPECT_TRUE(IsTransportRefusal(status));
   EXPECT_NE(status.message().find("--max-transport-bytes"), std::string::npos) << status;
   EXPECT_NE(status.message().find("ENHANCE_YOUR_CALM"), std::string::npos) << status;
   EXPECT_NE(status.message().find("127.0.0.1:50051"), std::string::npos) << status;
@@ -229,6 +230,7 @@ TEST(TransportRefusal, IsExplainedNamingTheFlag) {
       grpc::Status(grpc::StatusCode::RESOURCE_EXHAUSTED, "scenes: the server holds 8 scenes"),
       "127.0.0.1:50051");
   EXPECT_EQ(quota.message(), "scenes: the server holds 8 scenes");
+  EXPECT_FALSE(IsTransportRefusal(quota));
 }
 
 }  // namespace
