@@ -5,6 +5,7 @@
 // touching).
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include <absl/strings/str_cat.h>
 #include <gtest/gtest.h>
@@ -37,8 +38,11 @@ const glm::vec3 kX(1, 0, 0), kY(0, 1, 0), kZ(0, 0, 1);
 
 // Scene + its solution.
 struct Solved {
-  Solved(std::vector<std::vector<SourceTriangle>> groups, float max_edge, int m) {
+  // `two_sided`: the tags of doubleSided materials (AddBackFaces).
+  Solved(std::vector<std::vector<SourceTriangle>> groups, float max_edge, int m,
+         const std::function<bool(int)>& two_sided = {}) {
     patches = BuildPatches(groups, max_edge);
+    if (two_sided) mirrored = AddBackFaces(patches, two_sided);
     bins = *DirectionalBins::Create(m);
     transport = std::make_unique<Transport>(patches, bins, CreateLinks(patches, bins, nullptr));
   }
@@ -66,6 +70,7 @@ struct Solved {
     return e;
   }
   Patches patches;
+  int mirrored = 0;
   DirectionalBins bins;
   std::unique_ptr<Transport> transport;
 };
@@ -201,6 +206,74 @@ TEST(AntiradianceTransport, BlockerIsCancelledByAntiradiance) {
   EXPECT_LT(std::abs(final_behind[0]), 0.35);  // measured -0.27
   EXPECT_LT(std::abs(final_behind[1]), 0.15);  // measured -0.11
   EXPECT_LT(std::abs(final_behind[1]), std::abs(final_behind[0]));
+}
+
+TEST(AntiradiancePatches, BackFacesMirrorADoubleSidedRoot) {
+  // Two roots; only the second (tag 7) is doubleSided.
+  std::vector<std::vector<SourceTriangle>> groups = {Quad({0, 0, 0}, kX, kZ, 1, 1, 0.5f),
+                                                     Quad({0, 1, 0}, kX, -kZ, 1, 1, 0.25f)};
+  for (SourceTriangle& t : groups[1]) t.tag = 7;
+  Patches p = BuildPatches(groups, 0.3f);
+  const Patches before = p;
+  EXPECT_EQ(AddBackFaces(p, [](int tag) { return tag == 7; }), 1);
+  ASSERT_EQ(p.roots.size(), 3u);
+  const int begin = before.roots[1], end = before.size(), copy = p.roots[2];
+  EXPECT_EQ(copy, before.size());
+  EXPECT_EQ(p.size(), before.size() + (end - begin));
+  ASSERT_EQ(p.cell_begin.size(), size_t(p.size()) + 1);
+  EXPECT_EQ(p.cell_begin.back(), p.cell.size());
+  for (int i = begin; i < end; ++i) {
+    const size_t a = size_t(i), b = size_t(copy + (i - begin));
+    EXPECT_EQ(p.position[b], p.position[a]);
+    EXPECT_EQ(p.normal[b], -p.normal[a]);
+    EXPECT_EQ(p.area[b], p.area[a]);
+    EXPECT_EQ(p.albedo[b], p.albedo[a]);
+    EXPECT_EQ(p.tag[b], p.tag[a]);
+    for (size_t k = 0; k < 4; ++k) {
+      const int c = p.children[a][k];
+      EXPECT_EQ(p.children[b][k], c < 0 ? -1 : c + (copy - begin));
+    }
+    ASSERT_EQ(p.Cell(int(b)).size(), p.Cell(i).size());
+    for (size_t k = 0; k < p.Cell(i).size(); ++k) EXPECT_EQ(p.Cell(int(b))[k], p.Cell(i)[k]);
+  }
+  // The first root, and everything before the copy, unchanged.
+  for (int i = 0; i < before.size(); ++i) EXPECT_EQ(p.normal[size_t(i)], before.normal[size_t(i)]);
+}
+
+TEST(AntiradianceTransport, DoubleSidedSheetBlocksAndReflectsOnItsBack) {
+  // Sender (emitting, below, facing up) -> a one-sheet blocker facing up,
+  // its back to the sender -> receiver above facing down. A solid object
+  // is entered from its front, so the sheet alone passes the sender's
+  // light through its back (the paper links only what a leaf's front
+  // sees); doubleSided, its back face gathers that light, reflects it and
+  // sends it back as antiradiance (AddBackFaces).
+  auto scene = [] {
+    std::vector<std::vector<SourceTriangle>> g = {Quad({0, 0, 0}, kX, -kZ, 0.3f, 0.3f, 0),
+                                                  Quad({0, 1, 0}, kX, kZ, 0.3f, 0.3f, 0),
+                                                  Quad({0, 0.5f, 0}, kX, -kZ, 1.2f, 1.2f, 0.5f)};
+    for (SourceTriangle& t : g[2]) t.tag = 1;
+    return g;
+  };
+  TransportSettings settings;
+  settings.iterations = 8;
+  Solved open(scene(), 0.1f, 128);
+  open.transport->Solve({}, open.Emission(0, 1.0f), settings);
+  Solved sheet(scene(), 0.1f, 128, [](int tag) { return tag == 1; });
+  ASSERT_EQ(sheet.mirrored, 1);
+  sheet.transport->Solve({}, sheet.Emission(0, 1.0f), settings);
+  const double through = open.MeanIrradiance(1), behind = sheet.MeanIrradiance(1);
+  testing::RecordMeasurement("one_sided_receiver", through);
+  testing::RecordMeasurement("double_sided_receiver", behind);
+  testing::RecordMeasurement("back_face", sheet.MeanIrradiance(3));
+  ASSERT_GT(through, 0.0);
+  // One-sided: no shadow (the sheet's front faces away from the sender).
+  EXPECT_EQ(open.MeanIrradiance(2), 0.0);
+  // Double-sided: a shadow as deep as the two-sheet blocker's at 128 bins
+  // (BlockerIsCancelledByAntiradiance: |behind| < 0.35 of the light).
+  EXPECT_LT(std::abs(behind), 0.35 * through);
+  // Its back face gathers the sender's light: at least what the receiver
+  // got through the open sheet, which is twice as far away.
+  EXPECT_GT(sheet.MeanIrradiance(3), through);
 }
 
 // A closed box of six inward-facing walls, all emitting L_e = 1 with

@@ -1,5 +1,6 @@
 // AntiradianceSolver::EstimateMemory (solvers/memory_estimate.h).
 #include <algorithm>
+#include <vector>
 
 #include "solvers/antiradiance/antiradiance_solver.h"
 #include "solvers/antiradiance/scene_patches.h"
@@ -15,8 +16,10 @@ MemoryEstimate AntiradianceSolver::EstimateMemory(const ParamSet& params, const 
   std::string driver;
   if (params.GetString("elements") == "surfels") {
     // The shared hierarchy's vertex discs: one leaf per instanced vertex
-    // after long edges are split (hierarchy/subdivide.h).
-    leaves = hierarchy::SubdividedVertexBound(state, gpu, params.GetBool("full_detail"));
+    // after long edges are split (hierarchy/subdivide.h), twice on a
+    // doubleSided material (its back faces, antiradiance/patches.h).
+    leaves = hierarchy::SubdividedVertexBound(state, gpu, params.GetBool("full_detail"),
+                                              /*double_sided_twice=*/true);
     driver = "bins";
   } else {
     // Counted, not split: a tiny patch_size makes up to 4^12 leaves per
@@ -25,7 +28,15 @@ MemoryEstimate AntiradianceSolver::EstimateMemory(const ParamSet& params, const 
     const float diagonal = bounds.empty() ? 1.0f : glm::length(bounds.extent());
     const float patch_size = float(params.GetFloat("patch_size"));
     const float max_edge = patch_size > 0.0f ? patch_size : diagonal / 24.0f;
-    leaves = antiradiance::CountLeaves(antiradiance::SceneTriangles(state), max_edge);
+    auto groups = antiradiance::SceneTriangles(state);
+    leaves = antiradiance::CountLeaves(groups, max_edge);
+    // Back faces of doubleSided materials (antiradiance/patches.h).
+    std::erase_if(groups, [&state](const std::vector<antiradiance::SourceTriangle>& g) {
+      const int m = g.empty() ? -1 : g.front().tag;
+      return m < 0 || size_t(m) >= state.materials().size() ||
+             !state.materials()[size_t(m)].double_sided;
+    });
+    leaves += antiradiance::CountLeaves(groups, max_edge);
     driver = "patch_size, bins";
   }
   // A binary tree over the leaves: about as many clusters as leaves.

@@ -155,6 +155,11 @@ absl::StatusOr<std::unique_ptr<antiradiance::Patches>> AntiradianceSolver::Patch
     }
     *patches = antiradiance::BuildPatches(triangles, max_edge);
   }
+  // doubleSided materials: both faces gather, reflect and block (patches.h).
+  const std::vector<Material>& materials = ctx.state.materials();
+  antiradiance::AddBackFaces(*patches, [&materials](int tag) {
+    return tag >= 0 && size_t(tag) < materials.size() && materials[size_t(tag)].double_sided;
+  });
   // I_ex and L_in: elements x bins x 2 x RGB floats.
   const uint64_t table_bytes =
       uint64_t(patches->size()) * uint64_t(bins_.count()) * 2 * sizeof(glm::vec3);

@@ -149,4 +149,46 @@ Patches BuildPatches(const std::vector<std::vector<SourceTriangle>>& groups, flo
   return out;
 }
 
+int AddBackFaces(Patches& p, const std::function<bool(int tag)>& two_sided) {
+  const bool cells = p.cell_begin.size() == size_t(p.size()) + 1;
+  if (cells) p.cell_begin.pop_back();  // the end sentinel, pushed again below
+  const std::vector<int> roots = p.roots;
+  const int original = p.size();
+  const uint32_t original_cells = uint32_t(p.cell.size());
+  int mirrored = 0;
+  for (size_t r = 0; r < roots.size(); ++r) {
+    // Depth-first layout: a root's subtree runs up to the next root.
+    const int begin = roots[r], end = r + 1 < roots.size() ? roots[r + 1] : original;
+    bool all = begin < end;
+    for (int i = begin; i < end && all; ++i) all = !p.is_leaf(i) || two_sided(p.tag[size_t(i)]);
+    if (!all) continue;
+    const int offset = p.size() - begin;
+    for (int i = begin; i < end; ++i) {
+      const size_t k = size_t(i);
+      p.position.push_back(p.position[k]);
+      p.normal.push_back(-p.normal[k]);
+      p.area.push_back(p.area[k]);
+      p.radius.push_back(p.radius[k]);
+      p.albedo.push_back(p.albedo[k]);
+      p.tag.push_back(p.tag[k]);
+      std::array<int, 4> children = p.children[k];
+      for (int& c : children) c = c >= 0 ? c + offset : -1;
+      p.children.push_back(children);
+      if (cells) {
+        const uint32_t from = p.cell_begin[k];
+        const uint32_t to = k + 1 < size_t(original) ? p.cell_begin[k + 1] : original_cells;
+        p.cell_begin.push_back(uint32_t(p.cell.size()));
+        for (uint32_t c = from; c < to; ++c) {
+          const CellQuad q = p.cell[c];
+          p.cell.push_back(q);
+        }
+      }
+    }
+    p.roots.push_back(begin + offset);
+    ++mirrored;
+  }
+  if (cells) p.cell_begin.push_back(uint32_t(p.cell.size()));
+  return mirrored;
+}
+
 }  // namespace gistream::antiradiance

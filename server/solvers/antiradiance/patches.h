@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -66,5 +67,17 @@ Patches BuildPatches(const std::vector<std::vector<SourceTriangle>>& groups, flo
 // triangle with longest edge e becomes 4^d leaves, d = halvings to reach
 // max_edge (at most 12). For checking a memory budget before building.
 uint64_t CountLeaves(const std::vector<std::vector<SourceTriangle>>& groups, float max_edge);
+
+// glTF doubleSided (2.0 3.9.2: the back face is a surface with the flipped
+// normal): every root whose leaves' tags all satisfy `two_sided` gets a
+// mirrored copy, appended as a root of its own, with the same positions,
+// areas, albedos and cells and negated normals. The paper treats solid
+// objects only (Section 3.2, Fig. 7: a leaf gathers and reflects over its
+// positive hemisphere and sends antiradiance into its negative one); an
+// open double-sided sheet is two such surfaces back to back, so the light
+// that reaches its back is reflected there and blocked from passing
+// through (a lamp 1 cm under a ceiling: the ceiling's light went through
+// it into the room). Returns the number of roots mirrored.
+int AddBackFaces(Patches& p, const std::function<bool(int tag)>& two_sided);
 
 }  // namespace gistream::antiradiance

@@ -120,7 +120,8 @@ Primitive RepeatSubdivision(const Primitive& primitive, const Primitive& subdivi
   return out;
 }
 
-uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu, bool full_detail) {
+uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu, bool full_detail,
+                               bool double_sided_twice) {
   const Bounds bounds = gpu.WorldBounds(state);
   const float diagonal = glm::length(bounds.max - bounds.min);
   // The largest scale of each (mesh, primitive)'s instances, in one pass.
@@ -148,7 +149,12 @@ uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu, boo
       const int level = ElementLevel(p, max_edge, full_detail || state.Deforms(ni));
       const std::vector<uint32_t>& indices =
           level >= 0 ? p.proxies[size_t(level)].indices : p.indices;
-      vertices += level >= 0 ? std::min(p.positions.size(), indices.size()) : p.positions.size();
+      const bool twice = double_sided_twice && p.material >= 0 &&
+                         size_t(p.material) < state.materials().size() &&
+                         state.materials()[size_t(p.material)].double_sided;
+      const uint64_t copies = twice ? 2 : 1;
+      vertices +=
+          copies * (level >= 0 ? std::min(p.positions.size(), indices.size()) : p.positions.size());
       if (!(max_edge > 0.0f) || !std::isfinite(max_edge)) continue;
       for (size_t t = 0; t + 2 < indices.size(); t += 3) {
         if (indices[t] >= p.positions.size() || indices[t + 1] >= p.positions.size() ||
@@ -163,7 +169,7 @@ uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu, boo
         // Midpoint splits halve edges: 2^k segments, 2^k >= longest / max_edge.
         const double n = std::min(
             std::exp2(std::ceil(std::log2(double(longest) / double(max_edge)))), double(1 << 20));
-        vertices += uint64_t((n + 1.0) * (n + 2.0) / 2.0);
+        vertices += copies * uint64_t((n + 1.0) * (n + 2.0) / 2.0);
       }
     }
   }

@@ -53,6 +53,9 @@ float LocalMaxEdge(const SceneState& state, const GpuScene& gpu, int mesh, int p
 // power of two at or above L / max_edge (midpoint splits halve edges).
 // Made of the proxy level the element builders take
 // (hierarchy/element_source.h: ElementLevel), unless `full_detail`.
-uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu, bool full_detail);
+// `double_sided_twice`: a primitive of a doubleSided material counts
+// twice (antiradiance mirrors its leaves, antiradiance/patches.h).
+uint64_t SubdividedVertexBound(const SceneState& state, const GpuScene& gpu, bool full_detail,
+                               bool double_sided_twice = false);
 
 }  // namespace gistream::hierarchy
