@@ -182,6 +182,45 @@ TEST(AvgGrid, MarchHitsTheKnownWallVoxel) {
   EXPECT_GE(y0 + grid.voxel_size().y, -1.0f - 1e-5f);
 }
 
+TEST(AvgGrid, ParallelSurfacesInOneVoxelStayApart) {
+  // A lamp 1 cm under a ceiling, both facing down, in one voxel (1.6 cm at
+  // 64 voxels over the 1 m room): a path leaving the lamp's back must hit
+  // the ceiling in the gap and its VPL stay there, above the lamp. Joined
+  // into one slab, a VPL in the gap lay "on" it and its next ray passed
+  // through the lamp into the room (issue 29, item 3).
+  Material grey;
+  grey.base_color_factor = glm::vec4(0.7f, 0.7f, 0.7f, 1.0f);
+  const SceneState state(QuadScene({{{0, -0.5f, 0}, {0, 0, 0.5f}, {0.5f, 0, 0}},
+                                    {{0, 0.5f, 0}, {0.5f, 0, 0}, {0, 0, 0.5f}},
+                                    {{0, 0.49f, 0}, {0.15f, 0, 0}, {0, 0, 0.15f}}},
+                                   {grey}));
+  const VoxelGrid grid = VoxelGrid::Build(state, 64);
+  const glm::vec3 origin(0.01f, 0.49f, 0.02f), up(0, 1, 0);
+  ASSERT_EQ(grid.VoxelOf(origin), grid.VoxelOf(origin + 0.0099f * up));
+  const auto hit = grid.March(origin, glm::normalize(glm::vec3(0.2f, 1, 0.1f)), up, true);
+  ASSERT_TRUE(hit);
+  const glm::vec3 p = origin + glm::normalize(glm::vec3(0.2f, 1, 0.1f)) * hit->t_sheet;
+  EXPECT_NEAR(p.y, 0.5f, 1e-4f);
+  EXPECT_NEAR(hit->sheet_normal.y, -1.0f, 1e-4f);
+  const float nudge = 0.05f * glm::length(grid.voxel_size());
+  const glm::vec3 vpl =
+      grid.KeepInFront(hit->voxel, p + hit->sheet_normal * nudge, origin, up, nudge);
+  EXPECT_GT(vpl.y, 0.49f);
+  EXPECT_LT(vpl.y, 0.5f);
+  // The path's next ray, from that VPL down: it meets the lamp's back.
+  // Joined, the VPL lay "on" the one slab and its rays passed the lamp
+  // (the leak: second-bounce VPLs on the floor).
+  const glm::vec3 down = glm::normalize(glm::vec3(-0.1f, -1, 0.05f));
+  const auto back = grid.March(vpl, down, hit->sheet_normal, true);
+  ASSERT_TRUE(back);
+  EXPECT_NEAR((vpl + down * back->t_sheet).y, 0.49f, 1e-4f);
+  EXPECT_NEAR(back->sheet_normal.y, 1.0f, 1e-4f);
+  // From below, the lamp is what a ray meets first.
+  const auto from_below = grid.March({0.0f, 0.0f, 0.0f}, up, glm::vec3(0.0f), false);
+  ASSERT_TRUE(from_below);
+  EXPECT_NEAR(from_below->t_sheet, 0.49f, 1e-4f);
+}
+
 double Sum(const std::vector<avg::Vpl>& vpls, int bounce, int channel) {
   double s = 0.0;
   for (const avg::Vpl& v : vpls) {
