@@ -116,8 +116,10 @@ TEST_F(DoubleSidedEmission, PathtraceDirectLightsBothPlanesAsTheFormFactorSays) 
 // its hemisphere, at a radiance below its own, so indirect light adds less
 // than 0.1 x 0.5 = 5 % to the direct value. Each solver's direct part is
 // `direct`'s (3 %, above). So both centres must lie in [0.97, 1.08] x the
-// analytic direct value and agree within 5 % (a solver that drops the back
-// face's emission gets about 5 % of it behind the quad).
+// analytic direct value; and by symmetry they agree within 1 % (a solver
+// that drops the back face's emission gets about 5 % of it behind the
+// quad; antiradiance, while the quad's leaves gathered and blocked over
+// their front only, read 2.7 % apart; measured now: 0.02 % or less).
 class DoubleSidedEmissionGi : public DoubleSidedEmission,
                               public ::testing::WithParamInterface<const char*> {};
 
@@ -134,7 +136,7 @@ TEST_P(DoubleSidedEmissionGi, BothPlanesAlike) {
     EXPECT_GE(v, 0.97 * expected) << solver;
     EXPECT_LE(v, 1.08 * expected) << solver;
   }
-  EXPECT_NEAR(top, bottom, 0.05 * std::max(top, bottom))
+  EXPECT_NEAR(top, bottom, 0.01 * std::max(top, bottom))
       << solver << " top " << top << " bottom " << bottom;
 }
 
