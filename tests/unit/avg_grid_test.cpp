@@ -3,9 +3,12 @@
 // (energy of the first bounce, determinism).
 #include <cmath>
 
+#include <absl/strings/str_cat.h>
 #include <gtest/gtest.h>
 
 #include <glm/gtc/constants.hpp>
+
+#include "support/measurement.h"
 
 #include "scene/gltf/gltf_import.h"
 #include "solvers/brdf_albedo.h"
@@ -311,6 +314,45 @@ TEST(AvgVpls, FirstBounceFluxIsLightPowerTimesAlbedoInTheFurnace) {
   for (int ch = 0; ch < 3; ++ch) {
     const double albedo = ch == 0 ? 0.8 : ch == 1 ? 0.4 : 0.2;
     EXPECT_NEAR(Sum(c.vpls, 1, ch), albedo * power, 0.01 * albedo * power) << "channel " << ch;
+  }
+}
+
+TEST(AvgVpls, DoubleSidedLampUnderACeilingConservesPowerPerBounce) {
+  // The closed 1 m room of NearFieldRoomGi (albedo 0.7) with a 30 cm
+  // double-sided lamp (albedo 0.78, L = 1) 1 cm under the ceiling: both
+  // faces emit, P = 2 pi L A; nothing leaves the room, so the VPLs of
+  // bounce b carry between 0.7^b P and 0.78^b P (issue 29, item 3: the
+  // VPLs' flux never exceeds what the light emits and the albedos keep).
+  // 2 %: the quasi-random paths' share of each surface.
+  Material wall, lamp;
+  wall.base_color_factor = glm::vec4(0.7f, 0.7f, 0.7f, 1.0f);
+  lamp.base_color_factor = glm::vec4(0.78f, 0.78f, 0.78f, 1.0f);
+  lamp.emissive_factor = glm::vec3(1.0f);
+  lamp.double_sided = true;
+  const SceneState state(QuadScene({{{0, -0.5f, 0}, {0, 0, 0.5f}, {0.5f, 0, 0}},
+                                    {{0, 0.5f, 0}, {0.5f, 0, 0}, {0, 0, 0.5f}},
+                                    {{-0.5f, 0, 0}, {0, 0.5f, 0}, {0, 0, 0.5f}},
+                                    {{0.5f, 0, 0}, {0, 0, 0.5f}, {0, 0.5f, 0}},
+                                    {{0, 0, -0.5f}, {0.5f, 0, 0}, {0, 0.5f, 0}},
+                                    {{0, 0, 0.5f}, {0, 0.5f, 0}, {0.5f, 0, 0}},
+                                    {{0, 0.49f, 0}, {0.15f, 0, 0}, {0, 0, 0.15f}, 1}},
+                                   {wall, lamp}));
+  const VoxelGrid grid = VoxelGrid::Build(state, 64);
+  const auto lights = avg::CollectVplLights(state, glm::vec3(0.0f), 1.0f);
+  avg::VplTraceSettings settings;
+  settings.vpls = 2048;
+  settings.bounces = 3;
+  settings.roulette = false;
+  const avg::VplTraceResult r = avg::TraceVpls(grid, lights, settings);
+  const double power = 2.0 * glm::pi<double>() * 0.3 * 0.3;
+  EXPECT_NEAR(r.light_power.g, power, 1e-3 * power);
+  ExpectSaneVpls(r.vpls);
+  EXPECT_EQ(r.escaped, 0u);
+  for (int b = 1; b <= 3; ++b) {
+    const double flux = Sum(r.vpls, b, 1);
+    testing::RecordMeasurement(absl::StrCat("bounce_", b, "_over_power"), flux / power);
+    EXPECT_GE(flux, 0.98 * std::pow(0.7, b) * power) << "bounce " << b;
+    EXPECT_LE(flux, 1.02 * std::pow(0.78, b) * power) << "bounce " << b;
   }
 }
 
