@@ -67,7 +67,7 @@ TEST(ShProbes, GeometricTailOnAStiffFurnace) {
   const BundledCopy scene("furnace.gltf");
   const std::string& id = scene.id();
   const std::map<std::string, std::string> four = {
-      {"grid", "4"}, {"bounces", "4"}, {"tolerance", "0"}};
+      {"grid", "4"}, {"bounces", "4"}, {"tolerance", "0"}, {"tail_estimate", "false"}};
   EncodedFrame plain_frame, tail_frame;
   const FloatImage plain = RenderRequestExr(
       SolverRequest(id, "sh_probes", four, 16, {{1, GreyAlbedo(0.9f)}}), &plain_frame);
@@ -133,7 +133,7 @@ TEST_P(ShProbesStiffTail, BoundedMonotoneAndNotAboveTheExactValue) {
     }
     EXPECT_EQ(FrameStat(frame, "tail_applied"), 1.0) << bounces << " bounces";
     // Monotone: the tail keeps the largest of the bounces' estimates
-    // (sh/tail_estimate.h MonotoneTailFactor; measured 681.379 at 4, 8 and
+    // (solvers/tail_estimate.h MonotoneTailFactor; measured 681.379 at 4, 8 and
     // 16 bounces at 0.999, which drifted down 0.3 % before). 1e-5: float
     // rounding of the image mean.
     EXPECT_GE(mean, previous * (1.0 - 1e-5)) << bounces << " bounces: not monotone";

@@ -10,7 +10,7 @@
 #include "gl/compute.h"
 #include "sh_probes/bindings.glsl"  // shaders/: the slots its passes declare
 #include "solvers/sh_probes/spherical_harmonics.h"
-#include "solvers/sh_probes/tail_estimate.h"
+#include "solvers/tail_estimate.h"
 
 namespace gistream {
 namespace {
@@ -46,9 +46,10 @@ SolverDescription ShProbesSolver::Describe() {
        "Most indirect bounces per update: a safety cap; tolerance stops first"},
       {"tolerance", ParamType::kFloat, "0.01", 0, 1, {},
        "Stop when a bounce changes the probes' L_00 by less than this fraction (0: never)"},
-      {"tail_estimate", ParamType::kBool, "false", 0, 0, {},
+      {"tail_estimate", ParamType::kBool, "true", 0, 0, {},
        "Add the geometric tail r / (1 - r) x last increment of the bounces not run (r: the "
-       "smallest of the last stable bounce ratios, at most 0.99; none if they are unstable)"},
+       "smallest of the last stable bounce ratios, at most the largest albedo; none if they are "
+       "unstable)"},
       {"indirect_shadows", ParamType::kBool, "true", 0, 0, {},
        "Weight each probe by its depth-cube visibility of the point (paper Section 6)"},
       {"hysteresis", ParamType::kFloat, "0.6", 0, 0.99, {},
@@ -327,25 +328,21 @@ void ShProbesSolver::FinishSolve(SolverContext& ctx) {
   if (settings_.tail_estimate) {
     // Geometric tail: increments shrink by r per bounce, so the bounces not
     // run add sum_{j>=1} r^j = r / (1 - r) times the last one. r is the
-    // smallest of the last stable ratios, capped (sh/tail_estimate.h): the
+    // smallest of the last stable ratios, capped (solvers/tail_estimate.h): the
     // former last-ratio estimate always came out above the true albedo and
     // exploded at rho = 0.999 (38,870 for an exact 1000).
     // The ratio is bounded by the scene's largest albedo (base colour
     // factors; textures only scale them down): at rho = 0.999 the former
     // fixed cap of 0.99 left the estimate 87 % low.
-    double albedo_bound = 0.0;
-    for (const Material& m : ctx.state.materials()) {
-      const glm::vec3 c = glm::clamp(glm::vec3(m.base_color_factor), 0.0f, 1.0f);
-      albedo_bound = std::max(albedo_bound, double(std::max({c.r, c.g, c.b})));
-    }
-    const sh::TailEstimate tail = sh::EstimateTail(full_.deltas, albedo_bound);
+    const double albedo_bound = LargestAlbedo(ctx.state);
+    const TailEstimate tail = EstimateTail(full_.deltas, albedo_bound);
     tail_ratio_ = tail.ratio;
     tail_spread_ = tail.spread;
     if (tail.applied) {
       gl::StageTimer::Scope stage(ctx.timer, "sh_project");
       // The largest of the bounces' estimates, so more bounces never give
       // less (tail_estimate.h; at rho = 0.999 they drifted down 0.3 %).
-      ApplyTail(sh::MonotoneTailFactor(full_.deltas, full_.totals, albedo_bound));
+      ApplyTail(MonotoneTailFactor(full_.deltas, full_.totals, albedo_bound));
       tail_applied_ = true;
     }
   }

@@ -33,7 +33,7 @@ struct ShProbeSettings {
   int bands = 3;
   int bounces = 32;
   double tolerance = 0.01;
-  bool tail_estimate = false;
+  bool tail_estimate = true;
   bool indirect_shadows = true;
   double hysteresis = 0.6;  // fraction of the displayed SH kept per frame
   DirectLightingSettings direct;

@@ -1,10 +1,15 @@
-// The optional geometric tail of sh_probes' bounce series (the bounces not
-// run), estimated only from what the measured bounces support.
+// The geometric tail of an iterative solver's bounce series (the bounces
+// not run), estimated only from what the measured bounces support: the
+// iterative GI solvers (sh_probes, implicit_visibility, antiradiance) add
+// it to what their bounces gathered (issue 29, item 4: a stiff scene
+// converges at the defaults instead of stopping at the bounce cap).
 #pragma once
 
 #include <vector>
 
-namespace gistream::sh {
+#include "scene/state/scene_state.h"
+
+namespace gistream {
 
 struct TailEstimate {
   bool applied = false;
@@ -14,7 +19,7 @@ struct TailEstimate {
 };
 
 // The most a ratio may imply whatever the scene: r / (1 - r) = 9999 x the
-// last increment (float sums of the probes carry no more digits).
+// last increment (float sums carry no more digits).
 inline constexpr double kMaxTailRatio = 0.9999;
 // Ratios that differ by more than this fraction are not a geometric series
 // (yet): no tail.
@@ -52,4 +57,8 @@ TailEstimate EstimateTail(const std::vector<double>& deltas, double albedo_bound
 double MonotoneTailFactor(const std::vector<double>& deltas, const std::vector<double>& totals,
                           double albedo_bound = kMaxTailRatio);
 
-}  // namespace gistream::sh
+// The scene's largest albedo (base colour factors; textures only scale
+// them down): the bound on a closed scene's bounce ratio.
+double LargestAlbedo(const SceneState& state);
+
+}  // namespace gistream

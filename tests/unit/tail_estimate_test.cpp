@@ -1,13 +1,13 @@
-// sh_probes' geometric tail estimate (solvers/sh_probes/tail_estimate.h):
+// The iterative solvers' geometric tail estimate (solvers/tail_estimate.h):
 // never above what the measured bounce ratios support.
 #include <cmath>
 #include <vector>
 
 #include <gtest/gtest.h>
 
-#include "solvers/sh_probes/tail_estimate.h"
+#include "solvers/tail_estimate.h"
 
-namespace gistream::sh {
+namespace gistream {
 namespace {
 
 std::vector<double> Geometric(double first, double r, int n) {
@@ -16,7 +16,7 @@ std::vector<double> Geometric(double first, double r, int n) {
   return d;
 }
 
-TEST(ShTailEstimate, ExactGeometricSeriesGivesItsRatio) {
+TEST(TailEstimate, ExactGeometricSeriesGivesItsRatio) {
   const TailEstimate t = EstimateTail(Geometric(1.0, 0.9, 6));
   EXPECT_TRUE(t.applied);
   EXPECT_NEAR(t.ratio, 0.9, 1e-12);
@@ -24,7 +24,7 @@ TEST(ShTailEstimate, ExactGeometricSeriesGivesItsRatio) {
   EXPECT_NEAR(t.spread, 0.0, 1e-12);
 }
 
-TEST(ShTailEstimate, TakesTheSmallestRecentRatio) {
+TEST(TailEstimate, TakesTheSmallestRecentRatio) {
   // Ratios 0.90, 0.92, 0.91 (within 5 %): the tail uses 0.90, never more.
   const std::vector<double> d = {
       1.0, 0.9, 0.81, 0.81 * 0.90, 0.81 * 0.90 * 0.92, 0.81 * 0.90 * 0.92 * 0.91};
@@ -33,7 +33,7 @@ TEST(ShTailEstimate, TakesTheSmallestRecentRatio) {
   EXPECT_NEAR(t.ratio, 0.90, 1e-12);
 }
 
-TEST(ShTailEstimate, RatioNearOneIsCapped) {
+TEST(TailEstimate, RatioNearOneIsCapped) {
   // rho = 0.99999: r / (1 - r) would be 99999 x the last increment; capped
   // at 0.9999, i.e. 9999 x.
   const TailEstimate t = EstimateTail(Geometric(1.0, 0.99999, 5));
@@ -41,7 +41,7 @@ TEST(ShTailEstimate, RatioNearOneIsCapped) {
   EXPECT_DOUBLE_EQ(t.ratio, kMaxTailRatio);
 }
 
-TEST(ShTailEstimate, RatioIsNeverAboveTheScenesLargestAlbedo) {
+TEST(TailEstimate, RatioIsNeverAboveTheScenesLargestAlbedo) {
   // Measured ratios 0.9995 (rounding) in a scene whose largest albedo is
   // 0.999: the tail takes 0.999 (999 x, not 1999 x the last increment).
   const TailEstimate t = EstimateTail(Geometric(1.0, 0.9995, 6), 0.999);
@@ -53,7 +53,7 @@ TEST(ShTailEstimate, RatioIsNeverAboveTheScenesLargestAlbedo) {
   EXPECT_EQ(EstimateTail(Geometric(1.0, 0.9, 6), 0.0).ratio, 0.0);
 }
 
-TEST(ShTailEstimate, UnstableOrDivergingOrTooFewRatiosGiveNoTail) {
+TEST(TailEstimate, UnstableOrDivergingOrTooFewRatiosGiveNoTail) {
   EXPECT_FALSE(EstimateTail({1.0, 0.5, 0.25}).applied);        // one usable ratio
   EXPECT_FALSE(EstimateTail({1.0, 0.5, 0.4, 0.2}).applied);    // 0.8 then 0.5
   EXPECT_FALSE(EstimateTail({1.0, 0.9, 0.95, 0.97}).applied);  // growing: ratio >= 1
@@ -62,7 +62,7 @@ TEST(ShTailEstimate, UnstableOrDivergingOrTooFewRatiosGiveNoTail) {
   EXPECT_EQ(EstimateTail({1.0, 0.5, 0.4, 0.2}).ratio, 0.0);
 }
 
-TEST(ShTailEstimate, FixedPointIsNeverOvershotForAnySeriesBelowTheCap) {
+TEST(TailEstimate, FixedPointIsNeverOvershotForAnySeriesBelowTheCap) {
   // For a geometric series of ratio rho, partial sum + tail must not exceed
   // the exact sum d_1 / (1 - rho) for any number of bounces >= 2, and must
   // grow with the number of bounces (monotone); the scene's albedo bound is
@@ -83,7 +83,7 @@ TEST(ShTailEstimate, FixedPointIsNeverOvershotForAnySeriesBelowTheCap) {
   }
 }
 
-TEST(ShTailEstimate, MonotoneFactorNeverLowersTheEstimateWhenRatiosDriftDown) {
+TEST(TailEstimate, MonotoneFactorNeverLowersTheEstimateWhenRatiosDriftDown) {
   // The probes' measured ratios at rho = 0.999 drift down slowly (0.99860
   // at four bounces, 0.99853 at sixteen), so partial sum + tail fell with
   // more bounces. Here each ratio is 1e-5 below the one before, from
@@ -116,4 +116,4 @@ TEST(ShTailEstimate, MonotoneFactorNeverLowersTheEstimateWhenRatiosDriftDown) {
 }
 
 }  // namespace
-}  // namespace gistream::sh
+}  // namespace gistream

@@ -1,9 +1,9 @@
-#include "solvers/sh_probes/tail_estimate.h"
+#include "solvers/tail_estimate.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace gistream::sh {
+namespace gistream {
 
 TailEstimate EstimateTail(const std::vector<double>& deltas, double albedo_bound) {
   TailEstimate t;
@@ -49,4 +49,13 @@ double MonotoneTailFactor(const std::vector<double>& deltas, const std::vector<d
   return std::max(f_last, (best - totals[n - 1]) / d_last);
 }
 
-}  // namespace gistream::sh
+double LargestAlbedo(const SceneState& state) {
+  double bound = 0.0;
+  for (const Material& m : state.materials()) {
+    const glm::vec3 c = glm::clamp(glm::vec3(m.base_color_factor), 0.0f, 1.0f);
+    bound = std::max(bound, double(std::max({c.r, c.g, c.b})));
+  }
+  return bound;
+}
+
+}  // namespace gistream
