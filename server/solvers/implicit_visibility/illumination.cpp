@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "gl/buffers.h"
+#include "solvers/tail_estimate.h"
 #include "gl/compute.h"
 #include "implicit_visibility/bindings.glsl"  // shaders/: the slots its passes declare
 
@@ -98,20 +99,31 @@ void Illumination::Pull(GLuint radiance) {
   }
 }
 
-std::vector<float> Illumination::ReadIndirectLuminance() const {
+std::vector<glm::vec4> Illumination::ReadIndirect() const {
   std::vector<glm::vec4> e(static_cast<size_t>(leaf_count_));
   if (!e.empty()) {
     glGetNamedBufferSubData(e_indirect_.id(), 0, GLsizeiptr(e.size() * sizeof(glm::vec4)),
                             e.data());
   }
-  std::vector<float> lum(e.size());
-  for (size_t i = 0; i < e.size(); ++i)
-    lum[i] = 0.2126f * e[i].r + 0.7152f * e[i].g + 0.0722f * e[i].b;
-  return lum;
+  return e;
+}
+
+void Illumination::ApplyTail(const std::vector<glm::vec4>& current,
+                             const std::vector<glm::vec4>& previous, double f) {
+  std::vector<glm::vec4> e(current.size());
+  for (size_t i = 0; i < e.size(); ++i) {
+    const glm::dvec3 c(current[i]), p(i < previous.size() ? glm::dvec3(previous[i]) : c);
+    // A leaf's increment may be negative (light moving between leaves):
+    // the sum stays at or above zero.
+    e[i] = glm::vec4(glm::max(c + f * (c - p), glm::dvec3(0.0)), current[i].w);
+  }
+  if (!e.empty())
+    glNamedBufferSubData(e_indirect_.id(), 0, GLsizeiptr(e.size() * sizeof(glm::vec4)), e.data());
 }
 
 Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_bounces,
-                                       double tolerance, const std::stop_token& stop) {
+                                       double tolerance, double tail_bound,
+                                       const std::stop_token& stop) {
   Result result;
   if (leaf_count_ == 0) return result;
   // The first bounce's source: direct light (and environment) at the leaves.
@@ -128,7 +140,21 @@ Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_b
 
   const float zero = 0.0f;
   glClearNamedBufferData(e_indirect_.id(), GL_R32F, GL_RED, GL_FLOAT, &zero);
-  std::vector<float> previous(size_t(leaf_count_), 0.0f);
+  std::vector<glm::vec4> previous(size_t(leaf_count_), glm::vec4(0.0f)), current;
+  std::vector<double> deltas, totals;  // per bounce: sum |dE|, sum |E| (luminance)
+  auto lum = [](const glm::vec4& e) {
+    return 0.2126 * double(e.r) + 0.7152 * double(e.g) + 0.0722 * double(e.b);
+  };
+  // The bounces not run (solvers/tail_estimate.h), when they form a
+  // geometric series: f x the last bounce's increment.
+  auto finish = [&] {
+    if (!(tail_bound > 0.0)) return;
+    const TailEstimate tail = EstimateTail(deltas, tail_bound);
+    if (!tail.applied) return;
+    result.tail_ratio = tail.ratio;
+    result.tail_applied = true;
+    ApplyTail(current, previous, MonotoneTailFactor(deltas, totals, tail_bound));
+  };
   int in = 0;
   for (int bounce = 1; bounce <= max_bounces; ++bounce) {
     if (stop.stop_requested()) {
@@ -150,21 +176,28 @@ Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_b
     in = 1 - in;
     Pull(radiance_[in].id());
     // Residual of this bounce (the change it made): the stopping test.
-    const std::vector<float> current = ReadIndirectLuminance();
+    if (bounce > 1) previous = std::move(current);
+    current = ReadIndirect();
     double change = 0.0, total = 0.0;
     for (size_t i = 0; i < current.size(); ++i) {
-      change += std::abs(double(current[i]) - double(previous[i]));
-      total += std::abs(double(current[i]));
-      if (current[i] < previous[i] * (1.0f - 1e-4f) - 1e-30f) result.monotone = false;
+      const double c = lum(current[i]), p = lum(previous[i]);
+      change += std::abs(c - p);
+      total += std::abs(c);
+      if (c < p * (1.0 - 1e-4) - 1e-30) result.monotone = false;
     }
+    deltas.push_back(change);
+    totals.push_back(total);
     result.residual = total > 0.0 ? change / total : 0.0;
     result.bounces = bounce;
-    previous = current;
     // The first bounce's residual is 1 by definition (from nothing).
-    if (bounce >= 2 && result.residual < tolerance) return result;
+    if (bounce >= 2 && result.residual < tolerance) {
+      finish();
+      return result;
+    }
   }
   // Bounce 1 alone cannot test convergence; a cap of 1 is the user's choice.
   result.cap_reached = max_bounces >= 2 && !(result.residual < tolerance);
+  finish();
   return result;
 }
 

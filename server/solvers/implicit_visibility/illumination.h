@@ -31,24 +31,33 @@ class Illumination {
 
   struct Result {
     int bounces = 0;
-    double residual = 0.0;     // sum |dE| / sum |E| of the last bounce (luminance)
-    bool monotone = true;      // no leaf's indirect luminance fell between bounces
-    bool cap_reached = false;  // stopped by max_bounces with residual >= tolerance
-    bool cancelled = false;    // stopped by `stop` (the frame's cancellation)
+    double residual = 0.0;      // sum |dE| / sum |E| of the last bounce (luminance)
+    bool monotone = true;       // no leaf's indirect luminance fell between bounces
+    bool cap_reached = false;   // stopped by max_bounces with residual >= tolerance
+    bool cancelled = false;     // stopped by `stop` (the frame's cancellation)
+    bool tail_applied = false;  // the bounces not run were added (solvers/tail_estimate.h)
+    double tail_ratio = 0.0;    // their ratio r (0: no tail)
   };
   // Direct light at the leaves, then gathers with pull-ups until a
   // bounce's residual is below `tolerance` (from the second bounce on; 0:
   // never) or `max_bounces` ran, or `stop` is requested (checked every
   // bounce). Leaves the indirect irradiance per leaf in indirect().
+  // `tail_bound` > 0: then adds the geometric tail of the bounces not run
+  // (solvers/tail_estimate.h; its ratio at most `tail_bound`, the scene's
+  // largest albedo): each leaf's indirect irradiance gets f x its last
+  // increment, f from MonotoneTailFactor.
   Result Run(const DirectLighting& lighting, int max_bounces, double tolerance,
-             const std::stop_token& stop = {});
+             double tail_bound = 0.0, const std::stop_token& stop = {});
 
   GLuint indirect() const { return e_indirect_.id(); }
   uint64_t gpu_bytes() const { return gpu_bytes_; }
 
  private:
   void Pull(GLuint radiance);
-  std::vector<float> ReadIndirectLuminance() const;
+  std::vector<glm::vec4> ReadIndirect() const;
+  // e_indirect = current + f (current - previous), per leaf (RGB).
+  void ApplyTail(const std::vector<glm::vec4>& current, const std::vector<glm::vec4>& previous,
+                 double f);
 
   gl::Program direct_, gather_, pull_;
   gl::Buffer leaves_, children_, areas_, e_direct_, e_env_, offsets_, links_, e_indirect_;

@@ -38,9 +38,10 @@
 namespace gistream {
 
 struct ImplicitVisibilitySettings {
-  int bins_per_face = 12;   // N: 6 x N x N bins per element
-  int bounces = 32;         // most indirect bounces (safety cap)
-  double tolerance = 0.01;  // stop when a bounce's residual is below this
+  int bins_per_face = 12;     // N: 6 x N x N bins per element
+  int bounces = 32;           // most indirect bounces (safety cap)
+  double tolerance = 0.01;    // stop when a bounce's residual is below this
+  bool tail_estimate = true;  // add the bounces not run (solvers/tail_estimate.h)
   hierarchy::Linking linking = hierarchy::Linking::kHierarchical;
   DirectLightingSettings direct;
 };
