@@ -34,10 +34,11 @@
 namespace gistream {
 
 struct AntiradianceSettings {
-  int bins = 128;           // directional bins per element
-  float patch_size = 0.0f;  // longest leaf edge (m); 0: scene diagonal / 24
-  bool surfels = true;      // elements from the shared hierarchy (vertex discs), else triangles
-  bool glossy = true;       // glossy leaves through the BRDF (else every leaf diffuse)
+  int bins = 128;             // directional bins per element
+  float patch_size = 0.0f;    // longest leaf edge (m); 0: scene diagonal / 24
+  bool surfels = true;        // elements from the shared hierarchy (vertex discs), else triangles
+  bool glossy = true;         // glossy leaves through the BRDF (else every leaf diffuse)
+  bool tail_estimate = true;  // add the iterations not run (solvers/tail_estimate.h)
   antiradiance::TransportSettings transport;
   DirectLightingSettings direct;
 };

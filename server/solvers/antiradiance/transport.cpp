@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "solvers/tail_estimate.h"
 #include "util/cancellation.h"
 #include "util/parallel_for.h"
 
@@ -84,6 +85,10 @@ void Transport::Initialize(const std::vector<glm::vec3>& direct,
   std::fill(i_ex_.begin(), i_ex_.end(), glm::vec3(0.0f));
   LocalPass(/*update_radiance=*/false);  // I_ex = I_L of the source, no antiradiance yet
   Pull();
+  step_deltas_.clear();
+  step_totals_.clear();
+  step_last_ = indirect_;
+  step_before_ = indirect_;
   source_norm_ = 0.0;
   for (int leaf : leaves_) {
     for (int j = 0; j < m_; ++j) source_norm_ += std::abs(Luminance(i_ex_[Index(leaf, j)]));
@@ -102,6 +107,38 @@ void Transport::WarmStart(const Transport& warm) {
   }
   LocalPass(/*update_radiance=*/false);  // I_ex = I_L - I_A of that state
   Pull();
+  step_last_ = indirect_;
+  step_before_ = indirect_;
+}
+
+void Transport::RecordStep() {
+  double change = 0.0, total = 0.0;
+  for (int i : leaves_) {
+    const double e = Luminance(indirect_[size_t(i)]);
+    change += std::abs(e - double(Luminance(step_last_[size_t(i)])));
+    total += std::abs(e);
+  }
+  step_deltas_.push_back(change);
+  step_totals_.push_back(total);
+  step_before_.swap(step_last_);
+  step_last_ = indirect_;
+}
+
+void Transport::AddTail(double bound, TransportResult* result) {
+  // The iterations' increments shrink by r per radiance step once the
+  // antiradiance has settled: the steps not run add r / (1 - r) x the
+  // last one (geometric tail, MonotoneTailFactor: more steps never give
+  // less). Unstable or growing increments (antiradiance still building
+  // up, an oscillating symmetric run) give no tail.
+  const TailEstimate tail = EstimateTail(step_deltas_, bound);
+  if (!tail.applied) return;
+  const double f = MonotoneTailFactor(step_deltas_, step_totals_, bound);
+  for (int i : leaves_) {
+    const glm::dvec3 e(indirect_[size_t(i)]), before(step_before_[size_t(i)]);
+    indirect_[size_t(i)] = glm::vec3(glm::max(e + f * (e - before), glm::dvec3(0.0)));
+  }
+  result->tail_applied = true;
+  result->tail_ratio = tail.ratio;
 }
 
 void Transport::GlobalPass() {
@@ -221,6 +258,7 @@ double Transport::RunScheme(Scheme scheme, const TransportSettings& s, const Sta
     stage("push_pull", true);
     Pull();
     stage("push_pull", false);
+    if (radiance) RecordStep();
     ++result->global_passes;
     const double r = source_norm_ > 0.0 ? d / source_norm_ : d;
     result->residual.push_back(r);
@@ -282,6 +320,8 @@ TransportResult Transport::Solve(const std::vector<glm::vec3>& direct_irradiance
   if (!std::isfinite(r)) {
     result.non_finite = true;
     std::fill(indirect_.begin(), indirect_.end(), glm::vec3(0.0f));
+  } else if (settings.tail_bound > 0.0) {
+    AddTail(settings.tail_bound, &result);
   }
   return result;
 }

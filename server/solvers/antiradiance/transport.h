@@ -41,6 +41,10 @@ struct TransportSettings {
   Scheme scheme = Scheme::kSymmetric;
   int antiradiance_steps = 16;           // asymmetric: most Eq. 14 steps per radiance step
   double antiradiance_tolerance = 1e-3;  // asymmetric: stop Eq. 14 below this residual
+  // > 0: add the geometric tail of the iterations not run to the leaves'
+  // indirect irradiance (solvers/tail_estimate.h), its ratio at most this
+  // (the scene's largest albedo); 0: none.
+  double tail_bound = 0.0;
 };
 
 struct TransportResult {
@@ -52,6 +56,8 @@ struct TransportResult {
   bool cap_reached = false;      // stopped by `iterations` with residual >= tolerance
   std::vector<double> residual;  // per global pass of the scheme used: |dI_ex|_1 / |I_ex^(0)|_1
   std::vector<double> symmetric_residual;  // the abandoned symmetric run, when fallback
+  bool tail_applied = false;               // the iterations not run were added
+  double tail_ratio = 0.0;                 // their ratio r (0: no tail)
 };
 
 // Stage hooks so the caller can time the passes (gl::StageTimer).
@@ -79,7 +85,8 @@ class Transport {
                         const StageHook& hook = {}, const Transport* warm = nullptr);
 
   // After Solve, per node (leaves): indirect irradiance
-  // E = (pi / S(n)) sum_j omega_bin <n|omega_j>_+ L_in(j) of the last pass.
+  // E = (pi / S(n)) sum_j omega_bin <n|omega_j>_+ L_in(j) of the last pass,
+  // plus the tail when settings.tail_bound asks for it.
   const std::vector<glm::vec3>& indirect_irradiance() const { return indirect_; }
   const glm::vec3& L_in(int node, int bin) const { return l_in_[Index(node, bin)]; }
   // After Solve, glossy slot s's reflected indirect radiance T L_in per bin
@@ -104,6 +111,10 @@ class Transport {
   void Pull();
   double RunScheme(Scheme scheme, const TransportSettings& s, const StageHook& hook,
                    TransportResult* result, bool watch_divergence);
+  // After a radiance step: its change of the leaves' indirect irradiance.
+  void RecordStep();
+  // E += f (E - E of the step before) at the leaves (solvers/tail_estimate.h).
+  void AddTail(double bound, TransportResult* result);
 
   const Patches& patches_;
   const DirectionalBins& bins_;
@@ -121,6 +132,10 @@ class Transport {
   std::vector<glm::vec3> glossy_source_;  // L_d + L_e
   std::vector<glm::vec3> glossy_out_;     // per glossy slot x bin: T L_in
   double source_norm_ = 0.0;
+  // Per radiance step: sum |dE|, sum |E| over the leaves (luminance), and
+  // the leaves' E after the step before the last (the tail's increment).
+  std::vector<double> step_deltas_, step_totals_;
+  std::vector<glm::vec3> step_before_, step_last_;
 };
 
 }  // namespace gistream::antiradiance
