@@ -9,6 +9,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include "avg/bindings.glsl"  // shaders/: the slots its passes declare
+#include "solvers/tail_estimate.h"
 
 namespace gistream {
 namespace {
@@ -39,6 +40,9 @@ SolverDescription AvgSolver::Describe() {
       {"roulette", ParamType::kBool, "true", 0, 0, {},
        "Keller's split: of N paths round(N mean_albedo^b) go on after b reflections (false: "
        "every path runs `bounces`)"},
+      {"tail_estimate", ParamType::kBool, "true", 0, 0, {},
+       "When `bounces` cuts the paths short, the last generation's VPLs also carry the "
+       "generations not traced (geometric tail of the measured flux, at most the largest albedo)"},
       {"shadow_res", ParamType::kInt, "64", 8, 512, {},
        "Resolution of each VPL's paraboloid shadow map"},
       {"visibility", ParamType::kBool, "true", 0, 0, {},
@@ -68,6 +72,7 @@ absl::StatusOr<std::unique_ptr<Solver>> AvgSolver::Create(const ParamSet& params
   solver->trace_settings_.vpls = params.GetInt("vpls");
   solver->trace_settings_.bounces = params.GetInt("bounces");
   solver->trace_settings_.roulette = params.GetBool("roulette");
+  solver->tail_estimate_ = params.GetBool("tail_estimate");
   solver->shadow_resolution_ = params.GetInt("shadow_res");
   solver->visibility_ = params.GetBool("visibility");
   solver->clamp_ = float(params.GetFloat("clamp"));
@@ -280,7 +285,8 @@ void AvgSolver::StartTrace(const SolverContext& ctx) {
   job_voxelizes_ = job->voxelize;
   const int resolution = grid_resolution_;
   const bool full_detail = full_detail_;
-  const avg::VplTraceSettings settings = trace_settings_;
+  avg::VplTraceSettings settings = trace_settings_;
+  settings.tail_bound = tail_estimate_ ? LargestAlbedo(ctx.state) : 0.0;
   trace_job_.Start(std::move(job), [resolution, full_detail, settings](TraceJob& j) {
     if (j.voxelize) {
       j.times.Time("voxelize", [&] {
@@ -449,6 +455,7 @@ SolverStats AvgSolver::Stats() const {
       {"vpl_paths_escaped", double(trace_.escaped)},
       {"light_power", double(Luminance(trace_.light_power))},
       {"vpl_flux", double(Luminance(flux))},
+      {"tail_ratio", trace_.tail_ratio},
       {"grid", double(traced_ ? grid_resolution_ : 0)},
       {"voxels_filled", double(voxels_filled_)},
       {"voxel_bytes", double(voxel_bytes_)},

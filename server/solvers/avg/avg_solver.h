@@ -106,6 +106,7 @@ class AvgSolver final : public Solver {
   // Configuration
   int grid_resolution_ = 64;              ///< voxels per axis
   avg::VplTraceSettings trace_settings_;  ///< vpls, bounces, roulette
+  bool tail_estimate_ = true;             ///< the generations `bounces` leaves out
   int shadow_resolution_ = 64;            ///< VPL paraboloid map size
   bool visibility_ = true;                ///< false: VPLs unshadowed
   float clamp_ = 0.0f;                    ///< geometry-term bias, fraction of the scene diagonal

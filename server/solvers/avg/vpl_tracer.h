@@ -31,6 +31,11 @@ struct VplTraceSettings {
   int bounces = 8;       // VPL generations per path at most (1..kMaxBounces)
   bool roulette = true;  // paths end by Keller's split (else all run `bounces`)
   int threads = 0;       // 1: on the calling thread; else the CPU pool
+  // > 0: when `bounces` cut the split's generations short, the last
+  // generation's VPLs also carry the generations not traced, the
+  // geometric tail of the measured per-bounce flux (solvers/
+  // tail_estimate.h), its ratio at most this (the largest albedo); 0: no.
+  double tail_bound = 0.0;
   // With the split paths end on their own (N rho-bar^b of them reach
   // bounce b), so the cap only bounds stiff scenes' paths.
   static constexpr int kMaxBounces = 1024;
@@ -46,6 +51,7 @@ struct VplTraceResult {
   // the VPLs of the used paths among each, and new paths traced.
   uint64_t kept_paths = 0, retraced_paths = 0, new_paths = 0;
   uint64_t kept_vpls = 0, retraced_vpls = 0;
+  double tail_ratio = 0.0;  // the tail's ratio r (0: none added)
 };
 
 // One ray of a light path as marched: from `origin` along `dir` to the far
