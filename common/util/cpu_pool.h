@@ -11,6 +11,7 @@
 #include <deque>
 #include <functional>
 #include <future>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -18,6 +19,29 @@
 #include <vector>
 
 namespace gistream {
+
+// The tenant whose work the calling thread does ("" when none): loops and
+// Async tasks started under a CpuTenantScope are that tenant's, and so are
+// the loops those tasks start. The pool shares its workers between tenants
+// (issue 30, item 3): a free worker takes a job of the tenant with the
+// fewest workers busy on its jobs, then the least CPU time in the pool,
+// then the oldest; and it comes back to choose after each slice of about
+// kCpuSliceMs (between chunks), so one tenant's queue of background solves
+// or its long loop no longer holds another tenant's work behind it.
+class CpuTenantScope {
+ public:
+  explicit CpuTenantScope(std::string tenant);
+  ~CpuTenantScope();
+  CpuTenantScope(const CpuTenantScope&) = delete;
+  CpuTenantScope& operator=(const CpuTenantScope&) = delete;
+
+ private:
+  std::string previous_;
+};
+const std::string& CurrentCpuTenant();
+
+// A worker's slice of a job before it chooses again.
+inline constexpr double kCpuSliceMs = 5.0;
 
 // min(CPUs in the affinity mask, ceil(cgroup quota / period)), at least 1.
 unsigned DefaultCpuThreads();
@@ -56,15 +80,33 @@ class CpuPool {
   // the future before destroying it.
   std::shared_future<void> Async(std::function<void()> task);
 
+  // A tenant's share so far: workers busy on its jobs now, and the CPU
+  // milliseconds its jobs have run in the pool (workers and callers).
+  struct TenantShare {
+    int busy = 0;
+    double cpu_ms = 0.0;
+  };
+  // The shares of the tenants with work queued or running (for tests).
+  std::map<std::string, TenantShare> Shares();
+
  private:
   struct Job;
   void WorkerLoop();
-  static void Drain(Job& job);
+  // Runs job's chunks until it is exhausted or, when slice_ms > 0, that
+  // long has passed; returns the milliseconds it ran.
+  static double Drain(Job& job, double slice_ms);
+  // The job a free worker takes (null: none left), dropping exhausted
+  // ones and the shares of tenants with nothing queued or running.
+  std::shared_ptr<Job> PickLocked();
+  TenantShare& ShareLocked(const std::string& tenant);
+  // Drops the shares of tenants with nothing queued or running.
+  void ForgetIdleLocked();
 
   std::mutex mutex_;
   std::condition_variable work_cv_;  // workers: a job arrived or stop
   std::condition_variable done_cv_;  // callers: a worker left a job
   std::deque<std::shared_ptr<Job>> jobs_;
+  std::map<std::string, TenantShare> shares_;
   bool stop_ = false;
   std::vector<std::thread> workers_;
 };

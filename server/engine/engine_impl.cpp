@@ -27,6 +27,7 @@
 #include "engine/scene_import.h"
 #include "engine/scene_info.h"
 #include "solvers/registry.h"
+#include "util/cpu_pool.h"
 #include "util/log.h"
 #include "util/user_string.h"
 
@@ -370,6 +371,7 @@ bool SharesByName(const SceneSource& source) {
 // upload on the render thread.
 absl::StatusOr<SceneInfo> EngineImpl::LoadScene(const SceneSource& source) {
   GS_RETURN_IF_ERROR(CheckSceneSource(source, options_.import_limits));
+  const CpuTenantScope cpu_tenant(source.tenant);  // the import's loops (util/cpu_pool.h)
   // What the import parsed and decoded is freed by the time this returns
   // (the upload soon after, with its request): the heap is trimmed then.
   struct TrimHeapAfter {
@@ -1126,6 +1128,9 @@ void EngineImpl::SendKeepAlive(SessionRecord& session, ViewRecord& view,
 void EngineImpl::RenderFrame(SessionRecord& session, ViewRecord& view) {
   // Lines logged while this frame renders (solvers included) name it.
   const ScopedLogContext log_context({session.id, session.scene->id});
+  // The CPU pool's loops and background jobs it starts are its tenant's
+  // (util/cpu_pool.h: workers are shared between tenants).
+  const CpuTenantScope cpu_tenant(session.config.tenant);
   std::deque<Update> updates;
   {
     MutexLock lock(mutex_);

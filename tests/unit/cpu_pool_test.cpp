@@ -10,6 +10,7 @@
 #include <fstream>
 #include <mutex>
 #include <set>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -233,6 +234,70 @@ TEST_F(CgroupDir, MemoryLimitFromV2ThenV1AndTheBudgetTakesTheLower) {
   EXPECT_EQ(MemoryLimitFor(64 * gib, 8 * gib), 6 * gib);
   EXPECT_EQ(MemoryLimitFor(64 * gib, 0), 48 * gib);
   EXPECT_EQ(MemoryLimitFor(8 * gib, 9223372036854771712ull), 6 * gib);
+}
+
+// Fair share between tenants (issue 30, item 3): one worker, tenant A's
+// three background tasks queued before tenant B's one. In arrival order B
+// ran last; now B, whose pool time is the least, runs as soon as the
+// worker is free (after A's first task).
+TEST(CpuPool, AnotherTenantsTaskIsNotQueuedBehindATenantsBacklog) {
+  CpuPool pool(2);  // one worker
+  std::mutex mutex;
+  std::vector<std::string> order;
+  auto task = [&](std::string name, int ms) {
+    return [&, name, ms] {
+      {
+        std::lock_guard lock(mutex);
+        order.push_back(name + ":" + CurrentCpuTenant());
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(ms));
+    };
+  };
+  std::vector<std::shared_future<void>> done;
+  {
+    const CpuTenantScope a("a");
+    for (const char* name : {"a1", "a2", "a3"}) done.push_back(pool.Async(task(name, 60)));
+  }
+  {
+    const CpuTenantScope b("b");
+    done.push_back(pool.Async(task("b1", 1)));
+  }
+  for (auto& d : done) d.wait();
+  EXPECT_EQ(order, (std::vector<std::string>{"a1:a", "b1:b", "a2:a", "a3:a"}));
+  // The worker leaves its share just after the last future is ready.
+  for (int i = 0; i < 2000 && !pool.Shares().empty(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_TRUE(pool.Shares().empty()) << "nothing queued or running: no share kept";
+}
+
+// A worker chooses again after each slice (kCpuSliceMs): while tenant A's
+// long loop runs, tenant B's loop gets workers, not its caller alone
+// (without slices the workers stayed on A's loop until it was exhausted).
+TEST(CpuPool, ATenantsLongLoopLeavesWorkersToAnother) {
+  CpuPool pool(3);  // two workers and each caller
+  std::atomic<bool> b_done{false};
+  std::thread a([&] {
+    const CpuTenantScope tenant("a");
+    pool.ParallelFor(100000, 1, [&](size_t) {
+      if (b_done.load()) return;  // the rest of A's loop is quick
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    });
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));  // A holds both workers
+  std::atomic<int> on_workers{0};
+  std::thread b([&] {
+    const CpuTenantScope tenant("b");
+    const std::thread::id caller = std::this_thread::get_id();
+    pool.ParallelFor(60, 1, [&](size_t) {
+      EXPECT_EQ(CurrentCpuTenant(), "b");
+      if (std::this_thread::get_id() != caller) on_workers.fetch_add(1);
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    });
+    b_done.store(true);
+  });
+  b.join();
+  a.join();
+  EXPECT_GT(on_workers.load(), 0);
 }
 
 TEST(CpuPool, DefaultSizeIsWithinTheMachine) {
