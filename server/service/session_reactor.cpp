@@ -89,71 +89,75 @@ void SessionReactor::OnReadDone(bool ok) {
   const SessionId id = session_id_;
   const Pacing pacing = pacing_;
   lock.unlock();
-
   if (state == State::kAwaitConfig) {
-    if (request_.kind_case() != pb::SessionRequest::kConfig) {
-      lock.lock();
-      read_in_flight_ = false;
-      state_ = State::kClosed;
-      RequestFinishLocked(
-          grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
-                       request_.kind_case() == pb::SessionRequest::kUpdate
-                           ? "config: the first SessionRequest must be a config, got an update"
-                           : "config: the first SessionRequest must be a config"),
-          /*flush=*/false);
-      PumpLocked();
-      return;
-    }
+    HandleFirstRequest();
+    return;
+  }
+  // An open session: the engine validates and queues; errors become events.
+  const Handled handled = HandleSessionRequest(id, pacing);
+  lock.lock();
+  read_in_flight_ = false;
+  frames_wanted_ += handled.frames_requested;
+  if (!handled.status.ok() && !finish_status_.has_value()) {
+    QueueRejectedLocked(handled.rejected_seq, handled.status);
+  }
+  PumpLocked();
+  lock.unlock();
+  if (handled.frames_requested > 0) GrantFrames();
+}
+
+void SessionReactor::HandleFirstRequest() {
+  if (request_.kind_case() == pb::SessionRequest::kConfig) {
     HandleConfig(request_.config());
     return;
   }
+  std::unique_lock lock(mutex_);
+  read_in_flight_ = false;
+  state_ = State::kClosed;
+  RequestFinishLocked(
+      grpc::Status(grpc::StatusCode::INVALID_ARGUMENT,
+                   request_.kind_case() == pb::SessionRequest::kUpdate
+                       ? "config: the first SessionRequest must be a config, got an update"
+                       : "config: the first SessionRequest must be a config"),
+      /*flush=*/false);
+  PumpLocked();
+}
 
-  // An open session: the engine validates and queues; errors become events.
-  uint64_t rejected_seq = 0;
-  absl::Status status;
-  uint32_t frames_requested = 0;
+SessionReactor::Handled SessionReactor::HandleSessionRequest(const SessionId& id, Pacing pacing) {
+  Handled out;
   switch (request_.kind_case()) {
     case pb::SessionRequest::kUpdate: {
-      rejected_seq = request_.update().seq();
+      out.rejected_seq = request_.update().seq();
       {
         // For the update-to-frame latency (OnUpdateAnswered): when it came.
         std::lock_guard arrivals_lock(mutex_);
         if (update_arrivals_.size() >= kMaxTrackedUpdates) update_arrivals_.pop_front();
-        update_arrivals_.emplace_back(rejected_seq, std::chrono::steady_clock::now());
+        update_arrivals_.emplace_back(out.rejected_seq, std::chrono::steady_clock::now());
       }
       absl::StatusOr<Update> update = UpdateFromProto(request_.update(), "update");
-      status = update.ok() ? engine_.PushUpdate(id, *std::move(update)) : update.status();
+      out.status = update.ok() ? engine_.PushUpdate(id, *std::move(update)) : update.status();
       break;
     }
     case pb::SessionRequest::kRequestFrame: {
       const uint32_t count =
           request_.request_frame().count() == 0 ? 1 : request_.request_frame().count();
-      if (request_.request_frame().key_frame()) status = engine_.RequestKeyFrame(id);
+      if (request_.request_frame().key_frame()) out.status = engine_.RequestKeyFrame(id);
       if (pacing == Pacing::kContinuous) {
         // Ignored by the engine's pacing, but the client's sign of life.
-        if (status.ok()) status = engine_.RequestFrames(id, count);
-      } else if (status.ok()) {
-        frames_requested = count;  // passed on by GrantFrames
+        if (out.status.ok()) out.status = engine_.RequestFrames(id, count);
+      } else if (out.status.ok()) {
+        out.frames_requested = count;  // passed on by GrantFrames
       }
       break;
     }
     case pb::SessionRequest::kConfig:
-      status = absl::InvalidArgumentError(
+      out.status = absl::InvalidArgumentError(
           "config: the session is already configured; change it with updates");
       break;
     case pb::SessionRequest::KIND_NOT_SET:
-    default: status = absl::InvalidArgumentError("kind: empty SessionRequest"); break;
+    default: out.status = absl::InvalidArgumentError("kind: empty SessionRequest"); break;
   }
-
-  lock.lock();
-  read_in_flight_ = false;
-  frames_wanted_ += frames_requested;
-  if (!status.ok() && !finish_status_.has_value()) {
-    QueueRejectedLocked(rejected_seq, status);
-  }
-  PumpLocked();
-  lock.unlock();
-  if (frames_requested > 0) GrantFrames();
+  return out;
 }
 
 void SessionReactor::HandleConfig(const pb::SessionConfig& proto) {

@@ -104,7 +104,18 @@ class SessionReactor final
   void DeliverFailure(const absl::Status& status);
   void DeliverDraining(std::chrono::milliseconds deadline);
 
+  // The first request of the stream: a config opens the session, anything
+  // else ends the call (INVALID_ARGUMENT). Not under mutex_.
+  void HandleFirstRequest();
   void HandleConfig(const ::gistream::v1::SessionConfig& config);
+  // A request on an open session, passed to the engine (not under mutex_):
+  // what was rejected (its seq and why) and how many frames were asked for.
+  struct Handled {
+    uint64_t rejected_seq = 0;
+    absl::Status status;
+    uint32_t frames_requested = 0;
+  };
+  Handled HandleSessionRequest(const SessionId& id, Pacing pacing);
   void OpenOnWorker(SessionConfig config);
   // Requests the end of the call; with `flush` the queued event and frame
   // are written first. The first request wins.
