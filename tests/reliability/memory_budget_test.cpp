@@ -8,6 +8,8 @@
 
 #include <absl/strings/escaping.h>
 
+#include <functional>
+#include <map>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -102,43 +104,65 @@ TEST(MemoryBudget, EverySolverEstimatesItsDefaults) {
   EXPECT_LE(stats.memory_used_bytes, stats.memory_limit_bytes);
 }
 
+// A session of `solver` with `params` on its own engine's Cornell box at
+// 16 x 16, until a frame satisfies `done`: that frame and the session's
+// reservation less its view's (G-buffer and encoder buffers, at most 200
+// bytes a pixel).
+struct Reserved {
+  std::shared_ptr<const EncodedFrame> frame;
+  double bytes = 0.0;
+};
+Reserved SessionReservation(const std::string& solver, std::map<std::string, std::string> params,
+                            const std::function<bool(const EncodedFrame&)>& done) {
+  EngineOptions options;
+  options.scene_dir = std::filesystem::path(GISTREAM_SOURCE_DIR) / "scenes";
+  auto engine = Engine::Create(options);
+  EXPECT_TRUE(engine.ok()) << engine.status();
+  if (!engine.ok()) return {};
+  Engine& e = **engine;
+  Reserved out;
+  auto info = e.LoadScene(testing::SceneByName("cornell_box.gltf"));
+  EXPECT_TRUE(info.ok()) << info.status();
+  if (info.ok()) {
+    const uint64_t with_scene = e.stats().memory_used_bytes;
+    auto sink = std::make_shared<testing::FrameQueue>();
+    SessionConfig config;
+    config.scene = info->id;
+    config.solver = solver;
+    config.params = std::move(params);
+    config.width = config.height = 16;
+    config.encoding.format = ImageFormat::kPng;
+    auto session = e.OpenSession(config, sink);
+    EXPECT_TRUE(session.ok()) << session.status();
+    if (session.ok()) {
+      out.frame = sink->WaitFor(done);
+      out.bytes = double(e.stats().memory_used_bytes - with_scene) - 16.0 * 16.0 * 200.0;
+      e.CloseSession(session->id);
+    }
+  }
+  e.Shutdown();
+  return out;
+}
+
 // antiradiance's estimate against what it builds (issue 30: the links
 // were estimated 30 times low): a session's reservation, less its view's,
 // covers the tables and both copies of the links that its stats report,
 // and is not more than twice them.
 TEST(MemoryBudget, AntiradianceEstimateCoversWhatItBuilds) {
-  EngineOptions options;
-  options.scene_dir = std::filesystem::path(GISTREAM_SOURCE_DIR) / "scenes";
-  auto engine = Engine::Create(options);
-  ASSERT_TRUE(engine.ok()) << engine.status();
-  Engine& e = **engine;
-  auto info = e.LoadScene(testing::SceneByName("cornell_box.gltf"));
-  ASSERT_TRUE(info.ok()) << info.status();
-  const uint64_t with_scene = e.stats().memory_used_bytes;
-  auto sink = std::make_shared<testing::FrameQueue>();
-  SessionConfig config;
-  config.scene = info->id;
-  config.solver = "antiradiance";
-  config.params = {{"elements", "triangles"}, {"patch_size", "0.05"}, {"bins", "256"}};
-  config.width = config.height = 16;
-  config.encoding.format = ImageFormat::kPng;
-  auto session = e.OpenSession(config, sink);
-  ASSERT_TRUE(session.ok()) << session.status();
-  auto frame = sink->WaitFor([](const EncodedFrame& f) {
-    return testing::FrameStat(f, "links_pending") == 0.0 && testing::FrameStat(f, "link_bytes") > 0;
-  });
-  ASSERT_TRUE(frame);
-  const double built = testing::FrameStat(*frame, "table_bytes") +
-                       2.0 * testing::FrameStat(*frame, "link_bytes") +
-                       testing::FrameStat(*frame, "shadow_map_bytes");
-  // The view: G-buffer and encoder buffers, at most 200 bytes per pixel.
-  const double reserved = double(e.stats().memory_used_bytes - with_scene) - 16.0 * 16.0 * 200.0;
-  RecordProperty("reserved_bytes", std::to_string(reserved));
+  const Reserved r = SessionReservation(
+      "antiradiance", {{"elements", "triangles"}, {"patch_size", "0.05"}, {"bins", "256"}},
+      [](const EncodedFrame& f) {
+        return testing::FrameStat(f, "links_pending") == 0.0 &&
+               testing::FrameStat(f, "link_bytes") > 0;
+      });
+  ASSERT_TRUE(r.frame);
+  const double built = testing::FrameStat(*r.frame, "table_bytes") +
+                       2.0 * testing::FrameStat(*r.frame, "link_bytes") +
+                       testing::FrameStat(*r.frame, "shadow_map_bytes");
+  RecordProperty("reserved_bytes", std::to_string(r.bytes));
   RecordProperty("built_bytes", std::to_string(built));
-  EXPECT_GE(reserved, built) << "estimate below what the solver built";
-  EXPECT_LE(reserved, 2.0 * built) << "estimate more than twice what the solver built";
-  e.CloseSession(session->id);
-  e.Shutdown();
+  EXPECT_GE(r.bytes, built) << "estimate below what the solver built";
+  EXPECT_LE(r.bytes, 2.0 * built) << "estimate more than twice what the solver built";
 }
 
 // Every solver's estimate at its defaults against what it built (issue 30,
@@ -154,42 +178,22 @@ class EveryEstimate : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(EveryEstimate, CoversWhatItsSolverBuilt) {
   const std::string solver = GetParam();
-  EngineOptions options;
-  options.scene_dir = std::filesystem::path(GISTREAM_SOURCE_DIR) / "scenes";
-  auto engine = Engine::Create(options);
-  ASSERT_TRUE(engine.ok()) << engine.status();
-  Engine& e = **engine;
-  auto info = e.LoadScene(testing::SceneByName("cornell_box.gltf"));
-  ASSERT_TRUE(info.ok()) << info.status();
-  const uint64_t with_scene = e.stats().memory_used_bytes;
-  auto sink = std::make_shared<testing::FrameQueue>();
-  SessionConfig config;
-  config.scene = info->id;
-  config.solver = solver;
-  config.width = config.height = 16;
-  config.encoding.format = ImageFormat::kPng;
-  auto session = e.OpenSession(config, sink);
-  ASSERT_TRUE(session.ok()) << session.status();
-  auto frame = sink->WaitFor([](const EncodedFrame& f) {
+  const Reserved r = SessionReservation(solver, {}, [](const EncodedFrame& f) {
     for (const auto& [name, value] : f.stats) {
       if (name == "update_complete" && value != 1.0) return false;
     }
     return true;
   });
-  ASSERT_TRUE(frame);
+  ASSERT_TRUE(r.frame);
   double built = 0.0;
-  for (const auto& [name, value] : frame->stats) {
+  for (const auto& [name, value] : r.frame->stats) {
     if (name.size() > 6 && name.ends_with("_bytes") && name != "scene_gpu_bytes") built += value;
     if (solver == "antiradiance" && name == "link_bytes") built += value;
   }
-  // The view: G-buffer and encoder buffers, at most 200 bytes per pixel.
-  const double reserved = double(e.stats().memory_used_bytes - with_scene) - 16.0 * 16.0 * 200.0;
-  RecordProperty("reserved_bytes", std::to_string(reserved));
+  RecordProperty("reserved_bytes", std::to_string(r.bytes));
   RecordProperty("built_bytes", std::to_string(built));
-  EXPECT_GE(reserved, built) << solver << ": estimate below what the solver built";
-  EXPECT_LE(reserved, 3.0 * built + (1 << 20)) << solver << ": estimate far above what it built";
-  e.CloseSession(session->id);
-  e.Shutdown();
+  EXPECT_GE(r.bytes, built) << solver << ": estimate below what the solver built";
+  EXPECT_LE(r.bytes, 3.0 * built + (1 << 20)) << solver << ": estimate far above what it built";
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, EveryEstimate, ::testing::ValuesIn([] {

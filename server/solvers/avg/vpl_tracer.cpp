@@ -229,8 +229,8 @@ void TraceRange(const VoxelGrid& grid, const std::vector<VplLight>& lights, cons
 
 // The generations the cap left out (issue 29, item 4: at the default 8
 // bounces a rho = 0.9 furnace read 0.65 of its value, 0.99 0.10): when
-// the split still had paths at the last generation, that generation's
-// VPLs carry f times their flux more, f = r / (1 - r) from the measured
+// the split still had paths at the last generation, the last generations'
+// VPLs carry f times the last one's flux more, f = r / (1 - r) from the measured
 // flux per generation (the split makes it exactly P rho^b in a closed
 // scene of one albedo) by MonotoneTailFactor. They stand for the later
 // bounces' light where it is after the cap's bounce (the last bounces'
@@ -244,9 +244,19 @@ void AddTail(const VplTraceSettings& settings, const std::vector<uint64_t>& coun
   for (size_t b = 0; b < deltas.size(); ++b) totals[b] = (b > 0 ? totals[b - 1] : 0.0) + deltas[b];
   const TailEstimate tail = EstimateTail(deltas, settings.tail_bound);
   if (!tail.applied) return;
-  const float scale = float(1.0 + MonotoneTailFactor(deltas, totals, settings.tail_bound));
+  // The tail, f x the last generation's flux, is spread over the last
+  // generations (up to kTailGenerations, in proportion to their flux): a
+  // bright interior's tail is most of its light, and on the last
+  // generation's few VPLs alone it showed as bright blotches.
+  constexpr size_t kTailGenerations = 4;
+  const size_t first = counts.size() > kTailGenerations ? counts.size() - kTailGenerations : 0;
+  double carriers = 0.0;
+  for (size_t b = first; b < deltas.size(); ++b) carriers += deltas[b];
+  if (!(carriers > 0.0)) return;
+  const double f = MonotoneTailFactor(deltas, totals, settings.tail_bound);
+  const float scale = float(1.0 + f * deltas.back() / carriers);
   for (Vpl& v : result.vpls) {
-    if (size_t(v.bounce) == counts.size()) v.flux *= scale;
+    if (size_t(v.bounce) > first) v.flux *= scale;
   }
   result.tail_ratio = tail.ratio;
 }
