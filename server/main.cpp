@@ -109,6 +109,15 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
   --max-solvers-per-scene N  GI solutions cached per scene, one per solver and
                              parameter set; the least recently used idle
                              one is dropped beyond N (default 8)
+  --max-solve-seconds F      a session's solver whose complete solve (every
+                             bounce or iteration up to its cap) is estimated
+                             over F seconds is refused (RESOURCE_EXHAUSTED
+                             naming the parameters) before it is built; the
+                             estimate is for the reference machine (2 cores,
+                             llvmpipe) divided by --solve-speed; 0: no limit
+                             (default 300)
+  --solve-speed F            how many times faster than the reference machine
+                             this server solves (default 1)
   --max-width N              largest frame width (default 4096)
   --max-height N             largest frame height (default 4096)
   --max-scene-bytes N        largest glb/gltf, buffers included (default 268435456)
@@ -238,6 +247,10 @@ Flags ParseFlags(int argc, char** argv) {
        [&](auto flag, auto v) {
          f.engine.max_solvers_per_scene = ParseUnsigned<uint32_t>(flag, v, 1, 1'000);
        }},
+      {"--max-solve-seconds",
+       [&](auto flag, auto v) { f.engine.max_solve_seconds = ParseDouble(flag, v, 0.0, 1e9); }},
+      {"--solve-speed",
+       [&](auto flag, auto v) { f.engine.solve_speed = ParseDouble(flag, v, 1e-3, 1e6); }},
       {"--max-width",
        [&](auto flag, auto v) {
          f.engine.max_width = ParseUnsigned<uint32_t>(flag, v, 1, 65'536);

@@ -273,6 +273,14 @@ struct EngineOptions {
   // parameter set; beyond this the least recently used one that no open
   // session uses is dropped with its GPU memory.
   uint32_t max_solvers_per_scene = 8;
+  // A solver whose complete solve is estimated over this many seconds on
+  // the reference machine (solvers/work_estimate.h), divided by
+  // solve_speed, is refused with RESOURCE_EXHAUSTED naming its parameters
+  // before anything is built; 0: no limit (gistreamd --max-solve-seconds).
+  double max_solve_seconds = 300.0;
+  // How many times faster than the reference machine (2 cores, llvmpipe)
+  // this server solves (gistreamd --solve-speed; 1: the reference).
+  double solve_speed = 1.0;
   uint32_t max_width = 4096;
   uint32_t max_height = 4096;
   float default_max_fps = 30.0f;

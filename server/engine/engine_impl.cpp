@@ -1527,6 +1527,8 @@ void EngineImpl::Publish(SessionRecord& session, ViewRecord& view, const GpuScen
                     ? std::move(view.solve_stats)
                     : entry.solver->Stats();
   AddViewStats(view, scene, *entry.solver, state, draw.refine_target, frame.stats);
+  // What BuildSolver estimated for a complete solve (this server's seconds).
+  frame.stats.emplace_back("solve_estimate_s", entry.solve_estimate_s);
   // Settled: the picture equals the last one, no update came with it and
   // the solver owes nothing (no slices, no background job, no animation):
   // a continuous view then rests (RenderFrame). Keep-alives at rest say 1.
@@ -1681,16 +1683,29 @@ absl::Status EngineImpl::ReserveView(const SessionRecord& session, const GpuScen
 
 absl::Status EngineImpl::BuildSolver(const SessionRecord& session, const GpuSceneRecord& scene,
                                      SolverEntry& entry) {
-  // One place for every solver: its estimate from the parameters and the
-  // scene (solvers/memory_estimate.h) is reserved before anything is built.
+  // One place for every solver: its memory (solvers/memory_estimate.h) is
+  // reserved and its time (solvers/work_estimate.h) checked, both
+  // estimated from the parameters and the scene, before anything is built.
   GS_ASSIGN_OR_RETURN(
       MemoryEstimate estimate,
       EstimateSolverMemory(session.config.solver, session.params, *scene.state, *scene.gpu));
   GS_ASSIGN_OR_RETURN(MemoryCharge memory,
                       accounts_.Reserve(scene.tenant, estimate.cpu_bytes(), estimate.gpu_bytes(),
                                         estimate.Describe(session.config.solver, session.params)));
+  GS_ASSIGN_OR_RETURN(
+      const WorkEstimate work,
+      EstimateSolverWork(session.config.solver, session.params, *scene.state, *scene.gpu));
+  const double speed = options_.solve_speed > 0.0 ? options_.solve_speed : 1.0;
+  if (options_.max_solve_seconds > 0.0 && work.seconds() / speed > options_.max_solve_seconds) {
+    return absl::ResourceExhaustedError(absl::StrFormat(
+        "%s: a complete solve is estimated at %.3g s, over the server's limit of %.3g s "
+        "(--max-solve-seconds, at --solve-speed %.3g); lower the named parameters",
+        work.Describe(session.config.solver, session.params), work.seconds() / speed,
+        options_.max_solve_seconds, speed));
+  }
   GS_ASSIGN_OR_RETURN(entry.solver, CreateSolver(session.config.solver, session.params));
   entry.memory = std::move(memory);
+  entry.solve_estimate_s = work.seconds() / speed;
   return absl::OkStatus();
 }
 

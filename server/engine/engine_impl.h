@@ -130,8 +130,9 @@ class EngineImpl final : public Engine {
     std::unique_ptr<Solver> solver;
     uint64_t version = 0;
     bool fresh = true;
-    uint64_t last_used = 0;  // solver_clock_ at its last frame
-    MemoryCharge memory;     // its estimate, held while it lives
+    uint64_t last_used = 0;         // solver_clock_ at its last frame
+    MemoryCharge memory;            // its estimate, held while it lives
+    double solve_estimate_s = 0.0;  // its complete solve, reference seconds
   };
   struct GpuSceneRecord {
     TenantId tenant;

@@ -78,4 +78,12 @@ absl::StatusOr<MemoryEstimate> EstimateSolverMemory(const std::string& name, con
   return FindSolver(name).status();
 }
 
+absl::StatusOr<WorkEstimate> EstimateSolverWork(const std::string& name, const ParamSet& params,
+                                                const SceneState& state, const GpuScene& gpu) {
+  for (const Registered& s : Frozen().solvers) {
+    if (s.description.name == name) return s.factory.estimate_work(params, state, gpu);
+  }
+  return FindSolver(name).status();
+}
+
 }  // namespace gistream

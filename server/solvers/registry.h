@@ -17,6 +17,7 @@
 
 #include "solvers/memory_estimate.h"
 #include "solvers/solver.h"
+#include "solvers/work_estimate.h"
 
 namespace gistream {
 
@@ -27,15 +28,19 @@ struct SolverFactory {
   // What Create will allocate (solvers/memory_estimate.h), checked by the
   // engine against the memory budget before it calls Create.
   MemoryEstimate (*estimate)(const ParamSet&, const SceneState&, const GpuScene&) = nullptr;
+  // A complete solve's time (solvers/work_estimate.h), checked by the engine
+  // against --max-solve-seconds before it calls Create.
+  WorkEstimate (*estimate_work)(const ParamSet&, const SceneState&, const GpuScene&) = nullptr;
 };
 
 // Called by GISTREAM_REGISTER_SOLVER during static initialisation; aborts
 // on a duplicate name or a registration after the list was first read.
 bool RegisterSolver(const SolverFactory& factory);
 
-#define GISTREAM_REGISTER_SOLVER(Class, list_order)                                   \
-  [[maybe_unused]] static const bool kRegistered##Class = ::gistream::RegisterSolver( \
-      {&Class::Describe, &Class::Create, (list_order), &Class::EstimateMemory})
+#define GISTREAM_REGISTER_SOLVER(Class, list_order)                               \
+  [[maybe_unused]] static const bool kRegistered##Class =                         \
+      ::gistream::RegisterSolver({&Class::Describe, &Class::Create, (list_order), \
+                                  &Class::EstimateMemory, &Class::EstimateWork})
 
 // The registered solvers by list order.
 const std::vector<SolverDescription>& AllSolverDescriptions();
@@ -49,5 +54,8 @@ absl::StatusOr<std::unique_ptr<Solver>> CreateSolver(const std::string& name,
 // NOT_FOUND as FindSolver.
 absl::StatusOr<MemoryEstimate> EstimateSolverMemory(const std::string& name, const ParamSet& params,
                                                     const SceneState& state, const GpuScene& gpu);
+// The solver's solve-time estimate, likewise.
+absl::StatusOr<WorkEstimate> EstimateSolverWork(const std::string& name, const ParamSet& params,
+                                                const SceneState& state, const GpuScene& gpu);
 
 }  // namespace gistream

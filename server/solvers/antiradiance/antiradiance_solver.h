@@ -29,6 +29,7 @@
 #include "solvers/antiradiance/shared_elements.h"
 #include "solvers/antiradiance/transport.h"
 #include "solvers/memory_estimate.h"
+#include "solvers/work_estimate.h"
 #include "solvers/solver.h"
 
 namespace gistream {
@@ -50,6 +51,9 @@ class AntiradianceSolver final : public Solver {
   // Before Create, from the parameters and the scene (solvers/memory_estimate.h).
   static MemoryEstimate EstimateMemory(const ParamSet& params, const SceneState& state,
                                        const GpuScene& gpu);
+  // A complete solve's time at the parameters' caps (solvers/work_estimate.h).
+  static WorkEstimate EstimateWork(const ParamSet& params, const SceneState& state,
+                                   const GpuScene& gpu);
 
   const SolverDescription& description() const override;
   std::vector<std::string> Plan(const SceneState& state, ChangeMask changes) const override;

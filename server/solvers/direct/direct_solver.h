@@ -5,6 +5,7 @@
 #include "gl/fullscreen_pass.h"
 #include "render/direct_lighting.h"
 #include "solvers/memory_estimate.h"
+#include "solvers/work_estimate.h"
 #include "solvers/solver.h"
 
 namespace gistream {
@@ -16,6 +17,9 @@ class DirectSolver final : public Solver {
   // Before Create, from the parameters and the scene (solvers/memory_estimate.h).
   static MemoryEstimate EstimateMemory(const ParamSet& params, const SceneState& state,
                                        const GpuScene& gpu);
+  // A complete solve's time at the parameters' caps (solvers/work_estimate.h).
+  static WorkEstimate EstimateWork(const ParamSet& params, const SceneState& state,
+                                   const GpuScene& gpu);
 
   const SolverDescription& description() const override;
   std::vector<std::string> Plan(const SceneState& state, ChangeMask changes) const override;

@@ -32,6 +32,7 @@
 #include "solvers/implicit_visibility/illumination.h"
 #include "solvers/implicit_visibility/scene_elements.h"
 #include "solvers/memory_estimate.h"
+#include "solvers/work_estimate.h"
 #include "solvers/solver.h"
 #include "solvers/view_memory.h"
 
@@ -53,6 +54,9 @@ class ImplicitVisibilitySolver final : public Solver {
   // Before Create, from the parameters and the scene (solvers/memory_estimate.h).
   static MemoryEstimate EstimateMemory(const ParamSet& params, const SceneState& state,
                                        const GpuScene& gpu);
+  // A complete solve's time at the parameters' caps (solvers/work_estimate.h).
+  static WorkEstimate EstimateWork(const ParamSet& params, const SceneState& state,
+                                   const GpuScene& gpu);
 
   const SolverDescription& description() const override;
   std::vector<std::string> Plan(const SceneState& state, ChangeMask changes) const override;

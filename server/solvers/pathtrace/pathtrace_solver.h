@@ -11,6 +11,7 @@
 #include "solvers/pathtrace/integrator.h"
 #include "solvers/pathtrace/scene_bvh.h"
 #include "solvers/memory_estimate.h"
+#include "solvers/work_estimate.h"
 #include "solvers/solver.h"
 #include "solvers/view_memory.h"
 
@@ -23,6 +24,9 @@ class PathtraceSolver final : public Solver {
   // Before Create, from the parameters and the scene (solvers/memory_estimate.h).
   static MemoryEstimate EstimateMemory(const ParamSet& params, const SceneState& state,
                                        const GpuScene& gpu);
+  // A complete solve's time at the parameters' caps (solvers/work_estimate.h).
+  static WorkEstimate EstimateWork(const ParamSet& params, const SceneState& state,
+                                   const GpuScene& gpu);
 
   const SolverDescription& description() const override;
   std::vector<std::string> Plan(const SceneState& state, ChangeMask changes) const override;

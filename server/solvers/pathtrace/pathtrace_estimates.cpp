@@ -1,4 +1,5 @@
-// PathtraceSolver::EstimateMemory (solvers/memory_estimate.h).
+// PathtraceSolver::EstimateMemory and EstimateWork (solvers/memory_estimate.h,
+// solvers/work_estimate.h).
 #include "solvers/pathtrace/pathtrace_solver.h"
 
 namespace gistream {
@@ -21,6 +22,16 @@ MemoryEstimate PathtraceSolver::EstimateMemory(const ParamSet& /*params*/, const
   // them when a view needs them (SolverContext::reserve), and its caps
   // (kMaxViews, kMaxAccumulationBytes) still apply.
   return estimate;
+}
+
+WorkEstimate PathtraceSolver::EstimateWork(const ParamSet& /*params*/, const SceneState& /*state*/,
+                                           const GpuScene& /*gpu*/) {
+  // Nothing up front: the paths are traced in slices of the frame budget
+  // (--frame-budget-ms), a view's samples accumulate frame by frame, and a
+  // Render that waits for `spp` samples is bounded by its deadline. What a
+  // complete image costs depends on the view (pixels x spp), which a
+  // session sets after the solver is built.
+  return {};
 }
 
 }  // namespace gistream
