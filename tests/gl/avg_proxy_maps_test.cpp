@@ -136,7 +136,7 @@ TEST_F(AvgProxyMapsTest, ProxyMapsMatchFullDetailWithinOneTexel) {
 }
 
 // The distance cubes are bounded before they are made, and the memory
-// estimate (avg_memory.cpp) counts what the maps hold: 64 VPLs a batch at
+// estimate (avg_estimates.cpp) counts what the maps hold: 64 VPLs a batch at
 // the default shadow_res, fewer where 64 cubes would pass 64 MiB (a batch
 // of 64 cubes of 512^2 faces would be 403 MB per atlas).
 TEST(AvgDistanceCubes, BatchIsBoundedAndCountedInGpuBytes) {

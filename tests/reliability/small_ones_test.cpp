@@ -45,12 +45,14 @@ TEST(SmallOnes, OverBudgetParameterIsResourceExhausted) {
 // Finding 2 (unbounded memory), antiradiance part: patch_size 1e-6 m is in
 // the schema's range and split every triangle into 4^12 leaves (5 GB in
 // 38 s) before a check ran. The memory budget refuses it from the solver's
-// estimate (memory_budget_test.cpp); with a budget that would allow it, the
-// solver's own cap still refuses before splitting.
+// estimate (memory_budget_test.cpp), and the solve-time limit from its
+// (solve_estimate_test.cpp); with a budget and no limit that would allow
+// it, the solver's own cap still refuses before splitting.
 TEST(SmallOnes, TinyAntiradiancePatchesAreRefusedBeforeSplitting) {
   EngineOptions options;
   options.scene_dir = SceneDir();
   options.max_memory_bytes = uint64_t(1) << 50;
+  options.max_solve_seconds = 0.0;
   auto engine = Engine::Create(options);
   ASSERT_TRUE(engine.ok()) << engine.status();
   auto info = (*engine)->LoadScene(testing::SceneFromBytes(QuadScene().dump()));

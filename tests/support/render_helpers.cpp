@@ -35,6 +35,12 @@ Engine& SharedEngine() {
   std::call_once(created_once, [&engine] {
     EngineOptions options;
     options.scene_dir = std::string(GISTREAM_SOURCE_DIR "/scenes");
+    // No solve-time limit: the GL suites drive the solvers themselves, up
+    // to the extreme in-range parameters a server without the limit
+    // accepts (cancellation_test.cpp), and the solvers' own limits
+    // (sh_probes_test.cpp); the limit has its own tests
+    // (reliability/solve_estimate_test.cpp).
+    options.max_solve_seconds = 0.0;
     auto created = Engine::Create(options);
     if (!created.ok()) {
       ADD_FAILURE() << "Engine::Create: " << created.status();
