@@ -210,10 +210,13 @@ LogLevel ParseLogLevel(std::string_view flag, std::string_view value) {
       absl::StrCat(AV(flag), ": expected debug, info, warning or error, got '", AV(value), "'"));
 }
 
-Flags ParseFlags(int argc, char** argv) {
-  Flags f;
-  using Setter = std::function<void(std::string_view flag, std::string_view value)>;
-  const std::map<std::string_view, Setter> setters = {
+using Setter = std::function<void(std::string_view flag, std::string_view value)>;
+using Setters = std::map<std::string_view, Setter>;
+
+// The process's own flags: addresses, TLS and tokens, the gRPC transport,
+// shutdown, logging, threads.
+void AddServerFlags(Flags& f, Setters& setters) {
+  setters.insert({
       {"--listen",
        [&](auto flag, auto v) {
          if (v.empty()) UsageError(absl::StrCat(AV(flag), ": empty address"));
@@ -225,40 +228,37 @@ Flags ParseFlags(int argc, char** argv) {
          f.metrics_listen = std::string(v);
        }},
       {"--metrics-token-file", [&](auto, auto v) { f.metrics_token = std::string(v); }},
-      {"--scenes", [&](auto, auto v) { f.engine.scene_dir = std::string(v); }},
-      {"--egl-device",
-       [&](auto flag, auto v) { f.engine.egl_device = ParseInt(flag, v, -1, 1024); }},
-      {"--max-sessions",
+      {"--health-listen",
        [&](auto flag, auto v) {
-         f.engine.max_sessions = ParseUnsigned<uint32_t>(flag, v, 1, 100'000);
+         if (v.empty()) UsageError(absl::StrCat(AV(flag), ": empty address"));
+         f.health_listen = std::string(v);
        }},
-      {"--max-render-busy",
-       [&](auto flag, auto v) { f.engine.max_render_busy = ParseDouble(flag, v, 0.0, 1.0); }},
-      {"--max-scenes",
+      {"--tls-cert", [&](auto, auto v) { f.tls_cert = std::string(v); }},
+      {"--tls-key", [&](auto, auto v) { f.tls_key = std::string(v); }},
+      {"--tls-client-ca", [&](auto, auto v) { f.tls_client_ca = std::string(v); }},
+      {"--auth-tokens", [&](auto, auto v) { f.auth_tokens = std::string(v); }},
+      {"--max-transport-bytes",
        [&](auto flag, auto v) {
-         f.engine.max_scenes = ParseUnsigned<uint32_t>(flag, v, 1, 100'000);
+         f.max_transport_bytes = ParseUnsigned<uint64_t>(flag, v, 0, UINT64_MAX);
        }},
-      {"--max-memory-bytes",
+      {"--max-message-bytes",
        [&](auto flag, auto v) {
-         f.engine.max_memory_bytes =
-             ParseUnsigned<uint64_t>(flag, v, uint64_t{1} << 20, UINT64_MAX);
+         f.max_message_bytes = ParseUnsigned<uint64_t>(flag, v, 1024, INT_MAX);
        }},
-      {"--max-solvers-per-scene",
-       [&](auto flag, auto v) {
-         f.engine.max_solvers_per_scene = ParseUnsigned<uint32_t>(flag, v, 1, 1'000);
-       }},
-      {"--max-solve-seconds",
-       [&](auto flag, auto v) { f.engine.max_solve_seconds = ParseDouble(flag, v, 0.0, 1e9); }},
-      {"--solve-speed",
-       [&](auto flag, auto v) { f.engine.solve_speed = ParseDouble(flag, v, 1e-3, 1e6); }},
-      {"--max-width",
-       [&](auto flag, auto v) {
-         f.engine.max_width = ParseUnsigned<uint32_t>(flag, v, 1, 65'536);
-       }},
-      {"--max-height",
-       [&](auto flag, auto v) {
-         f.engine.max_height = ParseUnsigned<uint32_t>(flag, v, 1, 65'536);
-       }},
+      {"--shutdown-deadline-s",
+       [&](auto flag, auto v) { f.shutdown_deadline_s = ParseDouble(flag, v, 0.0, 3600.0); }},
+      {"--idle-timeout-s",
+       [&](auto flag, auto v) { f.idle_timeout_s = ParseDouble(flag, v, 0.0, 30.0 * 86400.0); }},
+      {"--log-level", [&](auto flag, auto v) { f.log_level = ParseLogLevel(flag, v); }},
+      {"--cpu-threads",
+       [&](auto flag, auto v) { f.cpu_threads = ParseUnsigned<unsigned>(flag, v, 1, 1024); }},
+  });
+}
+
+// What a client or a scene may take: import limits, the memory budget,
+// sessions, scenes, solvers and frame sizes (see --help).
+void AddLimitFlags(Flags& f, Setters& setters) {
+  setters.insert({
       {"--max-scene-bytes",
        [&](auto flag, auto v) {
          f.engine.import_limits.max_scene_bytes =
@@ -284,39 +284,56 @@ Flags ParseFlags(int argc, char** argv) {
          f.engine.import_limits.max_image_pixels =
              ParseUnsigned<uint64_t>(flag, v, 1, uint64_t{1} << 32);
        }},
-      {"--max-transport-bytes",
-       [&](auto flag, auto v) {
-         f.max_transport_bytes = ParseUnsigned<uint64_t>(flag, v, 0, UINT64_MAX);
-       }},
-      {"--max-message-bytes",
-       [&](auto flag, auto v) {
-         f.max_message_bytes = ParseUnsigned<uint64_t>(flag, v, 1024, INT_MAX);
-       }},
-      {"--default-fps",
-       [&](auto flag, auto v) {
-         f.engine.default_max_fps = static_cast<float>(ParseDouble(flag, v, 0.1, f.engine.max_fps));
-       }},
-      {"--shutdown-deadline-s",
-       [&](auto flag, auto v) { f.shutdown_deadline_s = ParseDouble(flag, v, 0.0, 3600.0); }},
-      {"--log-level", [&](auto flag, auto v) { f.log_level = ParseLogLevel(flag, v); }},
-      {"--health-listen",
-       [&](auto flag, auto v) {
-         if (v.empty()) UsageError(absl::StrCat(AV(flag), ": empty address"));
-         f.health_listen = std::string(v);
-       }},
-      {"--tls-cert", [&](auto, auto v) { f.tls_cert = std::string(v); }},
-      {"--tls-key", [&](auto, auto v) { f.tls_key = std::string(v); }},
-      {"--tls-client-ca", [&](auto, auto v) { f.tls_client_ca = std::string(v); }},
-      {"--auth-tokens", [&](auto, auto v) { f.auth_tokens = std::string(v); }},
       {"--max-load-seconds",
        [&](auto flag, auto v) {
          f.engine.max_load_time =
              std::chrono::milliseconds(int64_t(1000.0 * ParseDouble(flag, v, 0.0, 86400.0)));
        }},
-      {"--idle-timeout-s",
-       [&](auto flag, auto v) { f.idle_timeout_s = ParseDouble(flag, v, 0.0, 30.0 * 86400.0); }},
-      {"--cpu-threads",
-       [&](auto flag, auto v) { f.cpu_threads = ParseUnsigned<unsigned>(flag, v, 1, 1024); }},
+      {"--max-memory-bytes",
+       [&](auto flag, auto v) {
+         f.engine.max_memory_bytes =
+             ParseUnsigned<uint64_t>(flag, v, uint64_t{1} << 20, UINT64_MAX);
+       }},
+      {"--max-scenes",
+       [&](auto flag, auto v) {
+         f.engine.max_scenes = ParseUnsigned<uint32_t>(flag, v, 1, 100'000);
+       }},
+      {"--max-sessions",
+       [&](auto flag, auto v) {
+         f.engine.max_sessions = ParseUnsigned<uint32_t>(flag, v, 1, 100'000);
+       }},
+      {"--max-render-busy",
+       [&](auto flag, auto v) { f.engine.max_render_busy = ParseDouble(flag, v, 0.0, 1.0); }},
+      {"--max-solvers-per-scene",
+       [&](auto flag, auto v) {
+         f.engine.max_solvers_per_scene = ParseUnsigned<uint32_t>(flag, v, 1, 1'000);
+       }},
+      {"--max-solve-seconds",
+       [&](auto flag, auto v) { f.engine.max_solve_seconds = ParseDouble(flag, v, 0.0, 1e9); }},
+      {"--solve-speed",
+       [&](auto flag, auto v) { f.engine.solve_speed = ParseDouble(flag, v, 1e-3, 1e6); }},
+      {"--max-width",
+       [&](auto flag, auto v) {
+         f.engine.max_width = ParseUnsigned<uint32_t>(flag, v, 1, 65'536);
+       }},
+      {"--max-height",
+       [&](auto flag, auto v) {
+         f.engine.max_height = ParseUnsigned<uint32_t>(flag, v, 1, 65'536);
+       }},
+  });
+}
+
+// How the engine renders: the scene directory, the EGL device, frame
+// pacing, slices and refinement.
+void AddEngineFlags(Flags& f, Setters& setters) {
+  setters.insert({
+      {"--scenes", [&](auto, auto v) { f.engine.scene_dir = std::string(v); }},
+      {"--egl-device",
+       [&](auto flag, auto v) { f.engine.egl_device = ParseInt(flag, v, -1, 1024); }},
+      {"--default-fps",
+       [&](auto flag, auto v) {
+         f.engine.default_max_fps = static_cast<float>(ParseDouble(flag, v, 0.1, f.engine.max_fps));
+       }},
       {"--frame-budget-ms",
        [&](auto flag, auto v) { f.engine.frame_budget_ms = ParseDouble(flag, v, 1.0, 10'000.0); }},
       {"--refine-samples",
@@ -329,24 +346,52 @@ Flags ParseFlags(int argc, char** argv) {
          f.engine.refine_history =
              ParseUnsigned<uint32_t>(flag, v, 0, EngineOptions::kMaxRefineHistory);
        }},
-  };
+  });
+}
 
+// --help, --version and --list-solvers print and exit.
+void HandleExitingFlag(std::string_view arg) {
+  if (arg == "--help" || arg == "-h") {
+    std::fputs(kUsage, stdout);
+    std::exit(0);
+  }
+  if (arg == "--version") {
+    const std::string_view version = Version();
+    std::printf("gistreamd %.*s\n", static_cast<int>(version.size()), version.data());
+    std::exit(0);
+  }
+  if (arg == "--list-solvers") {
+    for (const SolverDescription& d : AllSolverDescriptions()) std::printf("%s\n", d.name.c_str());
+    std::exit(0);
+  }
+}
+
+// What depends on several flags: TLS pairs, the idle timeout, the default
+// message size.
+void FinishFlags(Flags& f) {
+  if (f.tls_cert.empty() != f.tls_key.empty()) {
+    UsageError("--tls-cert and --tls-key: give both or neither");
+  }
+  if (!f.tls_client_ca.empty() && f.tls_cert.empty()) {
+    UsageError("--tls-client-ca: needs --tls-cert and --tls-key");
+  }
+  f.engine.idle_timeout =
+      std::chrono::milliseconds(static_cast<int64_t>(f.idle_timeout_s * 1000.0));
+  if (f.max_message_bytes == 0) {
+    f.max_message_bytes =
+        std::min<uint64_t>(f.engine.import_limits.max_scene_bytes + (16u << 20), INT_MAX);
+  }
+}
+
+Flags ParseFlags(int argc, char** argv) {
+  Flags f;
+  Setters setters;
+  AddServerFlags(f, setters);
+  AddLimitFlags(f, setters);
+  AddEngineFlags(f, setters);
   for (int i = 1; i < argc; ++i) {
     std::string_view arg = argv[i];
-    if (arg == "--help" || arg == "-h") {
-      std::fputs(kUsage, stdout);
-      std::exit(0);
-    }
-    if (arg == "--version") {
-      const std::string_view version = Version();
-      std::printf("gistreamd %.*s\n", static_cast<int>(version.size()), version.data());
-      std::exit(0);
-    }
-    if (arg == "--list-solvers") {
-      for (const SolverDescription& d : AllSolverDescriptions())
-        std::printf("%s\n", d.name.c_str());
-      std::exit(0);
-    }
+    HandleExitingFlag(arg);
     if (arg == "--insecure") {
       f.insecure = true;
       continue;
@@ -370,18 +415,7 @@ Flags ParseFlags(int argc, char** argv) {
     }
     it->second(name, value);
   }
-  if (f.tls_cert.empty() != f.tls_key.empty()) {
-    UsageError("--tls-cert and --tls-key: give both or neither");
-  }
-  if (!f.tls_client_ca.empty() && f.tls_cert.empty()) {
-    UsageError("--tls-client-ca: needs --tls-cert and --tls-key");
-  }
-  f.engine.idle_timeout =
-      std::chrono::milliseconds(static_cast<int64_t>(f.idle_timeout_s * 1000.0));
-  if (f.max_message_bytes == 0) {
-    f.max_message_bytes =
-        std::min<uint64_t>(f.engine.import_limits.max_scene_bytes + (16u << 20), INT_MAX);
-  }
+  FinishFlags(f);
   return f;
 }
 
