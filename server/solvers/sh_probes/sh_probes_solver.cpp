@@ -263,32 +263,7 @@ absl::Status ShProbesSolver::ContinueSolve(SolverContext& ctx) {
     std::vector<int> batch(static_cast<size_t>(count));
     for (int i = 0; i < count; ++i) batch[size_t(i)] = full_.next + i;
     const auto batch_start = Clock::now();
-    switch (full_.phase) {
-      case Phase::kRaster: {
-        gl::StageTimer::Scope stage(ctx.timer, "rasterize_cubemaps");
-        RasterizeCubemaps(ctx, &batch);
-        break;
-      }
-      case Phase::kInterpolate: {
-        gl::StageTimer::Scope stage(ctx.timer, "interpolate");
-        Interpolate(&batch);
-        break;
-      }
-      case Phase::kRender: {
-        if (full_.next == 0 && settings_.tail_estimate) {
-          glCopyNamedBufferSubData(coefficients_.id(), previous_coefficients_.id(), 0, 0,
-                                   GLsizeiptr(sh::kMaxCoefficients) * probes * 16);
-        }
-        {
-          gl::StageTimer::Scope stage(ctx.timer, "render_cubemaps");
-          RenderCubemaps(/*compute_direct=*/full_.bounce == 1, /*use_indirect=*/full_.bounce > 1,
-                         &batch);
-        }
-        gl::StageTimer::Scope stage(ctx.timer, "sh_project");
-        full_.change += ProjectToSh(&full_.total, &batch);
-        break;
-      }
-    }
+    RunSolveBatch(ctx, &batch);
     const double ms = std::chrono::duration<double, std::milli>(Clock::now() - batch_start).count();
     ms_per_unit_ = 0.7 * ms_per_unit_ + 0.3 * ms / double(std::max(units * count, 1));
     probes_updated_ += count;
@@ -302,23 +277,57 @@ absl::Status ShProbesSolver::ContinueSolve(SolverContext& ctx) {
       full_.phase = Phase::kRender;
       continue;
     }
-    // The end of a bounce: frames show the solution so far.
-    bounces_run_ = full_.bounce;
-    full_.deltas.push_back(full_.change);
-    full_.totals.push_back(full_.total);
-    bounce_change_ = full_.total > 0.0 ? full_.change / full_.total : 0.0;
-    full_.change = full_.total = 0.0;
-    glCopyNamedBufferSubData(coefficients_.id(), shown_coefficients_.id(), 0, 0,
-                             GLsizeiptr(sh::kMaxCoefficients) * probes * 16);
-    if ((full_.bounce >= 2 && bounce_change_ < settings_.tolerance) ||
-        full_.bounce >= settings_.bounces) {
-      FinishSolve(ctx);
-    } else {
-      ++full_.bounce;
-      full_.phase = Phase::kInterpolate;
-    }
+    EndSolveBounce(ctx);
   }
   return absl::OkStatus();
+}
+
+void ShProbesSolver::RunSolveBatch(SolverContext& ctx, std::vector<int>* batch) {
+  using Phase = FullSolve::Phase;
+  switch (full_.phase) {
+    case Phase::kRaster: {
+      gl::StageTimer::Scope stage(ctx.timer, "rasterize_cubemaps");
+      RasterizeCubemaps(ctx, batch);
+      return;
+    }
+    case Phase::kInterpolate: {
+      gl::StageTimer::Scope stage(ctx.timer, "interpolate");
+      Interpolate(batch);
+      return;
+    }
+    case Phase::kRender: {
+      if (full_.next == 0 && settings_.tail_estimate) {
+        glCopyNamedBufferSubData(coefficients_.id(), previous_coefficients_.id(), 0, 0,
+                                 GLsizeiptr(sh::kMaxCoefficients) * layout_.probes() * 16);
+      }
+      {
+        gl::StageTimer::Scope stage(ctx.timer, "render_cubemaps");
+        RenderCubemaps(/*compute_direct=*/full_.bounce == 1, /*use_indirect=*/full_.bounce > 1,
+                       batch);
+      }
+      gl::StageTimer::Scope stage(ctx.timer, "sh_project");
+      full_.change += ProjectToSh(&full_.total, batch);
+      return;
+    }
+  }
+}
+
+void ShProbesSolver::EndSolveBounce(SolverContext& ctx) {
+  // Frames show the solution so far.
+  bounces_run_ = full_.bounce;
+  full_.deltas.push_back(full_.change);
+  full_.totals.push_back(full_.total);
+  bounce_change_ = full_.total > 0.0 ? full_.change / full_.total : 0.0;
+  full_.change = full_.total = 0.0;
+  glCopyNamedBufferSubData(coefficients_.id(), shown_coefficients_.id(), 0, 0,
+                           GLsizeiptr(sh::kMaxCoefficients) * layout_.probes() * 16);
+  if ((full_.bounce >= 2 && bounce_change_ < settings_.tolerance) ||
+      full_.bounce >= settings_.bounces) {
+    FinishSolve(ctx);
+  } else {
+    ++full_.bounce;
+    full_.phase = FullSolve::Phase::kInterpolate;
+  }
 }
 
 void ShProbesSolver::FinishSolve(SolverContext& ctx) {
@@ -362,47 +371,8 @@ absl::Status ShProbesSolver::Progress(SolverContext& ctx, ChangeMask changes) {
     indirect_scale_ = 1.0f;
     schedule_.NeedDirectAll();
   }
-  {
-    // The direct light's shadow maps in slices of the frame budget (the
-    // shown set stays bound meanwhile); the probes' texels take the new
-    // direct light once the new set is shown.
-    // Half the budget while probes wait too, the rest is theirs.
-    gl::StageTimer::Scope stage(ctx.timer, "render_cubemaps");
-    const bool drawing = lighting_.pending();
-    const double budget = (schedule_.pending() || geometry) ? 0.5 * ctx.budget_ms : ctx.budget_ms;
-    if (lights) {
-      GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes, budget));
-    } else if (drawing) {
-      lighting_.Continue(ctx.gpu, ctx.state, budget);
-    }
-    if ((lights || drawing) && !lighting_.pending()) schedule_.NeedDirectAll();
-  }
-  if (geometry) {
-    gl::StageTimer::Scope stage(ctx.timer, "rasterize_cubemaps");
-    // Albedo is baked into the cube maps: a material change re-rasterizes
-    // every probe; a moved node only the probes that see it.
-    Bounds moved = moved_.Since(ctx.gpu, ctx.state);
-    moved_.Solved(ctx.state);
-    std::vector<uint8_t> affected(size_t(layout_.probes()), 0);
-    if (changes & kChangeMaterials) {
-      std::fill(affected.begin(), affected.end(), uint8_t(1));
-    } else if (!moved.empty()) {
-      const glm::vec3 pad(1e-3f * glm::length(glm::vec3(layout_.dims) * layout_.spacing));
-      moved.Extend(moved.min - pad);
-      moved.Extend(moved.max + pad);
-      affected = SeesChange(moved);
-    }
-    probes_affected_ = 0;
-    std::vector<glm::vec3> positions(affected.size());
-    for (int p = 0; p < layout_.probes(); ++p) {
-      positions[size_t(p)] = layout_.position(layout_.cell(p));
-      if (affected[size_t(p)]) {
-        schedule_.NeedRaster(p);
-        ++probes_affected_;
-      }
-    }
-    schedule_.Prioritize(affected, positions, eye_);
-  }
+  GS_RETURN_IF_ERROR(ProgressDirectLight(ctx, changes, geometry, lights));
+  if (geometry) ScheduleChangedProbes(ctx, changes);
 
   // Batches of probes for about the frame budget (at least one), each a
   // Gauss-Seidel step from the newest coefficients.
@@ -435,6 +405,49 @@ absl::Status ShProbesSolver::Progress(SolverContext& ctx, ChangeMask changes) {
   }
   if (!schedule_.pending() && !lighting_.pending()) emission_.Solved(ctx.state);
   return absl::OkStatus();
+}
+
+absl::Status ShProbesSolver::ProgressDirectLight(SolverContext& ctx, ChangeMask changes,
+                                                 bool geometry, bool lights) {
+  // The shown set of shadow maps stays bound meanwhile. Half the budget
+  // while probes wait too, the rest is theirs.
+  gl::StageTimer::Scope stage(ctx.timer, "render_cubemaps");
+  const bool drawing = lighting_.pending();
+  const double budget = (schedule_.pending() || geometry) ? 0.5 * ctx.budget_ms : ctx.budget_ms;
+  if (lights) {
+    GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes, budget));
+  } else if (drawing) {
+    lighting_.Continue(ctx.gpu, ctx.state, budget);
+  }
+  if ((lights || drawing) && !lighting_.pending()) schedule_.NeedDirectAll();
+  return absl::OkStatus();
+}
+
+void ShProbesSolver::ScheduleChangedProbes(SolverContext& ctx, ChangeMask changes) {
+  gl::StageTimer::Scope stage(ctx.timer, "rasterize_cubemaps");
+  // Albedo is baked into the cube maps: a material change re-rasterizes
+  // every probe; a moved node only the probes that see it.
+  Bounds moved = moved_.Since(ctx.gpu, ctx.state);
+  moved_.Solved(ctx.state);
+  std::vector<uint8_t> affected(size_t(layout_.probes()), 0);
+  if (changes & kChangeMaterials) {
+    std::fill(affected.begin(), affected.end(), uint8_t(1));
+  } else if (!moved.empty()) {
+    const glm::vec3 pad(1e-3f * glm::length(glm::vec3(layout_.dims) * layout_.spacing));
+    moved.Extend(moved.min - pad);
+    moved.Extend(moved.max + pad);
+    affected = SeesChange(moved);
+  }
+  probes_affected_ = 0;
+  std::vector<glm::vec3> positions(affected.size());
+  for (int p = 0; p < layout_.probes(); ++p) {
+    positions[size_t(p)] = layout_.position(layout_.cell(p));
+    if (affected[size_t(p)]) {
+      schedule_.NeedRaster(p);
+      ++probes_affected_;
+    }
+  }
+  schedule_.Prioritize(affected, positions, eye_);
 }
 
 std::vector<uint8_t> ShProbesSolver::SeesChange(const Bounds& moved) {

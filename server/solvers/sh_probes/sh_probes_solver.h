@@ -74,10 +74,22 @@ class ShProbesSolver final : public Solver {
   // depend on the split.
   absl::Status StartSolve(SolverContext& ctx, ChangeMask changes, const ProbeLayout& layout);
   absl::Status ContinueSolve(SolverContext& ctx);
+  // The current phase of the first solve over `batch`'s probes.
+  void RunSolveBatch(SolverContext& ctx, std::vector<int>* batch);
+  // The end of a bounce of the first solve: frames show it; the next
+  // bounce or FinishSolve.
+  void EndSolveBounce(SolverContext& ctx);
   void FinishSolve(SolverContext& ctx);
   // After that: marks what `changes` makes stale and re-renders batches of
   // probes for about the frame budget (ProbeSchedule).
   absl::Status Progress(SolverContext& ctx, ChangeMask changes);
+  // Progress's direct light: the shadow maps in slices of the budget; the
+  // probes' texels take the new light once it is shown.
+  absl::Status ProgressDirectLight(SolverContext& ctx, ChangeMask changes, bool geometry,
+                                   bool lights);
+  // Progress's geometry change: the probes that see it (all of them for a
+  // material change) are re-rasterized, nearest the eye first.
+  void ScheduleChangedProbes(SolverContext& ctx, ChangeMask changes);
   // Which probes' cube maps see `moved` (sees_change.comp.glsl).
   std::vector<uint8_t> SeesChange(const Bounds& moved);
   // One batch: rasterize, interpolate, render, project its probes; returns
