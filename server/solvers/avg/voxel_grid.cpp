@@ -361,44 +361,53 @@ glm::vec3 VoxelGrid::KeepInFront(const glm::ivec3& v, const glm::vec3& p, const 
   return q;
 }
 
-std::optional<GridHit> VoxelGrid::March(const glm::vec3& o, const glm::vec3& d,
-                                        const glm::vec3& start_normal,
-                                        bool starts_on_surface) const {
-  constexpr float kInf = std::numeric_limits<float>::infinity();
-  // Clip the ray to the grid box (slab test).
+bool VoxelGrid::ClipToBox(const glm::vec3& o, const glm::vec3& d, float* t0, float* t1) const {
   const glm::vec3 box_max = origin_ + extent();
-  float t0 = 0.0f, t1 = kInf;
+  *t0 = 0.0f;
+  *t1 = std::numeric_limits<float>::infinity();
   for (int i = 0; i < 3; ++i) {
     if (std::abs(d[i]) < 1e-30f) {
-      if (o[i] < origin_[i] || o[i] > box_max[i]) return std::nullopt;
+      if (o[i] < origin_[i] || o[i] > box_max[i]) return false;
       continue;
     }
     float a = (origin_[i] - o[i]) / d[i], b = (box_max[i] - o[i]) / d[i];
     if (a > b) std::swap(a, b);
-    t0 = std::max(t0, a);
-    t1 = std::min(t1, b);
+    *t0 = std::max(*t0, a);
+    *t1 = std::min(*t1, b);
   }
-  if (!(t0 <= t1)) return std::nullopt;
+  return *t0 <= *t1;
+}
 
-  // 3D DDA (Amanatides & Woo 1987).
-  glm::ivec3 v = glm::clamp(VoxelOf(o + d * t0), glm::ivec3(0), glm::ivec3(n_ - 1));
-  glm::ivec3 step;
-  glm::vec3 t_max, t_delta;
+VoxelGrid::Dda VoxelGrid::StartDda(const glm::vec3& o, const glm::vec3& d, float t0) const {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  Dda dda;
+  dda.v = glm::clamp(VoxelOf(o + d * t0), glm::ivec3(0), glm::ivec3(n_ - 1));
   for (int i = 0; i < 3; ++i) {
     if (d[i] > 0.0f) {
-      step[i] = 1;
-      t_max[i] = (origin_[i] + float(v[i] + 1) * size_[i] - o[i]) / d[i];
-      t_delta[i] = size_[i] / d[i];
+      dda.step[i] = 1;
+      dda.t_max[i] = (origin_[i] + float(dda.v[i] + 1) * size_[i] - o[i]) / d[i];
+      dda.t_delta[i] = size_[i] / d[i];
     } else if (d[i] < 0.0f) {
-      step[i] = -1;
-      t_max[i] = (origin_[i] + float(v[i]) * size_[i] - o[i]) / d[i];
-      t_delta[i] = -size_[i] / d[i];
+      dda.step[i] = -1;
+      dda.t_max[i] = (origin_[i] + float(dda.v[i]) * size_[i] - o[i]) / d[i];
+      dda.t_delta[i] = -size_[i] / d[i];
     } else {
-      step[i] = 0;
-      t_max[i] = kInf;
-      t_delta[i] = kInf;
+      dda.step[i] = 0;
+      dda.t_max[i] = kInf;
+      dda.t_delta[i] = kInf;
     }
   }
+  return dda;
+}
+
+std::optional<GridHit> VoxelGrid::March(const glm::vec3& o, const glm::vec3& d,
+                                        const glm::vec3& start_normal,
+                                        bool starts_on_surface) const {
+  float t0 = 0.0f, t1 = 0.0f;
+  if (!ClipToBox(o, d, &t0, &t1)) return std::nullopt;
+  Dda dda = StartDda(o, d, t0);
+  glm::ivec3& v = dda.v;
+  glm::vec3& t_max = dda.t_max;
   // A filled voxel stops the ray where it enters one of the voxel's sheets
   // inside the voxel (the sheets bound every triangle there, so a ray that
   // meets a triangle enters its sheet first; one that passes the voxel
@@ -440,8 +449,8 @@ std::optional<GridHit> VoxelGrid::March(const glm::vec3& o, const glm::vec3& d,
     // Step to the next voxel along the axis whose boundary comes first.
     const int axis = t_max.x < t_max.y ? (t_max.x < t_max.z ? 0 : 2) : (t_max.y < t_max.z ? 1 : 2);
     t_enter = t_max[axis];
-    v[axis] += step[axis];
-    t_max[axis] += t_delta[axis];
+    v[axis] += dda.step[axis];
+    t_max[axis] += dda.t_delta[axis];
     if (t_enter > t1) break;
   }
   return std::nullopt;

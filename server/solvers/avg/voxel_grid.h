@@ -122,6 +122,19 @@ class VoxelGrid {
                                const glm::vec3& start_normal, bool starts_on_surface) const;
 
  private:
+  // The ray's (o, d) span [*t0, *t1] inside the grid box (slab test);
+  // false when it misses the box.
+  bool ClipToBox(const glm::vec3& o, const glm::vec3& d, float* t0, float* t1) const;
+  // A 3D DDA's state (Amanatides & Woo 1987): the voxel, the step per axis,
+  // the ray parameter of the next boundary per axis and between two.
+  struct Dda {
+    glm::ivec3 v;
+    glm::ivec3 step;
+    glm::vec3 t_max;
+    glm::vec3 t_delta;
+  };
+  // The DDA at the ray's point o + d t0 in the box.
+  Dda StartDda(const glm::vec3& o, const glm::vec3& d, float t0) const;
   size_t Index(const glm::ivec3& v) const {
     return (size_t(v.z) * size_t(n_) + size_t(v.y)) * size_t(n_) + size_t(v.x);
   }
