@@ -569,6 +569,178 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
   return step;
 }
 
+// --reference-spp's preconditions: the object workload (its updates set
+// the node's whole pose), linear frames, fresh copies for the references.
+absl::Status CheckReferenceOptions(const WorkloadSpec& spec, const BenchOptions& options,
+                                   const v1::LoadSceneRequest& load) {
+  if (options.reference_spp <= 0) return absl::OkStatus();
+  if (spec.kind != WorkloadKind::kObject) {
+    return absl::InvalidArgumentError(
+        "--reference-spp: needs --workload object (its updates set the node's whole pose)");
+  }
+  if (options.view.encoding.format() != v1::IMAGE_FORMAT_EXR) {
+    return absl::InvalidArgumentError("--reference-spp: needs --format exr (linear frames)");
+  }
+  if (load.has_name() && !load.private_copy()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("--reference-spp: --scene \"", options.scene.scene,
+                     "\" with --keep-scene is the shared scene; its references need fresh copies"));
+  }
+  return absl::OkStatus();
+}
+
+// One connection per address, each with the scene loaded.
+absl::StatusOr<std::vector<BenchServer>> ConnectServers(const ConnectionOptions& connection,
+                                                        const std::vector<std::string>& addresses,
+                                                        const v1::LoadSceneRequest& load,
+                                                        bool keep_scene) {
+  std::vector<BenchServer> servers;
+  for (const std::string& address : addresses) {
+    BenchServer server;
+    server.address = address;
+    ConnectionOptions one = connection;
+    one.server = address;
+    server.connection = std::make_unique<Connection>(one);
+    GS_ASSIGN_OR_RETURN(server.scene, LoadedScene::Load(*server.connection, load, keep_scene));
+    servers.push_back(std::move(server));
+  }
+  return servers;
+}
+
+// --interfere's client on the first server, with its own scene when it
+// names another one.
+struct InterfererSetup {
+  std::unique_ptr<LoadedScene> scene;
+  std::unique_ptr<Interferer> interferer;
+};
+absl::StatusOr<InterfererSetup> StartInterferer(const RenderOptions& interferer_options,
+                                                const BenchOptions& options,
+                                                const ConnectionOptions& connection,
+                                                BenchServer& first_server) {
+  InterfererSetup setup;
+  v1::RenderRequest request;
+  std::string scene_id = first_server.scene->id();
+  if (interferer_options.scene.scene != options.scene.scene) {
+    GS_ASSIGN_OR_RETURN(v1::LoadSceneRequest other,
+                        BuildLoadSceneRequest(interferer_options.scene));
+    GS_ASSIGN_OR_RETURN(setup.scene, LoadedScene::Load(*first_server.connection, other, false));
+    scene_id = setup.scene->id();
+  }
+  request.set_scene_id(scene_id);
+  request.set_solver(interferer_options.solver.solver);
+  request.mutable_params()->insert(interferer_options.solver.params.begin(),
+                                   interferer_options.solver.params.end());
+  request.set_width(interferer_options.view.width);
+  request.set_height(interferer_options.view.height);
+  *request.mutable_encoding() = interferer_options.view.encoding;
+  if (interferer_options.view.camera.ByteSizeLong() > 0) {
+    *request.mutable_camera() = interferer_options.view.camera;
+  }
+  ConnectionOptions first = connection;
+  first.server = first_server.address;
+  setup.interferer = std::make_unique<Interferer>(first, request);
+  return setup;
+}
+
+// --reference-spp after a step: the time to converge and the error of each
+// frame shown (appended to frames_csv); null when it could not be measured.
+nlohmann::json MeasureConvergence(Connection& connection, const v1::LoadSceneRequest& load,
+                                  const BenchOptions& options, const SettleTrace& trace,
+                                  const std::string& label, int step_number,
+                                  std::string& frames_csv) {
+  absl::StatusOr<nlohmann::json> figure = TimeToConverge(connection, load, options, trace);
+  if (!figure.ok()) {
+    Log(LogLevel::kWarning, absl::StrCat("time to converge: ", figure.status().message()));
+    return nullptr;
+  }
+  std::cout << label << " converge: " << figure->dump() << std::endl;
+  absl::StatusOr<nlohmann::json> over_time =
+      ErrorOverTime(connection, load, options, trace,
+                    figure->at("full_solve_rel_mse").get<double>(), step_number, frames_csv);
+  if (over_time.ok()) {
+    std::cout << label << " error over time: " << over_time->dump() << std::endl;
+    (*figure)["over_time"] = *over_time;
+  } else {
+    Log(LogLevel::kWarning, absl::StrCat("error over time: ", over_time.status().message()));
+  }
+  return *figure;
+}
+
+// A step's line while the bench runs, and its sessions' and the
+// interferer's errors.
+void PrintStep(const std::string& label, const StepResult& step) {
+  std::cout << label << " " << FormatFixed(step.fps_mean, 1) << " fps/session, latency p95 "
+            << (step.latency_ms.p95 ? FormatFixed(*step.latency_ms.p95, 1) : "-")
+            << " ms, longest frame interval "
+            << (step.interval_ms.max ? FormatFixed(*step.interval_ms.max, 0) : "-") << " ms"
+            << (step.failed_sessions ? absl::StrCat(", ", step.failed_sessions, " failed") : "")
+            << std::endl;
+  if (const std::string moves = FormatMoves(step); !moves.empty()) {
+    std::cout << label << " " << moves << std::endl;
+  }
+  for (const SessionMeasurement& m : step.per_session) {
+    if (!m.error.empty())
+      Log(LogLevel::kWarning, absl::StrCat("session on ", m.server, ": ", m.error));
+  }
+  if (!step.interferer_error.empty()) {
+    Log(LogLevel::kWarning, absl::StrCat("interferer: ", step.interferer_error));
+  }
+}
+
+// results.json's "meta": what ran, where and how.
+nlohmann::json BenchMeta(const BenchOptions& options, const ConnectionOptions& connection,
+                         const std::vector<std::string>& addresses, const v1::ServerStatus& status,
+                         const WorkloadSpec& spec, const Workload& workload,
+                         const std::string& pacing, const nlohmann::json& converge) {
+  const std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof(date), "%Y-%m-%d", std::gmtime(&now));
+  return {
+      {"date", date},
+      {"command", Canonical(options, connection.server)},
+      {"servers", addresses},
+      {"server_version", status.version()},
+      {"gl_renderer", status.gl_renderer()},
+      {"cpu", absl::StrCat(status.cpu_model(), ", ", status.cpu_threads(), " threads")},
+      {"scene", options.scene.scene},
+      {"solver", options.solver.solver},
+      {"params", options.solver.params},
+      {"size", absl::StrCat(options.view.width, "x", options.view.height)},
+      {"format", v1::ImageFormat_Name(options.view.encoding.format())},
+      {"workload", WorkloadName(spec)},
+      {"workload_description", workload.description()},
+      {"pacing", pacing},
+      {"update_hz", options.update_hz},
+      {"fps_cap", options.fps > 0.0f ? FormatFixed(options.fps, 0) : std::string("server default")},
+      {"duration_s", options.duration_s},
+      {"warmup_s", options.warmup_s},
+      {"channels", options.channel_per_session ? "per-session" : "shared"},
+      {"interfere", options.interfere},
+      {"reference_spp", options.reference_spp},
+      {"converge", converge}};
+}
+
+// The table and stage medians, then results.{csv,json,md}, the plots and
+// (--reference-spp) frames.csv.
+absl::Status ReportBench(const BenchOptions& options, const std::vector<StepResult>& steps,
+                         const nlohmann::json& meta, const std::string& frames_csv) {
+  std::cout << "\n" << FormatBenchTable(steps);
+  for (const StepResult& s : steps) {
+    std::cout << "stages (" << s.sessions << "): " << FormatStageMedians(s.stages) << "\n";
+  }
+  GS_RETURN_IF_ERROR(WriteBenchOutputs(options.out_dir, steps, meta));
+  if (options.reference_spp > 0) {
+    GS_RETURN_IF_ERROR(WriteFile(options.out_dir / "frames.csv", frames_csv));
+    std::cout << "wrote " << (options.out_dir / "frames.csv").string()
+              << " (every frame of the first session against a reference of its state)"
+              << std::endl;
+  }
+  std::cout << "wrote " << (options.out_dir / "results.{csv,json,md}").string() << ", "
+            << (options.out_dir / "latency_cdf.png").string() << ", fps_vs_sessions.png and "
+            << "latency_vs_sessions.png" << std::endl;
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& options) {
@@ -587,61 +759,16 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
   // client's changes to the shared one cannot move the figures), and the
   // time-to-converge reference on a fresh one; --keep-scene shares it.
   if (!options.scene.keep_scene) load.set_private_copy(true);
-  if (options.reference_spp > 0) {
-    if (spec.kind != WorkloadKind::kObject) {
-      return absl::InvalidArgumentError(
-          "--reference-spp: needs --workload object (its updates set the node's whole pose)");
-    }
-    if (options.view.encoding.format() != v1::IMAGE_FORMAT_EXR) {
-      return absl::InvalidArgumentError("--reference-spp: needs --format exr (linear frames)");
-    }
-    if (load.has_name() && !load.private_copy()) {
-      return absl::InvalidArgumentError(absl::StrCat(
-          "--reference-spp: --scene \"", options.scene.scene,
-          "\" with --keep-scene is the shared scene; its references need fresh copies"));
-    }
-  }
-
-  std::vector<BenchServer> servers;
-  for (const std::string& address : addresses) {
-    BenchServer server;
-    server.address = address;
-    ConnectionOptions one = connection;
-    one.server = address;
-    server.connection = std::make_unique<Connection>(one);
-    GS_ASSIGN_OR_RETURN(server.scene,
-                        LoadedScene::Load(*server.connection, load, options.scene.keep_scene));
-    servers.push_back(std::move(server));
-  }
+  GS_RETURN_IF_ERROR(CheckReferenceOptions(spec, options, load));
+  GS_ASSIGN_OR_RETURN(std::vector<BenchServer> servers,
+                      ConnectServers(connection, addresses, load, options.scene.keep_scene));
   std::cout << DescribeScene(options.scene.scene, servers[0].scene->info())
             << (load.private_copy() ? " (a private copy)" : "") << std::endl;
   GS_ASSIGN_OR_RETURN(Workload workload, Workload::Create(spec, servers[0].scene->info()));
-
-  std::unique_ptr<LoadedScene> interferer_scene;
-  std::unique_ptr<Interferer> interferer;
+  InterfererSetup interferer;
   if (interferer_options) {
-    v1::RenderRequest request;
-    std::string scene_id = servers[0].scene->id();
-    if (interferer_options->scene.scene != options.scene.scene) {
-      GS_ASSIGN_OR_RETURN(v1::LoadSceneRequest other,
-                          BuildLoadSceneRequest(interferer_options->scene));
-      GS_ASSIGN_OR_RETURN(interferer_scene,
-                          LoadedScene::Load(*servers[0].connection, other, false));
-      scene_id = interferer_scene->id();
-    }
-    request.set_scene_id(scene_id);
-    request.set_solver(interferer_options->solver.solver);
-    request.mutable_params()->insert(interferer_options->solver.params.begin(),
-                                     interferer_options->solver.params.end());
-    request.set_width(interferer_options->view.width);
-    request.set_height(interferer_options->view.height);
-    *request.mutable_encoding() = interferer_options->view.encoding;
-    if (interferer_options->view.camera.ByteSizeLong() > 0) {
-      *request.mutable_camera() = interferer_options->view.camera;
-    }
-    ConnectionOptions first = connection;
-    first.server = addresses[0];
-    interferer = std::make_unique<Interferer>(first, request);
+    GS_ASSIGN_OR_RETURN(interferer,
+                        StartInterferer(*interferer_options, options, connection, servers[0]));
   }
 
   const std::string pacing = options.update_hz > 0.0
@@ -670,89 +797,20 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
     SettleTrace trace;
     GS_ASSIGN_OR_RETURN(
         StepResult step,
-        RunStep(options, connection, load, servers, workload, interferer.get(), count, label,
-                progress, interrupted, options.reference_spp > 0 ? &trace : nullptr));
+        RunStep(options, connection, load, servers, workload, interferer.interferer.get(), count,
+                label, progress, interrupted, options.reference_spp > 0 ? &trace : nullptr));
     if (options.reference_spp > 0 && !interrupted) {
-      absl::StatusOr<nlohmann::json> figure =
-          TimeToConverge(*servers[0].connection, load, options, trace);
-      if (figure.ok()) {
-        std::cout << label << " converge: " << figure->dump() << std::endl;
-        absl::StatusOr<nlohmann::json> over_time =
-            ErrorOverTime(*servers[0].connection, load, options, trace,
-                          figure->at("full_solve_rel_mse").get<double>(), int(i + 1), frames_csv);
-        if (over_time.ok()) {
-          std::cout << label << " error over time: " << over_time->dump() << std::endl;
-          (*figure)["over_time"] = *over_time;
-        } else {
-          Log(LogLevel::kWarning, absl::StrCat("error over time: ", over_time.status().message()));
-        }
-        converge.push_back(*figure);
-      } else {
-        Log(LogLevel::kWarning, absl::StrCat("time to converge: ", figure.status().message()));
-        converge.push_back(nullptr);
-      }
+      converge.push_back(MeasureConvergence(*servers[0].connection, load, options, trace, label,
+                                            int(i + 1), frames_csv));
     }
-    std::cout << label << " " << FormatFixed(step.fps_mean, 1) << " fps/session, latency p95 "
-              << (step.latency_ms.p95 ? FormatFixed(*step.latency_ms.p95, 1) : "-")
-              << " ms, longest frame interval "
-              << (step.interval_ms.max ? FormatFixed(*step.interval_ms.max, 0) : "-") << " ms"
-              << (step.failed_sessions ? absl::StrCat(", ", step.failed_sessions, " failed") : "")
-              << std::endl;
-    if (const std::string moves = FormatMoves(step); !moves.empty()) {
-      std::cout << label << " " << moves << std::endl;
-    }
-    for (const SessionMeasurement& m : step.per_session) {
-      if (!m.error.empty())
-        Log(LogLevel::kWarning, absl::StrCat("session on ", m.server, ": ", m.error));
-    }
-    if (!step.interferer_error.empty()) {
-      Log(LogLevel::kWarning, absl::StrCat("interferer: ", step.interferer_error));
-    }
+    PrintStep(label, step);
     steps.push_back(std::move(step));
   }
   if (steps.empty()) return absl::CancelledError("interrupted before the first step ended");
-
-  v1::ServerStatus status = servers[0].last;
-  const std::time_t now = std::time(nullptr);
-  char date[32];
-  std::strftime(date, sizeof(date), "%Y-%m-%d", std::gmtime(&now));
-  const nlohmann::json meta = {
-      {"date", date},
-      {"command", Canonical(options, connection.server)},
-      {"servers", addresses},
-      {"server_version", status.version()},
-      {"gl_renderer", status.gl_renderer()},
-      {"cpu", absl::StrCat(status.cpu_model(), ", ", status.cpu_threads(), " threads")},
-      {"scene", options.scene.scene},
-      {"solver", options.solver.solver},
-      {"params", options.solver.params},
-      {"size", absl::StrCat(options.view.width, "x", options.view.height)},
-      {"format", v1::ImageFormat_Name(options.view.encoding.format())},
-      {"workload", WorkloadName(spec)},
-      {"workload_description", workload.description()},
-      {"pacing", pacing},
-      {"update_hz", options.update_hz},
-      {"fps_cap", options.fps > 0.0f ? FormatFixed(options.fps, 0) : std::string("server default")},
-      {"duration_s", options.duration_s},
-      {"warmup_s", options.warmup_s},
-      {"channels", options.channel_per_session ? "per-session" : "shared"},
-      {"interfere", options.interfere},
-      {"reference_spp", options.reference_spp},
-      {"converge", converge}};
-  std::cout << "\n" << FormatBenchTable(steps);
-  for (const StepResult& s : steps) {
-    std::cout << "stages (" << s.sessions << "): " << FormatStageMedians(s.stages) << "\n";
-  }
-  GS_RETURN_IF_ERROR(WriteBenchOutputs(options.out_dir, steps, meta));
-  if (options.reference_spp > 0) {
-    GS_RETURN_IF_ERROR(WriteFile(options.out_dir / "frames.csv", frames_csv));
-    std::cout << "wrote " << (options.out_dir / "frames.csv").string()
-              << " (every frame of the first session against a reference of its state)"
-              << std::endl;
-  }
-  std::cout << "wrote " << (options.out_dir / "results.{csv,json,md}").string() << ", "
-            << (options.out_dir / "latency_cdf.png").string() << ", fps_vs_sessions.png and "
-            << "latency_vs_sessions.png" << std::endl;
+  GS_RETURN_IF_ERROR(ReportBench(
+      options, steps,
+      BenchMeta(options, connection, addresses, servers[0].last, spec, workload, pacing, converge),
+      frames_csv));
   if (interrupted) return InterruptedError();
   return absl::OkStatus();
 }
