@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -76,20 +77,10 @@ int Usage() {
   return 2;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  using namespace gistream;
-  // Every descriptor the hard limit allows (connections are bounded by
-  // --max-connections and --max-viewers; running out is handled too).
-  if (rlimit files{}; getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < files.rlim_max) {
-    files.rlim_cur = files.rlim_max;
-    setrlimit(RLIMIT_NOFILE, &files);
-  }
-  const char* env = std::getenv("GISTREAM_SERVER");
-  std::string server = env && *env ? env : "127.0.0.1:50051";
-  client::ConnectionOptions upstream;
-  if (const char* token = std::getenv("GISTREAM_TOKEN"); token != nullptr) upstream.token = token;
+// What the command line says.
+struct WebFlags {
+  std::string server;
+  gistream::client::ConnectionOptions upstream;
   // A GI solver by default: the page shows what the product is for
   // (colour bleeding, soft indirect light), not direct light alone.
   std::string listen = "127.0.0.1:8080", scene = "cornell_box", solver = "antiradiance";
@@ -98,100 +89,129 @@ int main(int argc, char** argv) {
   std::string scenes = "cornell_box,cornell_box_coarse,indirect_room,dynamic_block,furnace";
   unsigned width = 640, height = 480;
   float fps = 30.0f;
-  v1::SessionConfig config;
-  web::ViewerOptions options;
+  gistream::v1::SessionConfig config;
+  gistream::web::ViewerOptions options;
+};
+
+// A number flag's value in [min, max], else an error naming the flag.
+std::optional<double> ParseNumber(const std::string& flag, const std::string& value, double min,
+                                  double max) {
+  char* end = nullptr;
+  const double n = std::strtod(value.c_str(), &end);
+  if (value.empty() || *end != '\0' || !(n >= min && n <= max)) {
+    std::cerr << "gistream-web: " << flag << ": '" << value << "' is not a number from " << min
+              << " to " << max << "\n";
+    return std::nullopt;
+  }
+  return n;
+}
+
+// One flag with its value; an exit code when it is wrong.
+std::optional<int> ApplyFlag(const std::string& flag, const std::string& value, WebFlags& f) {
+  using namespace gistream;
+  if (flag == "--server") {
+    f.server = value;
+  } else if (flag == "--listen") {
+    f.listen = value;
+  } else if (flag == "--scene") {
+    f.scene = value;
+  } else if (flag == "--scenes") {
+    f.scenes = value;
+  } else if (flag == "--solver") {
+    f.solver = value;
+  } else if (flag == "--fps") {
+    const std::optional<double> n = ParseNumber(flag, value, 0.0, 240.0);
+    if (!n) return Usage();
+    f.fps = float(*n);
+  } else if (flag == "--size") {
+    char tail = 0;
+    if (std::sscanf(value.c_str(), "%ux%u%c", &f.width, &f.height, &tail) != 2 || f.width == 0 ||
+        f.height == 0 || f.width > 8192 || f.height > 8192) {
+      std::cerr << "gistream-web: --size: '" << value << "' is not WxH from 1x1 to 8192x8192\n";
+      return Usage();
+    }
+  } else if (flag == "--max-connections" || flag == "--max-viewers") {
+    const std::optional<double> n = ParseNumber(flag, value, 1.0, 100000.0);
+    if (!n) return Usage();
+    if (*n != std::floor(*n)) {
+      std::cerr << "gistream-web: " << flag << ": '" << value << "' is not a whole number\n";
+      return Usage();
+    }
+    (flag == "--max-viewers" ? f.options.max_viewers : f.options.max_pending_connections) =
+        size_t(*n);
+  } else if (flag == "--solvers") {
+    f.allowed_solvers = Split(value);
+    if (f.allowed_solvers.empty()) return Usage();
+  } else if (flag == "--page-params") {
+    f.options.page_params_limited = true;
+    if (value != "none") f.options.page_params = Split(value);
+  } else if (flag == "--max-messages") {
+    const std::optional<double> n = ParseNumber(flag, value, 1.0, 10000.0);
+    if (!n) return Usage();
+    f.options.max_messages_per_second = *n;
+  } else if (flag == "--viewer-tokens") {
+    absl::StatusOr<AuthTokens> tokens = AuthTokens::Load(value);
+    if (!tokens.ok()) {
+      std::cerr << "gistream-web: --viewer-tokens: " << tokens.status().message() << "\n";
+      return 2;
+    }
+    f.options.viewer_tokens = std::make_shared<const AuthTokens>(*std::move(tokens));
+  } else if (flag == "--metrics-listen") {
+    f.options.metrics_listen = value;
+  } else if (flag == "--allow-origin") {
+    f.options.allowed_origins.push_back(value);
+  } else if (flag == "--ca" || flag == "--cert" || flag == "--key") {
+    absl::StatusOr<std::string> pem = client::ReadPem(flag, value);
+    if (!pem.ok()) {
+      std::cerr << "gistream-web: " << pem.status().message() << "\n";
+      return 2;
+    }
+    (flag == "--ca"     ? f.upstream.ca_pem
+     : flag == "--cert" ? f.upstream.cert_pem
+                        : f.upstream.key_pem) = *pem;
+    f.upstream.tls = true;
+  } else if (flag == "--token") {
+    f.upstream.token = value;
+  } else if (flag == "--param") {
+    const size_t eq = value.find('=');
+    if (eq == std::string::npos) return Usage();
+    (*f.config.mutable_params())[value.substr(0, eq)] = value.substr(eq + 1);
+  } else {
+    return Usage();
+  }
+  return std::nullopt;
+}
+
+// The command line (and $GISTREAM_SERVER, $GISTREAM_TOKEN); an exit code
+// when it asks to exit (--help, --version) or is wrong.
+std::optional<int> ParseFlags(int argc, char** argv, WebFlags& f) {
+  const char* env = std::getenv("GISTREAM_SERVER");
+  f.server = env && *env ? env : "127.0.0.1:50051";
+  if (const char* token = std::getenv("GISTREAM_TOKEN"); token != nullptr) {
+    f.upstream.token = token;
+  }
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
     if (flag == "--help" || flag == "-h") return Usage(), 0;
     if (flag == "--version") {
-      std::cout << "gistream-web " << Version() << std::endl;
+      std::cout << "gistream-web " << gistream::Version() << std::endl;
       return 0;
     }
     if (flag == "--tls") {
-      upstream.tls = true;
+      f.upstream.tls = true;
       continue;
     }
     if (i + 1 >= argc) return Usage();
-    const std::string value = argv[++i];
-    if (flag == "--server")
-      server = value;
-    else if (flag == "--listen")
-      listen = value;
-    else if (flag == "--scene")
-      scene = value;
-    else if (flag == "--scenes")
-      scenes = value;
-    else if (flag == "--solver")
-      solver = value;
-    else if (flag == "--fps") {
-      char* end = nullptr;
-      fps = std::strtof(value.c_str(), &end);
-      if (value.empty() || *end != '\0' || !std::isfinite(fps) || fps < 0.0f || fps > 240.0f) {
-        std::cerr << "gistream-web: --fps: '" << value << "' is not a number from 0 to 240\n";
-        return Usage();
-      }
-    } else if (flag == "--size") {
-      char tail = 0;
-      if (std::sscanf(value.c_str(), "%ux%u%c", &width, &height, &tail) != 2 || width == 0 ||
-          height == 0 || width > 8192 || height > 8192) {
-        std::cerr << "gistream-web: --size: '" << value << "' is not WxH from 1x1 to 8192x8192\n";
-        return Usage();
-      }
-    } else if (flag == "--max-connections" || flag == "--max-viewers") {
-      char* end = nullptr;
-      const long n = std::strtol(value.c_str(), &end, 10);
-      if (value.empty() || *end != '\0' || n < 1 || n > 100000) {
-        std::cerr << "gistream-web: " << flag << ": '" << value
-                  << "' is not a number from 1 to 100000\n";
-        return Usage();
-      }
-      (flag == "--max-viewers" ? options.max_viewers : options.max_pending_connections) = size_t(n);
-    } else if (flag == "--solvers") {
-      allowed_solvers = Split(value);
-      if (allowed_solvers.empty()) return Usage();
-    } else if (flag == "--page-params") {
-      options.page_params_limited = true;
-      if (value != "none") options.page_params = Split(value);
-    } else if (flag == "--max-messages") {
-      char* end = nullptr;
-      const double n = std::strtod(value.c_str(), &end);
-      if (value.empty() || *end != '\0' || !(n >= 1.0 && n <= 10000.0)) {
-        std::cerr << "gistream-web: --max-messages: '" << value
-                  << "' is not a number from 1 to 10000\n";
-        return Usage();
-      }
-      options.max_messages_per_second = n;
-    } else if (flag == "--viewer-tokens") {
-      absl::StatusOr<AuthTokens> tokens = AuthTokens::Load(value);
-      if (!tokens.ok()) {
-        std::cerr << "gistream-web: --viewer-tokens: " << tokens.status().message() << "\n";
-        return 2;
-      }
-      options.viewer_tokens = std::make_shared<const AuthTokens>(*std::move(tokens));
-    } else if (flag == "--metrics-listen") {
-      options.metrics_listen = value;
-    } else if (flag == "--allow-origin") {
-      options.allowed_origins.push_back(value);
-    } else if (flag == "--ca" || flag == "--cert" || flag == "--key") {
-      absl::StatusOr<std::string> pem = client::ReadPem(flag, value);
-      if (!pem.ok()) {
-        std::cerr << "gistream-web: " << pem.status().message() << "\n";
-        return 2;
-      }
-      (flag == "--ca"     ? upstream.ca_pem
-       : flag == "--cert" ? upstream.cert_pem
-                          : upstream.key_pem) = *pem;
-      upstream.tls = true;
-    } else if (flag == "--token") {
-      upstream.token = value;
-    } else if (flag == "--param") {
-      const size_t eq = value.find('=');
-      if (eq == std::string::npos) return Usage();
-      (*config.mutable_params())[value.substr(0, eq)] = value.substr(eq + 1);
-    } else {
-      return Usage();
-    }
+    if (std::optional<int> exit = ApplyFlag(flag, argv[++i], f)) return exit;
   }
+  return std::nullopt;
+}
+
+// The backend: its channel, the page's scene loaded, its solvers (only
+// --solvers' when given); an exit code when it cannot serve.
+std::optional<int> ConnectBackend(WebFlags& f) {
+  using namespace gistream;
+  web::ViewerOptions& options = f.options;
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(256 << 20);
   // A restarted backend is found within 2 s (gRPC's default back-off
@@ -199,16 +219,16 @@ int main(int argc, char** argv) {
   args.SetInt(GRPC_ARG_INITIAL_RECONNECT_BACKOFF_MS, 500);
   args.SetInt(GRPC_ARG_MIN_RECONNECT_BACKOFF_MS, 500);
   args.SetInt(GRPC_ARG_MAX_RECONNECT_BACKOFF_MS, 2000);
-  upstream.server = server;
-  auto channel = client::MakeChannel(upstream, args);
+  f.upstream.server = f.server;
+  auto channel = client::MakeChannel(f.upstream, args);
   options.stub = v1::Gistream::NewStub(channel);
-  options.backend = std::make_shared<web::BackendHealth>(channel, server);
+  options.backend = std::make_shared<web::BackendHealth>(channel, f.server);
   v1::LoadSceneRequest load;
-  load.set_name(scene);
+  load.set_name(f.scene);
   grpc::ClientContext context;
   context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(120));
   if (grpc::Status s = options.stub->LoadScene(&context, load, &options.scene); !s.ok()) {
-    std::cerr << "error: LoadScene " << scene << " on " << server << ": " << s.error_message()
+    std::cerr << "error: LoadScene " << f.scene << " on " << f.server << ": " << s.error_message()
               << "\n";
     return 1;
   }
@@ -217,14 +237,14 @@ int main(int argc, char** argv) {
   if (grpc::Status s =
           options.stub->ListSolvers(&list_context, v1::ListSolversRequest(), &options.solvers);
       !s.ok()) {
-    std::cerr << "error: ListSolvers on " << server << ": " << s.error_message() << "\n";
+    std::cerr << "error: ListSolvers on " << f.server << ": " << s.error_message() << "\n";
     return 1;
   }
-  if (!allowed_solvers.empty()) {
+  if (!f.allowed_solvers.empty()) {
     // The page's picker offers these alone, and a page asking for another
     // is refused (viewer_bridge.h).
     v1::ListSolversResponse offered;
-    for (const std::string& name : allowed_solvers) {
+    for (const std::string& name : f.allowed_solvers) {
       const auto& all = options.solvers.solvers();
       const auto it = std::find_if(all.begin(), all.end(),
                                    [&](const v1::SolverInfo& s) { return s.name() == name; });
@@ -237,26 +257,43 @@ int main(int argc, char** argv) {
     options.solvers = std::move(offered);
   }
   if (std::none_of(options.solvers.solvers().begin(), options.solvers.solvers().end(),
-                   [&](const v1::SolverInfo& s) { return s.name() == solver; })) {
-    std::cerr << "gistream-web: --solver " << solver << " is not among the offered solvers\n";
+                   [&](const v1::SolverInfo& s) { return s.name() == f.solver; })) {
+    std::cerr << "gistream-web: --solver " << f.solver << " is not among the offered solvers\n";
     return 2;
   }
-  config.set_scene_id(options.scene.scene_id());
-  options.scene_name = scene;
-  options.scene_names = Split(scenes);
-  if (std::find(options.scene_names.begin(), options.scene_names.end(), scene) ==
-      options.scene_names.end()) {
-    options.scene_names.insert(options.scene_names.begin(), scene);
+  return std::nullopt;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace gistream;
+  // Every descriptor the hard limit allows (connections are bounded by
+  // --max-connections and --max-viewers; running out is handled too).
+  if (rlimit files{}; getrlimit(RLIMIT_NOFILE, &files) == 0 && files.rlim_cur < files.rlim_max) {
+    files.rlim_cur = files.rlim_max;
+    setrlimit(RLIMIT_NOFILE, &files);
   }
-  config.set_solver(solver);
-  config.set_width(width);
-  config.set_height(height);
-  config.mutable_continuous()->set_max_fps(fps);
-  options.config = config;
-  return web::Serve(listen, options, [&](const std::string& bound) {
+  WebFlags f;
+  if (std::optional<int> exit = ParseFlags(argc, argv, f)) return *exit;
+  if (std::optional<int> exit = ConnectBackend(f)) return *exit;
+  web::ViewerOptions& options = f.options;
+  f.config.set_scene_id(options.scene.scene_id());
+  options.scene_name = f.scene;
+  options.scene_names = Split(f.scenes);
+  if (std::find(options.scene_names.begin(), options.scene_names.end(), f.scene) ==
+      options.scene_names.end()) {
+    options.scene_names.insert(options.scene_names.begin(), f.scene);
+  }
+  f.config.set_solver(f.solver);
+  f.config.set_width(f.width);
+  f.config.set_height(f.height);
+  f.config.mutable_continuous()->set_max_fps(f.fps);
+  options.config = f.config;
+  return web::Serve(f.listen, options, [&](const std::string& bound) {
     std::cout << "serving http://" << bound << "/ (scene " << options.scene.scene_id() << " on "
-              << server << ")" << std::endl;
+              << f.server << ")" << std::endl;
     Log(LogLevel::kInfo, "gistream-web " + std::string(Version()) + " serving http://" + bound +
-                             "/ for gistreamd " + server);
+                             "/ for gistreamd " + f.server);
   });
 }
