@@ -417,17 +417,20 @@ absl::StatusOr<nlohmann::json> ErrorOverTime(Connection& connection,
   return out;
 }
 
-// Runs one step with `count` sessions.
-absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const ConnectionOptions& connection,
-                                   const v1::LoadSceneRequest& load,
-                                   std::vector<BenchServer>& servers, const Workload& workload,
-                                   Interferer* interferer, int count, const std::string& label,
-                                   Progress& progress, const std::atomic<bool>& interrupted,
-                                   SettleTrace* trace) {
-  SharedStages stages;
+// A step's sessions, spread over the servers, and the channels of their
+// own (--channel-per-session).
+struct StepSessions {
   std::map<std::string, std::shared_ptr<MoveGroup>> move_groups;
   std::vector<std::unique_ptr<Connection>> own_connections;
   std::vector<std::unique_ptr<BenchSession>> sessions;
+};
+
+StepSessions OpenSessions(const BenchOptions& options, const ConnectionOptions& connection,
+                          const v1::LoadSceneRequest& load, std::vector<BenchServer>& servers,
+                          const Workload& workload, int count, const std::string& label,
+                          Progress& progress, const std::atomic<bool>& interrupted,
+                          bool keep_settle_frames, SharedStages& stages) {
+  StepSessions out;
   for (int i = 0; i < count && !interrupted; ++i) {
     BenchServer& server = servers[size_t(i) % servers.size()];
     Connection* channel = server.connection.get();
@@ -435,17 +438,17 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
       ConnectionOptions own = connection;
       own.server = server.address;
       own.own_connection = true;
-      own_connections.push_back(std::make_unique<Connection>(own));
-      channel = own_connections.back().get();
+      out.own_connections.push_back(std::make_unique<Connection>(own));
+      channel = out.own_connections.back().get();
     }
     const v1::SessionConfig config =
         ContinuousConfig(server.scene->id(), options.solver, options.view, options.fps);
     auto session =
         std::make_unique<BenchSession>(server.address, workload, options.update_hz, stages);
     progress.Show(absl::StrCat(label, " opening session ", i + 1, "/", count));
-    if (trace && i == 0) session->KeepSettleFrames();
+    if (keep_settle_frames && i == 0) session->KeepSettleFrames();
     // The sessions of one server move together: one load where they land.
-    std::shared_ptr<MoveGroup>& group = move_groups[server.address];
+    std::shared_ptr<MoveGroup>& group = out.move_groups[server.address];
     if (!group) group = std::make_shared<MoveGroup>();
     ResumeOptions resume{.connection = connection,
                          .load = load,
@@ -455,11 +458,16 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
     const absl::Status opened = session->Open(channel->stub(), config, std::move(resume));
     if (!opened.ok())
       Log(LogLevel::kWarning, absl::StrCat("session ", i + 1, ": ", DescribeStatus(opened)));
-    sessions.push_back(std::move(session));
+    out.sessions.push_back(std::move(session));
   }
+  return out;
+}
 
-  // Every session's first frame (a GI solver's first full solve can take a
-  // while): the warm-up starts after it.
+// Every live session's first frame (a GI solver's first full solve can
+// take a while), at most kFirstFrameTimeout.
+void WaitForFirstFrames(const std::vector<std::unique_ptr<BenchSession>>& sessions,
+                        const std::string& label, Progress& progress,
+                        const std::atomic<bool>& interrupted) {
   const Clock::time_point wait_start = Clock::now();
   while (!interrupted) {
     int ready = 0, live = 0;
@@ -468,22 +476,26 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
       ++live;
       ready += s->has_first_frame() ? 1 : 0;
     }
-    if (ready == live) break;
+    if (ready == live) return;
     if (Clock::now() - wait_start > kFirstFrameTimeout) {
       Log(LogLevel::kWarning,
           absl::StrCat(label, " ", live - ready,
                        " session(s) sent no frame in 5 minutes; measuring anyway"));
-      break;
+      return;
     }
     progress.Show(absl::StrCat(label, " waiting for first frames ", ready, "/", live, " (",
                                int(Seconds(Clock::now() - wait_start)), " s)"));
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
+}
 
-  if (interferer) interferer->Start();
-  const Clock::time_point start = Clock::now() + FromSeconds(options.warmup_s);
-  const Clock::time_point end = start + FromSeconds(options.duration_s);
-  for (auto& s : sessions) s->SetWindow(start, end);
+// The warm-up, then the measured window [start, end): the servers' status
+// polled, the live figures shown; the servers' samples finished.
+void MeasureWindow(const BenchOptions& options,
+                   const std::vector<std::unique_ptr<BenchSession>>& sessions,
+                   std::vector<BenchServer>& servers, Clock::time_point start,
+                   Clock::time_point end, const std::string& label, Progress& progress,
+                   const std::atomic<bool>& interrupted) {
   for (BenchServer& server : servers) server.sample = ServerSample{};
   bool polled_first = false;
   while (!interrupted) {
@@ -515,15 +527,14 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
     PollStatus(server, !polled_first);
     FinishSample(server);
   }
-  for (auto& s : sessions) s->StopUpdates();
-  StepResult partial;
-  if (interferer) {
-    interferer->Stop();
-    interferer->Take(partial.interferer_renders, partial.interferer_median_ms,
-                     partial.interferer_error);
-  }
-  // Let the frames that answer the last measured updates arrive, and the GI
-  // catch up with the last update (the time to converge).
+}
+
+// Lets the frames that answer the last measured updates arrive, and the GI
+// catch up with the last update (the time to converge), at most
+// kDrainTimeout.
+void DrainSessions(const std::vector<std::unique_ptr<BenchSession>>& sessions,
+                   const std::string& label, Progress& progress,
+                   const std::atomic<bool>& interrupted) {
   const Clock::time_point drain_end = Clock::now() + kDrainTimeout;
   while (!interrupted && Clock::now() < drain_end) {
     size_t pending = 0, unsettled = 0;
@@ -531,28 +542,60 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
       pending += s->Unanswered();
       unsettled += s->Settled() ? 0 : 1;
     }
-    if (pending == 0 && unsettled == 0) break;
+    if (pending == 0 && unsettled == 0) return;
     progress.Show(absl::StrCat(
         label, " waiting for ", pending > 0 ? absl::StrCat(pending, " update(s) to show") : "",
         pending > 0 && unsettled > 0 ? " and " : "",
         unsettled > 0 ? absl::StrCat(unsettled, " session(s) to converge") : ""));
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
+}
+
+// The first session's frames and updates, for --reference-spp.
+void KeepTrace(const BenchSession& session, SettleTrace* trace) {
+  trace->frames = session.SettleFrames();
+  trace->last_updates = session.LastUpdates();
+  trace->traced = session.TracedFrames();
+  for (const BenchSession::TracedFrame& f : trace->traced) {
+    if (!trace->updates_of_seq.count(f.seq)) {
+      trace->updates_of_seq[f.seq] = session.UpdatesOfSeq(f.seq);
+    }
+  }
+}
+
+// Runs one step with `count` sessions.
+absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const ConnectionOptions& connection,
+                                   const v1::LoadSceneRequest& load,
+                                   std::vector<BenchServer>& servers, const Workload& workload,
+                                   Interferer* interferer, int count, const std::string& label,
+                                   Progress& progress, const std::atomic<bool>& interrupted,
+                                   SettleTrace* trace) {
+  SharedStages stages;
+  StepSessions step_sessions =
+      OpenSessions(options, connection, load, servers, workload, count, label, progress,
+                   interrupted, /*keep_settle_frames=*/trace != nullptr, stages);
+  std::vector<std::unique_ptr<BenchSession>>& sessions = step_sessions.sessions;
+  // The warm-up starts after every session's first frame.
+  WaitForFirstFrames(sessions, label, progress, interrupted);
+  if (interferer) interferer->Start();
+  const Clock::time_point start = Clock::now() + FromSeconds(options.warmup_s);
+  const Clock::time_point end = start + FromSeconds(options.duration_s);
+  for (auto& s : sessions) s->SetWindow(start, end);
+  MeasureWindow(options, sessions, servers, start, end, label, progress, interrupted);
+  for (auto& s : sessions) s->StopUpdates();
+  StepResult partial;
+  if (interferer) {
+    interferer->Stop();
+    interferer->Take(partial.interferer_renders, partial.interferer_median_ms,
+                     partial.interferer_error);
+  }
+  DrainSessions(sessions, label, progress, interrupted);
   progress.Show(absl::StrCat(label, " closing ", sessions.size(), " session(s)"));
   std::vector<SessionMeasurement> measured;
   for (auto& s : sessions) s->StopUpdates();
   for (auto& s : sessions) s->Close();
   for (auto& s : sessions) measured.push_back(s->Result());
-  if (trace && !sessions.empty()) {
-    trace->frames = sessions[0]->SettleFrames();
-    trace->last_updates = sessions[0]->LastUpdates();
-    trace->traced = sessions[0]->TracedFrames();
-    for (const BenchSession::TracedFrame& f : trace->traced) {
-      if (!trace->updates_of_seq.count(f.seq)) {
-        trace->updates_of_seq[f.seq] = sessions[0]->UpdatesOfSeq(f.seq);
-      }
-    }
-  }
+  if (trace && !sessions.empty()) KeepTrace(*sessions[0], trace);
   progress.Clear();
 
   StatsSummary stage_summary;
