@@ -70,6 +70,94 @@ v1::SessionConfig MakeConfig(const Script& script, const std::string& scene_id) 
   return config;
 }
 
+// Plays a timeline's frames in an open session: each frame's updates,
+// then a request for the frame that includes them, saved.
+class ScriptPlayer {
+ public:
+  ScriptPlayer(ResumableSession& stream, Timeline& timeline, FrameWriter& writer,
+               ProgressLine& progress)
+      : stream_(stream), timeline_(timeline), writer_(writer), progress_(progress) {}
+
+  // Frame i: OK(true) when it was saved, OK(false) when the server ended
+  // the call (EndSession says why); an error for a rejected update or a
+  // broken echo.
+  absl::StatusOr<bool> Play(int i) {
+    std::map<uint64_t, std::string> sent;  // this frame's updates, for rejections
+    for (v1::Update& update : timeline_.UpdatesForFrame(i)) {
+      update.set_seq(++seq_);
+      sent[seq_] = DescribeUpdate(update);
+      if (!stream_.SendUpdate(update)) return false;
+    }
+    const Clock::time_point requested = Clock::now();
+    if (!stream_.RequestFrame(1)) return false;
+    ++outstanding_;
+    return WaitForFrame(i, sent, requested);
+  }
+
+  const StatsCollector& stats() const { return stats_; }
+  int saved() const { return saved_; }
+
+ private:
+  // Reads events until the frame with every update sent so far.
+  absl::StatusOr<bool> WaitForFrame(int i, const std::map<uint64_t, std::string>& sent,
+                                    Clock::time_point requested) {
+    int stale = 0;
+    v1::SessionEvent event;
+    while (stream_.Next(&event)) {
+      if (event.has_rejected()) return Rejected(i, event.rejected(), sent);
+      if (!event.has_frame()) continue;
+      const v1::Frame& frame = event.frame();
+      outstanding_ = std::max(0, outstanding_ - 1);
+      GS_ASSIGN_OR_RETURN(const bool ours, echo_.Accept(frame, seq_));
+      if (!ours) {
+        // A frame rendered before our updates. Wait for the one we asked
+        // for; when none is pending, ask again, a few times.
+        LogOnce(LogLevel::kWarning, "script-stale-frame",
+                absl::StrCat("frame ", i, ": got a frame with update seq ", frame.last_update_seq(),
+                             ", waiting for ", seq_));
+        if (outstanding_ > 0) continue;
+        if (++stale > kMaxStaleFrames) {
+          return absl::DataLossError(absl::StrCat(
+              "frame ", i, ": the server keeps sending frames without update seq ", seq_));
+        }
+        if (!stream_.RequestFrame(1)) return false;
+        ++outstanding_;
+        continue;
+      }
+      const Clock::time_point arrived = Clock::now();
+      stats_.Add(frame, arrived,
+                 std::chrono::duration<double, std::milli>(arrived - requested).count());
+      GS_RETURN_IF_ERROR(writer_.Write(static_cast<uint64_t>(i), frame));
+      ++saved_;
+      progress_.Update(
+          absl::StrCat("frame ", std::min(saved_ + 1, timeline_.frames()), "/", timeline_.frames()),
+          double(saved_) / double(timeline_.frames()));
+      return true;
+    }
+    return false;
+  }
+
+  static absl::Status Rejected(int i, const v1::UpdateRejected& rejected,
+                               const std::map<uint64_t, std::string>& sent) {
+    auto it = sent.find(rejected.seq());
+    return absl::InvalidArgumentError(absl::StrCat(
+        "frame ", i, ": update seq ", rejected.seq(),
+        it == sent.end() ? "" : absl::StrCat(" (", it->second, ")"),
+        " rejected: ", absl::StatusCodeToString(static_cast<absl::StatusCode>(rejected.code())),
+        ": ", rejected.message()));
+  }
+
+  ResumableSession& stream_;
+  Timeline& timeline_;
+  FrameWriter& writer_;
+  ProgressLine& progress_;
+  StatsCollector stats_;
+  EchoChecker echo_;
+  uint64_t seq_ = 0;
+  int saved_ = 0;
+  int outstanding_ = 0;  // frames requested and not yet received
+};
+
 }  // namespace
 
 absl::Status RunScript(const ConnectionOptions& connection_options, const ScriptOptions& options) {
@@ -119,82 +207,25 @@ absl::Status RunScript(const ConnectionOptions& connection_options, const Script
     }
   });
 
-  StatsCollector stats;
-  EchoChecker echo;
-  uint64_t seq = 0;
-  int saved = 0;
-  int outstanding = 0;      // frames requested and not yet received
-  bool call_ended = false;  // the server ended the call early; EndSession says why
-  for (int i = 0; i < timeline->frames() && !interrupted && !call_ended; ++i) {
-    std::map<uint64_t, std::string> sent;  // this frame's updates, for rejections
-    for (v1::Update& update : timeline->UpdatesForFrame(i)) {
-      update.set_seq(++seq);
-      sent[seq] = DescribeUpdate(update);
-      if (!stream->SendUpdate(update)) call_ended = true;
-    }
-    const Clock::time_point requested = Clock::now();
-    if (call_ended || !stream->RequestFrame(1)) {
-      call_ended = true;
-      break;
-    }
-    ++outstanding;
-
-    int stale = 0;
-    bool got_frame = false;
-    v1::SessionEvent event;
-    while (!got_frame && stream->Next(&event)) {
-      if (event.has_rejected()) {
-        const v1::UpdateRejected& rejected = event.rejected();
-        auto it = sent.find(rejected.seq());
-        return absl::InvalidArgumentError(absl::StrCat(
-            "frame ", i, ": update seq ", rejected.seq(),
-            it == sent.end() ? "" : absl::StrCat(" (", it->second, ")"),
-            " rejected: ", absl::StatusCodeToString(static_cast<absl::StatusCode>(rejected.code())),
-            ": ", rejected.message()));
-      }
-      if (!event.has_frame()) continue;
-      const v1::Frame& frame = event.frame();
-      outstanding = std::max(0, outstanding - 1);
-      GS_ASSIGN_OR_RETURN(got_frame, echo.Accept(frame, seq));
-      if (!got_frame) {
-        // A frame rendered before our updates. Wait for the one we asked
-        // for; when none is pending, ask again, a few times.
-        LogOnce(LogLevel::kWarning, "script-stale-frame",
-                absl::StrCat("frame ", i, ": got a frame with update seq ", frame.last_update_seq(),
-                             ", waiting for ", seq));
-        if (outstanding > 0) continue;
-        if (++stale > kMaxStaleFrames) {
-          return absl::DataLossError(absl::StrCat(
-              "frame ", i, ": the server keeps sending frames without update seq ", seq));
-        }
-        if (!stream->RequestFrame(1)) break;
-        ++outstanding;
-        continue;
-      }
-      const Clock::time_point arrived = Clock::now();
-      stats.Add(frame, arrived,
-                std::chrono::duration<double, std::milli>(arrived - requested).count());
-      GS_RETURN_IF_ERROR(writer.Write(static_cast<uint64_t>(i), frame));
-      ++saved;
-      progress.Update(
-          absl::StrCat("frame ", std::min(saved + 1, timeline->frames()), "/", timeline->frames()),
-          double(saved) / double(timeline->frames()));
-    }
-    if (!got_frame) call_ended = true;
+  ScriptPlayer player(*stream, *timeline, writer, progress);
+  for (int i = 0; i < timeline->frames() && !interrupted; ++i) {
+    GS_ASSIGN_OR_RETURN(const bool saved, player.Play(i));
+    if (!saved) break;  // the server ended the call early; EndSession says why
   }
   const absl::Status ended = EndSession(*stream);
   progress.Done();
 
-  std::cout << FormatStatsTable(stats.Summarize())
-            << FormatWrittenFrames(writer, static_cast<uint64_t>(saved), script.encoding.format())
+  std::cout << FormatStatsTable(player.stats().Summarize())
+            << FormatWrittenFrames(writer, static_cast<uint64_t>(player.saved()),
+                                   script.encoding.format())
             << std::endl;
   for (const ResumableSession::Move& move : stream->moves()) {
     std::cout << FormatMove(move) << std::endl;
   }
   if (!ended.ok()) return ended;
-  if (!interrupted && saved < timeline->frames()) {
-    return absl::AbortedError(absl::StrCat("the server ended the session after ", saved, " of ",
-                                           timeline->frames(), " frames"));
+  if (!interrupted && player.saved() < timeline->frames()) {
+    return absl::AbortedError(absl::StrCat("the server ended the session after ", player.saved(),
+                                           " of ", timeline->frames(), " frames"));
   }
   return absl::OkStatus();
 }
