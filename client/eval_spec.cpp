@@ -77,21 +77,11 @@ std::vector<std::map<std::string, std::string>> EvalSolver::Settings() const {
   return out;
 }
 
-absl::StatusOr<EvalSpec> ParseEvalSpec(const std::string& text) {
-  json doc;
-  try {
-    doc = json::parse(text);
-  } catch (const json::exception& e) {
-    return Bad("spec", absl::StrCat("malformed JSON: ", e.what()));
-  }
-  if (!doc.is_object()) return Bad("spec", "expected an object");
-  EvalSpec spec;
-  static const std::set<std::string> kKeys = {
-      "size",           "reference", "timed_frames", "pathtrace_budgets_ms",
-      "refine_samples", "scenes",    "solvers"};
-  for (const auto& [key, value] : doc.items()) {
-    if (!kKeys.count(key)) return Bad(key, "unknown key");
-  }
+namespace {
+
+// The spec's settings (size, reference, timed_frames, refine_samples,
+// pathtrace_budgets_ms) into `spec`.
+absl::Status ParseSettings(const json& doc, EvalSpec& spec) {
   if (doc.contains("size")) {
     const json& s = doc["size"];
     if (!s.is_array() || s.size() != 2) return Bad("size", "expected [width, height]");
@@ -123,73 +113,109 @@ absl::StatusOr<EvalSpec> ParseEvalSpec(const std::string& text) {
       spec.pathtrace_budgets_ms.push_back(b[i].get<double>());
     }
   }
+  return absl::OkStatus();
+}
+
+// scenes[i].views[v] at `path`.
+absl::StatusOr<EvalView> ParseView(const json& jv, size_t v, const std::string& path) {
+  EvalView view;
+  view.name = jv.value("name", absl::StrCat("view", v));
+  if (jv.contains("eye") || jv.contains("target")) {
+    v1::LookAt look;
+    GS_ASSIGN_OR_RETURN(*look.mutable_eye(), Vec3At(jv.value("eye", json()), path + ".eye"));
+    GS_ASSIGN_OR_RETURN(*look.mutable_target(),
+                        Vec3At(jv.value("target", json()), path + ".target"));
+    view.look_at = look;
+  }
+  if (jv.contains("yfov")) {
+    if (!jv["yfov"].is_number()) return Bad(path + ".yfov", "expected degrees");
+    view.yfov_degrees = jv["yfov"].get<float>();
+  }
+  return view;
+}
+
+// scenes[i] at `path`: its name, its two changes and its views (one
+// default view when it lists none).
+absl::StatusOr<EvalScene> ParseScene(const json& s, const std::string& path) {
+  if (!s.is_object() || !s.contains("name") || !s["name"].is_string()) {
+    return Bad(path + ".name", "expected a scene name");
+  }
+  EvalScene scene;
+  scene.name = s["name"].get<std::string>();
+  if (!s.contains("geometry_change")) return Bad(path + ".geometry_change", "missing");
+  if (!s.contains("light_change")) return Bad(path + ".light_change", "missing");
+  GS_ASSIGN_OR_RETURN(scene.geometry_change,
+                      UpdatePair(s["geometry_change"], path + ".geometry_change"));
+  GS_ASSIGN_OR_RETURN(scene.light_change, UpdatePair(s["light_change"], path + ".light_change"));
+  if (s.contains("views")) {
+    for (size_t v = 0; v < s["views"].size(); ++v) {
+      GS_ASSIGN_OR_RETURN(EvalView view,
+                          ParseView(s["views"][v], v, absl::StrCat(path, ".views[", v, "]")));
+      scene.views.push_back(std::move(view));
+    }
+  }
+  if (scene.views.empty()) scene.views.push_back(EvalView{});
+  return scene;
+}
+
+// solvers[i] at `path`: its name and its parameter grid.
+absl::StatusOr<EvalSolver> ParseSolver(const json& s, const std::string& path) {
+  if (!s.is_object() || !s.contains("name") || !s["name"].is_string()) {
+    return Bad(path + ".name", "expected a solver name");
+  }
+  EvalSolver solver;
+  solver.name = s["name"].get<std::string>();
+  if (!s.contains("grid")) return solver;
+  if (!s["grid"].is_object()) return Bad(path + ".grid", "expected {param: [values]}");
+  for (const auto& [param, values] : s["grid"].items()) {
+    const std::string gpath = absl::StrCat(path, ".grid.", param);
+    if (!values.is_array() || values.empty()) return Bad(gpath, "expected a non-empty array");
+    for (size_t k = 0; k < values.size(); ++k) {
+      const json& v = values[k];
+      if (v.is_string()) {
+        solver.grid[param].push_back(v.get<std::string>());
+      } else if (v.is_number() || v.is_boolean()) {
+        solver.grid[param].push_back(v.dump());
+      } else {
+        return Bad(absl::StrCat(gpath, "[", k, "]"), "expected a string or number");
+      }
+    }
+  }
+  return solver;
+}
+
+}  // namespace
+
+absl::StatusOr<EvalSpec> ParseEvalSpec(const std::string& text) {
+  json doc;
+  try {
+    doc = json::parse(text);
+  } catch (const json::exception& e) {
+    return Bad("spec", absl::StrCat("malformed JSON: ", e.what()));
+  }
+  if (!doc.is_object()) return Bad("spec", "expected an object");
+  EvalSpec spec;
+  static const std::set<std::string> kKeys = {
+      "size",           "reference", "timed_frames", "pathtrace_budgets_ms",
+      "refine_samples", "scenes",    "solvers"};
+  for (const auto& [key, value] : doc.items()) {
+    if (!kKeys.count(key)) return Bad(key, "unknown key");
+  }
+  GS_RETURN_IF_ERROR(ParseSettings(doc, spec));
   if (!doc.contains("scenes") || !doc["scenes"].is_array() || doc["scenes"].empty()) {
     return Bad("scenes", "expected a non-empty array");
   }
   for (size_t i = 0; i < doc["scenes"].size(); ++i) {
-    const json& s = doc["scenes"][i];
-    const std::string path = absl::StrCat("scenes[", i, "]");
-    if (!s.is_object() || !s.contains("name") || !s["name"].is_string()) {
-      return Bad(path + ".name", "expected a scene name");
-    }
-    EvalScene scene;
-    scene.name = s["name"].get<std::string>();
-    if (!s.contains("geometry_change")) return Bad(path + ".geometry_change", "missing");
-    if (!s.contains("light_change")) return Bad(path + ".light_change", "missing");
-    GS_ASSIGN_OR_RETURN(scene.geometry_change,
-                        UpdatePair(s["geometry_change"], path + ".geometry_change"));
-    GS_ASSIGN_OR_RETURN(scene.light_change, UpdatePair(s["light_change"], path + ".light_change"));
-    if (s.contains("views")) {
-      for (size_t v = 0; v < s["views"].size(); ++v) {
-        const json& jv = s["views"][v];
-        const std::string vpath = absl::StrCat(path, ".views[", v, "]");
-        EvalView view;
-        view.name = jv.value("name", absl::StrCat("view", v));
-        if (jv.contains("eye") || jv.contains("target")) {
-          v1::LookAt look;
-          GS_ASSIGN_OR_RETURN(*look.mutable_eye(), Vec3At(jv.value("eye", json()), vpath + ".eye"));
-          GS_ASSIGN_OR_RETURN(*look.mutable_target(),
-                              Vec3At(jv.value("target", json()), vpath + ".target"));
-          view.look_at = look;
-        }
-        if (jv.contains("yfov")) {
-          if (!jv["yfov"].is_number()) return Bad(vpath + ".yfov", "expected degrees");
-          view.yfov_degrees = jv["yfov"].get<float>();
-        }
-        scene.views.push_back(view);
-      }
-    }
-    if (scene.views.empty()) scene.views.push_back(EvalView{});
+    GS_ASSIGN_OR_RETURN(EvalScene scene,
+                        ParseScene(doc["scenes"][i], absl::StrCat("scenes[", i, "]")));
     spec.scenes.push_back(std::move(scene));
   }
   if (!doc.contains("solvers") || !doc["solvers"].is_array()) {
     return Bad("solvers", "expected an array");
   }
   for (size_t i = 0; i < doc["solvers"].size(); ++i) {
-    const json& s = doc["solvers"][i];
-    const std::string path = absl::StrCat("solvers[", i, "]");
-    if (!s.is_object() || !s.contains("name") || !s["name"].is_string()) {
-      return Bad(path + ".name", "expected a solver name");
-    }
-    EvalSolver solver;
-    solver.name = s["name"].get<std::string>();
-    if (s.contains("grid")) {
-      if (!s["grid"].is_object()) return Bad(path + ".grid", "expected {param: [values]}");
-      for (const auto& [param, values] : s["grid"].items()) {
-        const std::string gpath = absl::StrCat(path, ".grid.", param);
-        if (!values.is_array() || values.empty()) return Bad(gpath, "expected a non-empty array");
-        for (size_t k = 0; k < values.size(); ++k) {
-          const json& v = values[k];
-          if (v.is_string()) {
-            solver.grid[param].push_back(v.get<std::string>());
-          } else if (v.is_number() || v.is_boolean()) {
-            solver.grid[param].push_back(v.dump());
-          } else {
-            return Bad(absl::StrCat(gpath, "[", k, "]"), "expected a string or number");
-          }
-        }
-      }
-    }
+    GS_ASSIGN_OR_RETURN(EvalSolver solver,
+                        ParseSolver(doc["solvers"][i], absl::StrCat("solvers[", i, "]")));
     spec.solvers.push_back(std::move(solver));
   }
   return spec;
