@@ -378,6 +378,93 @@ absl::Status WriteOutputs(const std::filesystem::path& dir, const std::vector<Ev
   return absl::OkStatus();
 }
 
+// A scene's content key for the reference cache: the scene file when it
+// is readable here, else what the server reports about the scene (counts,
+// bounds, materials, lights).
+std::string ContentKey(const std::string& name, const LoadedScene& loaded) {
+  std::string content;
+  for (const char* ext : {".gltf", ".glb"}) {
+    if (auto file = ReadText(std::filesystem::path("scenes") / (name + ext)); file.ok()) {
+      content = *file;
+    }
+  }
+  if (content.empty()) {
+    v1::LoadSceneResponse info = loaded.info();
+    info.clear_scene_id();
+    info.clear_version();
+    content = info.SerializeAsString();
+  }
+  return std::to_string(Fnv1a(content));
+}
+
+// Every solver setting of the spec in one view: a row each (a refused
+// setting's row says why).
+absl::Status MeasureSolvers(Evaluator& evaluator, const EvalSpec& spec, const LoadedScene& loaded,
+                            const EvalScene& scene, const EvalView& view,
+                            const RgbaImage& reference, float yfov, std::vector<EvalRow>& rows) {
+  for (const EvalSolver& solver : spec.solvers) {
+    for (const auto& params : solver.Settings()) {
+      std::string setting;
+      for (const auto& [k, v] : params) absl::StrAppend(&setting, " ", k, "=", v);
+      evaluator.progress().Wait(
+          absl::StrCat(scene.name, "/", view.name, " ", solver.name, setting));
+      absl::StatusOr<EvalRow> row =
+          evaluator.Measure(loaded.id(), scene, view, solver.name, params, reference, yfov);
+      evaluator.progress().Done();
+      if (!row.ok()) {
+        if (!IsRefusal(row.status())) return row.status();
+        EvalRow failed;
+        failed.scene = scene.name;
+        failed.view = view.name;
+        failed.solver = solver.name;
+        failed.params = ParamsText(params);
+        failed.failure = row.status().ToString();
+        std::cerr << scene.name << "/" << view.name << " " << solver.name << " " << failed.params
+                  << ": not measured: " << failed.failure << "\n";
+        rows.push_back(std::move(failed));
+        continue;
+      }
+      std::cerr << scene.name << "/" << view.name << " " << solver.name << " " << row->params
+                << ": relMSE " << row->error.rel_mse << ", full " << row->full.median << " ms\n";
+      rows.push_back(*std::move(row));
+    }
+  }
+  return absl::OkStatus();
+}
+
+// The path tracer as the peer curve: its error at equal time budgets.
+absl::Status MeasurePathtrace(Evaluator& evaluator, const EvalSpec& spec, const LoadedScene& loaded,
+                              const EvalScene& scene, const EvalView& view,
+                              const RgbaImage& reference, std::vector<EvalRow>& rows) {
+  for (size_t i = 0; i < spec.pathtrace_budgets_ms.size(); ++i) {
+    const double budget = spec.pathtrace_budgets_ms[i];
+    std::ostringstream b;
+    b << budget;
+    evaluator.progress().Wait(
+        absl::StrCat(scene.name, "/", view.name, " pathtrace ", b.str(), " ms"));
+    GS_ASSIGN_OR_RETURN(v1::Frame frame, evaluator.RenderOnce(loaded.id(), "pathtrace",
+                                                              {{"time_budget_ms", b.str()},
+                                                               {"seed", std::to_string(1000 + i)}},
+                                                              ViewCamera(view)));
+    evaluator.progress().Done();
+    GS_ASSIGN_OR_RETURN(RgbaImage image, DecodeFrame(frame));
+    EvalRow row;
+    row.scene = scene.name;
+    row.view = view.name;
+    row.solver = "pathtrace";
+    row.equal_time = true;
+    row.params = absl::StrCat("time_budget_ms=", b.str());
+    row.spp = FrameStatValue(frame, "spp_total");
+    row.full.median = row.full.p95 = frame.total_ms();
+    StatsCollector stages;
+    stages.Add(frame, StatsCollector::Clock::now());
+    row.full_stages = stages.Summarize().stages;
+    GS_ASSIGN_OR_RETURN(row.error, CompareImages(image, reference));
+    rows.push_back(std::move(row));
+  }
+  return absl::OkStatus();
+}
+
 }  // namespace
 
 absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOptions& options) {
@@ -399,83 +486,16 @@ absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOpti
                         LoadedScene::Load(connection, load, /*keep=*/false));
     std::cerr << "eval: " << scene.name << " loaded as a private copy (" << loaded->id() << ")"
               << std::endl;
-    // Content key: the scene file when it is readable here, else what the
-    // server reports about the scene (counts, bounds, materials, lights).
-    std::string content;
-    for (const char* ext : {".gltf", ".glb"}) {
-      if (auto file = ReadText(std::filesystem::path("scenes") / (scene.name + ext)); file.ok()) {
-        content = *file;
-      }
-    }
-    if (content.empty()) {
-      v1::LoadSceneResponse info = loaded->info();
-      info.clear_scene_id();
-      info.clear_version();
-      content = info.SerializeAsString();
-    }
-    const std::string content_key = std::to_string(Fnv1a(content));
+    const std::string content_key = ContentKey(scene.name, *loaded);
     const float base_yfov =
         loaded->info().cameras_size() > 0 ? loaded->info().cameras(0).yfov() * 57.29578f : 45.0f;
     for (const EvalView& view : scene.views) {
       GS_ASSIGN_OR_RETURN(RgbaImage reference,
                           evaluator.Reference(loaded->id(), content_key, view, options.cache_dir));
       const float yfov = view.yfov_degrees.value_or(base_yfov);
-      for (const EvalSolver& solver : spec.solvers) {
-        for (const auto& params : solver.Settings()) {
-          std::string setting;
-          for (const auto& [k, v] : params) absl::StrAppend(&setting, " ", k, "=", v);
-          evaluator.progress().Wait(
-              absl::StrCat(scene.name, "/", view.name, " ", solver.name, setting));
-          absl::StatusOr<EvalRow> row =
-              evaluator.Measure(loaded->id(), scene, view, solver.name, params, reference, yfov);
-          evaluator.progress().Done();
-          if (!row.ok()) {
-            if (!IsRefusal(row.status())) return row.status();
-            EvalRow failed;
-            failed.scene = scene.name;
-            failed.view = view.name;
-            failed.solver = solver.name;
-            failed.params = ParamsText(params);
-            failed.failure = row.status().ToString();
-            std::cerr << scene.name << "/" << view.name << " " << solver.name << " "
-                      << failed.params << ": not measured: " << failed.failure << "\n";
-            rows.push_back(std::move(failed));
-            continue;
-          }
-          std::cerr << scene.name << "/" << view.name << " " << solver.name << " " << row->params
-                    << ": relMSE " << row->error.rel_mse << ", full " << row->full.median
-                    << " ms\n";
-          rows.push_back(*std::move(row));
-        }
-      }
-      // The path tracer as the peer curve: its error at equal time budgets.
-      for (size_t i = 0; i < spec.pathtrace_budgets_ms.size(); ++i) {
-        const double budget = spec.pathtrace_budgets_ms[i];
-        std::ostringstream b;
-        b << budget;
-        evaluator.progress().Wait(
-            absl::StrCat(scene.name, "/", view.name, " pathtrace ", b.str(), " ms"));
-        GS_ASSIGN_OR_RETURN(
-            v1::Frame frame,
-            evaluator.RenderOnce(loaded->id(), "pathtrace",
-                                 {{"time_budget_ms", b.str()}, {"seed", std::to_string(1000 + i)}},
-                                 ViewCamera(view)));
-        evaluator.progress().Done();
-        GS_ASSIGN_OR_RETURN(RgbaImage image, DecodeFrame(frame));
-        EvalRow row;
-        row.scene = scene.name;
-        row.view = view.name;
-        row.solver = "pathtrace";
-        row.equal_time = true;
-        row.params = absl::StrCat("time_budget_ms=", b.str());
-        row.spp = FrameStatValue(frame, "spp_total");
-        row.full.median = row.full.p95 = frame.total_ms();
-        StatsCollector stages;
-        stages.Add(frame, StatsCollector::Clock::now());
-        row.full_stages = stages.Summarize().stages;
-        GS_ASSIGN_OR_RETURN(row.error, CompareImages(image, reference));
-        rows.push_back(std::move(row));
-      }
+      GS_RETURN_IF_ERROR(
+          MeasureSolvers(evaluator, spec, *loaded, scene, view, reference, yfov, rows));
+      GS_RETURN_IF_ERROR(MeasurePathtrace(evaluator, spec, *loaded, scene, view, reference, rows));
     }
   }
   const std::time_t now = std::time(nullptr);
