@@ -214,12 +214,10 @@ nlohmann::json BenchJson(const std::vector<StepResult>& steps, const nlohmann::j
   return doc;
 }
 
-absl::Status WriteBenchOutputs(const std::filesystem::path& dir,
-                               const std::vector<StepResult>& steps, const nlohmann::json& meta) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) return absl::UnavailableError(absl::StrCat("--out ", dir.string(), ": ", ec.message()));
+namespace {
 
+// results.csv: a row per step.
+absl::Status WriteBenchCsv(const std::filesystem::path& dir, const std::vector<StepResult>& steps) {
   std::ofstream csv(dir / "results.csv");
   csv << "sessions,window_s,fps_mean,fps_min,fps_total,jain,frames,dropped,interval_p50_ms,"
          "interval_p95_ms,interval_max_ms,latency_p50_ms,latency_p95_ms,latency_p99_ms,"
@@ -240,8 +238,12 @@ absl::Status WriteBenchOutputs(const std::filesystem::path& dir,
   }
   if (!csv)
     return absl::UnavailableError(absl::StrCat("cannot write ", (dir / "results.csv").string()));
-  std::ofstream(dir / "results.json") << BenchJson(steps, meta).dump(2) << '\n';
+  return absl::OkStatus();
+}
 
+// latency_cdf.png, fps_vs_sessions.png, latency_vs_sessions.png.
+absl::Status WriteBenchPlots(const std::filesystem::path& dir,
+                             const std::vector<StepResult>& steps) {
   // Latency CDF, one curve per step: x latency (ms, log), y fraction.
   std::vector<PlotSeries> cdf;
   for (const StepResult& s : steps) {
@@ -284,6 +286,12 @@ absl::Status WriteBenchOutputs(const std::filesystem::path& dir,
                                 .x_scale = AxisScale::kLog,
                                 .y_scale = AxisScale::kLog}));
 
+  return absl::OkStatus();
+}
+
+// results.md: what ran, a table row per step, the stage medians.
+void WriteBenchMarkdown(const std::filesystem::path& dir, const std::vector<StepResult>& steps,
+                        const nlohmann::json& meta) {
   std::ofstream md(dir / "results.md");
   md << "Measured " << meta.value("date", "") << " on " << meta.value("gl_renderer", "") << " (CPU "
      << meta.value("cpu", "") << ") with `" << meta.value("command", "")
@@ -323,6 +331,19 @@ absl::Status WriteBenchOutputs(const std::filesystem::path& dir,
   }
   md << "\nPlots: `latency_cdf.png` (fraction of updates answered within x ms, log x), "
         "`fps_vs_sessions.png`, `latency_vs_sessions.png` (log-log).\n";
+}
+
+}  // namespace
+
+absl::Status WriteBenchOutputs(const std::filesystem::path& dir,
+                               const std::vector<StepResult>& steps, const nlohmann::json& meta) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) return absl::UnavailableError(absl::StrCat("--out ", dir.string(), ": ", ec.message()));
+  GS_RETURN_IF_ERROR(WriteBenchCsv(dir, steps));
+  std::ofstream(dir / "results.json") << BenchJson(steps, meta).dump(2) << '\n';
+  GS_RETURN_IF_ERROR(WriteBenchPlots(dir, steps));
+  WriteBenchMarkdown(dir, steps, meta);
   return absl::OkStatus();
 }
 
