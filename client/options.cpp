@@ -382,6 +382,98 @@ bool WantsHelp(std::span<const std::string> args) {
   return false;
 }
 
+// The flags `command` takes.
+std::vector<FlagSpec> CommandFlags(Command command) {
+  std::vector<FlagSpec> specs;
+  switch (command) {
+    case Command::kSolvers:
+      specs = Concat({&kConnectionFlags});
+      specs.push_back({"json", false});
+      break;
+    case Command::kStatus: specs = Concat({&kConnectionFlags}); break;
+    case Command::kHealth:
+      specs = Concat({&kConnectionFlags});
+      specs.push_back({"service"});
+      break;
+    case Command::kRender:
+      specs = Concat({&kConnectionFlags, &kSceneFlags, &kSolverFlags, &kViewFlags});
+      specs.push_back({"out"});
+      break;
+    case Command::kStream:
+      specs = Concat({&kConnectionFlags, &kSceneFlags, &kSolverFlags, &kViewFlags});
+      specs.insert(specs.end(), {{"frames"}, {"fps"}, {"out"}, {"resume-for"}});
+      break;
+    case Command::kScript:
+      specs = Concat({&kConnectionFlags});
+      specs.insert(specs.end(), {{"out"}, {"keep-scene", false}, {"resume-for"}});
+      break;
+    case Command::kEval:
+      specs = Concat({&kConnectionFlags});
+      specs.insert(specs.end(), {{"out"}, {"cache"}});
+      break;
+    case Command::kBench:
+      specs = Concat({&kConnectionFlags, &kSceneFlags, &kSolverFlags, &kViewFlags});
+      specs.insert(specs.end(), {{"workload"},
+                                 {"node"},
+                                 {"update-hz"},
+                                 {"sessions"},
+                                 {"duration"},
+                                 {"warmup"},
+                                 {"channels"},
+                                 {"fps"},
+                                 {"interfere"},
+                                 {"reference-spp"},
+                                 {"resume-for"},
+                                 {"out"}});
+      break;
+  }
+  return specs;
+}
+
+// `command`'s options from its parsed flags.
+absl::StatusOr<decltype(CommandLine::options)> CommandOptions(Command command,
+                                                              const ParsedFlags& flags) {
+  decltype(CommandLine::options) options;
+  switch (command) {
+    case Command::kSolvers: {
+      GS_RETURN_IF_ERROR(NoPositional(flags));
+      options = SolversOptions{.json = flags.Has("json")};
+      break;
+    }
+    case Command::kStatus: {
+      GS_RETURN_IF_ERROR(NoPositional(flags));
+      options = StatusOptions{};
+      break;
+    }
+    case Command::kHealth: {
+      GS_RETURN_IF_ERROR(NoPositional(flags));
+      options = HealthOptions{.service = flags.Get("service").value_or("")};
+      break;
+    }
+    case Command::kRender: {
+      GS_ASSIGN_OR_RETURN(options, ParseRender(flags));
+      break;
+    }
+    case Command::kStream: {
+      GS_ASSIGN_OR_RETURN(options, ParseStream(flags));
+      break;
+    }
+    case Command::kScript: {
+      GS_ASSIGN_OR_RETURN(options, ParseScript(flags));
+      break;
+    }
+    case Command::kEval: {
+      GS_ASSIGN_OR_RETURN(options, ParseEval(flags));
+      break;
+    }
+    case Command::kBench: {
+      GS_ASSIGN_OR_RETURN(options, ParseBench(flags));
+      break;
+    }
+  }
+  return options;
+}
+
 }  // namespace
 
 absl::string_view CommandName(Command command) {
@@ -489,89 +581,9 @@ absl::StatusOr<CommandLine> ParseCommandLine(std::span<const std::string> args,
     return line;
   }
 
-  std::vector<FlagSpec> specs;
-  switch (*line.command) {
-    case Command::kSolvers:
-      specs = Concat({&kConnectionFlags});
-      specs.push_back({"json", false});
-      break;
-    case Command::kStatus: specs = Concat({&kConnectionFlags}); break;
-    case Command::kHealth:
-      specs = Concat({&kConnectionFlags});
-      specs.push_back({"service"});
-      break;
-    case Command::kRender:
-      specs = Concat({&kConnectionFlags, &kSceneFlags, &kSolverFlags, &kViewFlags});
-      specs.push_back({"out"});
-      break;
-    case Command::kStream:
-      specs = Concat({&kConnectionFlags, &kSceneFlags, &kSolverFlags, &kViewFlags});
-      specs.insert(specs.end(), {{"frames"}, {"fps"}, {"out"}, {"resume-for"}});
-      break;
-    case Command::kScript:
-      specs = Concat({&kConnectionFlags});
-      specs.insert(specs.end(), {{"out"}, {"keep-scene", false}, {"resume-for"}});
-      break;
-    case Command::kEval:
-      specs = Concat({&kConnectionFlags});
-      specs.insert(specs.end(), {{"out"}, {"cache"}});
-      break;
-    case Command::kBench:
-      specs = Concat({&kConnectionFlags, &kSceneFlags, &kSolverFlags, &kViewFlags});
-      specs.insert(specs.end(), {{"workload"},
-                                 {"node"},
-                                 {"update-hz"},
-                                 {"sessions"},
-                                 {"duration"},
-                                 {"warmup"},
-                                 {"channels"},
-                                 {"fps"},
-                                 {"interfere"},
-                                 {"reference-spp"},
-                                 {"resume-for"},
-                                 {"out"}});
-      break;
-  }
-  GS_ASSIGN_OR_RETURN(ParsedFlags flags, ParseFlags(rest, specs));
+  GS_ASSIGN_OR_RETURN(ParsedFlags flags, ParseFlags(rest, CommandFlags(*line.command)));
   GS_RETURN_IF_ERROR(ApplyConnection(flags, line.connection));
-
-  switch (*line.command) {
-    case Command::kSolvers: {
-      GS_RETURN_IF_ERROR(NoPositional(flags));
-      line.options = SolversOptions{.json = flags.Has("json")};
-      break;
-    }
-    case Command::kStatus: {
-      GS_RETURN_IF_ERROR(NoPositional(flags));
-      line.options = StatusOptions{};
-      break;
-    }
-    case Command::kHealth: {
-      GS_RETURN_IF_ERROR(NoPositional(flags));
-      line.options = HealthOptions{.service = flags.Get("service").value_or("")};
-      break;
-    }
-    case Command::kRender: {
-      GS_ASSIGN_OR_RETURN(line.options, ParseRender(flags));
-      break;
-    }
-    case Command::kStream: {
-      GS_ASSIGN_OR_RETURN(line.options, ParseStream(flags));
-      break;
-    }
-    case Command::kScript: {
-      GS_ASSIGN_OR_RETURN(line.options, ParseScript(flags));
-      break;
-    }
-    case Command::kEval: {
-      GS_ASSIGN_OR_RETURN(line.options, ParseEval(flags));
-      break;
-    }
-    case Command::kBench: {
-      GS_ASSIGN_OR_RETURN(line.options, ParseBench(flags));
-      break;
-    }
-  }
+  GS_ASSIGN_OR_RETURN(line.options, CommandOptions(*line.command, flags));
   return line;
 }
 
