@@ -18,6 +18,54 @@
 
 namespace gistream::client {
 
+namespace {
+
+// What a stream received.
+struct StreamTally {
+  StatsCollector stats;
+  uint64_t saved = 0;
+  uint64_t pictures = 0;  // frames that carried an image
+  bool at_rest = false;   // stopped early: the server said the view rests
+  v1::Frame last;         // its header: the convergence line
+};
+
+// Saves every frame until the stream ends; half-closes it after
+// options.frames, or at rest.
+absl::Status ReceiveFrames(ResumableSession& stream, FrameWriter& writer,
+                           const StreamOptions& options, std::atomic<bool>& closing,
+                           ProgressLine& progress, StreamTally& tally) {
+  v1::SessionEvent event;
+  while (stream.Next(&event)) {
+    if (event.has_rejected()) {
+      Log(LogLevel::kWarning, absl::StrCat("update seq ", event.rejected().seq(),
+                                           " rejected: ", event.rejected().message()));
+      continue;
+    }
+    if (!event.has_frame() || closing) continue;  // frames after the half-close are not kept
+    const v1::Frame& frame = event.frame();
+    if (tally.saved == 0) progress.Done();
+    tally.stats.Add(frame, StatsCollector::Clock::now());
+    GS_RETURN_IF_ERROR(writer.Write(tally.saved, frame));
+    ++tally.saved;
+    tally.pictures += frame.image().empty() ? 0 : 1;
+    tally.last = frame;
+    tally.last.clear_image();
+    if (options.frames != 0 && tally.saved >= options.frames) {
+      closing = true;
+      stream.CloseWrites();
+    } else if (options.frames != 0 && FrameStatValue(frame, "at_rest") == 1.0) {
+      // The server says the picture is finished and nothing changes: more
+      // frames would be keep-alives of the same picture, a second apart.
+      tally.at_rest = true;
+      closing = true;
+      stream.CloseWrites();
+    }
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
 absl::Status RunStream(const ConnectionOptions& connection_options, const StreamOptions& options) {
   GS_ASSIGN_OR_RETURN(v1::LoadSceneRequest load, BuildLoadSceneRequest(options.scene));
   GS_ASSIGN_OR_RETURN(FrameWriter writer,
@@ -57,56 +105,28 @@ absl::Status RunStream(const ConnectionOptions& connection_options, const Stream
     }
   });
 
-  StatsCollector stats;
-  uint64_t saved = 0;
-  uint64_t pictures = 0;  // frames that carried an image
-  bool at_rest = false;
-  v1::Frame last;  // its header: the convergence line
-  v1::SessionEvent event;
-  while (stream->Next(&event)) {
-    if (event.has_rejected()) {
-      Log(LogLevel::kWarning, absl::StrCat("update seq ", event.rejected().seq(),
-                                           " rejected: ", event.rejected().message()));
-      continue;
-    }
-    if (!event.has_frame() || closing) continue;  // frames after the half-close are not kept
-    const v1::Frame& frame = event.frame();
-    if (saved == 0) progress.Done();
-    stats.Add(frame, StatsCollector::Clock::now());
-    GS_RETURN_IF_ERROR(writer.Write(saved, frame));
-    ++saved;
-    pictures += frame.image().empty() ? 0 : 1;
-    last = frame;
-    last.clear_image();
-    if (options.frames != 0 && saved >= options.frames) {
-      closing = true;
-      stream->CloseWrites();
-    } else if (options.frames != 0 && FrameStatValue(frame, "at_rest") == 1.0) {
-      // The server says the picture is finished and nothing changes: more
-      // frames would be keep-alives of the same picture, a second apart.
-      at_rest = true;
-      closing = true;
-      stream->CloseWrites();
-    }
-  }
+  StreamTally tally;
+  GS_RETURN_IF_ERROR(ReceiveFrames(*stream, writer, options, closing, progress, tally));
   const absl::Status ended = EndSession(*stream);
   progress.Done();
   const std::vector<ResumableSession::Move> moves = stream->moves();
   if (!moves.empty()) scene->Abandon();  // its server went away
   for (const ResumableSession::Move& move : moves) std::cout << FormatMove(move) << std::endl;
 
-  std::cout << FormatStatsTable(stats.Summarize())
-            << FormatWrittenFrames(writer, saved, options.view.encoding.format(), pictures)
+  std::cout << FormatStatsTable(tally.stats.Summarize())
+            << FormatWrittenFrames(writer, tally.saved, options.view.encoding.format(),
+                                   tally.pictures)
             << std::endl;
-  if (saved > 0) std::cout << FormatConvergence(last) << std::endl;
-  if (at_rest) {
-    std::cout << "the view is at rest after " << saved << " of " << options.frames
+  if (tally.saved > 0) std::cout << FormatConvergence(tally.last) << std::endl;
+  if (tally.at_rest) {
+    std::cout << "the view is at rest after " << tally.saved << " of " << options.frames
               << " frames (its picture is finished and nothing changes): stopped early"
               << std::endl;
   }
-  if (ended.ok() && !interrupted && !at_rest && options.frames != 0 && saved < options.frames) {
-    return absl::AbortedError(absl::StrCat("the server ended the session after ", saved, " of ",
-                                           options.frames, " frames"));
+  if (ended.ok() && !interrupted && !tally.at_rest && options.frames != 0 &&
+      tally.saved < options.frames) {
+    return absl::AbortedError(absl::StrCat("the server ended the session after ", tally.saved,
+                                           " of ", options.frames, " frames"));
   }
   return ended;
 }
