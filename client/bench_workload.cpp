@@ -110,6 +110,64 @@ std::string WorkloadName(const WorkloadSpec& spec) {
   return "?";
 }
 
+absl::Status Workload::SetUpScript(const std::filesystem::path& script_file,
+                                   const v1::LoadSceneResponse& scene) {
+  GS_ASSIGN_OR_RETURN(Script script, LoadScriptFile(script_file));
+  GS_ASSIGN_OR_RETURN(Timeline timeline, Timeline::Build(script, scene));
+  if (timeline.frames() <= 0) {
+    return absl::InvalidArgumentError(absl::StrCat(script_file.string(), ": frames: must be > 0"));
+  }
+  timeline_ = std::move(timeline);
+  description_ = absl::StrCat("script ", script_file.filename().string(), " (", timeline_->frames(),
+                              " frames, looped)");
+  return absl::OkStatus();
+}
+
+absl::Status Workload::SetUpAnimation(const v1::LoadSceneResponse& scene) {
+  if (scene.animations_size() == 0) {
+    return absl::FailedPreconditionError("workload animation: the scene has no animation");
+  }
+  animation_ = scene.animations(0);
+  description_ =
+      absl::StrCat("animation ", animation_->id(), " (", animation_->name(), ", ",
+                   animation_->end() - animation_->start(), " s) seeked 1/30 s a tick, looped");
+  return absl::OkStatus();
+}
+
+std::string Workload::SetUpOrbit(const v1::LoadSceneResponse& scene, float diagonal) {
+  // Around the vertical axis through the scene's centre, starting at the
+  // scene camera (or in front of the scene when it has none).
+  float ex = center_[0], ey = center_[1], ez = center_[2] + 1.5f * diagonal;
+  if (scene.cameras_size() > 0) {
+    const v1::Vec3& p = scene.cameras(0).position();
+    ex = p.x(), ey = p.y(), ez = p.z();
+  }
+  height_ = ey;
+  radius_ = std::hypot(ex - center_[0], ez - center_[2]);
+  if (!(radius_ > 1e-6f)) radius_ = std::max(diagonal, 1e-3f);
+  start_rad_ = float(std::atan2(ez - center_[2], ex - center_[0]));
+  return "camera orbit ±15°";
+}
+
+absl::StatusOr<std::string> Workload::SetUpLight(const v1::LoadSceneResponse& scene) {
+  if (scene.lights_size() > 0) {
+    light_ = scene.lights(0);
+    return absl::StrCat("light ", light_->id(), " (", light_->name(), ") intensity",
+                        light_->type() == v1::LIGHT_TYPE_DIRECTIONAL ? "" : " and position");
+  }
+  for (const v1::MaterialInfo& m : scene.materials()) {
+    if (IsEmissive(m)) {
+      emitter_ = m;
+      break;
+    }
+  }
+  if (!emitter_) {
+    return absl::FailedPreconditionError(
+        "workload light: the scene has no punctual light and no emissive material");
+  }
+  return absl::StrCat("emitter material ", emitter_->id(), " (", emitter_->name(), ") strength");
+}
+
 absl::StatusOr<Workload> Workload::Create(const WorkloadSpec& spec,
                                           const v1::LoadSceneResponse& scene) {
   Workload w;
@@ -122,71 +180,22 @@ absl::StatusOr<Workload> Workload::Create(const WorkloadSpec& spec,
   const float dx = hi.x() - lo.x(), dy = hi.y() - lo.y(), dz = hi.z() - lo.z();
   const float diagonal = std::sqrt(dx * dx + dy * dy + dz * dz);
   w.amplitude_ = std::max(kMotionFraction * diagonal, 1e-4f);
-
   if (spec.kind == WorkloadKind::kScript) {
-    GS_ASSIGN_OR_RETURN(Script script, LoadScriptFile(spec.script));
-    GS_ASSIGN_OR_RETURN(Timeline timeline, Timeline::Build(script, scene));
-    if (timeline.frames() <= 0) {
-      return absl::InvalidArgumentError(
-          absl::StrCat(spec.script.string(), ": frames: must be > 0"));
-    }
-    w.timeline_ = std::move(timeline);
-    w.description_ = absl::StrCat("script ", spec.script.filename().string(), " (",
-                                  w.timeline_->frames(), " frames, looped)");
+    GS_RETURN_IF_ERROR(w.SetUpScript(spec.script, scene));
     return w;
   }
-
   if (spec.kind == WorkloadKind::kAnimation) {
-    if (scene.animations_size() == 0) {
-      return absl::FailedPreconditionError("workload animation: the scene has no animation");
-    }
-    w.animation_ = scene.animations(0);
-    w.description_ = absl::StrCat("animation ", w.animation_->id(), " (", w.animation_->name(),
-                                  ", ", w.animation_->end() - w.animation_->start(),
-                                  " s) seeked 1/30 s a tick, looped");
+    GS_RETURN_IF_ERROR(w.SetUpAnimation(scene));
     return w;
   }
-
-  const bool orbit = spec.kind == WorkloadKind::kOrbit || spec.kind == WorkloadKind::kMixed;
-  const bool light = spec.kind == WorkloadKind::kLight || spec.kind == WorkloadKind::kMixed;
-  const bool object = spec.kind == WorkloadKind::kObject || spec.kind == WorkloadKind::kMixed;
+  const bool mixed = spec.kind == WorkloadKind::kMixed;
   std::vector<std::string> parts;
-  if (orbit) {
-    // Around the vertical axis through the scene's centre, starting at the
-    // scene camera (or in front of the scene when it has none).
-    float ex = w.center_[0], ey = w.center_[1], ez = w.center_[2] + 1.5f * diagonal;
-    if (scene.cameras_size() > 0) {
-      const v1::Vec3& p = scene.cameras(0).position();
-      ex = p.x(), ey = p.y(), ez = p.z();
-    }
-    w.height_ = ey;
-    w.radius_ = std::hypot(ex - w.center_[0], ez - w.center_[2]);
-    if (!(w.radius_ > 1e-6f)) w.radius_ = std::max(diagonal, 1e-3f);
-    w.start_rad_ = float(std::atan2(ez - w.center_[2], ex - w.center_[0]));
-    parts.push_back("camera orbit ±15°");
+  if (spec.kind == WorkloadKind::kOrbit || mixed) parts.push_back(w.SetUpOrbit(scene, diagonal));
+  if (spec.kind == WorkloadKind::kLight || mixed) {
+    GS_ASSIGN_OR_RETURN(std::string part, w.SetUpLight(scene));
+    parts.push_back(std::move(part));
   }
-  if (light) {
-    if (scene.lights_size() > 0) {
-      w.light_ = scene.lights(0);
-      parts.push_back(
-          absl::StrCat("light ", w.light_->id(), " (", w.light_->name(), ") intensity",
-                       w.light_->type() == v1::LIGHT_TYPE_DIRECTIONAL ? "" : " and position"));
-    } else {
-      for (const v1::MaterialInfo& m : scene.materials()) {
-        if (IsEmissive(m)) {
-          w.emitter_ = m;
-          break;
-        }
-      }
-      if (!w.emitter_) {
-        return absl::FailedPreconditionError(
-            "workload light: the scene has no punctual light and no emissive material");
-      }
-      parts.push_back(absl::StrCat("emitter material ", w.emitter_->id(), " (", w.emitter_->name(),
-                                   ") strength"));
-    }
-  }
-  if (object) {
+  if (spec.kind == WorkloadKind::kObject || mixed) {
     GS_ASSIGN_OR_RETURN(v1::NodeInfo node, PickNode(scene, spec.node));
     w.node_ = std::move(node);
     parts.push_back(absl::StrCat("node ", w.node_->id(), " (", w.node_->name(), ") translation"));

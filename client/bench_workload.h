@@ -46,6 +46,13 @@ class Workload {
   const std::string& description() const { return description_; }
 
  private:
+  // Create's parts: a script's timeline, the scene's first animation, the
+  // camera orbit around the scene centre, the light (or emitter) that is
+  // dimmed; each returns what it adds to the description.
+  absl::Status SetUpScript(const std::filesystem::path& script, const v1::LoadSceneResponse& scene);
+  absl::Status SetUpAnimation(const v1::LoadSceneResponse& scene);
+  std::string SetUpOrbit(const v1::LoadSceneResponse& scene, float diagonal);
+  absl::StatusOr<std::string> SetUpLight(const v1::LoadSceneResponse& scene);
   v1::Update Orbit(uint64_t tick) const;
   v1::Update Light(uint64_t tick) const;
   v1::Update Object(uint64_t tick) const;
