@@ -197,18 +197,11 @@ bool ComputeAxes(const std::vector<PlotSeries>& series, const PlotStyle& style, 
   return axes.right > axes.left && axes.bottom > axes.top;
 }
 
-Raster PlotLogLog(const std::vector<PlotSeries>& series, int width, int height) {
-  return PlotLines(series, PlotStyle{}, width, height);
-}
+namespace {
 
-Raster PlotLines(const std::vector<PlotSeries>& series, const PlotStyle& style, int width,
-                 int height) {
-  Raster r;
-  r.width = width;
-  r.height = height;
-  r.rgba.assign(size_t(width) * size_t(height) * 4, 255);
-  LogAxes axes;
-  if (!ComputeAxes(series, style, width, height, axes)) return r;
+// Grid and labels: 10^k on a log axis, the value on a linear one; a log
+// axis of at most two decades also gets 2 and 5 times each decade.
+void DrawGrid(Raster& r, const LogAxes& axes) {
   const std::array<uint8_t, 3> grid{225, 225, 225}, black{0, 0, 0};
   // Grid and labels: 10^k on a log axis, the value on a linear one.
   for (double k = axes.x0; k <= axes.x1 + axes.x_step * 1e-9; k += axes.x_step) {
@@ -257,11 +250,12 @@ Raster PlotLines(const std::vector<PlotSeries>& series, const PlotStyle& style, 
       Text(r, axes.left - 6 - int(label.size()) * kGlyphAdvance, y - 5, label, black);
     }
   }
-  Text(r, axes.right - int(style.x_title.size() + 1) * kGlyphAdvance, axes.bottom + 24,
-       style.x_title, black);
-  Text(r, 4, 4, style.y_title, black);
-  Line(r, axes.left, axes.bottom, axes.right, axes.bottom, black, 1);
-  Line(r, axes.left, axes.top, axes.left, axes.bottom, black, 1);
+}
+
+// Each series' polyline (points a log axis cannot show left out), with
+// markers when asked.
+void DrawSeries(Raster& r, const LogAxes& axes, const std::vector<PlotSeries>& series,
+                bool markers) {
   for (size_t i = 0; i < series.size(); ++i) {
     const auto color = SeriesColor(i);
     std::vector<std::pair<double, double>> pts;
@@ -273,10 +267,34 @@ Raster PlotLines(const std::vector<PlotSeries>& series, const PlotStyle& style, 
       Line(r, axes.X(pts[k].first), axes.Y(pts[k].second), axes.X(pts[k + 1].first),
            axes.Y(pts[k + 1].second), color, 2);
     }
-    if (style.markers) {
+    if (markers) {
       for (const auto& p : pts) Box(r, axes.X(p.first), axes.Y(p.second), 3, color);
     }
   }
+}
+
+}  // namespace
+
+Raster PlotLogLog(const std::vector<PlotSeries>& series, int width, int height) {
+  return PlotLines(series, PlotStyle{}, width, height);
+}
+
+Raster PlotLines(const std::vector<PlotSeries>& series, const PlotStyle& style, int width,
+                 int height) {
+  Raster r;
+  r.width = width;
+  r.height = height;
+  r.rgba.assign(size_t(width) * size_t(height) * 4, 255);
+  LogAxes axes;
+  if (!ComputeAxes(series, style, width, height, axes)) return r;
+  const std::array<uint8_t, 3> black{0, 0, 0};
+  DrawGrid(r, axes);
+  Text(r, axes.right - int(style.x_title.size() + 1) * kGlyphAdvance, axes.bottom + 24,
+       style.x_title, black);
+  Text(r, 4, 4, style.y_title, black);
+  Line(r, axes.left, axes.bottom, axes.right, axes.bottom, black, 1);
+  Line(r, axes.left, axes.top, axes.left, axes.bottom, black, 1);
+  DrawSeries(r, axes, series, style.markers);
   // Legend under the plot: a swatch and the name per series.
   for (size_t i = 0; i < series.size(); ++i) {
     const int y = LegendRowY(axes, i);
