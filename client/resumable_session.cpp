@@ -200,72 +200,21 @@ bool ResumableSession::Next(v1::SessionEvent* event) {
     }
     if (stream->Next(event)) {
       if (event->has_draining()) {
-        bool move = false;
-        {
-          std::lock_guard lock(mutex_);
-          move = resume_.give_up_after_s > 0.0 && !writes_closed_ && !cancelled_;
-        }
-        Log(LogLevel::kInfo, absl::StrCat("the server drains (", event->draining().reason(), "; ",
-                                          event->draining().deadline_ms(), " ms left)",
-                                          move ? ": moving the session" : ""));
-        if (move) {
-          // Make before break: the move runs beside this reader, which
-          // goes on with the old server's frames until the swap.
-          std::lock_guard lock(mutex_);
-          if (!moving_) {
-            moving_ = true;
-            move_result_ = absl::OkStatus();
-            if (mover_.joinable()) mover_.join();  // an earlier one, finished
-            mover_ = std::thread([this] {
-              const absl::Status moved = MoveTo("draining", /*make_before_break=*/true);
-              std::lock_guard done(mutex_);
-              move_result_ = moved;
-              moving_ = false;
-              move_cv_.notify_all();
-            });
-          }
-        }
+        OnDraining(event->draining());
         continue;
       }
       if (event->has_frame()) {
-        {
-          // After a move, frames rendered before the replayed updates were
-          // applied show the scene as loaded: not shown.
-          // A frame the old call still delivered after a drain's move
-          // swapped it out is older than the new server's first: dropped.
-          std::lock_guard lock(mutex_);
-          if (stream != stream_) continue;
-          frames_received_ += 1;  // shown or not, it answered a request
-          if (event->frame().last_update_seq() < hide_below_seq_) continue;
-          hide_below_seq_ = 0;
-        }
+        if (!DeliverFrame(*event, stream)) continue;
         OnFrame(event->frame(), stream.get());
       }
       return true;
     }
     const absl::Status status = stream->Finish();
-    bool replaced = false, resume = false;
-    {
-      std::unique_lock lock(mutex_);
-      // A drain's move under way: its outcome decides.
-      move_cv_.wait(lock, [this] { return !moving_; });
-      if (stream == stream_ && !move_result_.ok() && !writes_closed_ && !cancelled_) {
-        final_status_ = move_result_;
-        ended_ = true;
-        return false;
-      }
-      replaced = stream != stream_;
-      resume = !replaced && resume_.give_up_after_s > 0.0 && !writes_closed_ && !cancelled_ &&
-               !stream->cancelled_by_client() && ResumableStatus(status);
-      if (!replaced && !resume) {
-        final_status_ = status;
-        ended_ = true;
-        last_cancelled_by_client_ = stream->cancelled_by_client();
-        last_grace_expired_ = stream->grace_expired();
-        return false;
-      }
+    switch (OnCallEnded(stream, status)) {
+      case CallEnd::kEnded: return false;
+      case CallEnd::kReplaced: continue;  // the call a move left
+      case CallEnd::kResume: break;
     }
-    if (replaced) continue;  // the call a move left
     Log(LogLevel::kWarning,
         absl::StrCat("the session's call ended (", DescribeStatus(status), "): moving it"));
     const absl::Status moved = MoveTo(DescribeStatus(status), /*make_before_break=*/false);
@@ -278,18 +227,140 @@ bool ResumableSession::Next(v1::SessionEvent* event) {
   }
 }
 
-absl::Status ResumableSession::MoveTo(const std::string& reason, bool make_before_break) {
-  const Clock::time_point start = Clock::now();
+void ResumableSession::OnDraining(const v1::Draining& draining) {
+  bool move = false;
   {
     std::lock_guard lock(mutex_);
-    Move move;
-    move.reason = reason;
-    move.at_s = std::chrono::duration<double>(start - opened_at_).count();
-    move.acked_seq = acked_seq_;
-    moves_.push_back(move);
-    move_started_ = start;
-    moved_from_ = stream_.get();
+    move = resume_.give_up_after_s > 0.0 && !writes_closed_ && !cancelled_;
   }
+  Log(LogLevel::kInfo,
+      absl::StrCat("the server drains (", draining.reason(), "; ", draining.deadline_ms(),
+                   " ms left)", move ? ": moving the session" : ""));
+  if (!move) return;
+  // Make before break: the move runs beside this reader, which goes on
+  // with the old server's frames until the swap.
+  std::lock_guard lock(mutex_);
+  if (moving_) return;
+  moving_ = true;
+  move_result_ = absl::OkStatus();
+  if (mover_.joinable()) mover_.join();  // an earlier one, finished
+  mover_ = std::thread([this] {
+    const absl::Status moved = MoveTo("draining", /*make_before_break=*/true);
+    std::lock_guard done(mutex_);
+    move_result_ = moved;
+    moving_ = false;
+    move_cv_.notify_all();
+  });
+}
+
+bool ResumableSession::DeliverFrame(const v1::SessionEvent& event,
+                                    const std::shared_ptr<SessionStream>& stream) {
+  // After a move, frames rendered before the replayed updates were
+  // applied show the scene as loaded: not shown. A frame the old call
+  // still delivered after a drain's move swapped it out is older than the
+  // new server's first: dropped.
+  std::lock_guard lock(mutex_);
+  if (stream != stream_) return false;
+  frames_received_ += 1;  // shown or not, it answered a request
+  if (event.frame().last_update_seq() < hide_below_seq_) return false;
+  hide_below_seq_ = 0;
+  return true;
+}
+
+ResumableSession::CallEnd ResumableSession::OnCallEnded(
+    const std::shared_ptr<SessionStream>& stream, const absl::Status& status) {
+  std::unique_lock lock(mutex_);
+  // A drain's move under way: its outcome decides.
+  move_cv_.wait(lock, [this] { return !moving_; });
+  if (stream == stream_ && !move_result_.ok() && !writes_closed_ && !cancelled_) {
+    final_status_ = move_result_;
+    ended_ = true;
+    return CallEnd::kEnded;
+  }
+  if (stream != stream_) return CallEnd::kReplaced;
+  if (resume_.give_up_after_s > 0.0 && !writes_closed_ && !cancelled_ &&
+      !stream->cancelled_by_client() && ResumableStatus(status)) {
+    return CallEnd::kResume;
+  }
+  final_status_ = status;
+  ended_ = true;
+  last_cancelled_by_client_ = stream->cancelled_by_client();
+  last_grace_expired_ = stream->grace_expired();
+  return CallEnd::kEnded;
+}
+
+void ResumableSession::BeginMove(const std::string& reason, Clock::time_point start) {
+  std::lock_guard lock(mutex_);
+  Move move;
+  move.reason = reason;
+  move.at_s = std::chrono::duration<double>(start - opened_at_).count();
+  move.acked_seq = acked_seq_;
+  moves_.push_back(move);
+  move_started_ = start;
+  moved_from_ = stream_.get();
+}
+
+size_t ResumableSession::ReplayLog(SessionStream& stream, uint64_t* replayed_seq,
+                                   uint64_t* replayed_upto) {
+  std::lock_guard lock(mutex_);
+  size_t replayed = 0;
+  for (const Logged& logged : log_) {
+    if (!stream.SendUpdate(logged.update)) break;
+    ++replayed;
+    *replayed_seq = std::max(*replayed_seq, logged.update.seq());
+  }
+  *replayed_upto = logged_;
+  return replayed;
+}
+
+bool ResumableSession::AwaitReplayedFrame(SessionStream& stream, uint64_t replayed_seq,
+                                          std::deque<v1::SessionEvent>& first_events) {
+  // Paced on request, the new server renders one when asked
+  // (RequestOwedFrames).
+  if (on_request_) stream.RequestFrame(1);
+  v1::SessionEvent event;
+  while (stream.Next(&event)) {
+    const bool framed = event.has_frame() && event.frame().last_update_seq() >= replayed_seq;
+    if (!event.has_frame() || framed) first_events.push_back(event);
+    if (framed) return true;
+  }
+  return false;
+}
+
+std::shared_ptr<SessionStream> ResumableSession::SwapIn(std::unique_ptr<SessionStream> stream,
+                                                        std::shared_ptr<MoveTarget> target,
+                                                        std::deque<v1::SessionEvent> first_events,
+                                                        uint64_t replayed_upto,
+                                                        uint64_t replayed_seq,
+                                                        bool make_before_break) {
+  std::lock_guard lock(mutex_);
+  // What was sent on the old call meanwhile (logged after the replay). The
+  // new call's first frame predates it: not shown (the old call may have
+  // shown those updates already; the picture must not go back), and
+  // frames are shown from the one that has them.
+  uint64_t newest_seq = replayed_seq;
+  for (const Logged& logged : log_) {
+    if (logged.number <= replayed_upto) continue;
+    stream->SendUpdate(logged.update);
+    newest_seq = std::max(newest_seq, logged.update.seq());
+  }
+  const bool first_frame_current = newest_seq == replayed_seq;
+  if (!first_frame_current) {
+    std::erase_if(first_events, [](const v1::SessionEvent& e) { return e.has_frame(); });
+  }
+  RequestOwedFrames(*stream, make_before_break && first_frame_current, first_events);
+  std::shared_ptr<SessionStream> old =
+      std::exchange(stream_, std::shared_ptr<SessionStream>(std::move(stream)));
+  targets_.push_back(std::move(target));
+  pending_events_ = std::move(first_events);
+  hide_below_seq_ = newest_seq;
+  if (writes_closed_) stream_->CloseWrites();
+  return old;
+}
+
+absl::Status ResumableSession::MoveTo(const std::string& reason, bool make_before_break) {
+  const Clock::time_point start = Clock::now();
+  BeginMove(reason, start);
   const auto give_up = start + std::chrono::duration_cast<Clock::duration>(
                                    std::chrono::duration<double>(resume_.give_up_after_s));
   auto backoff = std::chrono::milliseconds(100);
@@ -321,59 +392,20 @@ absl::Status ResumableSession::MoveTo(const std::string& reason, bool make_befor
     std::deque<v1::SessionEvent> first_events;
     uint64_t replayed_upto = 0, replayed_seq = 0;
     size_t replayed = 0;
-    if (stream.ok()) {
-      std::lock_guard lock(mutex_);
-      for (const Logged& logged : log_) {
-        if (!(*stream)->SendUpdate(logged.update)) break;
-        ++replayed;
-        replayed_seq = std::max(replayed_seq, logged.update.seq());
-      }
-      replayed_upto = logged_;
-    }
-    if (stream.ok() && make_before_break) {
-      // The old server still streams: switch once the new one has a frame
-      // that shows the replayed updates (earlier ones would show the scene
-      // as loaded: the block jumping back for a frame). Paced on request,
-      // the new server renders one when asked (RequestOwedFrames).
-      if (on_request_) (*stream)->RequestFrame(1);
-      v1::SessionEvent event;
-      bool framed = false;
-      while (!framed && (*stream)->Next(&event)) {
-        framed = event.has_frame() && event.frame().last_update_seq() >= replayed_seq;
-        if (!event.has_frame() || framed) first_events.push_back(event);
-      }
-      if (!framed) {
-        const absl::Status ended = (*stream)->Finish();
-        stream =
-            ended.ok() ? absl::UnavailableError("the new session ended before a frame") : ended;
-        failed_target = target.ok() ? *target : nullptr;
-      }
+    if (stream.ok()) replayed = ReplayLog(**stream, &replayed_seq, &replayed_upto);
+    // A drain: the old server still streams; switch once the new one has a
+    // frame that shows the replayed updates (earlier ones would show the
+    // scene as loaded: the block jumping back for a frame).
+    if (stream.ok() && make_before_break &&
+        !AwaitReplayedFrame(**stream, replayed_seq, first_events)) {
+      const absl::Status ended = (*stream)->Finish();
+      stream = ended.ok() ? absl::UnavailableError("the new session ended before a frame") : ended;
+      failed_target = target.ok() ? *target : nullptr;
     }
     if (stream.ok()) {
-      std::shared_ptr<SessionStream> old;
-      {
-        std::lock_guard lock(mutex_);
-        // What was sent on the old call meanwhile (logged after the replay).
-        // The new call's first frame predates it: not shown (the old call
-        // may have shown those updates already; the picture must not go
-        // back), and frames are shown from the one that has them.
-        uint64_t newest_seq = replayed_seq;
-        for (const Logged& logged : log_) {
-          if (logged.number <= replayed_upto) continue;
-          (*stream)->SendUpdate(logged.update);
-          newest_seq = std::max(newest_seq, logged.update.seq());
-        }
-        const bool first_frame_current = newest_seq == replayed_seq;
-        if (!first_frame_current) {
-          std::erase_if(first_events, [](const v1::SessionEvent& e) { return e.has_frame(); });
-        }
-        RequestOwedFrames(**stream, make_before_break && first_frame_current, first_events);
-        old = std::exchange(stream_, std::shared_ptr<SessionStream>(*std::move(stream)));
-        targets_.push_back(*std::move(target));
-        pending_events_ = std::move(first_events);
-        hide_below_seq_ = newest_seq;
-        if (writes_closed_) stream_->CloseWrites();
-      }
+      std::shared_ptr<SessionStream> old =
+          SwapIn(*std::move(stream), *std::move(target), std::move(first_events), replayed_upto,
+                 replayed_seq, make_before_break);
       Log(LogLevel::kInfo,
           absl::StrCat("session moved (", reason, ") after ", attempt, " attempt(s), ",
                        MsSince(start), " ms: replayed ", replayed, " update(s)"));

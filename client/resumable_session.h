@@ -149,6 +149,33 @@ class ResumableSession {
   // With `make_before_break` (a drain) the swap waits for the new call's
   // first frame, which the reader then delivers first.
   absl::Status MoveTo(const std::string& reason, bool make_before_break);
+  // MoveTo's steps. The move's record (moves_) and its start.
+  void BeginMove(const std::string& reason, Clock::time_point start);
+  // Sends the update log on `stream`; *replayed_seq the newest seq sent,
+  // *replayed_upto the log's number at the replay; the count sent.
+  size_t ReplayLog(SessionStream& stream, uint64_t* replayed_seq, uint64_t* replayed_upto);
+  // A drain's move: reads `stream` until a frame shows every replayed
+  // update, keeping it and the events before it in `first_events`; false
+  // when the call ended first.
+  bool AwaitReplayedFrame(SessionStream& stream, uint64_t replayed_seq,
+                          std::deque<v1::SessionEvent>& first_events);
+  // Swaps `stream` in (sending what was logged after the replay) and
+  // returns the old call.
+  std::shared_ptr<SessionStream> SwapIn(std::unique_ptr<SessionStream> stream,
+                                        std::shared_ptr<MoveTarget> target,
+                                        std::deque<v1::SessionEvent> first_events,
+                                        uint64_t replayed_upto, uint64_t replayed_seq,
+                                        bool make_before_break);
+  // Next's steps. A draining notice: starts a drain's move on mover_ when
+  // the session may move.
+  void OnDraining(const v1::Draining& draining);
+  // Whether a frame read from `stream` is delivered (not one of a call a
+  // move swapped out, nor one from before the replayed updates).
+  bool DeliverFrame(const v1::SessionEvent& event, const std::shared_ptr<SessionStream>& stream);
+  // After `stream` ended with `status`: kEnded (final_status_ set),
+  // kReplaced (a move swapped it) or kResume (move it now).
+  enum class CallEnd { kEnded, kReplaced, kResume };
+  CallEnd OnCallEnded(const std::shared_ptr<SessionStream>& stream, const absl::Status& status);
   void OnFrame(const v1::Frame& frame, const SessionStream* from);
   // On-request pacing: at a move's swap (under the lock), asks `stream` for
   // the frames the old call owes. `handshake`: `first_events` holds the
