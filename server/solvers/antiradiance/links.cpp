@@ -197,47 +197,81 @@ class Linker {
     }
     if (p_.is_leaf(recv) && glm::dot(p_.normal[size_t(recv)], d) <= 0.0f) return;
     if (r <= 0.0f) return;
-    const glm::vec3 w = d / r;  // from receiver towards sender
+    AddLink(recv, send, d / r, r, ts);
+  }
+
+  uint64_t pairs_ = 0, spread_ = 0, exact_ = 0;
+  bool stopped_ = false;
+
+ private:
+  // The cosines a link between flat ends carries (AddLink).
+  struct LinkEnds {
+    bool flat_send = false, flat_recv = false;
+    float sender_cos = 0.0f, sender_bin_cos = 0.0f;  // flat senders: |cosines|
+    float receiver_cos = 1.0f, gathered = 1.0f;
+  };
+
+  // The link from `send` to `recv`, which see each other within a bin's
+  // solid angle: w the unit direction from receiver to sender, r their
+  // distance, ts the sender's half-angle.
+  void AddLink(int recv, int send, const glm::vec3& w, float r, float ts) {
     Link l;
     l.sender = uint32_t(send);
     l.receiver = uint32_t(recv);
     l.sender_bin = uint16_t(bins_.Find(-w));
     l.receiver_bin = uint16_t(bins_.Find(w));
     l.cone = uint16_t(bins_.ConeLevel(ts));
-    // The bins' main directions stand for the true ones: their cosines
-    // differ, and near a node's horizon the nearest bin can lie on the
-    // other side (a sender's radiance read from its antiradiance bins, a
-    // receiver's light put where it never gathers). For a node whose
-    // leaves share one normal (`flat`), the link takes the nearest bin on
-    // the true side and is scaled by true / bin cosine on both ends, so it
-    // carries the cosines of Eq. 17 exactly.
-    float sender_cos = 0.0f, sender_bin_cos = 0.0f;  // flat senders: |cosines|
-    const bool flat_send = geometry_.flat[size_t(send)] != 0;
-    if (flat_send) {
-      const glm::vec3& n = p_.normal[size_t(send)];
-      const float c = glm::dot(n, -w);
-      if (c == 0.0f) return;  // in the sender's plane: nothing leaves that way
-      l.sender_bin = uint16_t(BinOnSide(-w, n, c > 0.0f, l.sender_bin));
-      sender_cos = std::abs(c);
-      sender_bin_cos = std::abs(glm::dot(n, bins_.direction(l.sender_bin)));
-      if (!(sender_bin_cos > 1e-6f)) return;
-    }
-    // What the receiver's leaves gather of a unit L_in spread from
-    // receiver_bin: sum of tap weight x cosine over the front taps.
-    float receiver_cos = 1.0f, gathered = 1.0f;
-    const bool flat_recv = geometry_.flat[size_t(recv)] != 0;
-    if (flat_recv) {
-      const glm::vec3& n = p_.normal[size_t(recv)];
-      receiver_cos = glm::dot(n, w);
-      if (receiver_cos <= 0.0f) return;  // behind every leaf of it
-      if (l.cone == 0) l.receiver_bin = uint16_t(BinOnSide(w, n, true, l.receiver_bin));
-      gathered = 0.0f;
-      const auto [begin, end] = bins_.Row(l.cone, l.receiver_bin);
-      for (auto* t = begin; t != end; ++t)
-        gathered += t->weight * std::max(0.0f, glm::dot(n, bins_.direction(t->bin)));
-      if (!(gathered > 1e-6f)) return;
-    }
+    LinkEnds ends;
+    if (!OrientSender(send, w, l, ends) || !OrientReceiver(recv, w, l, ends)) return;
     if (l.cone > 0) ++spread_;
+    bool exact = false;
+    const double k = LinkFormFactor(recv, send, w, r, ends, &exact);
+    if (!(k > 0.0) || !std::isfinite(k)) return;
+    l.form_factor = float(k);
+    if (exact) ++exact_;
+    out_.push_back(l);
+  }
+
+  // The bins' main directions stand for the true ones: their cosines
+  // differ, and near a node's horizon the nearest bin can lie on the other
+  // side (a sender's radiance read from its antiradiance bins, a
+  // receiver's light put where it never gathers). For a node whose leaves
+  // share one normal (`flat`), the link takes the nearest bin on the true
+  // side and is scaled by true / bin cosine on both ends, so it carries
+  // the cosines of Eq. 17 exactly. False: no link.
+  bool OrientSender(int send, const glm::vec3& w, Link& l, LinkEnds& ends) const {
+    ends.flat_send = geometry_.flat[size_t(send)] != 0;
+    if (!ends.flat_send) return true;
+    const glm::vec3& n = p_.normal[size_t(send)];
+    const float c = glm::dot(n, -w);
+    if (c == 0.0f) return false;  // in the sender's plane: nothing leaves that way
+    l.sender_bin = uint16_t(BinOnSide(-w, n, c > 0.0f, l.sender_bin));
+    ends.sender_cos = std::abs(c);
+    ends.sender_bin_cos = std::abs(glm::dot(n, bins_.direction(l.sender_bin)));
+    return ends.sender_bin_cos > 1e-6f;
+  }
+
+  // What the receiver's leaves gather of a unit L_in spread from
+  // receiver_bin: sum of tap weight x cosine over the front taps.
+  bool OrientReceiver(int recv, const glm::vec3& w, Link& l, LinkEnds& ends) const {
+    ends.flat_recv = geometry_.flat[size_t(recv)] != 0;
+    if (!ends.flat_recv) return true;
+    const glm::vec3& n = p_.normal[size_t(recv)];
+    ends.receiver_cos = glm::dot(n, w);
+    if (ends.receiver_cos <= 0.0f) return false;  // behind every leaf of it
+    if (l.cone == 0) l.receiver_bin = uint16_t(BinOnSide(w, n, true, l.receiver_bin));
+    ends.gathered = 0.0f;
+    const auto [begin, end] = bins_.Row(l.cone, l.receiver_bin);
+    for (auto* t = begin; t != end; ++t)
+      ends.gathered += t->weight * std::max(0.0f, glm::dot(n, bins_.direction(t->bin)));
+    return ends.gathered > 1e-6f;
+  }
+
+  // The link's transfer factor; *exact when it is a near pair's exact
+  // form factor.
+  double LinkFormFactor(int recv, int send, const glm::vec3& w, float r, const LinkEnds& ends,
+                        bool* exact) const {
+    const float rs = p_.radius[size_t(send)], rr = p_.radius[size_t(recv)];
     const std::span<const CellQuad> cell = p_.Cell(send);
     if (p_.is_leaf(recv) && p_.is_leaf(send) && !cell.empty() && r < kNearLink * (rs + rr)) {
       // Near leaves: the exact form factor F_pt of the sender's cell, so the
@@ -247,33 +281,31 @@ class Linker {
       const glm::vec3& nr = p_.normal[size_t(recv)];
       const double f = PointToQuadsFormFactor(cell, p_.position[size_t(recv)], nr);
       const bool radiance = glm::dot(p_.normal[size_t(send)], -w) > 0.0f;
-      double k = f * geometry_.cosine_sum[size_t(recv)] /
-                 (double(bins_.omega_bin()) * gathered * p_.area[size_t(send)] * sender_bin_cos);
+      double k =
+          f * geometry_.cosine_sum[size_t(recv)] /
+          (double(bins_.omega_bin()) * ends.gathered * p_.area[size_t(send)] * ends.sender_bin_cos);
       if (radiance) k *= geometry_.cosine_sum[size_t(send)] / kPi;
-      if (!(k > 0.0) || !std::isfinite(k)) return;
-      l.form_factor = float(k);
-      ++exact_;
-      out_.push_back(l);
-      return;
+      *exact = true;
+      return k;
     }
     double k;
     if (r > kSigmaLink * (rs + rr)) {
       // Eq. 17's kernel <n_k|-w> <n_i|w> / r^2 averaged over both nodes'
       // sigma points (the true cosines on a flat end; a curved end's bins
       // carry its cosines), exact to second order in the nodes' extent.
-      k = SigmaKernel(send, recv, flat_send, flat_recv) / double(bins_.omega_bin());
-      if (flat_send) k /= sender_bin_cos;
-      if (flat_recv) k /= gathered;
+      k = SigmaKernel(send, recv, ends.flat_send, ends.flat_recv) / double(bins_.omega_bin());
+      if (ends.flat_send) k /= ends.sender_bin_cos;
+      if (ends.flat_recv) k /= ends.gathered;
     } else {
       // Eq. 17, with the sender as a disc of its area: r^2 + a_k / pi keeps
       // the exchange finite (point-to-disc form factor) where leaves almost
       // touch.
       k = 1.0 / ((double(r) * r + p_.area[size_t(send)] / kPi) * bins_.omega_bin());
-      if (flat_send) k *= sender_cos / sender_bin_cos;
+      if (ends.flat_send) k *= ends.sender_cos / ends.sender_bin_cos;
       // A flat receiver gathers `gathered` where the true cosine is due; the
       // spread part behind it is lost (scaling by the front share, as before
       // for leaves, is the special case of equal cosines).
-      if (flat_recv) k *= receiver_cos / gathered;
+      if (ends.flat_recv) k *= ends.receiver_cos / ends.gathered;
     }
     // Not scaled by S_r S_s / pi^2 (the bins' cosine integrals, as the near
     // links are): that makes a uniform field gather exactly pi (1.00002 per
@@ -281,15 +313,9 @@ class Linker {
     // the hierarchy's per-leaf errors (a cluster's light pushed to its
     // leaves unchanged, -8 ... +10 %) have a non-uniform mode that gathers
     // more than the uniform one (docs/ARCHITECTURE.md, antiradiance's Energy).
-    if (!(k > 0.0) || !std::isfinite(k)) return;
-    l.form_factor = float(k);
-    out_.push_back(l);
+    return k;
   }
 
-  uint64_t pairs_ = 0, spread_ = 0, exact_ = 0;
-  bool stopped_ = false;
-
- private:
   // Find(d), or when that bin is not on the wanted side of normal n (or
   // in its plane), the nearest bin that is.
   int BinOnSide(const glm::vec3& d, const glm::vec3& n, bool front, int found) const {
