@@ -130,10 +130,12 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     registered_ = false;
   }
 
+  using Response = http::response<http::string_body>;
+
   void OnRequest() {
     stream_.expires_never();
     std::string target(request_.target());
-    auto response = std::make_shared<http::response<http::string_body>>();
+    auto response = std::make_shared<Response>();
     response->version(request_.version());
     response->keep_alive(false);
     response->set(http::field::server, "gistream-web");
@@ -152,69 +154,13 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       return;
     }
     if (beast::websocket::is_upgrade(request_) && target.rfind("/ws", 0) == 0) {
-      const std::string origin(request_[http::field::origin]);
-      if (LiveViewers() >= options_.max_viewers) {
-        Metrics().UpgradeRefused(GatewayMetrics::Refusal::kViewers);
-        response->result(http::status::service_unavailable);
-        response->set(http::field::retry_after, "5");
-        response->body() = "too many viewers (gistream-web --max-viewers " +
-                           std::to_string(options_.max_viewers) + "); try again later\n";
-        Send(response);
-        return;
-      }
-      if (OriginAllowed(origin, std::string(request_[http::field::host]),
-                        options_.allowed_origins)) {
-        std::string who;
-        if (options_.viewer_tokens) {
-          const std::optional<std::string> token = ViewerToken(request_);
-          const std::optional<TenantId> tenant =
-              token ? options_.viewer_tokens->TenantOf(*token) : std::nullopt;
-          if (!tenant) {
-            // Logged without the token, at most once a second.
-            Metrics().UpgradeRefused(GatewayMetrics::Refusal::kToken);
-            LogRefusal("refused a WebSocket " +
-                       std::string(token ? "with an unknown" : "without a") +
-                       " viewer token from " + Peer() + " (--viewer-tokens)");
-            response->result(http::status::unauthorized);
-            response->set(http::field::www_authenticate, "Bearer realm=\"gistream-web\"");
-            response->body() =
-                "a viewer token is required (open the page as /#token=TOKEN; gistream-web "
-                "--viewer-tokens)\n";
-            Send(response);
-            return;
-          }
-          who = *tenant;
-        }
-        Metrics().RequestAnswered("/ws", 101);
-        StartViewer(stream_.release_socket(), std::move(request_), options_, std::move(who));
-        return;
-      }
-      Metrics().UpgradeRefused(GatewayMetrics::Refusal::kOrigin);
-      // A page on another site must not drive sessions under this
-      // gateway's token (cross-site WebSocket hijacking).
-      Log(LogLevel::kWarning, "refused a WebSocket from origin '" + origin + "' (--allow-origin)");
-      response->result(http::status::forbidden);
-      response->body() = "origin not allowed: " + origin + " (gistream-web --allow-origin)\n";
-      Send(response);
+      OnUpgrade(response);
       return;
     }
-    const std::string& path = path_;
-    if (path == "/healthz") {
-      // Whether browsers can be served now: the gateway answers, and so
-      // does its gistreamd (a restarted, draining or unreachable backend
-      // is 503, naming why).
-      const BackendHealth::State backend =
-          options_.backend ? options_.backend->state() : BackendHealth::State{true, "unchecked"};
-      if (backend.serving) {
-        response->result(http::status::ok);
-        response->body() = "ok\n";
-      } else {
-        response->result(http::status::service_unavailable);
-        response->body() =
-            "backend " + options_.backend->address() + " not serving: " + backend.detail + "\n";
-      }
+    if (path_ == "/healthz") {
+      Health(*response);
     } else {
-      const std::string name = path == "/" ? "index.html" : path.substr(1);
+      const std::string name = path_ == "/" ? "index.html" : path_.substr(1);
       for (const EmbeddedFile* f = kEmbeddedFiles; f->path != nullptr; ++f) {
         if (name == f->path) {
           response->result(http::status::ok);
@@ -224,6 +170,71 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       }
     }
     Send(response);
+  }
+
+  // A WebSocket upgrade on /ws: refused when the viewers are at their
+  // limit, the page's origin is not allowed or a viewer token is missing
+  // or unknown; else the socket becomes a viewer.
+  void OnUpgrade(const std::shared_ptr<Response>& response) {
+    const std::string origin(request_[http::field::origin]);
+    if (LiveViewers() >= options_.max_viewers) {
+      Metrics().UpgradeRefused(GatewayMetrics::Refusal::kViewers);
+      response->result(http::status::service_unavailable);
+      response->set(http::field::retry_after, "5");
+      response->body() = "too many viewers (gistream-web --max-viewers " +
+                         std::to_string(options_.max_viewers) + "); try again later\n";
+      Send(response);
+      return;
+    }
+    if (!OriginAllowed(origin, std::string(request_[http::field::host]),
+                       options_.allowed_origins)) {
+      Metrics().UpgradeRefused(GatewayMetrics::Refusal::kOrigin);
+      // A page on another site must not drive sessions under this
+      // gateway's token (cross-site WebSocket hijacking).
+      Log(LogLevel::kWarning, "refused a WebSocket from origin '" + origin + "' (--allow-origin)");
+      response->result(http::status::forbidden);
+      response->body() = "origin not allowed: " + origin + " (gistream-web --allow-origin)\n";
+      Send(response);
+      return;
+    }
+    std::string who;
+    if (options_.viewer_tokens) {
+      const std::optional<std::string> token = ViewerToken(request_);
+      const std::optional<TenantId> tenant =
+          token ? options_.viewer_tokens->TenantOf(*token) : std::nullopt;
+      if (!tenant) {
+        // Logged without the token, at most once a second.
+        Metrics().UpgradeRefused(GatewayMetrics::Refusal::kToken);
+        LogRefusal("refused a WebSocket " + std::string(token ? "with an unknown" : "without a") +
+                   " viewer token from " + Peer() + " (--viewer-tokens)");
+        response->result(http::status::unauthorized);
+        response->set(http::field::www_authenticate, "Bearer realm=\"gistream-web\"");
+        response->body() =
+            "a viewer token is required (open the page as /#token=TOKEN; gistream-web "
+            "--viewer-tokens)\n";
+        Send(response);
+        return;
+      }
+      who = *tenant;
+    }
+    Metrics().RequestAnswered("/ws", 101);
+    StartViewer(stream_.release_socket(), std::move(request_), options_, std::move(who));
+  }
+
+  // /healthz: whether browsers can be served now: the gateway answers, and
+  // so does its gistreamd (a restarted, draining or unreachable backend is
+  // 503, naming why).
+  void Health(Response& response) const {
+    const BackendHealth::State backend =
+        options_.backend ? options_.backend->state() : BackendHealth::State{true, "unchecked"};
+    if (backend.serving) {
+      response.result(http::status::ok);
+      response.body() = "ok\n";
+    } else {
+      response.result(http::status::service_unavailable);
+      response.body() =
+          "backend " + options_.backend->address() + " not serving: " + backend.detail + "\n";
+    }
   }
 
   std::string Peer() {
