@@ -23,6 +23,7 @@
 #include <mutex>
 #include <sstream>
 #include <string>
+#include <type_traits>
 #include <string_view>
 #include <thread>
 
@@ -213,6 +214,20 @@ LogLevel ParseLogLevel(std::string_view flag, std::string_view value) {
 using Setter = std::function<void(std::string_view flag, std::string_view value)>;
 using Setters = std::map<std::string_view, Setter>;
 
+// A flag that sets `field` to an integer in [min, max].
+template <typename T>
+Setter Unsigned(T& field, std::type_identity_t<T> min, std::type_identity_t<T> max) {
+  return [&field, min, max](std::string_view flag, std::string_view v) {
+    field = ParseUnsigned<T>(flag, v, min, max);
+  };
+}
+// A flag that sets `field` to a number in [min, max].
+Setter Number(double& field, double min, double max) {
+  return [&field, min, max](std::string_view flag, std::string_view v) {
+    field = ParseDouble(flag, v, min, max);
+  };
+}
+
 // The process's own flags: addresses, TLS and tokens, the gRPC transport,
 // shutdown, logging, threads.
 void AddServerFlags(Flags& f, Setters& setters) {
@@ -241,17 +256,11 @@ void AddServerFlags(Flags& f, Setters& setters) {
        [&](auto flag, auto v) {
          f.max_transport_bytes = ParseUnsigned<uint64_t>(flag, v, 0, UINT64_MAX);
        }},
-      {"--max-message-bytes",
-       [&](auto flag, auto v) {
-         f.max_message_bytes = ParseUnsigned<uint64_t>(flag, v, 1024, INT_MAX);
-       }},
-      {"--shutdown-deadline-s",
-       [&](auto flag, auto v) { f.shutdown_deadline_s = ParseDouble(flag, v, 0.0, 3600.0); }},
-      {"--idle-timeout-s",
-       [&](auto flag, auto v) { f.idle_timeout_s = ParseDouble(flag, v, 0.0, 30.0 * 86400.0); }},
+      {"--max-message-bytes", Unsigned<uint64_t>(f.max_message_bytes, 1024, INT_MAX)},
+      {"--shutdown-deadline-s", Number(f.shutdown_deadline_s, 0.0, 3600.0)},
+      {"--idle-timeout-s", Number(f.idle_timeout_s, 0.0, 30.0 * 86400.0)},
       {"--log-level", [&](auto flag, auto v) { f.log_level = ParseLogLevel(flag, v); }},
-      {"--cpu-threads",
-       [&](auto flag, auto v) { f.cpu_threads = ParseUnsigned<unsigned>(flag, v, 1, 1024); }},
+      {"--cpu-threads", Unsigned<unsigned>(f.cpu_threads, 1, 1024)},
   });
 }
 
@@ -260,66 +269,30 @@ void AddServerFlags(Flags& f, Setters& setters) {
 void AddLimitFlags(Flags& f, Setters& setters) {
   setters.insert({
       {"--max-scene-bytes",
-       [&](auto flag, auto v) {
-         f.engine.import_limits.max_scene_bytes =
-             ParseUnsigned<uint64_t>(flag, v, 1024, uint64_t{2} << 30);
-       }},
+       Unsigned<uint64_t>(f.engine.import_limits.max_scene_bytes, 1024, uint64_t{2} << 30)},
       {"--max-triangles",
-       [&](auto flag, auto v) {
-         f.engine.import_limits.max_triangles =
-             ParseUnsigned<uint64_t>(flag, v, 1, uint64_t{1} << 32);
-       }},
+       Unsigned<uint64_t>(f.engine.import_limits.max_triangles, 1, uint64_t{1} << 32)},
       {"--max-draw-items",
-       [&](auto flag, auto v) {
-         f.engine.import_limits.max_draw_items =
-             ParseUnsigned<uint64_t>(flag, v, 1, uint64_t{1} << 32);
-       }},
+       Unsigned<uint64_t>(f.engine.import_limits.max_draw_items, 1, uint64_t{1} << 32)},
       {"--max-materials",
-       [&](auto flag, auto v) {
-         f.engine.import_limits.max_materials =
-             ParseUnsigned<uint32_t>(flag, v, 1, uint32_t{1} << 24);
-       }},
+       Unsigned<uint32_t>(f.engine.import_limits.max_materials, 1, uint32_t{1} << 24)},
       {"--max-image-pixels",
-       [&](auto flag, auto v) {
-         f.engine.import_limits.max_image_pixels =
-             ParseUnsigned<uint64_t>(flag, v, 1, uint64_t{1} << 32);
-       }},
+       Unsigned<uint64_t>(f.engine.import_limits.max_image_pixels, 1, uint64_t{1} << 32)},
       {"--max-load-seconds",
        [&](auto flag, auto v) {
          f.engine.max_load_time =
              std::chrono::milliseconds(int64_t(1000.0 * ParseDouble(flag, v, 0.0, 86400.0)));
        }},
       {"--max-memory-bytes",
-       [&](auto flag, auto v) {
-         f.engine.max_memory_bytes =
-             ParseUnsigned<uint64_t>(flag, v, uint64_t{1} << 20, UINT64_MAX);
-       }},
-      {"--max-scenes",
-       [&](auto flag, auto v) {
-         f.engine.max_scenes = ParseUnsigned<uint32_t>(flag, v, 1, 100'000);
-       }},
-      {"--max-sessions",
-       [&](auto flag, auto v) {
-         f.engine.max_sessions = ParseUnsigned<uint32_t>(flag, v, 1, 100'000);
-       }},
-      {"--max-render-busy",
-       [&](auto flag, auto v) { f.engine.max_render_busy = ParseDouble(flag, v, 0.0, 1.0); }},
-      {"--max-solvers-per-scene",
-       [&](auto flag, auto v) {
-         f.engine.max_solvers_per_scene = ParseUnsigned<uint32_t>(flag, v, 1, 1'000);
-       }},
-      {"--max-solve-seconds",
-       [&](auto flag, auto v) { f.engine.max_solve_seconds = ParseDouble(flag, v, 0.0, 1e9); }},
-      {"--solve-speed",
-       [&](auto flag, auto v) { f.engine.solve_speed = ParseDouble(flag, v, 1e-3, 1e6); }},
-      {"--max-width",
-       [&](auto flag, auto v) {
-         f.engine.max_width = ParseUnsigned<uint32_t>(flag, v, 1, 65'536);
-       }},
-      {"--max-height",
-       [&](auto flag, auto v) {
-         f.engine.max_height = ParseUnsigned<uint32_t>(flag, v, 1, 65'536);
-       }},
+       Unsigned<uint64_t>(f.engine.max_memory_bytes, uint64_t{1} << 20, UINT64_MAX)},
+      {"--max-scenes", Unsigned<uint32_t>(f.engine.max_scenes, 1, 100'000)},
+      {"--max-sessions", Unsigned<uint32_t>(f.engine.max_sessions, 1, 100'000)},
+      {"--max-render-busy", Number(f.engine.max_render_busy, 0.0, 1.0)},
+      {"--max-solvers-per-scene", Unsigned<uint32_t>(f.engine.max_solvers_per_scene, 1, 1'000)},
+      {"--max-solve-seconds", Number(f.engine.max_solve_seconds, 0.0, 1e9)},
+      {"--solve-speed", Number(f.engine.solve_speed, 1e-3, 1e6)},
+      {"--max-width", Unsigned<uint32_t>(f.engine.max_width, 1, 65'536)},
+      {"--max-height", Unsigned<uint32_t>(f.engine.max_height, 1, 65'536)},
   });
 }
 
@@ -334,18 +307,11 @@ void AddEngineFlags(Flags& f, Setters& setters) {
        [&](auto flag, auto v) {
          f.engine.default_max_fps = static_cast<float>(ParseDouble(flag, v, 0.1, f.engine.max_fps));
        }},
-      {"--frame-budget-ms",
-       [&](auto flag, auto v) { f.engine.frame_budget_ms = ParseDouble(flag, v, 1.0, 10'000.0); }},
+      {"--frame-budget-ms", Number(f.engine.frame_budget_ms, 1.0, 10'000.0)},
       {"--refine-samples",
-       [&](auto flag, auto v) {
-         f.engine.refine_samples =
-             ParseUnsigned<uint32_t>(flag, v, 1, EngineOptions::kMaxRefineSamples);
-       }},
+       Unsigned<uint32_t>(f.engine.refine_samples, 1, EngineOptions::kMaxRefineSamples)},
       {"--refine-history",
-       [&](auto flag, auto v) {
-         f.engine.refine_history =
-             ParseUnsigned<uint32_t>(flag, v, 0, EngineOptions::kMaxRefineHistory);
-       }},
+       Unsigned<uint32_t>(f.engine.refine_history, 0, EngineOptions::kMaxRefineHistory)},
   });
 }
 
