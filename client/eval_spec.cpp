@@ -116,6 +116,14 @@ absl::Status ParseSettings(const json& doc, EvalSpec& spec) {
   return absl::OkStatus();
 }
 
+// The "name" string of the object at `path`.
+absl::StatusOr<std::string> NameAt(const json& s, const std::string& path, const char* expected) {
+  if (!s.is_object() || !s.contains("name") || !s["name"].is_string()) {
+    return Bad(path + ".name", expected);
+  }
+  return s["name"].get<std::string>();
+}
+
 // scenes[i].views[v] at `path`.
 absl::StatusOr<EvalView> ParseView(const json& jv, size_t v, const std::string& path) {
   EvalView view;
@@ -137,11 +145,8 @@ absl::StatusOr<EvalView> ParseView(const json& jv, size_t v, const std::string& 
 // scenes[i] at `path`: its name, its two changes and its views (one
 // default view when it lists none).
 absl::StatusOr<EvalScene> ParseScene(const json& s, const std::string& path) {
-  if (!s.is_object() || !s.contains("name") || !s["name"].is_string()) {
-    return Bad(path + ".name", "expected a scene name");
-  }
   EvalScene scene;
-  scene.name = s["name"].get<std::string>();
+  GS_ASSIGN_OR_RETURN(scene.name, NameAt(s, path, "expected a scene name"));
   if (!s.contains("geometry_change")) return Bad(path + ".geometry_change", "missing");
   if (!s.contains("light_change")) return Bad(path + ".light_change", "missing");
   GS_ASSIGN_OR_RETURN(scene.geometry_change,
@@ -160,11 +165,8 @@ absl::StatusOr<EvalScene> ParseScene(const json& s, const std::string& path) {
 
 // solvers[i] at `path`: its name and its parameter grid.
 absl::StatusOr<EvalSolver> ParseSolver(const json& s, const std::string& path) {
-  if (!s.is_object() || !s.contains("name") || !s["name"].is_string()) {
-    return Bad(path + ".name", "expected a solver name");
-  }
   EvalSolver solver;
-  solver.name = s["name"].get<std::string>();
+  GS_ASSIGN_OR_RETURN(solver.name, NameAt(s, path, "expected a solver name"));
   if (!s.contains("grid")) return solver;
   if (!s["grid"].is_object()) return Bad(path + ".grid", "expected {param: [values]}");
   for (const auto& [param, values] : s["grid"].items()) {

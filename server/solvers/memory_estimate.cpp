@@ -35,12 +35,18 @@ std::string MemoryEstimate::Describe(const std::string& solver, const ParamSet& 
   std::string out = absl::StrCat(solver, ":");
   const MemoryItem* item = largest();
   if (item == nullptr) return absl::StrCat(out, " ", FormatBytes(bytes()));
+  absl::StrAppend(&out, NamedParams(item->params, params), " (largest part: ", item->what, ", ",
+                  FormatBytes(item->bytes()), ")");
+  return out;
+}
+
+std::string NamedParams(const std::string& names, const ParamSet& params) {
+  std::string out;
   for (const std::string& name :
-       std::vector<std::string>(absl::StrSplit(item->params, ", ", absl::SkipEmpty()))) {
+       std::vector<std::string>(absl::StrSplit(names, ", ", absl::SkipEmpty()))) {
     auto it = params.values().find(name);
     absl::StrAppend(&out, " ", name, "=", it != params.values().end() ? it->second : "?");
   }
-  absl::StrAppend(&out, " (largest part: ", item->what, ", ", FormatBytes(item->bytes()), ")");
   return out;
 }
 

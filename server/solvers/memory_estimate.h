@@ -47,6 +47,9 @@ struct MemoryEstimate {
 };
 
 // Shared parts of the estimates.
+// " name=value" for each of the comma-separated `names` ("bins, iterations")
+// with its value in `params` ("?" when it has none): what a refusal names.
+std::string NamedParams(const std::string& names, const ParamSet& params);
 // Direct light's shadow maps (render/direct_lighting.h): one cube per
 // point/spot light and area sample, one map per directional light, at
 // `shadow_res_param`^2, depth 32 bits, twice while a sliced redraw runs;

@@ -2,11 +2,11 @@
 
 #include <absl/strings/str_cat.h>
 #include <absl/strings/str_format.h>
-#include <absl/strings/str_split.h>
 
 #include <algorithm>
 
 #include "render/area_lights.h"
+#include "solvers/memory_estimate.h"
 
 namespace gistream {
 
@@ -28,12 +28,8 @@ std::string WorkEstimate::Describe(const std::string& solver, const ParamSet& pa
   std::string out = absl::StrCat(solver, ":");
   const WorkItem* item = largest();
   if (item == nullptr) return absl::StrFormat("%s %.3g s", out, seconds());
-  for (const std::string& name :
-       std::vector<std::string>(absl::StrSplit(item->params, ", ", absl::SkipEmpty()))) {
-    auto it = params.values().find(name);
-    absl::StrAppend(&out, " ", name, "=", it != params.values().end() ? it->second : "?");
-  }
-  absl::StrAppend(&out, absl::StrFormat(" (largest part: %s, %.3g s)", item->what, item->seconds));
+  absl::StrAppend(&out, NamedParams(item->params, params),
+                  absl::StrFormat(" (largest part: %s, %.3g s)", item->what, item->seconds));
   return out;
 }
 
@@ -69,11 +65,10 @@ WorkItem DirectLightingWork(const ParamSet& params, const SceneState& state, con
   const double triangles = PassTriangles(gpu);
   const double texel_ns = faces * res * res * kShadowTexelNs;
   const double draw_ns = faces * triangles * kTriangleDrawNs;
-  WorkItem item = Work(absl::StrCat(area_samples_param, ", ", shadow_res_param),
-                       absl::StrCat("direct light's shadow maps: ", faces, " faces of ", res,
-                                    "^2 drawing ", triangles, " triangles"),
-                       faces, (texel_ns + draw_ns) / std::max(faces, 1.0));
-  return item;
+  return Work(absl::StrCat(area_samples_param, ", ", shadow_res_param),
+              absl::StrCat("direct light's shadow maps: ", faces, " faces of ", res, "^2 drawing ",
+                           triangles, " triangles"),
+              faces, (texel_ns + draw_ns) / std::max(faces, 1.0));
 }
 
 }  // namespace gistream

@@ -33,7 +33,10 @@ struct Extreme {
   std::string named;  // the start of the refusal: the parameters that drive it
 };
 
-// On the Cornell box (5,544 elements). Estimated 9.5e4 s, 426 s, 9.0e3 s.
+// On the Cornell box (5,544 elements). Estimated 3.95e4 s and 426 s.
+// (sh_probes has no such parameters here: its probe texels are capped
+// (kMaxProbeTexels, refused by the solver, sh_probes_test.cpp), which keeps
+// its in-range extremes on the box near 200 s.)
 TEST(SolveEstimate, ExtremeInRangeParametersAreRefusedBeforeAnythingIsBuilt) {
   const QuadCopy scene(CornellBox());
   const std::vector<Extreme> cases = {
@@ -43,14 +46,12 @@ TEST(SolveEstimate, ExtremeInRangeParametersAreRefusedBeforeAnythingIsBuilt) {
         {"tolerance", "0"},
         {"scheme", "asymmetric"},
         {"antiradiance_steps", "64"}},
-       "antiradiance: bins=512 iterations=4096 antiradiance_steps=64 (largest part: global "
+       "antiradiance: bins=512 scheme=asymmetric iterations=4096 antiradiance_steps=64 (largest "
+       "part: global "
        "passes: 266240 x "},
       {"implicit_visibility",
        {{"bins_per_face", "32"}, {"bounces", "4096"}, {"tolerance", "0"}},
        "implicit_visibility: bins_per_face=32 bounces=4096 (largest part: bounces: 4096 x "},
-      {"sh_probes",
-       {{"grid", "32"}, {"face_size", "64"}, {"bounces", "64"}},
-       "sh_probes: grid=32 spacing=0 face_size=64 bounces=64 (largest part: bounces: 65 x "},
   };
   for (const Extreme& c : cases) {
     const uint64_t used = E().stats().memory_used_bytes;

@@ -100,7 +100,8 @@ WorkEstimate AntiradianceSolver::EstimateWork(const ParamSet& params, const Scen
                             ? iterations * (std::max(1, params.GetInt("antiradiance_steps")) + 1.0)
                             : iterations;
   estimate.items.push_back(
-      Work(absl::StrCat(driver, asymmetric ? ", iterations, antiradiance_steps" : ", iterations"),
+      Work(absl::StrCat(driver,
+                        asymmetric ? ", scheme, iterations, antiradiance_steps" : ", iterations"),
            absl::StrCat("global passes: ", passes, " x ", updates, " bin updates"),
            passes * updates, 40.0));
   estimate.items.push_back(DirectLightingWork(params, state, gpu));

@@ -41,7 +41,8 @@ WorkEstimate ShProbesSolver::EstimateWork(const ParamSet& params, const SceneSta
   // A layout over the limit is refused by Update; the estimate counts the
   // limit's texels then, as EstimateMemory does.
   const double texels = layout.ok() ? double(layout->texels()) : double(kMaxProbeTexels);
-  const double faces = layout.ok() ? 6.0 * layout->probes() : texels;
+  const double face_texels = std::max(1, grid.face_size * grid.face_size);
+  const double faces = layout.ok() ? 6.0 * layout->probes() : texels / face_texels;
   const double triangles = PassTriangles(gpu);
   // A bounce renders every probe's cube from the last bounce's SH, projects
   // it (Section 3, Eq. 3) and interpolates the grid onto the probes'
