@@ -18,6 +18,7 @@
 #define SH_UNIT_DISTANCE 12
 #define SH_UNIT_NORMAL 13  // w: 1 = back face
 #define SH_UNIT_ALBEDO 14
+#define SH_UNIT_MATERIAL 15  // rg: metallic, roughness
 
 // Image units: the probe atlas' radiance layers.
 #define SH_IMAGE_DIRECT 0

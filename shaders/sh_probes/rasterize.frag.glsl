@@ -1,7 +1,8 @@
 #version 450 core
 // rasterize_cubemaps: the probes' cube-map G-buffer. Distance to the probe
 // (also the depth cube of Section 6), normal turned toward the probe with
-// w = 1 where the probe sees a back face, albedo.
+// w = 1 where the probe sees a back face, albedo, metallic and roughness
+// (render_cubemaps shades glossy surfaces towards the probe).
 #include "common/material.glsl"
 #include "common/math.glsl"
 in vec3 gWorld;
@@ -12,6 +13,7 @@ flat in int gMaterial;
 layout(location = 0) out float oDistance;
 layout(location = 1) out vec4 oNormal;
 layout(location = 2) out vec4 oAlbedo;
+layout(location = 3) out vec2 oMaterial;
 void main() {
   Material m = materials[gMaterial];
   vec3 n = SafeNormalize(gNormal, vec3(0.0, 1.0, 0.0));
@@ -20,4 +22,5 @@ void main() {
   oDistance = max(length(gWorld - gProbe), 1e-30);
   oNormal = vec4(n, back ? 1.0 : 0.0);
   oAlbedo = vec4(SurfaceAlbedo(m, gUv), 1.0);
+  oMaterial = SurfaceMetallicRoughness(m, gUv);
 }

@@ -28,10 +28,14 @@ const vec3 FACE_UP[6] = vec3[6](vec3(0, 1, 0), vec3(0, 1, 0), vec3(0, 0, -1),
 vec3 FaceRight(int f) { return cross(FACE_FORWARD[f], FACE_UP[f]); }
 
 // Direction through the centre of texel `ij` of a `size` face.
-vec3 TexelDirection(int face, ivec2 ij, int size) {
-  vec2 uv = 2.0 * (vec2(ij) + 0.5) / float(size) - 1.0;
+// The direction through point xy of a face (texel units: texel ij spans
+// [ij, ij + 1]).
+vec3 FaceDirection(int face, vec2 xy, int size) {
+  vec2 uv = 2.0 * xy / float(size) - 1.0;
   return normalize(FACE_FORWARD[face] + uv.x * FaceRight(face) + uv.y * FACE_UP[face]);
 }
+
+vec3 TexelDirection(int face, ivec2 ij, int size) { return FaceDirection(face, vec2(ij) + 0.5, size); }
 
 float AreaElement(float x, float y) { return atan(x * y, sqrt(x * x + y * y + 1.0)); }
 

@@ -2,14 +2,18 @@
 // the surface point it saw (shared by render_cubemaps and interpolate).
 #include "sh_probes/bindings.glsl"
 #include "sh_probes/probe_grid.glsl"
+#include "common/brdf.glsl"
 layout(binding = SH_UNIT_NORMAL) uniform sampler2DArray uProbeNormal;  // w: 1 = back face
 layout(binding = SH_UNIT_ALBEDO) uniform sampler2DArray uProbeAlbedo;
+layout(binding = SH_UNIT_MATERIAL) uniform sampler2DArray uProbeMaterial;  // metallic, roughness
 
 struct ProbeTexel {
   bool hit;
+  vec3 probe;  // the probe's position: the eye its cube map was seen from
   vec3 position;
   vec3 normal;
   vec3 albedo;
+  vec2 metallic_roughness;
 };
 
 // False for texels past the last probe's tile.
@@ -17,7 +21,8 @@ bool LoadProbeTexel(ivec3 atlas, out ProbeTexel t) {
   ivec2 tile = atlas.xy / uFaceSize;
   int probe = tile.y * uAtlasTiles + tile.x;
   t.hit = false;
-  t.position = t.normal = t.albedo = vec3(0.0);
+  t.probe = t.position = t.normal = t.albedo = vec3(0.0);
+  t.metallic_roughness = vec2(0.0, 1.0);
   if (tile.x >= uAtlasTiles || probe >= ProbeCount()) return false;
   float dist = texelFetch(uProbeDistance, atlas, 0).r;
   if (dist <= 0.0) return true;
@@ -25,8 +30,14 @@ bool LoadProbeTexel(ivec3 atlas, out ProbeTexel t) {
                   probe / (uGridDims.x * uGridDims.y));
   vec3 dir = TexelDirection(atlas.z, atlas.xy - tile * uFaceSize, uFaceSize);
   t.hit = true;
-  t.position = ProbePosition(c) + dir * dist;
+  t.probe = ProbePosition(c);
+  t.position = t.probe + dir * dist;
   t.normal = texelFetch(uProbeNormal, atlas, 0).xyz;
   t.albedo = texelFetch(uProbeAlbedo, atlas, 0).rgb;
+  t.metallic_roughness = texelFetch(uProbeMaterial, atlas, 0).rg;
   return true;
+}
+
+SurfaceBrdf ProbeTexelBrdf(ProbeTexel t) {
+  return SurfaceBrdf(t.albedo, t.metallic_roughness.x, t.metallic_roughness.y);
 }

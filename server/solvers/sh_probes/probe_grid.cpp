@@ -66,12 +66,15 @@ void ProbeAtlas::Allocate(const ProbeLayout& layout) {
   // 0.9 to 0.902), so at high albedo the probes' bounces created energy
   // and never converged (issue 14).
   albedo_ = LayeredTexture(GL_RGBA16F, width_, height_);
+  // 8 bits: metallic 0 and roughness 1 (Lambertian) are exact.
+  material_ = LayeredTexture(GL_RG8, width_, height_);
   depth_ = LayeredTexture(GL_DEPTH_COMPONENT32F, width_, height_);
   direct_ = LayeredTexture(GL_RGBA32F, width_, height_);
   indirect_ = LayeredTexture(GL_RGBA32F, width_, height_);
   radiance_ = LayeredTexture(GL_RGBA32F, width_, height_);
-  fbo_ = gl::FramebufferOf({distance_.id(), normal_.id(), albedo_.id()}, depth_.id());
-  bytes_ = layout.texels() * (4 + 4 + 8 + 4 + 16 * 3);
+  fbo_ =
+      gl::FramebufferOf({distance_.id(), normal_.id(), albedo_.id(), material_.id()}, depth_.id());
+  bytes_ = layout.texels() * kAtlasBytesPerTexel;
 }
 
 void SetProbeGridUniforms(gl::Program& program, const ProbeLayout& layout, int coefficients,

@@ -66,7 +66,7 @@ void ProbeRasterizer::Draw(const GpuScene& gpu, const SceneState& state, const P
   const float zero[4] = {0.0f, 0.0f, 0.0f, 0.0f};
   const float one = 1.0f;
   auto clear = [&] {
-    for (int i = 0; i < 3; ++i) glClearNamedFramebufferfv(fbo, GL_COLOR, i, zero);
+    for (int i = 0; i < 4; ++i) glClearNamedFramebufferfv(fbo, GL_COLOR, i, zero);
     glClearNamedFramebufferfv(fbo, GL_DEPTH, 0, &one);
   };
   if (!probes) {

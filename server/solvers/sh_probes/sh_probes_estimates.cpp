@@ -16,11 +16,10 @@ MemoryEstimate ShProbesSolver::EstimateMemory(const ParamSet& params, const Scen
   const absl::StatusOr<ProbeLayout> layout = FitProbeGrid(gpu.WorldBounds(state), grid);
   const uint64_t texels = layout.ok() ? layout->texels() : kMaxProbeTexels;
   const uint64_t probes = layout.ok() ? uint64_t(layout->probes()) : kMaxProbeTexels;
-  // Atlas per texel: distance R32F, normal RGBA8, albedo RGBA16F, direct
-  // and indirect RGBA32F, depth 32 bits (probe_grid.h).
+  // The atlas (probe_grid.h, kAtlasBytesPerTexel).
   estimate.items.push_back({"grid, spacing, face_size",
                             absl::StrCat("probe atlas of ", probes, " probes, ", texels, " texels"),
-                            0, texels * 52});
+                            0, texels * kAtlasBytesPerTexel});
   // SH coefficients (solution, previous bounce, shown), validity, the
   // batch list and change flag per probe.
   estimate.items.push_back({"grid, spacing", "SH coefficients", 0, probes * (3 * 9 * 16 + 3 * 4)});

@@ -23,7 +23,7 @@ constexpr GLuint kCoefficientBinding = SH_BINDING_COEFFICIENTS, kValidBinding = 
                  kPreviousBinding = SH_BINDING_PREVIOUS, kShownBinding = SH_BINDING_SHOWN,
                  kBatchBinding = SH_BINDING_BATCH, kSeesBinding = SH_BINDING_SEES_CHANGE;
 constexpr GLuint kDistanceUnit = SH_UNIT_DISTANCE, kNormalUnit = SH_UNIT_NORMAL,
-                 kAlbedoUnit = SH_UNIT_ALBEDO;
+                 kAlbedoUnit = SH_UNIT_ALBEDO, kMaterialUnit = SH_UNIT_MATERIAL;
 
 float Luminance(const glm::vec4& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
 
@@ -520,6 +520,7 @@ void ShProbesSolver::BindProbeData(gl::Program& program, const gl::Buffer& coeff
   glBindTextureUnit(kDistanceUnit, atlas_.distance());
   glBindTextureUnit(kNormalUnit, atlas_.normal());
   glBindTextureUnit(kAlbedoUnit, atlas_.albedo());
+  glBindTextureUnit(kMaterialUnit, atlas_.material());
 }
 
 void ShProbesSolver::RasterizeCubemaps(const SolverContext& ctx, const std::vector<int>* probes) {
