@@ -8,6 +8,10 @@
 // demodulated differently, avg/receiver.glsl). Glossy receivers use the
 // box convolved with itself (a 7 x 7 tent, same subset weights): a
 // single VPL's highlight reconstructs as a pyramid, not a 4 x 4 block.
+// So do Lambertian receivers when a VPL reflects through a glossy lobe
+// (uTentEverywhere): its spot on a wall is as narrow as a highlight, and
+// the box showed it as 4 x 4 blocks; a scene without glossy VPLs keeps
+// the box.
 // Finally L = a(v) / pi * (E_direct + E_indirect) + emission, a(v) the
 // albedo of a Lambertian receiver, the BRDF's directional albedo of a
 // glossy one.
@@ -21,6 +25,7 @@ uniform ivec2 uImageSize;
 uniform ivec2 uTileSize;
 uniform float uPixelAngle;  // 2 tan(yfov / 2) / height: pixel size at unit distance
 uniform float uNormalCos;
+uniform int uTentEverywhere;  // 1: some VPL is glossy
 uniform vec3 uBackground;
 out vec4 oRadiance;
 
@@ -48,7 +53,8 @@ void main() {
   // on a flat face and the pattern cancels as with the box, but a value
   // that only one subset holds (a single VPL's highlight) spreads as a
   // continuous pyramid instead of a 4 x 4 block with hard edges.
-  int lo = lambertian ? -2 : -3, hi = lambertian ? 1 : 3;
+  bool box = lambertian && uTentEverywhere == 0;
+  int lo = box ? -2 : -3, hi = box ? 1 : 3;
   // The window spans hi - lo pixels: on this surface that many footprints
   // / cos (4 for the box's 3, as before; 7 for the tent's 6).
   float max_dist = float(hi - lo + 1) * footprint / facing;
@@ -67,7 +73,7 @@ void main() {
       if (abs(dot(diff, n)) > max_plane || length(diff) > max_dist) continue;
       if (BrdfLambertian(ReceiverBrdf(q)) != lambertian) continue;
       vec4 e = texelFetch(uIndirect, Split(q), 0);
-      float w = lambertian ? e.a : e.a * float((4 - abs(dx)) * (4 - abs(dy)));
+      float w = box ? e.a : e.a * float((4 - abs(dx)) * (4 - abs(dy)));
       sum += e.rgb * w;
       weight += w;
     }

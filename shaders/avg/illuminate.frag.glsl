@@ -79,6 +79,17 @@ void main() {
     // (VplGlossyResponse), so a single VPL's highlight is wider than the
     // 4-pixel interleave period the filter reconstructs.
     vec3 ej = v.flux.rgb * (INV_PI * cv * cx * vis / max(r2 + uClamp2, 1e-30));
+    // A glossy VPL sends its flux into its BRDF's lobe for the light it
+    // received (Keller 1997, Sec. 2: a VPL carries the BRDF of its hit
+    // point): intensity Phi f(w_i, w) cos_v / a(w_i) instead of Phi / pi
+    // cos_v, the lobe normalised by its directional albedo so the VPL
+    // still leaves with its flux, and widened like a receiver's to the
+    // disk the bias stands for (VplGlossyResponse, reciprocity: f(w_i, w)
+    // = f(w, w_i)).
+    SurfaceBrdf vb = VplBrdf(v);
+    if (!BrdfLambertian(vb)) {
+      ej *= VplGlossyResponse(vb, v.normal_layer.xyz, v.incident_roughness.xyz, w, r2, uClamp2);
+    }
     e += lambertian ? ej : ej * VplGlossyResponse(b, n, view, -w, r2, uClamp2);
   }
   // Subset k holds `count` of the uVplCount VPLs: scale to estimate them all.

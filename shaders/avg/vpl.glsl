@@ -1,12 +1,15 @@
 // VPLs on the GPU (std430 mirror of server/solvers/avg/vpl_shadow_maps.h)
 // and their hemispherical (paraboloid) shadow maps, one layer each.
 #include "avg/bindings.glsl"
+#include "common/brdf.glsl"
 #include "common/math.glsl"
 
 struct Vpl {
-  vec4 position_far;  // xyz world position, w: shadow far distance
-  vec4 normal_layer;  // xyz unit normal (the lit side), w: shadow layer
-  vec4 flux;          // rgb reflected power (W)
+  vec4 position_far;         // xyz world position, w: shadow far distance
+  vec4 normal_layer;         // xyz unit normal (the lit side), w: shadow layer
+  vec4 flux;                 // rgb reflected power (W)
+  vec4 incident_roughness;   // xyz unit direction its light came from, w: roughness
+  vec4 base_color_metallic;  // the voxel's BRDF: rgb base colour, a: metallic
 };
 
 layout(std430, binding = AVG_BINDING_VPLS) readonly buffer Vpls { Vpl vpls[]; };
@@ -26,6 +29,12 @@ vec3 VplLocal(Vpl v, vec3 d) {
   vec3 t, b;
   VplBasis(v.normal_layer.xyz, t, b);
   return vec3(dot(d, t), dot(d, b), dot(d, v.normal_layer.xyz));
+}
+
+// The BRDF it reflects its light through (Lambertian: metallic 0,
+// roughness 1).
+SurfaceBrdf VplBrdf(Vpl v) {
+  return SurfaceBrdf(v.base_color_metallic.rgb, v.base_color_metallic.a, v.incident_roughness.w);
 }
 
 // Paraboloid map of a unit direction in the upper hemisphere to [-1, 1]^2

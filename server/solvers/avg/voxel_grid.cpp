@@ -143,7 +143,8 @@ void VoxelGrid::Rasterize(const SceneState& state, const glm::ivec3& lo, const g
           continue;
         }
       }
-      glm::vec3 albedo(1.0f);
+      TriangleMaterial material;
+      glm::vec3& albedo = material.albedo;
       if (p.material >= 0) {
         const Material& mat = state.materials()[size_t(p.material)];
         albedo = glm::vec3(mat.base_color_factor);
@@ -159,11 +160,13 @@ void VoxelGrid::Rasterize(const SceneState& state, const glm::ivec3& lo, const g
           if (mean.x < 0.0f) mean = MeanTextureColor(scene, mat.metallic_roughness_texture);
           metallic *= mean.b, roughness *= mean.g;
         }
+        material.brdf = {albedo, glm::clamp(metallic, 0.0f, 1.0f),
+                         glm::clamp(roughness, 0.0f, 1.0f)};
         // A VPL here reflects what the BRDF reflects of light from all
         // directions, averaged over the directions it leaves in (issue 18);
         // Lambertian materials keep their base colour bitwise.
-        albedo = BrdfWhiteSkyAlbedo(albedo, glm::clamp(metallic, 0.0f, 1.0f),
-                                    glm::clamp(roughness, 0.0f, 1.0f));
+        albedo = BrdfWhiteSkyAlbedo(material.brdf.base_color, material.brdf.metallic,
+                                    material.brdf.roughness);
       }
       const int level = PickProxyLevel<ProxyLevel>(p.proxies, MaxScale(m), tolerance);
       const std::vector<uint32_t>& indices =
@@ -171,15 +174,16 @@ void VoxelGrid::Rasterize(const SceneState& state, const glm::ivec3& lo, const g
       for (size_t i = 0; i + 2 < indices.size(); i += 3) {
         Add(glm::vec3(m * glm::vec4(p.positions[indices[i]], 1.0f)),
             glm::vec3(m * glm::vec4(p.positions[indices[i + 1]], 1.0f)),
-            glm::vec3(m * glm::vec4(p.positions[indices[i + 2]], 1.0f)), albedo, lo, hi, pass);
+            glm::vec3(m * glm::vec4(p.positions[indices[i + 2]], 1.0f)), material, lo, hi, pass);
       }
     }
   }
 }
 
 void VoxelGrid::Add(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
-                    const glm::vec3& albedo, const glm::ivec3& lo_clip, const glm::ivec3& hi_clip,
-                    Pass pass) {
+                    const TriangleMaterial& material, const glm::ivec3& lo_clip,
+                    const glm::ivec3& hi_clip, Pass pass) {
+  const glm::vec3& albedo = material.albedo;
   const glm::vec3 cross = glm::cross(b - a, c - a);
   const float len = glm::length(cross);
   if (!(len > 0.0f) || !std::isfinite(len)) return;  // degenerate: no surface, no normal
@@ -214,6 +218,8 @@ void VoxelGrid::Add(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
         Voxel& voxel = voxels_[Index(v)];
         voxel.normal_sum += normal;
         voxel.albedo_sum += albedo;
+        voxel.base_color_sum += material.brdf.base_color;
+        voxel.metallic_roughness_sum += glm::vec2(material.brdf.metallic, material.brdf.roughness);
         voxel.point_sum += ClosestPointOnTriangle(center, a, b, c);
         ++voxel.count;
         AddToSheets(voxel, normal, a, b, c, center, half);
@@ -293,6 +299,17 @@ glm::vec3 VoxelGrid::Normal(const glm::ivec3& v) const {
 glm::vec3 VoxelGrid::Albedo(const glm::ivec3& v) const {
   const Voxel& voxel = at(v);
   return voxel.count > 0 ? voxel.albedo_sum / float(voxel.count) : glm::vec3(0.0f);
+}
+
+shading::Brdf VoxelGrid::Brdf(const glm::ivec3& v) const {
+  const Voxel& voxel = at(v);
+  if (voxel.count == 0) return {};
+  // n ones sum to n exactly, so a voxel of Lambertian triangles (metallic
+  // 0, roughness 1) stays exactly Lambertian.
+  const float inv = 1.0f / float(voxel.count);
+  const glm::vec2 mr = voxel.metallic_roughness_sum / float(voxel.count);
+  return {glm::clamp(voxel.base_color_sum * inv, 0.0f, 1.0f), std::clamp(mr.x, 0.0f, 1.0f),
+          std::clamp(mr.y, 0.0f, 1.0f)};
 }
 
 glm::vec3 VoxelGrid::SurfacePoint(const glm::vec3& fallback, const glm::ivec3& v) const {

@@ -20,15 +20,19 @@
 #include <glm/glm.hpp>
 
 #include "scene/state/scene_state.h"
+#include "solvers/shading/ggx.h"
 
 namespace gistream::avg {
 
 struct Voxel {
   glm::vec3 normal_sum{0.0f};  // sum of unit triangle normals (authored side)
   glm::vec3 albedo_sum{0.0f};  // sum of linear albedos (white-sky, BrdfWhiteSkyAlbedo)
-  glm::vec3 point_sum{0.0f};   // sum of the triangles' points closest to the voxel centre
-  uint32_t count = 0;          // triangles touching the voxel
-  uint32_t sheets = 0;         // 1 + its slot of VoxelGrid's sheet pool; 0: none yet
+  // Sums of the BRDF's parameters: a glossy VPL reflects through their mean.
+  glm::vec3 base_color_sum{0.0f};
+  glm::vec2 metallic_roughness_sum{0.0f};
+  glm::vec3 point_sum{0.0f};  // sum of the triangles' points closest to the voxel centre
+  uint32_t count = 0;         // triangles touching the voxel
+  uint32_t sheets = 0;        // 1 + its slot of VoxelGrid's sheet pool; 0: none yet
 };
 
 // The triangles of one orientation inside a voxel, as a slab: every point
@@ -104,6 +108,9 @@ class VoxelGrid {
   // zero when opposite sheets cancel inside the voxel.
   glm::vec3 Normal(const glm::ivec3& v) const;
   glm::vec3 Albedo(const glm::ivec3& v) const;
+  // The mean of its triangles' BRDF parameters; Lambertian exactly when
+  // every triangle's is.
+  shading::Brdf Brdf(const glm::ivec3& v) const;
   glm::vec3 SurfacePoint(const glm::vec3& fallback, const glm::ivec3& v) const;
   // The voxel's sheets (none for an empty voxel).
   std::span<const Sheet> sheets(const glm::ivec3& v) const;
@@ -163,8 +170,13 @@ class VoxelGrid {
   // kVoxels: into the voxels; kSums: only rho-bar's area sums; kBoth.
   enum class Pass { kVoxels, kSums, kBoth };
   void Rasterize(const SceneState& state, const glm::ivec3& lo, const glm::ivec3& hi, Pass pass);
-  void Add(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c, const glm::vec3& albedo,
-           const glm::ivec3& lo, const glm::ivec3& hi, Pass pass);
+  // A triangle's material: its white-sky albedo and its BRDF.
+  struct TriangleMaterial {
+    glm::vec3 albedo{1.0f};
+    shading::Brdf brdf;
+  };
+  void Add(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
+           const TriangleMaterial& material, const glm::ivec3& lo, const glm::ivec3& hi, Pass pass);
 
   int n_ = 0;
   glm::vec3 origin_{0.0f};

@@ -17,8 +17,10 @@ struct GpuVpl {
   glm::vec4 position_far;
   glm::vec4 normal_layer;
   glm::vec4 flux;
+  glm::vec4 incident_roughness;
+  glm::vec4 base_color_metallic;
 };
-GS_STD430_MIRROR(GpuVpl, 48);  // shaders/avg/vpl.glsl Vpl
+GS_STD430_MIRROR(GpuVpl, 80);  // shaders/avg/vpl.glsl Vpl
 
 }  // namespace
 
@@ -49,9 +51,13 @@ void VplShadowMaps::Upload(const std::vector<Vpl>& vpls, const Bounds& bounds) {
   for (size_t i = 0; i < vpls.size(); ++i) {
     const Vpl& v = vpls[i];
     data.push_back({glm::vec4(v.position, ShadowFar(bounds, v.position)),
-                    glm::vec4(v.normal, float(i)), glm::vec4(v.flux, 0.0f)});
+                    glm::vec4(v.normal, float(i)), glm::vec4(v.flux, 0.0f),
+                    glm::vec4(v.incident, v.brdf.roughness),
+                    glm::vec4(v.brdf.base_color, v.brdf.metallic)});
   }
   count_ = int(data.size());
+  any_glossy_ =
+      std::any_of(vpls.begin(), vpls.end(), [](const Vpl& v) { return !v.brdf.Lambertian(); });
   fars_.clear();
   for (const GpuVpl& v : data) fars_.push_back(v.position_far.w);
   vpls_ = gl::StorageBuffer(data);

@@ -50,6 +50,9 @@ class VplShadowMaps {
   void Bind();
 
   int count() const { return count_; }
+  // Whether any uploaded VPL reflects through a glossy lobe (the filter
+  // then reconstructs every receiver with the tent).
+  bool any_glossy() const { return any_glossy_; }
   const gl::Texture& maps() const { return maps_; }
   uint64_t gpu_bytes() const;
 
@@ -84,6 +87,7 @@ class VplShadowMaps {
   gl::Texture maps_;
   gl::Framebuffer fbo_;
   int count_ = 0;
+  bool any_glossy_ = false;
   int layers_ = 0, resolution_ = 0;
 };
 

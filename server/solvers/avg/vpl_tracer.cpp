@@ -7,6 +7,7 @@
 #include <glm/gtc/constants.hpp>
 
 #include "solvers/avg/quasi_random.h"
+#include "solvers/brdf_albedo.h"
 #include "solvers/tail_estimate.h"
 #include "util/parallel_for.h"
 
@@ -116,6 +117,26 @@ PathStart StartPath(const VplLight& l, double pdf, uint64_t i) {
   return s;
 }
 
+// A glossy VPL's next direction, drawn from its BRDF (ggx.h Sample, the
+// path tracer's lobes) for light arriving from vpl.incident; `flux` (the
+// VPL's) is weighted by f cos / (pdf a(v)), a(v) the directional albedo,
+// which is 1 on average, so the flux a path carries on is the VPL's as
+// for a Lambertian one (Keller's split stays exact on average). None for
+// light at or behind the plane.
+std::optional<glm::vec3> SampleBrdf(const Vpl& vpl, const glm::vec3& u, glm::vec3& flux) {
+  glm::vec3 t, b;
+  Basis(vpl.normal, t, b);
+  const glm::vec3 wo(glm::dot(vpl.incident, t), glm::dot(vpl.incident, b),
+                     glm::dot(vpl.incident, vpl.normal));
+  if (!(wo.z > 0.0f)) return std::nullopt;
+  const shading::BrdfSample s = shading::Sample(vpl.brdf, wo, glm::vec3(u.z, u.x, u.y));
+  if (!(s.pdf > 0.0f)) return std::nullopt;
+  const glm::vec3 albedo =
+      BrdfDirectionalAlbedo(vpl.brdf.base_color, vpl.brdf.metallic, vpl.brdf.roughness, wo.z);
+  flux *= s.weight / glm::max(albedo, glm::vec3(1e-4f));
+  return glm::normalize(t * s.wi.x + b * s.wi.y + vpl.normal * s.wi.z);
+}
+
 // Path i has a VPL at bounce b + 1 iff i < counts[b] (see SplitCounts); its
 // VPLs' flux is the start flux x the albedos hit, not yet divided by counts.
 VplPath TracePath(const VoxelGrid& grid, const std::vector<VplLight>& lights,
@@ -157,6 +178,8 @@ VplPath TracePath(const VoxelGrid& grid, const std::vector<VplLight>& lights,
     vpl.normal = n;
     vpl.flux = flux * albedo;
     vpl.bounce = int(bounce) + 1;
+    vpl.incident = -dir;
+    vpl.brdf = grid.Brdf(hit->voxel);
     result.vpls.push_back(vpl);
 
     const int dim = kDimBounce + kDimsPerBounce * int(bounce);
@@ -170,7 +193,14 @@ VplPath TracePath(const VoxelGrid& grid, const std::vector<VplLight>& lights,
     // a stiff scene's hundreds of bounces: issue 14).
     origin = vpl.position;
     normal = n;
-    dir = SampleCosine(n, PathSample(i, dim), PathSample(i, dim + 1));
+    const glm::vec3 uv(PathSample(i, dim), PathSample(i, dim + 1), PathSample(i, dim + 2));
+    if (vpl.brdf.Lambertian()) {
+      dir = SampleCosine(n, uv.x, uv.y);
+    } else {
+      const std::optional<glm::vec3> reflected = SampleBrdf(vpl, uv, flux);
+      if (!reflected) break;
+      dir = *reflected;
+    }
     on_surface = true;
   }
   return result;

@@ -16,6 +16,7 @@
 
 #include "solvers/avg/vpl_lights.h"
 #include "solvers/avg/voxel_grid.h"
+#include "solvers/shading/ggx.h"
 
 namespace gistream::avg {
 
@@ -24,6 +25,12 @@ struct Vpl {
   glm::vec3 normal{0.0f};    // unit, facing the side the light came from
   glm::vec3 flux{0.0f};      // reflected power (W): incident flux x voxel albedo
   int bounce = 1;            // 1: first indirect bounce (lit directly by a light)
+  // Where its light came from (unit, away from the surface) and the
+  // voxel's BRDF: a glossy VPL reflects its flux in the BRDF's lobe around
+  // the mirror direction (shaders/avg/vpl.glsl VplEmission), a Lambertian
+  // one with the cosine.
+  glm::vec3 incident{0.0f, 0.0f, 1.0f};
+  shading::Brdf brdf;
 };
 
 struct VplTraceSettings {
