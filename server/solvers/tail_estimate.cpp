@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solvers/brdf_albedo.h"
+
 namespace gistream {
 
 TailEstimate EstimateTail(const std::vector<double>& deltas, double albedo_bound) {
@@ -53,7 +55,11 @@ double LargestAlbedo(const SceneState& state) {
   double bound = 0.0;
   for (const Material& m : state.materials()) {
     const glm::vec3 c = glm::clamp(glm::vec3(m.base_color_factor), 0.0f, 1.0f);
-    bound = std::max(bound, double(std::max({c.r, c.g, c.b})));
+    // A glossy material's transport albedo (white-sky, brdf_albedo.h) can
+    // pass its base colour in a dark channel (a metal's B adds to F0).
+    const glm::vec3 w = BrdfWhiteSkyAlbedo(c, std::clamp(m.metallic_factor, 0.0f, 1.0f),
+                                           std::clamp(m.roughness_factor, 0.0f, 1.0f));
+    bound = std::max(bound, double(std::max({c.r, c.g, c.b, w.r, w.g, w.b})));
   }
   return bound;
 }

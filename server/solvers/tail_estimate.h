@@ -57,8 +57,9 @@ TailEstimate EstimateTail(const std::vector<double>& deltas, double albedo_bound
 double MonotoneTailFactor(const std::vector<double>& deltas, const std::vector<double>& totals,
                           double albedo_bound = kMaxTailRatio);
 
-// The scene's largest albedo (base colour factors; textures only scale
-// them down): the bound on a closed scene's bounce ratio.
+// The scene's largest albedo (base colour factors and, for glossy
+// materials, their white-sky albedo; textures only scale them down): the
+// bound on a closed scene's bounce ratio.
 double LargestAlbedo(const SceneState& state);
 
 }  // namespace gistream

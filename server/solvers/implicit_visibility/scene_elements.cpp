@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "solvers/brdf_albedo.h"
 #include "solvers/hierarchy/element_source.h"
 #include "solvers/hierarchy/subdivide.h"
 #include "solvers/hierarchy/vertex_transfer.h"
@@ -218,11 +219,26 @@ void SceneElements::UpdateAlbedo(const SceneState& state) {
     const glm::vec3 factor = m ? glm::vec3(m->base_color_factor) : glm::vec3(1.0f);
     const Image* texture =
         m && m->base_color_texture >= 0 ? &scene.images[size_t(m->base_color_texture)] : nullptr;
+    const Image* pbr_texture = m && m->metallic_roughness_texture >= 0
+                                   ? &scene.images[size_t(m->metallic_roughness_texture)]
+                                   : nullptr;
+    const glm::vec2 pbr = m ? glm::vec2(m->metallic_factor, m->roughness_factor) : glm::vec2(0, 1);
     const size_t offset = size_t(elements_.instances()[i].leaf_offset);
     for (size_t v = 0; v < p.positions.size(); ++v) {
       glm::vec3 a = factor;
       if (texture && v < p.uvs.size()) a *= Texel(*texture, p.uvs[v]);
-      albedo_[offset + v] = glm::clamp(a, 0.0f, 1.0f);  // as the G-buffer and the path tracer
+      a = glm::clamp(a, 0.0f, 1.0f);  // as the G-buffer and the path tracer
+      glm::vec2 mr = pbr;
+      if (pbr_texture && v < p.uvs.size()) {  // B: metallic, G: roughness
+        const glm::vec3 t = Texel(*pbr_texture, p.uvs[v]);
+        mr *= glm::vec2(t.b, t.g);
+      }
+      // The links are diffuse, so a glossy leaf passes on what its BRDF
+      // reflects of light from all directions (the white-sky albedo, as
+      // avg's voxels), not its base colour; Lambertian leaves keep the
+      // base colour bitwise.
+      mr = glm::clamp(mr, 0.0f, 1.0f);
+      albedo_[offset + v] = BrdfWhiteSkyAlbedo(a, mr.x, mr.y);
     }
   }
 }

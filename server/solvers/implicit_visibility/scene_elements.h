@@ -40,7 +40,8 @@ class SceneElements {
   void UpdatePose(const SceneState& state);
   // update_elements: world transforms of every instance (Section 4.2.1).
   void UpdateGeometry(const SceneState& state);
-  // Per-leaf albedo (base colour x texture at the vertex uv), linear.
+  // Per-leaf albedo (base colour x texture at the vertex uv, linear; a
+  // glossy material's white-sky albedo of it, solvers/brdf_albedo.h).
   void UpdateAlbedo(const SceneState& state);
 
   const hierarchy::Elements& elements() const { return elements_; }
