@@ -1,0 +1,138 @@
+// Glossy surfaces light the room by their BRDF (issue 29, item 6). In
+// glossy_box a spot lights a gold GGX cube (metallic 1, roughness 0.3) in
+// a diffuse room; the cube's reflection is about 28 % of the light on the
+// walls and floor the camera sees, most of it thrown forward onto the
+// floor by the cube's faces. Shading the cube as a gold Lambertian surface
+// in the solvers' indirect light sends that light everywhere alike: the
+// room came out 0.87x (sh_probes) and 0.86x (avg) of the reference, the
+// floor in front of the cube at half. Now sh_probes' cube maps shade
+// glossy texels towards their probe (render_cubemaps.comp.glsl) and
+// avg's VPLs on the cube reflect through the BRDF
+// (avg/illuminate.frag.glsl, vpl_tracer.cpp), and every GI solver that
+// does must hold the room's mean to 5 % of pathtrace's at its defaults.
+//
+// The room: every pixel that is not the cube (those where a path-traced
+// copy with a black cube is not black), 32 px, luminance. The reference,
+// 1024 spp, is within 0.3 % of itself over seeds here.
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+
+#include "support/measurement.h"
+#include "support/registered_solvers.h"
+#include "support/render_helpers.h"
+
+namespace gistream {
+namespace {
+
+using testing::FloatImage;
+
+constexpr uint32_t kSize = 32;
+
+double Luminance(const glm::vec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
+
+FloatImage RenderScene(const std::string& scene, const std::string& solver,
+                       std::map<std::string, std::string> params) {
+  RenderRequest request;
+  request.scene = scene;
+  request.solver = solver;
+  request.params = std::move(params);
+  request.width = request.height = kSize;
+  return testing::RenderRequestExr(std::move(request));
+}
+
+class GlossyLight : public ::testing::TestWithParam<const char*> {
+ protected:
+  static void SetUpTestSuite() {
+    glossy_ = new testing::BundledCopy("glossy_box.gltf");
+    // The same room with the cube black: where its render is black, the
+    // cube is in front.
+    std::ifstream in(GISTREAM_SOURCE_DIR "/scenes/glossy_box.gltf", std::ios::binary);
+    nlohmann::json doc = nlohmann::json::parse(in);
+    for (nlohmann::json& m : doc["materials"]) {
+      if (m["name"] == "gold") {
+        m["pbrMetallicRoughness"] = {
+            {"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0}, {"roughnessFactor", 1}};
+      }
+    }
+    auto black = testing::SharedEngine().LoadScene(testing::SceneFromBytes(doc.dump()));
+    ASSERT_TRUE(black.ok()) << black.status();
+    const FloatImage mask = RenderScene(black->id, "pathtrace", {{"spp", "256"}});
+    (void)testing::SharedEngine().UnloadScene(black->id);
+    room_ = new std::vector<bool>(size_t(kSize) * kSize);
+    for (int y = 0; y < int(kSize); ++y) {
+      for (int x = 0; x < int(kSize); ++x) {
+        (*room_)[size_t(y) * kSize + size_t(x)] = Luminance(mask.at(x, y)) > 0.0;
+      }
+    }
+    reference_ = new FloatImage(RenderScene(glossy_->id(), "pathtrace", {{"spp", "1024"}}));
+  }
+  static void TearDownTestSuite() {
+    delete reference_;
+    delete room_;
+    delete glossy_;
+    reference_ = nullptr;
+    room_ = nullptr;
+    glossy_ = nullptr;
+  }
+
+  static double Room(const FloatImage& image) {
+    double sum = 0.0;
+    int count = 0;
+    for (int y = 0; y < int(kSize); ++y) {
+      for (int x = 0; x < int(kSize); ++x) {
+        if (!(*room_)[size_t(y) * kSize + size_t(x)]) continue;
+        sum += Luminance(image.at(x, y));
+        ++count;
+      }
+    }
+    return count > 0 ? sum / count : 0.0;
+  }
+
+  static testing::BundledCopy* glossy_;
+  static std::vector<bool>* room_;
+  static FloatImage* reference_;
+};
+testing::BundledCopy* GlossyLight::glossy_ = nullptr;
+std::vector<bool>* GlossyLight::room_ = nullptr;
+FloatImage* GlossyLight::reference_ = nullptr;
+
+// Measured: sh_probes 0.995x, avg 0.973x, antiradiance 1.039x (its glossy
+// leaves); implicit_visibility, not run, 0.90x.
+TEST_P(GlossyLight, TheRoomMatchesTheReferenceAtTheDefaults) {
+  const std::string solver = GetParam();
+  const FloatImage image = RenderScene(glossy_->id(), solver, {});
+  ASSERT_EQ(image.width, int(kSize));
+  EXPECT_EQ(image.non_finite(), 0u);
+  const double got = Room(image), want = Room(*reference_);
+  testing::RecordMeasurement("room_over_reference", got / want);
+  EXPECT_NEAR(got, want, 0.05 * want) << solver << ": " << got / want << "x";
+  // The whole picture, cube included. avg: 0.106 when its VPLs reflected
+  // diffusely, 0.25 leaves room for VPL placement and the reference's own
+  // noise (pathtrace at 386 spp is 0.34 from a 1024-spp one here); shading
+  // the cube Lambertian with its base colour was 25.
+  const double relmse = testing::RelMse(image, *reference_);
+  testing::RecordMeasurement("relmse", relmse);
+  EXPECT_LT(relmse, 0.25) << solver;
+}
+
+const std::vector<const char*> kGlossyLightSolvers = {"sh_probes", "avg", "antiradiance"};
+
+INSTANTIATE_TEST_SUITE_P(Solvers, GlossyLight, ::testing::ValuesIn(kGlossyLightSolvers));
+
+TEST(GlossyLightCoverage, CoversEveryRegisteredSolver) {
+  testing::ExpectCoversEveryRegisteredSolver(
+      {kGlossyLightSolvers.begin(), kGlossyLightSolvers.end()},
+      {{"direct", "no indirect light: the room is 0.63x"},
+       {"pathtrace", "the reference"},
+       {"implicit_visibility",
+        "its elements reflect as Lambertian surfaces with the base colour: the room is 0.90x "
+        "(issue 29, item 6, open)"}});
+}
+
+}  // namespace
+}  // namespace gistream
