@@ -79,8 +79,10 @@ void BenchSession::SendTick() {
       if (stop_updates_) return;
       seq = next_seq_++;
       last_seq_sent_ = seq;
-      last_tick_sent_ = tick_ - 1;
-      if (keep_settle_frames_) tick_of_seq_[seq] = tick_ - 1;
+      if (keep_settle_frames_) {
+        sent_.push_back(update);
+        sent_.back().set_seq(seq);
+      }
       const BenchClock::time_point now = BenchClock::now();
       const bool measured = window_set_ && now >= window_start_ && now < window_end_;
       // Registered before the send: the answering frame may come back
@@ -203,24 +205,19 @@ std::vector<BenchSession::TracedFrame> BenchSession::TracedFrames() const {
   return traced_frames_;
 }
 
-std::vector<v1::Update> BenchSession::UpdatesOfSeq(uint64_t seq) const {
+std::vector<v1::Update> BenchSession::StateOfSeq(uint64_t seq) const {
   std::lock_guard lock(mutex_);
-  const auto it = tick_of_seq_.find(seq);
-  if (it == tick_of_seq_.end()) return {};
-  std::vector<v1::Update> updates = workload_.UpdatesForTick(it->second);
-  // The tick's updates got consecutive numbers ending at or after `seq`.
-  uint64_t first = seq;
-  while (first > 1 && tick_of_seq_.count(first - 1) && tick_of_seq_.at(first - 1) == it->second) {
-    --first;
+  std::vector<v1::Update> state;
+  for (const v1::Update& u : sent_) {
+    if (u.seq() > seq) break;  // sent in seq order
+    state.push_back(u);
   }
-  for (size_t i = 0; i < updates.size(); ++i) updates[i].set_seq(first + i);
-  return updates;
+  return state;
 }
 
-std::vector<v1::Update> BenchSession::LastUpdates() const {
+std::vector<v1::Update> BenchSession::LastState() const {
   std::lock_guard lock(mutex_);
-  if (!last_tick_sent_) return {};
-  return workload_.UpdatesForTick(*last_tick_sent_);
+  return sent_;
 }
 
 SessionMeasurement BenchSession::Result() const {

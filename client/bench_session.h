@@ -68,10 +68,10 @@ class BenchSession {
     double ms = 0.0;  // after StopUpdates
     std::string image;
   };
-  // After Close: those frames, and the updates of the last tick sent (the
-  // scene state they show).
+  // After Close: those frames, and every update sent, in order (the state
+  // they show, from the scene as loaded).
   std::vector<SettleFrame> SettleFrames() const;
-  std::vector<v1::Update> LastUpdates() const;
+  std::vector<v1::Update> LastState() const;
 
   // With KeepSettleFrames, every frame from the window's start too (issue
   // 27: the error of each frame shown, during the motion and after it).
@@ -85,9 +85,11 @@ class BenchSession {
     double refine_samples = 1.0;  // the still view's samples per pixel in it
   };
   std::vector<TracedFrame> TracedFrames() const;
-  // The updates that sequence number `seq` belonged to (its tick's); empty
-  // for 0 (the scene as loaded) or an unknown one.
-  std::vector<v1::Update> UpdatesOfSeq(uint64_t seq) const;
+  // The state a frame showing sequence number `seq` shows: every update
+  // sent up to it, in order (each sets what it names, so replaying them on
+  // the scene as loaded gives that state, whatever the workload); empty
+  // for 0 (the scene as loaded). With KeepSettleFrames.
+  std::vector<v1::Update> StateOfSeq(uint64_t seq) const;
 
   // Live figures for the progress line: frames inside the window so far,
   // and a copy of the latencies measured so far.
@@ -124,9 +126,8 @@ class BenchSession {
   std::atomic<bool> keep_settle_frames_{false};
   std::vector<SettleFrame> settle_frames_;
   std::vector<TracedFrame> traced_frames_;
-  std::map<uint64_t, uint64_t> tick_of_seq_;  // with KeepSettleFrames
-  std::string last_image_;                    // the last frame's that had one
-  std::optional<uint64_t> last_tick_sent_;
+  std::vector<v1::Update> sent_;  // with KeepSettleFrames: every update sent, seq set
+  std::string last_image_;        // the last frame's that had one
   uint64_t dropped_ = 0;
   uint64_t bytes_ = 0;
   int live_frames_ = 0;

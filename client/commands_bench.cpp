@@ -212,12 +212,30 @@ void FinishSample(BenchServer& server) {
 // What the first session showed after the updates stopped (--reference-spp).
 struct SettleTrace {
   std::vector<BenchSession::SettleFrame> frames;
-  std::vector<v1::Update> last_updates;
-  // Every frame from the window's start, and the updates of each sequence
+  std::vector<v1::Update> last_state;  // every update sent
+  // Every frame from the window's start, and the state of each sequence
   // number they show (frames.csv).
   std::vector<BenchSession::TracedFrame> traced;
-  std::map<uint64_t, std::vector<v1::Update>> updates_of_seq;
+  std::map<uint64_t, std::vector<v1::Update>> state_of_seq;
 };
+
+// A state (updates replayed on the scene as loaded) as a Render request
+// carries it: the camera's changes merged into the request's camera, which
+// every call of a progressive reference repeats (a camera is a session's,
+// and each Render is its own session), the rest as updates (a scene's:
+// they stay on the private copy).
+void SetState(const std::vector<v1::Update>& state, const v1::CameraChange& view_camera,
+              bool with_updates, v1::RenderRequest& r) {
+  v1::CameraChange camera = view_camera;
+  for (const v1::Update& u : state) {
+    if (u.has_camera()) {
+      camera.MergeFrom(u.camera());
+    } else if (with_updates) {
+      *r.add_updates() = u;
+    }
+  }
+  if (camera.ByteSizeLong() > 0) *r.mutable_camera() = camera;
+}
 
 absl::StatusOr<RgbaImage> DecodeRgba(const std::string& bytes) {
   GS_ASSIGN_OR_RETURN(
@@ -247,10 +265,7 @@ absl::StatusOr<nlohmann::json> TimeToConverge(Connection& connection,
     r.set_height(options.view.height);
     r.set_refine_samples(options.view.refine_samples);
     r.mutable_encoding()->set_format(v1::IMAGE_FORMAT_EXR);
-    if (options.view.camera.ByteSizeLong() > 0) *r.mutable_camera() = options.view.camera;
-    if (updates) {
-      for (const v1::Update& u : trace.last_updates) *r.add_updates() = u;
-    }
+    SetState(trace.last_state, options.view.camera, updates, r);
     return r;
   };
   v1::Frame full_frame;
@@ -320,10 +335,7 @@ absl::StatusOr<std::string> RenderReference(Connection& connection,
     r.set_width(options.view.width);
     r.set_height(options.view.height);
     r.mutable_encoding()->set_format(v1::IMAGE_FORMAT_EXR);
-    if (options.view.camera.ByteSizeLong() > 0) *r.mutable_camera() = options.view.camera;
-    if (spp == 0) {
-      for (const v1::Update& u : updates) *r.add_updates() = u;
-    }
+    SetState(updates, options.view.camera, /*with_updates=*/spp == 0, r);
     GS_RETURN_IF_ERROR(connection.Call(&v1::Gistream::Stub::Render, r, &frame, 600.0));
   }
   return std::move(*frame.mutable_image());
@@ -357,7 +369,7 @@ absl::StatusOr<nlohmann::json> ErrorOverTime(Connection& connection,
                                              std::string& csv) {
   std::map<uint64_t, RgbaImage> references;
   const std::filesystem::path dir = options.out_dir / "references";
-  for (const auto& [seq, updates] : trace.updates_of_seq) {
+  for (const auto& [seq, updates] : trace.state_of_seq) {
     GS_ASSIGN_OR_RETURN(const std::string exr, RenderReference(connection, load, options, updates));
     GS_ASSIGN_OR_RETURN(references[seq], DecodeRgba(exr));
     // Kept beside frames.csv: the reference and the updates it applied.
@@ -554,12 +566,10 @@ void DrainSessions(const std::vector<std::unique_ptr<BenchSession>>& sessions,
 // The first session's frames and updates, for --reference-spp.
 void KeepTrace(const BenchSession& session, SettleTrace* trace) {
   trace->frames = session.SettleFrames();
-  trace->last_updates = session.LastUpdates();
+  trace->last_state = session.LastState();
   trace->traced = session.TracedFrames();
   for (const BenchSession::TracedFrame& f : trace->traced) {
-    if (!trace->updates_of_seq.count(f.seq)) {
-      trace->updates_of_seq[f.seq] = session.UpdatesOfSeq(f.seq);
-    }
+    if (!trace->state_of_seq.count(f.seq)) trace->state_of_seq[f.seq] = session.StateOfSeq(f.seq);
   }
 }
 
@@ -612,15 +622,11 @@ absl::StatusOr<StepResult> RunStep(const BenchOptions& options, const Connection
   return step;
 }
 
-// --reference-spp's preconditions: the object workload (its updates set
-// the node's whole pose), linear frames, fresh copies for the references.
-absl::Status CheckReferenceOptions(const WorkloadSpec& spec, const BenchOptions& options,
-                                   const v1::LoadSceneRequest& load) {
+// --reference-spp's preconditions: linear frames, fresh copies for the
+// references (any workload: a reference replays every update sent up to
+// the frame it is for).
+absl::Status CheckReferenceOptions(const BenchOptions& options, const v1::LoadSceneRequest& load) {
   if (options.reference_spp <= 0) return absl::OkStatus();
-  if (spec.kind != WorkloadKind::kObject) {
-    return absl::InvalidArgumentError(
-        "--reference-spp: needs --workload object (its updates set the node's whole pose)");
-  }
   if (options.view.encoding.format() != v1::IMAGE_FORMAT_EXR) {
     return absl::InvalidArgumentError("--reference-spp: needs --format exr (linear frames)");
   }
@@ -802,7 +808,7 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
   // client's changes to the shared one cannot move the figures), and the
   // time-to-converge reference on a fresh one; --keep-scene shares it.
   if (!options.scene.keep_scene) load.set_private_copy(true);
-  GS_RETURN_IF_ERROR(CheckReferenceOptions(spec, options, load));
+  GS_RETURN_IF_ERROR(CheckReferenceOptions(options, load));
   GS_ASSIGN_OR_RETURN(std::vector<BenchServer> servers,
                       ConnectServers(connection, addresses, load, options.scene.keep_scene));
   std::cout << DescribeScene(options.scene.scene, servers[0].scene->info())

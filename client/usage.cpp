@@ -215,7 +215,7 @@ fps_vs_sessions.png and latency_vs_sessions.png into DIR.
                        loop by an extra client during warmup and measurement,
                        on the first server, to measure isolation
   --out DIR            output directory (default out/bench)
-  --reference-spp N    object workload, --format exr: after each step, the
+  --reference-spp N    any workload, --format exr: after each step, the
                        time to converge of the first session: the frames
                        and ms after the updates stop until relMSE against
                        a pathtrace reference of N spp stays within 5 % of a

@@ -7,6 +7,7 @@ UNAUTHENTICATED without one). Run by ctest (python_client) with PYTHONPATH
 set to build/python and GISTREAMD/GISTREAM_SCENES pointing at the binary
 and the scene folder."""
 
+import contextlib
 import csv
 import json
 import os
@@ -128,44 +129,55 @@ if __name__ == "__main__":
 class BenchReferencesTest(unittest.TestCase):
     """`gistream bench --reference-spp` (issue 27): frames.csv has a row per
     frame of the first session, each against references/step1_seq<n>.exr,
-    the path-traced reference of the state that frame shows; that file
-    equals a fresh render of the state its .json names, reached another
-    way: the updates sent through a session on a fresh private copy, then
-    a Render without updates (the bench sends them inside the Render)."""
+    the path-traced reference of the state that frame shows (every update
+    sent up to seq n, in its .json); that file equals a fresh render of
+    that state reached another way."""
+
+    def bench(self, address, workload, spp):
+        out = tempfile.mkdtemp(prefix="gistream_bench_refs_")
+        run = subprocess.run(
+            [os.environ["GISTREAM"], "--server", address, "bench", "--sessions", "1",
+             "--duration", "2s", "--warmup", "0s", "--size", "16x16", "--format", "exr",
+             "--workload", workload, "--update-hz", "5", "--reference-spp", str(spp),
+             "--param", "area_samples=4", "--out", out],
+            capture_output=True, text=True, timeout=240)
+        self.assertEqual(run.returncode, 0, run.stdout + run.stderr)
+        with open(os.path.join(out, "frames.csv")) as f:
+            rows = list(csv.DictReader(f))
+        seqs = sorted({int(r["seq"]) for r in rows})
+        # Under load (ctest -j) a few frames, at least one showing an update.
+        self.assertGreaterEqual(seqs[-1], 1, rows)
+        refs = os.path.join(out, "references")
+        for seq in seqs:
+            self.assertTrue(os.path.isfile(os.path.join(refs, f"step1_seq{seq}.exr")), seq)
+            with open(os.path.join(refs, f"step1_seq{seq}.json")) as f:
+                updates = [json_format.ParseDict(u, gistream.pb.Update()) for u in json.load(f)]
+            # The state of seq n: every update up to n, in order (none for
+            # a frame before the first update).
+            self.assertEqual([u.seq for u in updates], list(range(1, seq + 1)))
+        last = seqs[-1]
+        with open(os.path.join(refs, f"step1_seq{last}.json")) as f:
+            updates = [json_format.ParseDict(u, gistream.pb.Update()) for u in json.load(f)]
+        with open(os.path.join(refs, f"step1_seq{last}.exr"), "rb") as f:
+            reference = f.read()
+        print(f"{workload}: frames.csv: {len(rows)} rows over seqs {seqs}")
+        return updates, reference
+
+    def assert_same_exr(self, fresh, reference):
+        # The same path tracer, samples and seed on the same state: the
+        # same file, but for the capture date OpenImageIO writes into the
+        # EXR header.
+        undated = lambda exr: re.sub(rb"capDate\x00string\x00\x13\x00\x00\x00.{19}", b"",
+                                     exr, count=1, flags=re.S)
+        self.assertNotEqual(undated(reference), reference)
+        self.assertEqual(undated(fresh), undated(reference))
 
     def test_references_match_a_fresh_render(self):
-        server = subprocess.Popen(
-            [os.environ["GISTREAMD"], "--listen", "127.0.0.1:0", "--scenes",
-             os.environ["GISTREAM_SCENES"]],
-            stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-        try:
-            address = server.stdout.readline().split()[-1]
-            out = tempfile.mkdtemp(prefix="gistream_bench_refs_")
-            run = subprocess.run(
-                [os.environ["GISTREAM"], "--server", address, "bench", "--sessions", "1",
-                 "--duration", "2s", "--warmup", "0s", "--size", "16x16", "--format", "exr",
-                 "--workload", "object", "--update-hz", "5", "--reference-spp", "8",
-                 "--param", "area_samples=4", "--out", out],
-                capture_output=True, text=True, timeout=240)
-            self.assertEqual(run.returncode, 0, run.stdout + run.stderr)
-            with open(os.path.join(out, "frames.csv")) as f:
-                rows = list(csv.DictReader(f))
-            seqs = sorted({int(r["seq"]) for r in rows})
-            # Under load (ctest -j) a few frames, at least one showing an update.
-            self.assertGreaterEqual(seqs[-1], 1, rows)
-            refs = os.path.join(out, "references")
-            for seq in seqs:
-                self.assertTrue(os.path.isfile(os.path.join(refs, f"step1_seq{seq}.exr")), seq)
-                with open(os.path.join(refs, f"step1_seq{seq}.json")) as f:
-                    updates = [json_format.ParseDict(u, gistream.pb.Update()) for u in json.load(f)]
-                # The state of seq n: its updates end with update n (none
-                # for a frame before the first update).
-                self.assertEqual(max((u.seq for u in updates), default=0), seq)
-            last = seqs[-1]
-            with open(os.path.join(refs, f"step1_seq{last}.json")) as f:
-                updates = [json_format.ParseDict(u, gistream.pb.Update()) for u in json.load(f)]
-            with open(os.path.join(refs, f"step1_seq{last}.exr"), "rb") as f:
-                reference = f.read()
+        """The object workload: the updates sent through a session on a
+        fresh private copy, then a Render without updates (the bench sends
+        them inside the Render)."""
+        with local_server() as address:
+            updates, reference = self.bench(address, "object", 8)
             with gistream.Client(address, timeout=120) as client:
                 copy = client.stub.LoadScene(
                     gistream.pb.LoadSceneRequest(name="cornell_box", private_copy=True),
@@ -180,18 +192,41 @@ class BenchReferencesTest(unittest.TestCase):
                             break
                 fresh = client.render(copy.scene_id, solver="pathtrace",
                                       params={"spp": 8, "seed": 1}, size=(16, 16), format="exr")
-            # The same path tracer, samples and seed on the same state: the
-            # same file, but for the capture date OpenImageIO writes into
-            # the EXR header.
-            undated = lambda exr: re.sub(rb"capDate\x00string\x00\x13\x00\x00\x00.{19}", b"",
-                                         exr, count=1, flags=re.S)
-            self.assertNotEqual(undated(reference), reference)
-            self.assertEqual(undated(fresh.image), undated(reference))
-            print(f"frames.csv: {len(rows)} rows over seqs {seqs}; reference of seq {last} "
-                  f"equals a fresh render ({len(reference)} bytes)")
-        finally:
-            server.terminate()
-            server.wait(timeout=30)
+            self.assert_same_exr(fresh.image, reference)
+
+    def test_orbit_references_keep_the_camera_over_every_chunk(self):
+        """The orbit workload: a camera's change is a session's, so each of
+        a reference's progressive calls (128 spp: two of 64) must carry the
+        state's camera; the reference equals two 64-spp Renders on a fresh
+        copy with that camera."""
+        with local_server() as address:
+            updates, reference = self.bench(address, "orbit", 128)
+            camera = gistream.pb.CameraChange()
+            for u in updates:
+                self.assertEqual(u.WhichOneof("change"), "camera")
+                camera.MergeFrom(u.camera)
+            with gistream.Client(address, timeout=120) as client:
+                copy = client.stub.LoadScene(
+                    gistream.pb.LoadSceneRequest(name="cornell_box", private_copy=True),
+                    timeout=120)
+                for _ in range(2):
+                    fresh = client.render(copy.scene_id, solver="pathtrace",
+                                          params={"spp": 64, "seed": 1}, size=(16, 16),
+                                          format="exr", camera=camera)
+            self.assert_same_exr(fresh.image, reference)
+
+
+@contextlib.contextmanager
+def local_server():
+    server = subprocess.Popen(
+        [os.environ["GISTREAMD"], "--listen", "127.0.0.1:0", "--scenes",
+         os.environ["GISTREAM_SCENES"]],
+        stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    try:
+        yield server.stdout.readline().split()[-1]
+    finally:
+        server.terminate()
+        server.wait(timeout=30)
 
 
 class TlsTokenTest(unittest.TestCase):
