@@ -111,7 +111,7 @@ StepResult AggregateStep(std::vector<SessionMeasurement> sessions, StatsSummary 
     } else {
       ++step.unsettled;
     }
-    if (!s.error.empty()) ++step.failed_sessions;
+    if (!s.error.empty() && step.failed_sessions++ == 0) step.first_error = s.error;
   }
   std::sort(step.all_latencies_ms.begin(), step.all_latencies_ms.end());
   step.latency_ms = Summarize(step.all_latencies_ms);

@@ -135,7 +135,8 @@ struct StepResult {
   int unsettled = 0;    // sessions that did not settle before the drain ended
   double bytes_per_s = 0.0;
   int failed_sessions = 0;
-  StatsSummary stages;  // the server's per-stage timings, over all frames
+  std::string first_error;  // the first failed session's
+  StatsSummary stages;      // the server's per-stage timings, over all frames
   std::vector<ServerSample> servers;
   // The interferer, when one ran: renders finished and their median time.
   int interferer_renders = 0;

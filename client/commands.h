@@ -17,6 +17,14 @@ absl::Status RunEval(const ConnectionOptions& connection, const EvalOptions& opt
 // `connection.server` may list several servers, comma separated: sessions
 // are placed on them round-robin.
 absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& options);
+// One session of `options`' workload, solver and view on a private copy of
+// its scene, with --reference-spp (> 0): bench's "converge" entry for it
+// (the time to converge and "over_time", the error of every frame shown
+// during the motion and after it) as JSON text, null when it could not be
+// measured; frames.csv goes to options.out_dir. `gistream eval` runs its
+// spec's animations through it.
+absl::StatusOr<std::string> RunInteraction(const ConnectionOptions& connection,
+                                           const BenchOptions& options);
 
 // What RunStream/RunScript return when a second interrupt cancelled the
 // session (main exits 130).

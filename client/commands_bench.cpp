@@ -790,7 +790,42 @@ absl::Status ReportBench(const BenchOptions& options, const std::vector<StepResu
   return absl::OkStatus();
 }
 
+constexpr char kFramesCsvHeader[] =
+    "step,session,frame,seq,t_ms,phase,relmse,update_complete,at_rest,"
+    "frames_since_scene_change,refine_samples\n";
+
 }  // namespace
+
+absl::StatusOr<std::string> RunInteraction(const ConnectionOptions& connection,
+                                           const BenchOptions& options) {
+  if (options.reference_spp <= 0) {
+    return absl::InvalidArgumentError("an interaction needs a reference sample count");
+  }
+  GS_ASSIGN_OR_RETURN(WorkloadSpec spec, ParseWorkload(options.workload));
+  spec.node = options.node;
+  GS_ASSIGN_OR_RETURN(v1::LoadSceneRequest load, BuildLoadSceneRequest(options.scene));
+  load.set_private_copy(true);
+  GS_RETURN_IF_ERROR(CheckReferenceOptions(options, load));
+  GS_ASSIGN_OR_RETURN(std::vector<BenchServer> servers,
+                      ConnectServers(connection, {connection.server}, load, false));
+  GS_ASSIGN_OR_RETURN(Workload workload, Workload::Create(spec, servers[0].scene->info()));
+  std::atomic<bool> interrupted{false};
+  Progress progress(StderrIsTty());
+  const std::string label = absl::StrCat("[", options.solver.solver, " ", WorkloadName(spec), "]");
+  SettleTrace trace;
+  GS_ASSIGN_OR_RETURN(const StepResult step,
+                      RunStep(options, connection, load, servers, workload, nullptr, 1, label,
+                              progress, interrupted, &trace));
+  if (step.failed_sessions > 0) {
+    // The server refused or ended the session (a bad parameter, a limit).
+    return absl::FailedPreconditionError(absl::StrCat("the session failed: ", step.first_error));
+  }
+  std::string frames_csv = kFramesCsvHeader;
+  const nlohmann::json converge =
+      MeasureConvergence(*servers[0].connection, load, options, trace, label, 1, frames_csv);
+  GS_RETURN_IF_ERROR(WriteFile(options.out_dir / "frames.csv", frames_csv));
+  return converge.dump();
+}
 
 absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& options) {
   GS_ASSIGN_OR_RETURN(WorkloadSpec spec, ParseWorkload(options.workload));
@@ -835,9 +870,7 @@ absl::Status RunBench(const ConnectionOptions& connection, const BenchOptions& o
   std::vector<StepResult> steps;
   nlohmann::json converge = nlohmann::json::array();  // per step, with --reference-spp
   // One row per frame of each step's first session (--reference-spp).
-  std::string frames_csv =
-      "step,session,frame,seq,t_ms,phase,relmse,update_complete,at_rest,"
-      "frames_since_scene_change,refine_samples\n";
+  std::string frames_csv = kFramesCsvHeader;
   for (size_t i = 0; i < options.sessions.size() && !interrupted; ++i) {
     const int count = options.sessions[i];
     const std::string label = absl::StrCat("[step ", i + 1, "/", options.sessions.size(), ": ",

@@ -297,8 +297,13 @@ std::string Markdown(const std::vector<EvalRow>& rows) {
   return md.str();
 }
 
+std::string AnimationMarkdown(const nlohmann::json& rows);
+absl::Status WritePlotAndMarkdown(const std::filesystem::path& dir,
+                                  const std::vector<EvalRow>& rows, const nlohmann::json& meta,
+                                  const nlohmann::json& animation_rows);
+
 absl::Status WriteOutputs(const std::filesystem::path& dir, const std::vector<EvalRow>& rows,
-                          const nlohmann::json& meta) {
+                          const nlohmann::json& meta, const nlohmann::json& animation_rows) {
   std::filesystem::create_directories(dir);
   std::ofstream csv(dir / "results.csv");
   csv << "scene,view,solver,equal_time,params,spp,first_ms,full_median_ms,full_p95_ms,"
@@ -345,9 +350,16 @@ absl::Status WriteOutputs(const std::filesystem::path& dir, const std::vector<Ev
   }
   nlohmann::json doc = meta;
   doc["results"] = results;
+  if (!animation_rows.empty()) doc["animation"] = animation_rows;
   std::ofstream(dir / "results.json") << doc.dump(2) << '\n';
+  return WritePlotAndMarkdown(dir, rows, meta, animation_rows);
+}
 
-  // Error against time: one series per solver (and scene), log-log.
+// error_vs_time.png (one series per solver and scene, log-log) and
+// results.md (the tables, the plot's colours).
+absl::Status WritePlotAndMarkdown(const std::filesystem::path& dir,
+                                  const std::vector<EvalRow>& rows, const nlohmann::json& meta,
+                                  const nlohmann::json& animation_rows) {
   std::vector<PlotSeries> series;
   auto series_for = [&](const std::string& name) -> PlotSeries& {
     for (PlotSeries& s : series) {
@@ -374,6 +386,11 @@ absl::Status WriteOutputs(const std::filesystem::path& dir, const std::vector<Ev
      << "full-update frame time in ms (x), log-log; tick labels are powers of ten. Colours:\n\n";
   for (size_t i = 0; i < series.size(); ++i) {
     md << "- " << SeriesColorName(i) << ": " << series[i].name << "\n";
+  }
+  if (!animation_rows.empty()) {
+    md << "\nDuring each scene's animation, every frame against a reference of the state it "
+          "shows (frames.csv under animation/):\n\n"
+       << AnimationMarkdown(animation_rows);
   }
   return absl::OkStatus();
 }
@@ -432,6 +449,96 @@ absl::Status MeasureSolvers(Evaluator& evaluator, const EvalSpec& spec, const Lo
   return absl::OkStatus();
 }
 
+// A scene's animation (issue 27): per solver setting, one session playing
+// the script, every frame against a reference of the state it shows
+// (RunInteraction). Returns a row per setting: scene, solver, params and
+// bench's "converge" entry (or "failure").
+absl::Status MeasureAnimation(const ConnectionOptions& connection, const EvalOptions& options,
+                              const EvalSpec& spec, const EvalScene& scene, nlohmann::json& rows) {
+  const EvalAnimation& animation = *scene.animation;
+  std::filesystem::path script = animation.script;
+  if (script.is_relative()) script = options.file.parent_path() / script;
+  int k = 0;
+  for (const EvalSolver& solver : spec.solvers) {
+    for (const auto& params : solver.Settings()) {
+      BenchOptions bench;
+      bench.scene.scene = scene.name;
+      bench.solver.solver = solver.name;
+      bench.solver.params = params;
+      bench.view.width = spec.width;
+      bench.view.height = spec.height;
+      bench.view.encoding.set_format(v1::IMAGE_FORMAT_EXR);
+      bench.view.refine_samples = spec.refine_samples;
+      bench.workload = script.string();
+      bench.update_hz = animation.update_hz;
+      bench.fps = float(animation.fps);
+      bench.sessions = {1};
+      bench.duration_s = animation.duration_s;
+      bench.warmup_s = animation.warmup_s;
+      bench.reference_spp = spec.reference_spp;
+      bench.out_dir = options.out_dir / "animation" / absl::StrCat(scene.name, "_", k++);
+      nlohmann::json row = {{"scene", scene.name},
+                            {"solver", solver.name},
+                            {"params", ParamsText(params)},
+                            {"script", script.string()},
+                            {"frames_csv", (bench.out_dir / "frames.csv").string()}};
+      absl::StatusOr<std::string> converge = RunInteraction(connection, bench);
+      if (converge.ok()) {
+        row["converge"] = nlohmann::json::parse(*converge);
+      } else if (IsRefusal(converge.status())) {
+        row["failure"] = converge.status().ToString();
+      } else {
+        return converge.status();
+      }
+      rows.push_back(std::move(row));
+    }
+  }
+  return absl::OkStatus();
+}
+
+// "x.xxe-yy (N.Nx)" of a relMSE against the full solve's.
+std::string Versus(const nlohmann::json& over, const char* key, double full) {
+  if (!over.contains(key) || !over[key].is_number()) return "-";
+  const double v = over[key].get<double>();
+  return absl::StrCat(Sci(v), " (", Fixed(v / full, 1), "x)");
+}
+
+std::string Within(const nlohmann::json& over, const char* key) {
+  if (!over.contains(key) || !over[key].is_object()) return "never";
+  return absl::StrCat(over[key].value("frames", 0), " / ", Fixed(over[key].value("ms", 0.0), 0));
+}
+
+// The animations' table: the error of the frames shown during the motion
+// and after the stop, against the full solve's of the final state.
+std::string AnimationMarkdown(const nlohmann::json& rows) {
+  std::ostringstream md;
+  md << "| scene | solver | params | full solve relMSE | motion mean (x full) | motion p95 | "
+        "first frame after the stop (x full) | within 2x: frames / ms | within 1.05x: frames / "
+        "ms |\n"
+     << "| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  for (const nlohmann::json& r : rows) {
+    md << "| " << r.value("scene", "") << " | " << r.value("solver", "") << " | "
+       << r.value("params", "") << " | ";
+    const nlohmann::json converge = r.value("converge", nlohmann::json());
+    const nlohmann::json over =
+        converge.is_object() ? converge.value("over_time", nlohmann::json()) : nlohmann::json();
+    if (!over.is_object() || !over.contains("full_solve_rel_mse")) {
+      md << "not measured: "
+         << absl::StrReplaceAll(r.value("failure", std::string("no frames after the stop")),
+                                {{"|", "/"}, {"\n", " "}})
+         << " | | | | | |\n";
+      continue;
+    }
+    const double full = over["full_solve_rel_mse"].get<double>();
+    md << Sci(full) << " | " << Versus(over, "motion_mean_rel_mse", full) << " | "
+       << (over.contains("motion_p95_rel_mse") ? Sci(over["motion_p95_rel_mse"].get<double>())
+                                               : std::string("-"))
+       << " | " << Versus(over, "first_after_stop_rel_mse", full) << " | "
+       << Within(over, "within_2x") << " | " << Within(over, "within_1_05x") << " |\n";
+  }
+  return md.str();
+}
+
 // The path tracer as the peer curve: its error at equal time budgets.
 absl::Status MeasurePathtrace(Evaluator& evaluator, const EvalSpec& spec, const LoadedScene& loaded,
                               const EvalScene& scene, const EvalView& view,
@@ -476,6 +583,7 @@ absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOpti
       connection.Call(&v1::Gistream::Stub::GetServerStatus, v1::GetServerStatusRequest(), &status));
   Evaluator evaluator(connection, spec);
   std::vector<EvalRow> rows;
+  nlohmann::json animation_rows = nlohmann::json::array();
   for (const EvalScene& scene : spec.scenes) {
     v1::LoadSceneRequest load;
     load.set_name(scene.name);
@@ -497,6 +605,10 @@ absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOpti
           MeasureSolvers(evaluator, spec, *loaded, scene, view, reference, yfov, rows));
       GS_RETURN_IF_ERROR(MeasurePathtrace(evaluator, spec, *loaded, scene, view, reference, rows));
     }
+    if (scene.animation) {
+      GS_RETURN_IF_ERROR(
+          MeasureAnimation(connection_options, options, spec, scene, animation_rows));
+    }
   }
   const std::time_t now = std::time(nullptr);
   char date[32];
@@ -509,11 +621,16 @@ absl::Status RunEval(const ConnectionOptions& connection_options, const EvalOpti
       {"command", absl::StrCat("gistream eval ", options.file.string())},
       {"size", {spec.width, spec.height}},
       {"reference_spp", spec.reference_spp}};
-  GS_RETURN_IF_ERROR(WriteOutputs(options.out_dir, rows, meta));
+  GS_RETURN_IF_ERROR(WriteOutputs(options.out_dir, rows, meta, animation_rows));
   std::cout << "Measured " << date << " on " << status.gl_renderer() << " (CPU "
             << status.cpu_model() << ", " << status.cpu_threads() << " threads)\n\n"
-            << Markdown(rows) << "\nwrote " << (options.out_dir / "results.{csv,json,md}").string()
-            << " and " << (options.out_dir / "error_vs_time.png").string() << "\n";
+            << Markdown(rows);
+  if (!animation_rows.empty()) {
+    std::cout << "\nDuring the animation (every frame against a reference of its state):\n\n"
+              << AnimationMarkdown(animation_rows);
+  }
+  std::cout << "\nwrote " << (options.out_dir / "results.{csv,json,md}").string() << " and "
+            << (options.out_dir / "error_vs_time.png").string() << "\n";
   return absl::OkStatus();
 }
 

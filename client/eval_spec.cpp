@@ -142,8 +142,36 @@ absl::StatusOr<EvalView> ParseView(const json& jv, size_t v, const std::string& 
   return view;
 }
 
-// scenes[i] at `path`: its name, its two changes and its views (one
-// default view when it lists none).
+// scenes[i].animation at `path`.
+absl::StatusOr<EvalAnimation> ParseAnimation(const json& a, const std::string& path) {
+  EvalAnimation animation;
+  if (!a.is_object() || !a.contains("script") || !a["script"].is_string()) {
+    return Bad(path + ".script", "expected the path of a script .json");
+  }
+  animation.script = a["script"].get<std::string>();
+  struct Number {
+    const char* key;
+    double* value;
+    double min, max;
+  };
+  const Number numbers[] = {{"duration_s", &animation.duration_s, 0.1, 600.0},
+                            {"warmup_s", &animation.warmup_s, 0.0, 600.0},
+                            {"fps", &animation.fps, 0.1, 240.0},
+                            {"update_hz", &animation.update_hz, 0.1, 240.0}};
+  for (const Number& n : numbers) {
+    if (!a.contains(n.key)) continue;
+    const json& v = a[n.key];
+    if (!v.is_number() || !(v.get<double>() >= n.min) || !(v.get<double>() <= n.max)) {
+      return Bad(absl::StrCat(path, ".", n.key),
+                 absl::StrCat(v.dump(), " is not a number in [", n.min, ", ", n.max, "]"));
+    }
+    *n.value = v.get<double>();
+  }
+  return animation;
+}
+
+// scenes[i] at `path`: its name, its two changes, its views (one default
+// view when it lists none) and its animation, if any.
 absl::StatusOr<EvalScene> ParseScene(const json& s, const std::string& path) {
   EvalScene scene;
   GS_ASSIGN_OR_RETURN(scene.name, NameAt(s, path, "expected a scene name"));
@@ -160,6 +188,9 @@ absl::StatusOr<EvalScene> ParseScene(const json& s, const std::string& path) {
     }
   }
   if (scene.views.empty()) scene.views.push_back(EvalView{});
+  if (s.contains("animation")) {
+    GS_ASSIGN_OR_RETURN(scene.animation, ParseAnimation(s["animation"], path + ".animation"));
+  }
   return scene;
 }
 

@@ -19,9 +19,22 @@ struct EvalView {
   std::optional<float> yfov_degrees;
 };
 
+// A scripted interaction (issue 27): the script's timeline played on the
+// scene at `update_hz` into a session capped at `fps` for `duration_s`
+// (after `warmup_s`), every frame compared with a path-traced reference
+// of the state it shows (gistream bench --reference-spp, one session).
+struct EvalAnimation {
+  std::string script;  // a script .json (docs: README "Scripts"), relative to the spec's folder
+  double duration_s = 3.0;
+  double warmup_s = 2.0;
+  double fps = 10.0;
+  double update_hz = 10.0;
+};
+
 struct EvalScene {
   std::string name;  // a scene in the server's directory
   std::vector<EvalView> views;
+  std::optional<EvalAnimation> animation;
   // Each pair alternates; the second must restore the loaded state.
   std::vector<v1::Update> geometry_change;  // 2 updates: forces every stage
   std::vector<v1::Update> light_change;     // 2 updates: light only

@@ -163,7 +163,10 @@ equal time budgets. Writes results.csv, results.json, results.md and
 error_vs_time.png (log-log) into DIR and prints the markdown table. A
 setting the server refuses (over its memory budget, a bad parameter) is
 written down as "not measured" with the server's status, and the run goes
-on; losing the server ends it.
+on; losing the server ends it. A scene with an "animation" (a script)
+also plays it into one session per setting and compares every frame with
+a reference of the state it shows: a second table of the error during
+the motion and after it (frames.csv per setting under DIR/animation/).
 
   --out DIR     output directory (default out/eval)
   --cache DIR   reference images, keyed by scene content, view, size and

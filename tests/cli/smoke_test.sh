@@ -70,12 +70,14 @@ $C stream --frames 2 --size 48x32 --param area_samples=4 --format h264 --out "$T
 
 # eval end to end on a tiny spec: outputs written, every row finite; a
 # setting the server refuses (area_samples=0) is written down as not
-# measured and the run goes on.
-cat >"$TMP/spec.json" <<'JSON'
+# measured and the run goes on. The scene's animation (the bundled orbit
+# script, 1 s) adds a table of the error during it, a row per setting.
+cat >"$TMP/spec.json" <<JSON
 {"size": [16, 16], "reference": {"spp": 16}, "timed_frames": 1, "pathtrace_budgets_ms": [10],
  "scenes": [{"name": "cornell_box",
    "geometry_change": [{"node_transform": {"node": 6, "translation": {"x": 0.01}}}, {"node_transform": {"node": 6}}],
-   "light_change": [{"material": {"material": 3, "emissive_strength": 12}}, {"material": {"material": 3, "emissive_strength": 17}}]}],
+   "light_change": [{"material": {"material": 3, "emissive_strength": 12}}, {"material": {"material": 3, "emissive_strength": 17}}],
+   "animation": {"script": "$(cd "$SCENES" && pwd)/cornell_orbit.json", "duration_s": 1, "warmup_s": 0, "update_hz": 5}}],
  "solvers": [{"name": "direct", "grid": {"area_samples": ["4", "8", "0"]}}]}
 JSON
 $C eval "$TMP/spec.json" --out "$TMP/eval" --cache "$TMP/cache" >"$TMP/eval.log" 2>&1 ||
@@ -88,6 +90,11 @@ done
   grep -q 'area_samples=0 | not measured: INVALID_ARGUMENT' "$TMP/eval/results.md" ||
   { cat "$TMP/eval/results.csv"; echo "FAIL: eval did not record the refused setting"; exit 1; }
 ls "$TMP/cache"/*.exr >/dev/null || { echo "FAIL: no cached reference"; exit 1; }
+grep -q "During each scene's animation" "$TMP/eval/results.md" &&
+  [ "$(grep -c '^| cornell_box | direct | area_samples=[48] | [0-9]' "$TMP/eval/results.md")" -eq 2 ] &&
+  grep -q '^| cornell_box | direct | area_samples=0 | not measured: .*INVALID_ARGUMENT.*area_samples' "$TMP/eval/results.md" &&
+  [ -s "$TMP/eval/animation/cornell_box_0/frames.csv" ] ||
+  { cat "$TMP/eval/results.md" "$TMP/eval.log"; echo "FAIL: eval's animation table"; exit 1; }
 if grep -v INVALID_ARGUMENT "$TMP/eval/results.csv" | grep -qiE 'nan|inf'; then echo "FAIL: non-finite metric"; exit 1; fi
 
 # Errors: non-zero exit with the server's code and the field it names.

@@ -152,6 +152,41 @@ TEST(EvalSpec, ErrorsNameTheJsonPath) {
   EXPECT_FALSE(ParseEvalSpec("{\"bogus\": 1}").ok());
 }
 
+// A scene's animation (issue 27): the script and its timing, defaults for
+// what it leaves out; a bad value names its JSON path.
+TEST(EvalSpec, ParsesASceneAnimation) {
+  auto spec = ParseEvalSpec(kSpec);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  EXPECT_FALSE(spec->scenes[0].animation.has_value());
+  std::string animated = kSpec;
+  animated.replace(animated.find("\"light_change\""), 14,
+                   "\"animation\": {\"script\": \"orbit.json\", \"duration_s\": 5, "
+                   "\"fps\": 15}, \"light_change\"");
+  spec = ParseEvalSpec(animated);
+  ASSERT_TRUE(spec.ok()) << spec.status();
+  ASSERT_TRUE(spec->scenes[0].animation.has_value());
+  const EvalAnimation& a = *spec->scenes[0].animation;
+  EXPECT_EQ(a.script, "orbit.json");
+  EXPECT_EQ(a.duration_s, 5.0);
+  EXPECT_EQ(a.fps, 15.0);
+  EXPECT_EQ(a.warmup_s, 2.0);    // default
+  EXPECT_EQ(a.update_hz, 10.0);  // default
+  std::string bad = animated;
+  bad.replace(bad.find("\"fps\": 15"), 9, "\"fps\": -1");
+  auto refused = ParseEvalSpec(bad);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(std::string(refused.status().message()).find("scenes[0].animation.fps"),
+            std::string::npos)
+      << refused.status();
+  bad = animated;
+  bad.replace(bad.find("\"script\": \"orbit.json\""), 22, "\"script\": 3");
+  refused = ParseEvalSpec(bad);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(std::string(refused.status().message()).find("scenes[0].animation.script"),
+            std::string::npos)
+      << refused.status();
+}
+
 TEST(EvalSpec, CacheKeyIsStableAndSensitive) {
   // FNV-1a 64 of "a" is a published test vector.
   EXPECT_EQ(Fnv1a("a"), 0xaf63dc4c8601ec8cull);
