@@ -362,6 +362,20 @@ TEST(AvgVpls, DoubleSidedLampUnderACeilingConservesPowerPerBounce) {
   }
 }
 
+// A 10 cd point light (4 pi 10 W) inside a closed 2 m cube of `material`,
+// its VPLs traced with `settings` on a 48^3 grid.
+avg::VplTraceResult TracePointLitBox(const Material& material,
+                                     const avg::VplTraceSettings& settings) {
+  Light point;
+  point.type = LightType::kPoint;
+  point.intensity = 10.0f;
+  const SceneState state(QuadScene(ClosedCube(), {material}, {{point, {0.2f, 0.3f, -0.1f}}}));
+  const VoxelGrid grid = VoxelGrid::Build(state, 48);
+  const auto lights = avg::CollectVplLights(state, glm::vec3(0.0f), 2.0f);
+  EXPECT_EQ(lights.size(), 1u);
+  return avg::TraceVpls(grid, lights, settings);
+}
+
 TEST(AvgVpls, PointLightInAClosedBox) {
   // A 10 cd point light inside a closed albedo-0.6 cube: 4 pi 10 W leave
   // the light, 0.6 of it is in the first VPLs; later bounces carry
@@ -369,17 +383,10 @@ TEST(AvgVpls, PointLightInAClosedBox) {
   // Monte-Carlo tolerance.
   Material grey;
   grey.base_color_factor = glm::vec4(0.6f, 0.6f, 0.6f, 1.0f);
-  Light point;
-  point.type = LightType::kPoint;
-  point.intensity = 10.0f;
-  const SceneState state(QuadScene(ClosedCube(), {grey}, {{point, {0.2f, 0.3f, -0.1f}}}));
-  const VoxelGrid grid = VoxelGrid::Build(state, 48);
-  const auto lights = avg::CollectVplLights(state, glm::vec3(0.0f), 2.0f);
-  ASSERT_EQ(lights.size(), 1u);
   avg::VplTraceSettings settings;
   settings.vpls = 2048;
   settings.bounces = 3;
-  const avg::VplTraceResult r = avg::TraceVpls(grid, lights, settings);
+  const avg::VplTraceResult r = TracePointLitBox(grey, settings);
   ExpectSaneVpls(r.vpls);
   const double power = 4.0 * glm::pi<double>() * 10.0;
   EXPECT_EQ(r.escaped, 0u);
@@ -405,18 +412,12 @@ TEST(AvgVpls, GlossyVplsReflectThroughTheBrdfAndKeepTheAlbedoPerBounce) {
   metal.base_color_factor = glm::vec4(0.9f, 0.9f, 0.9f, 1.0f);
   metal.metallic_factor = 1.0f;
   metal.roughness_factor = 0.5f;
-  Light point;
-  point.type = LightType::kPoint;
-  point.intensity = 10.0f;
-  const SceneState state(QuadScene(ClosedCube(), {metal}, {{point, {0.2f, 0.3f, -0.1f}}}));
-  const VoxelGrid grid = VoxelGrid::Build(state, 48);
-  const auto lights = avg::CollectVplLights(state, glm::vec3(0.0f), 2.0f);
   avg::VplTraceSettings settings;
   settings.vpls = 4096;
   settings.bounces = 3;
   settings.roulette = false;
   settings.tail_bound = 0.0;
-  const avg::VplTraceResult r = avg::TraceVpls(grid, lights, settings);
+  const avg::VplTraceResult r = TracePointLitBox(metal, settings);
   ExpectSaneVpls(r.vpls);
   EXPECT_EQ(r.escaped, 0u);
   const float a = BrdfWhiteSkyAlbedo(glm::vec3(0.9f), 1.0f, 0.5f).g;
