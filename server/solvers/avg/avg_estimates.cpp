@@ -31,10 +31,11 @@ MemoryEstimate AvgSolver::EstimateMemory(const ParamSet& params, const SceneStat
     estimate.items.push_back(
         {"vpls", "draw lists of two batches of VPL distance cubes", lists, lists});
   }
-  // The approximate visibility grid: one 32-bit cell per voxel, on the CPU
-  // for the VPL tracer and on the GPU.
+  // The approximate visibility grid: on the CPU each voxel's sums
+  // (avg::Voxel: normal, albedo, BRDF, point, counts) for the VPL tracer,
+  // on the GPU one 32-bit cell per voxel.
   estimate.items.push_back({"grid", absl::StrCat("visibility grid of ", grid, "^3 voxels"),
-                            grid * grid * grid * 4, grid * grid * grid * 4});
+                            grid * grid * grid * sizeof(avg::Voxel), grid * grid * grid * 4});
   // A VPL: about 100 bytes on the CPU (avg::Vpl), 80 on the GPU (GpuVpl).
   estimate.items.push_back({"vpls", absl::StrCat(vpls, " VPLs"), vpls * 100, vpls * 80});
   estimate.items.push_back(
