@@ -901,6 +901,7 @@ Clock::time_point EngineImpl::Tick() {
         session->config.max_fps > 0.0f ? session->config.max_fps : options_.default_max_fps;
     const auto start = Clock::now();
     const uint64_t resets = gpu_resets_;
+    view.alone = demand.sessions.size() <= 1;
     RenderFrame(*session, view);
     last_served_ = session->id;
     tenant_render_ms_[session->scene->tenant] +=
@@ -1366,6 +1367,15 @@ void EngineImpl::AddViewStats(ViewRecord& view, const GpuSceneRecord& scene, con
   stats.emplace_back("refine_history", double(view.refinement.HistoryWeight(refine_target)));
 }
 
+double EngineImpl::FrameBudgetMs(const SessionRecord& session, const ViewRecord& view) const {
+  if (session.config.frame_budget_ms > 0.0) return session.config.frame_budget_ms;
+  const double base = options_.frame_budget_ms;
+  if (!view.alone || session.config.pacing != Pacing::kContinuous) return base;
+  const float fps =
+      session.config.max_fps > 0.0f ? session.config.max_fps : options_.default_max_fps;
+  return fps > 0.0f ? std::max(base, 0.5 * 1000.0 / double(fps)) : base;
+}
+
 absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRecord& session,
                                                                        ViewRecord& view,
                                                                        std::deque<Update> updates) {
@@ -1384,8 +1394,7 @@ absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRe
   GS_ASSIGN_OR_RETURN(SolverEntry * entry, AcquireSolver(session, scene));
   SolverContext ctx{*scene.state, *scene.gpu, timer_};
   ctx.reserve = accounts_.ReserverFor(scene.tenant);
-  ctx.budget_ms = session.config.frame_budget_ms > 0.0 ? session.config.frame_budget_ms
-                                                       : options_.frame_budget_ms;
+  ctx.budget_ms = FrameBudgetMs(session, view);
   ctx.stop = session.stop.get_token();
   GS_ASSIGN_OR_RETURN(const ChangeMask changes, PlanAndSolve(view, *entry, ctx));
   if (!entry->solver->UpdateComplete() && session.config.pacing == Pacing::kOnRequest) {
@@ -1529,6 +1538,8 @@ void EngineImpl::Publish(SessionRecord& session, ViewRecord& view, const GpuScen
   AddViewStats(view, scene, *entry.solver, state, draw.refine_target, frame.stats);
   // What BuildSolver estimated for a complete solve (this server's seconds).
   frame.stats.emplace_back("solve_estimate_s", entry.solve_estimate_s);
+  // The solver work this frame was allowed (FrameBudgetMs).
+  frame.stats.emplace_back("budget_ms", FrameBudgetMs(session, view));
   // Settled: the picture equals the last one, no update came with it and
   // the solver owes nothing (no slices, no background job, no animation):
   // a continuous view then rests (RenderFrame). Keep-alives at rest say 1.

@@ -191,6 +191,10 @@ class EngineImpl final : public Engine {
     std::vector<std::string> plan;              // the solver's plan, over the frame's slices
     RenderThread::Clock::time_point poll_at{};  // next poll of a pending update
     RenderThread::Clock::time_point next_due{};
+    // Set by Tick before each frame: no other session had a frame due, so
+    // this frame's sliced work may use more of a slow cap's interval
+    // (EngineImpl::FrameBudgetMs).
+    bool alone = false;
     FrameEncoder encoder;  // image/video encoding, unchanged-frame detection
     // At rest (continuous sessions): the last frame showed the finished
     // picture of this scene version and solver and equalled the one before.
@@ -343,6 +347,15 @@ class EngineImpl final : public Engine {
   absl::StatusOr<std::shared_ptr<EncodedFrame>> ProduceFrame(SessionRecord& session,
                                                              ViewRecord& view,
                                                              std::deque<Update> updates)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
+  // The solver's work budget for this frame: the session's frame_budget_ms
+  // when it set one, else the engine's default; a continuous session
+  // capped slowly that is alone with a frame due (view.alone) may use up
+  // to half its frame interval, so a sliced solve catches up in about the
+  // time it takes solved at once instead of 1 / (budget x fps) times that
+  // (issue 27: sh_probes' probes, 30 ms a frame at 10 fps, took 8 s to
+  // finish after an interaction where a full solve takes 2 s).
+  double FrameBudgetMs(const SessionRecord& session, const ViewRecord& view) const
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
   // Poses skinned and morphed meshes once per scene version (stage deform).
   void DeformScene(GpuSceneRecord& scene) ABSL_EXCLUSIVE_LOCKS_REQUIRED(render_role_);
