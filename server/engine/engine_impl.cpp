@@ -1373,7 +1373,12 @@ double EngineImpl::FrameBudgetMs(const SessionRecord& session, const ViewRecord&
   if (!view.alone || session.config.pacing != Pacing::kContinuous) return base;
   const float fps =
       session.config.max_fps > 0.0f ? session.config.max_fps : options_.default_max_fps;
-  return fps > 0.0f ? std::max(base, 0.5 * 1000.0 / double(fps)) : base;
+  // At most kAloneBudgetFactor x the default: a session that another one's
+  // frame becomes due behind (a cap of 0.1 fps would otherwise give it 5 s)
+  // waits no more than a few default slices.
+  constexpr double kAloneBudgetFactor = 3.0;
+  return fps > 0.0f ? std::clamp(0.5 * 1000.0 / double(fps), base, kAloneBudgetFactor * base)
+                    : base;
 }
 
 absl::StatusOr<std::shared_ptr<EncodedFrame>> EngineImpl::ProduceFrame(SessionRecord& session,

@@ -351,7 +351,7 @@ class EngineImpl final : public Engine {
   // The solver's work budget for this frame: the session's frame_budget_ms
   // when it set one, else the engine's default; a continuous session
   // capped slowly that is alone with a frame due (view.alone) may use up
-  // to half its frame interval, so a sliced solve catches up in about the
+  // to half its frame interval (at most 3x the default), so a sliced solve catches up in about the
   // time it takes solved at once instead of 1 / (budget x fps) times that
   // (issue 27: sh_probes' probes, 30 ms a frame at 10 fps, took 8 s to
   // finish after an interaction where a full solve takes 2 s).

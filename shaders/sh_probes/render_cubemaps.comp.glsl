@@ -28,6 +28,8 @@ layout(binding = SH_IMAGE_RADIANCE, rgba32f) writeonly uniform image2DArray uRad
 uniform int uComputeDirect;  // 1: recompute the direct light (lights or geometry changed)
 uniform int uUseIndirect;    // 0 on the first bounce
 
+const float kMinProbeRoughness = 0.2;
+
 // Points per side for a glossy texel: a highlight spans about alpha
 // radians seen from the probe (half the view's and the light's spread
 // over it), a texel 2 / face size; 1.5 points per lobe width across the
@@ -69,6 +71,13 @@ void main() {
   vec3 l = vec3(0.0);
   if (t.hit) {
     SurfaceBrdf b = ProbeTexelBrdf(t);
+    // Near-mirror lobes (roughness under kMinProbeRoughness) stay diffuse
+    // of their base colour, as before glossy probes: an area light's
+    // samples are points to such a lobe, and one aligned with the mirror
+    // direction put a spike of f E into a texel that the probe's SH spread
+    // over its whole neighbourhood (a bright square on the assimp corpus's
+    // ClearCoatTest.gltf, roughness 0.03, that the path tracer does not show).
+    if (b.roughness < kMinProbeRoughness) b = SurfaceBrdf(b.base_color, 0.0, 1.0);
     vec3 v = SafeNormalize(t.probe - t.position, t.normal);
     if (uComputeDirect != 0) {
       l = FiniteOrZero(BrdfLambertian(b) ? DirectReflected(t.position, t.normal, v, b)

@@ -50,6 +50,9 @@ TEST(FrameBudget, ASlowStreamAloneGetsHalfItsIntervalOthersKeepTheirs) {
   for (double b : Budgets(scene.id(), 10.0f, 20.0, 3)) EXPECT_EQ(b, 20.0);
   // At 30 fps half the interval (16.7 ms) is under the default: 30 ms.
   for (double b : Budgets(scene.id(), 30.0f, 0.0, 3)) EXPECT_EQ(b, 30.0);
+  // A very slow cap gets at most 3x the default (not 5 s at 0.1 fps): a
+  // session whose frame becomes due meanwhile waits a bounded time.
+  for (double b : Budgets(scene.id(), 0.5f, 0.0, 1)) EXPECT_EQ(b, 90.0);
 }
 
 }  // namespace
