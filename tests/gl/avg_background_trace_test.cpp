@@ -6,7 +6,9 @@
 // trace of the moved scene bitwise; a move while the job runs is traced by
 // one more job, with the newest transforms. Through the engine, a stream's
 // frames say which scene version their GI reflects while the job runs, and
-// the settled frame equals a fresh solve of the moved scene.
+// the settled frame equals a fresh solve of the moved scene. A still
+// view's second set of VPLs (`still_vpls`) is one more job once nothing is
+// due, joined to the shown VPLs; a move cancels it.
 #include <chrono>
 #include <future>
 #include <map>
@@ -31,11 +33,11 @@ namespace gistream {
 namespace {
 
 constexpr int kVpls = 256, kGrid = 32;
-const std::map<std::string, std::string> kParams = {{"vpls", std::to_string(kVpls)},
-                                                    {"grid", std::to_string(kGrid)},
-                                                    {"shadow_res", "16"},
-                                                    {"area_samples", "4"},
-                                                    {"direct_shadow_res", "32"}};
+// No still view's second set but in the test of it (StillViewsSecondSet).
+const std::map<std::string, std::string> kParams = {
+    {"vpls", std::to_string(kVpls)}, {"still_vpls", "0"},
+    {"grid", std::to_string(kGrid)}, {"shadow_res", "16"},
+    {"area_samples", "4"},           {"direct_shadow_res", "32"}};
 
 // The tall block (node 6) moved inside the walls: the grid keeps its place,
 // so the job voxelizes the moved box only.
@@ -68,8 +70,11 @@ class AvgBackgroundTrace : public testing::GlContextTest {
     }
   }
 
-  static std::unique_ptr<AvgSolver> CreateSolver() {
-    auto params = ValidateParams(AvgSolver::Describe(), kParams);
+  static std::unique_ptr<AvgSolver> CreateSolver(
+      const std::map<std::string, std::string>& more = {}) {
+    std::map<std::string, std::string> values = kParams;
+    for (const auto& [k, v] : more) values[k] = v;
+    auto params = ValidateParams(AvgSolver::Describe(), values);
     EXPECT_TRUE(params.ok()) << params.status();
     auto solver = AvgSolver::Create(*params);
     EXPECT_TRUE(solver.ok()) << solver.status();
@@ -118,13 +123,20 @@ class AvgBackgroundTrace : public testing::GlContextTest {
   }
   // The VPLs equal a synchronous full voxelization and trace of the scene
   // as it is now, bitwise.
-  void ExpectFullTrace() const {
+  // With `joined`, joined with a second set of as many paths going on with
+  // the sequence (a still view's VPLs).
+  void ExpectFullTrace(bool joined = false) const {
     const avg::VoxelGrid grid = avg::VoxelGrid::Build(*state_, kGrid);
     const glm::vec3 center = grid.origin() + 0.5f * grid.extent();
     const auto lights = avg::CollectVplLights(*state_, center, 0.5f * glm::length(grid.extent()));
     avg::VplTraceSettings settings;
     settings.vpls = kVpls;
-    const avg::VplTraceResult full = avg::TraceVpls(grid, lights, settings);
+    avg::VplTraceResult full = avg::TraceVpls(grid, lights, settings);
+    if (joined) {
+      avg::VplTraceSettings second = settings;
+      second.sample_offset = full.paths;
+      full = avg::JoinTraces(full, avg::TraceVpls(grid, lights, second));
+    }
     const avg::VplTraceResult& shown = solver_->vpls();
     EXPECT_EQ(shown.paths, full.paths);
     EXPECT_EQ(shown.path_first, full.path_first);
@@ -215,6 +227,47 @@ TEST_F(AvgBackgroundTrace, AMoveWhileTheJobRunsIsTracedByTheNextJob) {
   EXPECT_EQ(UpdateUntilComplete(), held_workers ? 2 : 1);
   EXPECT_EQ(Stat("gi_versions_behind"), 0.0);
   ExpectFullTrace();
+}
+
+TEST_F(AvgBackgroundTrace, AStillViewJoinsASecondSetAndAMoveCancelsIt) {
+  solver_ = CreateSolver({{"still_vpls", std::to_string(2 * kVpls)}});
+  // The first solve, then the second set: complete only once both are in.
+  Update(kChangeAll);
+  bool showed_first_set_alone = false;
+  while (!solver_->UpdateComplete()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    Update(kChangeNone);
+    showed_first_set_alone |= Stat("still_pending") == 1.0 && !solver_->vpls().vpls.empty();
+  }
+  EXPECT_TRUE(showed_first_set_alone);
+  EXPECT_EQ(Stat("still_pending"), 0.0);
+  EXPECT_GT(Stat("still_vpls"), 0.0);
+  ExpectFullTrace(/*joined=*/true);
+  // The first set's maps were copied, only the second set's drawn.
+  EXPECT_EQ(Stat("vpl_maps_kept") + Stat("still_vpls"), Stat("vpls"));
+
+  if (!HeldPool::Holds()) return;  // a one-thread pool runs each job inline
+  // A move: the next trace is of `vpls` alone; hold the pool once its job
+  // is done, so that the frame taking it starts the second set, which the
+  // next move cancels before it runs.
+  Update(Move({-0.05f, 0.0f, 0.05f}));
+  while (solver_->BackgroundBusy()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  {
+    HeldPool held;
+    Update(kChangeNone);
+    EXPECT_EQ(Stat("still_vpls"), 0.0);
+    EXPECT_EQ(Stat("still_pending"), 1.0);
+    EXPECT_FALSE(solver_->UpdateComplete());
+    Update(Move({0.03f, 0.0f, -0.02f}));
+    EXPECT_EQ(Stat("still_vpls"), 0.0);
+  }
+  while (!solver_->UpdateComplete()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    Update(kChangeNone);
+  }
+  // The second set of the newest transforms, not of the cancelled job's.
+  EXPECT_GT(Stat("still_vpls"), 0.0);
+  ExpectFullTrace(/*joined=*/true);
 }
 
 }  // namespace

@@ -18,6 +18,7 @@ RenderRequest AvgRequest(const std::string& scene, double budget_ms, std::vector
                                             {"grid", "32"},
                                             {"shadow_res", "16"},
                                             {"area_samples", "4"},
+                                            {"still_vpls", "0"},
                                             {"direct_shadow_res", "32"}},
                                            24, std::move(updates));
   r.frame_budget_ms = budget_ms;

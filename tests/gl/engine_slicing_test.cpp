@@ -56,6 +56,7 @@ TEST(EngineSlicing, ASplitAvgRemapEqualsAnUnsplitOne) {
   auto request = [](const std::string& scene, double budget_ms) {
     RenderRequest r = testing::SolverRequest(scene, "avg",
                                              {{"vpls", "48"},
+                                              {"still_vpls", "0"},
                                               {"grid", "16"},
                                               {"shadow_res", "16"},
                                               {"area_samples", "4"},

@@ -271,7 +271,8 @@ TEST(MemoryBudget, ASceneOverTheBudgetIsRefusedAndHoldsNothing) {
   ASSERT_TRUE(info.ok()) << info.status();
   EXPECT_STATUS(StatusOf((*engine)->Render(
                     Request(info->id, "avg", {}, {{"vpls", "2048"}, {"shadow_res", "256"}}))),
-                kResourceExhausted, "avg: vpls=2048 shadow_res=256 (largest part: two atlases");
+                kResourceExhausted,
+                "avg: vpls=2048 still_vpls=2048 shadow_res=256 (largest part: two atlases");
   auto frame = (*engine)->Render(
       Request(info->id, "direct", {}, {{"area_samples", "4"}, {"shadow_res", "64"}}));
   ASSERT_TRUE(frame.ok()) << frame.status();

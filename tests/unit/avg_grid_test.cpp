@@ -376,6 +376,54 @@ avg::VplTraceResult TracePointLitBox(const Material& material,
   return avg::TraceVpls(grid, lights, settings);
 }
 
+// A still view's second set of paths (AvgSolver `still_vpls`) goes on
+// with the first set's quasi-random sequence: its path i starts where path
+// N + i of one longer trace does (the first bounce depends on the path's
+// point only), so the two sets are one sequence, not the same paths twice
+// (without the offset every first VPL would repeat the first set's). The
+// joined sets weight each VPL by its set's share of the paths: bounce 1
+// still carries 0.6 P (1e-3, as one trace), and each bounce's flux is the
+// path-weighted mean of the two sets' (1e-5, float rounding).
+TEST(AvgVpls, AStillViewsSecondSetContinuesTheSequenceAndJoinsByPathShare) {
+  Material grey;
+  grey.base_color_factor = glm::vec4(0.6f, 0.6f, 0.6f, 1.0f);
+  avg::VplTraceSettings settings;
+  settings.vpls = 1024;
+  settings.bounces = 3;
+  const avg::VplTraceResult a = TracePointLitBox(grey, settings);
+  avg::VplTraceSettings second = settings;
+  second.sample_offset = a.paths;
+  const avg::VplTraceResult b = TracePointLitBox(grey, second);
+  avg::VplTraceSettings longer = settings;
+  longer.vpls = 4096;
+  const avg::VplTraceResult c = TracePointLitBox(grey, longer);
+  ASSERT_GT(a.paths, 100u);
+  ASSERT_EQ(b.paths, a.paths);
+  ASSERT_GE(c.paths, a.paths + b.paths);
+  size_t same_as_longer = 0, same_as_first = 0;
+  for (size_t i = 0; i < b.paths; ++i) {
+    const glm::vec3 p = b.vpls[b.path_first[i]].position;
+    same_as_longer += p == c.vpls[c.path_first[a.paths + i]].position ? 1 : 0;
+    same_as_first += p == a.vpls[a.path_first[i]].position ? 1 : 0;
+  }
+  EXPECT_EQ(same_as_longer, size_t(b.paths));
+  EXPECT_EQ(same_as_first, 0u);
+
+  const avg::VplTraceResult joined = avg::JoinTraces(a, b);
+  ExpectSaneVpls(joined.vpls);
+  ASSERT_EQ(joined.vpls.size(), a.vpls.size() + b.vpls.size());
+  EXPECT_EQ(joined.paths, a.paths + b.paths);
+  ASSERT_EQ(joined.path_first.size(), a.path_first.size() + b.path_first.size());
+  EXPECT_EQ(joined.path_first[a.path_first.size()], uint32_t(a.vpls.size()));
+  const double power = 4.0 * glm::pi<double>() * 10.0;
+  EXPECT_NEAR(Sum(joined.vpls, 1, 0), 0.6 * power, 1e-3 * power);
+  const double wa = double(a.paths) / double(joined.paths);
+  for (int bounce = 1; bounce <= 3; ++bounce) {
+    const double mean = wa * Sum(a.vpls, bounce, 0) + (1.0 - wa) * Sum(b.vpls, bounce, 0);
+    EXPECT_NEAR(Sum(joined.vpls, bounce, 0), mean, 1e-5 * power) << "bounce " << bounce;
+  }
+}
+
 TEST(AvgVpls, PointLightInAClosedBox) {
   // A 10 cd point light inside a closed albedo-0.6 cube: 4 pi 10 W leave
   // the light, 0.6 of it is in the first VPLs; later bounces carry

@@ -10,14 +10,15 @@ namespace gistream {
 
 MemoryEstimate AvgSolver::EstimateMemory(const ParamSet& params, const SceneState& state,
                                          const GpuScene& gpu) {
-  const uint64_t vpls = uint64_t(std::max(0, params.GetInt("vpls")));
+  // A still view's VPLs (`still_vpls`) when more: the atlases hold them.
+  const uint64_t vpls = uint64_t(std::max({0, params.GetInt("vpls"), params.GetInt("still_vpls")}));
   const uint64_t res = uint64_t(std::max(0, params.GetInt("shadow_res")));
   const uint64_t grid = uint64_t(std::max(0, params.GetInt("grid")));
   MemoryEstimate estimate;
   if (params.GetBool("visibility")) {
     // Two paraboloid atlases (shown and re-mapped), 32-bit depth.
     estimate.items.push_back(
-        {"vpls, shadow_res",
+        {"vpls, still_vpls, shadow_res",
          absl::StrCat("two atlases of ", vpls, " VPL shadow maps of ", res, "^2"), 0,
          2 * vpls * res * res * 4});
     // Each atlas draws its proxy cuts through a batch of distance cubes.
@@ -45,7 +46,9 @@ MemoryEstimate AvgSolver::EstimateMemory(const ParamSet& params, const SceneStat
 
 WorkEstimate AvgSolver::EstimateWork(const ParamSet& params, const SceneState& state,
                                      const GpuScene& gpu) {
-  const double vpls = std::max(0, params.GetInt("vpls"));
+  // A complete solve includes a still view's VPLs (`still_vpls`): its
+  // second set is traced and mapped after the first.
+  const double vpls = std::max({0, params.GetInt("vpls"), params.GetInt("still_vpls")});
   const double res = std::max(0, params.GetInt("shadow_res"));
   const double grid = std::max(0, params.GetInt("grid"));
   const double triangles = PassTriangles(gpu);
@@ -58,14 +61,14 @@ WorkEstimate AvgSolver::EstimateWork(const ParamSet& params, const SceneState& s
   // (Section 3.2; 1.5 ms for 680 VPLs on the box).
   const double steps = vpls * 3.0 * grid;
   estimate.items.push_back(
-      Work("vpls, grid", absl::StrCat("trace: ", steps, " voxel steps"), steps, 35.0));
+      Work("vpls, still_vpls, grid", absl::StrCat("trace: ", steps, " voxel steps"), steps, 35.0));
   if (params.GetBool("visibility")) {
     // A distance cube per VPL (6 faces of shadow_res^2, each a draw of the
     // scene), per face 157 us at 64^2 and 740 us at 256^2 on the box: 10 ns
     // a texel and 110 us for the face's draw. Counted for all `vpls`; a
     // path ends early where light escapes (680 of 1,024 on the box).
     const double faces = 6.0 * vpls;
-    estimate.items.push_back(Work("vpls, shadow_res",
+    estimate.items.push_back(Work("vpls, still_vpls, shadow_res",
                                   absl::StrCat("VPL shadow maps: ", faces, " faces of ", res,
                                                "^2 drawing ", triangles, " triangles"),
                                   faces,

@@ -49,6 +49,9 @@ SolverDescription AvgSolver::Describe() {
        "Shadow-test VPL light (false: no VPL shadow maps, the paper's FPS(NV))"},
       {"clamp", ParamType::kFloat, "0.02", 0.0, 1.0, {},
        "Geometry-term bias d as a fraction of the scene diagonal: G = cos cos / (r^2 + d^2)"},
+      {"still_vpls", ParamType::kInt, "2048", 0, 2048, {},
+       "VPLs of a still view: once nothing changed since the shown VPLs, still_vpls - vpls more "
+       "are traced and mapped in the background and joined to them (at most vpls: none)"},
       {"area_samples", ParamType::kInt, "32", 1, 1024, {},
        "Direct light: stratified samples over emissive surfaces, each with a shadow map"},
       {"direct_shadow_res", ParamType::kInt, "256", 16, 4096, {},
@@ -76,26 +79,29 @@ absl::StatusOr<std::unique_ptr<Solver>> AvgSolver::Create(const ParamSet& params
   solver->shadow_resolution_ = params.GetInt("shadow_res");
   solver->visibility_ = params.GetBool("visibility");
   solver->clamp_ = float(params.GetFloat("clamp"));
+  solver->still_vpls_ = params.GetInt("still_vpls");
+  const int layers = std::max(solver->trace_settings_.vpls, solver->still_vpls_);
   solver->direct_settings_.area_samples = params.GetInt("area_samples");
   solver->direct_settings_.shadow_resolution = params.GetInt("direct_shadow_res");
   solver->full_detail_ = params.GetBool("full_detail");
   solver->direct_settings_.full_detail = solver->full_detail_;
   // Two atlases: the shown one and the one a re-map draws into.
-  const double atlas = 2.0 * double(solver->trace_settings_.vpls) * solver->shadow_resolution_ *
-                       solver->shadow_resolution_ * 4.0;
+  const double atlas =
+      2.0 * double(layers) * solver->shadow_resolution_ * solver->shadow_resolution_ * 4.0;
   if (atlas > kMaxAtlasBytes) {
     return absl::ResourceExhaustedError(absl::StrCat(
-        "params.shadow_res: ", solver->trace_settings_.vpls, " VPL maps of ",
-        solver->shadow_resolution_, "^2 need ", int64_t(atlas / 1048576.0),
+        "params.shadow_res: ", layers, " VPL maps of ", solver->shadow_resolution_, "^2 need ",
+        int64_t(atlas / 1048576.0),
         " MiB for the two atlases (shown and re-mapped), more than the 1024 MiB limit; lower "
-        "shadow_res or vpls"));
+        "shadow_res, vpls or still_vpls"));
   }
   GLint max_layers = 0;
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &max_layers);
-  if (solver->trace_settings_.vpls > max_layers) {
-    return absl::ResourceExhaustedError(absl::StrCat("params.vpls: ", solver->trace_settings_.vpls,
-                                                     " exceeds this GPU's ", max_layers,
-                                                     " shadow-map array layers"));
+  if (layers > max_layers) {
+    return absl::ResourceExhaustedError(
+        absl::StrCat(solver->still_vpls_ > solver->trace_settings_.vpls ? "params.still_vpls: "
+                                                                        : "params.vpls: ",
+                     layers, " exceeds this GPU's ", max_layers, " shadow-map array layers"));
   }
   GS_ASSIGN_OR_RETURN(solver->shadow_maps_, avg::VplShadowMaps::Create());
   GS_ASSIGN_OR_RETURN(solver->remap_, avg::VplShadowMaps::Create());
@@ -122,7 +128,7 @@ std::vector<std::string> AvgSolver::Plan(const SceneState&, ChangeMask changes) 
   // A background trace under way (or due) may be taken, or the next one
   // started, in any frame: its stages are reported in the frame that
   // takes it, and the re-map starts there.
-  const bool busy = trace_job_.running() || trace_job_.again();
+  const bool busy = trace_job_.running() || trace_job_.again() || extend_job_.running();
   if (NeedsVoxelize(changes) || (trace_job_.running() && job_voxelizes_) || NeedsVoxelize(due_)) {
     return {"voxelize", "trace_vpls", "vpl_shadow_maps", "gbuffer", "illuminate", "filter"};
   }
@@ -287,7 +293,14 @@ void AvgSolver::StartTrace(const SolverContext& ctx) {
   const bool full_detail = full_detail_;
   avg::VplTraceSettings settings = trace_settings_;
   settings.tail_bound = tail_estimate_ ? LargestAlbedo(ctx.state) : 0.0;
-  trace_job_.Start(std::move(job), [resolution, full_detail, settings](TraceJob& j) {
+  // A light change on a still view's VPLs (nothing to voxelize): its
+  // second set is traced again too (a dimmer then keeps every map).
+  std::optional<avg::VplTraceSettings> extension;
+  if (extended_ && !job->voxelize) {
+    extension = settings;
+    extension->vpls = still_vpls_ - trace_settings_.vpls;
+  }
+  trace_job_.Start(std::move(job), [resolution, full_detail, settings, extension](TraceJob& j) {
     if (j.voxelize) {
       j.times.Time("voxelize", [&] {
         j.partial = !j.rebuild && j.grid && j.grid->Revoxelize(j.state, j.moved);
@@ -312,6 +325,11 @@ void AvgSolver::StartTrace(const SolverContext& ctx) {
       j.trace = j.partial
                     ? avg::RetraceVpls(*j.grid, lights, settings, j.grid->rewritten(), j.paths)
                     : avg::TraceVpls(*j.grid, lights, settings, &j.paths);
+      if (extension) {
+        avg::VplTraceSettings second = *extension;
+        second.sample_offset = j.trace.paths;
+        j.joined = avg::JoinTraces(j.trace, avg::TraceVpls(*j.grid, lights, second));
+      }
     });
   });
 }
@@ -337,9 +355,20 @@ void AvgSolver::TakeTrace(SolverContext& ctx, TraceJob& job) {
   // geometry only: when a light change left every path where it was (a
   // dimmer, a colour; the paths are quasi-random in the path index), the
   // maps stay and only the VPLs' flux is new.
-  const bool same_placement = !job.voxelize && !(job.changes & kChangeShape) && !unmapped_all_ &&
-                              unmapped_change_.empty() && !remap_pending_ &&
-                              SamePlacement(mapped_vpls_, trace_.vpls);
+  const bool maps_valid = !job.voxelize && !(job.changes & kChangeShape) && !unmapped_all_ &&
+                          unmapped_change_.empty() && !remap_pending_;
+  // A still view's second set, traced again with the first (StartTrace),
+  // stays where all its VPLs stayed too; else vpls again, the second set
+  // coming after.
+  if (job.joined && maps_valid && SamePlacement(mapped_vpls_, job.joined->vpls)) {
+    still_vpls_shown_ = job.joined->vpls.size() - trace_.vpls.size();
+    trace_ = std::move(*job.joined);
+    extended_ = true;
+  } else {
+    still_vpls_shown_ = 0;
+    extended_ = false;
+  }
+  const bool same_placement = maps_valid && SamePlacement(mapped_vpls_, trace_.vpls);
   vpl_maps_kept_ = 0;
   if (!visibility_ || same_placement) {
     shadow_maps_.Upload(trace_.vpls, job.grid_bounds);
@@ -357,12 +386,51 @@ void AvgSolver::TakeTrace(SolverContext& ctx, TraceJob& job) {
   }
 }
 
+void AvgSolver::StartExtension(const SolverContext& ctx) {
+  auto job = std::make_shared<ExtendJob>(ctx.state);
+  job->grid = &*grid_;
+  job->grid_bounds = mapped_bounds_;
+  job->base = trace_;
+  avg::VplTraceSettings settings = trace_settings_;
+  settings.vpls = still_vpls_ - trace_settings_.vpls;
+  settings.sample_offset = trace_.paths;  // the shown paths' sequence goes on
+  settings.tail_bound = tail_estimate_ ? LargestAlbedo(ctx.state) : 0.0;
+  extend_job_.Start(std::move(job), [settings](ExtendJob& j) {
+    j.times.Time("trace_vpls", [&] {
+      const std::vector<avg::VplLight> lights = avg::CollectVplLights(
+          j.state, j.grid_bounds.center(), 0.5f * glm::length(j.grid_bounds.extent()));
+      j.trace = avg::JoinTraces(j.base, avg::TraceVpls(*j.grid, lights, settings));
+    });
+  });
+}
+
+void AvgSolver::TakeExtension(SolverContext& ctx, ExtendJob& job) {
+  job.times.RecordInto(ctx.timer);
+  ctx.timer.Skip("voxelize");
+  extended_ = true;
+  still_vpls_shown_ = job.trace.vpls.size() - job.base.vpls.size();
+  trace_ = std::move(job.trace);
+  gl::StageTimer::Scope stage(ctx.timer, "vpl_shadow_maps");
+  vpl_maps_kept_ = 0;
+  if (!visibility_) {
+    shadow_maps_.Upload(trace_.vpls, job.grid_bounds);
+    mapped_vpls_ = trace_.vpls;
+    mapped_path_first_ = trace_.path_first;
+    return;
+  }
+  // The shown VPLs' maps are copied, the second set's drawn in slices.
+  remap_version_ = shown_version_;
+  StartRemap(ctx, job.grid_bounds);
+}
+
 absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
   const bool first = !started_;
   latest_version_ = ctx.state.version();
   if (first) unmapped_all_ = true;
   vpl_maps_redrawn_ = 0;
   if (first || NeedsTrace(changes)) {
+    // A still view's second set is of the old state: motion does not wait.
+    extend_job_.Cancel();
     // The next job covers it; a running one traces older data.
     due_ |= first ? ChangeMask(kChangeAll) : changes;
     if (trace_job_.running()) trace_job_.Again();
@@ -379,16 +447,22 @@ absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
   if (std::shared_ptr<TraceJob> job = trace_job_.TakeIfDone()) {
     TakeTrace(ctx, *job);
     taken = true;
+  } else if (std::shared_ptr<ExtendJob> extension = extend_job_.TakeIfDone()) {
+    TakeExtension(ctx, *extension);  // a cancelled one is never taken
+    taken = true;
   } else if (remap_pending_) {
     gl::StageTimer::Scope stage(ctx.timer, "vpl_shadow_maps");
     ContinueRemap(ctx);
   }
-  if (due_ != kChangeNone && !trace_job_.running()) {
+  if (due_ != kChangeNone && !trace_job_.running() && !extend_job_.running()) {
     // Voxelize and trace run on the CPU pool on a copy of the scene state;
     // frames show the last VPLs and maps meanwhile, and before the first
     // job's, direct light alone (the render thread never waits for a job).
     StartTrace(ctx);
     started_ = true;
+  } else if (due_ == kChangeNone && !trace_job_.running() && !extend_job_.running() &&
+             !remap_pending_ && ExtensionDue()) {
+    StartExtension(ctx);
   }
   if (!taken) {
     ctx.timer.Skip("voxelize");
@@ -461,6 +535,8 @@ SolverStats AvgSolver::Stats() const {
       {"voxels_filled", double(voxels_filled_)},
       {"voxel_bytes", double(voxel_bytes_)},
       {"trace_pending", trace_job_.running() || trace_job_.again() ? 1.0 : 0.0},
+      {"still_vpls", double(still_vpls_shown_)},
+      {"still_pending", extend_job_.running() || ExtensionDue() ? 1.0 : 0.0},
       {"gi_versions_behind", double(latest_version_ - std::min(shown_version_, latest_version_))},
       {"vpl_shadow_bytes", double(shadow_maps_.gpu_bytes())},
       {"vpl_maps_redrawn", double(vpl_maps_redrawn_)},

@@ -47,11 +47,17 @@ class AvgSolver final : public Solver {
   // False while a background voxelize + trace runs (or another is due) and
   // while new VPLs' maps are drawn in slices (frames show the last VPLs
   // and maps meanwhile).
+  // A still view's second set of paths (`still_vpls`) is part of the
+  // solution: false until it is traced and mapped.
   bool UpdateComplete() const override {
-    return !trace_job_.running() && !trace_job_.again() && !remap_pending_ && !direct_.pending();
+    return !trace_job_.running() && !trace_job_.again() && !remap_pending_ && !direct_.pending() &&
+           !extend_job_.running() && !ExtensionDue();
   }
-  bool BackgroundBusy() const override { return trace_job_.executing(); }
-  void CancelBackground() override { trace_job_.Cancel(); }
+  bool BackgroundBusy() const override { return trace_job_.executing() || extend_job_.executing(); }
+  void CancelBackground() override {
+    trace_job_.Cancel();
+    extend_job_.Cancel();
+  }
   // VPL and direct-light shadow maps, both atlases (the voxel grid is CPU memory).
   uint64_t gpu_bytes() const override {
     return shadow_maps_.gpu_bytes() + remap_.gpu_bytes() + direct_.gpu_bytes();
@@ -90,8 +96,32 @@ class AvgSolver final : public Solver {
     double voxels_rewritten = 0;
     Bounds grid_bounds;
     avg::VplTraceResult trace;
+    // A still view's VPLs traced again with a light change: trace joined
+    // with its second set (TakeTrace keeps it where no VPL moved).
+    std::optional<avg::VplTraceResult> joined;
     JobStageTimes times;  // voxelize, trace_vpls
   };
+  // A still view's second set of paths (`still_vpls`, Keller's instant
+  // radiosity refined progressively): once the shown VPLs are the latest
+  // and nothing is due, still_vpls - vpls more VPLs are traced on the CPU
+  // pool, going on with the shown paths' quasi-random sequence, from the
+  // shown grid (read only: no trace job runs meanwhile, and a change
+  // cancels this one); joined to the shown VPLs (avg::JoinTraces) and
+  // mapped like a trace's (the shown maps copied). Motion never waits for
+  // it: a change cancels it, and the next trace is of vpls again.
+  struct ExtendJob {
+    explicit ExtendJob(const SceneState& s) : state(s) {}
+    SceneState state;                      // for the lights
+    const avg::VoxelGrid* grid = nullptr;  // grid_, read only
+    Bounds grid_bounds;                    // the shown maps'
+    avg::VplTraceResult base;              // the shown VPLs
+    avg::VplTraceResult trace;             // out: base and the second set, joined
+    JobStageTimes times;                   // trace_vpls
+  };
+  bool ExtensionDue() const { return still_vpls_ > trace_settings_.vpls && traced_ && !extended_; }
+  void StartExtension(const SolverContext& ctx);
+  void TakeExtension(SolverContext& ctx, ExtendJob& job);
+
   // Starts a job for the changes due (the caller checks that none runs).
   void StartTrace(const SolverContext& ctx);
   // Shows a finished job's VPLs (their maps drawn in slices from this
@@ -114,6 +144,7 @@ class AvgSolver final : public Solver {
   int shadow_resolution_ = 64;            ///< VPL paraboloid map size
   bool visibility_ = true;                ///< false: VPLs unshadowed
   float clamp_ = 0.0f;                    ///< geometry-term bias, fraction of the scene diagonal
+  int still_vpls_ = 2048;                 ///< VPLs of a still view's solution (ExtendJob)
   DirectLightingSettings direct_settings_;
 
   // Runtime data
@@ -164,10 +195,14 @@ class AvgSolver final : public Solver {
   gl::Program filter_;
   gl::FullscreenPass fullscreen_;
   float clamp_distance_ = 0.0f;  // world units
+  bool extended_ = false;        // the shown VPLs include a still view's second set
+  size_t still_vpls_shown_ = 0;  // the second set's VPLs shown
 
   // The background voxelize + trace; last, so that it is waited for
   // before the rest of the solver is destroyed.
   BackgroundJob<TraceJob> trace_job_;
+  // Reads grid_: after it, so that it is waited for first.
+  BackgroundJob<ExtendJob> extend_job_;
 };
 
 }  // namespace gistream

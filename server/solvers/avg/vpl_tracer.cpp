@@ -139,19 +139,22 @@ std::optional<glm::vec3> SampleBrdf(const Vpl& vpl, const glm::vec3& u, glm::vec
 
 // Path i has a VPL at bounce b + 1 iff i < counts[b] (see SplitCounts); its
 // VPLs' flux is the start flux x the albedos hit, not yet divided by counts.
+// Its quasi-random numbers are point i + sample_offset's of the sequence.
 VplPath TracePath(const VoxelGrid& grid, const std::vector<VplLight>& lights,
-                  const LightTable& table, const std::vector<uint64_t>& counts, uint64_t i) {
+                  const LightTable& table, const std::vector<uint64_t>& counts, uint64_t i,
+                  uint64_t sample_offset) {
   const ScrambledHalton& h = ScrambledHalton::Instance();
+  const uint64_t q = i + sample_offset;
   VplPath result;
   // Pick a light by power (dimension 0 is van der Corput, so any prefix of
   // paths splits between the lights in proportion to their power).
-  const double u = double(h.Get(i, kDimLight)) * table.total;
+  const double u = double(h.Get(q, kDimLight)) * table.total;
   const size_t k = std::min(
       size_t(std::upper_bound(table.cdf.begin(), table.cdf.end(), u) - table.cdf.begin()) - 1,
       lights.size() - 1);
   const double pdf = (table.cdf[k + 1] - table.cdf[k]) / table.total;
   if (!(pdf > 0.0)) return result;
-  PathStart s = StartPath(lights[k], pdf, i);
+  PathStart s = StartPath(lights[k], pdf, q);
   glm::vec3 origin = s.origin, dir = s.dir, normal = s.normal, flux = s.flux;
   bool on_surface = s.on_surface;
   const float nudge = 0.05f * glm::length(grid.voxel_size());
@@ -193,7 +196,7 @@ VplPath TracePath(const VoxelGrid& grid, const std::vector<VplLight>& lights,
     // a stiff scene's hundreds of bounces: issue 14).
     origin = vpl.position;
     normal = n;
-    const glm::vec3 uv(PathSample(i, dim), PathSample(i, dim + 1), PathSample(i, dim + 2));
+    const glm::vec3 uv(PathSample(q, dim), PathSample(q, dim + 1), PathSample(q, dim + 2));
     if (vpl.brdf.Lambertian()) {
       dir = SampleCosine(n, uv.x, uv.y);
     } else {
@@ -249,7 +252,9 @@ LightTable MakeTable(const std::vector<VplLight>& lights) {
 void TraceRange(const VoxelGrid& grid, const std::vector<VplLight>& lights, const LightTable& table,
                 const VplTraceSettings& settings, const std::vector<uint64_t>& counts,
                 const std::vector<uint64_t>& indices, std::vector<VplPath>& out) {
-  auto trace = [&](size_t j) { out[j] = TracePath(grid, lights, table, counts, indices[j]); };
+  auto trace = [&](size_t j) {
+    out[j] = TracePath(grid, lights, table, counts, indices[j], settings.sample_offset);
+  };
   if (indices.size() < 64 || settings.threads == 1) {
     for (size_t j = 0; j < indices.size(); ++j) trace(j);
   } else {
@@ -341,6 +346,33 @@ VplTraceResult Pack(const VoxelGrid& grid, const std::vector<VplLight>& lights,
 }
 
 }  // namespace
+
+VplTraceResult JoinTraces(const VplTraceResult& a, const VplTraceResult& b) {
+  VplTraceResult out;
+  const uint64_t paths = a.paths + b.paths;
+  if (paths == 0) return a;
+  const float wa = float(double(a.paths) / double(paths));
+  const float wb = float(double(b.paths) / double(paths));
+  out.vpls.reserve(a.vpls.size() + b.vpls.size());
+  for (Vpl v : a.vpls) {
+    v.flux *= wa;
+    out.vpls.push_back(v);
+  }
+  for (Vpl v : b.vpls) {
+    v.flux *= wb;
+    out.vpls.push_back(v);
+  }
+  out.path_first = a.path_first;
+  for (uint32_t first : b.path_first) out.path_first.push_back(first + uint32_t(a.vpls.size()));
+  out.paths = paths;
+  out.escaped = a.escaped + b.escaped;
+  out.light_power = a.light_power;
+  out.kept_paths = a.paths;
+  out.kept_vpls = a.vpls.size();
+  out.new_paths = b.paths;
+  out.tail_ratio = a.tail_ratio;
+  return out;
+}
 
 bool PathTouches(const VplPath& path, const Bounds& box, const glm::vec3& pad) {
   if (box.empty()) return false;

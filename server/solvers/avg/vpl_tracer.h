@@ -43,6 +43,10 @@ struct VplTraceSettings {
   // geometric tail of the measured per-bounce flux (solvers/
   // tail_estimate.h), its ratio at most this (the largest albedo); 0: no.
   double tail_bound = 0.0;
+  // Path i takes point i + sample_offset of the quasi-random sequence: a
+  // still view's second set of paths (AvgSolver, `still_vpls`) goes on
+  // where the first set's N paths ended, so the two are one sequence.
+  uint64_t sample_offset = 0;
   // With the split paths end on their own (N rho-bar^b of them reach
   // bounce b), so the cap only bounds stiff scenes' paths.
   static constexpr int kMaxBounces = 1024;
@@ -106,6 +110,13 @@ VplTraceResult RetraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& l
                            const VplTraceSettings& settings, const Bounds& changed,
                            VplPathCache& cache);
 
+// Two traces of the same lights and grid as one estimate (a still view's
+// VPLs, AvgSolver `still_vpls`): each is an unbiased estimate of the
+// light's VPLs, so their union with every VPL's flux weighted by its set's
+// share of the paths, N_a / (N_a + N_b) and N_b / (N_a + N_b), is one of
+// N_a + N_b paths. `b`'s paths follow `a`'s (path_first shifted); `a`'s
+// VPLs count as kept, `b`'s as new.
+VplTraceResult JoinTraces(const VplTraceResult& a, const VplTraceResult& b);
 // Whether a ray of `path` passes within `pad` of `box`.
 bool PathTouches(const VplPath& path, const Bounds& box, const glm::vec3& pad);
 
