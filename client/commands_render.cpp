@@ -19,6 +19,10 @@ absl::Status RunRender(const ConnectionOptions& connection_options, const Render
   progress.Wait(absl::StrCat("loading scene ", options.scene.scene));
   GS_ASSIGN_OR_RETURN(std::unique_ptr<LoadedScene> scene,
                       LoadedScene::Load(connection, load, options.scene.keep_scene));
+  for (const std::string& warning : SceneWarnings(scene->info())) {
+    progress.Done();
+    std::cerr << "warning: " << warning << std::endl;
+  }
 
   v1::RenderRequest request;
   request.set_scene_id(scene->id());

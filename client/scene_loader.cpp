@@ -157,8 +157,23 @@ LoadedScene::~LoadedScene() {
   }
 }
 
+std::vector<std::string> SceneWarnings(const v1::LoadSceneResponse& info) {
+  std::vector<std::string> warnings;
+  if (info.ignored_extensions_size() > 0) {
+    warnings.push_back(absl::StrCat("ignored glTF extensions (rendered without them): ",
+                                    absl::StrJoin(info.ignored_extensions(), ", ")));
+  }
+  if (info.lights_size() == 0 && info.emissive_triangle_count() == 0 && !info.has_environment()) {
+    warnings.push_back(
+        "no light: the scene has no KHR_lights_punctual light, no emissive surface and no "
+        "environment, so every solver renders it black (load it with --environment FILE, or "
+        "make a material emissive)");
+  }
+  return warnings;
+}
+
 std::string DescribeScene(absl::string_view label, const v1::LoadSceneResponse& info) {
-  return absl::StrCat(
+  std::string out = absl::StrCat(
       "scene ", label, " (id ", info.scene_id(), "): ", info.triangle_count(), " triangles, ",
       info.nodes_size(), " nodes, ", info.lights_size(), " lights, ", info.materials_size(),
       " materials", info.has_environment() ? ", environment" : "",
@@ -166,11 +181,9 @@ std::string DescribeScene(absl::string_view label, const v1::LoadSceneResponse& 
           ? absl::StrCat("; past the server's --max-load-seconds: ", info.proxy_trees_skipped(),
                          " primitive(s) without proxy trees, ", info.proxy_levels_skipped(),
                          " with fewer levels")
-          : "",
-      info.ignored_extensions_size() > 0
-          ? absl::StrCat("\nignored glTF extensions (rendered without them): ",
-                         absl::StrJoin(info.ignored_extensions(), ", "))
           : "");
+  for (const std::string& warning : SceneWarnings(info)) absl::StrAppend(&out, "\n", warning);
+  return out;
 }
 
 }  // namespace gistream::client

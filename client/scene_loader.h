@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <absl/strings/string_view.h>
 
@@ -61,8 +62,15 @@ class LoadedScene {
   bool keep_;
 };
 
+// What a user should know before looking at the frames: the glTF
+// extensions the server ignored, and a scene with no light at all (no
+// KHR_lights_punctual light, no emissive surface, no environment: many
+// sample models are made for viewers that add their own), which every
+// solver renders black. One line each; none for a scene without either.
+std::vector<std::string> SceneWarnings(const v1::LoadSceneResponse& info);
+
 // "scene cornell_box (id 3): 36 triangles, 9 nodes, 0 lights, 4 materials",
-// and a second line naming the glTF extensions the server ignored.
+// then SceneWarnings, a line each.
 std::string DescribeScene(absl::string_view label, const v1::LoadSceneResponse& info);
 
 }  // namespace gistream::client

@@ -3,6 +3,7 @@
 
 #include "gateway_metrics.h"
 #include "resumable_session.h"
+#include "scene_loader.h"
 #include "util/log.h"
 
 #include <algorithm>
@@ -145,6 +146,8 @@ json SceneJson(const ViewerOptions& options) {
               {"scene_name", name},
               {"ignored_extensions", std::vector<std::string>(scene.ignored_extensions().begin(),
                                                               scene.ignored_extensions().end())},
+              // Shown under the picture: ignored extensions, no light at all.
+              {"warnings", client::SceneWarnings(scene)},
               {"params",
                std::map<std::string, std::string>(config.params().begin(), config.params().end())}};
   if (scene.cameras_size() > 0) {

@@ -138,5 +138,25 @@ TEST(DescribeScene, NamesTheIgnoredExtensions) {
       << DescribeScene("box", info);
 }
 
+// A scene with no light at all renders black in every solver: the user
+// is told so (issue 29: never a silent black frame), and not when any of
+// a punctual light, an emissive surface or an environment is there.
+TEST(DescribeScene, SaysWhenTheSceneHasNoLight) {
+  v1::LoadSceneResponse info;
+  info.set_scene_id("box-1");
+  ASSERT_EQ(SceneWarnings(info).size(), 1u);
+  EXPECT_NE(SceneWarnings(info)[0].find("no light"), std::string::npos);
+  EXPECT_NE(DescribeScene("box", info).find("\nno light: "), std::string::npos);
+  v1::LoadSceneResponse lit = info;
+  lit.add_lights()->set_name("sun");
+  EXPECT_TRUE(SceneWarnings(lit).empty());
+  v1::LoadSceneResponse emissive = info;
+  emissive.set_emissive_triangle_count(2);
+  EXPECT_TRUE(SceneWarnings(emissive).empty());
+  v1::LoadSceneResponse sky = info;
+  sky.set_has_environment(true);
+  EXPECT_TRUE(SceneWarnings(sky).empty());
+}
+
 }  // namespace
 }  // namespace gistream::client
