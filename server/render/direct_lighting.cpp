@@ -68,8 +68,8 @@ absl::StatusOr<DirectLighting> DirectLighting::Create() {
 }
 
 absl::StatusOr<uint64_t> DirectLighting::ShadowBytes(const SceneState& state, size_t area_samples,
-                                                     int resolution) {
-  int cube_count = int(area_samples), dir_count = 0;
+                                                     size_t environment_lights, int resolution) {
+  int cube_count = int(area_samples), dir_count = int(environment_lights);
   for (const LightInstance& l : state.lights()) {
     (l.light.type == LightType::kDirectional ? dir_count : cube_count)++;
   }
@@ -89,10 +89,10 @@ absl::StatusOr<uint64_t> DirectLighting::ShadowBytes(const SceneState& state, si
   return bytes;
 }
 
-DirectLighting::Pending DirectLighting::NextLightSet(const SceneState& state, const GpuScene& gpu,
-                                                     const DirectLightingSettings& settings,
-                                                     std::vector<EmitterTriangle> emitters,
-                                                     std::vector<EmitterSample> samples) {
+DirectLighting::Pending DirectLighting::NextLightSet(
+    const SceneState& state, const GpuScene& gpu, const DirectLightingSettings& settings,
+    std::vector<EmitterTriangle> emitters, std::vector<EmitterSample> samples,
+    const std::vector<EnvironmentRegionLight>& environment) {
   // The light set to show next: buffers, and where every map is drawn from.
   Pending next;
   next.emitters = std::move(emitters);
@@ -124,6 +124,17 @@ DirectLighting::Pending DirectLighting::NextLightSet(const SceneState& state, co
     }
     next.punctual.push_back(g);
   }
+  // The environment's regions: directional lights (type 2) shining away
+  // from them, illuminance their L d(omega) sum.
+  for (const EnvironmentRegionLight& l : environment) {
+    GpuPunctual g{};
+    g.position_type = glm::vec4(0.0f, 0.0f, 0.0f, 2.0f);
+    g.direction = glm::vec4(-l.to_sky, 0.0f);
+    g.intensity = glm::vec4(l.irradiance, 0.0f);
+    g.cone_shadow = glm::vec4(0.0f, 0.0f, float(next.dir_views.size()), 0.0f);
+    next.dir_views.push_back({-l.to_sky, glm::mat4(1.0f)});
+    next.punctual.push_back(g);
+  }
   for (const EmitterSample& sample : next.samples) {
     // Start the shadow rays a hair in front of the emitter so the emitter
     // does not shadow itself.
@@ -141,10 +152,13 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
                                     double budget_ms) {
   std::vector<EmitterTriangle> emitters = CollectEmitters(state);
   std::vector<EmitterSample> emitter_samples = SampleEmitters(emitters, settings.area_samples);
-  GS_ASSIGN_OR_RETURN(const uint64_t bytes,
-                      ShadowBytes(state, emitter_samples.size(), settings.shadow_resolution));
-  Pending next =
-      NextLightSet(state, gpu, settings, std::move(emitters), std::move(emitter_samples));
+  const std::vector<EnvironmentRegionLight> environment =
+      EnvironmentLightsOf(state, settings.environment_lights);
+  GS_ASSIGN_OR_RETURN(
+      const uint64_t bytes,
+      ShadowBytes(state, emitter_samples.size(), environment.size(), settings.shadow_resolution));
+  Pending next = NextLightSet(state, gpu, settings, std::move(emitters), std::move(emitter_samples),
+                              environment);
   const int cube_count = int(next.cube_views.size());
   const int dir_count = int(next.dir_views.size());
 
@@ -185,6 +199,19 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
   Draw(gpu, state, shadows_, next, 0.0);
   Commit(std::move(next));
   return absl::OkStatus();
+}
+
+std::vector<EnvironmentRegionLight> DirectLighting::EnvironmentLightsOf(const SceneState& state,
+                                                                        int count) {
+  const std::optional<Environment>& env = state.scene().environment;
+  if (!env || count <= 0) return {};
+  if (environment_image_ != &env->image || environment_count_ != count) {
+    environment_cut_ = MedianCutEnvironment(env->image, count);
+    environment_image_ = &env->image;
+    environment_count_ = count;
+  }
+  return PlaceEnvironmentLights(environment_cut_, state.environment_rotation(),
+                                state.environment_intensity());
 }
 
 bool DirectLighting::Draw(const GpuScene& gpu, const SceneState& state, ShadowMaps& target,

@@ -52,8 +52,9 @@ std::string NamedParams(const std::string& names, const ParamSet& params) {
 
 MemoryItem DirectLightingMemory(const ParamSet& params, const SceneState& state,
                                 const GpuScene& gpu, const std::string& area_samples_param,
-                                const std::string& shadow_res_param) {
+                                const std::string& shadow_res_param, int environment_lights) {
   uint64_t cubes = 0, directional = 0;
+  if (state.scene().environment) directional += uint64_t(std::max(0, environment_lights));
   for (const LightInstance& l : state.lights()) {
     (l.light.type == LightType::kDirectional ? directional : cubes) += 1;
   }

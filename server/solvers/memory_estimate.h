@@ -54,11 +54,14 @@ std::string NamedParams(const std::string& names, const ParamSet& params);
 // point/spot light and area sample, one map per directional light, at
 // `shadow_res_param`^2, depth 32 bits, twice while a sliced redraw runs;
 // and the draw lists they are drawn from (a cube's, and the one before it
-// that the GL may still read).
+// that the GL may still read). `environment_lights`: the solver's
+// DirectLightingSettings::environment_lights (maps only with an
+// environment).
 MemoryItem DirectLightingMemory(const ParamSet& params, const SceneState& state,
                                 const GpuScene& gpu,
                                 const std::string& area_samples_param = "area_samples",
-                                const std::string& shadow_res_param = "shadow_res");
+                                const std::string& shadow_res_param = "shadow_res",
+                                int environment_lights = 0);
 // Vertices and triangles over every mesh instance of the current state.
 struct InstancedCounts {
   uint64_t vertices = 0;

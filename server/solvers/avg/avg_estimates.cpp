@@ -39,8 +39,8 @@ MemoryEstimate AvgSolver::EstimateMemory(const ParamSet& params, const SceneStat
                             grid * grid * grid * sizeof(avg::Voxel), grid * grid * grid * 4});
   // A VPL: about 100 bytes on the CPU (avg::Vpl), 80 on the GPU (GpuVpl).
   estimate.items.push_back({"vpls", absl::StrCat(vpls, " VPLs"), vpls * 100, vpls * 80});
-  estimate.items.push_back(
-      DirectLightingMemory(params, state, gpu, "area_samples", "direct_shadow_res"));
+  estimate.items.push_back(DirectLightingMemory(params, state, gpu, "area_samples",
+                                                "direct_shadow_res", kDefaultEnvironmentLights));
   return estimate;
 }
 

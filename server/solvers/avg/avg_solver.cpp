@@ -85,6 +85,9 @@ absl::StatusOr<std::unique_ptr<Solver>> AvgSolver::Create(const ParamSet& params
   solver->direct_settings_.shadow_resolution = params.GetInt("direct_shadow_res");
   solver->full_detail_ = params.GetBool("full_detail");
   solver->direct_settings_.full_detail = solver->full_detail_;
+  // The environment as directional lights, for the direct light and the
+  // VPLs' paths (render/environment_lights.h).
+  solver->direct_settings_.environment_lights = kDefaultEnvironmentLights;
   // Two atlases: the shown one and the one a re-map draws into.
   const double atlas =
       2.0 * double(layers) * solver->shadow_resolution_ * solver->shadow_resolution_ * 4.0;
@@ -124,7 +127,8 @@ bool AvgSolver::NeedsTrace(ChangeMask changes) {
   return NeedsVoxelize(changes) || (changes & (kChangeLights | kChangeEmission)) != 0;
 }
 
-std::vector<std::string> AvgSolver::Plan(const SceneState&, ChangeMask changes) const {
+std::vector<std::string> AvgSolver::Plan(const SceneState& state, ChangeMask changes) const {
+  changes = EnvironmentAsLights(changes, state);
   // A background trace under way (or due) may be taken, or the next one
   // started, in any frame: its stages are reported in the frame that
   // takes it, and the re-map starts there.
@@ -291,6 +295,7 @@ void AvgSolver::StartTrace(const SolverContext& ctx) {
   job_voxelizes_ = job->voxelize;
   const int resolution = grid_resolution_;
   const bool full_detail = full_detail_;
+  const int environment_lights = direct_settings_.environment_lights;
   avg::VplTraceSettings settings = trace_settings_;
   settings.tail_bound = tail_estimate_ ? LargestAlbedo(ctx.state) : 0.0;
   // A light change on a still view's VPLs (nothing to voxelize): its
@@ -300,7 +305,8 @@ void AvgSolver::StartTrace(const SolverContext& ctx) {
     extension = settings;
     extension->vpls = still_vpls_ - trace_settings_.vpls;
   }
-  trace_job_.Start(std::move(job), [resolution, full_detail, settings, extension](TraceJob& j) {
+  trace_job_.Start(std::move(job), [resolution, full_detail, settings, extension,
+                                    environment_lights](TraceJob& j) {
     if (j.voxelize) {
       j.times.Time("voxelize", [&] {
         j.partial = !j.rebuild && j.grid && j.grid->Revoxelize(j.state, j.moved);
@@ -317,8 +323,9 @@ void AvgSolver::StartTrace(const SolverContext& ctx) {
     j.times.Time("trace_vpls", [&] {
       j.grid_bounds.Extend(j.grid->origin());
       j.grid_bounds.Extend(j.grid->origin() + j.grid->extent());
-      const std::vector<avg::VplLight> lights = avg::CollectVplLights(
-          j.state, j.grid_bounds.center(), 0.5f * glm::length(j.grid_bounds.extent()));
+      const std::vector<avg::VplLight> lights =
+          avg::CollectVplLights(j.state, j.grid_bounds.center(),
+                                0.5f * glm::length(j.grid_bounds.extent()), environment_lights);
       // After moved nodes only the paths whose rays cross the rewritten
       // voxels are traced again (Laine et al. 2007); the VPLs equal a full
       // trace's.
@@ -395,10 +402,12 @@ void AvgSolver::StartExtension(const SolverContext& ctx) {
   settings.vpls = still_vpls_ - trace_settings_.vpls;
   settings.sample_offset = trace_.paths;  // the shown paths' sequence goes on
   settings.tail_bound = tail_estimate_ ? LargestAlbedo(ctx.state) : 0.0;
-  extend_job_.Start(std::move(job), [settings](ExtendJob& j) {
+  const int environment_lights = direct_settings_.environment_lights;
+  extend_job_.Start(std::move(job), [settings, environment_lights](ExtendJob& j) {
     j.times.Time("trace_vpls", [&] {
-      const std::vector<avg::VplLight> lights = avg::CollectVplLights(
-          j.state, j.grid_bounds.center(), 0.5f * glm::length(j.grid_bounds.extent()));
+      const std::vector<avg::VplLight> lights =
+          avg::CollectVplLights(j.state, j.grid_bounds.center(),
+                                0.5f * glm::length(j.grid_bounds.extent()), environment_lights);
       j.trace = avg::JoinTraces(j.base, avg::TraceVpls(*j.grid, lights, settings));
     });
   });
@@ -424,6 +433,7 @@ void AvgSolver::TakeExtension(SolverContext& ctx, ExtendJob& job) {
 }
 
 absl::Status AvgSolver::Update(SolverContext& ctx, ChangeMask changes) {
+  changes = EnvironmentAsLights(changes, ctx.state);
   const bool first = !started_;
   latest_version_ = ctx.state.version();
   if (first) unmapped_all_ = true;

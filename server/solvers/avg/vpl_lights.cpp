@@ -1,5 +1,7 @@
 #include "solvers/avg/vpl_lights.h"
 
+#include "render/environment_lights.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -23,7 +25,7 @@ float SpotSolidAngle(float cone_scale, float cone_offset, float cos_outer) {
 }
 
 std::vector<VplLight> CollectVplLights(const SceneState& state, const glm::vec3& scene_center,
-                                       float scene_radius) {
+                                       float scene_radius, int environment_lights) {
   std::vector<VplLight> out;
   for (const EmitterTriangle& t : CollectEmitters(state)) {
     VplLight l;
@@ -63,6 +65,16 @@ std::vector<VplLight> CollectVplLights(const SceneState& state, const glm::vec3&
         l.power = intensity * glm::pi<float>() * scene_radius * scene_radius;
         break;
     }
+    out.push_back(l);
+  }
+  for (const EnvironmentRegionLight& e : EnvironmentLights(state, environment_lights)) {
+    VplLight l;
+    l.kind = VplLightKind::kDirectional;
+    l.radiance = e.irradiance;
+    l.normal = -e.to_sky;
+    l.position = scene_center;
+    l.disc_radius = scene_radius;
+    l.power = e.irradiance * glm::pi<float>() * scene_radius * scene_radius;
     out.push_back(l);
   }
   // Lights that emit nothing (or NaN from a broken update) take no paths.

@@ -7,7 +7,8 @@ namespace gistream {
 MemoryEstimate DirectSolver::EstimateMemory(const ParamSet& params, const SceneState& state,
                                             const GpuScene& gpu) {
   MemoryEstimate estimate;
-  estimate.items.push_back(DirectLightingMemory(params, state, gpu));
+  estimate.items.push_back(DirectLightingMemory(params, state, gpu, "area_samples", "shadow_res",
+                                                kDefaultEnvironmentLights));
   return estimate;
 }
 

@@ -20,6 +20,8 @@ const SolverDescription& DirectSolver::description() const {
 absl::StatusOr<std::unique_ptr<Solver>> DirectSolver::Create(const ParamSet& params) {
   auto solver = std::unique_ptr<DirectSolver>(new DirectSolver());
   solver->settings_ = DirectLightingFromParams(params);
+  // The environment as directional lights (render/environment_lights.h).
+  solver->settings_.environment_lights = kDefaultEnvironmentLights;
   GS_ASSIGN_OR_RETURN(solver->lighting_, DirectLighting::Create());
   GS_ASSIGN_OR_RETURN(solver->shade_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
@@ -27,7 +29,8 @@ absl::StatusOr<std::unique_ptr<Solver>> DirectSolver::Create(const ParamSet& par
   return solver;
 }
 
-std::vector<std::string> DirectSolver::Plan(const SceneState&, ChangeMask changes) const {
+std::vector<std::string> DirectSolver::Plan(const SceneState& state, ChangeMask changes) const {
+  changes = EnvironmentAsLights(changes, state);
   // Shadow maps depend on geometry, lights and emission; base colour and
   // camera changes only need the view-dependent stages.
   if ((changes & (kChangeShape | kChangeLights | kChangeEmission)) || lighting_.pending()) {
@@ -37,6 +40,7 @@ std::vector<std::string> DirectSolver::Plan(const SceneState&, ChangeMask change
 }
 
 absl::Status DirectSolver::Update(SolverContext& ctx, ChangeMask changes) {
+  changes = EnvironmentAsLights(changes, ctx.state);
   if (!(changes & (kChangeShape | kChangeLights | kChangeEmission))) {
     if (!lighting_.pending()) {
       ctx.timer.Skip("shadow_maps");

@@ -26,7 +26,8 @@ MemoryEstimate ShProbesSolver::EstimateMemory(const ParamSet& params, const Scen
   // The cube maps' draw list, on the CPU and in GL buffers.
   const uint64_t list = ProbeRasterizer::ListBytes(gpu);
   estimate.items.push_back({"", "probe cube draw list", list, list});
-  estimate.items.push_back(DirectLightingMemory(params, state, gpu));
+  estimate.items.push_back(DirectLightingMemory(params, state, gpu, "area_samples", "shadow_res",
+                                                kDefaultEnvironmentLights));
   return estimate;
 }
 

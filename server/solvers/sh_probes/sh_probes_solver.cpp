@@ -86,6 +86,9 @@ absl::StatusOr<std::unique_ptr<Solver>> ShProbesSolver::Create(const ParamSet& p
   s.indirect_shadows = params.GetBool("indirect_shadows");
   s.hysteresis = params.GetFloat("hysteresis");
   s.direct = DirectLightingFromParams(params);
+  // The environment lights the probes and the final pass as directional
+  // lights (render/environment_lights.h).
+  s.direct.environment_lights = kDefaultEnvironmentLights;
   // The grid size alone (spacing needs the scene) is checked here.
   if (s.grid.spacing <= 0.0f) {
     GS_RETURN_IF_ERROR(FitProbeGrid(Bounds{glm::vec3(0.0f), glm::vec3(1.0f)}, s.grid).status());
@@ -112,6 +115,7 @@ absl::StatusOr<std::unique_ptr<Solver>> ShProbesSolver::Create(const ParamSet& p
 }
 
 std::vector<std::string> ShProbesSolver::Plan(const SceneState& state, ChangeMask changes) const {
+  changes = EnvironmentAsLights(changes, state);
   // A dimmer (solvers/emission_scale.h) between solves scales the shown
   // probes: Update runs only the final pass (its direct light's buffers).
   if (!full_.active && !schedule_.pending() && !lighting_.pending() &&
@@ -137,6 +141,7 @@ std::vector<std::string> ShProbesSolver::Plan(const SceneState& state, ChangeMas
 }
 
 absl::Status ShProbesSolver::Update(SolverContext& ctx, ChangeMask changes) {
+  changes = EnvironmentAsLights(changes, ctx.state);
   if (full_.active) {
     // A full solve under way goes on; a new layout restarts it, any other
     // change is solved progressively once it is done (the probes' cube

@@ -3,9 +3,9 @@
 // sin(theta) (a piecewise-constant 2D distribution over the texels, as in
 // PBRT's ImageInfiniteLight), with the solid-angle pdf that MIS needs.
 //
-// Convention (the path tracer's own; the rasterizers draw no environment
-// yet): equirectangular, +Y up, theta = acos(y) from the top row, and
-// phi = atan2(x, -z) - rotation, so u = 0 looks along -Z and the rotation
+// Convention (the path tracer's; render/environment_lights.h cuts the map
+// into lights for the rasterizing solvers in the same one): equirectangular, +Y up, theta = acos(y)
+// from the top row, and phi = atan2(x, -z) - rotation, so u = 0 looks along -Z and the rotation
 // (radians about +Y) turns the map. Texels are looked up nearest, matching
 // the piecewise-constant pdf exactly.
 #pragma once
