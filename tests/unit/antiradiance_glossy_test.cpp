@@ -308,3 +308,37 @@ TEST(AntiradianceGlossy, LambertianLeavesAreUnchanged) {
 
 }  // namespace
 }  // namespace gistream::antiradiance
+
+namespace gistream::antiradiance {
+namespace {
+
+// The link limit (LinkSet::set_max_links): linking a closed box of six
+// roots (36 root pairs) stops once the pairs linked hold more than the
+// limit; the pairs not started stay empty, so what was built is at most
+// the limit and the last pairs that ran (here: well under the full set).
+TEST(AntiradianceLinks, LinkingStopsOnceTheLinksPassTheLimit) {
+  const Patches patches = BuildPatches(Box(), 0.25f);
+  const DirectionalBins bins = *DirectionalBins::Create(32);
+  LinkSet all;
+  all.Build(patches, bins);
+  const uint64_t full = all.size();
+  ASSERT_GT(full, 1000u);
+  EXPECT_FALSE(all.exceeded());
+
+  LinkSet capped;
+  capped.set_max_links(full / 10);
+  capped.Build(patches, bins);
+  EXPECT_TRUE(capped.exceeded());
+  EXPECT_LT(capped.size(), full / 2);
+  testing::RecordMeasurement("links_full", double(full));
+  testing::RecordMeasurement("links_when_stopped", double(capped.size()));
+
+  LinkSet roomy;
+  roomy.set_max_links(full);
+  roomy.Build(patches, bins);
+  EXPECT_FALSE(roomy.exceeded());
+  EXPECT_EQ(roomy.size(), full);
+}
+
+}  // namespace
+}  // namespace gistream::antiradiance

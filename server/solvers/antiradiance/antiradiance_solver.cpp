@@ -254,6 +254,7 @@ void AntiradianceSolver::RunSolveJob(const antiradiance::DirectionalBins& bins,
                                      const antiradiance::TransportSettings& settings,
                                      const antiradiance::Transport* warm, SolveJob& j) {
   if (j.relink) {
+    j.link_set.set_max_links(kMaxLinkBytes / sizeof(antiradiance::Link));
     j.times.Time("link", [&] {
       if (j.same_layout) {
         j.link_set.Relink(*j.patches, bins, j.moved);
@@ -263,10 +264,11 @@ void AntiradianceSolver::RunSolveJob(const antiradiance::DirectionalBins& bins,
     });
   }
   const uint64_t links = j.link_set.size();
-  if (links * sizeof(antiradiance::Link) > kMaxLinkBytes) {
-    j.status = absl::ResourceExhaustedError(
-        absl::StrCat("params.bins: ", links, " links (", (links * sizeof(antiradiance::Link)) >> 20,
-                     " MiB, limit ", kMaxLinkBytes >> 20, " MiB); use fewer bins"));
+  if (j.link_set.exceeded() || links * sizeof(antiradiance::Link) > kMaxLinkBytes) {
+    // Linking stopped once the links passed the limit: `links` is a floor.
+    j.status = absl::ResourceExhaustedError(absl::StrCat(
+        "params.bins: more than ", kMaxLinkBytes / sizeof(antiradiance::Link), " links (",
+        kMaxLinkBytes >> 20, " MiB, the limit; ", links, " when linking stopped); use fewer bins"));
     return;
   }
   j.transport = std::make_unique<antiradiance::Transport>(*j.patches, bins, j.link_set.Sorted());

@@ -1,6 +1,7 @@
 #include "solvers/antiradiance/links.h"
 
 #include <algorithm>
+#include <atomic>
 #include <array>
 #include <cmath>
 #include <span>
@@ -378,16 +379,25 @@ class Linker {
 void LinkSet::LinkPairs(const Patches& patches, const DirectionalBins& bins,
                         const std::vector<size_t>& pairs) {
   const NodeGeometry geometry = Geometry(patches, bins);
+  // The links of the pairs kept, then each linked pair's as it ends.
+  uint64_t kept = size();
+  for (size_t pair : pairs) kept -= per_pair_[pair].size();
+  std::atomic<uint64_t> total{kept};
+  std::atomic<bool> over{kept > max_links_};
   ParallelFor(pairs.size(), 1, [&](size_t k) {
     const size_t pair = pairs[k];
     std::vector<Link>& out = per_pair_[pair];
     out.clear();
+    pair_node_pairs_[pair] = pair_spread_[pair] = pair_exact_[pair] = 0;
+    if (over.load(std::memory_order_relaxed)) return;  // refused anyway
     Linker linker(patches, bins, geometry, out);
     linker.Refine(patches.roots[pair / roots_], patches.roots[pair % roots_]);
     pair_node_pairs_[pair] = linker.pairs_;
     pair_spread_[pair] = linker.spread_;
     pair_exact_[pair] = linker.exact_;
+    if (total.fetch_add(out.size()) + out.size() > max_links_) over = true;
   });
+  exceeded_ = over;
   stats_ = {};
   for (size_t p = 0; p < per_pair_.size(); ++p) {
     stats_.node_pairs += pair_node_pairs_[p];
