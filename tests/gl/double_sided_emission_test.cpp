@@ -19,6 +19,7 @@
 // direct light at all.
 #include <cmath>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 
@@ -57,26 +58,20 @@ class DoubleSidedEmission : public ::testing::Test {
     b.AddQuad("top", {0, 0.5f, 0}, {2, 0, 0}, {0, 0, 2}, grey, 8);      // faces -Y
     b.AddQuad("bottom", {0, -0.5f, 0}, {0, 0, 2}, {2, 0, 0}, grey, 8);  // faces +Y
     b.AddCamera("camera", {0, 0.25f, 0}, {0, 1, 0}, {0, 0, 1}, 0.17453f);
-    auto info = testing::SharedEngine().LoadScene(testing::SceneFromBytes(b.ToJson()));
-    ASSERT_TRUE(info.ok()) << info.status();
-    scene_ = new std::string(info->id);
+    scene_ = std::make_unique<testing::TestScene>(testing::SceneFromBytes(b.ToJson()));
   }
-  static void TearDownTestSuite() {
-    if (scene_) (void)testing::SharedEngine().UnloadScene(*scene_);
-    delete scene_;
-    scene_ = nullptr;
-  }
+  static void TearDownTestSuite() { scene_.reset(); }
 
   // Mean green radiance of the top (+1) or bottom (-1) plane's centre.
   static double PlaneCentre(const std::string& solver,
                             const std::map<std::string, std::string>& params, int side) {
-    return testing::MeanGreenFrom(*scene_, solver, params, {0.0f, 0.25f * float(side), 0.0f},
+    return testing::MeanGreenFrom(scene_->id(), solver, params, {0.0f, 0.25f * float(side), 0.0f},
                                   {0.0f, float(side), 0.0f}, {0.0f, 0.0f, 1.0f}, 10.0f, kSize);
   }
 
-  static std::string* scene_;
+  static std::unique_ptr<testing::TestScene> scene_;
 };
-std::string* DoubleSidedEmission::scene_ = nullptr;
+std::unique_ptr<testing::TestScene> DoubleSidedEmission::scene_;
 
 TEST_F(DoubleSidedEmission, DirectLightsBothPlanesAsTheFormFactorSays) {
   // 256 area samples, 128 per face: each disc is A = 1/128 m^2, so the

@@ -174,12 +174,8 @@ TEST(ImplicitVisibility, EnvironmentThroughEmptyBins) {
   const int mat = b.AddMaterial("plane", {albedo, albedo, albedo});
   b.AddQuad("plane", {0, 0, 0}, {0, 0, 100}, {100, 0, 0}, mat);
   b.AddCamera("camera", {0.0f, 1.0f, 0.0f}, {0, -1, 0}, {0, 0, -1}, 1.0f);
-  std::vector<float> rgba;
-  for (int i = 0; i < 16 * 8; ++i) rgba.insert(rgba.end(), {1.0f, 1.0f, 1.0f, 1.0f});
-  auto exr = EncodeExr(rgba, 16, 8);
-  ASSERT_TRUE(exr.ok()) << exr.status();
   SceneSource source = testing::SceneFromBytes(b.ToJson());
-  source.environment_bytes = *exr;
+  source.environment_bytes = testing::UniformEnvironmentExr(1.0f, 16, 8);
   source.environment_intensity = 2.0f;
   auto info = testing::SharedEngine().LoadScene(source);
   ASSERT_TRUE(info.ok()) << info.status();

@@ -13,6 +13,7 @@
 // (0.9 within 1e-4 over the view) times the lobe's directional albedo
 // (GGX single scattering at roughness 0.05: 1 - 2e-3), so 0.9 within 1 %.
 #include <cmath>
+#include <memory>
 
 #include <gtest/gtest.h>
 
@@ -41,15 +42,9 @@ class MirrorAreaLight : public ::testing::Test {
     b.AddQuad("lamp", {0, 1, 0}, {0.25f, 0, 0}, {0, 0, 0.25f}, lamp, 1);  // faces -Y
     b.AddQuad("floor", {0, 0, 0}, {0, 0, 2}, {2, 0, 0}, metal, 1);        // faces +Y
     b.AddCamera("camera", {0, 0.8f, 0}, {0, -1, 0}, {0, 0, 1}, 0.5f);
-    auto info = testing::SharedEngine().LoadScene(testing::SceneFromBytes(b.ToJson()));
-    ASSERT_TRUE(info.ok()) << info.status();
-    scene_ = new std::string(info->id);
+    scene_ = std::make_unique<testing::TestScene>(testing::SceneFromBytes(b.ToJson()));
   }
-  static void TearDownTestSuite() {
-    if (scene_) (void)testing::SharedEngine().UnloadScene(*scene_);
-    delete scene_;
-    scene_ = nullptr;
-  }
+  static void TearDownTestSuite() { scene_.reset(); }
 
   struct Window {
     double mean = 0.0;
@@ -59,7 +54,7 @@ class MirrorAreaLight : public ::testing::Test {
   static Window Reflection(const std::string& solver,
                            const std::map<std::string, std::string>& params) {
     const testing::FloatImage image =
-        testing::RenderExr(testing::SharedEngine(), *scene_, solver, kSize, kSize, params, {});
+        testing::RenderExr(testing::SharedEngine(), scene_->id(), solver, kSize, kSize, params, {});
     EXPECT_EQ(image.width, int(kSize)) << solver;
     EXPECT_EQ(image.non_finite(), 0u) << solver;
     if (image.width != int(kSize)) return {};
@@ -79,9 +74,9 @@ class MirrorAreaLight : public ::testing::Test {
     return w;
   }
 
-  static std::string* scene_;
+  static std::unique_ptr<testing::TestScene> scene_;
 };
-std::string* MirrorAreaLight::scene_ = nullptr;
+std::unique_ptr<testing::TestScene> MirrorAreaLight::scene_;
 
 // The reference agrees with the closed form (2 %: its noise at 64 spp
 // where light sampling and BSDF sampling share the lamp).

@@ -18,6 +18,7 @@
 // and nothing else faces the ceiling, so there is none.
 #include <cmath>
 #include <map>
+#include <memory>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -56,27 +57,21 @@ class NearFieldEmitter : public ::testing::Test {
     b.AddQuad("lamp", {0, 0, 0}, {0, 0, 0.5f}, {0.5f, 0, 0}, lamp, 2);  // faces +Y
     b.AddQuad("ceiling", {0, kGap, 0}, {2, 0, 0}, {0, 0, 2}, grey, 8);  // faces -Y
     b.AddCamera("camera", {0.6f, -0.04f, 0}, {0.6f, 1, 0}, {0, 0, 1}, 0.01745f);
-    auto info = testing::SharedEngine().LoadScene(testing::SceneFromBytes(b.ToJson()));
-    ASSERT_TRUE(info.ok()) << info.status();
-    scene_ = new std::string(info->id);
+    scene_ = std::make_unique<testing::TestScene>(testing::SceneFromBytes(b.ToJson()));
   }
-  static void TearDownTestSuite() {
-    if (scene_) (void)testing::SharedEngine().UnloadScene(*scene_);
-    delete scene_;
-    scene_ = nullptr;
-  }
+  static void TearDownTestSuite() { scene_.reset(); }
 
   // Mean green radiance of the ceiling `beyond` past the lamp's edge.
   static double Ceiling(const std::string& solver, const std::map<std::string, std::string>& params,
                         double beyond) {
     const float x = 0.5f + float(beyond);
-    return testing::MeanGreenFrom(*scene_, solver, params, {x, kGap - 0.05f, 0.0f}, {x, 1.0f, 0.0f},
-                                  {0.0f, 0.0f, 1.0f}, 1.0f, kSize);
+    return testing::MeanGreenFrom(scene_->id(), solver, params, {x, kGap - 0.05f, 0.0f},
+                                  {x, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}, 1.0f, kSize);
   }
 
-  static std::string* scene_;
+  static std::unique_ptr<testing::TestScene> scene_;
 };
-std::string* NearFieldEmitter::scene_ = nullptr;
+std::unique_ptr<testing::TestScene> NearFieldEmitter::scene_;
 
 // The reference: pathtrace with next-event estimation and BSDF-sampled
 // emitter hits weighed by MIS (max_depth 1: direct light alone, which is

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "encode/encode.h"
 #include "util/image_metrics.h"
 
 namespace gistream::testing {
@@ -110,6 +111,27 @@ FloatImage RenderExr(Engine& engine, const std::string& scene_id, const std::str
   if (!frame.ok()) return {};
   if (frame_out) *frame_out = *frame;
   return DecodeExr(*frame);
+}
+
+TestScene::TestScene(SceneSource source) {
+  auto info = SharedEngine().LoadScene(std::move(source));
+  EXPECT_TRUE(info.ok()) << info.status();
+  if (info.ok()) id_ = info->id;
+}
+
+TestScene::~TestScene() {
+  if (id_.empty() || !SharedEngineSlot()) return;
+  const absl::Status status = SharedEngine().UnloadScene(id_);
+  EXPECT_TRUE(status.ok()) << status;
+}
+
+std::string UniformEnvironmentExr(float radiance, int width, int height) {
+  std::vector<float> rgba;
+  for (int i = 0; i < width * height; ++i)
+    rgba.insert(rgba.end(), {radiance, radiance, radiance, 1.0f});
+  auto exr = EncodeExr(rgba, width, height);
+  EXPECT_TRUE(exr.ok()) << exr.status();
+  return exr.ok() ? *exr : std::string();
 }
 
 BundledCopy::BundledCopy(const std::string& file) {

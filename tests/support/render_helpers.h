@@ -48,6 +48,25 @@ inline SceneSource SceneFromBytes(std::string bytes) {
 // Pixel (x right, y down) where world point p lands for `camera`.
 glm::ivec2 Project(const ViewCamera& camera, const glm::vec3& p);
 
+// A scene loaded into the shared engine from `source` (a GltfBuilder's
+// JSON through SceneFromBytes, with an environment or not), unloaded when
+// it goes out of scope (a suite's static one after the engine is gone:
+// nothing to do). id() is "" (and the test has failed) when loading did.
+class TestScene {
+ public:
+  explicit TestScene(SceneSource source);
+  ~TestScene();
+  TestScene(const TestScene&) = delete;
+  TestScene& operator=(const TestScene&) = delete;
+  const std::string& id() const { return id_; }
+
+ private:
+  std::string id_;
+};
+
+// An EXR environment map of uniform radiance, width x height texels.
+std::string UniformEnvironmentExr(float radiance, int width, int height);
+
 // A private copy of a bundled scene (scenes/FILE uploaded as bytes), so
 // updates do not leak into other tests; unloaded when it goes out of scope
 // (the engine holds at most --max-scenes). id() is "" (and the test has
