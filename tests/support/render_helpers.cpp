@@ -134,21 +134,16 @@ std::string UniformEnvironmentExr(float radiance, int width, int height) {
   return exr.ok() ? *exr : std::string();
 }
 
-BundledCopy::BundledCopy(const std::string& file) {
+namespace {
+std::string BundledBytes(const std::string& file) {
   std::ifstream in(std::string(GISTREAM_SOURCE_DIR "/scenes/") + file, std::ios::binary);
   std::string bytes(std::istreambuf_iterator<char>(in), {});
   EXPECT_FALSE(bytes.empty()) << file;
-  auto info = SharedEngine().LoadScene(SceneFromBytes(std::move(bytes)));
-  EXPECT_TRUE(info.ok()) << info.status();
-  if (info.ok()) id_ = info->id;
+  return bytes;
 }
+}  // namespace
 
-BundledCopy::~BundledCopy() {
-  // After the test program ended the engine is gone, and its scenes with it.
-  if (id_.empty() || !SharedEngineSlot()) return;
-  const absl::Status status = SharedEngine().UnloadScene(id_);
-  EXPECT_TRUE(status.ok()) << status;
-}
+BundledCopy::BundledCopy(const std::string& file) : TestScene(SceneFromBytes(BundledBytes(file))) {}
 
 double FrameStat(const EncodedFrame& frame, const std::string& name) {
   for (const auto& [k, v] : frame.stats) {

@@ -71,16 +71,9 @@ std::string UniformEnvironmentExr(float radiance, int width, int height);
 // updates do not leak into other tests; unloaded when it goes out of scope
 // (the engine holds at most --max-scenes). id() is "" (and the test has
 // failed) when loading did.
-class BundledCopy {
+class BundledCopy : public TestScene {
  public:
   explicit BundledCopy(const std::string& file);
-  ~BundledCopy();
-  BundledCopy(const BundledCopy&) = delete;
-  BundledCopy& operator=(const BundledCopy&) = delete;
-  const std::string& id() const { return id_; }
-
- private:
-  std::string id_;
 };
 
 // A frame's stat / stage by name; a test failure (and -1 / nullptr) when
