@@ -34,7 +34,7 @@ struct DirectLightingSettings {
   int environment_lights = 0;
 };
 
-// The environment lights of `direct`, `avg` and `sh_probes` (Debevec's
+// The environment lights of `direct`, `avg`, `sh_probes` and `antiradiance` (Debevec's
 // median cut used 16 to 64 regions): a uniform sky's irradiance within
 // 8.6 % on every normal (16: 21 %, 64: 3.3 %; EnvironmentLights.*), 32
 // directional maps, about five point lights' cubes.

@@ -1,7 +1,7 @@
 // The environment map as a few directional lights, for the solvers that
 // light surfaces through shadow-mapped lights (`direct`, `avg`,
-// `sh_probes`; `implicit_visibility` and `antiradiance` gather the
-// environment through their own links and bins, `pathtrace` samples it).
+// `sh_probes`, `antiradiance`; `implicit_visibility` gathers the
+// environment through its empty bins, `pathtrace` samples it).
 // Debevec 2005, "A Median Cut Algorithm for Light Probe Sampling": the
 // equirectangular map is cut, region by region, across its longer side
 // (in angle) where the energy (luminance x solid angle) halves, the region

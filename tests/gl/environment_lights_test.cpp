@@ -1,7 +1,7 @@
 // The solvers that light surfaces through shadow-mapped lights (`direct`,
-// `avg`, `sh_probes`) light the environment map as median-cut directional
-// lights (render/environment_lights.h); before, a file loaded with an
-// environment rendered black in them. A plane of albedo 0.5 under a
+// `avg`, `sh_probes`, `antiradiance`) light the environment map as
+// median-cut directional lights (render/environment_lights.h); before, a
+// file loaded with an environment rendered black in them. A plane of albedo 0.5 under a
 // uniform environment (radiance 1, intensity 2) receives E = 2 pi, so
 // L = rho / pi E = 2 rho = 1: within 5 % (the 32 lights' quadrature
 // gives the up normal 1.033 of it, the same in each solver; nothing else
@@ -61,7 +61,7 @@ TEST_P(EnvironmentLit, APlaneUnderAUniformSkyReflectsRhoOverPiTimesE) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Rasterizing, EnvironmentLit,
-                         ::testing::Values("direct", "avg", "sh_probes"),
+                         ::testing::Values("direct", "avg", "sh_probes", "antiradiance"),
                          [](const auto& p) { return p.param; });
 
 }  // namespace

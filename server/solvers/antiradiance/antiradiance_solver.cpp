@@ -93,6 +93,9 @@ absl::StatusOr<std::unique_ptr<Solver>> AntiradianceSolver::Create(const ParamSe
   s.transport.antiradiance_steps = params.GetInt("antiradiance_steps");
   s.tail_estimate = params.GetBool("tail_estimate");
   s.direct = DirectLightingFromParams(params);
+  // The environment as directional lights (render/environment_lights.h):
+  // the elements' direct light, so it bounces, and the display's.
+  s.direct.environment_lights = kDefaultEnvironmentLights;
   GS_ASSIGN_OR_RETURN(solver->bins_, antiradiance::DirectionalBins::Create(s.bins));
   GS_ASSIGN_OR_RETURN(solver->lighting_, DirectLighting::Create());
   GS_ASSIGN_OR_RETURN(
@@ -115,6 +118,7 @@ absl::StatusOr<std::unique_ptr<Solver>> AntiradianceSolver::Create(const ParamSe
 
 std::vector<std::string> AntiradianceSolver::Plan(const SceneState& state,
                                                   ChangeMask changes) const {
+  changes = EnvironmentAsLights(changes, state);
   // A dimmer (solvers/emission_scale.h) on a settled solution: no link,
   // pass or push-pull; the direct light's buffers in local_pass.
   if (started_ && !(changes & kChangeShape) && !solve_.running() && !lighting_.pending() &&
@@ -459,6 +463,7 @@ void AntiradianceSolver::UploadIrradiance() {
 }
 
 absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) {
+  changes = EnvironmentAsLights(changes, ctx.state);
   const bool first = !started_;  // (the first solve's job may still run)
   started_ = true;
   const bool geometry = (changes & kChangeShape) || first;
