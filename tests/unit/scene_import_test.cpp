@@ -237,6 +237,42 @@ TEST(SceneImport, SeveralPrimitivesAndSkippedLines) {
   EXPECT_EQ(scene->triangle_count, 2u);
 }
 
+// Triangle strips and fans (glTF modes 5 and 6; the Khronos asset
+// generator's Mesh_PrimitiveMode files, refused before) import as the
+// triangle lists they draw, with the first triangle's winding (glTF 2.0
+// Sec. 3.7.2.1), degenerate strip joins left out.
+TEST(SceneImport, StripsAndFansBecomeTriangleLists) {
+  TestGltf g;
+  // A unit square's corners: 0 (0,0) 1 (1,0) 2 (0,1) 3 (1,1).
+  const int pos = g.AddVec3({0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0});
+  const uint16_t strip[] = {0, 1, 2, 3, 3};  // the last repeats: one degenerate triangle
+  const int strip_indices = g.AddAccessor(g.AddView(strip, sizeof(strip)), 5123, 5, "SCALAR");
+  const uint16_t fan[] = {0, 1, 3, 2};
+  const int fan_indices = g.AddAccessor(g.AddView(fan, sizeof(fan)), 5123, 4, "SCALAR");
+  g.doc["meshes"].push_back(
+      {{"primitives",
+        {{{"attributes", {{"POSITION", pos}}}, {"indices", strip_indices}, {"mode", 5}},
+         {{"attributes", {{"POSITION", pos}}}, {"indices", fan_indices}, {"mode", 6}},
+         {{"attributes", {{"POSITION", pos}}}, {"mode", 5}}}}});  // no indices: 0 1 2 3
+  g.AddRoot({{"mesh", 0}});
+  const absl::StatusOr<Scene> scene = Import(g.ToGltf());
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  const std::vector<Primitive>& p = scene->meshes[0].primitives;
+  ASSERT_EQ(p.size(), 3u);
+  EXPECT_EQ(p[0].indices, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2}));
+  EXPECT_EQ(p[1].indices, (std::vector<uint32_t>{1, 3, 0, 3, 2, 0}));
+  EXPECT_EQ(p[2].indices, (std::vector<uint32_t>{0, 1, 2, 1, 3, 2}));
+  EXPECT_EQ(scene->triangle_count, 6u);
+  // Every triangle faces +Z, as the first (counter-clockwise from +Z).
+  for (const Primitive& prim : p) {
+    for (size_t t = 0; t < prim.indices.size(); t += 3) {
+      const glm::vec3 a = prim.positions[prim.indices[t]], b = prim.positions[prim.indices[t + 1]],
+                      c = prim.positions[prim.indices[t + 2]];
+      EXPECT_GT(glm::cross(b - a, c - a).z, 0.0f) << t;
+    }
+  }
+}
+
 TEST(SceneImport, Materials) {
   TestGltf g;
   const int mat = g.AddMaterial(

@@ -12,13 +12,15 @@ namespace {
 
 using tinygltf::Primitive;
 
-// Triangle lists are imported. Points and lines have no area, so they cannot
-// take part in light transport: skipped with a log line. Strips and fans do
-// cover area, and silently dropping them would change the picture: refused.
-absl::StatusOr<bool> IsTriangleList(const Primitive& p, const std::string& field) {
+// Triangles are imported: lists as they are, strips and fans as the lists
+// they draw (TrianglesOf). Points and lines have no area, so they cannot
+// take part in light transport: skipped with a log line.
+absl::StatusOr<bool> IsTriangles(const Primitive& p, const std::string& field) {
   switch (p.mode) {
     case -1:  // tinygltf: not given, which means TRIANGLES
-    case TINYGLTF_MODE_TRIANGLES: return true;
+    case TINYGLTF_MODE_TRIANGLES:
+    case TINYGLTF_MODE_TRIANGLE_STRIP:
+    case TINYGLTF_MODE_TRIANGLE_FAN: return true;
     case TINYGLTF_MODE_POINTS:
     case TINYGLTF_MODE_LINE:
     case TINYGLTF_MODE_LINE_LOOP:
@@ -27,12 +29,36 @@ absl::StatusOr<bool> IsTriangleList(const Primitive& p, const std::string& field
               absl::StrCat(field, ".mode: ", p.mode,
                            " (points/lines) has no area; such primitives are skipped"));
       return false;
-    case TINYGLTF_MODE_TRIANGLE_STRIP:
-    case TINYGLTF_MODE_TRIANGLE_FAN:
-      return absl::InvalidArgumentError(absl::StrCat(
-          field, ".mode: ", p.mode, " (triangle strip/fan) is not supported; use TRIANGLES (4)"));
   }
   return absl::InvalidArgumentError(absl::StrCat(field, ".mode: ", p.mode, " is not a glTF mode"));
+}
+
+bool IsStripOrFan(int mode) {
+  return mode == TINYGLTF_MODE_TRIANGLE_STRIP || mode == TINYGLTF_MODE_TRIANGLE_FAN;
+}
+
+// The triangles a primitive of `mode` draws from `count` vertices (or indices).
+uint64_t TriangleCount(int mode, uint64_t count) {
+  if (IsStripOrFan(mode)) return count >= 3 ? count - 2 : 0;
+  return count / 3;
+}
+
+// The triangle list a strip or fan of vertex sequence `v` draws (glTF 2.0
+// Sec. 3.7.2.1: strip triangle i = {v_i, v_{i+(1+i%2)}, v_{i+(2-i%2)}},
+// fan triangle i = {v_{i+1}, v_{i+2}, v_0}, so every triangle keeps the
+// first one's winding); degenerate ones (a repeated vertex, as strips use
+// to join runs) are left out.
+std::vector<uint32_t> TrianglesOf(int mode, const std::vector<uint32_t>& v) {
+  std::vector<uint32_t> out;
+  for (size_t i = 0; i + 2 < v.size(); ++i) {
+    const bool strip = mode == TINYGLTF_MODE_TRIANGLE_STRIP;
+    const uint32_t a = strip ? v[i] : v[i + 1];
+    const uint32_t b = strip ? v[i + 1 + i % 2] : v[i + 2];
+    const uint32_t c = strip ? v[i + 2 - i % 2] : v[0];
+    if (a == b || b == c || a == c) continue;
+    out.insert(out.end(), {a, b, c});
+  }
+  return out;
 }
 
 std::string PrimitiveField(size_t mesh, size_t primitive) {
@@ -112,17 +138,18 @@ absl::StatusOr<gistream::Primitive> ReadPrimitive(const tinygltf::Model& model, 
     GS_ASSIGN_OR_RETURN(out.uvs, ReadVec2(uvs));
   }
 
+  const bool list = !IsStripOrFan(in.mode);
   if (in.indices != -1) {
     const std::string index_field = field + ".indices";
     GS_ASSIGN_OR_RETURN(const AccessorData indices,
                         ValidateAccessor(model, in.indices, kIndices, index_field));
-    if (indices.count % 3 != 0) {
+    if (list && indices.count % 3 != 0) {
       return absl::InvalidArgumentError(
           absl::StrCat(index_field, ": ", indices.count, " indices do not form whole triangles"));
     }
     GS_ASSIGN_OR_RETURN(out.indices, ReadIndices(indices, vertices, index_field));
   } else {
-    if (vertices % 3 != 0 || vertices > UINT32_MAX) {
+    if ((list && vertices % 3 != 0) || vertices > UINT32_MAX) {
       return absl::InvalidArgumentError(
           absl::StrCat(field, ".attributes.POSITION: ", vertices,
                        " vertices without indices do not form whole triangles"));
@@ -130,6 +157,7 @@ absl::StatusOr<gistream::Primitive> ReadPrimitive(const tinygltf::Model& model, 
     out.indices.resize(vertices);
     std::iota(out.indices.begin(), out.indices.end(), 0u);
   }
+  if (!list) out.indices = TrianglesOf(in.mode, out.indices);
 
   GS_RETURN_IF_ERROR(ReadSkinAttributes(model, in, field, &out));
   GS_RETURN_IF_ERROR(ReadMorphTargets(model, in, field, &out));
@@ -162,15 +190,15 @@ absl::Status CheckGeometryBudget(const tinygltf::Model& model, const NodeGraph& 
     for (size_t p = 0; p < model.meshes[m].primitives.size(); ++p) {
       const Primitive& prim = model.meshes[m].primitives[p];
       const std::string field = PrimitiveField(m, p);
-      GS_ASSIGN_OR_RETURN(const bool triangle_list, IsTriangleList(prim, field));
-      if (!triangle_list) continue;
+      GS_ASSIGN_OR_RETURN(const bool triangles_drawn, IsTriangles(prim, field));
+      if (!triangles_drawn) continue;
       GS_ASSIGN_OR_RETURN(const int position, PositionAccessor(model, prim, field));
       const uint64_t count = model.accessors[size_t(position)].count;
-      uint64_t tris = count / 3;
+      uint64_t tris = TriangleCount(prim.mode, count);
       if (prim.indices != -1) {
         GS_RETURN_IF_ERROR(
             CheckIndex(field + ".indices", prim.indices, model.accessors.size(), "accessors"));
-        tris = model.accessors[size_t(prim.indices)].count / 3;
+        tris = TriangleCount(prim.mode, model.accessors[size_t(prim.indices)].count);
       }
       if (!MulAdd(1, vertices, count, &vertices) || !MulAdd(1, triangles, tris, &triangles) ||
           !MulAdd(tris, instances[m], instanced, &instanced)) {
@@ -208,8 +236,8 @@ absl::StatusOr<std::vector<Mesh>> ImportMeshes(const tinygltf::Model& model,
     for (size_t p = 0; p < model.meshes[m].primitives.size(); ++p) {
       const Primitive& prim = model.meshes[m].primitives[p];
       const std::string field = PrimitiveField(m, p);
-      GS_ASSIGN_OR_RETURN(const bool triangle_list, IsTriangleList(prim, field));
-      if (!triangle_list) continue;
+      GS_ASSIGN_OR_RETURN(const bool triangles_drawn, IsTriangles(prim, field));
+      if (!triangles_drawn) continue;
       GS_ASSIGN_OR_RETURN(gistream::Primitive primitive,
                           ReadPrimitive(model, prim, field, material_count));
       meshes[m].primitives.push_back(std::move(primitive));
