@@ -7,14 +7,18 @@
 # render: the exit status, the error (code and message), the wall time,
 # the picture's mean and its NaN/Inf count (oiiotool --stats), and whether
 # the server still answers its health check (a crash or a hang shows
-# there). Writes OUT_DIR/sweep.tsv and prints a summary per solver.
+# there). ENVIRONMENT (an equirectangular HDR/EXR) lights every file
+# besides its own lights: most sample models have none (the solvers that
+# read an environment then have something to show; `direct` and `avg` do
+# not read one). Writes OUT_DIR/sweep.tsv and prints a summary per solver.
 #
-#   docs/bench/corpus_sweep.sh [BUILD_DIR] [OUT_DIR] [CORPUS_DIR] [SOLVERS]
+#   docs/bench/corpus_sweep.sh [BUILD_DIR] [OUT_DIR] [CORPUS_DIR] [SOLVERS] [ENVIRONMENT]
 set -uo pipefail
 BUILD=${1:-build}
 OUT=${2:-out/corpus-sweep}
 CORPUS=${3:-/usr/share/assimp/models/glTF2}
 SOLVERS=${4:-"direct sh_probes avg implicit_visibility antiradiance pathtrace"}
+ENVIRONMENT=${5:-}
 [ -d "$CORPUS" ] || { echo "no corpus at $CORPUS (apt-get install assimp-testmodels)" >&2; exit 1; }
 source "$(dirname "$0")/start_server.sh"
 start_server "$BUILD/gistreamd" "$OUT" || exit 1
@@ -26,6 +30,7 @@ for f in "${FILES[@]}"; do
   for solver in $SOLVERS; do
     params=()
     [ "$solver" = pathtrace ] && params=(--param spp=16)
+    [ -n "$ENVIRONMENT" ] && params+=(--environment "$ENVIRONMENT")
     start=$(date +%s.%N)
     timeout 300 "$BUILD/gistream" --server "$ADDR" render --scene "$f" --solver "$solver" \
       --size 32x32 --format exr --out "$OUT/frame.exr" "${params[@]}" >"$OUT/render.log" 2>&1
