@@ -6,6 +6,7 @@
 
 #include <absl/strings/str_cat.h>
 
+#include "scene/environment_cut.h"
 #include "scene/gltf/gltf_import.h"
 #include "scene/gltf/image_decode.h"
 #include "scene/magnitude_limits.h"
@@ -42,6 +43,7 @@ absl::StatusOr<Environment> ImportEnvironment(const SceneSource& source,
                                              "environment", &transient));
   env.intensity = source.environment_intensity > 0.0f ? source.environment_intensity : 1.0f;
   env.max_radiance = MaxPixel(env.image);
+  env.light_cut = MedianCutEnvironment(env.image, kEnvironmentLightCount);
   if (env.intensity * env.max_radiance > kMaxRadiance) {
     return absl::InvalidArgumentError(
         absl::StrCat("environment_intensity: ", env.intensity, " x the map's brightest pixel ",

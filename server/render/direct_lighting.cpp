@@ -153,7 +153,8 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
   std::vector<EmitterTriangle> emitters = CollectEmitters(state);
   std::vector<EmitterSample> emitter_samples = SampleEmitters(emitters, settings.area_samples);
   const std::vector<EnvironmentRegionLight> environment =
-      EnvironmentLightsOf(state, settings.environment_lights);
+      settings.environment_lights ? EnvironmentLights(state)
+                                  : std::vector<EnvironmentRegionLight>{};
   GS_ASSIGN_OR_RETURN(
       const uint64_t bytes,
       ShadowBytes(state, emitter_samples.size(), environment.size(), settings.shadow_resolution));
@@ -199,19 +200,6 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
   Draw(gpu, state, shadows_, next, 0.0);
   Commit(std::move(next));
   return absl::OkStatus();
-}
-
-std::vector<EnvironmentRegionLight> DirectLighting::EnvironmentLightsOf(const SceneState& state,
-                                                                        int count) {
-  const std::optional<Environment>& env = state.scene().environment;
-  if (!env || count <= 0) return {};
-  if (environment_image_ != &env->image || environment_count_ != count) {
-    environment_cut_ = MedianCutEnvironment(env->image, count);
-    environment_image_ = &env->image;
-    environment_count_ = count;
-  }
-  return PlaceEnvironmentLights(environment_cut_, state.environment_rotation(),
-                                state.environment_intensity());
 }
 
 bool DirectLighting::Draw(const GpuScene& gpu, const SceneState& state, ShadowMaps& target,

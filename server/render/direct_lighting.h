@@ -28,17 +28,11 @@ struct DirectLightingSettings {
   int shadow_resolution = 256;
   // Shadow maps from the full meshes instead of proxies (issue 19).
   bool full_detail = false;
-  // The environment map as this many directional lights, each with a
+  // The environment map as its cut's directional lights, each with a
   // shadow map (render/environment_lights.h), for the solvers that light
-  // it no other way; 0: not lit here.
-  int environment_lights = 0;
+  // it no other way; false: not lit here.
+  bool environment_lights = false;
 };
-
-// The environment lights of `direct`, `avg`, `sh_probes` and `antiradiance` (Debevec's
-// median cut used 16 to 64 regions): a uniform sky's irradiance within
-// 8.6 % on every normal (16: 21 %, 64: 3.3 %; EnvironmentLights.*), 32
-// directional maps, about five point lights' cubes.
-inline constexpr int kDefaultEnvironmentLights = 32;
 
 // The parameters every solver that uses DirectLighting offers
 // (`area_samples`, `shadow_res`, `full_detail`), and the settings they give.
@@ -159,8 +153,6 @@ class DirectLighting {
                               std::vector<EmitterTriangle> emitters,
                               std::vector<EmitterSample> samples,
                               const std::vector<EnvironmentRegionLight>& environment);
-  // The environment's lights now (the cut is kept while the map is).
-  std::vector<EnvironmentRegionLight> EnvironmentLightsOf(const SceneState& state, int count);
 
   ShadowMaps shadows_;  // shown
   ShadowMaps back_;     // drawn into while a sliced set is pending
@@ -179,9 +171,6 @@ class DirectLighting {
   int punctual_count_ = 0;
   int shadow_resolution_ = 0;
   bool full_detail_ = false;
-  const Image* environment_image_ = nullptr;  // whose median cut environment_cut_ is
-  int environment_count_ = 0;
-  std::vector<EnvironmentRegionLight> environment_cut_;
 };
 
 }  // namespace gistream

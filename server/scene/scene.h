@@ -204,11 +204,21 @@ struct Node {
   std::vector<float> weights;  // morph weights overriding the mesh's; empty: the mesh's
 };
 
+// One region of an environment map's median cut (scene/environment_cut.h)
+// as a directional light.
+struct EnvironmentRegionLight {
+  glm::vec3 to_sky{0.0f, 1.0f, 0.0f};  // unit, from the scene towards the region
+  glm::vec3 irradiance{0.0f};          // sum of L d(omega) over the region (lux)
+};
+
 struct Environment {
   Image image;  // equirectangular, linear float RGBA
   float intensity = 1.0f;
   float rotation = 0.0f;      // radians about +Y
   float max_radiance = 0.0f;  // largest channel of `image`, for the magnitude limits
+  // The map cut into kEnvironmentLightCount lights at load (on the
+  // loader's thread, not a render thread), unrotated, at intensity 1.
+  std::vector<EnvironmentRegionLight> light_cut;
 };
 
 struct Scene {

@@ -52,9 +52,11 @@ std::string NamedParams(const std::string& names, const ParamSet& params) {
 
 MemoryItem DirectLightingMemory(const ParamSet& params, const SceneState& state,
                                 const GpuScene& gpu, const std::string& area_samples_param,
-                                const std::string& shadow_res_param, int environment_lights) {
+                                const std::string& shadow_res_param, bool environment_lights) {
   uint64_t cubes = 0, directional = 0;
-  if (state.scene().environment) directional += uint64_t(std::max(0, environment_lights));
+  if (environment_lights && state.scene().environment) {
+    directional += state.scene().environment->light_cut.size();
+  }
   for (const LightInstance& l : state.lights()) {
     (l.light.type == LightType::kDirectional ? directional : cubes) += 1;
   }

@@ -55,13 +55,13 @@ std::string NamedParams(const std::string& names, const ParamSet& params);
 // `shadow_res_param`^2, depth 32 bits, twice while a sliced redraw runs;
 // and the draw lists they are drawn from (a cube's, and the one before it
 // that the GL may still read). `environment_lights`: the solver's
-// DirectLightingSettings::environment_lights (maps only with an
-// environment).
+// DirectLightingSettings::environment_lights (a map per light of the
+// environment's cut).
 MemoryItem DirectLightingMemory(const ParamSet& params, const SceneState& state,
                                 const GpuScene& gpu,
                                 const std::string& area_samples_param = "area_samples",
                                 const std::string& shadow_res_param = "shadow_res",
-                                int environment_lights = 0);
+                                bool environment_lights = false);
 // Vertices and triangles over every mesh instance of the current state.
 struct InstancedCounts {
   uint64_t vertices = 0;

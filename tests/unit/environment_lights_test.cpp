@@ -9,8 +9,8 @@
 #include <glm/gtc/constants.hpp>
 #include <gtest/gtest.h>
 
-#include "render/direct_lighting.h"
 #include "render/environment_lights.h"
+#include "scene/environment_cut.h"
 #include "solvers/shading/env_light.h"
 #include "support/measurement.h"
 
@@ -37,8 +37,8 @@ double TexelAngle(int y) {
 
 TEST(EnvironmentLights, AUniformSkyKeepsItsEnergyAndLightsEveryNormalWithPiL) {
   const std::vector<EnvironmentRegionLight> lights =
-      MedianCutEnvironment(Sky(1.0f), kDefaultEnvironmentLights);
-  ASSERT_EQ(lights.size(), size_t(kDefaultEnvironmentLights));
+      MedianCutEnvironment(Sky(1.0f), kEnvironmentLightCount);
+  ASSERT_EQ(lights.size(), size_t(kEnvironmentLightCount));
   double total_texel_angle = 0.0;
   for (int y = 0; y < kHeight; ++y) total_texel_angle += TexelAngle(y) * kWidth;
   double total = 0.0;

@@ -75,7 +75,7 @@ MemoryEstimate AntiradianceSolver::EstimateMemory(const ParamSet& params, const 
   // Display splats and their grid on the GPU (48 + 4 bytes per leaf).
   estimate.items.push_back({driver, "display elements", 0, leaves * 52});
   estimate.items.push_back(DirectLightingMemory(params, state, gpu, "area_samples", "shadow_res",
-                                                kDefaultEnvironmentLights));
+                                                /*environment_lights=*/true));
   return estimate;
 }
 

@@ -95,7 +95,7 @@ absl::StatusOr<std::unique_ptr<Solver>> AntiradianceSolver::Create(const ParamSe
   s.direct = DirectLightingFromParams(params);
   // The environment as directional lights (render/environment_lights.h):
   // the elements' direct light, so it bounces, and the display's.
-  s.direct.environment_lights = kDefaultEnvironmentLights;
+  s.direct.environment_lights = true;
   GS_ASSIGN_OR_RETURN(solver->bins_, antiradiance::DirectionalBins::Create(s.bins));
   GS_ASSIGN_OR_RETURN(solver->lighting_, DirectLighting::Create());
   GS_ASSIGN_OR_RETURN(

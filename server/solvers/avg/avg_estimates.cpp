@@ -40,7 +40,7 @@ MemoryEstimate AvgSolver::EstimateMemory(const ParamSet& params, const SceneStat
   // A VPL: about 100 bytes on the CPU (avg::Vpl), 80 on the GPU (GpuVpl).
   estimate.items.push_back({"vpls", absl::StrCat(vpls, " VPLs"), vpls * 100, vpls * 80});
   estimate.items.push_back(DirectLightingMemory(params, state, gpu, "area_samples",
-                                                "direct_shadow_res", kDefaultEnvironmentLights));
+                                                "direct_shadow_res", /*environment_lights=*/true));
   return estimate;
 }
 

@@ -87,7 +87,7 @@ absl::StatusOr<std::unique_ptr<Solver>> AvgSolver::Create(const ParamSet& params
   solver->direct_settings_.full_detail = solver->full_detail_;
   // The environment as directional lights, for the direct light and the
   // VPLs' paths (render/environment_lights.h).
-  solver->direct_settings_.environment_lights = kDefaultEnvironmentLights;
+  solver->direct_settings_.environment_lights = true;
   // Two atlases: the shown one and the one a re-map draws into.
   const double atlas =
       2.0 * double(layers) * solver->shadow_resolution_ * solver->shadow_resolution_ * 4.0;
@@ -295,7 +295,7 @@ void AvgSolver::StartTrace(const SolverContext& ctx) {
   job_voxelizes_ = job->voxelize;
   const int resolution = grid_resolution_;
   const bool full_detail = full_detail_;
-  const int environment_lights = direct_settings_.environment_lights;
+  const bool environment_lights = direct_settings_.environment_lights;
   avg::VplTraceSettings settings = trace_settings_;
   settings.tail_bound = tail_estimate_ ? LargestAlbedo(ctx.state) : 0.0;
   // A light change on a still view's VPLs (nothing to voxelize): its
@@ -332,11 +332,7 @@ void AvgSolver::StartTrace(const SolverContext& ctx) {
       j.trace = j.partial
                     ? avg::RetraceVpls(*j.grid, lights, settings, j.grid->rewritten(), j.paths)
                     : avg::TraceVpls(*j.grid, lights, settings, &j.paths);
-      if (extension) {
-        avg::VplTraceSettings second = *extension;
-        second.sample_offset = j.trace.paths;
-        j.joined = avg::JoinTraces(j.trace, avg::TraceVpls(*j.grid, lights, second));
-      }
+      if (extension) j.joined = avg::TraceSecondSet(*j.grid, lights, *extension, j.trace);
     });
   });
 }
@@ -400,15 +396,14 @@ void AvgSolver::StartExtension(const SolverContext& ctx) {
   job->base = trace_;
   avg::VplTraceSettings settings = trace_settings_;
   settings.vpls = still_vpls_ - trace_settings_.vpls;
-  settings.sample_offset = trace_.paths;  // the shown paths' sequence goes on
   settings.tail_bound = tail_estimate_ ? LargestAlbedo(ctx.state) : 0.0;
-  const int environment_lights = direct_settings_.environment_lights;
+  const bool environment_lights = direct_settings_.environment_lights;
   extend_job_.Start(std::move(job), [settings, environment_lights](ExtendJob& j) {
     j.times.Time("trace_vpls", [&] {
       const std::vector<avg::VplLight> lights =
           avg::CollectVplLights(j.state, j.grid_bounds.center(),
                                 0.5f * glm::length(j.grid_bounds.extent()), environment_lights);
-      j.trace = avg::JoinTraces(j.base, avg::TraceVpls(*j.grid, lights, settings));
+      j.trace = avg::TraceSecondSet(*j.grid, lights, settings, j.base);
     });
   });
 }

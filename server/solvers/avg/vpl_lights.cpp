@@ -25,7 +25,7 @@ float SpotSolidAngle(float cone_scale, float cone_offset, float cos_outer) {
 }
 
 std::vector<VplLight> CollectVplLights(const SceneState& state, const glm::vec3& scene_center,
-                                       float scene_radius, int environment_lights) {
+                                       float scene_radius, bool environment_lights) {
   std::vector<VplLight> out;
   for (const EmitterTriangle& t : CollectEmitters(state)) {
     VplLight l;
@@ -67,7 +67,8 @@ std::vector<VplLight> CollectVplLights(const SceneState& state, const glm::vec3&
     }
     out.push_back(l);
   }
-  for (const EnvironmentRegionLight& e : EnvironmentLights(state, environment_lights)) {
+  for (const EnvironmentRegionLight& e :
+       environment_lights ? EnvironmentLights(state) : std::vector<EnvironmentRegionLight>{}) {
     VplLight l;
     l.kind = VplLightKind::kDirectional;
     l.radiance = e.irradiance;

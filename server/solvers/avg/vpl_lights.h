@@ -28,12 +28,12 @@ struct VplLight {
   glm::vec3 power{0.0f};                                           // emitted flux (W)
 };
 
-// Every light of `state`: emissive triangles and punctual lights, and the
-// environment as `environment_lights` directional lights (render/
+// Every light of `state`: emissive triangles and punctual lights, and with
+// `environment_lights` the environment's directional lights (render/
 // environment_lights.h). Directional lights cover a disc of radius
 // `scene_radius` around `scene_center` (the voxel grid's bounding sphere).
 std::vector<VplLight> CollectVplLights(const SceneState& state, const glm::vec3& scene_center,
-                                       float scene_radius, int environment_lights = 0);
+                                       float scene_radius, bool environment_lights = false);
 
 // Solid-angle integral of the KHR_lights_punctual spot falloff, in sr.
 float SpotSolidAngle(float cone_scale, float cone_offset, float cos_outer);

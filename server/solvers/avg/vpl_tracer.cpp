@@ -374,6 +374,12 @@ VplTraceResult JoinTraces(const VplTraceResult& a, const VplTraceResult& b) {
   return out;
 }
 
+VplTraceResult TraceSecondSet(const VoxelGrid& grid, const std::vector<VplLight>& lights,
+                              VplTraceSettings second, const VplTraceResult& first) {
+  second.sample_offset = first.paths;
+  return JoinTraces(first, TraceVpls(grid, lights, second));
+}
+
 bool PathTouches(const VplPath& path, const Bounds& box, const glm::vec3& pad) {
   if (box.empty()) return false;
   const glm::vec3 lo = box.min - pad, hi = box.max + pad;

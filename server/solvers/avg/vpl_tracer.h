@@ -117,6 +117,11 @@ VplTraceResult RetraceVpls(const VoxelGrid& grid, const std::vector<VplLight>& l
 // N_a + N_b paths. `b`'s paths follow `a`'s (path_first shifted); `a`'s
 // VPLs count as kept, `b`'s as new.
 VplTraceResult JoinTraces(const VplTraceResult& a, const VplTraceResult& b);
+// A still view's VPLs: `second.vpls` more traced after `first`'s paths in
+// the quasi-random sequence (sample_offset = first.paths) and joined to
+// `first`.
+VplTraceResult TraceSecondSet(const VoxelGrid& grid, const std::vector<VplLight>& lights,
+                              VplTraceSettings second, const VplTraceResult& first);
 // Whether a ray of `path` passes within `pad` of `box`.
 bool PathTouches(const VplPath& path, const Bounds& box, const glm::vec3& pad);
 

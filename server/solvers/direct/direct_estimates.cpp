@@ -8,7 +8,7 @@ MemoryEstimate DirectSolver::EstimateMemory(const ParamSet& params, const SceneS
                                             const GpuScene& gpu) {
   MemoryEstimate estimate;
   estimate.items.push_back(DirectLightingMemory(params, state, gpu, "area_samples", "shadow_res",
-                                                kDefaultEnvironmentLights));
+                                                /*environment_lights=*/true));
   return estimate;
 }
 

@@ -21,7 +21,7 @@ absl::StatusOr<std::unique_ptr<Solver>> DirectSolver::Create(const ParamSet& par
   auto solver = std::unique_ptr<DirectSolver>(new DirectSolver());
   solver->settings_ = DirectLightingFromParams(params);
   // The environment as directional lights (render/environment_lights.h).
-  solver->settings_.environment_lights = kDefaultEnvironmentLights;
+  solver->settings_.environment_lights = true;
   GS_ASSIGN_OR_RETURN(solver->lighting_, DirectLighting::Create());
   GS_ASSIGN_OR_RETURN(solver->shade_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},

@@ -27,7 +27,7 @@ MemoryEstimate ShProbesSolver::EstimateMemory(const ParamSet& params, const Scen
   const uint64_t list = ProbeRasterizer::ListBytes(gpu);
   estimate.items.push_back({"", "probe cube draw list", list, list});
   estimate.items.push_back(DirectLightingMemory(params, state, gpu, "area_samples", "shadow_res",
-                                                kDefaultEnvironmentLights));
+                                                /*environment_lights=*/true));
   return estimate;
 }
 

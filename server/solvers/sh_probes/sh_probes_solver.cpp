@@ -88,7 +88,7 @@ absl::StatusOr<std::unique_ptr<Solver>> ShProbesSolver::Create(const ParamSet& p
   s.direct = DirectLightingFromParams(params);
   // The environment lights the probes and the final pass as directional
   // lights (render/environment_lights.h).
-  s.direct.environment_lights = kDefaultEnvironmentLights;
+  s.direct.environment_lights = true;
   // The grid size alone (spacing needs the scene) is checked here.
   if (s.grid.spacing <= 0.0f) {
     GS_RETURN_IF_ERROR(FitProbeGrid(Bounds{glm::vec3(0.0f), glm::vec3(1.0f)}, s.grid).status());
