@@ -4,6 +4,9 @@
 #include <absl/strings/str_format.h>
 
 #include <algorithm>
+#include <cmath>
+
+#include <glm/glm.hpp>
 
 #include "render/area_lights.h"
 #include "solvers/memory_estimate.h"
@@ -50,6 +53,35 @@ double PassTriangles(const GpuScene& gpu) {
     triangles += coarse + 0.1 * std::max(0.0, full - coarse);
   }
   return triangles;
+}
+
+double DepthComplexity(const SceneState& state, const GpuScene& gpu) {
+  const Bounds bounds = gpu.WorldBounds(state);
+  if (bounds.empty()) return 1.0;
+  const glm::dvec3 d = glm::dvec3(bounds.max) - glm::dvec3(bounds.min);
+  const double surface = 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+  const Scene& scene = state.scene();
+  double area = 0.0;
+  for (const DrawItem& item : gpu.draws()) {
+    if (item.mesh < 0 || size_t(item.mesh) >= scene.meshes.size() || item.node < 0 ||
+        size_t(item.node) >= state.world().size())
+      continue;
+    const Mesh& mesh = scene.meshes[size_t(item.mesh)];
+    if (item.primitive < 0 || size_t(item.primitive) >= mesh.primitives.size()) continue;
+    const Primitive& p = mesh.primitives[size_t(item.primitive)];
+    const glm::dmat4 m(state.world()[size_t(item.node)]);
+    for (size_t t = 0; t + 2 < p.indices.size(); t += 3) {
+      const uint32_t i0 = p.indices[t], i1 = p.indices[t + 1], i2 = p.indices[t + 2];
+      if (i0 >= p.positions.size() || i1 >= p.positions.size() || i2 >= p.positions.size())
+        continue;
+      const glm::dvec3 a(m * glm::dvec4(glm::dvec3(p.positions[i0]), 1.0));
+      const glm::dvec3 b(m * glm::dvec4(glm::dvec3(p.positions[i1]), 1.0));
+      const glm::dvec3 c(m * glm::dvec4(glm::dvec3(p.positions[i2]), 1.0));
+      area += 0.5 * glm::length(glm::cross(b - a, c - a));
+    }
+  }
+  const double ratio = 2.0 * area / surface;
+  return std::isfinite(ratio) ? std::max(1.0, ratio) : 1.0;
 }
 
 WorkItem DirectLightingWork(const ParamSet& params, const SceneState& state, const GpuScene& gpu,

@@ -64,6 +64,14 @@ inline constexpr double kTriangleDrawNs = 2.5;
 // 196,608-triangle box sh_probes' faces drew about 4 % of it).
 double PassTriangles(const GpuScene& gpu);
 
+// The scene's depth complexity: how many surfaces a line through its
+// bounds crosses on average, by Cauchy-Crofton 2 A / S for the triangles'
+// world-space area A (each side counted once) inside bounds of surface S;
+// at least 1. A room is about 1.5, a machine of nested parts several
+// times that: hierarchical linking offers each element a node per bin
+// per surface behind surface, so its work grows with it. O(triangles).
+double DepthComplexity(const SceneState& state, const GpuScene& gpu);
+
 // Direct light's shadow maps (render/direct_lighting.h), drawn once per
 // light change: one cube per point/spot light and area sample, one map per
 // directional light, each face a draw of PassTriangles.
