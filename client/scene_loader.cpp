@@ -163,6 +163,7 @@ std::vector<std::string> SceneWarnings(const v1::LoadSceneResponse& info) {
     warnings.push_back(absl::StrCat("ignored glTF extensions (rendered without them): ",
                                     absl::StrJoin(info.ignored_extensions(), ", ")));
   }
+  for (const std::string& line : info.import_warnings()) warnings.push_back(line);
   if (info.lights_size() == 0 && info.emissive_triangle_count() == 0 && !info.has_environment()) {
     warnings.push_back(
         "no light: the scene has no KHR_lights_punctual light, no emissive surface and no "

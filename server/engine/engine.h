@@ -167,6 +167,7 @@ struct SceneInfo {
   uint32_t proxy_levels_skipped = 0;
   // glTF extensions the file uses that the render ignores (Scene's).
   std::vector<std::string> ignored_extensions;
+  std::vector<std::string> import_warnings;
 };
 
 // ---------------------------------------------------------------- sessions

@@ -14,6 +14,7 @@ SceneInfo DescribeScene(const SceneId& id, const SceneState& state) {
   info.vertex_count = scene.vertex_count;
   info.has_environment = scene.environment.has_value();
   info.ignored_extensions = scene.ignored_extensions;
+  info.import_warnings = scene.import_warnings;
   for (size_t i = 0; i < scene.animations.size(); ++i) {
     const Animation& a = scene.animations[i];
     info.animations.push_back({uint32_t(i), a.name, a.start, a.end});

@@ -241,6 +241,9 @@ struct Scene {
   // LoadScene's answer lists them): e.g. KHR_materials_ior, whose index of
   // refraction the BRDF does not read (README, "glTF support").
   std::vector<std::string> ignored_extensions;
+  // What the file asks for that import renders otherwise, one line each
+  // naming the field (a texture on TEXCOORD_1, ...): LoadScene lists them.
+  std::vector<std::string> import_warnings;
 
   // Filled by import: totals over every node instance of every mesh.
   uint64_t triangle_count = 0;

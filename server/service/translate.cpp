@@ -482,6 +482,7 @@ void SceneInfoToProto(const SceneInfo& info, pb::LoadSceneResponse* out) {
   out->set_proxy_levels_skipped(info.proxy_levels_skipped);
   out->set_has_environment(info.has_environment);
   for (const std::string& name : info.ignored_extensions) out->add_ignored_extensions(name);
+  for (const std::string& line : info.import_warnings) out->add_import_warnings(line);
   for (const AnimationSummary& a : info.animations) {
     pb::AnimationInfo* p = out->add_animations();
     p->set_id(a.id);

@@ -136,6 +136,12 @@ TEST(DescribeScene, NamesTheIgnoredExtensions) {
                       "KHR_materials_specular"),
             std::string::npos)
       << DescribeScene("box", info);
+  // The import's warnings, one line each, after the extensions.
+  info.add_lights()->set_name("sun");
+  info.add_import_warnings("materials[0].emissiveTexture.texCoord: 1: only TEXCOORD_0 is read");
+  const std::vector<std::string> warnings = SceneWarnings(info);
+  ASSERT_EQ(warnings.size(), 2u);
+  EXPECT_EQ(warnings[1], "materials[0].emissiveTexture.texCoord: 1: only TEXCOORD_0 is read");
 }
 
 // A scene with no light at all renders black in every solver: the user

@@ -108,14 +108,29 @@ TEST(BadGraph, MaterialValues) {
                "materials[0].pbrMetallicRoughness.roughnessFactor: 2 is out of range");
 }
 
-TEST(BadGraph, TextureOnSecondUvSet) {
+// A texture on another coordinate set than TEXCOORD_0 is not read: the file
+// loads (it was refused whole), the material renders with its factors, and
+// the load's answer says which field was ignored.
+TEST(BadGraph, TextureOnSecondUvSetIsIgnoredWithAWarning) {
   TestGltf g;
   g.doc["images"] = {{{"uri", "data:image/png;base64,AAAA"}}};
   g.doc["textures"] = {{{"source", 0}}};
-  const int mat = g.AddMaterial({{"emissiveTexture", {{"index", 0}, {"texCoord", 1}}}});
+  const int mat = g.AddMaterial(
+      {{"emissiveFactor", {1, 0.5, 0}}, {"emissiveTexture", {{"index", 0}, {"texCoord", 1}}}});
   g.AddRoot({{"mesh", AddQuadMesh(&g, true, mat)}});
-  EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
-               "materials[0].emissiveTexture.texCoord: 1 is not supported");
+  auto scene = Import(g.ToGltf());
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  ASSERT_EQ(scene->materials.size(), 1u);
+  EXPECT_EQ(scene->materials[0].emissive_texture, -1);
+  EXPECT_FLOAT_EQ(scene->materials[0].emissive_factor.y, 0.5f);
+  EXPECT_TRUE(scene->images.empty());  // never decoded
+  ASSERT_EQ(scene->import_warnings.size(), 1u);
+  EXPECT_EQ(scene->import_warnings[0],
+            "materials[0].emissiveTexture.texCoord: 1: only TEXCOORD_0 is read; the texture is "
+            "ignored (the material renders with its factors)");
+  // On the first set it is read (and this image does not decode).
+  g.doc["materials"][0]["emissiveTexture"]["texCoord"] = 0;
+  EXPECT_FALSE(Import(g.ToGltf()).ok());
 }
 
 TestGltf WithLight(nlohmann::json light) {

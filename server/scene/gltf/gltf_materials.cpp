@@ -16,8 +16,8 @@ namespace {
 class ImageLoader {
  public:
   ImageLoader(const tinygltf::Model& model, const ImportOptions& options, uint64_t* budget,
-              std::vector<Image>* images)
-      : model_(model), options_(options), budget_(budget), images_(images) {}
+              std::vector<Image>* images, std::vector<std::string>* warnings)
+      : model_(model), options_(options), budget_(budget), images_(images), warnings_(warnings) {}
 
   // Scene image index for the texture `info` names; -1 when none. `srgb`:
   // colour (sRGB-encoded) or data (linear, e.g. metallic-roughness); an image
@@ -28,8 +28,12 @@ class ImageLoader {
     GS_RETURN_IF_ERROR(
         CheckIndex(field + ".index", info.index, model_.textures.size(), "textures"));
     if (info.texCoord != 0) {
-      return absl::InvalidArgumentError(
-          absl::StrCat(field, ".texCoord: ", info.texCoord, " is not supported (only TEXCOORD_0)"));
+      // Only the first texture coordinate set reaches the GPU: the material
+      // renders with its factors alone there, and the client is told.
+      warnings_->push_back(absl::StrCat(field, ".texCoord: ", info.texCoord,
+                                        ": only TEXCOORD_0 is read; the texture is ignored (the "
+                                        "material renders with its factors)"));
+      return -1;
     }
     if (info.extensions.count("KHR_texture_transform") != 0) {
       LogOnce(LogLevel::kWarning, "gltf-texture-transform",
@@ -89,6 +93,7 @@ class ImageLoader {
   const ImportOptions& options_;
   uint64_t* budget_;
   std::vector<Image>* images_;
+  std::vector<std::string>* warnings_;
   std::map<std::pair<int, bool>, int> decoded_;  // (glTF image, srgb) -> scene image
   uint64_t total_pixels_ = 0;
 };
@@ -168,7 +173,7 @@ absl::Status ImportMaterials(const tinygltf::Model& model, const ImportOptions& 
     if (source == -1) return absl::InvalidArgumentError(field + ": missing (no image)");
     GS_RETURN_IF_ERROR(CheckIndex(field, source, model.images.size(), "images"));
   }
-  ImageLoader images(model, options, budget, &scene->images);
+  ImageLoader images(model, options, budget, &scene->images, &scene->import_warnings);
   for (size_t m = 0; m < model.materials.size(); ++m) {
     GS_ASSIGN_OR_RETURN(Material material,
                         ReadMaterial(model.materials[m], Item("materials", m), &images));
