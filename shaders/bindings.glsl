@@ -33,6 +33,7 @@
 #define GS_UNIT_EMISSIVE 1
 #define GS_UNIT_METALLIC_ROUGHNESS 2  // linear: B metallic, G roughness
 #define GS_UNIT_HDR 0            // tone map input (view pass only)
+#define GS_UNIT_ENVIRONMENT 0    // render/sky: the G-buffer's background (before the materials)
 #define GS_UNIT_REFINE_MEAN 0     // render/show_refined (view pass only)
 #define GS_UNIT_REFINE_HISTORY 1
 #define GS_UNIT_CUBE_SHADOWS 4   // render/direct_lighting

@@ -34,6 +34,9 @@ absl::StatusOr<ViewPasses> ViewPasses::Create() {
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/gbuffer.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "render/gbuffer.frag.glsl"}},
                                          {"GS_DRAW_LIST"}));
+  GS_ASSIGN_OR_RETURN(passes.sky_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "render/sky.frag.glsl"}}));
   GS_ASSIGN_OR_RETURN(passes.tonemap_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "render/tonemap.frag.glsl"}}));
@@ -59,6 +62,7 @@ absl::Status ViewPasses::DrawGBuffer(const SceneState& state, const GpuScene& gp
   for (GLint i = 0; i < 4; ++i) glClearBufferfv(GL_COLOR, i, zero);
   const float one = 1.0f;
   glClearBufferfv(GL_DEPTH, 0, &one);
+  if (gpu.environment_texture() != 0) DrawSky(state, gpu, camera);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);
@@ -77,6 +81,23 @@ absl::Status ViewPasses::DrawGBuffer(const SceneState& state, const GpuScene& gp
   }
   gbuffer_list_.Draw(gpu, 0);
   return absl::OkStatus();
+}
+
+void ViewPasses::DrawSky(const SceneState& state, const GpuScene& gpu, const ViewCamera& camera) {
+  // Every pixel, before the geometry overwrites its own: no depth test (so
+  // no depth write either).
+  glDisable(GL_DEPTH_TEST);
+  const float aspect = float(camera.width) / float(std::max<uint32_t>(camera.height, 1));
+  const float t = std::tan(0.5f * camera.yfov);
+  sky_.Set("uRight", camera.rotation * glm::vec3(t * aspect, 0.0f, 0.0f));
+  sky_.Set("uUp", camera.rotation * glm::vec3(0.0f, t, 0.0f));
+  sky_.Set("uForward", camera.rotation * glm::vec3(0.0f, 0.0f, -1.0f));
+  sky_.Set("uJitter", camera.jitter);
+  sky_.Set("uSize", glm::vec2(float(camera.width), float(camera.height)));
+  sky_.Set("uRotation", state.environment_rotation());
+  sky_.Set("uIntensity", state.environment_intensity());
+  glBindTextureUnit(GS_UNIT_ENVIRONMENT, gpu.environment_texture());
+  fullscreen_.Draw(sky_);
 }
 
 void ViewPasses::Accumulate(const GBuffer& gbuffer, uint32_t index) {

@@ -23,6 +23,9 @@ class ViewPasses {
   // so many primitives or instances cost what their triangles cost, not a
   // draw call each (issue 30). The list is rebuilt only when the scene's
   // state changes (its serial and version), not per refinement sample.
+  // Where no geometry covers a pixel, the environment's radiance along its
+  // ray is the background's emission (shaders/render/sky.frag.glsl), as
+  // pathtrace's camera rays see it; black without an environment.
   absl::Status DrawGBuffer(const SceneState& state, const GpuScene& gpu, const ViewCamera& camera,
                            GBuffer& gbuffer);
   // Refinement (render/refinement.h): folds the HDR radiance just shaded
@@ -57,7 +60,10 @@ class ViewPasses {
   std::vector<uint8_t> ReadLdr(const GBuffer& gbuffer) const;  // RGBA8
 
  private:
+  void DrawSky(const SceneState& state, const GpuScene& gpu, const ViewCamera& camera);
+
   gl::Program gbuffer_;
+  gl::Program sky_;  // the G-buffer's environment background
   // The G-buffer's draw list, and the state it was made from.
   DrawList gbuffer_list_;
   struct ListKey {

@@ -121,7 +121,7 @@ bool GlossyIndirect(vec3 p, vec3 n, vec3 v, out vec3 l) {
 void main() {
   GSurface s;
   if (!ReadGBuffer(ivec2(gl_FragCoord.xy), s)) {
-    oRadiance = vec4(0.0, 0.0, 0.0, 1.0);
+    oRadiance = vec4(s.emission, 1.0);  // the background (render/sky)
     return;
   }
   vec3 l_glossy;

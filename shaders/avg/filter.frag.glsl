@@ -26,7 +26,6 @@ uniform ivec2 uTileSize;
 uniform float uPixelAngle;  // 2 tan(yfov / 2) / height: pixel size at unit distance
 uniform float uNormalCos;
 uniform int uTentEverywhere;  // 1: some VPL is glossy
-uniform vec3 uBackground;
 out vec4 oRadiance;
 
 ivec2 Split(ivec2 px) { return (px & 3) * uTileSize + (px >> 2); }
@@ -35,7 +34,7 @@ void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
   vec4 pos = texelFetch(uGPosition, px, 0);
   if (pos.w == 0.0) {
-    oRadiance = vec4(uBackground, 1.0);
+    oRadiance = vec4(texelFetch(uGEmission, px, 0).rgb, 1.0);  // the background (render/sky)
     return;
   }
   vec3 p = pos.xyz;

@@ -11,7 +11,7 @@ void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
   GSurface s;
   if (!ReadGBuffer(px, s)) {
-    oRadiance = vec4(0.0, 0.0, 0.0, 1.0);
+    oRadiance = vec4(s.emission, 1.0);  // the background (render/sky)
     return;
   }
   oRadiance = vec4(ShadeSurface(s, texelFetch(uIndirect, px, 0).rgb), 1.0);

@@ -8,7 +8,7 @@ out vec4 oRadiance;
 void main() {
   GSurface s;
   if (!ReadGBuffer(ivec2(gl_FragCoord.xy), s)) {
-    oRadiance = vec4(0.0, 0.0, 0.0, 1.0);
+    oRadiance = vec4(s.emission, 1.0);  // the background (render/sky)
     return;
   }
   oRadiance = vec4(ShadeSurface(s, GridIrradiance(s.position, s.normal)), 1.0);

@@ -69,6 +69,14 @@ absl::Status CheckTextureSizes(const Scene& scene) {
           max_size, " per side)"));
     }
   }
+  if (scene.environment) {
+    const Image& env = scene.environment->image;
+    if (env.width > max_size || env.height > max_size) {
+      return absl::ResourceExhaustedError(
+          absl::StrCat("environment: the map is ", env.width, "x", env.height,
+                       ", larger than this GPU's largest texture (", max_size, " per side)"));
+    }
+  }
   return absl::OkStatus();
 }
 
@@ -234,6 +242,16 @@ void GpuScene::UploadTextures(const Scene& scene) {
   white.width = white.height = 1;
   white.pixels8 = {255, 255, 255, 255};
   white_ = UploadImage(white);
+  if (scene.environment && !scene.environment->image.pixelsf.empty()) {
+    const Image& env = scene.environment->image;
+    environment_ = gl::Texture::Create(GL_TEXTURE_2D);
+    glTextureStorage2D(environment_.id(), 1, GL_RGBA32F, env.width, env.height);
+    glTextureSubImage2D(environment_.id(), 0, 0, 0, env.width, env.height, GL_RGBA, GL_FLOAT,
+                        env.pixelsf.data());
+    glTextureParameteri(environment_.id(), GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(environment_.id(), GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    gpu_bytes_ += uint64_t(env.width) * uint64_t(env.height) * 16;
+  }
 }
 
 void GpuScene::UpdateMaterials(const SceneState& state) {

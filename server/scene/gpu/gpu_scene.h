@@ -136,6 +136,9 @@ class GpuScene {
   // Scene::bounds, follows moved nodes.
   Bounds WorldBounds(const SceneState& state) const;
   uint64_t gpu_bytes() const { return gpu_bytes_; }
+  // The environment map (equirectangular RGBA32F, one level, texels read
+  // with texelFetch) for the view's background; 0 when the scene has none.
+  GLuint environment_texture() const { return environment_.id(); }
   // The interleaved vertex buffer (position, normal, uv: 8 floats each).
   GLuint vertex_buffer() const { return vertices_.id(); }
   // The vertex array every draw of the scene uses; a draw list (scene/
@@ -171,7 +174,7 @@ class GpuScene {
   MeshRanges AppendClusters(const Scene& scene, std::vector<uint32_t>& indices);
   // The vertex layout, and a draw list's per-instance records.
   void CreateVertexArray();
-  // One texture per scene image, and the 1x1 white fallback.
+  // One texture per scene image, the 1x1 white fallback, the environment.
   void UploadTextures(const Scene& scene);
 
   gl::VertexArray vao_;
@@ -180,6 +183,7 @@ class GpuScene {
   gl::Buffer materials_;
   std::vector<gl::Texture> textures_;  // per scene image
   gl::Texture white_;                  // 1x1 fallback
+  gl::Texture environment_;            // empty when the scene has none
   std::vector<DrawItem> draws_;
   std::vector<DrawLevel> levels_;
   std::vector<DrawCluster> clusters_;

@@ -520,7 +520,6 @@ absl::Status AvgSolver::Shade(SolverContext& ctx, const ViewCamera& camera,
     filter_.Set("uPixelAngle", 2.0f * std::tan(0.5f * camera.yfov) / float(std::max(size.y, 1)));
     filter_.Set("uNormalCos", 0.9f);
     filter_.Set("uTentEverywhere", shadow_maps_.any_glossy() ? 1 : 0);
-    filter_.Set("uBackground", glm::vec3(0.0f));
     fullscreen_.Draw(filter_);
   }
   return absl::OkStatus();

@@ -62,7 +62,6 @@ absl::Status DirectSolver::Shade(SolverContext& ctx, const ViewCamera& /*camera*
   gl::StageTimer::Scope stage(ctx.timer, "shade");
   gbuffer.BeginShadePass();
   lighting_.Bind(shade_);
-  shade_.Set("uBackground", glm::vec3(0.0f));
   fullscreen_.Draw(shade_);
   return absl::OkStatus();
 }
