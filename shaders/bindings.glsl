@@ -4,9 +4,9 @@
 // lines here: the file is read by both preprocessors.
 //
 // Shared slots (render/ and scene/: every solver's programs see them):
-//   shader storage buffers 0-3 and 12, texture units 0-2, 4-5 and 8-11.
+//   shader storage buffers 0-3 and 12, texture units 0-2, 4-6 and 8-11.
 // Free for a solver's own resources: buffers 4-11 and 13-15, texture units
-// 3, 6-7 and 12-15; a solver's own table lives beside its shaders.
+// 3, 7 and 12-15; a solver's own table lives beside its shaders.
 
 #ifndef GS_BINDINGS_GLSL
 #define GS_BINDINGS_GLSL
@@ -43,5 +43,6 @@
 #define GS_UNIT_GBUFFER_NORMAL 9
 #define GS_UNIT_GBUFFER_ALBEDO 10
 #define GS_UNIT_GBUFFER_EMISSION 11
+#define GS_UNIT_GBUFFER_SPECULAR 6  // rgb: dielectric F0, a: F90
 
 #endif  // GS_BINDINGS_GLSL

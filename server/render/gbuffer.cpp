@@ -27,13 +27,14 @@ absl::Status GBuffer::Resize(uint32_t width, uint32_t height) {
   normal_ = gl::RenderTarget(GL_RGBA16F, w, h);
   albedo_ = gl::RenderTarget(GL_RGBA8, w, h);
   emission_ = gl::RenderTarget(GL_RGBA32F, w, h);
+  specular_ = gl::RenderTarget(GL_RGBA16F, w, h);
   depth_ = gl::RenderTarget(GL_DEPTH_COMPONENT32F, w, h);
   hdr_ = gl::RenderTarget(GL_RGBA32F, w, h, /*linear=*/true);
   ldr_ = gl::RenderTarget(GL_RGBA8, w, h);
   accumulation_ = gl::RenderTarget(GL_RGBA32F, w, h);
   history_ = gl::RenderTarget(GL_RGBA32F, w, h);
-  fbo_ =
-      gl::FramebufferOf({position_.id(), normal_.id(), albedo_.id(), emission_.id()}, depth_.id());
+  fbo_ = gl::FramebufferOf(
+      {position_.id(), normal_.id(), albedo_.id(), emission_.id(), specular_.id()}, depth_.id());
   hdr_fbo_ = gl::FramebufferOf({hdr_.id()});
   ldr_fbo_ = gl::FramebufferOf({ldr_.id()});
   accumulation_fbo_ = gl::FramebufferOf({accumulation_.id()});
@@ -83,6 +84,7 @@ void GBuffer::BindTextures(GLuint first_unit) const {
   glBindTextureUnit(first_unit + 1, normal_.id());
   glBindTextureUnit(first_unit + 2, albedo_.id());
   glBindTextureUnit(first_unit + 3, emission_.id());
+  glBindTextureUnit(GS_UNIT_GBUFFER_SPECULAR, specular_.id());
 }
 
 }  // namespace gistream

@@ -1,5 +1,6 @@
 // Per-view G-buffer: world position (w = 1 on geometry), normal, albedo
-// (a: metallic), emission (a: roughness), depth, and the eye it was drawn
+// (a: metallic), emission (a: roughness), specular (rgb: dielectric F0, a:
+// F90), depth, and the eye it was drawn
 // from; plus the HDR radiance target the solvers shade into and
 // the 8-bit target tone mapping writes, and the mean of a view's
 // refinement samples with the history kept across a change
@@ -25,10 +26,10 @@ class GBuffer {
   uint32_t width() const { return width_; }
   uint32_t height() const { return height_; }
   // Bytes its textures hold: position RGBA32F, normal RGBA16F, albedo RGBA8,
-  // emission RGBA32F, depth 32F, hdr RGBA32F, ldr RGBA8, accumulation
-  // RGBA32F, history RGBA32F = 100 per pixel.
+  // emission RGBA32F, specular RGBA16F, depth 32F, hdr RGBA32F, ldr RGBA8,
+  // accumulation RGBA32F, history RGBA32F = 108 per pixel.
   uint64_t gpu_bytes() const { return uint64_t(width_) * height_ * kBytesPerPixel; }
-  static constexpr uint64_t kBytesPerPixel = 16 + 8 + 4 + 16 + 4 + 16 + 4 + 16 + 16;
+  static constexpr uint64_t kBytesPerPixel = 16 + 8 + 4 + 16 + 8 + 4 + 16 + 4 + 16 + 16;
 
   GLuint fbo() const { return fbo_.id(); }          // the four G-buffer targets + depth
   GLuint hdr_fbo() const { return hdr_fbo_.id(); }  // the radiance target
@@ -36,6 +37,7 @@ class GBuffer {
   GLuint normal() const { return normal_.id(); }
   GLuint albedo() const { return albedo_.id(); }
   GLuint emission() const { return emission_.id(); }
+  GLuint specular() const { return specular_.id(); }
   GLuint depth() const { return depth_.id(); }
   GLuint hdr() const { return hdr_.id(); }
   GLuint ldr_fbo() const { return ldr_fbo_.id(); }  // tone-mapped RGBA8
@@ -46,7 +48,8 @@ class GBuffer {
   GLuint history() const { return history_.id(); }
 
   // Binds position/normal/albedo/emission to texture units first..first+3
-  // (shaders/render/gbuffer_read.glsl reads them at GS_UNIT_GBUFFER).
+  // (shaders/render/gbuffer_read.glsl reads them at GS_UNIT_GBUFFER) and
+  // specular to GS_UNIT_GBUFFER_SPECULAR.
   void BindTextures(GLuint first_unit = GS_UNIT_GBUFFER) const;
   // The eye the G-buffer was drawn from (glossy surfaces' view direction;
   // render/view_passes sets it with each G-buffer pass).
@@ -58,7 +61,8 @@ class GBuffer {
 
  private:
   uint32_t width_ = 0, height_ = 0;
-  gl::Texture position_, normal_, albedo_, emission_, depth_, hdr_, ldr_, accumulation_, history_;
+  gl::Texture position_, normal_, albedo_, emission_, specular_, depth_, hdr_, ldr_, accumulation_,
+      history_;
   gl::Framebuffer fbo_, hdr_fbo_, ldr_fbo_, accumulation_fbo_, history_fbo_;
   gl::Buffer view_;  // std140 { vec4 eye; }
 };

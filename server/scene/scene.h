@@ -65,6 +65,11 @@ struct Material {
   float metallic_factor = 0.0f;
   float roughness_factor = 1.0f;
   int metallic_roughness_texture = -1;  // linear; B: metallic, G: roughness
+  // The dielectric part's Fresnel at normal and at grazing incidence
+  // (solvers/shading/ggx.h): 0.04 and 1 (ior 1.5) unless the file's
+  // KHR_materials_ior / KHR_materials_specular set them (gltf_materials).
+  glm::vec3 specular_f0{0.04f};
+  float specular_f90 = 1.0f;
   bool double_sided = false;
 
   // Emitted radiance (nits) of an untextured texel.

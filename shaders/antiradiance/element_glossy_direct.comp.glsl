@@ -24,7 +24,7 @@ void main() {
   vec3 v = bin_direction[id % uBins].xyz;
   vec3 l = vec3(0.0);
   if (dot(e.normal.xyz, v) > 0.0) {
-    SurfaceBrdf b = SurfaceBrdf(e.base_metallic.rgb, e.base_metallic.a, e.normal.w);
+    SurfaceBrdf b = DefaultSpecularBrdf(e.base_metallic.rgb, e.base_metallic.a, e.normal.w);
     l = FiniteOrZero(DirectReflected(e.position.xyz, e.normal.xyz, v, b));
   }
   glossy_direct[id] = vec4(l, 0.0);

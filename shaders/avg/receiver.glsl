@@ -1,5 +1,5 @@
 // `avg`: the receiver's BRDF as its illuminate and filter passes see it
-// (common/brdf.glsl, the G-buffer's metallic and roughness).
+// (common/brdf.glsl, the G-buffer's metallic, roughness and specular).
 //
 // Both split targets hold irradiance-like values, so the filter averages
 // like with like: E itself for Lambertian receivers (the filter applies
@@ -11,11 +11,13 @@
 #include "common/brdf.glsl"
 layout(binding = GS_UNIT_GBUFFER_ALBEDO) uniform sampler2D uGAlbedo;    // a: metallic
 layout(binding = GS_UNIT_GBUFFER_EMISSION) uniform sampler2D uGEmission;  // a: roughness
+layout(binding = GS_UNIT_GBUFFER_SPECULAR) uniform sampler2D uGSpecular;  // dielectric F0, F90
 uniform vec3 uCameraPos;
 
 SurfaceBrdf ReceiverBrdf(ivec2 px) {
   vec4 albedo = texelFetch(uGAlbedo, px, 0);
-  return SurfaceBrdf(albedo.rgb, albedo.a, texelFetch(uGEmission, px, 0).a);
+  return SurfaceBrdf(albedo.rgb, albedo.a, texelFetch(uGEmission, px, 0).a,
+                     texelFetch(uGSpecular, px, 0));
 }
 
 // Unit direction from p (normal n, facing the viewer) to the eye.

@@ -34,7 +34,8 @@ vec3 VplLocal(Vpl v, vec3 d) {
 // The BRDF it reflects its light through (Lambertian: metallic 0,
 // roughness 1).
 SurfaceBrdf VplBrdf(Vpl v) {
-  return SurfaceBrdf(v.base_color_metallic.rgb, v.base_color_metallic.a, v.incident_roughness.w);
+  return DefaultSpecularBrdf(v.base_color_metallic.rgb, v.base_color_metallic.a,
+                             v.incident_roughness.w);
 }
 
 // Paraboloid map of a unit direction in the upper hemisphere to [-1, 1]^2

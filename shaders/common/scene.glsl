@@ -7,6 +7,7 @@ struct Material {
   ivec4 textures;   // x: base colour, y: emissive, w: metallic-roughness texture or -1;
                     // z: 1 when double-sided
   vec4 pbr;         // x: metallic factor, y: roughness factor
+  vec4 specular;    // rgb: dielectric F0, a: dielectric F90 (common/brdf.glsl)
 };
 
 layout(std430, binding = GS_BINDING_MATERIALS) readonly buffer Materials { Material materials[]; };

@@ -11,6 +11,7 @@ layout(location = 0) out vec4 oPosition;
 layout(location = 1) out vec4 oNormal;
 layout(location = 2) out vec4 oAlbedo;
 layout(location = 3) out vec4 oEmission;
+layout(location = 4) out vec4 oSpecular;  // rgb: dielectric F0, a: F90
 void main() {
   Material m = materials[vMaterial];
   vec3 n = SafeNormalize(vNormal, vec3(0.0, 1.0, 0.0));
@@ -21,4 +22,5 @@ void main() {
   vec2 mr = SurfaceMetallicRoughness(m, vUv);
   oAlbedo = vec4(SurfaceAlbedo(m, vUv), mr.x);
   oEmission = vec4(SurfaceEmission(m, vUv), mr.y);
+  oSpecular = m.specular;
 }

@@ -18,6 +18,7 @@ struct GSurface {
   vec3 emission;
   float metallic;
   float roughness;
+  vec4 specular;  // rgb: dielectric F0, a: F90
 };
 
 // The view's eye (render/gbuffer.h, bound by BeginShadePass).
@@ -34,10 +35,13 @@ bool ReadGBuffer(ivec2 px, out GSurface s) {
   s.emission = emission.rgb;
   s.metallic = albedo.a;
   s.roughness = emission.a;
+  s.specular = texelFetch(uGSpecular, px, 0);
   return pos.w != 0.0;
 }
 
-SurfaceBrdf SurfaceBrdfOf(GSurface s) { return SurfaceBrdf(s.albedo, s.metallic, s.roughness); }
+SurfaceBrdf SurfaceBrdfOf(GSurface s) {
+  return SurfaceBrdf(s.albedo, s.metallic, s.roughness, s.specular);
+}
 
 // Unit direction from the surface to the eye.
 vec3 ViewDirection(GSurface s) { return SafeNormalize(uEye.xyz - s.position, s.normal); }

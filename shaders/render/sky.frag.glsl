@@ -21,6 +21,7 @@ layout(location = 0) out vec4 oPosition;
 layout(location = 1) out vec4 oNormal;
 layout(location = 2) out vec4 oAlbedo;
 layout(location = 3) out vec4 oEmission;
+layout(location = 4) out vec4 oSpecular;
 void main() {
   // Projection() shifts the image by +jitter: this pixel centre shows the
   // film point jitter pixels before it.
@@ -35,5 +36,6 @@ void main() {
   oPosition = vec4(dir, 0.0);
   oNormal = vec4(0.0);
   oAlbedo = vec4(0.0);
+  oSpecular = vec4(0.0);
   oEmission = vec4(FiniteOrZero(texelFetch(uEnvironment, texel, 0).rgb * uIntensity), 0.0);
 }

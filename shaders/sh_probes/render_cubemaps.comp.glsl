@@ -77,7 +77,7 @@ void main() {
     // direction put a spike of f E into a texel that the probe's SH spread
     // over its whole neighbourhood (a bright square on the assimp corpus's
     // ClearCoatTest.gltf, roughness 0.03, that the path tracer does not show).
-    if (b.roughness < kMinProbeRoughness) b = SurfaceBrdf(b.base_color, 0.0, 1.0);
+    if (b.roughness < kMinProbeRoughness) b = DefaultSpecularBrdf(b.base_color, 0.0, 1.0);
     vec3 v = SafeNormalize(t.probe - t.position, t.normal);
     if (uComputeDirect != 0) {
       l = FiniteOrZero(BrdfLambertian(b) ? DirectReflected(t.position, t.normal, v, b)

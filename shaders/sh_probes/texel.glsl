@@ -39,5 +39,5 @@ bool LoadProbeTexel(ivec3 atlas, out ProbeTexel t) {
 }
 
 SurfaceBrdf ProbeTexelBrdf(ProbeTexel t) {
-  return SurfaceBrdf(t.albedo, t.metallic_roughness.x, t.metallic_roughness.y);
+  return DefaultSpecularBrdf(t.albedo, t.metallic_roughness.x, t.metallic_roughness.y);
 }

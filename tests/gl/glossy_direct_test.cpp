@@ -2,8 +2,11 @@
 // (shaders/common/brdf.glsl) and `pathtrace` (solvers/shading/ggx.h),
 // against the closed form: a point light over a glossy plane and nothing
 // else, so the plane sends L = f(v, l) I cos(theta) / r^2 to the eye, with
-// f from ggx.h evaluated here.
+// f from ggx.h evaluated here. Two cases set the dielectric layer's
+// Fresnel through KHR_materials_ior / KHR_materials_specular (issue 29):
+// the G-buffer carries each material's F0 and F90 to the GLSL BRDF.
 #include <cmath>
+#include <memory>
 
 #include <gtest/gtest.h>
 
@@ -26,6 +29,16 @@ struct GlossyCase {
   glm::vec3 base_color;
   float metallic;
   float roughness;
+  // KHR_materials_ior's ior and KHR_materials_specular's factors; the
+  // dielectric F0 and F90 they make (gltf_extensions.cpp).
+  float ior = 1.5f;
+  glm::vec3 specular_color{1.0f};
+  float specular_factor = 1.0f;
+  bool extensions = false;
+  glm::vec3 f0() const {
+    const float r = (ior - 1.0f) / (ior + 1.0f);
+    return glm::min(r * r * specular_color, glm::vec3(1.0f)) * specular_factor;
+  }
 };
 // ctest's test names show the case, not its bytes.
 void PrintTo(const GlossyCase& c, std::ostream* os) { *os << c.name; }
@@ -58,7 +71,7 @@ glm::vec3 Expected(const GlossyCase& c, const glm::vec3& p, const glm::vec3& eye
   // World (x, y, z) -> local (x, z, y): y is the normal; handedness does
   // not matter to an isotropic BRDF.
   const glm::vec3 wo(v.x, v.z, v.y), wi(l.x, l.z, l.y);
-  const shading::Brdf brdf{c.base_color, c.metallic, c.roughness};
+  const shading::Brdf brdf{c.base_color, c.metallic, c.roughness, c.f0(), c.specular_factor};
   return shading::Eval(brdf, wo, wi) * (kIntensity * wi.z / r2);
 }
 
@@ -69,13 +82,21 @@ class GlossyDirect : public ::testing::TestWithParam<GlossyCase> {
     GltfBuilder b;
     const int mat = b.AddMaterial("plane", {c.base_color.r, c.base_color.g, c.base_color.b});
     b.SetMetallicRoughness(mat, c.metallic, c.roughness);
+    if (c.extensions) {
+      b.SetMaterialExtension(mat, "KHR_materials_ior", {{"ior", c.ior}});
+      b.SetMaterialExtension(
+          mat, "KHR_materials_specular",
+          {{"specularFactor", c.specular_factor},
+           {"specularColorFactor", {c.specular_color.r, c.specular_color.g, c.specular_color.b}}});
+    }
     b.AddQuad("plane", {0, 0, 0}, {0, 0, 4}, {4, 0, 0}, mat, 4);
     b.AddPointLight("lamp", {kLight.x, kLight.y, kLight.z}, {1, 1, 1}, kIntensity);
     b.AddCamera("camera", {0.0f, kHeight, 0.0f}, {0, -1, 0}, {0, 0, -1}, 1.6f);
-    auto info = testing::SharedEngine().LoadScene(testing::SceneFromBytes(b.ToJson()));
-    EXPECT_TRUE(info.ok()) << info.status();
-    return info.ok() ? info->id : "";
+    // Unloaded with the test (the engine holds at most --max-scenes).
+    scene_ = std::make_unique<testing::TestScene>(testing::SceneFromBytes(b.ToJson()));
+    return scene_->id();
   }
+  std::unique_ptr<testing::TestScene> scene_;
   static constexpr glm::ivec2 kPixels[] = {{32, 32}, {38, 29}, {44, 26}, {10, 32},
                                            {50, 12}, {5, 58},  {40, 45}};
 
@@ -144,22 +165,26 @@ TEST_P(GlossyDirect, PathtraceMatchesTheBrdf) {
 
 // A material update makes a Lambertian plane glossy: `direct` then shows
 // the BRDF of the new metallic and roughness (the case's), as in
-// DirectSolverMatchesTheBrdf.
+// DirectSolverMatchesTheBrdf. (The plane is loaded without the case's
+// extensions: its dielectric layer is the default one.)
 TEST_P(GlossyDirect, MaterialUpdateSetsMetallicAndRoughness) {
-  const GlossyCase& c = GetParam();
+  GlossyCase c = GetParam();
+  c.ior = 1.5f;
+  c.specular_color = glm::vec3(1.0f);
+  c.specular_factor = 1.0f;
   GltfBuilder b;
   const int mat = b.AddMaterial("plane", {c.base_color.r, c.base_color.g, c.base_color.b});
   b.AddQuad("plane", {0, 0, 0}, {0, 0, 4}, {4, 0, 0}, mat, 4);
   b.AddPointLight("lamp", {kLight.x, kLight.y, kLight.z}, {1, 1, 1}, kIntensity);
   b.AddCamera("camera", {0.0f, kHeight, 0.0f}, {0, -1, 0}, {0, 0, -1}, 1.6f);
-  auto info = testing::SharedEngine().LoadScene(testing::SceneFromBytes(b.ToJson()));
-  ASSERT_TRUE(info.ok()) << info.status();
+  const testing::TestScene scene(testing::SceneFromBytes(b.ToJson()));
+  ASSERT_FALSE(scene.id().empty());
   MaterialUpdate update;
   update.material = uint32_t(mat);
   update.metallic = c.metallic;
   update.roughness = c.roughness;
   RenderRequest request;
-  request.scene = info->id;
+  request.scene = scene.id();
   request.solver = "direct";
   request.width = request.height = kSize;
   request.updates = {Update{1, update}};
@@ -178,9 +203,21 @@ TEST_P(GlossyDirect, MaterialUpdateSetsMetallicAndRoughness) {
 
 INSTANTIATE_TEST_SUITE_P(
     Materials, GlossyDirect,
-    ::testing::Values(GlossyCase{"gold_metal", {1.0f, 0.8f, 0.4f}, 1.0f, 0.4f},
-                      GlossyCase{"red_plastic", {0.8f, 0.2f, 0.2f}, 0.0f, 0.3f},
-                      GlossyCase{"rough_dielectric", {0.6f, 0.6f, 0.6f}, 0.0f, 0.8f}),
+    ::testing::Values(
+        GlossyCase{"gold_metal", {1.0f, 0.8f, 0.4f}, 1.0f, 0.4f},
+        GlossyCase{"red_plastic", {0.8f, 0.2f, 0.2f}, 0.0f, 0.3f},
+        GlossyCase{"rough_dielectric", {0.6f, 0.6f, 0.6f}, 0.0f, 0.8f},
+        // Water's ior (F0 0.020), and a tinted, weaker
+        // specular layer (F0 0.04 x (1, 0.5, 0.2) x 0.6, F90 0.6).
+        GlossyCase{"water_ior", {0.2f, 0.2f, 0.2f}, 0.0f, 0.3f, 1.33f, glm::vec3(1.0f), 1.0f, true},
+        GlossyCase{"tinted_specular",
+                   {0.4f, 0.4f, 0.4f},
+                   0.0f,
+                   0.3f,
+                   1.5f,
+                   glm::vec3(1.0f, 0.5f, 0.2f),
+                   0.6f,
+                   true}),
     [](const ::testing::TestParamInfo<GlossyCase>& p) { return p.param.name; });
 
 }  // namespace

@@ -20,6 +20,11 @@ class GltfBuilder {
                   float emissive_strength = 1.0f);
   // Marks material `material` doubleSided (glTF: both faces are surfaces).
   void SetDoubleSided(int material) { materials_[size_t(material)]["doubleSided"] = true; }
+  // Adds extension `name` with `value` to material `material` (e.g.
+  // KHR_materials_specular).
+  void SetMaterialExtension(int material, const std::string& name, nlohmann::json value) {
+    materials_[size_t(material)]["extensions"][name] = std::move(value);
+  }
   // Makes material `material` glossy (glTF metallicFactor, roughnessFactor).
   void SetMetallicRoughness(int material, float metallic, float roughness) {
     materials_[size_t(material)]["pbrMetallicRoughness"]["metallicFactor"] = metallic;

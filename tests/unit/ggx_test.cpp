@@ -226,5 +226,57 @@ TEST(Ggx, GlslAlbedoTableMatchesTheBrdf) {
   }
 }
 
+// KHR_materials_ior / KHR_materials_specular's dielectric layer (issue
+// 29): Schlick's F0 + (F90 - F0) (1 - v.h)^5 is linear in F0 and F90, so
+// the table's A and B give any pair's albedo, E = F0 (A - B) + F90 B (what
+// BrdfUniformAlbedo reads). A black dielectric (no diffuse lobe) with F0
+// 0.3 and F90 0.6 by BRDF sampling against the table (4 sigma < 0.01).
+TEST(Ggx, AnyF0AndF90ShareTheAlbedoTable) {
+  std::ifstream in(std::string(GISTREAM_SOURCE_DIR "/shaders/common/brdf_albedo_table.glsl"));
+  ASSERT_TRUE(in);
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string body = text.str();
+  const std::regex pair(R"(vec2\(([0-9.]+), ([0-9.]+)\))");
+  std::vector<glm::dvec2> table;
+  for (auto it = std::sregex_iterator(body.begin(), body.end(), pair); it != std::sregex_iterator();
+       ++it) {
+    table.emplace_back(std::stod((*it)[1]), std::stod((*it)[2]));
+  }
+  ASSERT_EQ(table.size(), 256u);
+  Brdf brdf{glm::vec3(0.0f), 0.0f, 1.0f, glm::vec3(0.3f), 0.6f};
+  for (int j : {3, 8, 14}) {
+    for (int i : {2, 7, 15}) {
+      const float cos_o = (float(i) + 0.5f) / 16.0f;
+      brdf.roughness = (float(j) + 0.5f) / 16.0f;
+      const glm::vec3 wo = Direction(cos_o, 0.0);
+      Rng rng(13, uint64_t(j * 16 + i));
+      double e = 0.0;
+      const int n = 40000;
+      for (int k = 0; k < n; ++k) {
+        e += Sample(brdf, wo, glm::vec3(rng.Uniform(), rng.Uniform(), rng.Uniform())).weight.x;
+      }
+      const glm::dvec2 ab = table[size_t(j * 16 + i)];
+      EXPECT_NEAR(e / n, 0.3 * (ab.x - ab.y) + 0.6 * ab.y, 0.01)
+          << "n.v " << cos_o << " roughness " << brdf.roughness;
+    }
+  }
+}
+
+// A non-metal without a specular layer (F0 = F90 = 0: specularFactor 0)
+// is Lambertian at any roughness: the diffuse lobe's Fresnel weights are 1.
+TEST(Ggx, NoSpecularLayerIsLambertAtAnyRoughness) {
+  Rng rng(17, 0);
+  for (float roughness : {0.1f, 0.4f, 0.9f}) {
+    const Brdf brdf{glm::vec3(0.8f, 0.5f, 0.2f), 0.0f, roughness, glm::vec3(0.0f), 0.0f};
+    for (int k = 0; k < 100; ++k) {
+      const glm::vec3 wo = Direction(0.05f + 0.95f * rng.Uniform(), 6.283 * rng.Uniform());
+      const glm::vec3 wi = Direction(0.05f + 0.95f * rng.Uniform(), 6.283 * rng.Uniform());
+      const glm::vec3 f = Eval(brdf, wo, wi);
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(f[c], brdf.base_color[c] / kPi, 1e-6);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace gistream::shading

@@ -35,26 +35,49 @@ TEST(GltfExtensions, AWallWithoutSpecularIsLambertian) {
   EXPECT_FLOAT_EQ(scene->materials[0].emissive_strength, 2.0f);
 }
 
-TEST(GltfExtensions, DielectricSpecularTheBrdfCannotFollowIsReported) {
-  // F0 = ((ior - 1) / (ior + 1))^2 specularColorFactor specularFactor and
-  // F90 = specularFactor against the BRDF's 0.04 and 1.
+// KHR_materials_ior and KHR_materials_specular set the dielectric layer's
+// Fresnel, which the BRDF reads (Material::specular_f0 / specular_f90):
+// F0 = min(((ior - 1) / (ior + 1))^2 specularColorFactor, 1)
+// specularFactor, F90 = specularFactor. Only what it cannot follow (a
+// specular texture, an ior below 1) is reported, its factors applied.
+TEST(GltfExtensions, DielectricSpecularSetsTheMaterialsFresnel) {
   struct Case {
     json extensions;
     double metallic;
+    glm::vec3 f0;
+    float f90;
     bool ignored;
   };
   const std::vector<Case> cases = {
-      // ior 1.5, no specular extension: F0 0.04, F90 1, the BRDF's own.
-      {{{"KHR_materials_ior", {{"ior", 1.5}}}}, 0.0, false},
-      {{{"KHR_materials_specular", {{"specularFactor", 1.0}}}}, 0.0, false},
-      // Water's F0 0.02; ior 1 with the default specular (F0 0, F90 1).
-      {{{"KHR_materials_ior", {{"ior", 1.33}}}}, 0.0, true},
-      {{{"KHR_materials_ior", {{"ior", 1.0}}}}, 0.0, true},
-      // A tinted or textured specular layer.
-      {{{"KHR_materials_specular", {{"specularColorFactor", {1.0, 0.5, 0.5}}}}}, 0.0, true},
-      {{{"KHR_materials_specular", {{"specularTexture", {{"index", 0}}}}}}, 0.0, true},
-      // No specular layer on a metal: the metallic lobe stays, not exact.
-      {{{"KHR_materials_specular", {{"specularFactor", 0.0}}}}, 1.0, true},
+      // ior 1.5, no specular extension: F0 0.04, F90 1, the default.
+      {{{"KHR_materials_ior", {{"ior", 1.5}}}}, 0.0, glm::vec3(0.04f), 1.0f, false},
+      {{{"KHR_materials_specular", {{"specularFactor", 1.0}}}}, 0.0, glm::vec3(0.04f), 1.0f, false},
+      // Water's F0 (0.33 / 2.33)^2; ior 1 with the default specular: F0 0.
+      {{{"KHR_materials_ior", {{"ior", 1.33}}}}, 0.0, glm::vec3(0.0200593f), 1.0f, false},
+      {{{"KHR_materials_ior", {{"ior", 1.0}}}}, 0.0, glm::vec3(0.0f), 1.0f, false},
+      // A tinted, half-strength specular layer.
+      {{{"KHR_materials_specular",
+         {{"specularColorFactor", {1.0, 0.5, 0.25}}, {"specularFactor", 0.5}}}},
+       0.0,
+       glm::vec3(0.02f, 0.01f, 0.005f),
+       0.5f,
+       false},
+      // ior 4 with a strong tint: F0 is at most 1 before the factor.
+      {{{"KHR_materials_ior", {{"ior", 4.0}}},
+        {"KHR_materials_specular", {{"specularColorFactor", {3.0, 1.0, 1.0}}}}},
+       0.0,
+       glm::vec3(1.0f, 0.36f, 0.36f),
+       1.0f,
+       false},
+      // No specular layer on a metal: its F0 and F90 are the base colour
+      // and 1 whatever the dielectric's; exact.
+      {{{"KHR_materials_specular", {{"specularFactor", 0.0}}}}, 1.0, glm::vec3(0.0f), 0.0f, false},
+      // A textured layer: the factors, not the texture.
+      {{{"KHR_materials_specular", {{"specularTexture", {{"index", 0}}}}}},
+       0.0,
+       glm::vec3(0.04f),
+       1.0f,
+       true},
   };
   for (const Case& c : cases) {
     TestGltf gltf;
@@ -64,9 +87,10 @@ TEST(GltfExtensions, DielectricSpecularTheBrdfCannotFollowIsReported) {
     auto scene = Import(gltf.ToGltf());
     ASSERT_TRUE(scene.ok()) << scene.status() << " " << c.extensions.dump();
     EXPECT_EQ(!scene->ignored_extensions.empty(), c.ignored) << c.extensions.dump();
-    if (!c.ignored) {
-      EXPECT_EQ(scene->materials[0].roughness_factor, 1.0f) << c.extensions.dump();  // unchanged
-    }
+    const Material& m = scene->materials[0];
+    EXPECT_EQ(m.roughness_factor, 1.0f) << c.extensions.dump();  // unchanged
+    for (int i = 0; i < 3; ++i) EXPECT_NEAR(m.specular_f0[i], c.f0[i], 1e-6) << c.extensions.dump();
+    EXPECT_FLOAT_EQ(m.specular_f90, c.f90) << c.extensions.dump();
   }
 }
 

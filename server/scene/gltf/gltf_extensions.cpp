@@ -42,35 +42,43 @@ void CollectTexture(const tinygltf::TextureInfo& info, std::set<std::string>* ou
 
 }  // namespace
 
-DielectricSpecular ClassifyDielectricSpecular(const tinygltf::Material& material) {
+DielectricFresnel ClassifyDielectricSpecular(const tinygltf::Material& material) {
+  DielectricFresnel out;
   const auto ior_ext = material.extensions.find("KHR_materials_ior");
   const auto spec_ext = material.extensions.find("KHR_materials_specular");
   const bool has_ior = ior_ext != material.extensions.end();
   const bool has_spec = spec_ext != material.extensions.end();
-  if (!has_ior && !has_spec) return DielectricSpecular::kAbsent;
+  if (!has_ior && !has_spec) return out;
   const tinygltf::Value none;
   const tinygltf::Value& spec = has_spec ? spec_ext->second : none;
-  const double ior = has_ior ? Number(ior_ext->second, "ior", 1.5) : 1.5;
-  const double factor = Number(spec, "specularFactor", 1.0);
+  double ior = has_ior ? Number(ior_ext->second, "ior", 1.5) : 1.5;
+  const bool ior_valid = ior >= 1.0 && std::isfinite(ior);
+  if (!ior_valid) ior = 1.5;
+  const double factor = std::clamp(Number(spec, "specularFactor", 1.0), 0.0, 1.0);
   double color[3] = {1.0, 1.0, 1.0};
   if (spec.IsObject() && spec.Has("specularColorFactor")) {
     const tinygltf::Value& c = spec.Get("specularColorFactor");
     for (int i = 0; i < 3 && c.IsArray() && c.ArrayLen() == 3; ++i) {
-      if (c.Get(i).IsNumber()) color[i] = c.Get(i).GetNumberAsDouble();
+      if (c.Get(i).IsNumber()) color[i] = std::max(0.0, c.Get(i).GetNumberAsDouble());
     }
   }
+  // KHR_materials_specular: dielectric F0 = min(F0(ior) specularColor, 1)
+  // specularFactor, F90 = specularFactor; F0(ior) = ((ior - 1) / (ior + 1))^2
+  // (KHR_materials_ior; 0.04 at the default 1.5).
+  const double r = (ior - 1.0) / (ior + 1.0);
+  for (int i = 0; i < 3; ++i) out.f0[i] = float(std::min(r * r * color[i], 1.0) * factor);
+  out.f90 = float(factor);
   const bool textured =
       spec.IsObject() && (spec.Has("specularTexture") || spec.Has("specularColorTexture"));
   // A non-metal without a specular layer: f = baseColor / pi, the BRDF's
-  // Lambertian case (its diffuse lobe's Fresnel weights are 1 when F = 0).
+  // Lambertian case (its diffuse lobe's Fresnel weights are 1 when F = 0;
+  // a specular texture scales the factor 0).
   if (factor == 0.0 && material.pbrMetallicRoughness.metallicFactor == 0.0) {
-    return DielectricSpecular::kNone;
+    out.kind = DielectricSpecular::kNone;
+  } else {
+    out.kind = textured || !ior_valid ? DielectricSpecular::kIgnored : DielectricSpecular::kRead;
   }
-  if (textured || !(ior >= 1.0)) return DielectricSpecular::kIgnored;
-  const double r = (ior - 1.0) / (ior + 1.0);
-  bool same = std::abs(factor - 1.0) < 1e-6;  // F90
-  for (double c : color) same = same && std::abs(std::min(r * r * c, 1.0) * factor - 0.04) < 1e-4;
-  return same ? DielectricSpecular::kDefault : DielectricSpecular::kIgnored;
+  return out;
 }
 
 std::vector<std::string> IgnoredExtensions(const tinygltf::Model& model) {
@@ -82,7 +90,7 @@ std::vector<std::string> IgnoredExtensions(const tinygltf::Model& model) {
   Collect(model.extensions, &used);
   for (const tinygltf::Material& m : model.materials) {
     Collect(m.extensions, &used);
-    if (ClassifyDielectricSpecular(m) == DielectricSpecular::kIgnored) {
+    if (ClassifyDielectricSpecular(m).kind == DielectricSpecular::kIgnored) {
       for (const std::string& name : kDielectricSpecular) {
         if (m.extensions.count(name) != 0) used.insert(name);
       }

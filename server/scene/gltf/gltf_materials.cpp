@@ -137,7 +137,10 @@ absl::StatusOr<Material> ReadMaterial(const tinygltf::Material& in, const std::s
   GS_ASSIGN_OR_RETURN(out.metallic_roughness_texture,
                       images->Texture(pbr.metallicRoughnessTexture,
                                       pbr_field + ".metallicRoughnessTexture", /*srgb=*/false));
-  if (ClassifyDielectricSpecular(in) == DielectricSpecular::kNone) {
+  const DielectricFresnel fresnel = ClassifyDielectricSpecular(in);
+  out.specular_f0 = fresnel.f0;
+  out.specular_f90 = fresnel.f90;
+  if (fresnel.kind == DielectricSpecular::kNone) {
     // KHR_materials_specular without a specular layer on a non-metal
     // (exporters write diffuse walls so, with ior 1): Lambertian, which the
     // BRDF is exactly at metallic 0 and roughness 1 (brdf.glsl); the

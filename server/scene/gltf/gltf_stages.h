@@ -21,18 +21,24 @@ namespace gistream::gltf {
 std::vector<std::string> IgnoredExtensions(const tinygltf::Model& model);
 
 // gltf_extensions.cpp: what KHR_materials_ior and KHR_materials_specular
-// make of a material's dielectric specular layer (F0 = min(((ior - 1) /
-// (ior + 1))^2 specularColorFactor, 1) specularFactor, F90 =
-// specularFactor), against the BRDF's fixed F0 0.04 and F90 1
-// (shaders/common/brdf.glsl):
-//   kAbsent   neither extension;
-//   kDefault  F0 0.04 and F90 1: what the BRDF does already;
+// make of a material's dielectric specular layer, F0 = min(((ior - 1) /
+// (ior + 1))^2 specularColorFactor, 1) specularFactor and F90 =
+// specularFactor (Material::specular_f0 / specular_f90, which the BRDF
+// reads: solvers/shading/ggx.h, shaders/common/brdf.glsl):
+//   kAbsent   neither extension (F0 0.04, F90 1: ior 1.5);
+//   kRead     their factors, applied;
 //   kNone     no specular layer (specularFactor 0) on a non-metal: the
 //             material is Lambertian, exactly (import sets roughness 1);
-//   kIgnored  anything else (another F0 or F90, a specular texture): shaded
-//             with F0 0.04 and F90 1, and reported as ignored.
-enum class DielectricSpecular { kAbsent, kDefault, kNone, kIgnored };
-DielectricSpecular ClassifyDielectricSpecular(const tinygltf::Material& material);
+//   kIgnored  a specular texture, or an ior below 1: the factors are
+//             applied, the texture (or that ior) is not, and the
+//             extension is reported as ignored.
+enum class DielectricSpecular { kAbsent, kRead, kNone, kIgnored };
+struct DielectricFresnel {
+  DielectricSpecular kind = DielectricSpecular::kAbsent;
+  glm::vec3 f0{0.04f};
+  float f90 = 1.0f;
+};
+DielectricFresnel ClassifyDielectricSpecular(const tinygltf::Material& material);
 
 // gltf_lights.cpp: KHR_lights_punctual lights.
 absl::StatusOr<std::vector<Light>> ImportLights(const tinygltf::Model& model);

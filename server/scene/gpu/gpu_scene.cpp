@@ -25,6 +25,7 @@ GpuMaterial ToGpu(const Material& m) {
   g.textures = glm::ivec4(m.base_color_texture, m.emissive_texture, m.double_sided ? 1 : 0,
                           m.metallic_roughness_texture);
   g.pbr = glm::vec4(m.metallic_factor, m.roughness_factor, 0.0f, 0.0f);
+  g.specular = glm::vec4(m.specular_f0, m.specular_f90);
   return g;
 }
 

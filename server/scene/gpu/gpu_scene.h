@@ -26,8 +26,9 @@ struct GpuMaterial {
   glm::ivec4 textures;   // x: base colour, y: emissive, w: metallic-roughness texture or -1;
                          // z: 1 when double-sided
   glm::vec4 pbr;         // x: metallic factor, y: roughness factor
+  glm::vec4 specular;    // rgb: dielectric F0, a: dielectric F90 (Material)
 };
-GS_STD430_MIRROR(GpuMaterial, 64);  // shaders/common/scene.glsl Material
+GS_STD430_MIRROR(GpuMaterial, 80);  // shaders/common/scene.glsl Material
 
 struct DrawItem {
   uint32_t first_index = 0;

@@ -251,6 +251,8 @@ void AntiradianceSolver::SetLeafMaterials(const SolverContext& ctx, SolveJob& jo
     b.base_color = job.patches->albedo[size_t(i)];
     b.metallic = m.metallic_factor;
     b.roughness = m.roughness_factor;
+    b.specular_f0 = m.specular_f0;
+    b.specular_f90 = m.specular_f90;
   }
 }
 

@@ -60,6 +60,8 @@ Integrator::Surface Integrator::Shade(const Hit& hit, const glm::vec3& dir) cons
   if (m) {
     s.brdf.metallic = m->metallic_factor;
     s.brdf.roughness = m->roughness_factor;
+    s.brdf.specular_f0 = m->specular_f0;
+    s.brdf.specular_f90 = m->specular_f90;
     if (m->metallic_roughness_texture >= 0) {
       // glTF 2.0 3.9.2: B metallic, G roughness, linear.
       const glm::vec3 mr =

@@ -21,8 +21,9 @@ glm::vec3 CosineLocal(float u1, float u2) {
 
 }  // namespace
 
-glm::vec3 DiffuseTransmission(const glm::vec3& f0, float cos_o, float cos_i) {
-  return (glm::vec3(1.0f) - Schlick(f0, cos_o)) * (glm::vec3(1.0f) - Schlick(f0, cos_i));
+glm::vec3 DiffuseTransmission(const Brdf& brdf, float cos_o, float cos_i) {
+  const glm::vec3 f0 = brdf.f0(), f90 = brdf.f90();
+  return (glm::vec3(1.0f) - Schlick(f0, f90, cos_o)) * (glm::vec3(1.0f) - Schlick(f0, f90, cos_i));
 }
 
 float Brdf::alpha() const {
@@ -55,10 +56,10 @@ float SmithVisibility(float cos_v, float cos_l, float alpha) {
   return 0.5f / (gv + gl);
 }
 
-glm::vec3 Schlick(const glm::vec3& f0, float cos_vh) {
+glm::vec3 Schlick(const glm::vec3& f0, const glm::vec3& f90, float cos_vh) {
   const float m = std::clamp(1.0f - cos_vh, 0.0f, 1.0f);
   const float m2 = m * m;
-  return f0 + (glm::vec3(1.0f) - f0) * (m2 * m2 * m);
+  return f0 + (f90 - f0) * (m2 * m2 * m);
 }
 
 glm::vec3 Eval(const Brdf& brdf, const glm::vec3& wo, const glm::vec3& wi) {
@@ -66,9 +67,9 @@ glm::vec3 Eval(const Brdf& brdf, const glm::vec3& wo, const glm::vec3& wi) {
   if (brdf.Lambertian()) return brdf.base_color / kPi;
   const glm::vec3 h = glm::normalize(wo + wi);
   const float alpha = brdf.alpha();
-  const glm::vec3 f = Schlick(brdf.f0(), glm::dot(wo, h));
+  const glm::vec3 f = Schlick(brdf.f0(), brdf.f90(), glm::dot(wo, h));
   const glm::vec3 specular = f * (GgxD(h.z, alpha) * SmithVisibility(wo.z, wi.z, alpha));
-  return specular + DiffuseTransmission(brdf.f0(), wo.z, wi.z) * DiffuseColor(brdf) / kPi;
+  return specular + DiffuseTransmission(brdf, wo.z, wi.z) * DiffuseColor(brdf) / kPi;
 }
 
 float SpecularChance(const Brdf& brdf, const glm::vec3& wo) {
@@ -76,7 +77,7 @@ float SpecularChance(const Brdf& brdf, const glm::vec3& wo) {
   // Each lobe's share of the light leaving at wo, estimated with the
   // Fresnel factor at the normal; the diffuse lobe keeps at least 1/4 of
   // the samples where it reflects anything.
-  const glm::vec3 f = Schlick(brdf.f0(), std::max(wo.z, 0.0f));
+  const glm::vec3 f = Schlick(brdf.f0(), brdf.f90(), std::max(wo.z, 0.0f));
   const float s = Luminance(f);
   const float d = Luminance((glm::vec3(1.0f) - f) * DiffuseColor(brdf));
   if (!(d > 0.0f)) return 1.0f;

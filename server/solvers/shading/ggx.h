@@ -7,8 +7,12 @@
 //   f = D G2 F / (4 n.l n.v) + (1 - F(n.v)) (1 - F(n.l)) (1 - metallic) baseColor / pi
 //   D   Trowbridge-Reitz (GGX), alpha = roughness^2 (Walter et al. 2007, eq. 33)
 //   G2  Smith height-correlated masking-shadowing (Heitz 2014, eq. 99)
-//   F   Schlick, F0 = mix(0.04, baseColor, metallic); at v.h in the
-//       specular lobe
+//   F   Schlick, F0 + (F90 - F0) (1 - c)^5 with F0 = mix(dielectric F0,
+//       baseColor, metallic), F90 = mix(dielectric F90, 1, metallic); at
+//       v.h in the specular lobe. The dielectric F0 and F90 are 0.04 and 1
+//       (ior 1.5) unless KHR_materials_ior / KHR_materials_specular say
+//       otherwise: F0 = min(((ior - 1) / (ior + 1))^2 specularColorFactor,
+//       1) specularFactor, F90 = specularFactor (the extensions' specs).
 //
 // The diffuse lobe's Fresnel weight: glTF's (1 - F(v.h)) lets a white
 // dielectric reflect more than it receives at grazing views (directional
@@ -46,10 +50,14 @@ struct Brdf {
   glm::vec3 base_color{1.0f};  // linear, [0, 1]
   float metallic = 0.0f;       // [0, 1]
   float roughness = 1.0f;      // perceptual, [0, 1]
+  // The dielectric part's Fresnel at normal and grazing incidence (see above).
+  glm::vec3 specular_f0{0.04f};
+  float specular_f90 = 1.0f;
 
   bool Lambertian() const { return metallic == 0.0f && roughness == 1.0f; }
   float alpha() const;
-  glm::vec3 f0() const { return glm::mix(glm::vec3(0.04f), base_color, metallic); }
+  glm::vec3 f0() const { return glm::mix(specular_f0, base_color, metallic); }
+  glm::vec3 f90() const { return glm::vec3(specular_f90 + (1.0f - specular_f90) * metallic); }
 };
 
 // The microfacet terms, with cosines against the normal (z in the local frame).
@@ -58,9 +66,9 @@ float GgxD(float cos_h, float alpha);
 float SmithG1(float cos_v, float alpha);
 // G2 / (4 cos_v cos_l), height-correlated (Heitz 2014, eq. 99).
 float SmithVisibility(float cos_v, float cos_l, float alpha);
-glm::vec3 Schlick(const glm::vec3& f0, float cos_vh);
+glm::vec3 Schlick(const glm::vec3& f0, const glm::vec3& f90, float cos_vh);
 // The diffuse lobe's weight (1 - F(n.v)) (1 - F(n.l)) (see above).
-glm::vec3 DiffuseTransmission(const glm::vec3& f0, float cos_o, float cos_i);
+glm::vec3 DiffuseTransmission(const Brdf& brdf, float cos_o, float cos_i);
 
 // BRDF value (no cosine) in the local frame (z: shading normal); zero unless
 // both directions are above the surface.
