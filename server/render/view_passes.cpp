@@ -69,6 +69,7 @@ absl::Status ViewPasses::DrawGBuffer(const SceneState& state, const GpuScene& gp
   // Clip planes from the glTF camera or the current geometry (camera.h).
   const ViewCamera view = WithDepthRange(camera, state, gpu.WorldBounds(state));
   gbuffer_.Set("uViewProj", view.Projection() * view.View());
+  gbuffer_.Set("uEye", view.position);
   gbuffer_.Use();
   const ListKey key{state.serial(), state.version(), &gpu};
   if (key != gbuffer_list_key_) {
