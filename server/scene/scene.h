@@ -50,6 +50,18 @@ struct Image {
   bool is_float = false;
 };
 
+// KHR_texture_transform of one texture reference: uv' = (dot(u, (uv, 1)),
+// dot(v, (uv, 1))), the rows of the extension's offset x rotation x scale
+// matrix. The identity when the file has none.
+struct UvTransform {
+  glm::vec3 u{1.0f, 0.0f, 0.0f};
+  glm::vec3 v{0.0f, 1.0f, 0.0f};
+  glm::vec2 Apply(const glm::vec2& uv) const {
+    const glm::vec3 h(uv, 1.0f);
+    return {glm::dot(u, h), glm::dot(v, h)};
+  }
+};
+
 struct Material {
   std::string name;
   glm::vec4 base_color_factor{1.0f};  // linear
@@ -65,6 +77,8 @@ struct Material {
   float metallic_factor = 0.0f;
   float roughness_factor = 1.0f;
   int metallic_roughness_texture = -1;  // linear; B: metallic, G: roughness
+  // Each texture's KHR_texture_transform (identity without one).
+  UvTransform base_color_uv, emissive_uv, metallic_roughness_uv;
   // The dielectric part's Fresnel at normal and at grazing incidence
   // (solvers/shading/ggx.h): 0.04 and 1 (ior 1.5) unless the file's
   // KHR_materials_ior / KHR_materials_specular set them (gltf_materials).

@@ -8,10 +8,17 @@ layout(binding = GS_UNIT_BASE_COLOR) uniform sampler2D uBaseColorTex;
 layout(binding = GS_UNIT_EMISSIVE) uniform sampler2D uEmissiveTex;
 layout(binding = GS_UNIT_METALLIC_ROUGHNESS) uniform sampler2D uMetallicRoughnessTex;
 
+// Texture k's coordinates (0 base colour, 1 emissive, 2 metallic-roughness)
+// through its KHR_texture_transform.
+vec2 TextureUv(Material m, int k, vec2 uv) {
+  vec3 h = vec3(uv, 1.0);
+  return vec2(dot(m.uv_transform[2 * k].xyz, h), dot(m.uv_transform[2 * k + 1].xyz, h));
+}
+
 // Linear albedo in [0, 1].
 vec3 SurfaceAlbedo(Material m, vec2 uv) {
   vec3 albedo = m.base_color.rgb;
-  if (m.textures.x >= 0) albedo *= texture(uBaseColorTex, uv).rgb;
+  if (m.textures.x >= 0) albedo *= texture(uBaseColorTex, TextureUv(m, 0, uv)).rgb;
   return clamp(albedo, 0.0, 1.0);
 }
 
@@ -19,13 +26,13 @@ vec3 SurfaceAlbedo(Material m, vec2 uv) {
 // B and G channels, linear, times the factors).
 vec2 SurfaceMetallicRoughness(Material m, vec2 uv) {
   vec2 mr = m.pbr.xy;
-  if (m.textures.w >= 0) mr *= texture(uMetallicRoughnessTex, uv).bg;
+  if (m.textures.w >= 0) mr *= texture(uMetallicRoughnessTex, TextureUv(m, 2, uv)).bg;
   return clamp(mr, 0.0, 1.0);
 }
 
 // Emitted radiance (nits).
 vec3 SurfaceEmission(Material m, vec2 uv) {
   vec3 emission = m.emission.rgb;
-  if (m.textures.y >= 0) emission *= texture(uEmissiveTex, uv).rgb;
+  if (m.textures.y >= 0) emission *= texture(uEmissiveTex, TextureUv(m, 1, uv)).rgb;
   return emission;
 }

@@ -8,6 +8,9 @@ struct Material {
                     // z: 1 when double-sided
   vec4 pbr;         // x: metallic factor, y: roughness factor
   vec4 specular;    // rgb: dielectric F0, a: dielectric F90 (common/brdf.glsl)
+  // KHR_texture_transform rows (xyz: uv' = (dot(row0, (uv, 1)), dot(row1,
+  // (uv, 1)))): base colour 0-1, emissive 2-3, metallic-roughness 4-5.
+  vec4 uv_transform[6];
 };
 
 layout(std430, binding = GS_BINDING_MATERIALS) readonly buffer Materials { Material materials[]; };

@@ -120,7 +120,7 @@ int GltfBuilder::AddNode(nlohmann::json node) {
 int GltfBuilder::AddQuad(const std::string& name, Vec3 center, Vec3 u, Vec3 v, int material,
                          int n) {
   const Vec3 normal = Normalize(Cross(u, v));
-  std::vector<float> positions, normals;
+  std::vector<float> positions, normals, uvs;
   std::vector<uint32_t> indices;
   for (int j = 0; j <= n; ++j) {
     for (int i = 0; i <= n; ++i) {
@@ -128,6 +128,7 @@ int GltfBuilder::AddQuad(const std::string& name, Vec3 center, Vec3 u, Vec3 v, i
       for (int k = 0; k < 3; ++k)
         positions.push_back(center[size_t(k)] + s * u[size_t(k)] + t * v[size_t(k)]);
       normals.insert(normals.end(), normal.begin(), normal.end());
+      uvs.insert(uvs.end(), {0.5f * (s + 1.0f), 0.5f * (t + 1.0f)});
     }
   }
   for (int j = 0; j < n; ++j) {
@@ -139,12 +140,28 @@ int GltfBuilder::AddQuad(const std::string& name, Vec3 center, Vec3 u, Vec3 v, i
   const int pos = AddAccessor(positions, 3, true);
   const int nrm = AddAccessor(normals, 3, false);
   const int idx = AddIndices(indices);
-  meshes_.push_back({{"name", name},
-                     {"primitives",
-                      {{{"attributes", {{"POSITION", pos}, {"NORMAL", nrm}}},
-                        {"indices", idx},
-                        {"material", material}}}}});
+  nlohmann::json attributes = {{"POSITION", pos}, {"NORMAL", nrm}};
+  if (uvs_) attributes["TEXCOORD_0"] = AddAccessor(uvs, 2, false);
+  meshes_.push_back(
+      {{"name", name},
+       {"primitives", {{{"attributes", attributes}, {"indices", idx}, {"material", material}}}}});
   return AddNode({{"name", name}, {"mesh", meshes_.size() - 1}});
+}
+
+int GltfBuilder::AddTexture(const std::string& png) {
+  images_.push_back(
+      {{"uri", "data:image/png;base64," + Base64(std::vector<uint8_t>(png.begin(), png.end()))}});
+  textures_.push_back({{"source", images_.size() - 1}});
+  return int(textures_.size()) - 1;
+}
+
+void GltfBuilder::SetTexture(int material, const std::string& slot, nlohmann::json info) {
+  nlohmann::json& m = materials_[size_t(material)];
+  if (slot == "baseColorTexture" || slot == "metallicRoughnessTexture") {
+    m["pbrMetallicRoughness"][slot] = std::move(info);
+  } else {
+    m[slot] = std::move(info);
+  }
 }
 
 int GltfBuilder::AddPointLight(const std::string& name, Vec3 position, Vec3 color,
@@ -200,6 +217,8 @@ std::string GltfBuilder::ToJson() const {
   root["buffers"] = {{{"byteLength", buffer_.size()},
                       {"uri", "data:application/octet-stream;base64," + Base64(buffer_)}}};
   if (!cameras_.empty()) root["cameras"] = cameras_;
+  if (!images_.empty()) root["images"] = images_;
+  if (!textures_.empty()) root["textures"] = textures_;
   std::vector<std::string> used;
   if (!lights_.empty()) {
     root["extensions"]["KHR_lights_punctual"]["lights"] = lights_;

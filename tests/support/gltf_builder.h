@@ -33,6 +33,16 @@ class GltfBuilder {
   // A rectangle centred at `center` spanned by half-vectors u and v, facing
   // along normalize(cross(u, v)), tessellated n x n. Returns the node index.
   int AddQuad(const std::string& name, Vec3 center, Vec3 u, Vec3 v, int material, int n = 1);
+  // Quads added after this carry TEXCOORD_0: (0, 0) at center - u - v, (1,
+  // 1) at center + u + v.
+  void EnableUvs() { uvs_ = true; }
+  // An image (PNG bytes, as a data: URI) and a texture of it; returns the
+  // texture index.
+  int AddTexture(const std::string& png);
+  // Sets material `material`'s `slot` ("emissiveTexture", or
+  // "baseColorTexture" under pbrMetallicRoughness) to `info` (index, texCoord,
+  // extensions).
+  void SetTexture(int material, const std::string& slot, nlohmann::json info);
   int AddPointLight(const std::string& name, Vec3 position, Vec3 color, float intensity);
   // A spot light shining straight down (-Y); cone angles in radians.
   int AddSpotLightDown(const std::string& name, Vec3 position, Vec3 color, float intensity,
@@ -56,6 +66,9 @@ class GltfBuilder {
   nlohmann::json views_ = nlohmann::json::array();
   nlohmann::json lights_ = nlohmann::json::array();
   nlohmann::json cameras_ = nlohmann::json::array();
+  nlohmann::json images_ = nlohmann::json::array();
+  nlohmann::json textures_ = nlohmann::json::array();
+  bool uvs_ = false;
 };
 
 }  // namespace gistream::testing

@@ -112,5 +112,46 @@ TEST(GltfExtensions, AFileWithoutExtensionsReportsNone) {
   EXPECT_TRUE(scene->ignored_extensions.empty());
 }
 
+// KHR_texture_transform is read: uv' = T(offset) R(rotation) S(scale) (uv,
+// 1), R with rows (cos, sin), (-sin, cos), the direction the Khronos test
+// model (TextureTransformTest) marks green. Offset (0.5, 0.25), a quarter
+// turn, scale (2, 3): u' = 3 v + 0.5, v' = -2 u + 0.25.
+TEST(GltfExtensions, TextureTransformIsRead) {
+  TestGltf gltf;
+  // A 1 x 1 PNG.
+  gltf.doc["images"] = {
+      {{"uri",
+        "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8/"
+        "5+hHgAHggJ/PchI7wAAAABJRU5ErkJggg=="}}};
+  gltf.doc["textures"] = {{{"source", 0}}};
+  const int material = gltf.AddMaterial(
+      {{"emissiveTexture",
+        {{"index", 0},
+         {"extensions",
+          {{"KHR_texture_transform",
+            {{"offset", {0.5, 0.25}}, {"rotation", 1.5707963267948966}, {"scale", {2.0, 3.0}}}}}}}},
+       {"emissiveFactor", {1.0, 1.0, 1.0}}});
+  gltf.AddRoot({{"mesh", AddQuadMesh(&gltf, true, material)}});
+  gltf.doc["extensionsUsed"] = {"KHR_texture_transform"};
+  auto scene = Import(gltf.ToGltf());
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  EXPECT_TRUE(scene->ignored_extensions.empty());
+  const UvTransform& t = scene->materials[0].emissive_uv;
+  const glm::vec2 a = t.Apply({1.0f, 0.0f}), b = t.Apply({0.0f, 1.0f});
+  EXPECT_NEAR(a.x, 0.5f, 1e-6f);
+  EXPECT_NEAR(a.y, -1.75f, 1e-6f);
+  EXPECT_NEAR(b.x, 3.5f, 1e-6f);
+  EXPECT_NEAR(b.y, 0.25f, 1e-6f);
+  // Out of range: named.
+  gltf.doc["materials"][0]["emissiveTexture"]["extensions"]["KHR_texture_transform"]["scale"] = {
+      2e7, 1.0};
+  auto huge = Import(gltf.ToGltf());
+  ASSERT_FALSE(huge.ok());
+  EXPECT_NE(std::string(huge.status().message())
+                .find("materials[0].emissiveTexture.extensions.KHR_texture_transform.scale[0]"),
+            std::string::npos)
+      << huge.status();
+}
+
 }  // namespace
 }  // namespace gistream::testing

@@ -11,11 +11,10 @@
 namespace gistream::gltf {
 namespace {
 
-// What import reads. KHR_texture_transform is parsed and type-checked by the
-// preflight but not applied, so it is reported; README ("glTF support")
-// lists the decision for every ratified KHR extension.
-const std::set<std::string, std::less<>> kRead = {"KHR_lights_punctual",
-                                                  "KHR_materials_emissive_strength"};
+// What import reads. README ("glTF support") lists the decision for every
+// ratified KHR extension.
+const std::set<std::string, std::less<>> kRead = {
+    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_texture_transform"};
 
 // Read per material (ClassifyDielectricSpecular): reported only for the
 // materials whose values the BRDF cannot follow.

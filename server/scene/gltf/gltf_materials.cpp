@@ -1,3 +1,4 @@
+#include <cmath>
 #include <map>
 #include <utility>
 #include <string>
@@ -7,10 +8,47 @@
 #include "scene/gltf/image_decode.h"
 #include "scene/magnitude_limits.h"
 #include "scene/gltf/scene_files.h"
-#include "util/log.h"
 
 namespace gistream::gltf {
 namespace {
+
+// A number of a KHR_texture_transform object (the preflight typed it), or
+// `fallback` when absent; finite and within +-1e6, else the field is named.
+absl::StatusOr<double> TransformNumber(const tinygltf::Value& object, const char* key, int index,
+                                       double fallback, const std::string& field) {
+  if (!object.Has(key)) return fallback;
+  const tinygltf::Value& v = index < 0 ? object.Get(key) : object.Get(key).Get(index);
+  const double x = v.IsNumber() ? v.GetNumberAsDouble() : fallback;
+  const std::string name =
+      index < 0 ? absl::StrCat(field, ".", key) : absl::StrCat(field, ".", key, "[", index, "]");
+  GS_RETURN_IF_ERROR(CheckNumber(name, x, -1e6, 1e6));
+  return x;
+}
+
+// KHR_texture_transform: uv' = T(offset) R(rotation) S(scale) (uv, 1), R's
+// rows (cos, sin) and (-sin, cos): the extension's GLSL, mat3(cos, sin, 0,
+// -sin, cos, 0, 0, 0, 1), read row by row. Read as GLSL's column-major
+// constructor it turns the other way, which the Khronos test model
+// (TextureTransformTest, assimp-testmodels' glTF2/textureTransform) marks
+// red: "rotation applied in the opposite direction". The identity without
+// the extension.
+absl::StatusOr<UvTransform> ReadUvTransform(const tinygltf::TextureInfo& info,
+                                            const std::string& field) {
+  UvTransform out;
+  const auto it = info.extensions.find("KHR_texture_transform");
+  if (it == info.extensions.end() || !it->second.IsObject()) return out;
+  const tinygltf::Value& t = it->second;
+  const std::string f = field + ".extensions.KHR_texture_transform";
+  GS_ASSIGN_OR_RETURN(const double ox, TransformNumber(t, "offset", 0, 0.0, f));
+  GS_ASSIGN_OR_RETURN(const double oy, TransformNumber(t, "offset", 1, 0.0, f));
+  GS_ASSIGN_OR_RETURN(const double rotation, TransformNumber(t, "rotation", -1, 0.0, f));
+  GS_ASSIGN_OR_RETURN(const double sx, TransformNumber(t, "scale", 0, 1.0, f));
+  GS_ASSIGN_OR_RETURN(const double sy, TransformNumber(t, "scale", 1, 1.0, f));
+  const double c = std::cos(rotation), s = std::sin(rotation);
+  out.u = glm::vec3(float(c * sx), float(s * sy), float(ox));
+  out.v = glm::vec3(float(-s * sx), float(c * sy), float(oy));
+  return out;
+}
 
 // Decodes each image at most once, in the order materials first use them.
 class ImageLoader {
@@ -21,23 +59,27 @@ class ImageLoader {
 
   // Scene image index for the texture `info` names; -1 when none. `srgb`:
   // colour (sRGB-encoded) or data (linear, e.g. metallic-roughness); an image
-  // used both ways is decoded once per way.
+  // used both ways is decoded once per way. `uv`: its KHR_texture_transform.
   absl::StatusOr<int> Texture(const tinygltf::TextureInfo& info, const std::string& field,
-                              bool srgb = true) {
+                              UvTransform* uv, bool srgb = true) {
     if (info.index == -1) return -1;
     GS_RETURN_IF_ERROR(
         CheckIndex(field + ".index", info.index, model_.textures.size(), "textures"));
-    if (info.texCoord != 0) {
+    GS_ASSIGN_OR_RETURN(*uv, ReadUvTransform(info, field));
+    // The extension's texCoord overrides the textureInfo's.
+    int tex_coord = info.texCoord;
+    if (const auto it = info.extensions.find("KHR_texture_transform");
+        it != info.extensions.end() && it->second.IsObject() && it->second.Has("texCoord") &&
+        it->second.Get("texCoord").IsInt()) {
+      tex_coord = it->second.Get("texCoord").GetNumberAsInt();
+    }
+    if (tex_coord != 0) {
       // Only the first texture coordinate set reaches the GPU: the material
       // renders with its factors alone there, and the client is told.
-      warnings_->push_back(absl::StrCat(field, ".texCoord: ", info.texCoord,
+      warnings_->push_back(absl::StrCat(field, ".texCoord: ", tex_coord,
                                         ": only TEXCOORD_0 is read; the texture is ignored (the "
                                         "material renders with its factors)"));
       return -1;
-    }
-    if (info.extensions.count("KHR_texture_transform") != 0) {
-      LogOnce(LogLevel::kWarning, "gltf-texture-transform",
-              field + ": KHR_texture_transform is ignored");
     }
     const int source = model_.textures[size_t(info.index)].source;
     const auto known = decoded_.find({source, srgb});
@@ -128,15 +170,17 @@ absl::StatusOr<Material> ReadMaterial(const tinygltf::Material& in, const std::s
   GS_RETURN_IF_ERROR(CheckRange(pbr_field + ".baseColorFactor", pbr.baseColorFactor, 0.0, 1.0));
   out.base_color_factor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1],
                                     pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
-  GS_ASSIGN_OR_RETURN(out.base_color_texture,
-                      images->Texture(pbr.baseColorTexture, pbr_field + ".baseColorTexture"));
+  GS_ASSIGN_OR_RETURN(
+      out.base_color_texture,
+      images->Texture(pbr.baseColorTexture, pbr_field + ".baseColorTexture", &out.base_color_uv));
   GS_RETURN_IF_ERROR(CheckNumber(pbr_field + ".metallicFactor", pbr.metallicFactor, 0.0, 1.0));
   GS_RETURN_IF_ERROR(CheckNumber(pbr_field + ".roughnessFactor", pbr.roughnessFactor, 0.0, 1.0));
   out.metallic_factor = static_cast<float>(pbr.metallicFactor);
   out.roughness_factor = static_cast<float>(pbr.roughnessFactor);
-  GS_ASSIGN_OR_RETURN(out.metallic_roughness_texture,
-                      images->Texture(pbr.metallicRoughnessTexture,
-                                      pbr_field + ".metallicRoughnessTexture", /*srgb=*/false));
+  GS_ASSIGN_OR_RETURN(
+      out.metallic_roughness_texture,
+      images->Texture(pbr.metallicRoughnessTexture, pbr_field + ".metallicRoughnessTexture",
+                      &out.metallic_roughness_uv, /*srgb=*/false));
   const DielectricFresnel fresnel = ClassifyDielectricSpecular(in);
   out.specular_f0 = fresnel.f0;
   out.specular_f90 = fresnel.f90;
@@ -159,8 +203,9 @@ absl::StatusOr<Material> ReadMaterial(const tinygltf::Material& in, const std::s
         glm::vec3(in.emissiveFactor[0], in.emissiveFactor[1], in.emissiveFactor[2]);
   }
   GS_ASSIGN_OR_RETURN(out.emissive_strength, EmissiveStrength(in, field));
-  GS_ASSIGN_OR_RETURN(out.emissive_texture,
-                      images->Texture(in.emissiveTexture, field + ".emissiveTexture"));
+  GS_ASSIGN_OR_RETURN(
+      out.emissive_texture,
+      images->Texture(in.emissiveTexture, field + ".emissiveTexture", &out.emissive_uv));
   out.double_sided = in.doubleSided;
   return out;
 }

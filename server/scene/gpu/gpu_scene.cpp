@@ -26,6 +26,11 @@ GpuMaterial ToGpu(const Material& m) {
                           m.metallic_roughness_texture);
   g.pbr = glm::vec4(m.metallic_factor, m.roughness_factor, 0.0f, 0.0f);
   g.specular = glm::vec4(m.specular_f0, m.specular_f90);
+  const UvTransform* uv[3] = {&m.base_color_uv, &m.emissive_uv, &m.metallic_roughness_uv};
+  for (int k = 0; k < 3; ++k) {
+    g.uv_transform[2 * k] = glm::vec4(uv[k]->u, 0.0f);
+    g.uv_transform[2 * k + 1] = glm::vec4(uv[k]->v, 0.0f);
+  }
   return g;
 }
 

@@ -27,8 +27,11 @@ struct GpuMaterial {
                          // z: 1 when double-sided
   glm::vec4 pbr;         // x: metallic factor, y: roughness factor
   glm::vec4 specular;    // rgb: dielectric F0, a: dielectric F90 (Material)
+  // KHR_texture_transform rows (Material's UvTransform u, v): base colour
+  // 0-1, emissive 2-3, metallic-roughness 4-5.
+  glm::vec4 uv_transform[6];
 };
-GS_STD430_MIRROR(GpuMaterial, 80);  // shaders/common/scene.glsl Material
+GS_STD430_MIRROR(GpuMaterial, 176);  // shaders/common/scene.glsl Material
 
 struct DrawItem {
   uint32_t first_index = 0;

@@ -226,11 +226,11 @@ void SceneElements::UpdateAlbedo(const SceneState& state) {
     const size_t offset = size_t(elements_.instances()[i].leaf_offset);
     for (size_t v = 0; v < p.positions.size(); ++v) {
       glm::vec3 a = factor;
-      if (texture && v < p.uvs.size()) a *= Texel(*texture, p.uvs[v]);
+      if (texture && v < p.uvs.size()) a *= Texel(*texture, m->base_color_uv.Apply(p.uvs[v]));
       a = glm::clamp(a, 0.0f, 1.0f);  // as the G-buffer and the path tracer
       glm::vec2 mr = pbr;
       if (pbr_texture && v < p.uvs.size()) {  // B: metallic, G: roughness
-        const glm::vec3 t = Texel(*pbr_texture, p.uvs[v]);
+        const glm::vec3 t = Texel(*pbr_texture, m->metallic_roughness_uv.Apply(p.uvs[v]));
         mr *= glm::vec2(t.b, t.g);
       }
       // The links are diffuse, so a glossy leaf passes on what its BRDF

@@ -54,7 +54,8 @@ Integrator::Surface Integrator::Shade(const Hit& hit, const glm::vec3& dir) cons
   glm::vec3 albedo = m ? glm::vec3(m->base_color_factor) : glm::vec3(1.0f);
   const glm::vec2 uv = w * t.uv0 + hit.u * t.uv1 + hit.v * t.uv2;
   if (m && m->base_color_texture >= 0) {
-    albedo *= SampleTexture(state_.scene().images[size_t(m->base_color_texture)], uv);
+    albedo *= SampleTexture(state_.scene().images[size_t(m->base_color_texture)],
+                            m->base_color_uv.Apply(uv));
   }
   s.brdf.base_color = glm::clamp(albedo, 0.0f, 1.0f);
   if (m) {
@@ -65,7 +66,8 @@ Integrator::Surface Integrator::Shade(const Hit& hit, const glm::vec3& dir) cons
     if (m->metallic_roughness_texture >= 0) {
       // glTF 2.0 3.9.2: B metallic, G roughness, linear.
       const glm::vec3 mr =
-          SampleTexture(state_.scene().images[size_t(m->metallic_roughness_texture)], uv);
+          SampleTexture(state_.scene().images[size_t(m->metallic_roughness_texture)],
+                        m->metallic_roughness_uv.Apply(uv));
       s.brdf.metallic = std::clamp(s.brdf.metallic * mr.b, 0.0f, 1.0f);
       s.brdf.roughness = std::clamp(s.brdf.roughness * mr.g, 0.0f, 1.0f);
     }
@@ -98,7 +100,7 @@ glm::vec3 Integrator::Emission(const Triangle& t, float u, float v) const {
   glm::vec3 e = m.emission();
   if (m.emissive_texture >= 0) {
     const glm::vec2 uv = (1.0f - u - v) * t.uv0 + u * t.uv1 + v * t.uv2;
-    e *= SampleTexture(state_.scene().images[size_t(m.emissive_texture)], uv);
+    e *= SampleTexture(state_.scene().images[size_t(m.emissive_texture)], m.emissive_uv.Apply(uv));
   }
   return e;
 }

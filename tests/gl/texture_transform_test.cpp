@@ -1,0 +1,78 @@
+// KHR_texture_transform (issue 29: files nobody here wrote): each texture
+// reference's offset, rotation and scale move its coordinates, uv' = T R S
+// (uv, 1), in every solver (shaders/common/material.glsl, pathtrace's
+// texture lookups). Until 2026-12-05 it was type-checked and reported as
+// ignored. Closed form: a quad filling the view, black, with an emissive
+// texture of 8 x 1 texels (left half red, right half green), so every
+// solver shows the texture itself: red on the left and green on the right,
+// swapped by an offset of (0.5, 0) (the texture wraps), and with a scale of
+// (2, 1) red, green, red, green across the four quarters.
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "encode/encode.h"
+#include "support/gltf_builder.h"
+#include "support/registered_solvers.h"
+#include "support/render_helpers.h"
+
+namespace gistream {
+namespace {
+
+constexpr uint32_t kSize = 32;
+
+std::string RedGreenPng() {
+  std::vector<uint8_t> rgba;
+  for (int x = 0; x < 8; ++x) {
+    rgba.insert(rgba.end(), {uint8_t(x < 4 ? 255 : 0), uint8_t(x < 4 ? 0 : 255), 0, 255});
+  }
+  auto png = EncodePng(rgba, 8, 1);
+  EXPECT_TRUE(png.ok()) << png.status();
+  return png.ok() ? *png : std::string();
+}
+
+// The quad from x = -1 to 1 (u 0 to 1) seen head-on, filling the view.
+std::string QuadScene(const nlohmann::json& transform) {
+  testing::GltfBuilder b;
+  b.EnableUvs();
+  const int mat = b.AddMaterial("screen", {0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f});
+  nlohmann::json info = {{"index", b.AddTexture(RedGreenPng())}};
+  if (!transform.is_null()) info["extensions"]["KHR_texture_transform"] = transform;
+  b.SetTexture(mat, "emissiveTexture", info);
+  b.AddQuad("screen", {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, mat);
+  b.AddCamera("camera", {0, 0, 2}, {0, 0, -1}, {0, 1, 0}, 0.9f);
+  return b.ToJson();
+}
+
+class TextureTransform : public ::testing::TestWithParam<std::string> {
+ protected:
+  // The colour at the centres of the four vertical quarters of the view
+  // (x = -0.73, -0.24, 0.24, 0.73 on the quad): 'r' or 'g' each.
+  std::string Quarters(const nlohmann::json& transform) {
+    const testing::TestScene scene(testing::SceneFromBytes(QuadScene(transform)));
+    EXPECT_FALSE(scene.id().empty());
+    const testing::FloatImage image =
+        testing::RenderRequestExr(testing::SolverRequest(scene.id(), GetParam(), {}, kSize));
+    std::string out;
+    for (int q = 0; q < 4; ++q) {
+      const glm::vec3 c = image.at(int(kSize) * (2 * q + 1) / 8, int(kSize) / 2);
+      const bool red = c.r > 0.95f && c.g<0.05f, green = c.g> 0.95f && c.r < 0.05f;
+      out += red ? 'r' : green ? 'g' : '?';
+    }
+    return out;
+  }
+};
+
+TEST_P(TextureTransform, OffsetAndScaleMoveTheTexture) {
+  EXPECT_EQ(Quarters(nullptr), "rrgg");
+  EXPECT_EQ(Quarters({{"offset", {0.5, 0.0}}}), "ggrr");
+  EXPECT_EQ(Quarters({{"scale", {2.0, 1.0}}}), "rgrg");
+}
+
+INSTANTIATE_TEST_SUITE_P(EverySolver, TextureTransform,
+                         ::testing::ValuesIn(testing::RegisteredSolverNames()),
+                         [](const auto& p) { return p.param; });
+
+}  // namespace
+}  // namespace gistream
