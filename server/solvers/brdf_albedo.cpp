@@ -91,31 +91,34 @@ glm::vec2 BrdfAlbedoTable::WhiteSky(float roughness) const {
   return glm::vec2(2.0 * sum / double(steps));
 }
 
-glm::vec3 BrdfWhiteSkyAlbedo(const glm::vec3& base_color, float metallic, float roughness) {
+glm::vec3 BrdfWhiteSkyAlbedo(const glm::vec3& base_color, float metallic, float roughness,
+                             const glm::vec3& specular_f0, float specular_f90) {
   if (metallic == 0.0f && roughness == 1.0f) return base_color;  // BrdfLambertian
-  const glm::vec3 f0 = glm::mix(glm::vec3(0.04f), base_color, metallic);
+  const glm::vec3 f0 = glm::mix(specular_f0, base_color, metallic);
+  const glm::vec3 f90(specular_f90 + (1.0f - specular_f90) * metallic);
   // BrdfUniformAlbedo's diffuse lobe (1 - F(n.v)) (1 - F_avg), averaged
-  // over n.v with weight 2 n.v: (1 - F_avg)^2, F_avg = F0 + (1 - F0) / 21
+  // over n.v with weight 2 n.v: (1 - F_avg)^2, F_avg = F0 + (F90 - F0) / 21
   // (2 int_0^1 (1 - mu)^5 mu dmu = 1/21).
-  const glm::vec3 f_avg = f0 + (1.0f - f0) / 21.0f;
+  const glm::vec3 f_avg = f0 + (f90 - f0) / 21.0f;
   const glm::vec3 diffuse = (1.0f - metallic) * base_color * (1.0f - f_avg) * (1.0f - f_avg);
-  // Specular: E = F0 (A - B) + B is linear in (A, B), so its white-sky mean
-  // is F0 (A_ws - B_ws) + B_ws.
+  // Specular: E = F0 (A - B) + F90 B is linear in (A, B), so its white-sky
+  // mean is F0 (A_ws - B_ws) + F90 B_ws.
   const glm::vec2 ab = BrdfAlbedoTable::Embedded().WhiteSky(roughness);
-  return diffuse + f0 * (ab.x - ab.y) + ab.y;
+  return diffuse + f0 * (ab.x - ab.y) + f90 * ab.y;
 }
 
 glm::vec3 BrdfDirectionalAlbedo(const glm::vec3& base_color, float metallic, float roughness,
-                                float nv) {
+                                float nv, const glm::vec3& specular_f0, float specular_f90) {
   if (metallic == 0.0f && roughness == 1.0f) return base_color;  // BrdfLambertian
   // As brdf.glsl's BrdfUniformAlbedo, operation for operation.
   const float mu = glm::clamp(nv, 0.0f, 1.0f);
-  const glm::vec3 f0 = glm::mix(glm::vec3(0.04f), base_color, metallic);
+  const glm::vec3 f0 = glm::mix(specular_f0, base_color, metallic);
+  const glm::vec3 f90(specular_f90 + (1.0f - specular_f90) * metallic);
   const float m = 1.0f - mu, m5 = m * m * m * m * m;
-  const glm::vec3 diffuse = (1.0f - metallic) * base_color * (1.0f - (f0 + (1.0f - f0) * m5)) *
-                            (1.0f - (f0 + (1.0f - f0) / 21.0f));
+  const glm::vec3 diffuse = (1.0f - metallic) * base_color * (1.0f - (f0 + (f90 - f0) * m5)) *
+                            (1.0f - (f0 + (f90 - f0) / 21.0f));
   const glm::vec2 ab = BrdfAlbedoTable::Embedded().Lookup(mu, roughness);
-  return diffuse + f0 * (ab.x - ab.y) + ab.y;
+  return diffuse + f0 * (ab.x - ab.y) + f90 * ab.y;
 }
 
 }  // namespace gistream

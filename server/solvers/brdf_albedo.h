@@ -43,16 +43,22 @@ class BrdfAlbedoTable {
 // n.v with weight 2 n.v): diffuse (1 - metallic) baseColor (1 - F_avg)^2,
 // F_avg = F0 + (1 - F0) / 21 (Schlick's cosine-weighted mean, taken once
 // for the view and once for the light), plus the specular F0 (A - B) + B
-// with (A, B) = table.WhiteSky(roughness); F0 = mix(0.04, baseColor,
-// metallic). A Lambertian surface (metallic 0, roughness 1, brdf.glsl's
-// BrdfLambertian) returns baseColor unchanged.
-glm::vec3 BrdfWhiteSkyAlbedo(const glm::vec3& base_color, float metallic, float roughness);
+// with (A, B) = table.WhiteSky(roughness); F0 = mix(dielectric F0,
+// baseColor, metallic), F90 = mix(dielectric F90, 1, metallic), the
+// dielectric pair the material's (0.04 and 1 unless KHR_materials_ior /
+// _specular say otherwise; F_avg = F0 + (F90 - F0) / 21 and the specular
+// F0 (A - B) + F90 B then). A Lambertian surface (metallic 0, roughness 1,
+// brdf.glsl's BrdfLambertian) returns baseColor unchanged.
+glm::vec3 BrdfWhiteSkyAlbedo(const glm::vec3& base_color, float metallic, float roughness,
+                             const glm::vec3& specular_f0 = glm::vec3(0.04f),
+                             float specular_f90 = 1.0f);
 
 // brdf.glsl's BrdfUniformAlbedo: the directional albedo seen from (or, by
 // reciprocity, lit from) a direction at cosine `nv` to the normal, what the
 // surface reflects of uniform incident light; baseColor for a Lambertian
 // surface.
 glm::vec3 BrdfDirectionalAlbedo(const glm::vec3& base_color, float metallic, float roughness,
-                                float nv);
+                                float nv, const glm::vec3& specular_f0 = glm::vec3(0.04f),
+                                float specular_f90 = 1.0f);
 
 }  // namespace gistream

@@ -58,7 +58,8 @@ double LargestAlbedo(const SceneState& state) {
     // A glossy material's transport albedo (white-sky, brdf_albedo.h) can
     // pass its base colour in a dark channel (a metal's B adds to F0).
     const glm::vec3 w = BrdfWhiteSkyAlbedo(c, std::clamp(m.metallic_factor, 0.0f, 1.0f),
-                                           std::clamp(m.roughness_factor, 0.0f, 1.0f));
+                                           std::clamp(m.roughness_factor, 0.0f, 1.0f),
+                                           m.specular_f0, m.specular_f90);
     bound = std::max(bound, double(std::max({c.r, c.g, c.b, w.r, w.g, w.b})));
   }
   return bound;

@@ -86,12 +86,17 @@ TEST(BrdfAlbedo, GlossyWhiteSkyMatchesTheTableAndTheBrdf) {
   struct Case {
     glm::vec3 base;
     float metallic, roughness;
+    glm::vec3 f0{0.04f};  // the dielectric layer (KHR_materials_ior / _specular)
+    float f90 = 1.0f;
   };
   const Case cases[] = {{{1.0f, 0.78f, 0.34f}, 1.0f, 0.3f},  // glossy_box's gold
                         {{0.8f, 0.8f, 0.8f}, 0.0f, 0.5f},
-                        {{0.5f, 0.2f, 0.9f}, 0.5f, 0.8f}};
+                        {{0.5f, 0.2f, 0.9f}, 0.5f, 0.8f},
+                        // A tinted, half-strength specular layer; a bright one.
+                        {{0.6f, 0.3f, 0.3f}, 0.0f, 0.4f, {0.02f, 0.01f, 0.005f}, 0.5f},
+                        {{0.2f, 0.2f, 0.2f}, 0.0f, 0.3f, {0.5f, 0.5f, 0.5f}, 1.0f}};
   for (const Case& c : cases) {
-    const glm::vec3 albedo = BrdfWhiteSkyAlbedo(c.base, c.metallic, c.roughness);
+    const glm::vec3 albedo = BrdfWhiteSkyAlbedo(c.base, c.metallic, c.roughness, c.f0, c.f90);
     if (c.metallic == 1.0f) {
       const glm::vec2 ws = table.WhiteSky(c.roughness);
       const glm::vec3 expected = c.base * (ws.x - ws.y) + ws.y;
@@ -99,7 +104,7 @@ TEST(BrdfAlbedo, GlossyWhiteSkyMatchesTheTableAndTheBrdf) {
       testing::RecordMeasurement("gold_white_sky_A", ws.x);
       testing::RecordMeasurement("gold_white_sky_B", ws.y);
     }
-    const shading::Brdf brdf{c.base, c.metallic, c.roughness};
+    const shading::Brdf brdf{c.base, c.metallic, c.roughness, c.f0, c.f90};
     shading::Rng rng(5, 18);
     glm::dvec3 sum(0.0);
     const int n = 400000;

@@ -106,8 +106,8 @@ GlossyTransfer::Matrix GlossyTransfer::BuildMatrix(const DirectionalBins& bins, 
   for (size_t o = 0; o < h; ++o) {
     const float c = wo[o * kSubSamples].z;
     cw[o] = c * omega;
-    albedo[o] =
-        BrdfDirectionalAlbedo(material.base_color, material.metallic, material.roughness, c);
+    albedo[o] = BrdfDirectionalAlbedo(material.base_color, material.metallic, material.roughness, c,
+                                      material.specular_f0, material.specular_f90);
   }
   for (int it = 0; it < kScalingIterations; ++it) {
     for (size_t o = 0; o < h; ++o) {

@@ -161,12 +161,13 @@ void VoxelGrid::Rasterize(const SceneState& state, const glm::ivec3& lo, const g
           metallic *= mean.b, roughness *= mean.g;
         }
         material.brdf = {albedo, glm::clamp(metallic, 0.0f, 1.0f),
-                         glm::clamp(roughness, 0.0f, 1.0f)};
+                         glm::clamp(roughness, 0.0f, 1.0f), mat.specular_f0, mat.specular_f90};
         // A VPL here reflects what the BRDF reflects of light from all
         // directions, averaged over the directions it leaves in (issue 18);
         // Lambertian materials keep their base colour bitwise.
         albedo = BrdfWhiteSkyAlbedo(material.brdf.base_color, material.brdf.metallic,
-                                    material.brdf.roughness);
+                                    material.brdf.roughness, material.brdf.specular_f0,
+                                    material.brdf.specular_f90);
       }
       const int level = PickProxyLevel<ProxyLevel>(p.proxies, MaxScale(m), tolerance);
       const std::vector<uint32_t>& indices =

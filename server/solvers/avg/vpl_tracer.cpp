@@ -132,7 +132,8 @@ std::optional<glm::vec3> SampleBrdf(const Vpl& vpl, const glm::vec3& u, glm::vec
   const shading::BrdfSample s = shading::Sample(vpl.brdf, wo, glm::vec3(u.z, u.x, u.y));
   if (!(s.pdf > 0.0f)) return std::nullopt;
   const glm::vec3 albedo =
-      BrdfDirectionalAlbedo(vpl.brdf.base_color, vpl.brdf.metallic, vpl.brdf.roughness, wo.z);
+      BrdfDirectionalAlbedo(vpl.brdf.base_color, vpl.brdf.metallic, vpl.brdf.roughness, wo.z,
+                            vpl.brdf.specular_f0, vpl.brdf.specular_f90);
   flux *= s.weight / glm::max(albedo, glm::vec3(1e-4f));
   return glm::normalize(t * s.wi.x + b * s.wi.y + vpl.normal * s.wi.z);
 }

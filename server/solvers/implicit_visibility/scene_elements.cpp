@@ -238,7 +238,8 @@ void SceneElements::UpdateAlbedo(const SceneState& state) {
       // avg's voxels), not its base colour; Lambertian leaves keep the
       // base colour bitwise.
       mr = glm::clamp(mr, 0.0f, 1.0f);
-      albedo_[offset + v] = BrdfWhiteSkyAlbedo(a, mr.x, mr.y);
+      albedo_[offset + v] = m ? BrdfWhiteSkyAlbedo(a, mr.x, mr.y, m->specular_f0, m->specular_f90)
+                              : BrdfWhiteSkyAlbedo(a, mr.x, mr.y);
     }
   }
 }
