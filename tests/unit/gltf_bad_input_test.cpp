@@ -106,7 +106,12 @@ TEST(BadInput, UnsupportedRequiredExtension) {
   TestGltf g = Quad();
   g.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
   EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument,
-               "extensionsRequired[0]: \"KHR_draco_mesh_compression\" is not supported");
+               "extensionsRequired[0]: \"KHR_draco_mesh_compression\" is not supported (supported: "
+               "KHR_lights_punctual, KHR_materials_emissive_strength, KHR_materials_ior, "
+               "KHR_materials_specular, KHR_texture_transform)");
+  // Those import applies may be required.
+  g.doc["extensionsRequired"] = {"KHR_texture_transform", "KHR_materials_ior"};
+  EXPECT_TRUE(Import(g.ToGltf()).ok());
 }
 
 TEST(BadInput, NonFiniteNumberNamesItsField) {

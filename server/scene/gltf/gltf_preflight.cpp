@@ -1,5 +1,7 @@
 #include "scene/gltf/gltf_preflight.h"
 
+#include <absl/strings/str_join.h>
+
 #include <cmath>
 #include <cstring>
 #include <initializer_list>
@@ -27,8 +29,11 @@ constexpr uint32_t kChunkBin = 0x004e4942;   // "BIN\0"
 constexpr uint64_t kMaxJsonValues = 8'000'000;
 constexpr size_t kMaxJsonDepth = 64;
 
+// A file may require these (extensionsRequired): import applies them
+// (gltf_extensions.cpp, README "glTF extensions").
 const std::set<std::string, std::less<>> kUnderstoodExtensions = {
-    "KHR_lights_punctual", "KHR_materials_emissive_strength"};
+    "KHR_lights_punctual", "KHR_materials_emissive_strength", "KHR_materials_ior",
+    "KHR_materials_specular", "KHR_texture_transform"};
 
 uint32_t ReadU32(std::span<const uint8_t> bytes, size_t offset) {
   uint32_t v = 0;
@@ -167,7 +172,7 @@ absl::Status CheckRequiredExtensions(const json& doc) {
     if (!name.is_string() || !kUnderstoodExtensions.contains(name.get<std::string>())) {
       return absl::InvalidArgumentError(absl::StrCat(
           Item("extensionsRequired", i), ": ", name.dump(),
-          " is not supported (supported: KHR_lights_punctual, KHR_materials_emissive_strength)"));
+          " is not supported (supported: ", absl::StrJoin(kUnderstoodExtensions, ", "), ")"));
     }
   }
   return absl::OkStatus();
