@@ -442,19 +442,24 @@ absl::StatusOr<std::optional<SceneInfo>> EngineImpl::JoinNamedLoad(const SceneSo
     MutexLock lock(mutex_);
     if (shut_down_) return Unavailable();
     if (draining_) return Draining();
-    for (auto& [id, record] : scenes_) {
-      if (record->source_name == source.name && record->tenant == source.tenant) {
-        existing = record;
-      }
-    }
-    if (existing) {
-      existing->loads += 1;
-      existing->last_used = Clock::now();
-    } else if (auto it = loading_.find(claim.key_); it != loading_.end()) {
+    // A load of this name in flight first: its record is registered before
+    // its upload has run, so joining the record then could find no GPU
+    // scene yet (a spurious ABORTED, seen under ASan with 12 concurrent loads).
+    if (auto it = loading_.find(claim.key_); it != loading_.end()) {
       other_load = it->second;
     } else {
-      claim.leading_ = std::make_shared<std::promise<void>>();
-      loading_[claim.key_] = claim.leading_->get_future().share();
+      for (auto& [id, record] : scenes_) {
+        if (record->source_name == source.name && record->tenant == source.tenant) {
+          existing = record;
+        }
+      }
+      if (existing) {
+        existing->loads += 1;
+        existing->last_used = Clock::now();
+      } else {
+        claim.leading_ = std::make_shared<std::promise<void>>();
+        loading_[claim.key_] = claim.leading_->get_future().share();
+      }
     }
   }
   if (other_load.valid()) {
@@ -469,18 +474,25 @@ absl::StatusOr<std::optional<SceneInfo>> EngineImpl::JoinNamedLoad(const SceneSo
   if (!existing) return std::nullopt;  // this call leads: it loads the name
   // Its upload may still be queued (this job runs after it), or may have
   // failed, or the scene may have been unloaded since.
-  return render_thread_->Call<absl::StatusOr<std::optional<SceneInfo>>>(
-      [this, existing]() -> absl::StatusOr<std::optional<SceneInfo>> {
-        render_role_.Assert();
-        auto it = gpu_scenes_.find(existing->id);
-        if (it == gpu_scenes_.end()) {
-          return absl::AbortedError(
-              absl::StrCat("name: scene '", Echo(existing->id),
-                           "' was unloaded or failed to load meanwhile; load it again"));
-        }
-        return DescribeScene(existing->id, *it->second.state);
-      },
-      Unavailable());
+  absl::StatusOr<std::optional<SceneInfo>> joined =
+      render_thread_->Call<absl::StatusOr<std::optional<SceneInfo>>>(
+          [this, existing]() -> absl::StatusOr<std::optional<SceneInfo>> {
+            render_role_.Assert();
+            auto it = gpu_scenes_.find(existing->id);
+            if (it == gpu_scenes_.end()) {
+              return absl::AbortedError(
+                  absl::StrCat("name: scene '", Echo(existing->id),
+                               "' was unloaded or failed to load meanwhile; load it again"));
+            }
+            return DescribeScene(existing->id, *it->second.state);
+          },
+          Unavailable());
+  if (!joined.ok()) {
+    // The caller holds nothing: give back the hold taken above.
+    MutexLock lock(mutex_);
+    if (existing->loads > 0) existing->loads -= 1;
+  }
+  return joined;
 }
 
 absl::Status EngineImpl::RegisterScene(const SceneSource& source,
