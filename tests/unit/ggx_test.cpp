@@ -1,5 +1,6 @@
 // The path tracer's GGX BRDF (solvers/shading/ggx.h) against its
 // analytic properties, by numerical integration over the hemisphere.
+#include "solvers/brdf_albedo.h"
 #include "solvers/shading/ggx.h"
 
 #include <cmath>
@@ -232,18 +233,9 @@ TEST(Ggx, GlslAlbedoTableMatchesTheBrdf) {
 // BrdfUniformAlbedo reads). A black dielectric (no diffuse lobe) with F0
 // 0.3 and F90 0.6 by BRDF sampling against the table (4 sigma < 0.01).
 TEST(Ggx, AnyF0AndF90ShareTheAlbedoTable) {
-  std::ifstream in(std::string(GISTREAM_SOURCE_DIR "/shaders/common/brdf_albedo_table.glsl"));
-  ASSERT_TRUE(in);
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string body = text.str();
-  const std::regex pair(R"(vec2\(([0-9.]+), ([0-9.]+)\))");
-  std::vector<glm::dvec2> table;
-  for (auto it = std::sregex_iterator(body.begin(), body.end(), pair); it != std::sregex_iterator();
-       ++it) {
-    table.emplace_back(std::stod((*it)[1]), std::stod((*it)[2]));
-  }
-  ASSERT_EQ(table.size(), 256u);
+  // The embedded table (equal to the GLSL source:
+  // BrdfAlbedo.EmbeddedTableEqualsTheGlslSource).
+  const BrdfAlbedoTable& table = BrdfAlbedoTable::Embedded();
   Brdf brdf{glm::vec3(0.0f), 0.0f, 1.0f, glm::vec3(0.3f), 0.6f};
   for (int j : {3, 8, 14}) {
     for (int i : {2, 7, 15}) {
@@ -256,7 +248,7 @@ TEST(Ggx, AnyF0AndF90ShareTheAlbedoTable) {
       for (int k = 0; k < n; ++k) {
         e += Sample(brdf, wo, glm::vec3(rng.Uniform(), rng.Uniform(), rng.Uniform())).weight.x;
       }
-      const glm::dvec2 ab = table[size_t(j * 16 + i)];
+      const glm::dvec2 ab(table.at(i, j));
       EXPECT_NEAR(e / n, 0.3 * (ab.x - ab.y) + 0.6 * ab.y, 0.01)
           << "n.v " << cos_o << " roughness " << brdf.roughness;
     }
