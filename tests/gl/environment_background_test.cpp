@@ -15,7 +15,6 @@
 
 #include <gtest/gtest.h>
 
-#include "encode/encode.h"
 #include "support/gltf_builder.h"
 #include "support/registered_solvers.h"
 #include "support/render_helpers.h"
@@ -29,19 +28,6 @@ constexpr float kYfov = 1.0f;
 
 glm::vec3 Texel(int x, int y) {
   return {(float(x) + 0.5f) / kMapWidth, (float(y) + 0.5f) / kMapHeight, 0.25f};
-}
-
-std::string GradientEnvironmentExr() {
-  std::vector<float> rgba;
-  for (int y = 0; y < kMapHeight; ++y) {
-    for (int x = 0; x < kMapWidth; ++x) {
-      const glm::vec3 t = Texel(x, y);
-      rgba.insert(rgba.end(), {t.r, t.g, t.b, 1.0f});
-    }
-  }
-  auto exr = EncodeExr(rgba, kMapWidth, kMapHeight);
-  EXPECT_TRUE(exr.ok()) << exr.status();
-  return exr.ok() ? *exr : std::string();
 }
 
 // What pixel (px, py) (rows top first) shows: its centre's ray from the
@@ -68,7 +54,7 @@ class EnvironmentBackground : public ::testing::TestWithParam<std::string> {
     b.AddQuad("floor", {0, -1, 5}, {0, 0, 1}, {1, 0, 0}, b.AddMaterial("grey", {0.5f, 0.5f, 0.5f}));
     b.AddCamera("camera", {0, 0, 0}, {0, 0, -1}, {0, 1, 0}, kYfov);
     SceneSource source = testing::SceneFromBytes(b.ToJson());
-    source.environment_bytes = GradientEnvironmentExr();
+    source.environment_bytes = testing::EnvironmentExr(kMapWidth, kMapHeight, Texel);
     source.environment_intensity = 2.0f;
     scene_ = std::make_unique<testing::TestScene>(std::move(source));
   }

@@ -179,16 +179,7 @@ struct EnvMap {
     return y < kHeight / 2 ? sky : ground;
   }
   std::string Exr() const {
-    std::vector<float> rgba;
-    for (int y = 0; y < kHeight; ++y) {
-      for (int x = 0; x < kWidth; ++x) {
-        const glm::vec3 c = at(x, y);
-        rgba.insert(rgba.end(), {c.r, c.g, c.b, 1.0f});
-      }
-    }
-    auto bytes = EncodeExr(rgba, kWidth, kHeight);
-    EXPECT_TRUE(bytes.ok()) << bytes.status();
-    return bytes.ok() ? *bytes : "";
+    return testing::EnvironmentExr(kWidth, kHeight, [this](int x, int y) { return at(x, y); });
   }
   // Irradiance on an upward-facing surface: each texel is a constant
   // patch, so E = sum L * dphi * (sin^2 theta1 - sin^2 theta0) / 2 over the

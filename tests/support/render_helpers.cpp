@@ -125,13 +125,21 @@ TestScene::~TestScene() {
   EXPECT_TRUE(status.ok()) << status;
 }
 
-std::string UniformEnvironmentExr(float radiance, int width, int height) {
+std::string EnvironmentExr(int width, int height, const std::function<glm::vec3(int, int)>& at) {
   std::vector<float> rgba;
-  for (int i = 0; i < width * height; ++i)
-    rgba.insert(rgba.end(), {radiance, radiance, radiance, 1.0f});
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const glm::vec3 c = at(x, y);
+      rgba.insert(rgba.end(), {c.r, c.g, c.b, 1.0f});
+    }
+  }
   auto exr = EncodeExr(rgba, width, height);
   EXPECT_TRUE(exr.ok()) << exr.status();
   return exr.ok() ? *exr : std::string();
+}
+
+std::string UniformEnvironmentExr(float radiance, int width, int height) {
+  return EnvironmentExr(width, height, [radiance](int, int) { return glm::vec3(radiance); });
 }
 
 namespace {

@@ -64,7 +64,9 @@ class TestScene {
   std::string id_;
 };
 
-// An EXR environment map of uniform radiance, width x height texels.
+// An EXR environment map of width x height texels, texel (x, y) (rows top
+// first) of radiance `at(x, y)`; and one of uniform radiance.
+std::string EnvironmentExr(int width, int height, const std::function<glm::vec3(int, int)>& at);
 std::string UniformEnvironmentExr(float radiance, int width, int height);
 
 // A private copy of a bundled scene (scenes/FILE uploaded as bytes), so
