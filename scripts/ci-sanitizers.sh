@@ -7,8 +7,9 @@
 # Steps, each timed:
 #   1. unit, client, service and reliability tests under ASan + UBSan, and
 #      the GL suites that drive the engine and every solver through a frame
-#      ($GL_SUITES; the long numeric and reference suites run in `make test`
-#      only), the five binaries JOBS at a time. Any report fails the run; LeakSanitizer ignores Mesa's and
+#      ($GL_SUITES, compiled from their own files into gl_engine_tests;
+#      the long numeric and reference suites run in `make test` only), the
+#      five binaries JOBS at a time. Any report fails the run; LeakSanitizer ignores Mesa's and
 #      the driver's own allocations (tests/fuzz/lsan.supp).
 #   2. thread_tests under ThreadSanitizer: the session reactor's frame slot,
 #      the service's worker pool and the CPU pool (tests/CMakeLists.txt
@@ -54,7 +55,7 @@ configure() {  # DIR, extra cmake options...
 configure "$BUILD_DIR" -DGISTREAM_SANITIZE=ON -DGISTREAM_FUZZ=ON
 # Test discovery runs the binaries at build time: no leak check there.
 ASAN_OPTIONS=detect_leaks=0 cmake --build "$BUILD_DIR" -j "$JOBS" \
-  --target unit_tests client_tests service_tests reliability_tests gl_tests fuzzers
+  --target unit_tests client_tests service_tests reliability_tests gl_engine_tests fuzzers
 step "ASan build"
 
 # The numeric convergence tests (furnaces run to hundreds of thousands of
@@ -85,7 +86,7 @@ run_sanitized() {  # binary name
   local t=$1 filter='*' start
   start=$(date +%s)
   [ "$t" = unit_tests ] && filter="*:-$SLOW_NUMERIC"
-  [ "$t" = gl_tests ] && filter="$GL_SUITES"
+  [ "$t" = gl_engine_tests ] && filter="$GL_SUITES"
   local rc=0
   "$BUILD_DIR/tests/$t" --gtest_brief=1 --gtest_filter="$filter" \
     --gtest_output="xml:$BUILD_DIR/test-results/$t.xml" >"$BUILD_DIR/test-results/$t.log" 2>&1 || rc=$?
@@ -107,8 +108,18 @@ run_lanes() {  # command, then its arguments, JOBS at a time; fails if any faile
   for p in "${pids[@]}"; do wait "$p" || failed=1; done
   return $failed
 }
+# Every pattern of GL_SUITES must select a test of gl_engine_tests (a suite
+# whose file is not in tests/CMakeLists.txt's GL_ENGINE_TEST_FILES would
+# otherwise drop out of this run in silence).
+for pattern in ${GL_SUITES//:/ }; do
+  if ! ASAN_OPTIONS=detect_leaks=0 "$BUILD_DIR/tests/gl_engine_tests" --gtest_filter="$pattern" --gtest_list_tests | grep -q '^  '; then
+    echo "ci-sanitizers: GL_SUITES pattern '$pattern' selects no test of gl_engine_tests" >&2
+    echo "  (add its file to GL_ENGINE_TEST_FILES in tests/CMakeLists.txt)" >&2
+    exit 1
+  fi
+done
 echo "ci-sanitizers: unit, GL, service, reliability and client tests under ASan + UBSan, $JOBS at a time"
-run_lanes run_sanitized unit_tests gl_tests service_tests reliability_tests client_tests
+run_lanes run_sanitized unit_tests gl_engine_tests service_tests reliability_tests client_tests
 step "tests under ASan + UBSan"
 # Where the sanitizer runs' time went (the 10 slowest cases).
 python3 scripts/test_times.py "$BUILD_DIR" 10 || true
