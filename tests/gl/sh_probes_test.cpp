@@ -122,19 +122,21 @@ TEST_P(ShProbesStiffTail, BoundedMonotoneAndNotAboveTheExactValue) {
     testing::RecordMeasurement(absl::StrCat("tail_ratio_rho_", rho, "_bounces_", bounces),
                                FrameStat(frame, "tail_ratio"));
     EXPECT_LE(mean, 1.01 * exact) << bounces << " bounces";
+    // Measured 0.9939 (0.99) and 0.9966 (0.999) of the exact value at 4,
+    // 8 and 16 bounces (were 0.882 and 0.681 with a half-float albedo).
+    EXPECT_GE(mean, 0.985 * exact) << bounces << " bounces";
     // Never above the scene's largest albedo (tail_estimate.h).
     EXPECT_LE(FrameStat(frame, "tail_ratio"), double(rho) + 1e-6);
-    // The probes keep the albedo in half floats: the measured bounce ratio
-    // is the albedo within 0.1 % (an 8-bit atlas made it 252/255 = 0.98824
-    // at 0.99, and 1.0 at 0.999, where the ratios then never settled and
-    // no tail applied).
-    if (rho == 0.99f) {
-      EXPECT_NEAR(FrameStat(frame, "tail_ratio"), 0.99, 0.99e-3);
-    }
+    // The probes keep the albedo in 32-bit floats: the measured bounce
+    // ratio is the albedo within 0.02 % (an 8-bit atlas made it 252/255 =
+    // 0.98824 at 0.99, and 1.0 at 0.999, where the ratios then never
+    // settled; a half-float one, truncated on llvmpipe, 0.98975 and
+    // 0.998535, and the tail 680 instead of 999 at 0.999).
+    EXPECT_NEAR(FrameStat(frame, "tail_ratio"), double(rho), 2e-4 * double(rho));
     EXPECT_EQ(FrameStat(frame, "tail_applied"), 1.0) << bounces << " bounces";
     // Monotone: the tail keeps the largest of the bounces' estimates
-    // (solvers/tail_estimate.h MonotoneTailFactor; measured 681.379 at 4, 8 and
-    // 16 bounces at 0.999, which drifted down 0.3 % before). 1e-5: float
+    // (solvers/tail_estimate.h MonotoneTailFactor; measured 996.635 at 4, 8 and
+    // 16 bounces at 0.999; the partial sums plus tail drifted down 0.3 % before). 1e-5: float
     // rounding of the image mean.
     EXPECT_GE(mean, previous * (1.0 - 1e-5)) << bounces << " bounces: not monotone";
     previous = mean;

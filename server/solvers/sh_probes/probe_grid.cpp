@@ -62,10 +62,13 @@ void ProbeAtlas::Allocate(const ProbeLayout& layout) {
   height_ = layout.height();
   distance_ = LayeredTexture(GL_R32F, width_, height_);
   normal_ = LayeredTexture(GL_RGBA8_SNORM, width_, height_);
-  // Half floats, not 8 bits: an 8-bit albedo rounds 0.999 up to 1.0 (and
-  // 0.9 to 0.902), so at high albedo the probes' bounces created energy
-  // and never converged (issue 14).
-  albedo_ = LayeredTexture(GL_RGBA16F, width_, height_);
+  // 32-bit floats: an 8-bit albedo rounds 0.999 up to 1.0 (and 0.9 to
+  // 0.902), so at high albedo the probes' bounces created energy and never
+  // converged (issue 14); a half float is truncated by llvmpipe's render
+  // target conversion (0.999 -> 0.998535, 0.99 -> 0.98975, the measured
+  // bounce ratios), which lost 0.05 % a bounce and left the furnace at
+  // rho = 0.999 at 0.68 of the exact radiance (issue 29, item 4).
+  albedo_ = LayeredTexture(GL_RGBA32F, width_, height_);
   // 8 bits: metallic 0 and roughness 1 (Lambertian) are exact.
   material_ = LayeredTexture(GL_RG8, width_, height_);
   depth_ = LayeredTexture(GL_DEPTH_COMPONENT32F, width_, height_);

@@ -42,9 +42,9 @@ struct ProbeGridSettings {
 
 // Atlas texels are capped so a request cannot exhaust GPU memory.
 constexpr uint64_t kMaxProbeTexels = uint64_t(1) << 23;
-// GPU bytes per atlas texel: distance R32F, normal RGBA8, albedo RGBA16F,
+// GPU bytes per atlas texel: distance R32F, normal RGBA8, albedo RGBA32F,
 // material RG8, depth 32 bits, direct, indirect and radiance RGBA32F.
-constexpr uint64_t kAtlasBytesPerTexel = 4 + 4 + 8 + 2 + 4 + 16 * 3;
+constexpr uint64_t kAtlasBytesPerTexel = 4 + 4 + 16 + 2 + 4 + 16 * 3;
 
 // Fits the grid to `bounds`. An axis with no extent (a flat scene) gets a
 // slab one tenth of the largest extent thick, so probes never sit on the
@@ -60,7 +60,7 @@ class ProbeAtlas {
   GLuint fbo() const { return fbo_.id(); }
   GLuint distance() const { return distance_.id(); }  // R32F, 0 where nothing was hit
   GLuint normal() const { return normal_.id(); }      // RGBA8 snorm, w = 1: back face
-  GLuint albedo() const { return albedo_.id(); }      // RGBA16F
+  GLuint albedo() const { return albedo_.id(); }      // RGBA32F
   GLuint material() const { return material_.id(); }  // RG8 metallic, roughness
   // RGBA32F: the direct light's radiance reflected towards the probe.
   GLuint direct() const { return direct_.id(); }
