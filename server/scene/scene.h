@@ -3,6 +3,7 @@
 // gpu_scene.h and the mutable, versioned state in scene_state.h.
 #pragma once
 
+#include <compare>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -62,6 +63,20 @@ struct UvTransform {
   }
 };
 
+// A texture reference's sampler (glTF 2.0 5.26), in the file's values,
+// which are GL's enums: wrap 10497 REPEAT (the default), 33071
+// CLAMP_TO_EDGE, 33648 MIRRORED_REPEAT; magFilter 9728 NEAREST or 9729
+// LINEAR; minFilter those or 9984-9987 (the four mipmap modes); 0: not
+// given (the renderer's choice: linear, trilinear). Import accepts only
+// these values.
+struct TextureSampler {
+  static constexpr int kRepeat = 10497, kClampToEdge = 33071, kMirroredRepeat = 33648;
+  static constexpr int kNearest = 9728, kLinear = 9729;
+  int wrap_s = kRepeat, wrap_t = kRepeat;
+  int mag_filter = 0, min_filter = 0;
+  auto operator<=>(const TextureSampler&) const = default;
+};
+
 struct Material {
   std::string name;
   glm::vec4 base_color_factor{1.0f};  // linear
@@ -77,8 +92,10 @@ struct Material {
   float metallic_factor = 0.0f;
   float roughness_factor = 1.0f;
   int metallic_roughness_texture = -1;  // linear; B: metallic, G: roughness
-  // Each texture's KHR_texture_transform (identity without one).
+  // Each texture's KHR_texture_transform (identity without one) and
+  // sampler (repeat, linear without one).
   UvTransform base_color_uv, emissive_uv, metallic_roughness_uv;
+  TextureSampler base_color_sampler, emissive_sampler, metallic_roughness_sampler;
   // The dielectric part's Fresnel at normal and at grazing incidence
   // (solvers/shading/ggx.h): 0.04 and 1 (ior 1.5) unless the file's
   // KHR_materials_ior / KHR_materials_specular set them (gltf_materials).

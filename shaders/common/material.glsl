@@ -15,10 +15,25 @@ vec2 TextureUv(Material m, int k, vec2 uv) {
   return vec2(dot(m.uv_transform[2 * k].xyz, h), dot(m.uv_transform[2 * k + 1].xyz, h));
 }
 
+// Texture k of m at uv, its level of detail from the derivatives of uv
+// (the interpolated coordinates) carried through the transform's linear
+// part. Implicit derivatives of TextureUv's result are not used: the
+// transform is read from the materials buffer, which llvmpipe's helper
+// invocations (a quad's pixels outside the triangle) read as zeros, so
+// along every triangle edge the differences were garbage, a high mip level
+// was picked and the texture blurred there (a dotted seam down each quad's
+// diagonal: TextureTransform.TheSamplerFiltersBetweenTexels).
+vec4 MaterialTexture(sampler2D tex, Material m, int k, vec2 uv) {
+  vec2 dx = dFdx(uv), dy = dFdy(uv);
+  vec2 a = m.uv_transform[2 * k].xy, b = m.uv_transform[2 * k + 1].xy;
+  return textureGrad(tex, TextureUv(m, k, uv), vec2(dot(a, dx), dot(b, dx)),
+                     vec2(dot(a, dy), dot(b, dy)));
+}
+
 // Linear albedo in [0, 1].
 vec3 SurfaceAlbedo(Material m, vec2 uv) {
   vec3 albedo = m.base_color.rgb;
-  if (m.textures.x >= 0) albedo *= texture(uBaseColorTex, TextureUv(m, 0, uv)).rgb;
+  if (m.textures.x >= 0) albedo *= MaterialTexture(uBaseColorTex, m, 0, uv).rgb;
   return clamp(albedo, 0.0, 1.0);
 }
 
@@ -26,13 +41,13 @@ vec3 SurfaceAlbedo(Material m, vec2 uv) {
 // B and G channels, linear, times the factors).
 vec2 SurfaceMetallicRoughness(Material m, vec2 uv) {
   vec2 mr = m.pbr.xy;
-  if (m.textures.w >= 0) mr *= texture(uMetallicRoughnessTex, TextureUv(m, 2, uv)).bg;
+  if (m.textures.w >= 0) mr *= MaterialTexture(uMetallicRoughnessTex, m, 2, uv).bg;
   return clamp(mr, 0.0, 1.0);
 }
 
 // Emitted radiance (nits).
 vec3 SurfaceEmission(Material m, vec2 uv) {
   vec3 emission = m.emission.rgb;
-  if (m.textures.y >= 0) emission *= texture(uEmissiveTex, TextureUv(m, 1, uv)).rgb;
+  if (m.textures.y >= 0) emission *= MaterialTexture(uEmissiveTex, m, 1, uv).rgb;
   return emission;
 }

@@ -25,6 +25,7 @@ void main() {
   oNormal = vec4(n, 0.0);
   vec2 mr = SurfaceMetallicRoughness(m, vUv);
   oAlbedo = vec4(SurfaceAlbedo(m, vUv), mr.x);
-  oEmission = vec4(emitting_side ? SurfaceEmission(m, vUv) : vec3(0.0), mr.y);
+  vec3 emission = SurfaceEmission(m, vUv);
+  oEmission = vec4(emitting_side ? emission : vec3(0.0), mr.y);
   oSpecular = m.specular;
 }

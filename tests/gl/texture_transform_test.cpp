@@ -6,7 +6,12 @@
 // texture of 8 x 1 texels (left half red, right half green), so every
 // solver shows the texture itself: red on the left and green on the right,
 // swapped by an offset of (0.5, 0) (the texture wraps), and with a scale of
-// (2, 1) red, green, red, green across the four quarters.
+// (2, 1) red, green, red, green across the four quarters. The texture's
+// glTF sampler (glTF 2.0 5.26) wraps the coordinates outside [0, 1] and
+// filters between texels: under scale (2, 1) the right half reads u' in
+// [1, 2], which repeat, clamp to edge and mirrored repeat map to red-green,
+// green and green-red; at the texture's red-green edge, in the middle of
+// the view, NEAREST gives pure colours where LINEAR blends them.
 #include <string>
 #include <vector>
 
@@ -33,11 +38,11 @@ std::string RedGreenPng() {
 }
 
 // The quad from x = -1 to 1 (u 0 to 1) seen head-on, filling the view.
-std::string QuadScene(const nlohmann::json& transform) {
+std::string QuadScene(const nlohmann::json& transform, const nlohmann::json& sampler) {
   testing::GltfBuilder b;
   b.EnableUvs();
   const int mat = b.AddMaterial("screen", {0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f});
-  nlohmann::json info = {{"index", b.AddTexture(RedGreenPng())}};
+  nlohmann::json info = {{"index", b.AddTexture(RedGreenPng(), sampler)}};
   if (!transform.is_null()) info["extensions"]["KHR_texture_transform"] = transform;
   b.SetTexture(mat, "emissiveTexture", info);
   b.AddQuad("screen", {0, 0, 0}, {1, 0, 0}, {0, 1, 0}, mat);
@@ -49,15 +54,21 @@ class TextureTransform : public ::testing::TestWithParam<std::string> {
  protected:
   // The colour at the centres of the four vertical quarters of the view
   // (x = -0.73, -0.24, 0.24, 0.73 on the quad): 'r' or 'g' each.
-  std::string Quarters(const nlohmann::json& transform) {
-    const testing::TestScene scene(testing::SceneFromBytes(QuadScene(transform)));
+  std::string Quarters(const nlohmann::json& transform, const nlohmann::json& sampler = nullptr) {
+    return Columns(transform, sampler, {1, 3, 5, 7}, 8);
+  }
+  // 'r', 'g' or '?' (neither pure) at the middle row of each column
+  // (kSize * c / d) of the view.
+  std::string Columns(const nlohmann::json& transform, const nlohmann::json& sampler,
+                      std::vector<int> columns, int d) {
+    const testing::TestScene scene(testing::SceneFromBytes(QuadScene(transform, sampler)));
     EXPECT_FALSE(scene.id().empty());
     const testing::FloatImage image =
         testing::RenderRequestExr(testing::SolverRequest(scene.id(), GetParam(), {}, kSize));
     std::string out;
-    for (int q = 0; q < 4; ++q) {
-      const glm::vec3 c = image.at(int(kSize) * (2 * q + 1) / 8, int(kSize) / 2);
-      const bool red = c.r > 0.95f && c.g<0.05f, green = c.g> 0.95f && c.r < 0.05f;
+    for (int c : columns) {
+      const glm::vec3 px = image.at(int(kSize) * c / d, int(kSize) / 2);
+      const bool red = px.r > 0.95f && px.g<0.05f, green = px.g> 0.95f && px.r < 0.05f;
       out += red ? 'r' : green ? 'g' : '?';
     }
     return out;
@@ -68,6 +79,22 @@ TEST_P(TextureTransform, OffsetAndScaleMoveTheTexture) {
   EXPECT_EQ(Quarters(nullptr), "rrgg");
   EXPECT_EQ(Quarters({{"offset", {0.5, 0.0}}}), "ggrr");
   EXPECT_EQ(Quarters({{"scale", {2.0, 1.0}}}), "rgrg");
+}
+
+TEST_P(TextureTransform, TheSamplerWrapsOutsideTheUnitSquare) {
+  const nlohmann::json scale = {{"scale", {2.0, 1.0}}};
+  EXPECT_EQ(Quarters(scale, {{"wrapS", 10497}}), "rgrg");  // REPEAT
+  EXPECT_EQ(Quarters(scale, {{"wrapS", 33071}}), "rggg");  // CLAMP_TO_EDGE
+  EXPECT_EQ(Quarters(scale, {{"wrapS", 33648}}), "rggr");  // MIRRORED_REPEAT
+}
+
+// Columns 15 and 16 of 32 see u = 0.485 and 0.515: texel coordinates 3.88
+// and 4.12 of 8, either side of the red-green edge at 4 (bilinear: 62 %
+// of the nearer texel's colour).
+TEST_P(TextureTransform, TheSamplerFiltersBetweenTexels) {
+  EXPECT_EQ(Columns(nullptr, {{"magFilter", 9728}}, {15, 16}, 32), "rg");  // NEAREST
+  EXPECT_EQ(Columns(nullptr, {{"magFilter", 9729}}, {15, 16}, 32), "??");  // LINEAR
+  EXPECT_EQ(Columns(nullptr, nullptr, {15, 16}, 32), "??");                // default: linear
 }
 
 INSTANTIATE_TEST_SUITE_P(EverySolver, TextureTransform,

@@ -148,10 +148,14 @@ int GltfBuilder::AddQuad(const std::string& name, Vec3 center, Vec3 u, Vec3 v, i
   return AddNode({{"name", name}, {"mesh", meshes_.size() - 1}});
 }
 
-int GltfBuilder::AddTexture(const std::string& png) {
+int GltfBuilder::AddTexture(const std::string& png, const nlohmann::json& sampler) {
   images_.push_back(
       {{"uri", "data:image/png;base64," + Base64(std::vector<uint8_t>(png.begin(), png.end()))}});
   textures_.push_back({{"source", images_.size() - 1}});
+  if (!sampler.is_null()) {
+    samplers_.push_back(sampler);
+    textures_.back()["sampler"] = samplers_.size() - 1;
+  }
   return int(textures_.size()) - 1;
 }
 
@@ -219,6 +223,7 @@ std::string GltfBuilder::ToJson() const {
   if (!cameras_.empty()) root["cameras"] = cameras_;
   if (!images_.empty()) root["images"] = images_;
   if (!textures_.empty()) root["textures"] = textures_;
+  if (!samplers_.empty()) root["samplers"] = samplers_;
   std::vector<std::string> used;
   if (!lights_.empty()) {
     root["extensions"]["KHR_lights_punctual"]["lights"] = lights_;

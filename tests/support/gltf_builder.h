@@ -36,9 +36,9 @@ class GltfBuilder {
   // Quads added after this carry TEXCOORD_0: (0, 0) at center - u - v, (1,
   // 1) at center + u + v.
   void EnableUvs() { uvs_ = true; }
-  // An image (PNG bytes, as a data: URI) and a texture of it; returns the
-  // texture index.
-  int AddTexture(const std::string& png);
+  // An image (PNG bytes, as a data: URI) and a texture of it, with
+  // `sampler` (a glTF sampler object) when given; returns the texture index.
+  int AddTexture(const std::string& png, const nlohmann::json& sampler = nullptr);
   // Sets material `material`'s `slot` ("emissiveTexture", or
   // "baseColorTexture" under pbrMetallicRoughness) to `info` (index, texCoord,
   // extensions).
@@ -68,6 +68,7 @@ class GltfBuilder {
   nlohmann::json cameras_ = nlohmann::json::array();
   nlohmann::json images_ = nlohmann::json::array();
   nlohmann::json textures_ = nlohmann::json::array();
+  nlohmann::json samplers_ = nlohmann::json::array();
   bool uvs_ = false;
 };
 

@@ -153,5 +153,54 @@ TEST(GltfExtensions, TextureTransformIsRead) {
       << huge.status();
 }
 
+// A texture's sampler (glTF 2.0 5.26) reaches its material reference:
+// wrap per axis and the filters, as the file gives them; no sampler:
+// repeat and the renderer's filters. A value outside the enums is refused
+// naming the field, on a sampler no material uses too.
+TEST(GltfExtensions, TextureSamplerIsRead) {
+  TestGltf gltf;
+  gltf.doc["images"] = {
+      {{"uri",
+        "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAYAAAAfFcSJAAAADUlEQVR42mP8/"
+        "5+hHgAHggJ/PchI7wAAAABJRU5ErkJggg=="}}};
+  gltf.doc["samplers"] = {{{"wrapS", 33071}, {"wrapT", 33648}, {"magFilter", 9728}},
+                          {{"minFilter", 9728}}};
+  gltf.doc["textures"] = {{{"source", 0}, {"sampler", 0}}, {{"source", 0}}};
+  const int material =
+      gltf.AddMaterial({{"emissiveTexture", {{"index", 0}}},
+                        {"emissiveFactor", {1.0, 1.0, 1.0}},
+                        {"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 1}}}}}});
+  gltf.AddRoot({{"mesh", AddQuadMesh(&gltf, true, material)}});
+  auto scene = Import(gltf.ToGltf());
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  const TextureSampler& e = scene->materials[0].emissive_sampler;
+  EXPECT_EQ(e.wrap_s, TextureSampler::kClampToEdge);
+  EXPECT_EQ(e.wrap_t, TextureSampler::kMirroredRepeat);
+  EXPECT_EQ(e.mag_filter, TextureSampler::kNearest);
+  EXPECT_EQ(e.min_filter, 0);
+  EXPECT_EQ(scene->materials[0].base_color_sampler, TextureSampler{});
+
+  gltf.doc["samplers"][0]["wrapS"] = 12345;
+  auto bad = Import(gltf.ToGltf());
+  ASSERT_FALSE(bad.ok());
+  EXPECT_EQ(bad.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(std::string(bad.status().message()).find("samplers[0].wrapS: 12345"), std::string::npos)
+      << bad.status();
+  gltf.doc["samplers"][0]["wrapS"] = 10497;
+  gltf.doc["samplers"][1]["minFilter"] = 9999;
+  gltf.doc["textures"][1].erase("sampler");
+  gltf.doc["textures"].push_back({{"source", 0}, {"sampler", 1}});  // unused texture
+  auto unused = Import(gltf.ToGltf());
+  ASSERT_FALSE(unused.ok());
+  EXPECT_NE(std::string(unused.status().message()).find("samplers[1].minFilter: 9999"),
+            std::string::npos)
+      << unused.status();
+  gltf.doc["samplers"][1]["minFilter"] = "linear";  // a wrong type
+  auto typed = Import(gltf.ToGltf());
+  ASSERT_FALSE(typed.ok());
+  EXPECT_NE(std::string(typed.status().message()).find("samplers[1].minFilter"), std::string::npos)
+      << typed.status();
+}
+
 }  // namespace
 }  // namespace gistream::testing

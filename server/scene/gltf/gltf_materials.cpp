@@ -1,7 +1,11 @@
 #include <cmath>
+#include <initializer_list>
 #include <map>
 #include <utility>
 #include <string>
+
+#include <absl/strings/str_cat.h>
+#include <absl/strings/str_join.h>
 
 #include "scene/gltf/gltf_stages.h"
 #include "scene/gltf/gltf_util.h"
@@ -50,6 +54,40 @@ absl::StatusOr<UvTransform> ReadUvTransform(const tinygltf::TextureInfo& info,
   return out;
 }
 
+// One of a sampler's enums (glTF 2.0 5.26): `value` must be one of
+// `allowed`; -1 (tinygltf's "absent") gives `absent`.
+absl::StatusOr<int> SamplerEnum(int value, std::initializer_list<int> allowed, int absent,
+                                const std::string& field) {
+  if (value == -1) return absent;
+  for (int a : allowed) {
+    if (value == a) return value;
+  }
+  return absl::InvalidArgumentError(
+      absl::StrCat(field, ": ", value, " is not one of ", absl::StrJoin(allowed, ", ")));
+}
+
+// The sampler texture `texture` names (glTF 2.0 5.26; repeat and the
+// renderer's filters without one), its values checked.
+absl::StatusOr<TextureSampler> ReadSampler(const tinygltf::Model& model, int texture) {
+  TextureSampler out;
+  const int index = model.textures[size_t(texture)].sampler;
+  if (index == -1) return out;
+  const std::string tex_field = Item("textures", size_t(texture)) + ".sampler";
+  GS_RETURN_IF_ERROR(CheckIndex(tex_field, index, model.samplers.size(), "samplers"));
+  const tinygltf::Sampler& in = model.samplers[size_t(index)];
+  const std::string field = Item("samplers", size_t(index));
+  using S = TextureSampler;
+  const std::initializer_list<int> wraps = {S::kRepeat, S::kClampToEdge, S::kMirroredRepeat};
+  GS_ASSIGN_OR_RETURN(out.wrap_s, SamplerEnum(in.wrapS, wraps, S::kRepeat, field + ".wrapS"));
+  GS_ASSIGN_OR_RETURN(out.wrap_t, SamplerEnum(in.wrapT, wraps, S::kRepeat, field + ".wrapT"));
+  GS_ASSIGN_OR_RETURN(out.mag_filter, SamplerEnum(in.magFilter, {S::kNearest, S::kLinear}, 0,
+                                                  field + ".magFilter"));
+  GS_ASSIGN_OR_RETURN(out.min_filter,
+                      SamplerEnum(in.minFilter, {S::kNearest, S::kLinear, 9984, 9985, 9986, 9987},
+                                  0, field + ".minFilter"));
+  return out;
+}
+
 // Decodes each image at most once, in the order materials first use them.
 class ImageLoader {
  public:
@@ -59,13 +97,15 @@ class ImageLoader {
 
   // Scene image index for the texture `info` names; -1 when none. `srgb`:
   // colour (sRGB-encoded) or data (linear, e.g. metallic-roughness); an image
-  // used both ways is decoded once per way. `uv`: its KHR_texture_transform.
+  // used both ways is decoded once per way. `uv`: its KHR_texture_transform;
+  // `sampler`: its texture's sampler.
   absl::StatusOr<int> Texture(const tinygltf::TextureInfo& info, const std::string& field,
-                              UvTransform* uv, bool srgb = true) {
+                              UvTransform* uv, TextureSampler* sampler, bool srgb = true) {
     if (info.index == -1) return -1;
     GS_RETURN_IF_ERROR(
         CheckIndex(field + ".index", info.index, model_.textures.size(), "textures"));
     GS_ASSIGN_OR_RETURN(*uv, ReadUvTransform(info, field));
+    GS_ASSIGN_OR_RETURN(*sampler, ReadSampler(model_, info.index));
     // The extension's texCoord overrides the textureInfo's.
     int tex_coord = info.texCoord;
     if (const auto it = info.extensions.find("KHR_texture_transform");
@@ -170,9 +210,9 @@ absl::StatusOr<Material> ReadMaterial(const tinygltf::Material& in, const std::s
   GS_RETURN_IF_ERROR(CheckRange(pbr_field + ".baseColorFactor", pbr.baseColorFactor, 0.0, 1.0));
   out.base_color_factor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1],
                                     pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
-  GS_ASSIGN_OR_RETURN(
-      out.base_color_texture,
-      images->Texture(pbr.baseColorTexture, pbr_field + ".baseColorTexture", &out.base_color_uv));
+  GS_ASSIGN_OR_RETURN(out.base_color_texture,
+                      images->Texture(pbr.baseColorTexture, pbr_field + ".baseColorTexture",
+                                      &out.base_color_uv, &out.base_color_sampler));
   GS_RETURN_IF_ERROR(CheckNumber(pbr_field + ".metallicFactor", pbr.metallicFactor, 0.0, 1.0));
   GS_RETURN_IF_ERROR(CheckNumber(pbr_field + ".roughnessFactor", pbr.roughnessFactor, 0.0, 1.0));
   out.metallic_factor = static_cast<float>(pbr.metallicFactor);
@@ -180,7 +220,8 @@ absl::StatusOr<Material> ReadMaterial(const tinygltf::Material& in, const std::s
   GS_ASSIGN_OR_RETURN(
       out.metallic_roughness_texture,
       images->Texture(pbr.metallicRoughnessTexture, pbr_field + ".metallicRoughnessTexture",
-                      &out.metallic_roughness_uv, /*srgb=*/false));
+                      &out.metallic_roughness_uv, &out.metallic_roughness_sampler,
+                      /*srgb=*/false));
   const DielectricFresnel fresnel = ClassifyDielectricSpecular(in);
   out.specular_f0 = fresnel.f0;
   out.specular_f90 = fresnel.f90;
@@ -203,9 +244,9 @@ absl::StatusOr<Material> ReadMaterial(const tinygltf::Material& in, const std::s
         glm::vec3(in.emissiveFactor[0], in.emissiveFactor[1], in.emissiveFactor[2]);
   }
   GS_ASSIGN_OR_RETURN(out.emissive_strength, EmissiveStrength(in, field));
-  GS_ASSIGN_OR_RETURN(
-      out.emissive_texture,
-      images->Texture(in.emissiveTexture, field + ".emissiveTexture", &out.emissive_uv));
+  GS_ASSIGN_OR_RETURN(out.emissive_texture,
+                      images->Texture(in.emissiveTexture, field + ".emissiveTexture",
+                                      &out.emissive_uv, &out.emissive_sampler));
   out.double_sided = in.doubleSided;
   return out;
 }
@@ -214,12 +255,13 @@ absl::StatusOr<Material> ReadMaterial(const tinygltf::Material& in, const std::s
 
 absl::Status ImportMaterials(const tinygltf::Model& model, const ImportOptions& options,
                              uint64_t* budget, Scene* scene) {
-  // Every texture must name an image, used or not.
+  // Every texture must name an image and a valid sampler, used or not.
   for (size_t t = 0; t < model.textures.size(); ++t) {
     const int source = model.textures[t].source;
     const std::string field = Item("textures", t) + ".source";
     if (source == -1) return absl::InvalidArgumentError(field + ": missing (no image)");
     GS_RETURN_IF_ERROR(CheckIndex(field, source, model.images.size(), "images"));
+    GS_RETURN_IF_ERROR(ReadSampler(model, int(t)).status());  // and a valid sampler
   }
   ImageLoader images(model, options, budget, &scene->images, &scene->import_warnings);
   for (size_t m = 0; m < model.materials.size(); ++m) {

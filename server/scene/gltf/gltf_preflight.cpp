@@ -607,6 +607,15 @@ absl::Status CheckTexture(const std::string& p, const json& v) {
   return CheckMembers(p, v, {{"source", Kind::kIndex}, {"sampler", Kind::kIndex}});
 }
 
+absl::Status CheckSampler(const std::string& p, const json& v) {
+  return CheckMembers(p, v,
+                      {{"magFilter", Kind::kInt},
+                       {"minFilter", Kind::kInt},
+                       {"wrapS", Kind::kInt},
+                       {"wrapT", Kind::kInt},
+                       {"name", Kind::kString}});
+}
+
 absl::Status CheckImage(const std::string& p, const json& v) {
   return CheckMembers(p, v,
                       {{"uri", Kind::kString},
@@ -662,6 +671,7 @@ absl::Status CheckTypes(const json& doc) {
   GS_RETURN_IF_ERROR(ForEach("", doc, "buffers", CheckBuffer));
   GS_RETURN_IF_ERROR(ForEach("", doc, "materials", CheckMaterial));
   GS_RETURN_IF_ERROR(ForEach("", doc, "textures", CheckTexture));
+  GS_RETURN_IF_ERROR(ForEach("", doc, "samplers", CheckSampler));
   GS_RETURN_IF_ERROR(ForEach("", doc, "images", CheckImage));
   GS_RETURN_IF_ERROR(ForEach("", doc, "cameras", CheckCamera));
   GS_RETURN_IF_ERROR(ForEach("", doc, "skins", CheckSkin));

@@ -105,6 +105,7 @@ void DrawList::Draw(const GpuScene& gpu, int view) const {
   }
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, 0);
   glBindVertexArray(0);
+  GpuScene::UnbindSamplers();
   for (GLuint a = GpuScene::kDrawModelAttrib; a <= GpuScene::kDrawTagAttrib; ++a) {
     glDisableVertexArrayAttrib(vao, a);
   }

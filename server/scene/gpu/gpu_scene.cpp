@@ -244,6 +244,22 @@ void GpuScene::UploadTextures(const Scene& scene) {
     gpu_bytes_ +=
         uint64_t(image.width) * uint64_t(image.height) * (image.is_float ? 16 : 4) * 4 / 3;
   }
+  for (const Material& m : scene.materials) {
+    for (const TextureSampler& t :
+         {m.base_color_sampler, m.emissive_sampler, m.metallic_roughness_sampler}) {
+      if (t == TextureSampler{} || samplers_.contains(t)) continue;
+      // glTF's sampler values are GL's enums (glTF 2.0 5.26); absent
+      // filters are the default texture's (linear, trilinear).
+      gl::Sampler sampler = gl::Sampler::Create();
+      glSamplerParameteri(sampler.id(), GL_TEXTURE_WRAP_S, t.wrap_s);
+      glSamplerParameteri(sampler.id(), GL_TEXTURE_WRAP_T, t.wrap_t);
+      glSamplerParameteri(sampler.id(), GL_TEXTURE_MAG_FILTER,
+                          t.mag_filter != 0 ? t.mag_filter : GL_LINEAR);
+      glSamplerParameteri(sampler.id(), GL_TEXTURE_MIN_FILTER,
+                          t.min_filter != 0 ? t.min_filter : GL_LINEAR_MIPMAP_LINEAR);
+      samplers_.emplace(t, std::move(sampler));
+    }
+  }
   Image white;
   white.width = white.height = 1;
   white.pixels8 = {255, 255, 255, 255};
@@ -337,6 +353,7 @@ void GpuScene::Draw(gl::Program& program, const SceneState& state, bool bind_tex
              std::max(instances, 1), d.base_vertex);
        });
   glBindVertexArray(0);
+  UnbindSamplers();
 }
 
 void GpuScene::BindMaterials() const {
@@ -353,14 +370,29 @@ MaterialTextures GpuScene::TexturesOf(const SceneState& state, const DrawItem& i
     return index >= 0 ? textures_[size_t(index)].id() : white_.id();
   };
   if (m == nullptr) return {white_.id(), white_.id(), white_.id()};
-  return {texture(m->base_color_texture), texture(m->emissive_texture),
-          texture(m->metallic_roughness_texture)};
+  return {texture(m->base_color_texture),         texture(m->emissive_texture),
+          texture(m->metallic_roughness_texture), SamplerOf(m->base_color_sampler),
+          SamplerOf(m->emissive_sampler),         SamplerOf(m->metallic_roughness_sampler)};
+}
+
+GLuint GpuScene::SamplerOf(const TextureSampler& sampler) const {
+  if (sampler == TextureSampler{}) return 0;
+  const auto it = samplers_.find(sampler);
+  return it != samplers_.end() ? it->second.id() : 0;
+}
+
+void GpuScene::UnbindSamplers() {
+  for (GLuint unit : {kBaseColorUnit, kEmissiveUnit, kMetallicRoughnessUnit})
+    glBindSampler(unit, 0);
 }
 
 void GpuScene::BindTextures(const MaterialTextures& textures) {
   glBindTextureUnit(kBaseColorUnit, textures.base_color);
   glBindTextureUnit(kEmissiveUnit, textures.emissive);
   glBindTextureUnit(kMetallicRoughnessUnit, textures.metallic_roughness);
+  glBindSampler(kBaseColorUnit, textures.base_color_sampler);
+  glBindSampler(kEmissiveUnit, textures.emissive_sampler);
+  glBindSampler(kMetallicRoughnessUnit, textures.metallic_roughness_sampler);
 }
 
 int GpuScene::PickLevel(const DrawItem& item, float scale, float tolerance) const {

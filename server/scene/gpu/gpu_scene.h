@@ -7,6 +7,8 @@
 
 #include <cstdint>
 #include <functional>
+#include <map>
+#include <memory>
 #include <vector>
 
 #include "gl/bindings.h"
@@ -94,6 +96,11 @@ struct MaterialTextures {
   GLuint base_color = 0;
   GLuint emissive = 0;
   GLuint metallic_roughness = 0;
+  // Each texture's sampler object (its glTF sampler); 0 for the default
+  // (repeat, trilinear: the texture's own parameters).
+  GLuint base_color_sampler = 0;
+  GLuint emissive_sampler = 0;
+  GLuint metallic_roughness_sampler = 0;
   auto operator<=>(const MaterialTextures&) const = default;
 };
 
@@ -157,6 +164,9 @@ class GpuScene {
   static int MaterialIndex(const SceneState& state, const DrawItem& item);
   MaterialTextures TexturesOf(const SceneState& state, const DrawItem& item) const;
   static void BindTextures(const MaterialTextures& textures);
+  // Units kBaseColorUnit.. back to their textures' own parameters (other
+  // passes use those unit numbers): Draw and a draw list call it when done.
+  static void UnbindSamplers();
 
   static constexpr GLuint kMaterialBinding = GS_BINDING_MATERIALS;
   static constexpr GLuint kBaseColorUnit = GS_UNIT_BASE_COLOR;
@@ -178,16 +188,19 @@ class GpuScene {
   MeshRanges AppendClusters(const Scene& scene, std::vector<uint32_t>& indices);
   // The vertex layout, and a draw list's per-instance records.
   void CreateVertexArray();
-  // One texture per scene image, the 1x1 white fallback, the environment.
+  // One texture per scene image, the 1x1 white fallback, the environment;
+  // a sampler object per distinct non-default glTF sampler the materials use.
   void UploadTextures(const Scene& scene);
+  GLuint SamplerOf(const TextureSampler& sampler) const;
 
   gl::VertexArray vao_;
   gl::Buffer vertices_;
   gl::Buffer indices_;
   gl::Buffer materials_;
-  std::vector<gl::Texture> textures_;  // per scene image
-  gl::Texture white_;                  // 1x1 fallback
-  gl::Texture environment_;            // empty when the scene has none
+  std::vector<gl::Texture> textures_;               // per scene image
+  gl::Texture white_;                               // 1x1 fallback
+  std::map<TextureSampler, gl::Sampler> samplers_;  // the non-default ones
+  gl::Texture environment_;                         // empty when the scene has none
   std::vector<DrawItem> draws_;
   std::vector<DrawLevel> levels_;
   std::vector<DrawCluster> clusters_;

@@ -7,33 +7,22 @@
 
 #include "scene/proxies/proxy_levels.h"
 #include "scene/proxies/surface_distance.h"
+#include "scene/texture_lookup.h"
 #include "solvers/brdf_albedo.h"
 #include "solvers/avg/tri_box_overlap.h"
 
 namespace gistream::avg {
-namespace {
-
-float SrgbToLinear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
-}  // namespace
 
 glm::vec3 MeanTextureColor(const Scene& scene, int image) {
   if (image < 0 || size_t(image) >= scene.images.size()) return glm::vec3(1.0f);
   const Image& img = scene.images[size_t(image)];
   const size_t texels = size_t(img.width) * size_t(img.height);
-  if (texels == 0) return glm::vec3(1.0f);
+  if (texels == 0 || (img.is_float ? img.pixelsf.size() : img.pixels8.size()) < 4 * texels) {
+    return glm::vec3(1.0f);
+  }
   glm::dvec3 sum(0.0);
-  for (size_t i = 0; i < texels; ++i) {
-    glm::vec3 c;
-    if (img.is_float) {
-      c = {img.pixelsf[4 * i], img.pixelsf[4 * i + 1], img.pixelsf[4 * i + 2]};
-    } else {
-      c = glm::vec3(img.pixels8[4 * i], img.pixels8[4 * i + 1], img.pixels8[4 * i + 2]) / 255.0f;
-      if (img.srgb) c = {SrgbToLinear(c.r), SrgbToLinear(c.g), SrgbToLinear(c.b)};
-    }
-    sum += glm::dvec3(c);
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width; ++x) sum += glm::dvec3(ImageTexel(img, x, y));
   }
   return glm::clamp(glm::vec3(sum / double(texels)), 0.0f, 1.0f);
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "scene/texture_lookup.h"
 #include "solvers/brdf_albedo.h"
 #include "solvers/hierarchy/element_source.h"
 #include "solvers/hierarchy/subdivide.h"
@@ -10,27 +11,6 @@
 #include "util/parallel_for.h"
 
 namespace gistream {
-namespace {
-
-float SrgbToLinear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
-// Nearest texel of an 8-bit or float image at uv (repeat), linear RGB.
-glm::vec3 Texel(const Image& image, glm::vec2 uv) {
-  if (image.width <= 0 || image.height <= 0) return glm::vec3(1.0f);
-  uv -= glm::floor(uv);
-  const int x = std::clamp(int(uv.x * float(image.width)), 0, image.width - 1);
-  const int y = std::clamp(int(uv.y * float(image.height)), 0, image.height - 1);
-  const size_t i = (size_t(y) * size_t(image.width) + size_t(x)) * 4;
-  if (image.is_float) return {image.pixelsf[i], image.pixelsf[i + 1], image.pixelsf[i + 2]};
-  glm::vec3 c(image.pixels8[i], image.pixels8[i + 1], image.pixels8[i + 2]);
-  c /= 255.0f;
-  if (image.srgb) c = {SrgbToLinear(c.x), SrgbToLinear(c.y), SrgbToLinear(c.z)};
-  return c;
-}
-
-}  // namespace
 
 // Build's element meshes, one per key: (mesh, primitive) in first-use
 // order, a deforming node's instance keyed (-1 - node, primitive) (its
@@ -226,11 +206,17 @@ void SceneElements::UpdateAlbedo(const SceneState& state) {
     const size_t offset = size_t(elements_.instances()[i].leaf_offset);
     for (size_t v = 0; v < p.positions.size(); ++v) {
       glm::vec3 a = factor;
-      if (texture && v < p.uvs.size()) a *= Texel(*texture, m->base_color_uv.Apply(p.uvs[v]));
+      if (texture && v < p.uvs.size()) {
+        // The nearest texel at the vertex (an element's albedo is its
+        // vertex's), wrapped by the texture's sampler.
+        a *= SampleImage(*texture, m->base_color_uv.Apply(p.uvs[v]), m->base_color_sampler,
+                         TextureFilter::kNearest);
+      }
       a = glm::clamp(a, 0.0f, 1.0f);  // as the G-buffer and the path tracer
       glm::vec2 mr = pbr;
       if (pbr_texture && v < p.uvs.size()) {  // B: metallic, G: roughness
-        const glm::vec3 t = Texel(*pbr_texture, m->metallic_roughness_uv.Apply(p.uvs[v]));
+        const glm::vec3 t = SampleImage(*pbr_texture, m->metallic_roughness_uv.Apply(p.uvs[v]),
+                                        m->metallic_roughness_sampler, TextureFilter::kNearest);
         mr *= glm::vec2(t.b, t.g);
       }
       // The links are diffuse, so a glossy leaf passes on what its BRDF

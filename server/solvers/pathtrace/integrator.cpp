@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "scene/texture_lookup.h"
+
 namespace gistream::pathtrace {
 
 using namespace shading;  // the shared BRDF and sampling (solvers/shading/)
@@ -11,29 +13,6 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
-
-float SrgbToLinear(uint8_t v) {
-  const float c = float(v) / 255.0f;
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
-
-// Bilinear lookup of an 8-bit sRGB texture with wrap-around addressing.
-glm::vec3 SampleTexture(const Image& image, glm::vec2 uv) {
-  if (image.width <= 0 || image.height <= 0 || image.pixels8.empty()) return glm::vec3(1.0f);
-  const float x = (uv.x - std::floor(uv.x)) * float(image.width) - 0.5f;
-  const float y = (uv.y - std::floor(uv.y)) * float(image.height) - 0.5f;
-  const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
-  const float fx = x - float(x0), fy = y - float(y0);
-  auto texel = [&](int tx, int ty) {
-    tx = ((tx % image.width) + image.width) % image.width;
-    ty = ((ty % image.height) + image.height) % image.height;
-    const uint8_t* p = &image.pixels8[(size_t(ty) * size_t(image.width) + size_t(tx)) * 4];
-    return image.srgb ? glm::vec3(SrgbToLinear(p[0]), SrgbToLinear(p[1]), SrgbToLinear(p[2]))
-                      : glm::vec3(p[0], p[1], p[2]) / 255.0f;
-  };
-  return glm::mix(glm::mix(texel(x0, y0), texel(x0 + 1, y0), fx),
-                  glm::mix(texel(x0, y0 + 1), texel(x0 + 1, y0 + 1), fx), fy);
-}
 
 }  // namespace
 
@@ -54,8 +33,8 @@ Integrator::Surface Integrator::Shade(const Hit& hit, const glm::vec3& dir) cons
   glm::vec3 albedo = m ? glm::vec3(m->base_color_factor) : glm::vec3(1.0f);
   const glm::vec2 uv = w * t.uv0 + hit.u * t.uv1 + hit.v * t.uv2;
   if (m && m->base_color_texture >= 0) {
-    albedo *= SampleTexture(state_.scene().images[size_t(m->base_color_texture)],
-                            m->base_color_uv.Apply(uv));
+    albedo *= SampleImage(state_.scene().images[size_t(m->base_color_texture)],
+                          m->base_color_uv.Apply(uv), m->base_color_sampler);
   }
   s.brdf.base_color = glm::clamp(albedo, 0.0f, 1.0f);
   if (m) {
@@ -66,8 +45,8 @@ Integrator::Surface Integrator::Shade(const Hit& hit, const glm::vec3& dir) cons
     if (m->metallic_roughness_texture >= 0) {
       // glTF 2.0 3.9.2: B metallic, G roughness, linear.
       const glm::vec3 mr =
-          SampleTexture(state_.scene().images[size_t(m->metallic_roughness_texture)],
-                        m->metallic_roughness_uv.Apply(uv));
+          SampleImage(state_.scene().images[size_t(m->metallic_roughness_texture)],
+                      m->metallic_roughness_uv.Apply(uv), m->metallic_roughness_sampler);
       s.brdf.metallic = std::clamp(s.brdf.metallic * mr.b, 0.0f, 1.0f);
       s.brdf.roughness = std::clamp(s.brdf.roughness * mr.g, 0.0f, 1.0f);
     }
@@ -100,7 +79,8 @@ glm::vec3 Integrator::Emission(const Triangle& t, float u, float v) const {
   glm::vec3 e = m.emission();
   if (m.emissive_texture >= 0) {
     const glm::vec2 uv = (1.0f - u - v) * t.uv0 + u * t.uv1 + v * t.uv2;
-    e *= SampleTexture(state_.scene().images[size_t(m.emissive_texture)], m.emissive_uv.Apply(uv));
+    e *= SampleImage(state_.scene().images[size_t(m.emissive_texture)], m.emissive_uv.Apply(uv),
+                     m.emissive_sampler);
   }
   return e;
 }
