@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "solvers/brdf_albedo.h"
 
@@ -29,6 +30,20 @@ TailEstimate EstimateTail(const std::vector<double>& deltas, double albedo_bound
   t.applied = t.spread <= kTailStability;
   if (!t.applied) t.ratio = 0.0;
   return t;
+}
+
+double TailResidual(const std::vector<double>& deltas, const std::vector<double>& totals,
+                    double albedo_bound) {
+  constexpr double kNone = std::numeric_limits<double>::infinity();
+  const size_t n = std::min(deltas.size(), totals.size());
+  if (n == 0) return kNone;
+  const TailEstimate t = EstimateTail({deltas.begin(), deltas.begin() + long(n)}, albedo_bound);
+  if (!t.applied || t.ratios < 3) return kNone;
+  const double r = t.ratio, d = deltas[n - 1];
+  const double estimate = totals[n - 1] + r / (1.0 - r) * d;
+  if (!(estimate > 0.0) || !std::isfinite(estimate) || !(d >= 0.0)) return kNone;
+  const double residual = t.spread * r / ((1.0 - r) * (1.0 - r)) * d / estimate;
+  return std::isfinite(residual) ? residual : kNone;
 }
 
 double MonotoneTailFactor(const std::vector<double>& deltas, const std::vector<double>& totals,

@@ -57,6 +57,17 @@ TailEstimate EstimateTail(const std::vector<double>& deltas, double albedo_bound
 double MonotoneTailFactor(const std::vector<double>& deltas, const std::vector<double>& totals,
                           double albedo_bound = kMaxTailRatio);
 
+// How far the tail-corrected estimate S_n + f d_n (f = r / (1 - r), r from
+// EstimateTail over all of `deltas`) may still be from the series' sum,
+// relative to it: a ratio known to within its measured spread s (r lies in
+// [r (1 - s), r]) moves f by up to s r / (1 - r)^2, so the tail by that
+// times d_n. An iterative solver may stop once this is below its
+// tolerance: the bounces it would still run mostly confirm the tail
+// (sh_probes). Needs three stable ratios (five bounces: the ratios from
+// the third on); else +infinity. `totals[k]`: the sum after bounce k + 1.
+double TailResidual(const std::vector<double>& deltas, const std::vector<double>& totals,
+                    double albedo_bound = kMaxTailRatio);
+
 // The scene's largest albedo (base colour factors and, for glossy
 // materials, their white-sky albedo; textures only scale them down): the
 // bound on a closed scene's bounce ratio.

@@ -1,6 +1,7 @@
 // The iterative solvers' geometric tail estimate (solvers/tail_estimate.h):
 // never above what the measured bounce ratios support.
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -113,6 +114,33 @@ TEST(TailEstimate, MonotoneFactorNeverLowersTheEstimateWhenRatiosDriftDown) {
   }
   // No tail at the last bounce: no factor.
   EXPECT_EQ(MonotoneTailFactor({1.0, 0.5, 0.4, 0.2}, {1.0, 1.5, 1.9, 2.1}), 0.0);
+}
+
+// TailResidual: the tail-corrected sum's uncertainty from the ratios'
+// spread, s r / (1 - r)^2 d_n over S_n + r / (1 - r) d_n; +inf before three
+// ratios (five bounces) or without a tail.
+TEST(TailEstimate, ResidualIsTheSpreadThroughTheTailFactor) {
+  const auto series = [](std::vector<double> ratios) {
+    std::vector<double> d = {1.0}, totals = {1.0};
+    for (double r : ratios) {
+      d.push_back(d.back() * r);
+      totals.push_back(totals.back() + d.back());
+    }
+    return std::pair{d, totals};
+  };
+  // An exact geometric series: no spread, nothing left to know.
+  const auto [d, t] = series({0.9, 0.9, 0.9, 0.9});
+  EXPECT_EQ(TailResidual(d, t), 0.0);
+  // Four bounces give two ratios: not enough.
+  EXPECT_TRUE(std::isinf(TailResidual({d.begin(), d.end() - 1}, {t.begin(), t.end() - 1})));
+  // Ratios 0.95, 0.96, 0.97 (3rd bounce on): r = 0.95, spread 0.02 / 0.97.
+  const auto [d2, t2] = series({0.5, 0.95, 0.96, 0.97});
+  const double r = 0.95, s = 0.02 / 0.97, dn = d2.back();
+  const double expected = s * r / ((1 - r) * (1 - r)) * dn / (t2.back() + r / (1 - r) * dn);
+  EXPECT_NEAR(TailResidual(d2, t2), expected, 1e-12);
+  // An unstable series (no tail): +inf.
+  const auto [d3, t3] = series({0.5, 0.9, 0.5, 0.9});
+  EXPECT_TRUE(std::isinf(TailResidual(d3, t3)));
 }
 
 }  // namespace

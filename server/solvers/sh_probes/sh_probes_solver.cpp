@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "gl/buffers.h"
@@ -216,6 +217,7 @@ absl::Status ShProbesSolver::StartSolve(SolverContext& ctx, ChangeMask changes,
   dc_luminance_.assign(size_t(layout_.probes()), 0.0f);
   bounces_run_ = 0;
   bounce_change_ = 0.0;
+  tail_residual_ = std::numeric_limits<double>::infinity();
   cap_reached_ = false;
   tail_applied_ = false;
   tail_ratio_ = 0.0;
@@ -326,7 +328,14 @@ void ShProbesSolver::EndSolveBounce(SolverContext& ctx) {
   full_.change = full_.total = 0.0;
   glCopyNamedBufferSubData(coefficients_.id(), shown_coefficients_.id(), 0, 0,
                            GLsizeiptr(sh::kMaxCoefficients) * layout_.probes() * 16);
-  if ((full_.bounce >= 2 && bounce_change_ < settings_.tolerance) ||
+  // With the tail on, the solve also ends once the tail-corrected sum is
+  // known within the tolerance (TailResidual: the measured ratios' spread
+  // through r / (1 - r)); in a bright interior the increments shrink too
+  // slowly for the increment test, which ran to the 32-bounce cap.
+  tail_residual_ = settings_.tail_estimate
+                       ? TailResidual(full_.deltas, full_.totals, LargestAlbedo(ctx.state))
+                       : std::numeric_limits<double>::infinity();
+  if ((full_.bounce >= 2 && bounce_change_ < settings_.tolerance) || TailSettled() ||
       full_.bounce >= settings_.bounces) {
     FinishSolve(ctx);
   } else {
@@ -338,7 +347,7 @@ void ShProbesSolver::EndSolveBounce(SolverContext& ctx) {
 void ShProbesSolver::FinishSolve(SolverContext& ctx) {
   full_.active = false;
   // Stopped by the count, not by the tolerance (a count of 1 cannot test).
-  cap_reached_ = bounces_run_ >= 2 && !(bounce_change_ < settings_.tolerance);
+  cap_reached_ = bounces_run_ >= 2 && !(bounce_change_ < settings_.tolerance) && !TailSettled();
   if (settings_.tail_estimate) {
     // Geometric tail: increments shrink by r per bounce, so the bounces not
     // run add sum_{j>=1} r^j = r / (1 - r) times the last one. r is the
@@ -402,6 +411,7 @@ absl::Status ShProbesSolver::Progress(SolverContext& ctx, ChangeMask changes) {
     if (!ran) ctx.timer.Skip(s);
   }
   bounce_change_ = schedule_.last_sweep_change();  // a sweep's, not a bounce's
+  tail_residual_ = std::numeric_limits<double>::infinity();
   cap_reached_ = schedule_.cap_reached();
   if (ran) {
     gl::StageTimer::Scope stage(ctx.timer, "sh_project");
@@ -635,7 +645,8 @@ SolverStats ShProbesSolver::Stats() const {
           {"atlas_texels", double(layout_.texels())},
           {"bounces_run", double(bounces_run_)},
           {"bounce_change", bounce_change_},
-          {"residual", bounce_change_},
+          {"residual", TailSettled() ? tail_residual_ : bounce_change_},
+          {"tail_residual", std::isfinite(tail_residual_) ? tail_residual_ : -1.0},
           {"cap_reached", cap_reached_ ? 1.0 : 0.0},
           {"probes_pending",
            full_.active ? double(layout_.probes() - full_.next) : double(schedule_.remaining())},

@@ -161,6 +161,9 @@ class ShProbesSolver final : public Solver {
   int bounces_run_ = 0;
   int invalid_probes_ = 0;
   double bounce_change_ = 0.0;
+  // TailResidual after the last bounce of a full solve (+inf: none).
+  double tail_residual_ = 0.0;
+  bool TailSettled() const { return tail_residual_ < settings_.tolerance; }
   bool cap_reached_ = false;
   double tail_ratio_ = 0.0;
   double tail_spread_ = 0.0;
