@@ -166,7 +166,7 @@ const std::vector<FurnaceCase> kDefaultsCases = {
     // 0.3 %: the G-buffer's 8-bit albedo.
     {"direct", 0.9f, {}, 0.003},
     {"direct", 0.999f, {}, 0.003},
-    // Measured 1.0004 / 0.994 / 0.992 after 5 bounces each (TailResidual
+    // Measured 1.0004 / 0.996 / 0.996 after 5-6 bounces (TailResidual
     // ends the solve; were 0.9996 / 0.972 / 0.681 while the probes' albedo
     // was a half float, truncated to 0.998535 for 0.999: probe_grid.cpp).
     {"sh_probes", 0.9f, {}, 0.02},

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "gl/buffers.h"
 #include "solvers/tail_estimate.h"
@@ -191,6 +192,16 @@ Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_b
     result.bounces = bounce;
     // The first bounce's residual is 1 by definition (from nothing).
     if (bounce >= 2 && result.residual < tolerance) {
+      finish();
+      return result;
+    }
+    // In a bright scene the increments shrink too slowly for that test;
+    // the tail-corrected sum may be known long before (tail_estimate.h).
+    const double tail_residual = tail_bound > 0.0 ? TailResidual(deltas, totals, tail_bound)
+                                                  : std::numeric_limits<double>::infinity();
+    if (TailSettled(tail_residual, tolerance)) {
+      result.residual = tail_residual;
+      result.tail_stopped = true;
       finish();
       return result;
     }

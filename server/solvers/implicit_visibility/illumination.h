@@ -31,7 +31,10 @@ class Illumination {
 
   struct Result {
     int bounces = 0;
-    double residual = 0.0;      // sum |dE| / sum |E| of the last bounce (luminance)
+    // sum |dE| / sum |E| of the last bounce (luminance), or the tail's
+    // TailResidual when that ended the solve (tail_stopped).
+    double residual = 0.0;
+    bool tail_stopped = false;  // ended once the tail-corrected sum was known
     bool monotone = true;       // no leaf's indirect luminance fell between bounces
     bool cap_reached = false;   // stopped by max_bounces with residual >= tolerance
     bool cancelled = false;     // stopped by `stop` (the frame's cancellation)
@@ -40,8 +43,9 @@ class Illumination {
   };
   // Direct light at the leaves, then gathers with pull-ups until a
   // bounce's residual is below `tolerance` (from the second bounce on; 0:
-  // never) or `max_bounces` ran, or `stop` is requested (checked every
-  // bounce). Leaves the indirect irradiance per leaf in indirect().
+  // never), or with a tail the tail-corrected sum is known within it
+  // (TailResidual, as sh_probes), or `max_bounces` ran, or `stop` is
+  // requested (checked every bounce). Leaves the indirect irradiance per leaf in indirect().
   // `tail_bound` > 0: then adds the geometric tail of the bounces not run
   // (solvers/tail_estimate.h; its ratio at most `tail_bound`, the scene's
   // largest albedo): each leaf's indirect irradiance gets f x its last

@@ -381,6 +381,7 @@ SolverStats ImplicitVisibilitySolver::Stats() const {
       {"bounces_run", double(result_.bounces)},
       {"residual", result_.residual},
       {"cap_reached", result_.cap_reached ? 1.0 : 0.0},
+      {"tail_stopped", result_.tail_stopped ? 1.0 : 0.0},
       {"monotone", result_.monotone ? 1.0 : 0.0},
       {"tail_applied", result_.tail_applied ? 1.0 : 0.0},
       {"tail_ratio", result_.tail_ratio},

@@ -23,6 +23,7 @@
 #include "solvers/sh_probes/probe_grid.h"
 #include "solvers/sh_probes/probe_raster.h"
 #include "solvers/sh_probes/probe_schedule.h"
+#include "solvers/tail_estimate.h"
 #include "solvers/memory_estimate.h"
 #include "solvers/work_estimate.h"
 #include "solvers/solver.h"
@@ -163,7 +164,7 @@ class ShProbesSolver final : public Solver {
   double bounce_change_ = 0.0;
   // TailResidual after the last bounce of a full solve (+inf: none).
   double tail_residual_ = 0.0;
-  bool TailSettled() const { return tail_residual_ < settings_.tolerance; }
+  bool TailSettled() const { return gistream::TailSettled(tail_residual_, settings_.tolerance); }
   bool cap_reached_ = false;
   double tail_ratio_ = 0.0;
   double tail_spread_ = 0.0;
