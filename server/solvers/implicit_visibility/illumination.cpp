@@ -122,6 +122,21 @@ void Illumination::ApplyTail(const std::vector<glm::vec4>& current,
     glNamedBufferSubData(e_indirect_.id(), 0, GLsizeiptr(e.size() * sizeof(glm::vec4)), e.data());
 }
 
+void Illumination::Gather(int in) {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_LEAVES, leaves_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_DIRECT_E, e_direct_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_ENV_E, e_env_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_OFFSETS, offsets_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_LINKS, links_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_RADIANCE_IN, radiance_[in].id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_RADIANCE_OUT, radiance_[1 - in].id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_INDIRECT_E, e_indirect_.id());
+  gather_.Set("uLeafCount", leaf_count_);
+  gather_.Use();
+  glDispatchCompute(gl::GroupCount(size_t(leaf_count_), 64), 1, 1);
+  glMemoryBarrier(kBarrier);
+}
+
 Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_bounces,
                                        double tolerance, double tail_bound,
                                        const std::stop_token& stop) {
@@ -162,18 +177,7 @@ Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_b
       result.cancelled = true;
       return result;
     }
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_LEAVES, leaves_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_DIRECT_E, e_direct_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_ENV_E, e_env_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_OFFSETS, offsets_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_LINKS, links_.id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_RADIANCE_IN, radiance_[in].id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_RADIANCE_OUT, radiance_[1 - in].id());
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_INDIRECT_E, e_indirect_.id());
-    gather_.Set("uLeafCount", leaf_count_);
-    gather_.Use();
-    glDispatchCompute(gl::GroupCount(size_t(leaf_count_), 64), 1, 1);
-    glMemoryBarrier(kBarrier);
+    Gather(in);
     in = 1 - in;
     Pull(radiance_[in].id());
     // Residual of this bounce (the change it made): the stopping test.

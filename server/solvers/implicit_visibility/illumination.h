@@ -57,6 +57,9 @@ class Illumination {
   uint64_t gpu_bytes() const { return gpu_bytes_; }
 
  private:
+  // One bounce: every leaf gathers over its links from radiance_[in] into
+  // radiance_[1 - in] and e_indirect_.
+  void Gather(int in);
   void Pull(GLuint radiance);
   std::vector<glm::vec4> ReadIndirect() const;
   // e_indirect = current + f (current - previous), per leaf (RGB).
