@@ -10,14 +10,6 @@ float SrgbToLinear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
 
-glm::vec3 ImageTexelIn(const Image& image, int x, int y) {
-  const size_t i = (size_t(y) * size_t(image.width) + size_t(x)) * 4;
-  if (image.is_float) return {image.pixelsf[i], image.pixelsf[i + 1], image.pixelsf[i + 2]};
-  glm::vec3 c = glm::vec3(image.pixels8[i], image.pixels8[i + 1], image.pixels8[i + 2]) / 255.0f;
-  if (image.srgb) c = {SrgbToLinear(c.x), SrgbToLinear(c.y), SrgbToLinear(c.z)};
-  return c;
-}
-
 // uv moved by whole periods of `wrap` (1 for repeat, 2 for mirrored
 // repeat; clamped to [-1, 2] for clamp to edge) so any finite coordinate
 // becomes a small texel index with the same texels; non-finite: 0.
@@ -32,7 +24,13 @@ float Reduce(float u, int wrap) {
 
 }  // namespace
 
-glm::vec3 ImageTexel(const Image& image, int x, int y) { return ImageTexelIn(image, x, y); }
+glm::vec3 ImageTexel(const Image& image, int x, int y) {
+  const size_t i = (size_t(y) * size_t(image.width) + size_t(x)) * 4;
+  if (image.is_float) return {image.pixelsf[i], image.pixelsf[i + 1], image.pixelsf[i + 2]};
+  glm::vec3 c = glm::vec3(image.pixels8[i], image.pixels8[i + 1], image.pixels8[i + 2]) / 255.0f;
+  if (image.srgb) c = {SrgbToLinear(c.x), SrgbToLinear(c.y), SrgbToLinear(c.z)};
+  return c;
+}
 
 int WrapTexel(int i, int size, int wrap) {
   if (size <= 1) return 0;
@@ -58,8 +56,8 @@ glm::vec3 SampleImage(const Image& image, glm::vec2 uv, const TextureSampler& sa
   const float x = Reduce(uv.x, sampler.wrap_s) * float(image.width);
   const float y = Reduce(uv.y, sampler.wrap_t) * float(image.height);
   const auto at = [&](int tx, int ty) {
-    return ImageTexelIn(image, WrapTexel(tx, image.width, sampler.wrap_s),
-                        WrapTexel(ty, image.height, sampler.wrap_t));
+    return ImageTexel(image, WrapTexel(tx, image.width, sampler.wrap_s),
+                      WrapTexel(ty, image.height, sampler.wrap_t));
   };
   if (filter == TextureFilter::kNearest || sampler.mag_filter == TextureSampler::kNearest) {
     return at(int(std::floor(x)), int(std::floor(y)));

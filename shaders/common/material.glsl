@@ -17,12 +17,12 @@ vec2 TextureUv(Material m, int k, vec2 uv) {
 
 // Texture k of m at uv, its level of detail from the derivatives of uv
 // (the interpolated coordinates) carried through the transform's linear
-// part. Implicit derivatives of TextureUv's result are not used: the
-// transform is read from the materials buffer, which llvmpipe's helper
-// invocations (a quad's pixels outside the triangle) read as zeros, so
-// along every triangle edge the differences were garbage, a high mip level
-// was picked and the texture blurred there (a dotted seam down each quad's
-// diagonal: TextureTransform.TheSamplerFiltersBetweenTexels).
+// part. Implicit derivatives of TextureUv's result gave a high mip level
+// along every triangle edge on llvmpipe (the uv's own derivatives were
+// right there, printed from this pass; the transform comes from the
+// materials buffer, which helper invocations, a quad's pixels outside the
+// triangle, seem to read as zeros): a dotted seam down each quad's
+// diagonal, TextureTransform.TheSamplerFiltersBetweenTexels.
 vec4 MaterialTexture(sampler2D tex, Material m, int k, vec2 uv) {
   vec2 dx = dFdx(uv), dy = dFdy(uv);
   vec2 a = m.uv_transform[2 * k].xy, b = m.uv_transform[2 * k + 1].xy;

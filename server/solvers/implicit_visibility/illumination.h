@@ -43,9 +43,10 @@ class Illumination {
   };
   // Direct light at the leaves, then gathers with pull-ups until a
   // bounce's residual is below `tolerance` (from the second bounce on; 0:
-  // never), or with a tail the tail-corrected sum is known within it
-  // (TailResidual, as sh_probes), or `max_bounces` ran, or `stop` is
-  // requested (checked every bounce). Leaves the indirect irradiance per leaf in indirect().
+  // never), or with a tail the tail-corrected sum is known well within it
+  // (TailSettled, as sh_probes), or `max_bounces` ran, or `stop` is
+  // requested (checked every bounce). Leaves the indirect irradiance per
+  // leaf in indirect().
   // `tail_bound` > 0: then adds the geometric tail of the bounces not run
   // (solvers/tail_estimate.h; its ratio at most `tail_bound`, the scene's
   // largest albedo): each leaf's indirect irradiance gets f x its last
