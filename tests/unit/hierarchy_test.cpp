@@ -1,8 +1,8 @@
 // The element hierarchy and implicit-visibility links (Dong et al. 2007,
 // server/solvers/hierarchy/) on the CPU, without GL: cube-map bins, the
 // transfer between two small discs against the analytic form factor, a
-// blocker that removes the link behind it, and hierarchical against
-// brute-force linking.
+// blocker that removes the link behind it, a silhouette's bins shared with
+// what is behind it, and hierarchical against brute-force linking.
 #include <cmath>
 #include <memory>
 
@@ -244,6 +244,52 @@ TEST(HierarchyLinks, HierarchicalMatchesBruteForce) {
   }
   EXPECT_LT(diff / sum, 0.05) << "mean relative difference";
   EXPECT_LT(hier.link_stats.offered, brute.link_stats.offered) << "the hierarchy links less";
+}
+
+// Form factor from a point to a parallel w x w square centred above it at
+// height h (four corner rectangles, Howell's catalogue B-3):
+// F = 4 (1/2pi) [X/sqrt(1+X^2) atan(Y/sqrt(1+X^2)) + (X<->Y)], X = Y = w/2h.
+double PointToSquare(double w, double h) {
+  const double x = 0.5 * w / h, s = std::sqrt(1.0 + x * x);
+  return 4.0 / (2.0 * kPi) * 2.0 * (x / s) * std::atan(x / s);
+}
+
+TEST(HierarchyLinks, ASilhouetteSharesItsBinsWithWhatIsBehind) {
+  // A small receiver looks up at a bright w x w square (radiance 1) 1 m
+  // above it, in front of a dim plane (radiance 0.2) 3 m above it that fills
+  // the rest of its view. Exactly: E / pi = F_sq + 0.2 (F_plane - F_sq), the
+  // square hiding the part of the plane of its own solid angle. Eq. 5 gives
+  // a bin on the square's outline wholly to the nearest element, the square;
+  // such bins are shared half and half with the element behind instead
+  // (refine_push.cpp: an outline crossing a bin at a random place leaves
+  // half of it on each side on average). One width can be off either way
+  // (an outline on a bin's border is split all the same); over widths
+  // 0.5-1.2 m the mean is right. Measured: the square's share 1.016 / 0.960
+  // of F_sq at N = 8 / 12 (1.472 / 1.280 without sharing), the total 0.9995
+  // / 0.985 (1.182 / 1.111). Tolerances 6 % and 3 %.
+  for (const int n : {8, 12}) {
+    double square_sum = 0, total_sum = 0;
+    int cases = 0;
+    for (float w = 0.5f; w < 1.225f; w += 0.05f, ++cases) {
+      Elements e({{Disc(0.01f), 0, {}}, {Patch(24, w), 0, {}}, {Patch(48, 24.0f), 0, {}}});
+      e.Update({glm::mat4(1.0f), FacingDown(1.0f), FacingDown(3.0f)});
+      const Solution s = Solve(e, n);
+      auto gathered = [&](float square, float plane) {
+        std::vector<glm::vec3> radiance(size_t(e.node_count()), glm::vec3(0.0f));
+        for (int leaf = 0; leaf < e.leaf_count(); ++leaf) {
+          const int instance = e.instance_of_leaf[size_t(leaf)];
+          radiance[size_t(leaf)] = glm::vec3(instance == 1 ? square : instance == 2 ? plane : 0.0f);
+        }
+        PullUp(e, radiance);
+        return double(Gather(s.links, radiance)[0].x) / kPi;
+      };
+      const double sq = PointToSquare(w, 1.0), plane = PointToSquare(24.0, 3.0);
+      square_sum += gathered(1.0f, 0.0f) / sq;
+      total_sum += gathered(1.0f, 0.2f) / (sq + 0.2 * (plane - sq));
+    }
+    EXPECT_NEAR(square_sum / cases, 1.0, 0.06) << "the square's share, N = " << n;
+    EXPECT_NEAR(total_sum / cases, 1.0, 0.03) << "the receiver's irradiance, N = " << n;
+  }
 }
 
 TEST(HierarchyElements, UpdateFollowsTransformsAndScalesAreas) {

@@ -15,6 +15,14 @@ constexpr float kSnapCoverage = 0.5f;
 // Passes that fill bins from a neighbour whose element's disc their
 // direction meets (a band near the horizon is a few bins deep).
 constexpr int kDiscFillPasses = 4;
+// A bin on a silhouette (a neighbouring bin's shortest link lies at least
+// kSilhouetteRatio times farther, off the near element's plane by at least
+// kOffPlane of the depth step) is shared between the near element and the
+// one behind it: kSilhouetteShare each, the mean fraction of a bin that an
+// edge crossing it leaves on either side.
+constexpr float kSilhouetteRatio = 1.15f;
+constexpr float kOffPlane = 0.1f;
+constexpr float kSilhouetteShare = 0.5f;
 
 // The four bins next to each bin on the cube (across face edges too): the
 // bin's centre on the unit cube moved by one bin width along each of its
@@ -158,8 +166,14 @@ class LeafBins {
       } else {
         const int src = BinTable::Other(best);
         // The source sends light only from its front (a back face blocks).
-        if (glm::dot(elements_.normal[size_t(src)], p_ - elements_.position[size_t(src)]) > 0.0f) {
-          const float w = quadrature * cover;
+        const int behind = Background(b, best);
+        const float front_share = behind >= 0 ? kSilhouetteShare : 1.0f;
+        if (behind >= 0 && Faces(behind)) {
+          row.source.push_back(uint32_t(behind));
+          row.weight.push_back(quadrature * cover * (1.0f - front_share));
+        }
+        if (Faces(src)) {
+          const float w = quadrature * cover * front_share;
           if (w > 0.0f) {
             row.source.push_back(uint32_t(src));
             row.weight.push_back(w);
@@ -177,6 +191,32 @@ class LeafBins {
 
  private:
   bool Up(int b) const { return glm::dot(n_, bins_.Direction(b)) > 0.0f; }
+  bool Faces(int src) const {
+    return glm::dot(elements_.normal[size_t(src)], p_ - elements_.position[size_t(src)]) > 0.0f;
+  }
+
+  // The element behind a silhouette: a neighbouring bin's link that lies
+  // well beyond this bin's and off its element's plane (a grazing view of
+  // one plane has distances that grow from bin to bin, but stays in it).
+  int Background(int b, uint64_t best) const {
+    const int src = BinTable::Other(best);
+    const float near = BinTable::Distance(best);
+    const glm::vec3 ps = elements_.position[size_t(src)], ns = elements_.normal[size_t(src)];
+    int out = -1;
+    float far = near * kSilhouetteRatio;
+    for (const int o : neighbours_[size_t(b)]) {
+      const uint64_t e = best_of_[size_t(o)];
+      if (!Up(o) || e == BinTable::kEmpty) continue;
+      const float d = BinTable::Distance(e);
+      if (!(d > far)) continue;
+      const int other = BinTable::Other(e);
+      if (std::abs(glm::dot(ns, elements_.position[size_t(other)] - ps)) < kOffPlane * (d - near))
+        continue;
+      far = d;
+      out = other;
+    }
+    return out;
+  }
 
   // A bin of the upper hemisphere whose upper-hemisphere neighbours all
   // hold a link lies inside a covered region of the leaf's view.
