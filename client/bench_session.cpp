@@ -169,11 +169,17 @@ void BenchSession::ReadLoop() {
       }
     }
     // Measuring error over time (keep_settle_frames_, --reference-spp),
-    // the interaction starts from a finished solve: updates wait for the
-    // first frame whose GI update is complete (a continuous stream of
-    // moves before it measured the first solve's wait, not catching up).
-    if (!keep_settle_frames_ || frame.stats().find("update_complete") == frame.stats().end() ||
-        frame.stats().at("update_complete") != 0.0) {
+    // the interaction starts from the picture a viewer was looking at: updates
+    // wait for the first frame whose GI update is complete and whose still
+    // picture is refined (a continuous stream of moves before it measured
+    // the first solve's wait, not catching up; an older server sends
+    // neither stat).
+    const auto stat = [&](const char* name, double absent) {
+      const auto it = frame.stats().find(name);
+      return it == frame.stats().end() ? absent : it->second;
+    };
+    if (!keep_settle_frames_ || (stat("update_complete", 1.0) != 0.0 &&
+                                 stat("refine_samples", 1.0) >= stat("refine_target", 1.0))) {
       first_frame_ = true;
     }
     if (!first_frame_) continue;

@@ -154,6 +154,10 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
                              the new picture's colours, faded out by the last
                              sample); 0: a change restarts the picture
                              (default 0, at most 64)
+  --refine-carry 0|1         carry a complete picture's anti-aliasing over a
+                             change under a still camera, scaled by the
+                             change of light at each pixel centre and dropped
+                             where geometry moved (default 1)
   --version                  print "gistreamd VERSION" and exit
   --list-solvers             print the registered solvers, one name per line,
                              and exit
@@ -312,6 +316,8 @@ void AddEngineFlags(Flags& f, Setters& setters) {
        Unsigned<uint32_t>(f.engine.refine_samples, 1, EngineOptions::kMaxRefineSamples)},
       {"--refine-history",
        Unsigned<uint32_t>(f.engine.refine_history, 0, EngineOptions::kMaxRefineHistory)},
+      {"--refine-carry",
+       [&](auto flag, auto v) { f.engine.refine_carry = ParseInt(flag, v, 0, 1) != 0; }},
   });
 }
 

@@ -298,6 +298,10 @@ struct EngineOptions {
   // the error during the motion (docs/RESULTS.md), so it stays opt-in.
   uint32_t refine_history = 0;
   static constexpr uint32_t kMaxRefineHistory = 64;
+  // gistreamd --refine-carry: a change under a still camera carries the
+  // last complete picture's anti-aliasing over (render/refinement.h) when
+  // refine_history is 0.
+  bool refine_carry = true;
   // Told about every frame produced (see observer.h); may be null.
   std::shared_ptr<ServerObserver> observer;
   // The server-wide memory budget (util/memory_budget.h): decoded images

@@ -1236,11 +1236,13 @@ absl::Status EngineImpl::ShadeSample(GpuSceneRecord& scene, SolverEntry& entry, 
   view.refinement.Added();
   if (refine_target > 1) {
     gl::StageTimer::Scope stage(timer_, "refine");
+    if (sample.centre) passes_->KeepCentre(view.gbuffer, camera.position);
     passes_->Accumulate(view.gbuffer, sample.index);
     const Refinement::PixelBox& invalid = view.refinement.history_invalid();
     passes_->ShowAccumulation(
         view.gbuffer, {view.refinement.samples(), view.refinement.HistoryWeight(refine_target),
-                       invalid.min, invalid.max});
+                       invalid.min, invalid.max, view.refinement.CarryWeight(refine_target)});
+    if (view.refinement.CaptureCarry(refine_target)) passes_->CaptureCarry(view.gbuffer);
   } else {
     timer_.Skip("refine");
   }
@@ -1377,6 +1379,8 @@ void EngineImpl::AddViewStats(ViewRecord& view, const GpuSceneRecord& scene, con
   // The weight, in samples, of the picture shown before the last change
   // of what the view shows (0: none; render/refinement.h).
   stats.emplace_back("refine_history", double(view.refinement.HistoryWeight(refine_target)));
+  // The carried anti-aliasing's weight in samples (0: none).
+  stats.emplace_back("refine_carry", double(view.refinement.CarryWeight(refine_target)));
 }
 
 double EngineImpl::FrameBudgetMs(const SessionRecord& session, const ViewRecord& view) const {
@@ -1502,7 +1506,8 @@ absl::StatusOr<std::optional<Refinement::Sample>> EngineImpl::Draw(
   const std::optional<Refinement::Sample> sample = view.refinement.Next(
       {state.version(), view.camera_version, entry.solver.get(), view.camera.width,
        view.camera.height, entry.solver->UpdateComplete()},
-      draw.refine_target, session.config.refine_history.value_or(options_.refine_history));
+      draw.refine_target, session.config.refine_history.value_or(options_.refine_history),
+      options_.refine_carry);
   if (!sample) {
     // No change since the picture was complete, so the solver's plan is
     // its changeless one, all of it shading, none of it run.

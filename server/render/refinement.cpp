@@ -26,17 +26,25 @@ float Rotated(float u) {
 }  // namespace
 
 std::optional<Refinement::Sample> Refinement::Next(const Key& key, uint32_t target,
-                                                   uint32_t history) {
+                                                   uint32_t history, bool carry) {
   const bool same = key == key_ && key.solution_final;
-  if (target <= 1 || samples_ == 0 || !key.SameView(key_) || (!same && history == 0)) {
+  const bool same_view = samples_ > 0 && key.SameView(key_);
+  if (target <= 1 || !same_view || (!same && history == 0)) {
     // The view changed (or nothing was shown yet, or no history is kept):
-    // the samples restart at the pixel centre.
+    // the samples restart at the pixel centre; under the same view the
+    // anti-aliasing of the last complete picture is carried over.
+    carrying_ = target > 1 && same_view && carry && carry_valid_;
+    if (!(target > 1 && same_view)) carry_valid_ = false;
     key_ = key;
     samples_ = 0;
     accumulation_ = 0;
     history_ = 0;
     history_invalid_ = {};
-    return Sample{0, 0, false};
+    carry_captured_ = false;
+    Sample first{0, 0, false};
+    first.carry = carrying_;
+    first.centre = target > 1;
+    return first;
   }
   if (!same) {
     // Only what the view shows changed: the picture shown is the history.
@@ -45,6 +53,8 @@ std::optional<Refinement::Sample> Refinement::Next(const Key& key, uint32_t targ
     accumulation_ += 1;
     history_ = history;
     history_invalid_ = {};
+    carrying_ = false;
+    carry_valid_ = false;  // the history target holds the history now
     return Sample{0, accumulation_ % target, true};
   }
   return Continue(target);
@@ -59,6 +69,24 @@ float Refinement::HistoryWeight(uint32_t target) const {
   if (history_ == 0 || target < 2 || samples_ >= target) return 0.0f;
   // `history_` at one sample, 0 at `target`.
   return float(history_) * float(target - samples_) / float(target - 1);
+}
+
+float Refinement::CarryWeight(uint32_t target) const {
+  if (!carrying_ || target < 2 || samples_ >= target) return 0.0f;
+  // The samples the accumulation lacks: the first frame is mostly the
+  // carried picture, a complete one its own mean. (Weighting it by
+  // (target - n) target / n instead, nearer the carried picture for
+  // longer, measured worse on the object workload: 3.2e-3 against 2.9e-3
+  // at n = 3, the carried picture alone is not as good as it and the
+  // mean together.)
+  return float(target - samples_);
+}
+
+bool Refinement::CaptureCarry(uint32_t target) {
+  if (target < 2 || samples_ < target || accumulation_ != 0 || carry_captured_) return false;
+  carry_captured_ = true;
+  carry_valid_ = true;
+  return true;
 }
 
 Refinement::PixelBox MovedPixels(const ViewCamera& camera, const Bounds& moved) {

@@ -25,7 +25,20 @@
 //   camera anti-alias each other.
 //   With a history weight of 0 (the engine's default, EngineOptions::
 //   refine_history) such a change restarts the picture like a change of
-//   the view.
+//   the view, but carries the anti-aliasing over (below).
+// - Carried anti-aliasing (the default): once a picture is complete, its
+//   mean R and its pixel-centre sample C (sample 0) are kept. After a
+//   change of what the view shows under the same camera, the new samples
+//   restart at the pixel centre and the view shows (n x mean + m x H) /
+//   (n + m), m = target - n, H = P + k (R - C): P the new pixel-centre
+//   sample, k = P / C per channel (the lighting's change at the surface
+//   the centre sees; 1 where C is dark against R - C, at most 4), clipped
+//   to the new samples' 3x3 neighbourhood as the history is. R - C is what
+//   the sub-pixel samples added to the pixel centre: the edges' and the
+//   emitters' anti-aliasing, which a change of lighting scales but does not
+//   move. Where geometry moved it is dropped: a pixel whose 3x3
+//   neighbourhood's centres see another surface than the carried centres
+//   did (their distance from the eye differs) shows its new samples.
 #pragma once
 
 #include <cstdint>
@@ -71,6 +84,11 @@ class Refinement {
     // The picture shown so far becomes the history (copy it before this
     // sample is shaded over it).
     bool keep_history = false;
+    // The first sample after a change that carries the anti-aliasing over.
+    bool carry = false;
+    // The pixel-centre sample of an accumulation that can be carried (keep
+    // it as C once shaded).
+    bool centre = false;
   };
 
   // Pixels [min, max) (rows from the bottom, as GL's) where the history
@@ -87,7 +105,8 @@ class Refinement {
   // change restarts it; 7: the picture right after it is (new sample + 7 x
   // history) / 8, an exponential moving average of alpha 1/8 while the
   // changes go on, every frame).
-  std::optional<Sample> Next(const Key& key, uint32_t target, uint32_t history);
+  // `carry`: carry the anti-aliasing over such a change when history is 0.
+  std::optional<Sample> Next(const Key& key, uint32_t target, uint32_t history, bool carry = true);
   // Another sample of the same key in the same frame (the solver's solution
   // cannot change within it, final or not), or none once `target` are in.
   std::optional<Sample> Continue(uint32_t target) const;
@@ -98,6 +117,14 @@ class Refinement {
   // The history's weight in the picture shown, in samples: `history` after
   // a change, falling linearly to 0 at `target` samples; 0 without history.
   float HistoryWeight(uint32_t target) const;
+  // The carried picture's weight, in samples: target - n while an
+  // accumulation after a change carries the anti-aliasing over, else 0.
+  float CarryWeight(uint32_t target) const;
+  // True once, when the accumulation that began at the pixel centre is
+  // complete: its mean and centre sample become the carried pair (copy
+  // them), valid until the view changes.
+  bool CaptureCarry(uint32_t target);
+  bool carry_valid() const { return carry_valid_; }
   // Where the history must not be used (set with keep_history's sample).
   void SetHistoryInvalid(const PixelBox& box) { history_invalid_ = box; }
   const PixelBox& history_invalid() const { return history_invalid_; }
@@ -113,6 +140,9 @@ class Refinement {
   uint32_t accumulation_ = 0;  // accumulations since the view last changed
   uint32_t history_ = 0;       // the kept picture's weight at one sample
   PixelBox history_invalid_{};
+  bool carry_valid_ = false;     // a complete picture's pair is kept
+  bool carrying_ = false;        // this accumulation shows it
+  bool carry_captured_ = false;  // this accumulation's pair was kept
 };
 
 // The pixels `camera` (without its jitter) sees of the world box `moved`

@@ -46,6 +46,9 @@ absl::StatusOr<ViewPasses> ViewPasses::Create() {
   GS_ASSIGN_OR_RETURN(passes.show_refined_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "render/show_refined.frag.glsl"}}));
+  GS_ASSIGN_OR_RETURN(passes.keep_centre_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "render/keep_centre.frag.glsl"}}));
   passes.non_finite_ = gl::Buffer::Create();
   glNamedBufferStorage(passes.non_finite_.id(), sizeof(GLuint), nullptr,
                        GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
@@ -128,9 +131,29 @@ void ViewPasses::KeepHistory(const GBuffer& gbuffer) {
                          GL_COLOR_BUFFER_BIT, GL_NEAREST);
 }
 
+void ViewPasses::KeepCentre(const GBuffer& gbuffer, const glm::vec3& eye) {
+  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.history_fbo());
+  glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glBindTextureUnit(GS_UNIT_HDR, gbuffer.hdr());
+  glBindTextureUnit(GS_UNIT_GBUFFER_POSITION, gbuffer.position());
+  keep_centre_.Set("uEye", eye);
+  fullscreen_.Draw(keep_centre_);
+}
+
+void ViewPasses::CaptureCarry(const GBuffer& gbuffer) {
+  const GLint w = GLint(gbuffer.width()), h = GLint(gbuffer.height());
+  glBlitNamedFramebuffer(gbuffer.accumulation_fbo(), gbuffer.carry_mean_fbo(), 0, 0, w, h, 0, 0, w,
+                         h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+  glBlitNamedFramebuffer(gbuffer.history_fbo(), gbuffer.carry_centre_fbo(), 0, 0, w, h, 0, 0, w, h,
+                         GL_COLOR_BUFFER_BIT, GL_NEAREST);
+}
+
 void ViewPasses::ShowAccumulation(const GBuffer& gbuffer, const Shown& shown) {
   const GLint w = GLint(gbuffer.width()), h = GLint(gbuffer.height());
-  if (!(shown.history_weight > 0.0f)) {
+  const bool carry = shown.carry_weight > 0.0f;
+  if (!(shown.history_weight > 0.0f) && !carry) {
     glBlitNamedFramebuffer(gbuffer.accumulation_fbo(), gbuffer.hdr_fbo(), 0, 0, w, h, 0, 0, w, h,
                            GL_COLOR_BUFFER_BIT, GL_NEAREST);
     return;
@@ -141,8 +164,11 @@ void ViewPasses::ShowAccumulation(const GBuffer& gbuffer, const Shown& shown) {
   glDisable(GL_BLEND);
   glBindTextureUnit(GS_UNIT_REFINE_MEAN, gbuffer.accumulation());
   glBindTextureUnit(GS_UNIT_REFINE_HISTORY, gbuffer.history());
+  glBindTextureUnit(GS_UNIT_CARRY_MEAN, gbuffer.carry_mean());
+  glBindTextureUnit(GS_UNIT_CARRY_CENTRE, gbuffer.carry_centre());
   show_refined_.Set("uSamples", float(std::max(shown.samples, 1u)));
-  show_refined_.Set("uHistoryWeight", shown.history_weight);
+  show_refined_.Set("uHistoryWeight", carry ? shown.carry_weight : shown.history_weight);
+  show_refined_.Set("uCarry", carry ? 1 : 0);
   show_refined_.Set("uInvalidMin", shown.invalid_min);
   show_refined_.Set("uInvalidMax", shown.invalid_max);
   fullscreen_.Draw(show_refined_);

@@ -36,15 +36,22 @@ class ViewPasses {
   // The picture shown so far (the HDR target) becomes the history, before
   // a sample is shaded over it.
   void KeepHistory(const GBuffer& gbuffer);
+  // Carried anti-aliasing (render/refinement.h): the pixel-centre sample
+  // just shaded (the HDR target; in alpha the distance from `eye` to the
+  // G-buffer's surface) is kept in the history target; CaptureCarry keeps
+  // the complete mean and that centre as the carried pair.
+  void KeepCentre(const GBuffer& gbuffer, const glm::vec3& eye);
+  void CaptureCarry(const GBuffer& gbuffer);
   // What the view shows, into the HDR target for tone mapping and
   // readback: the mean of the accumulation's `samples` samples, with the
   // history at `history_weight` samples where it is valid
-  // (shaders/render/show_refined.frag.glsl); the mean alone when the
-  // weight is 0.
+  // (shaders/render/show_refined.frag.glsl), or the carried picture at
+  // `carry_weight` samples; the mean alone when both weights are 0.
   struct Shown {
     uint32_t samples = 1;
     float history_weight = 0.0f;
     glm::ivec2 invalid_min{0}, invalid_max{0};  // pixels without history
+    float carry_weight = 0.0f;
   };
   void ShowAccumulation(const GBuffer& gbuffer, const Shown& shown);
   // HDR radiance -> gbuffer.ldr(): exposure 2^ev, filmic curve, sRGB.
@@ -75,6 +82,7 @@ class ViewPasses {
   gl::Program tonemap_;
   gl::Program copy_hdr_;      // the HDR target's texels, for accumulation
   gl::Program show_refined_;  // the mean with the history
+  gl::Program keep_centre_;   // a centre sample with its surface's distance
   gl::FullscreenPass fullscreen_;
   gl::Buffer non_finite_;  // one uint, SSBO binding 7 of the tone map
 };

@@ -5,11 +5,22 @@
 // mean's 3x3 neighbourhood, so what the change made brighter, darker or
 // another colour does not linger (temporal anti-aliasing's neighbourhood
 // clip), and is not used at all within the screen box of what moved.
+// Carried anti-aliasing (uCarry): the history target holds the new
+// pixel-centre sample P instead, and the picture at weight m is
+// H = P + k (R - C), the last complete picture's mean R less its centre
+// sample C, scaled by k = P / C, the lighting's change where the centre
+// looks (1 where C is dark against R - C, at most 4), clipped likewise;
+// not used where the surface seen at a pixel centre of the 3x3
+// neighbourhood changed (its distance, in the centres' alpha, differs):
+// what moved, in its old place and its new.
 #include "bindings.glsl"
 layout(binding = GS_UNIT_REFINE_MEAN) uniform sampler2D uMean;
 layout(binding = GS_UNIT_REFINE_HISTORY) uniform sampler2D uHistory;
+layout(binding = GS_UNIT_CARRY_MEAN) uniform sampler2D uCarryMean;
+layout(binding = GS_UNIT_CARRY_CENTRE) uniform sampler2D uCarryCentre;
 uniform float uSamples;        // n >= 1
 uniform float uHistoryWeight;  // m > 0
+uniform int uCarry;            // 1: the history is the carried picture
 uniform ivec2 uInvalidMin;     // pixels [min, max) ignore the history
 uniform ivec2 uInvalidMax;
 out vec4 oColor;
@@ -31,6 +42,7 @@ vec3 ClipToBox(vec3 h, vec3 centre, vec3 extent) {
 void main() {
   const ivec2 p = ivec2(gl_FragCoord.xy);
   const vec4 mean = texelFetch(uMean, p, 0);
+  const ivec2 last = textureSize(uMean, 0) - 1;
   if (all(greaterThanEqual(p, uInvalidMin)) && all(lessThan(p, uInvalidMax))) {
     oColor = mean;
     return;
@@ -39,7 +51,6 @@ void main() {
   // mean +- one standard deviation in YCoCg (variance clipping, Salvi 2016,
   // "An Excursion in Temporal Supersampling"), along the line to the box's
   // centre, so a colour the change took away does not come back at edges.
-  const ivec2 last = textureSize(uMean, 0) - 1;
   vec3 m1 = vec3(0.0), m2 = vec3(0.0);
   for (int dy = -1; dy <= 1; ++dy) {
     for (int dx = -1; dx <= 1; ++dx) {
@@ -50,7 +61,25 @@ void main() {
   }
   m1 /= 9.0;
   const vec3 sigma = sqrt(max(m2 / 9.0 - m1 * m1, vec3(0.0)));
-  const vec3 history = FromYCoCg(ClipToBox(ToYCoCg(texelFetch(uHistory, p, 0).rgb), m1, sigma));
+  vec3 kept = texelFetch(uHistory, p, 0).rgb;
+  if (uCarry != 0) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), last);
+        const float now = texelFetch(uHistory, q, 0).a, then = texelFetch(uCarryCentre, q, 0).a;
+        if (abs(now - then) > 1e-4 * max(now, then)) {
+          oColor = mean;
+          return;
+        }
+      }
+    }
+    const vec3 r = texelFetch(uCarryMean, p, 0).rgb, c = texelFetch(uCarryCentre, p, 0).rgb;
+    const vec3 added = r - c;
+    const vec3 eps = vec3(1e-4) + 0.01 * abs(added);
+    const vec3 k = clamp((kept + eps) / (c + eps), vec3(0.0), vec3(4.0));
+    kept += k * added;
+  }
+  const vec3 history = FromYCoCg(ClipToBox(ToYCoCg(kept), m1, sigma));
   oColor = vec4((uSamples * mean.rgb + uHistoryWeight * history) / (uSamples + uHistoryWeight),
                 mean.a);
 }

@@ -1,7 +1,8 @@
 // Refinement of a still view (render/refinement.h): the jitter sequence is
 // a stratified box filter over the pixel starting at its centre, the
 // sample counter restarts on every change of what the samples show, and a
-// change under the same view keeps the picture as history.
+// change under the same view keeps the picture as history, or carries the
+// anti-aliasing of the last complete one over.
 #include "render/refinement.h"
 
 #include <algorithm>
@@ -163,6 +164,91 @@ TEST(Refinement, WithoutHistoryAChangeOfWhatTheViewShowsRestartsAtTheCentre) {
   EXPECT_FALSE(s->keep_history);
   r.Added();
   EXPECT_EQ(r.HistoryWeight(4), 0.0f);
+}
+
+// Carried anti-aliasing (the default without history): a picture that
+// completed from the pixel centre is kept once (CaptureCarry); a later
+// change of what the view shows restarts at the centre and carries it at
+// target - n samples' weight; a change of the view, or carrying turned
+// off, or no complete picture yet, carries nothing.
+TEST(Refinement, ACompletePictureIsCarriedOverAChangeOfWhatTheViewShows) {
+  constexpr uint32_t kTarget = 4;
+  // Shades until complete as the engine does: CaptureCarry after each.
+  const auto complete = [&](Refinement& r, const Refinement::Key& key, bool carry = true) {
+    int captured = 0;
+    for (auto s = r.Next(key, kTarget, 0, carry); s; s = r.Next(key, kTarget, 0, carry)) {
+      r.Added();
+      captured += r.CaptureCarry(kTarget) ? 1 : 0;
+    }
+    return captured;
+  };
+  Refinement r;
+  const auto first = r.Next(Key(), kTarget, 0);
+  ASSERT_TRUE(first);
+  EXPECT_FALSE(first->carry) << "nothing to carry yet";
+  EXPECT_TRUE(first->centre);
+  r.Added();
+  EXPECT_FALSE(r.CaptureCarry(kTarget)) << "incomplete";
+  EXPECT_EQ(complete(r, Key()), 1);
+  EXPECT_FALSE(r.CaptureCarry(kTarget)) << "kept once";
+  EXPECT_TRUE(r.carry_valid());
+  // A new scene version under the same view: carried, fading out.
+  const auto change = r.Next(Key(2), kTarget, 0);
+  ASSERT_TRUE(change);
+  EXPECT_TRUE(change->carry);
+  EXPECT_TRUE(change->centre);
+  EXPECT_EQ(change->jitter, 0u);
+  EXPECT_FALSE(change->keep_history);
+  r.Added();
+  EXPECT_EQ(r.CarryWeight(kTarget), 3.0f);
+  EXPECT_EQ(r.HistoryWeight(kTarget), 0.0f);
+  for (uint32_t n = 2; n <= kTarget; ++n) {
+    const auto more = r.Continue(kTarget);
+    ASSERT_TRUE(more);
+    EXPECT_FALSE(more->carry);
+    EXPECT_FALSE(more->centre);
+    EXPECT_EQ(more->jitter, n - 1u);  // the fresh view's offsets
+    r.Added();
+    EXPECT_EQ(r.CarryWeight(kTarget), float(kTarget - n));
+    EXPECT_EQ(r.CaptureCarry(kTarget), n == kTarget) << "the new complete picture is kept";
+  }
+  // Changes going on (a solution still coming in): each carries the pair.
+  Refinement::Key unsolved = Key(3);
+  unsolved.solution_final = false;
+  for (int i = 0; i < 3; ++i) {
+    const auto s = r.Next(unsolved, kTarget, 0);
+    ASSERT_TRUE(s);
+    EXPECT_TRUE(s->carry);
+    r.Added();
+    EXPECT_EQ(r.CarryWeight(kTarget), 3.0f);
+    EXPECT_FALSE(r.CaptureCarry(kTarget));
+  }
+  // Turned off: the same change carries nothing.
+  const auto off = r.Next(Key(4), kTarget, 0, /*carry=*/false);
+  ASSERT_TRUE(off);
+  EXPECT_FALSE(off->carry);
+  r.Added();
+  EXPECT_EQ(r.CarryWeight(kTarget), 0.0f);
+  // A change of the view drops the pair: nothing to carry until a picture
+  // of the new view is complete.
+  ASSERT_EQ(complete(r, Key(4)), 1);
+  const auto moved = r.Next(Key(4, 1), kTarget, 0);
+  ASSERT_TRUE(moved);
+  EXPECT_FALSE(moved->carry);
+  EXPECT_FALSE(r.carry_valid());
+  r.Added();
+  const auto next = r.Next(Key(5, 1), kTarget, 0);
+  ASSERT_TRUE(next);
+  EXPECT_FALSE(next->carry) << "the moved view's picture never completed";
+  // With history (weight > 0) the history takes the carry's place.
+  Refinement h;
+  ASSERT_EQ(complete(h, Key()), 1);
+  const auto kept = h.Next(Key(2), kTarget, 7);
+  ASSERT_TRUE(kept);
+  EXPECT_TRUE(kept->keep_history);
+  EXPECT_FALSE(kept->carry);
+  h.Added();
+  EXPECT_EQ(h.CarryWeight(kTarget), 0.0f);
 }
 
 TEST(Refinement, AnUnfinishedSolutionBlendsFramesAndTargetOneNeverAccumulates) {
