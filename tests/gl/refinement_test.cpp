@@ -42,12 +42,14 @@ bool NearEmitter(const FloatImage& image, int x, int y) {
 
 // sum |x - r| / sum r over pixels and channels, both clamped to 1 (as a
 // display saturates the 17-nit emitter); without pixels near the emitter
-// when `skip_emitter`.
-double RelativeL1(const FloatImage& image, const FloatImage& reference, bool skip_emitter = false) {
+// when `skip_emitter`, over the pixels `mask` sets (rows first) when given.
+double RelativeL1(const FloatImage& image, const FloatImage& reference, bool skip_emitter = false,
+                  const std::vector<bool>* mask = nullptr) {
   double diff = 0.0, sum = 0.0;
   for (int y = 0; y < reference.height; ++y) {
     for (int x = 0; x < reference.width; ++x) {
       if (skip_emitter && NearEmitter(reference, x, y)) continue;
+      if (mask && !(*mask)[size_t(y * reference.width + x)]) continue;
       const glm::dvec3 a = glm::min(glm::dvec3(image.at(x, y)), 1.0);
       const glm::dvec3 r = glm::min(glm::dvec3(reference.at(x, y)), 1.0);
       const glm::dvec3 d = glm::abs(a - r);
@@ -252,6 +254,70 @@ TEST(Refinement, AFrameWithoutUpdatesShadesTheSamplesItsBudgetAllows) {
   testing::ExpectSameImage(a, b, 1e-4f);
 }
 
+constexpr uint32_t kChangeSize = 32, kChangeSamples = 16;
+
+// Opens a continuous `direct` session on `scene` (32x32, 16 samples, a
+// budget that shades the rest in the frame after the change's), waits for
+// its picture to rest, applies `change` and returns the frames that show
+// it, up to the rest; the first one first.
+std::vector<std::shared_ptr<const EncodedFrame>> FramesAfterAChange(const BundledCopy& scene,
+                                                                    uint32_t history,
+                                                                    const Change& change) {
+  SessionConfig c = Continuous(scene.id(), kChangeSamples, /*budget_ms=*/10'000.0);
+  c.width = c.height = kChangeSize;
+  c.params = {{"area_samples", "64"}};
+  c.encoding.format = ImageFormat::kExr;
+  if (history > 0) c.refine_history = history;
+  auto sink = std::make_shared<FrameQueue>();
+  Engine& engine = SharedEngine();
+  auto session = engine.OpenSession(c, sink);
+  EXPECT_TRUE(session.ok()) << session.status();
+  if (!session.ok()) return {};
+  UntilRest(*sink, 0);
+  EXPECT_TRUE(engine.PushUpdate(session->id, {1, change}).ok());
+  auto frames = UntilRest(*sink, 1);
+  engine.CloseSession(session->id);
+  return frames;
+}
+
+// A base colour: `direct` shades it at once (a move or a dimmer redraws
+// its shadow maps, and the frames show the old ones meanwhile: the
+// solver's lag, not the refinement's).
+MaterialUpdate BlueWall() {
+  MaterialUpdate blue;
+  blue.material = 1;
+  blue.base_color = glm::vec4(0.1f, 0.2f, 0.6f, 1.0f);
+  return blue;
+}
+
+// Relative L1 against the changed scene's box-filtered picture (the
+// session changed the shared copy) of the pixel centres, the first frame
+// after the change, the complete picture after it and a fresh view's.
+struct ChangeErrors {
+  double centres = 0, first = 0, complete = 0, fresh = 0;
+};
+ChangeErrors ErrorsAfterAChange(const BundledCopy& scene,
+                                const std::vector<std::shared_ptr<const EncodedFrame>>& frames) {
+  FloatImage complete;
+  for (const auto& f : frames) {
+    if (!f->image.empty()) complete = testing::DecodeExr(*f);
+  }
+  const FloatImage reference =
+      BoxDownsample(RenderRequestExr(Request(scene.id(), kChangeSize * 8, 1)), 8);
+  const FloatImage centres = RenderRequestExr(Request(scene.id(), kChangeSize, 1));
+  const FloatImage fresh = RenderRequestExr(Request(scene.id(), kChangeSize, kChangeSamples));
+  ChangeErrors e;
+  e.centres = RelativeL1(centres, reference, /*skip_emitter=*/true);
+  e.first = RelativeL1(testing::DecodeExr(*frames.front()), reference, true);
+  e.complete = RelativeL1(complete, reference, true);
+  e.fresh = RelativeL1(fresh, reference, true);
+  ::testing::Test::RecordProperty("relative_l1_centres", std::to_string(e.centres));
+  ::testing::Test::RecordProperty("relative_l1_first_after_change", std::to_string(e.first));
+  ::testing::Test::RecordProperty("relative_l1_complete_after_change", std::to_string(e.complete));
+  ::testing::Test::RecordProperty("relative_l1_fresh", std::to_string(e.fresh));
+  return e;
+}
+
 // A change under a still camera (the red wall made blue), with a history of
 // 7 samples' weight (SessionConfig::refine_history): the first frame
 // after it keeps the refined picture before it as history where it still
@@ -261,55 +327,18 @@ TEST(Refinement, AFrameWithoutUpdatesShadesTheSamplesItsBudgetAllows) {
 // fresh view's.
 TEST(Refinement, AChangeUnderAStillCameraKeepsTheHistoryWhereItHolds) {
   const BundledCopy scene("cornell_box.gltf");
-  constexpr uint32_t kSize = 32, kSamples = 16;
-  // The frame with the change shades one sample; the next all the rest.
-  SessionConfig c = Continuous(scene.id(), kSamples, /*budget_ms=*/10'000.0);
-  c.width = c.height = kSize;
-  c.params = {{"area_samples", "64"}};
-  c.encoding.format = ImageFormat::kExr;
-  c.refine_history = 7;
-  auto sink = std::make_shared<FrameQueue>();
-  Engine& engine = SharedEngine();
-  auto session = engine.OpenSession(c, sink);
-  ASSERT_TRUE(session.ok()) << session.status();
-  UntilRest(*sink, 0);
-  // A base colour: `direct` shades it at once (a move or a dimmer redraws
-  // its shadow maps, and the frames show the old ones meanwhile: the
-  // solver's lag, not the history's).
-  MaterialUpdate blue;
-  blue.material = 1;
-  blue.base_color = glm::vec4(0.1f, 0.2f, 0.6f, 1.0f);
-  ASSERT_TRUE(engine.PushUpdate(session->id, {1, blue}).ok());
-  const auto frames = UntilRest(*sink, 1);
-  engine.CloseSession(session->id);
+  const auto frames = FramesAfterAChange(scene, /*history=*/7, BlueWall());
   ASSERT_GE(frames.size(), 2u);
-  const EncodedFrame& first = *frames.front();
-  EXPECT_EQ(FrameStat(first, "refine_samples"), 1.0);
-  EXPECT_EQ(FrameStat(first, "refine_history"), 7.0);
-  FloatImage complete;
-  for (const auto& f : frames) {
-    if (!f->image.empty()) complete = testing::DecodeExr(*f);
-  }
-  EXPECT_EQ(FrameStat(*frames.back(), "refine_samples"), double(kSamples));
+  EXPECT_EQ(FrameStat(*frames.front(), "refine_samples"), 1.0);
+  EXPECT_EQ(FrameStat(*frames.front(), "refine_history"), 7.0);
+  EXPECT_EQ(FrameStat(*frames.back(), "refine_samples"), double(kChangeSamples));
   EXPECT_EQ(FrameStat(*frames.back(), "refine_history"), 0.0);
-  // The changed scene (the session changed the shared copy), box-filtered.
-  const FloatImage reference =
-      BoxDownsample(RenderRequestExr(Request(scene.id(), kSize * 8, 1)), 8);
-  const FloatImage centres = RenderRequestExr(Request(scene.id(), kSize, 1));
-  const FloatImage fresh = RenderRequestExr(Request(scene.id(), kSize, kSamples));
-  const double e_centres = RelativeL1(centres, reference, /*skip_emitter=*/true);
-  const double e_first = RelativeL1(testing::DecodeExr(first), reference, true);
-  const double e_complete = RelativeL1(complete, reference, true);
-  const double e_fresh = RelativeL1(fresh, reference, true);
-  RecordProperty("relative_l1_centres", std::to_string(e_centres));
-  RecordProperty("relative_l1_first_after_change", std::to_string(e_first));
-  RecordProperty("relative_l1_complete_after_change", std::to_string(e_complete));
-  RecordProperty("relative_l1_fresh", std::to_string(e_fresh));
+  const ChangeErrors e = ErrorsAfterAChange(scene, frames);
   // Measured: centres 0.111, first frame 0.080 (with the history clamped
   // per RGB channel instead of clipped in YCoCg: 0.090), complete 0.016,
   // fresh view 0.023.
-  EXPECT_LT(e_first, 0.8 * e_centres) << "complete " << e_complete << ", fresh " << e_fresh;
-  EXPECT_LT(e_complete, 1.3 * e_fresh + 0.003) << "centres " << e_centres;
+  EXPECT_LT(e.first, 0.8 * e.centres) << "complete " << e.complete << ", fresh " << e.fresh;
+  EXPECT_LT(e.complete, 1.3 * e.fresh + 0.003) << "centres " << e.centres;
 }
 
 TEST(Refinement, AChangeUnderAStillCameraCarriesTheAntiAliasing) {
@@ -318,66 +347,18 @@ TEST(Refinement, AChangeUnderAStillCameraCarriesTheAntiAliasing) {
   // sub-pixel samples added to its own centres, scaled by the change of
   // light there (render/refinement.h, "Carried anti-aliasing").
   const BundledCopy scene("cornell_box.gltf");
-  constexpr uint32_t kSize = 32, kSamples = 16;
-  SessionConfig c = Continuous(scene.id(), kSamples, /*budget_ms=*/10'000.0);
-  c.width = c.height = kSize;
-  c.params = {{"area_samples", "64"}};
-  c.encoding.format = ImageFormat::kExr;
-  auto sink = std::make_shared<FrameQueue>();
-  Engine& engine = SharedEngine();
-  auto session = engine.OpenSession(c, sink);
-  ASSERT_TRUE(session.ok()) << session.status();
-  UntilRest(*sink, 0);
-  MaterialUpdate blue;
-  blue.material = 1;
-  blue.base_color = glm::vec4(0.1f, 0.2f, 0.6f, 1.0f);
-  ASSERT_TRUE(engine.PushUpdate(session->id, {1, blue}).ok());
-  const auto frames = UntilRest(*sink, 1);
-  engine.CloseSession(session->id);
+  const auto frames = FramesAfterAChange(scene, /*history=*/0, BlueWall());
   ASSERT_GE(frames.size(), 2u);
-  const EncodedFrame& first = *frames.front();
-  EXPECT_EQ(FrameStat(first, "refine_samples"), 1.0);
-  EXPECT_EQ(FrameStat(first, "refine_carry"), double(kSamples - 1));
-  EXPECT_EQ(FrameStat(first, "refine_history"), 0.0);
-  FloatImage complete;
-  for (const auto& f : frames) {
-    if (!f->image.empty()) complete = testing::DecodeExr(*f);
-  }
-  EXPECT_EQ(FrameStat(*frames.back(), "refine_samples"), double(kSamples));
+  EXPECT_EQ(FrameStat(*frames.front(), "refine_samples"), 1.0);
+  EXPECT_EQ(FrameStat(*frames.front(), "refine_carry"), double(kChangeSamples - 1));
+  EXPECT_EQ(FrameStat(*frames.front(), "refine_history"), 0.0);
+  EXPECT_EQ(FrameStat(*frames.back(), "refine_samples"), double(kChangeSamples));
   EXPECT_EQ(FrameStat(*frames.back(), "refine_carry"), 0.0);
-  const FloatImage reference =
-      BoxDownsample(RenderRequestExr(Request(scene.id(), kSize * 8, 1)), 8);
-  const FloatImage centres = RenderRequestExr(Request(scene.id(), kSize, 1));
-  const FloatImage fresh = RenderRequestExr(Request(scene.id(), kSize, kSamples));
-  const double e_centres = RelativeL1(centres, reference, /*skip_emitter=*/true);
-  const double e_first = RelativeL1(testing::DecodeExr(first), reference, true);
-  const double e_complete = RelativeL1(complete, reference, true);
-  const double e_fresh = RelativeL1(fresh, reference, true);
-  RecordProperty("relative_l1_centres", std::to_string(e_centres));
-  RecordProperty("relative_l1_first_after_change", std::to_string(e_first));
-  RecordProperty("relative_l1_complete_after_change", std::to_string(e_complete));
-  RecordProperty("relative_l1_fresh", std::to_string(e_fresh));
+  const ChangeErrors e = ErrorsAfterAChange(scene, frames);
   // Measured: centres 0.111, first frame 0.044 (the history of the test
   // above: 0.080), complete 0.0231 = fresh.
-  EXPECT_LT(e_first, 0.5 * e_centres) << "complete " << e_complete << ", fresh " << e_fresh;
-  EXPECT_NEAR(e_complete, e_fresh, 1e-3) << "a complete picture is its own samples' mean";
-}
-
-// Relative L1 (as RelativeL1) over the pixels where `mask` is set.
-double MaskedRelativeL1(const FloatImage& image, const FloatImage& reference,
-                        const std::vector<bool>& mask) {
-  double diff = 0.0, sum = 0.0;
-  for (int y = 0; y < reference.height; ++y) {
-    for (int x = 0; x < reference.width; ++x) {
-      if (!mask[size_t(y * reference.width + x)]) continue;
-      const glm::dvec3 a = glm::min(glm::dvec3(image.at(x, y)), 1.0);
-      const glm::dvec3 r = glm::min(glm::dvec3(reference.at(x, y)), 1.0);
-      const glm::dvec3 d = glm::abs(a - r);
-      diff += d.x + d.y + d.z;
-      sum += r.x + r.y + r.z;
-    }
-  }
-  return sum > 0.0 ? diff / sum : 0.0;
+  EXPECT_LT(e.first, 0.5 * e.centres) << "complete " << e.complete << ", fresh " << e.fresh;
+  EXPECT_NEAR(e.complete, e.fresh, 1e-3) << "a complete picture is its own samples' mean";
 }
 
 TEST(Refinement, WhatMovedIsNotCarried) {
@@ -386,26 +367,15 @@ TEST(Refinement, WhatMovedIsNotCarried) {
   // shows its own sample, not the old picture's anti-aliasing (which held
   // the block where it was); elsewhere the carry still helps.
   const BundledCopy scene("cornell_box.gltf");
-  constexpr uint32_t kSize = 32, kSamples = 16;
-  SessionConfig c = Continuous(scene.id(), kSamples, /*budget_ms=*/10'000.0);
-  c.width = c.height = kSize;
-  c.params = {{"area_samples", "64"}};
-  c.encoding.format = ImageFormat::kExr;
-  auto sink = std::make_shared<FrameQueue>();
-  Engine& engine = SharedEngine();
-  auto session = engine.OpenSession(c, sink);
-  ASSERT_TRUE(session.ok()) << session.status();
-  UntilRest(*sink, 0);
+  constexpr uint32_t kSize = kChangeSize;
   const FloatImage before = RenderRequestExr(Request(scene.id(), kSize, 1));
   NodeTransformUpdate move;
   move.node = 6;  // the tall block
   move.translation = glm::vec3(-0.12f, 0.0f, 0.08f);
-  ASSERT_TRUE(engine.PushUpdate(session->id, {1, move}).ok());
-  const auto frames = UntilRest(*sink, 1);
-  engine.CloseSession(session->id);
+  const auto frames = FramesAfterAChange(scene, /*history=*/0, move);
   ASSERT_GE(frames.size(), 2u);
   const EncodedFrame& first = *frames.front();
-  EXPECT_EQ(FrameStat(first, "refine_carry"), double(kSamples - 1));
+  EXPECT_EQ(FrameStat(first, "refine_carry"), double(kChangeSamples - 1));
   const FloatImage after = RenderRequestExr(Request(scene.id(), kSize, 1));
   const FloatImage reference =
       BoxDownsample(RenderRequestExr(Request(scene.id(), kSize * 8, 1)), 8);
@@ -422,8 +392,8 @@ TEST(Refinement, WhatMovedIsNotCarried) {
   }
   ASSERT_GT(count, 20) << "the move changes the picture";
   const FloatImage shown = testing::DecodeExr(first);
-  const double e_region_first = MaskedRelativeL1(shown, reference, changed);
-  const double e_region_centres = MaskedRelativeL1(after, reference, changed);
+  const double e_region_first = RelativeL1(shown, reference, false, &changed);
+  const double e_region_centres = RelativeL1(after, reference, false, &changed);
   const double e_first = RelativeL1(shown, reference, /*skip_emitter=*/true);
   const double e_centres = RelativeL1(after, reference, true);
   RecordProperty("relative_l1_moved_first", std::to_string(e_region_first));
