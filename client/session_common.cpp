@@ -51,6 +51,7 @@ std::string FormatConvergence(const v1::Frame& last) {
     parts.push_back(absl::StrCat("refined ", FrameStatValue(last, "refine_samples"), "/",
                                  FrameStatValue(last, "refine_target"), " samples per pixel"));
   }
+  if (FrameStatValue(last, "refine_carry") > 0.0) parts.push_back("anti-aliasing carried");
   if (has("spp_total")) parts.push_back(absl::StrCat(FrameStatValue(last, "spp_total"), " spp"));
   if (has("update_complete")) {
     parts.push_back(FrameStatValue(last, "update_complete") == 1.0 ? "GI complete"
