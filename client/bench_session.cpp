@@ -127,14 +127,19 @@ void BenchSession::ReadLoop() {
     }
     if (!event.has_frame()) continue;
     const v1::Frame& frame = event.frame();
+    // A stat of the frame, `absent` where an older server does not send it.
+    const auto stat = [&](const char* name, double absent) {
+      const auto it = frame.stats().find(name);
+      return it == frame.stats().end() ? absent : it->second;
+    };
+    // The GI update is complete and the still picture refined
+    // (refine_samples reached refine_target).
+    const bool complete = stat("update_complete", 1.0) != 0.0 &&
+                          stat("refine_samples", 1.0) >= stat("refine_target", 1.0);
     {
       std::lock_guard lock(mutex_);
       if (keep_settle_frames_ && !frame.image().empty()) last_image_ = frame.image();
       if (keep_settle_frames_ && window_set_ && now >= window_start_) {
-        const auto stat = [&](const char* name, double absent) {
-          const auto it = frame.stats().find(name);
-          return it == frame.stats().end() ? absent : it->second;
-        };
         traced_frames_.push_back(
             {std::chrono::duration<double, std::milli>(now - window_start_).count(),
              frame.frame_number(), frame.last_update_seq(), stop_updates_.load(), last_image_,
@@ -148,17 +153,7 @@ void BenchSession::ReadLoop() {
         if (keep_settle_frames_) {
           settle_frames_.push_back({ms, frame.image().empty() ? last_image_ : frame.image()});
         }
-        // Settled: the GI update is complete and the still picture refined
-        // (refine_samples reached refine_target; an older server sends
-        // neither).
-        const auto stat = [&](const char* name, double absent) {
-          const auto it = frame.stats().find(name);
-          return it == frame.stats().end() ? absent : it->second;
-        };
-        if (stat("update_complete", 1.0) != 0.0 &&
-            stat("refine_samples", 1.0) >= stat("refine_target", 1.0)) {
-          settle_ms_ = ms;
-        }
+        if (complete) settle_ms_ = ms;  // settled
       }
       if (window_set_ && intervals_->Add(now)) {
         ++live_frames_;
@@ -170,18 +165,9 @@ void BenchSession::ReadLoop() {
     }
     // Measuring error over time (keep_settle_frames_, --reference-spp),
     // the interaction starts from the picture a viewer was looking at: updates
-    // wait for the first frame whose GI update is complete and whose still
-    // picture is refined (a continuous stream of moves before it measured
-    // the first solve's wait, not catching up; an older server sends
-    // neither stat).
-    const auto stat = [&](const char* name, double absent) {
-      const auto it = frame.stats().find(name);
-      return it == frame.stats().end() ? absent : it->second;
-    };
-    if (!keep_settle_frames_ || (stat("update_complete", 1.0) != 0.0 &&
-                                 stat("refine_samples", 1.0) >= stat("refine_target", 1.0))) {
-      first_frame_ = true;
-    }
+    // wait for the first complete frame (a continuous stream of moves
+    // before it measured the first solve's wait, not catching up).
+    if (!keep_settle_frames_ || complete) first_frame_ = true;
     if (!first_frame_) continue;
     // Closed loop: the next tick's updates go out as each frame arrives
     // (the first right after the first frame).

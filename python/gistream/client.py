@@ -68,8 +68,8 @@ def convergence(frame):
     """What a frame's picture has converged to, from its stats: a dict of
     those of refine_samples / refine_target (a still view's jittered samples
     per pixel), refine_carry (> 0: the anti-aliasing of the last complete
-    picture carried over a change, its weight in samples), update_complete (1: the latest GI solution), at_rest, the
-    frames and ms since the camera and the scene changed, and the solver's
+    picture carried over a change, its weight in samples), update_complete
+    (1: the latest GI solution), at_rest, the frames and ms since the camera and the scene changed, and the solver's
     gi_versions_behind / residual / spp_total where it reports them."""
     return {k: frame.stats[k] for k in _CONVERGENCE if k in frame.stats}
 

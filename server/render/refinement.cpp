@@ -33,8 +33,9 @@ std::optional<Refinement::Sample> Refinement::Next(const Key& key, uint32_t targ
     // The view changed (or nothing was shown yet, or no history is kept):
     // the samples restart at the pixel centre; under the same view the
     // anti-aliasing of the last complete picture is carried over.
-    carrying_ = target > 1 && same_view && carry && carry_valid_;
-    if (!(target > 1 && same_view)) carry_valid_ = false;
+    carry_on_ = target > 1 && carry && history == 0;
+    carrying_ = carry_on_ && same_view && carry_valid_;
+    if (!(carry_on_ && same_view)) carry_valid_ = false;
     key_ = key;
     samples_ = 0;
     accumulation_ = 0;
@@ -43,7 +44,7 @@ std::optional<Refinement::Sample> Refinement::Next(const Key& key, uint32_t targ
     carry_captured_ = false;
     Sample first{0, 0, false};
     first.carry = carrying_;
-    first.centre = target > 1;
+    first.centre = carry_on_;  // only a carried picture needs its centre
     return first;
   }
   if (!same) {
@@ -83,7 +84,9 @@ float Refinement::CarryWeight(uint32_t target) const {
 }
 
 bool Refinement::CaptureCarry(uint32_t target) {
-  if (target < 2 || samples_ < target || accumulation_ != 0 || carry_captured_) return false;
+  if (!carry_on_ || target < 2 || samples_ < target || accumulation_ != 0 || carry_captured_) {
+    return false;
+  }
   carry_captured_ = true;
   carry_valid_ = true;
   return true;

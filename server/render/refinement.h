@@ -140,6 +140,7 @@ class Refinement {
   uint32_t accumulation_ = 0;  // accumulations since the view last changed
   uint32_t history_ = 0;       // the kept picture's weight at one sample
   PixelBox history_invalid_{};
+  bool carry_on_ = false;        // carrying is asked for (no history)
   bool carry_valid_ = false;     // a complete picture's pair is kept
   bool carrying_ = false;        // this accumulation shows it
   bool carry_captured_ = false;  // this accumulation's pair was kept

@@ -223,21 +223,29 @@ TEST(Refinement, ACompletePictureIsCarriedOverAChangeOfWhatTheViewShows) {
     EXPECT_EQ(r.CarryWeight(kTarget), 3.0f);
     EXPECT_FALSE(r.CaptureCarry(kTarget));
   }
-  // Turned off: the same change carries nothing.
+  // Turned off: the same change carries nothing and keeps no centre.
   const auto off = r.Next(Key(4), kTarget, 0, /*carry=*/false);
   ASSERT_TRUE(off);
   EXPECT_FALSE(off->carry);
+  EXPECT_FALSE(off->centre);
   r.Added();
   EXPECT_EQ(r.CarryWeight(kTarget), 0.0f);
+  // Nor is anything kept while it is off: on again, nothing to carry.
+  EXPECT_EQ(complete(r, Key(4), /*carry=*/false), 0);
+  EXPECT_FALSE(r.carry_valid());
+  const auto on_again = r.Next(Key(5), kTarget, 0);
+  ASSERT_TRUE(on_again);
+  EXPECT_FALSE(on_again->carry);
+  r.Added();
   // A change of the view drops the pair: nothing to carry until a picture
   // of the new view is complete.
-  ASSERT_EQ(complete(r, Key(4)), 1);
-  const auto moved = r.Next(Key(4, 1), kTarget, 0);
+  ASSERT_EQ(complete(r, Key(5)), 1);
+  const auto moved = r.Next(Key(5, 1), kTarget, 0);
   ASSERT_TRUE(moved);
   EXPECT_FALSE(moved->carry);
   EXPECT_FALSE(r.carry_valid());
   r.Added();
-  const auto next = r.Next(Key(5, 1), kTarget, 0);
+  const auto next = r.Next(Key(6, 1), kTarget, 0);
   ASSERT_TRUE(next);
   EXPECT_FALSE(next->carry) << "the moved view's picture never completed";
   // With history (weight > 0) the history takes the carry's place.
