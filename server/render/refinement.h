@@ -117,7 +117,7 @@ class Refinement {
   // The history's weight in the picture shown, in samples: `history` after
   // a change, falling linearly to 0 at `target` samples; 0 without history.
   float HistoryWeight(uint32_t target) const;
-  // The carried picture's weight, in samples: target - n while an
+  // The carried picture's weight, in samples: max(target - n, n) while an
   // accumulation after a change carries the anti-aliasing over, else 0.
   float CarryWeight(uint32_t target) const;
   // True once, when the accumulation that began at the pixel centre is

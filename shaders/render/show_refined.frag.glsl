@@ -12,7 +12,8 @@
 // looks (1 where C is dark against R - C, at most 4), clipped likewise;
 // not used where the surface seen at a pixel centre of the 3x3
 // neighbourhood changed (its distance, in the centres' alpha, differs):
-// what moved, in its old place and its new.
+// what moved, in its old place and its new. Where those centres see the
+// same light within 2 %, H is shown whole: nothing there changed but by k.
 #include "bindings.glsl"
 layout(binding = GS_UNIT_REFINE_MEAN) uniform sampler2D uMean;
 layout(binding = GS_UNIT_REFINE_HISTORY) uniform sampler2D uHistory;
@@ -63,14 +64,25 @@ void main() {
   const vec3 sigma = sqrt(max(m2 / 9.0 - m1 * m1, vec3(0.0)));
   vec3 kept = texelFetch(uHistory, p, 0).rgb;
   if (uCarry != 0) {
+    // Where the 3x3 neighbourhood's centres see the same surface and the
+    // same light within kStill, nothing there changed but by a smooth
+    // factor k: the carried picture is the complete one (its sub-pixel
+    // samples are at the same offsets as the new ones) and is shown whole,
+    // not clipped to nor blended with a prefix of the new samples, whose
+    // uneven weights on an edge (an emitter's outline) read worse than
+    // either. Elsewhere it is blended in at weight m.
+    const float kStill = 0.02;
+    bool still = true;
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dx = -1; dx <= 1; ++dx) {
         const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), last);
-        const float now = texelFetch(uHistory, q, 0).a, then = texelFetch(uCarryCentre, q, 0).a;
-        if (abs(now - then) > 1e-4 * max(now, then)) {
+        const vec4 now = texelFetch(uHistory, q, 0), then = texelFetch(uCarryCentre, q, 0);
+        if (abs(now.a - then.a) > 1e-4 * max(now.a, then.a)) {
           oColor = mean;
           return;
         }
+        const vec3 change = abs(now.rgb - then.rgb);
+        still = still && all(lessThanEqual(change, kStill * max(now.rgb, then.rgb) + 1e-6));
       }
     }
     const vec3 r = texelFetch(uCarryMean, p, 0).rgb, c = texelFetch(uCarryCentre, p, 0).rgb;
@@ -78,6 +90,10 @@ void main() {
     const vec3 eps = vec3(1e-4) + 0.01 * abs(added);
     const vec3 k = clamp((kept + eps) / (c + eps), vec3(0.0), vec3(4.0));
     kept += k * added;
+    if (still) {
+      oColor = vec4(kept, mean.a);
+      return;
+    }
   }
   const vec3 history = FromYCoCg(ClipToBox(ToYCoCg(kept), m1, sigma));
   oColor = vec4((uSamples * mean.rgb + uHistoryWeight * history) / (uSamples + uHistoryWeight),

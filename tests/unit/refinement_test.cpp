@@ -209,7 +209,8 @@ TEST(Refinement, ACompletePictureIsCarriedOverAChangeOfWhatTheViewShows) {
     EXPECT_FALSE(more->centre);
     EXPECT_EQ(more->jitter, n - 1u);  // the fresh view's offsets
     r.Added();
-    EXPECT_EQ(r.CarryWeight(kTarget), float(kTarget - n));
+    // target - n, not below n until complete; 0 once it is.
+    EXPECT_EQ(r.CarryWeight(kTarget), n == kTarget ? 0.0f : float(std::max(kTarget - n, n)));
     EXPECT_EQ(r.CaptureCarry(kTarget), n == kTarget) << "the new complete picture is kept";
   }
   // Changes going on (a solution still coming in): each carries the pair.
