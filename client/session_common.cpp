@@ -52,6 +52,7 @@ std::string FormatConvergence(const v1::Frame& last) {
                                  FrameStatValue(last, "refine_target"), " samples per pixel"));
   }
   if (FrameStatValue(last, "refine_carry") > 0.0) parts.push_back("anti-aliasing carried");
+  if (FrameStatValue(last, "refine_reproject") > 0.0) parts.push_back("last picture reprojected");
   if (has("spp_total")) parts.push_back(absl::StrCat(FrameStatValue(last, "spp_total"), " spp"));
   if (has("update_complete")) {
     parts.push_back(FrameStatValue(last, "update_complete") == 1.0 ? "GI complete"

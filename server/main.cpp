@@ -158,6 +158,12 @@ constexpr const char* kUsage = R"(usage: gistreamd [flags]
                              change under a still camera, scaled by the
                              change of light at each pixel centre and dropped
                              where geometry moved (default 1)
+  --refine-reproject N       weight, in samples, of the picture shown before a
+                             camera move, reprojected into the new view
+                             where it saw the same surfaces (clipped to the
+                             new picture's colours, faded out by the last
+                             sample); 0: a move restarts at the pixel
+                             centres (default 4, at most 64)
   --version                  print "gistreamd VERSION" and exit
   --list-solvers             print the registered solvers, one name per line,
                              and exit
@@ -318,6 +324,8 @@ void AddEngineFlags(Flags& f, Setters& setters) {
        Unsigned<uint32_t>(f.engine.refine_history, 0, EngineOptions::kMaxRefineHistory)},
       {"--refine-carry",
        [&](auto flag, auto v) { f.engine.refine_carry = ParseInt(flag, v, 0, 1) != 0; }},
+      {"--refine-reproject",
+       Unsigned<uint32_t>(f.engine.refine_reproject, 0, EngineOptions::kMaxRefineHistory)},
   });
 }
 

@@ -38,6 +38,7 @@
 #define GS_UNIT_REFINE_HISTORY 1
 #define GS_UNIT_CARRY_MEAN 2
 #define GS_UNIT_CARRY_CENTRE 3
+#define GS_UNIT_REPROJECT_PREVIOUS 4  // render/show_refined: the picture before a camera move
 #define GS_UNIT_CUBE_SHADOWS 4   // render/direct_lighting
 #define GS_UNIT_DIR_SHADOWS 5
 #define GS_UNIT_GBUFFER 8        // 8 position, 9 normal, 10 albedo, 11 emission

@@ -165,9 +165,10 @@ std::string FrameMessage(const v1::Frame& f) {
   // What the picture has converged to (issue 27), for the overlay: the
   // stats of those names the frame carries.
   json convergence = json::object();
-  for (const char* name : {"refine_samples", "refine_target", "refine_carry", "update_complete",
-                           "at_rest", "ms_since_camera_change", "ms_since_scene_change",
-                           "gi_versions_behind", "residual", "spp_total"}) {
+  for (const char* name :
+       {"refine_samples", "refine_target", "refine_carry", "refine_reproject", "update_complete",
+        "at_rest", "ms_since_camera_change", "ms_since_scene_change", "gi_versions_behind",
+        "residual", "spp_total"}) {
     const auto it = f.stats().find(name);
     if (it != f.stats().end()) convergence[name] = it->second;
   }

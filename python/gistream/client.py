@@ -58,7 +58,8 @@ def material_change(material, base_color=None, emissive=None, emissive_strength=
     return change
 
 
-_CONVERGENCE = ("refine_samples", "refine_target", "refine_carry", "update_complete", "at_rest",
+_CONVERGENCE = ("refine_samples", "refine_target", "refine_carry", "refine_reproject",
+                "update_complete", "at_rest",
                 "frames_since_camera_change", "ms_since_camera_change",
                 "frames_since_scene_change", "ms_since_scene_change", "gi_versions_behind",
                 "residual", "spp_total")
@@ -68,7 +69,9 @@ def convergence(frame):
     """What a frame's picture has converged to, from its stats: a dict of
     those of refine_samples / refine_target (a still view's jittered samples
     per pixel), refine_carry (> 0: the anti-aliasing of the last complete
-    picture carried over a change, its weight in samples), update_complete
+    picture carried over a change, its weight in samples), refine_reproject
+    (> 0: the picture before a camera move reprojected into the new view,
+    its weight in samples), update_complete
     (1: the latest GI solution), at_rest, the frames and ms since the camera and the scene changed, and the solver's
     gi_versions_behind / residual / spp_total where it reports them."""
     return {k: frame.stats[k] for k in _CONVERGENCE if k in frame.stats}

@@ -197,6 +197,11 @@ struct SessionConfig {
   // most EngineOptions::kMaxRefineHistory; 0 keeps none; unset:
   // EngineOptions::refine_history. Not in the gRPC API yet.
   std::optional<uint32_t> refine_history;
+  // The weight, in samples, of the picture shown before a camera move,
+  // reprojected into the new view (render/refinement.h), at most
+  // EngineOptions::kMaxRefineHistory; 0: none; unset:
+  // EngineOptions::refine_reproject. Not in the gRPC API yet.
+  std::optional<uint32_t> refine_reproject;
 };
 
 struct SessionOpenInfo {
@@ -302,6 +307,10 @@ struct EngineOptions {
   // last complete picture's anti-aliasing over (render/refinement.h) when
   // refine_history is 0.
   bool refine_carry = true;
+  // Default SessionConfig::refine_reproject (gistreamd --refine-reproject):
+  // the frames of a camera move show the new pixel centres with the
+  // picture before, reprojected, at this weight in samples.
+  uint32_t refine_reproject = 4;
   // Told about every frame produced (see observer.h); may be null.
   std::shared_ptr<ServerObserver> observer;
   // The server-wide memory budget (util/memory_budget.h): decoded images

@@ -633,6 +633,11 @@ absl::Status EngineImpl::ValidateConfig(const SessionConfig& c) const {
     return absl::InvalidArgumentError(absl::StrCat(
         "frame_budget_ms: ", c.frame_budget_ms, " is out of range [0, ", kMaxFrameBudgetMs, "]"));
   }
+  if (c.refine_reproject && *c.refine_reproject > EngineOptions::kMaxRefineHistory) {
+    return absl::InvalidArgumentError(absl::StrCat("refine_reproject: ", *c.refine_reproject,
+                                                   " is outside [0, ",
+                                                   EngineOptions::kMaxRefineHistory, "]"));
+  }
   if (c.refine_history && *c.refine_history > EngineOptions::kMaxRefineHistory) {
     return absl::InvalidArgumentError(absl::StrCat("refine_history: ", *c.refine_history,
                                                    " is outside [0, ",
@@ -1224,6 +1229,13 @@ absl::Status EngineImpl::ShadeSample(GpuSceneRecord& scene, SolverEntry& entry, 
     view.refinement.SetHistoryInvalid(
         MovedPixels(view.camera, view.shown_transforms.Since(*scene.gpu, *scene.state)));
   }
+  if (sample.reproject) {
+    // Before the new camera's first sample is shaded over the picture
+    // shown: it is the picture the frames of the move reproject.
+    passes_->KeepShown(view.gbuffer);
+    view.reproject_view_projection = view.shown_view_projection;
+    view.reproject_eye = view.shown_eye;
+  }
   if (sample.index == 0) view.shown_transforms.Solved(*scene.state);
   if (entry.solver->NeedsGBuffer()) {
     gl::StageTimer::Scope stage(timer_, "gbuffer");
@@ -1240,13 +1252,20 @@ absl::Status EngineImpl::ShadeSample(GpuSceneRecord& scene, SolverEntry& entry, 
     passes_->Accumulate(view.gbuffer, sample.index);
     const Refinement::PixelBox& invalid = view.refinement.history_invalid();
     passes_->ShowAccumulation(
-        view.gbuffer, {view.refinement.samples(), view.refinement.HistoryWeight(refine_target),
-                       invalid.min, invalid.max, view.refinement.CarryWeight(refine_target)});
+        view.gbuffer,
+        {view.refinement.samples(), view.refinement.HistoryWeight(refine_target), invalid.min,
+         invalid.max, view.refinement.CarryWeight(refine_target),
+         view.refinement.ReprojectWeight(refine_target), view.reproject_view_projection,
+         view.reproject_eye, glm::inverse(view.camera.Projection() * view.camera.View()),
+         view.camera.position});
     if (view.refinement.CaptureCarry(refine_target)) passes_->CaptureCarry(view.gbuffer);
   } else {
     timer_.Skip("refine");
   }
   if (sample.index == 0) view.solve_stats = entry.solver->Stats();
+  // The camera the picture now shown was shaded from (without its jitter).
+  view.shown_view_projection = view.camera.Projection() * view.camera.View();
+  view.shown_eye = view.camera.position;
   return absl::OkStatus();
 }
 
@@ -1381,6 +1400,8 @@ void EngineImpl::AddViewStats(ViewRecord& view, const GpuSceneRecord& scene, con
   stats.emplace_back("refine_history", double(view.refinement.HistoryWeight(refine_target)));
   // The carried anti-aliasing's weight in samples (0: none).
   stats.emplace_back("refine_carry", double(view.refinement.CarryWeight(refine_target)));
+  // The reprojected picture's weight after a camera move (0: none).
+  stats.emplace_back("refine_reproject", double(view.refinement.ReprojectWeight(refine_target)));
 }
 
 double EngineImpl::FrameBudgetMs(const SessionRecord& session, const ViewRecord& view) const {
@@ -1507,7 +1528,7 @@ absl::StatusOr<std::optional<Refinement::Sample>> EngineImpl::Draw(
       {state.version(), view.camera_version, entry.solver.get(), view.camera.width,
        view.camera.height, entry.solver->UpdateComplete()},
       draw.refine_target, session.config.refine_history.value_or(options_.refine_history),
-      options_.refine_carry);
+      options_.refine_carry, session.config.refine_reproject.value_or(options_.refine_reproject));
   if (!sample) {
     // No change since the picture was complete, so the solver's plan is
     // its changeless one, all of it shading, none of it run.

@@ -178,6 +178,10 @@ class EngineImpl final : public Engine {
     // The view's jittered samples (render/refinement.h), and the transforms
     // of the picture it shows (what moved since, for the history).
     Refinement refinement;
+    // The camera the picture in the HDR target was shaded from, and the
+    // one the reprojected picture was (render/refinement.h, `reproject`).
+    glm::mat4 shown_view_projection{1.0f}, reproject_view_projection{1.0f};
+    glm::vec3 shown_eye{0.0f}, reproject_eye{0.0f};
     MovedBounds shown_transforms;
     // The solver's stats after the slice that shaded sample 0: a frame
     // requested on its own reports its solve, not its last refinement

@@ -35,6 +35,7 @@ absl::Status GBuffer::Resize(uint32_t width, uint32_t height) {
   history_ = gl::RenderTarget(GL_RGBA32F, w, h);
   carry_mean_ = gl::RenderTarget(GL_RGBA32F, w, h);
   carry_centre_ = gl::RenderTarget(GL_RGBA32F, w, h);
+  previous_ = gl::RenderTarget(GL_RGBA32F, w, h);
   fbo_ = gl::FramebufferOf(
       {position_.id(), normal_.id(), albedo_.id(), emission_.id(), specular_.id()}, depth_.id());
   hdr_fbo_ = gl::FramebufferOf({hdr_.id()});
@@ -43,6 +44,7 @@ absl::Status GBuffer::Resize(uint32_t width, uint32_t height) {
   history_fbo_ = gl::FramebufferOf({history_.id()});
   carry_mean_fbo_ = gl::FramebufferOf({carry_mean_.id()});
   carry_centre_fbo_ = gl::FramebufferOf({carry_centre_.id()});
+  previous_fbo_ = gl::FramebufferOf({previous_.id()});
   view_ = gl::ZeroedBuffer(sizeof(glm::vec4));
 
   // Allocation failures are the client's size meeting this GPU's memory,
@@ -50,7 +52,7 @@ absl::Status GBuffer::Resize(uint32_t width, uint32_t height) {
   const GLenum error = gl::AllocationError();
   bool complete = true;
   for (const gl::Framebuffer* f : {&fbo_, &hdr_fbo_, &ldr_fbo_, &accumulation_fbo_, &history_fbo_,
-                                   &carry_mean_fbo_, &carry_centre_fbo_}) {
+                                   &carry_mean_fbo_, &carry_centre_fbo_, &previous_fbo_}) {
     complete = complete &&
                glCheckNamedFramebufferStatus(f->id(), GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
   }

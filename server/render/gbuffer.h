@@ -3,8 +3,9 @@
 // F90), depth, and the eye it was drawn
 // from; plus the HDR radiance target the solvers shade into and
 // the 8-bit target tone mapping writes, and the mean of a view's
-// refinement samples with the history kept across a change, and the
-// anti-aliasing carried across one (render/refinement.h).
+// refinement samples with the history kept across a change, the
+// anti-aliasing carried across one, and the last picture shown, which a
+// camera move reprojects (render/refinement.h).
 #pragma once
 
 #include <cstdint>
@@ -27,10 +28,11 @@ class GBuffer {
   uint32_t height() const { return height_; }
   // Bytes its textures hold: position RGBA32F, normal RGBA16F, albedo RGBA8,
   // emission RGBA32F, specular RGBA16F, depth 32F, hdr RGBA32F, ldr RGBA8,
-  // accumulation RGBA32F, history RGBA32F, carry mean and centre RGBA32F
-  // = 140 per pixel.
+  // accumulation RGBA32F, history RGBA32F, carry mean and centre RGBA32F,
+  // previous RGBA32F = 156 per pixel.
   uint64_t gpu_bytes() const { return uint64_t(width_) * height_ * kBytesPerPixel; }
-  static constexpr uint64_t kBytesPerPixel = 16 + 8 + 4 + 16 + 8 + 4 + 16 + 4 + 16 + 16 + 16 + 16;
+  static constexpr uint64_t kBytesPerPixel =
+      16 + 8 + 4 + 16 + 8 + 4 + 16 + 4 + 16 + 16 + 16 + 16 + 16;
 
   GLuint fbo() const { return fbo_.id(); }          // the four G-buffer targets + depth
   GLuint hdr_fbo() const { return hdr_fbo_.id(); }  // the radiance target
@@ -54,6 +56,10 @@ class GBuffer {
   GLuint carry_mean() const { return carry_mean_.id(); }
   GLuint carry_centre_fbo() const { return carry_centre_fbo_.id(); }
   GLuint carry_centre() const { return carry_centre_.id(); }
+  // The picture shown before a camera move, with the distance from that
+  // camera's eye to the surface each pixel showed in alpha (0: background).
+  GLuint previous_fbo() const { return previous_fbo_.id(); }
+  GLuint previous() const { return previous_.id(); }
 
   // Binds position/normal/albedo/emission to texture units first..first+3
   // (shaders/render/gbuffer_read.glsl reads them at GS_UNIT_GBUFFER) and
@@ -70,9 +76,9 @@ class GBuffer {
  private:
   uint32_t width_ = 0, height_ = 0;
   gl::Texture position_, normal_, albedo_, emission_, specular_, depth_, hdr_, ldr_, accumulation_,
-      history_, carry_mean_, carry_centre_;
+      history_, carry_mean_, carry_centre_, previous_;
   gl::Framebuffer fbo_, hdr_fbo_, ldr_fbo_, accumulation_fbo_, history_fbo_, carry_mean_fbo_,
-      carry_centre_fbo_;
+      carry_centre_fbo_, previous_fbo_;
   gl::Buffer view_;  // std140 { vec4 eye; }
 };
 

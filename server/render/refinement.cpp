@@ -26,10 +26,18 @@ float Rotated(float u) {
 }  // namespace
 
 std::optional<Refinement::Sample> Refinement::Next(const Key& key, uint32_t target,
-                                                   uint32_t history, bool carry) {
+                                                   uint32_t history, bool carry,
+                                                   uint32_t reproject) {
   const bool same = key == key_ && key.solution_final;
   const bool same_view = samples_ > 0 && key.SameView(key_);
   if (target <= 1 || !same_view || (!same && history == 0)) {
+    // A camera move with a picture shown (same size and solver): that
+    // picture, reprojected, is the history of the new view's first frames.
+    const bool moved = samples_ > 0 && key.solver == key_.solver && key.width == key_.width &&
+                       key.height == key_.height && key.camera_version != key_.camera_version;
+    // It needs the shown picture's centre samples (the history target
+    // holds them, as for the carry), so not with a history.
+    reproject_ = target > 1 && moved && history == 0 ? reproject : 0;
     // The view changed (or nothing was shown yet, or no history is kept):
     // the samples restart at the pixel centre; under the same view the
     // anti-aliasing of the last complete picture is carried over.
@@ -44,11 +52,14 @@ std::optional<Refinement::Sample> Refinement::Next(const Key& key, uint32_t targ
     carry_captured_ = false;
     Sample first{0, 0, false};
     first.carry = carrying_;
-    first.centre = carry_on_;  // only a carried picture needs its centre
+    // Only a carried or reprojected picture needs its centre.
+    first.centre = carry_on_ || (target > 1 && history == 0 && reproject > 0);
+    first.reproject = reproject_ > 0;
     return first;
   }
   if (!same) {
     // Only what the view shows changed: the picture shown is the history.
+    reproject_ = 0;
     key_ = key;
     samples_ = 0;
     accumulation_ += 1;
@@ -88,6 +99,12 @@ float Refinement::CarryWeight(uint32_t target) const {
   // (target - n) target / n, nearer the carried picture early on, measured
   // worse there (3.2e-3 against 2.9e-3 at n = 3).
   return float(std::max(target - samples_, samples_));
+}
+
+float Refinement::ReprojectWeight(uint32_t target) const {
+  if (reproject_ == 0 || target < 2 || samples_ >= target) return 0.0f;
+  // `reproject_` at one sample, 0 at `target` (as HistoryWeight).
+  return float(reproject_) * float(target - samples_) / float(target - 1);
 }
 
 bool Refinement::CaptureCarry(uint32_t target) {

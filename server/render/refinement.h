@@ -9,8 +9,19 @@
 // complete and the engine shades nothing more.
 //
 // What a change invalidates decides what is kept:
-// - The view (camera, size, solver instance): nothing. The samples restart
-//   at the pixel centre.
+// - The view (size, solver instance): nothing. The samples restart at the
+//   pixel centre.
+// - The camera (reprojection, the default, EngineOptions::
+//   refine_reproject): the samples restart at the pixel centre, and the
+//   picture shown before the move is kept and reprojected at the weight
+//   of `reproject` samples, fading out as the new samples come in: each
+//   pixel's centre surface (from its centre sample's distance) is looked
+//   up where the previous camera saw it, bilinearly over the texels whose
+//   centres saw that surface at that distance (within 2 %; an emitter
+//   never stands for what lies beside it), and clipped to the new samples'
+//   3x3 neighbourhood; a pixel the move uncovered shows its new samples.
+//   While the camera moves, every frame is the new centres plus the last
+//   frame reprojected: temporal anti-aliasing across camera moves.
 // - Only what the view shows (a new scene version, a solution still being
 //   updated), the camera unchanged: the samples restart, but the picture
 //   shown so far is kept as history, with the weight of `history` samples,
@@ -30,7 +41,7 @@
 //   mean R and its pixel-centre sample C (sample 0) are kept. After a
 //   change of what the view shows under the same camera, the new samples
 //   restart at the pixel centre and the view shows (n x mean + m x H) /
-//   (n + m), m = target - n, H = P + k (R - C): P the new pixel-centre
+//   (n + m), m = max(target - n, n), H = P + k (R - C): P the new pixel-centre
 //   sample, k = P / C per channel (the lighting's change at the surface
 //   the centre sees; 1 where C is dark against R - C, at most 4), clipped
 //   to the new samples' 3x3 neighbourhood as the history is. R - C is what
@@ -38,7 +49,9 @@
 //   emitters' anti-aliasing, which a change of lighting scales but does not
 //   move. Where geometry moved it is dropped: a pixel whose 3x3
 //   neighbourhood's centres see another surface than the carried centres
-//   did (their distance from the eye differs) shows its new samples.
+//   did (their distance from the eye differs) shows its new samples; a
+//   pixel whose neighbourhood's centres see what they saw (light within
+//   2 %) shows H alone until the new picture is complete.
 #pragma once
 
 #include <cstdint>
@@ -86,9 +99,12 @@ class Refinement {
     bool keep_history = false;
     // The first sample after a change that carries the anti-aliasing over.
     bool carry = false;
-    // The pixel-centre sample of an accumulation that can be carried (keep
-    // it as C once shaded).
+    // The pixel-centre sample of an accumulation that can be carried or
+    // reprojected (keep it, with its surface's distance, as C once shaded).
     bool centre = false;
+    // The first sample after a camera move that reprojects the picture
+    // shown before it (keep that picture before this sample is shaded).
+    bool reproject = false;
   };
 
   // Pixels [min, max) (rows from the bottom, as GL's) where the history
@@ -106,7 +122,13 @@ class Refinement {
   // history) / 8, an exponential moving average of alpha 1/8 while the
   // changes go on, every frame).
   // `carry`: carry the anti-aliasing over such a change when history is 0.
-  std::optional<Sample> Next(const Key& key, uint32_t target, uint32_t history, bool carry = true);
+  // `reproject`: the weight, in samples, of the picture shown before a
+  // camera move (same size and solver), reprojected into the new view
+  // (0: none, the move restarts at the pixel centres); like `history`, an
+  // exponential moving average while the camera moves, fading out as the
+  // still view's samples come in.
+  std::optional<Sample> Next(const Key& key, uint32_t target, uint32_t history, bool carry = true,
+                             uint32_t reproject = 0);
   // Another sample of the same key in the same frame (the solver's solution
   // cannot change within it, final or not), or none once `target` are in.
   std::optional<Sample> Continue(uint32_t target) const;
@@ -120,6 +142,9 @@ class Refinement {
   // The carried picture's weight, in samples: max(target - n, n) while an
   // accumulation after a change carries the anti-aliasing over, else 0.
   float CarryWeight(uint32_t target) const;
+  // The reprojected picture's weight, in samples: `reproject` after a
+  // camera move, falling linearly to 0 at `target` samples; else 0.
+  float ReprojectWeight(uint32_t target) const;
   // True once, when the accumulation that began at the pixel centre is
   // complete: its mean and centre sample become the carried pair (copy
   // them), valid until the view changes.
@@ -139,6 +164,7 @@ class Refinement {
   uint32_t samples_ = 0;
   uint32_t accumulation_ = 0;  // accumulations since the view last changed
   uint32_t history_ = 0;       // the kept picture's weight at one sample
+  uint32_t reproject_ = 0;     // the reprojected picture's weight at one sample
   PixelBox history_invalid_{};
   bool carry_on_ = false;        // carrying is asked for (no history)
   bool carry_valid_ = false;     // a complete picture's pair is kept

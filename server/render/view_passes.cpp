@@ -26,6 +26,15 @@ std::vector<T> ReadTexture(GLuint texture, uint32_t width, uint32_t height, GLen
   return pixels;
 }
 
+// A full-screen pass of the view into one of its G-buffer's targets
+// (without blending; Tonemap's leaves blending as it is).
+void BeginViewPass(GLuint fbo, const GBuffer& gbuffer) {
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+  glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+}
+
 }  // namespace
 
 absl::StatusOr<ViewPasses> ViewPasses::Create() {
@@ -49,6 +58,9 @@ absl::StatusOr<ViewPasses> ViewPasses::Create() {
   GS_ASSIGN_OR_RETURN(passes.keep_centre_,
                       gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
                                           {GL_FRAGMENT_SHADER, "render/keep_centre.frag.glsl"}}));
+  GS_ASSIGN_OR_RETURN(passes.keep_shown_,
+                      gl::Program::Build({{GL_VERTEX_SHADER, "render/fullscreen.vert.glsl"},
+                                          {GL_FRAGMENT_SHADER, "render/keep_shown.frag.glsl"}}));
   passes.non_finite_ = gl::Buffer::Create();
   glNamedBufferStorage(passes.non_finite_.id(), sizeof(GLuint), nullptr,
                        GL_DYNAMIC_STORAGE_BIT | GL_MAP_READ_BIT);
@@ -132,14 +144,19 @@ void ViewPasses::KeepHistory(const GBuffer& gbuffer) {
 }
 
 void ViewPasses::KeepCentre(const GBuffer& gbuffer, const glm::vec3& eye) {
-  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.history_fbo());
-  glViewport(0, 0, GLsizei(gbuffer.width()), GLsizei(gbuffer.height()));
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_BLEND);
+  BeginViewPass(gbuffer.history_fbo(), gbuffer);
   glBindTextureUnit(GS_UNIT_HDR, gbuffer.hdr());
   glBindTextureUnit(GS_UNIT_GBUFFER_POSITION, gbuffer.position());
+  glBindTextureUnit(GS_UNIT_GBUFFER_EMISSION, gbuffer.emission());
   keep_centre_.Set("uEye", eye);
   fullscreen_.Draw(keep_centre_);
+}
+
+void ViewPasses::KeepShown(const GBuffer& gbuffer) {
+  BeginViewPass(gbuffer.previous_fbo(), gbuffer);
+  glBindTextureUnit(GS_UNIT_HDR, gbuffer.hdr());
+  glBindTextureUnit(GS_UNIT_REFINE_HISTORY, gbuffer.history());
+  fullscreen_.Draw(keep_shown_);
 }
 
 void ViewPasses::CaptureCarry(const GBuffer& gbuffer) {
@@ -153,22 +170,28 @@ void ViewPasses::CaptureCarry(const GBuffer& gbuffer) {
 void ViewPasses::ShowAccumulation(const GBuffer& gbuffer, const Shown& shown) {
   const GLint w = GLint(gbuffer.width()), h = GLint(gbuffer.height());
   const bool carry = shown.carry_weight > 0.0f;
-  if (!(shown.history_weight > 0.0f) && !carry) {
+  const bool reproject = shown.reproject_weight > 0.0f;
+  if (!(shown.history_weight > 0.0f) && !carry && !reproject) {
     glBlitNamedFramebuffer(gbuffer.accumulation_fbo(), gbuffer.hdr_fbo(), 0, 0, w, h, 0, 0, w, h,
                            GL_COLOR_BUFFER_BIT, GL_NEAREST);
     return;
   }
-  glBindFramebuffer(GL_FRAMEBUFFER, gbuffer.hdr_fbo());
-  glViewport(0, 0, w, h);
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_BLEND);
+  BeginViewPass(gbuffer.hdr_fbo(), gbuffer);
   glBindTextureUnit(GS_UNIT_REFINE_MEAN, gbuffer.accumulation());
   glBindTextureUnit(GS_UNIT_REFINE_HISTORY, gbuffer.history());
   glBindTextureUnit(GS_UNIT_CARRY_MEAN, gbuffer.carry_mean());
   glBindTextureUnit(GS_UNIT_CARRY_CENTRE, gbuffer.carry_centre());
+  glBindTextureUnit(GS_UNIT_REPROJECT_PREVIOUS, gbuffer.previous());
   show_refined_.Set("uSamples", float(std::max(shown.samples, 1u)));
-  show_refined_.Set("uHistoryWeight", carry ? shown.carry_weight : shown.history_weight);
+  show_refined_.Set("uHistoryWeight", reproject ? shown.reproject_weight
+                                      : carry   ? shown.carry_weight
+                                                : shown.history_weight);
   show_refined_.Set("uCarry", carry ? 1 : 0);
+  show_refined_.Set("uReproject", reproject ? 1 : 0);
+  show_refined_.Set("uPreviousViewProjection", shown.previous_view_projection);
+  show_refined_.Set("uPreviousEye", shown.previous_eye);
+  show_refined_.Set("uInverseViewProjection", shown.inverse_view_projection);
+  show_refined_.Set("uEye", shown.eye);
   show_refined_.Set("uInvalidMin", shown.invalid_min);
   show_refined_.Set("uInvalidMax", shown.invalid_max);
   fullscreen_.Draw(show_refined_);

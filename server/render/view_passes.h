@@ -42,16 +42,28 @@ class ViewPasses {
   // the complete mean and that centre as the carried pair.
   void KeepCentre(const GBuffer& gbuffer, const glm::vec3& eye);
   void CaptureCarry(const GBuffer& gbuffer);
+  // Reprojection across a camera move (render/refinement.h): the picture
+  // shown (the HDR target), with its centre sample's distance from its
+  // camera's eye in alpha (KeepCentre's, in the history target), becomes
+  // the previous picture, before the new camera's first sample is shaded.
+  void KeepShown(const GBuffer& gbuffer);
   // What the view shows, into the HDR target for tone mapping and
   // readback: the mean of the accumulation's `samples` samples, with the
   // history at `history_weight` samples where it is valid
   // (shaders/render/show_refined.frag.glsl), or the carried picture at
-  // `carry_weight` samples; the mean alone when both weights are 0.
+  // `carry_weight` samples, or the previous picture reprojected from the
+  // camera `previous_view_projection` (eye `previous_eye`) at
+  // `reproject_weight` samples; the mean alone when all weights are 0.
   struct Shown {
     uint32_t samples = 1;
     float history_weight = 0.0f;
     glm::ivec2 invalid_min{0}, invalid_max{0};  // pixels without history
     float carry_weight = 0.0f;
+    float reproject_weight = 0.0f;
+    glm::mat4 previous_view_projection{1.0f};
+    glm::vec3 previous_eye{0.0f};
+    glm::mat4 inverse_view_projection{1.0f};  // this view's, without jitter
+    glm::vec3 eye{0.0f};
   };
   void ShowAccumulation(const GBuffer& gbuffer, const Shown& shown);
   // HDR radiance -> gbuffer.ldr(): exposure 2^ev, filmic curve, sRGB.
@@ -83,6 +95,7 @@ class ViewPasses {
   gl::Program copy_hdr_;      // the HDR target's texels, for accumulation
   gl::Program show_refined_;  // the mean with the history
   gl::Program keep_centre_;   // a centre sample with its surface's distance
+  gl::Program keep_shown_;    // the picture shown with its centres' distances
   gl::FullscreenPass fullscreen_;
   gl::Buffer non_finite_;  // one uint, SSBO binding 7 of the tone map
 };

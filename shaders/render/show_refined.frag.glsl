@@ -14,16 +14,27 @@
 // neighbourhood changed (its distance, in the centres' alpha, differs):
 // what moved, in its old place and its new. Where those centres see the
 // same light within 2 %, H is shown whole: nothing there changed but by k.
+// Reprojection (uReproject): after a camera move the picture at weight m
+// is the one shown before it, at the point where the previous camera saw
+// this pixel's surface (bilinear over the four texels around it that saw
+// that surface at its distance, within 2 %: not what the move uncovered),
+// clipped likewise: temporal anti-aliasing across camera moves.
 #include "bindings.glsl"
 layout(binding = GS_UNIT_REFINE_MEAN) uniform sampler2D uMean;
 layout(binding = GS_UNIT_REFINE_HISTORY) uniform sampler2D uHistory;
 layout(binding = GS_UNIT_CARRY_MEAN) uniform sampler2D uCarryMean;
 layout(binding = GS_UNIT_CARRY_CENTRE) uniform sampler2D uCarryCentre;
+layout(binding = GS_UNIT_REPROJECT_PREVIOUS) uniform sampler2D uPrevious;  // a: eye distance
 uniform float uSamples;        // n >= 1
 uniform float uHistoryWeight;  // m > 0
 uniform int uCarry;            // 1: the history is the carried picture
 uniform ivec2 uInvalidMin;     // pixels [min, max) ignore the history
 uniform ivec2 uInvalidMax;
+uniform int uReproject;  // 1: the history is the previous picture, reprojected
+uniform mat4 uPreviousViewProjection;
+uniform vec3 uPreviousEye;
+uniform mat4 uInverseViewProjection;  // this view's, without jitter
+uniform vec3 uEye;
 out vec4 oColor;
 
 vec3 ToYCoCg(vec3 c) {
@@ -38,6 +49,43 @@ vec3 ClipToBox(vec3 h, vec3 centre, vec3 extent) {
   const vec3 ratio = abs(d) / max(extent, vec3(1e-7));
   const float m = max(ratio.x, max(ratio.y, ratio.z));
   return m > 1.0 ? centre + d / m : h;
+}
+
+// The previous picture where the previous camera saw the surface at pixel
+// p: false where it did not (off screen, behind it, uncovered by the move,
+// the background).
+bool Reprojected(ivec2 p, out vec3 color) {
+  color = vec3(0.0);
+  // The surface the pixel centre sees, from the distance its centre sample
+  // kept (keep_centre.frag.glsl: negative on an emitter, 0 background),
+  // not the G-buffer's, which holds the last jittered sample's.
+  const float centre = texelFetch(uHistory, p, 0).a;
+  if (centre == 0.0) return false;
+  const ivec2 size = textureSize(uPrevious, 0);
+  const vec2 ndc = (vec2(p) + 0.5) / vec2(size) * 2.0 - 1.0;
+  const vec4 near = uInverseViewProjection * vec4(ndc, -1.0, 1.0);
+  const vec3 position = uEye + abs(centre) * normalize(near.xyz / near.w - uEye);
+  const vec4 clip = uPreviousViewProjection * vec4(position, 1.0);
+  if (clip.w <= 0.0) return false;
+  const vec2 texel = (clip.xy / clip.w * 0.5 + 0.5) * vec2(size) - 0.5;
+  const ivec2 base = ivec2(floor(texel));
+  const vec2 f = texel - vec2(base);
+  const float expected = sign(centre) * distance(position, uPreviousEye);
+  float weight = 0.0;
+  for (int j = 0; j <= 1; ++j) {
+    for (int i = 0; i <= 1; ++i) {
+      const ivec2 q = base + ivec2(i, j);
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
+      const vec4 previous = texelFetch(uPrevious, q, 0);
+      if (abs(previous.a - expected) > 0.02 * abs(expected)) continue;
+      const float w = (i == 1 ? f.x : 1.0 - f.x) * (j == 1 ? f.y : 1.0 - f.y);
+      color += w * previous.rgb;
+      weight += w;
+    }
+  }
+  if (weight < 0.25) return false;
+  color /= weight;
+  return true;
 }
 
 void main() {
@@ -63,6 +111,10 @@ void main() {
   m1 /= 9.0;
   const vec3 sigma = sqrt(max(m2 / 9.0 - m1 * m1, vec3(0.0)));
   vec3 kept = texelFetch(uHistory, p, 0).rgb;
+  if (uReproject != 0 && !Reprojected(p, kept)) {
+    oColor = mean;
+    return;
+  }
   if (uCarry != 0) {
     // Where the 3x3 neighbourhood's centres see the same surface and the
     // same light within kStill, nothing there changed but by a smooth
@@ -77,7 +129,7 @@ void main() {
       for (int dx = -1; dx <= 1; ++dx) {
         const ivec2 q = clamp(p + ivec2(dx, dy), ivec2(0), last);
         const vec4 now = texelFetch(uHistory, q, 0), then = texelFetch(uCarryCentre, q, 0);
-        if (abs(now.a - then.a) > 1e-4 * max(now.a, then.a)) {
+        if (abs(now.a - then.a) > 1e-4 * max(abs(now.a), abs(then.a))) {
           oColor = mean;
           return;
         }

@@ -260,15 +260,18 @@ constexpr uint32_t kChangeSize = 32, kChangeSamples = 16;
 // budget that shades the rest in the frame after the change's), waits for
 // its picture to rest, applies `change` and returns the frames that show
 // it, up to the rest; the first one first. `before`, when given, receives
-// the complete picture's last frame before the change.
+// the complete picture's last frame before the change. `reproject`: the
+// session's reprojection weight (unset: the engine's default).
 std::vector<std::shared_ptr<const EncodedFrame>> FramesAfterAChange(
     const BundledCopy& scene, uint32_t history, const Change& change,
-    std::shared_ptr<const EncodedFrame>* before = nullptr) {
+    std::shared_ptr<const EncodedFrame>* before = nullptr,
+    std::optional<uint32_t> reproject = std::nullopt) {
   SessionConfig c = Continuous(scene.id(), kChangeSamples, /*budget_ms=*/10'000.0);
   c.width = c.height = kChangeSize;
   c.params = {{"area_samples", "64"}};
   c.encoding.format = ImageFormat::kExr;
   if (history > 0) c.refine_history = history;
+  c.refine_reproject = reproject;
   auto sink = std::make_shared<FrameQueue>();
   Engine& engine = SharedEngine();
   auto session = engine.OpenSession(c, sink);
@@ -466,6 +469,32 @@ TEST(Refinement, WhereNothingChangedTheCompletePictureIsShownWhole) {
   EXPECT_LT(worst, 0.01) << "the first frame after the change shows the complete picture there";
 }
 
+TEST(Refinement, ACameraMoveReprojectsThePictureBeforeIt) {
+  // The camera steps 1 cm aside (an orbit's frame): the first frame after
+  // it shades the new pixel centres, with the complete picture before the
+  // step reprojected where the old camera's pixel centres saw the same
+  // surfaces (render/refinement.h, `reproject`), so it is nearer the new
+  // view's box-filtered picture than the pixel centres alone.
+  const BundledCopy scene("cornell_box.gltf");
+  CameraUpdate step;
+  step.look_at = LookAt{{0.288f, 0.273f, -0.8f}, {0.278f, 0.273f, 0.28f}, {0.0f, 1.0f, 0.0f}};
+  const auto with = FramesAfterAChange(scene, 0, step);
+  const auto without = FramesAfterAChange(scene, 0, step, nullptr, 0u);
+  ASSERT_GE(with.size(), 2u);
+  ASSERT_GE(without.size(), 2u);
+  EXPECT_GT(FrameStat(*with.front(), "refine_reproject"), 0.0);
+  EXPECT_EQ(FrameStat(*without.front(), "refine_reproject"), 0.0);
+  EXPECT_EQ(FrameStat(*with.back(), "refine_reproject"), 0.0) << "faded out once complete";
+  RenderRequest moved = Request(scene.id(), kChangeSize * 8, 1);
+  moved.camera = step;
+  const FloatImage reference = BoxDownsample(RenderRequestExr(moved), 8);
+  const double e_with = RelativeL1(testing::DecodeExr(*with.front()), reference, true);
+  const double e_without = RelativeL1(testing::DecodeExr(*without.front()), reference, true);
+  RecordProperty("relative_l1_first_reprojected", std::to_string(e_with));
+  RecordProperty("relative_l1_first_centres", std::to_string(e_without));
+  EXPECT_LT(e_with, 0.8 * e_without);
+}
+
 TEST(Refinement, SolversThatDoNotShadeTheGBufferAreNotRefinedByTheEngine) {
   const BundledCopy scene("cornell_box.gltf");
   RenderRequest r = Request(scene.id(), 16, 8);
@@ -490,6 +519,12 @@ TEST(Refinement, TheSampleCountIsBounded) {
   ASSERT_FALSE(session.ok());
   EXPECT_EQ(session.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_NE(session.status().message().find("refine_history"), std::string::npos);
+  c.refine_history.reset();
+  c.refine_reproject = EngineOptions::kMaxRefineHistory + 1;
+  const auto reprojecting = SharedEngine().OpenSession(c, std::make_shared<FrameQueue>());
+  ASSERT_FALSE(reprojecting.ok());
+  EXPECT_EQ(reprojecting.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(reprojecting.status().message().find("refine_reproject"), std::string::npos);
 }
 
 }  // namespace

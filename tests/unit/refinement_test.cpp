@@ -88,6 +88,57 @@ TEST(Refinement, AChangeOfTheViewRestartsWithoutHistory) {
   }
 }
 
+// A camera move with reprojection (weight 4 here) restarts at the pixel
+// centre and asks for the picture shown to be kept and reprojected; its
+// weight fades linearly to nothing at the target, and each further move
+// asks again. A change of size or solver, a first picture, a change under
+// the same camera or a weight of 0 reproject nothing.
+TEST(Refinement, ACameraMoveReprojectsThePictureShownBeforeIt) {
+  constexpr uint32_t kTarget = 4, kWeight = 4;
+  Refinement r;
+  const auto first = r.Next(Key(), kTarget, 0, true, kWeight);
+  ASSERT_TRUE(first);
+  EXPECT_FALSE(first->reproject) << "nothing shown yet";
+  r.Added();
+  const auto moved = r.Next(Key(1, 1), kTarget, 0, true, kWeight);
+  ASSERT_TRUE(moved);
+  EXPECT_TRUE(moved->reproject);
+  EXPECT_FALSE(moved->keep_history);
+  EXPECT_EQ(moved->jitter, 0u);
+  r.Added();
+  EXPECT_EQ(r.ReprojectWeight(kTarget), float(kWeight));
+  const auto again = r.Next(Key(1, 2), kTarget, 0, true, kWeight);
+  ASSERT_TRUE(again);
+  EXPECT_TRUE(again->reproject) << "every frame of a move reprojects the one before";
+  r.Added();
+  for (uint32_t n = 2; n <= kTarget; ++n) {
+    const auto still = r.Next(Key(1, 2), kTarget, 0, true, kWeight);
+    ASSERT_TRUE(still);
+    EXPECT_FALSE(still->reproject);
+    r.Added();
+    EXPECT_EQ(r.ReprojectWeight(kTarget), float(kWeight) * float(kTarget - n) / float(kTarget - 1));
+  }
+  EXPECT_EQ(r.ReprojectWeight(kTarget), 0.0f) << "a complete picture is its own mean";
+  const int other_solver = 1;
+  Refinement::Key resized = Key(1, 3), solver = Key(1, 3), scene = Key(2, 2);
+  resized.width = 64;
+  solver.solver = &other_solver;
+  for (const Refinement::Key& change : {resized, solver, scene}) {
+    Refinement c;
+    ASSERT_EQ(FillTo(c, Key(1, 2), kTarget), int(kTarget));
+    const auto s = c.Next(change, kTarget, 0, true, kWeight);
+    ASSERT_TRUE(s);
+    EXPECT_FALSE(s->reproject);
+    c.Added();
+    EXPECT_EQ(c.ReprojectWeight(kTarget), 0.0f);
+  }
+  Refinement off;
+  ASSERT_EQ(FillTo(off, Key(), kTarget), int(kTarget));
+  const auto s = off.Next(Key(1, 1), kTarget, 0, true, 0);
+  ASSERT_TRUE(s);
+  EXPECT_FALSE(s->reproject);
+}
+
 // A change of what the view shows (a new scene version, a solution being
 // updated) under the same view restarts the samples but keeps the picture
 // as history, at its weight (7 samples here), fading linearly to nothing
