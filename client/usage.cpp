@@ -232,7 +232,8 @@ fps_vs_sessions.png and latency_vs_sessions.png into DIR.
                        during the motion, the first frame after the stop
                        and the time to within 2x and 1.05x of a full solve;
                        each reference and the updates it applied in DIR/
-                       references/step<k>_seq<n>.exr and .json. The first
+                       references/step<k>_seq<n>.exr and .json, each
+                       frame in DIR/frames/step<k>_frame<n>.exr. The first
                        session's updates wait for a complete picture (GI
                        done and the still view refined)
   --resume-for SEC     a session whose server drains or dies moves (as in
