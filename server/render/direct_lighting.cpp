@@ -173,18 +173,30 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
       dir_count != int(dir_views_.size()) || settings.shadow_resolution != shadow_resolution_ ||
       settings.full_detail != full_detail_;
   maps_redrawn_ = 0;
-  pending_.reset();  // a newer light set replaces one still being drawn
   // The second set doubles the maps' memory: only when both fit the limit.
   if (all_stale && budget_ms > 0.0 && drawn_once_ && 2 * bytes <= kMaxShadowBytes) {
     // Sliced: every map is drawn into the other set, a budget's worth per
     // frame, while the shown set (maps and buffers that agree) stays bound.
     for (size_t i = 0; i < next.cube_views.size(); ++i) next.cube_draws.push_back(int(i));
     for (size_t i = 0; i < next.dir_views.size(); ++i) next.dir_draws.push_back(int(i));
-    back_.Allocate(cube_count, dir_count, settings.shadow_resolution);
-    pending_ = std::make_unique<Pending>(std::move(next));
-    Continue(gpu, state, budget_ms);
+    if (pending_ && SameLayout(*pending_, next)) {
+      // A set is being drawn into maps of the same layout: it is finished
+      // first and shown (its maps saw this change's geometry or the one
+      // before, newer than the shown set's), then this one is drawn. Were
+      // it replaced, changes every frame would keep the shown set, the
+      // shadows of where things were when they started to move, for as
+      // long as they move (a set takes a few frames' budgets).
+      queued_ = std::make_unique<Pending>(std::move(next));
+    } else {
+      queued_.reset();
+      back_.Allocate(cube_count, dir_count, settings.shadow_resolution);
+      pending_ = std::make_unique<Pending>(std::move(next));
+    }
+    Advance(gpu, state, budget_ms);
     return absl::OkStatus();
   }
+  pending_.reset();  // drawn in place below, from this change's light set
+  queued_.reset();
   // In place: the stale maps of the shown set.
   shadows_.Allocate(cube_count, dir_count, settings.shadow_resolution);
   for (size_t i = 0; i < next.cube_views.size(); ++i) {
@@ -234,12 +246,39 @@ bool DirectLighting::Draw(const GpuScene& gpu, const SceneState& state, ShadowMa
 
 void DirectLighting::Continue(const GpuScene& gpu, const SceneState& state, double budget_ms) {
   if (!pending_) return;
+  // No change since the last call: the changes paused or stopped, and the
+  // newest state is what will be shown longest. A set that waits behind
+  // one less than half drawn is drawn now instead of after it (once per set
+  // shown, so that changes every other frame still get sets shown).
+  if (queued_ && !dropped_since_shown_ && 2 * DrawnMaps(*pending_) < TotalMaps(*pending_)) {
+    pending_ = std::move(queued_);
+    dropped_since_shown_ = true;
+  }
+  Advance(gpu, state, budget_ms);
+}
+
+void DirectLighting::Advance(const GpuScene& gpu, const SceneState& state, double budget_ms) {
   maps_redrawn_ = 0;
   if (!Draw(gpu, state, back_, *pending_, budget_ms)) return;
   // Every map of the new set is drawn: show it.
   std::swap(shadows_, back_);
   Commit(std::move(*pending_));
-  pending_.reset();
+  ++sets_shown_;
+  dropped_since_shown_ = false;
+  // The newest change's set, if one came while it was drawn, is next (into
+  // the maps just hidden: same layout).
+  pending_ = std::move(queued_);
+}
+
+size_t DirectLighting::DrawnMaps(const Pending& set) { return set.next_cube + set.next_dir; }
+
+size_t DirectLighting::TotalMaps(const Pending& set) {
+  return set.cube_draws.size() + set.dir_draws.size();
+}
+
+bool DirectLighting::SameLayout(const Pending& a, const Pending& b) {
+  return a.resolution == b.resolution && a.full_detail == b.full_detail &&
+         a.cube_views.size() == b.cube_views.size() && a.dir_views.size() == b.dir_views.size();
 }
 
 void DirectLighting::Commit(Pending set) {

@@ -58,12 +58,19 @@ class DirectLighting {
   // drawing per call, while the shown set (maps and light buffers that
   // agree) stays bound; Continue() draws more, and the new set is shown
   // once every map of it is drawn (pending() is false again). Twice the
-  // shadow-map memory while that is used.
+  // shadow-map memory while that is used. A change while a set of the same
+  // layout is drawn queues its set: the one being drawn is finished and
+  // shown first, so the shadows follow changes that come every frame, a
+  // set's drawing time behind (sets_shown() counts them). Continue (no
+  // change since the last call) draws the queued set at once instead when
+  // the one being drawn is less than half drawn, once per set shown.
   absl::Status Update(const SceneState& state, const GpuScene& gpu,
                       const DirectLightingSettings& settings, ChangeMask changes = kChangeAll,
                       double budget_ms = 0.0);
   void Continue(const GpuScene& gpu, const SceneState& state, double budget_ms);
   bool pending() const { return pending_ != nullptr; }
+  // Sets drawn in slices and shown so far.
+  uint64_t sets_shown() const { return sets_shown_; }
 
   // Binds buffers (SSBO 1..3 and 12), shadow maps (units 4, 5) and sets uniforms
   // of a program that includes render/direct_light.glsl.
@@ -140,6 +147,13 @@ class DirectLighting {
             double budget_ms);
   // Shows `set`: its buffers and views become the bound ones.
   void Commit(Pending set);
+  // Whether `b`'s maps can be drawn into the maps allocated for `a`.
+  static bool SameLayout(const Pending& a, const Pending& b);
+  static size_t DrawnMaps(const Pending& set);
+  static size_t TotalMaps(const Pending& set);
+  // Draws more of pending_ (which must be set); shows it once whole, then
+  // queued_ becomes pending_.
+  void Advance(const GpuScene& gpu, const SceneState& state, double budget_ms);
   // Update's steps. The shadow maps' bytes for the state's lights and
   // `area_samples` samples at `resolution`, or INVALID_ARGUMENT naming the
   // parameters when the GL's layers or kMaxShadowBytes cannot hold them.
@@ -157,6 +171,9 @@ class DirectLighting {
   ShadowMaps shadows_;  // shown
   ShadowMaps back_;     // drawn into while a sliced set is pending
   std::unique_ptr<Pending> pending_;
+  std::unique_ptr<Pending> queued_;  // the newest set, after pending_
+  uint64_t sets_shown_ = 0;
+  bool dropped_since_shown_ = false;  // Continue dropped a set for queued_
   bool drawn_once_ = false;
   std::vector<CubeView> cube_views_;
   std::vector<DirView> dir_views_;

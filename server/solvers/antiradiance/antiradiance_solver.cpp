@@ -492,16 +492,16 @@ absl::Status AntiradianceSolver::Update(SolverContext& ctx, ChangeMask changes) 
     // The shadow maps, in slices of the frame budget while the shown set
     // stays bound (render/direct_lighting.h).
     gl::StageTimer::Scope stage(ctx.timer, "local_pass", /*cpu_stage=*/true);
-    const bool drawing = lighting_.pending();
+    const uint64_t shown = lighting_.sets_shown();
     if (light) {
       GS_RETURN_IF_ERROR(
           lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes, ctx.budget_ms));
-    } else if (drawing) {
+    } else if (lighting_.pending()) {
       lighting_.Continue(ctx.gpu, ctx.state, ctx.budget_ms);
     }
-    // New light, or the new maps are shown: the elements' direct light
-    // changed, a new solve is due.
-    if (light || (drawing && !lighting_.pending())) stale_ = true;
+    // New light, or new maps are shown (the newest set may be drawn next):
+    // the elements' direct light changed, a new solve is due.
+    if (light || lighting_.sets_shown() != shown) stale_ = true;
   }
   if (geometry) relink_due_ = true;
   if (std::shared_ptr<SolveJob> done = solve_.TakeIfDone())

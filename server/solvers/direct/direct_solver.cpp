@@ -73,7 +73,8 @@ SolverStats DirectSolver::Stats() const {
           {"emitter_polygons", double(lighting_.emitter_polygons())},
           {"shadow_map_bytes", double(lighting_.gpu_bytes())},
           {"shadow_maps_redrawn", double(lighting_.maps_redrawn())},
-          {"shadow_maps_pending", lighting_.pending() ? 1.0 : 0.0}};
+          {"shadow_maps_pending", lighting_.pending() ? 1.0 : 0.0},
+          {"shadow_sets_shown", double(lighting_.sets_shown())}};
 }
 
 GISTREAM_REGISTER_SOLVER(DirectSolver, 10);

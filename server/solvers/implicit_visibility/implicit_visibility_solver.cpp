@@ -239,7 +239,7 @@ absl::Status ImplicitVisibilitySolver::UpdateElements(SolverContext& ctx, Change
 
 bool ImplicitVisibilitySolver::TakeLinks(SolverContext& ctx, const Changed& changed) {
   const bool relinked = FinishRelink(ctx);
-  if (relinked) illumination_stale_ = true;  // new links: gather them
+  if (relinked) illumination_stale_ = links_ungathered_ = true;  // new links: gather them
   // The environment's share per leaf follows the links and the
   // environment; it is gathered with the next illumination, which may be
   // frames later (shadow maps still drawing).
@@ -277,11 +277,18 @@ absl::StatusOr<bool> ImplicitVisibilitySolver::DrawWhilePending(SolverContext& c
   // behind it showed direct light alone until the motion stopped (issue
   // 27: relMSE 17x the full solve's through the motion). They are gathered
   // on the current elements' direct light and albedo.
-  if (lighting_.pending() || (relink_.running() && !relinked)) {
+  // Likewise a set of maps shown since the last gather is gathered while
+  // the next one is drawn (DirectLighting draws the newest change's set
+  // after the one it is drawing): waiting for none to be pending waited,
+  // under motion, until it stopped.
+  const bool new_maps = lighting_.sets_shown() != gathered_sets_;
+  if (new_maps) illumination_stale_ = true;
+  const bool newer = relinked || links_ungathered_ || new_maps;
+  if ((lighting_.pending() || relink_.running()) && !newer) {
     ctx.timer.Skip("illumination");
     return false;
   }
-  return true;  // the maps' last slice was drawn now and the links are in
+  return true;  // newer maps or links than the last gather's are in
 }
 
 absl::StatusOr<bool> ImplicitVisibilitySolver::ScaleForDimmer(SolverContext& ctx,
@@ -338,7 +345,8 @@ absl::Status ImplicitVisibilitySolver::Gather(SolverContext& ctx, ChangeMask cha
   }
   emission_.Solved(ctx.state);
   indirect_scale_ = 1.0f;
-  illumination_stale_ = false;
+  illumination_stale_ = links_ungathered_ = false;
+  gathered_sets_ = lighting_.sets_shown();
   // The links' geometry version while a newer relink runs (the solution
   // is that many versions behind in its visibility), else the latest.
   solved_version_ = relink_.running() ? links_version_ : latest_version_;

@@ -136,6 +136,8 @@ class ImplicitVisibilitySolver final : public Solver {
 
   bool illumination_stale_ = false;  // an illumination waits for the links
   bool environment_stale_ = false;   // the leaves' environment share waits for it
+  bool links_ungathered_ = false;    // links taken since the last gather
+  uint64_t gathered_sets_ = 0;       // lighting_.sets_shown() at the last gather
   uint64_t solved_version_ = 0;      // scene version the shown GI reflects
   uint64_t latest_version_ = 0;      // newest scene version seen
   uint64_t links_version_ = 0;       // scene version the links were built for

@@ -427,14 +427,18 @@ absl::Status ShProbesSolver::ProgressDirectLight(SolverContext& ctx, ChangeMask 
   // The shown set of shadow maps stays bound meanwhile. Half the budget
   // while probes wait too, the rest is theirs.
   gl::StageTimer::Scope stage(ctx.timer, "render_cubemaps");
-  const bool drawing = lighting_.pending();
+  const uint64_t shown = lighting_.sets_shown();
   const double budget = (schedule_.pending() || geometry) ? 0.5 * ctx.budget_ms : ctx.budget_ms;
   if (lights) {
     GS_RETURN_IF_ERROR(lighting_.Update(ctx.state, ctx.gpu, settings_.direct, changes, budget));
-  } else if (drawing) {
+  } else if (lighting_.pending()) {
     lighting_.Continue(ctx.gpu, ctx.state, budget);
   }
-  if ((lights || drawing) && !lighting_.pending()) schedule_.NeedDirectAll();
+  // New maps are shown (drawn in place, or a sliced set finished; the
+  // newest set may be drawn next): every texel's direct light changed.
+  if ((lights && !lighting_.pending()) || lighting_.sets_shown() != shown) {
+    schedule_.NeedDirectAll();
+  }
   return absl::OkStatus();
 }
 
