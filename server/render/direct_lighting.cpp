@@ -197,6 +197,7 @@ absl::Status DirectLighting::Update(const SceneState& state, const GpuScene& gpu
   }
   pending_.reset();  // drawn in place below, from this change's light set
   queued_.reset();
+  dropped_since_shown_ = false;
   // In place: the stale maps of the shown set.
   shadows_.Allocate(cube_count, dir_count, settings.shadow_resolution);
   for (size_t i = 0; i < next.cube_views.size(); ++i) {
