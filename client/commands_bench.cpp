@@ -643,39 +643,24 @@ absl::Status CheckReferenceOptions(const BenchOptions& options, const v1::LoadSc
   return absl::OkStatus();
 }
 
-// One connection per address, each with the scene loaded. A server that
-// answers it drains (UNAVAILABLE, "draining": a balancer still routes this
-// connection to it) is asked again on a connection of its own, which the
-// balancer routes anew, for up to 30 s, as a moving session is.
+// One connection per address, each with the scene loaded (ConnectAndLoad:
+// a server that answers it drains is asked again on a connection of its
+// own for up to 30 s, as a moving session is).
 absl::StatusOr<std::vector<BenchServer>> ConnectServers(const ConnectionOptions& connection,
                                                         const std::vector<std::string>& addresses,
                                                         const v1::LoadSceneRequest& load,
                                                         bool keep_scene) {
-  constexpr auto kGiveUpAfter = std::chrono::seconds(30);
+  constexpr double kGiveUpAfterS = 30.0;
   std::vector<BenchServer> servers;
   for (const std::string& address : addresses) {
     BenchServer server;
     server.address = address;
     ConnectionOptions one = connection;
     one.server = address;
-    const Clock::time_point give_up = Clock::now() + kGiveUpAfter;
-    auto backoff = std::chrono::milliseconds(100);
-    for (;;) {
-      server.connection = std::make_unique<Connection>(one);
-      absl::StatusOr<std::unique_ptr<LoadedScene>> scene =
-          LoadedScene::Load(*server.connection, load, keep_scene);
-      if (scene.ok()) {
-        server.scene = *std::move(scene);
-        break;
-      }
-      const bool draining = absl::IsUnavailable(scene.status()) &&
-                            absl::StrContains(scene.status().message(), "draining");
-      if (!draining || Clock::now() + backoff > give_up) return scene.status();
-      Log(LogLevel::kWarning, absl::StrCat(DescribeStatus(scene.status()), "; trying again"));
-      one.own_connection = true;
-      std::this_thread::sleep_for(backoff);
-      backoff = std::min(backoff * 2, std::chrono::milliseconds(1000));
-    }
+    GS_ASSIGN_OR_RETURN(ConnectedScene loaded,
+                        ConnectAndLoad(one, load, keep_scene, kGiveUpAfterS));
+    server.connection = std::move(loaded.connection);
+    server.scene = std::move(loaded.scene);
     servers.push_back(std::move(server));
   }
   return servers;

@@ -14,11 +14,15 @@ namespace gistream::client {
 
 absl::Status RunRender(const ConnectionOptions& connection_options, const RenderOptions& options) {
   GS_ASSIGN_OR_RETURN(v1::LoadSceneRequest load, BuildLoadSceneRequest(options.scene));
-  Connection connection(connection_options);
   ProgressLine progress;
   progress.Wait(absl::StrCat("loading scene ", options.scene.scene));
-  GS_ASSIGN_OR_RETURN(std::unique_ptr<LoadedScene> scene,
-                      LoadedScene::Load(connection, load, options.scene.keep_scene));
+  // A draining server's refusal is tried again (scene_loader.h), as long
+  // as a stream's move would.
+  GS_ASSIGN_OR_RETURN(
+      ConnectedScene loaded,
+      ConnectAndLoad(connection_options, load, options.scene.keep_scene, kLoadRetryForS));
+  Connection& connection = *loaded.connection;
+  const std::unique_ptr<LoadedScene>& scene = loaded.scene;
   for (const std::string& warning : SceneWarnings(scene->info())) {
     progress.Done();
     std::cerr << "warning: " << warning << std::endl;

@@ -171,11 +171,14 @@ absl::Status RunScript(const ConnectionOptions& connection_options, const Script
                       BuildLoadSceneRequest(scene_options, options.file.parent_path()));
   GS_ASSIGN_OR_RETURN(FrameWriter writer,
                       FrameWriter::Create(options.out_dir, script.encoding.format()));
-  Connection connection(connection_options);
   ProgressLine progress;
   progress.Wait(absl::StrCat("loading scene ", script.scene));
-  GS_ASSIGN_OR_RETURN(std::unique_ptr<LoadedScene> scene,
-                      LoadedScene::Load(connection, load, options.keep_scene));
+  // A draining server's refusal is tried again for --resume-for.
+  GS_ASSIGN_OR_RETURN(
+      ConnectedScene loaded,
+      ConnectAndLoad(connection_options, load, options.keep_scene, options.resume_for_s));
+  Connection& connection = *loaded.connection;
+  const std::unique_ptr<LoadedScene>& scene = loaded.scene;
   progress.Done();
   std::cout << DescribeScene(script.scene, scene->info()) << std::endl;
 

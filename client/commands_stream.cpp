@@ -70,11 +70,14 @@ absl::Status RunStream(const ConnectionOptions& connection_options, const Stream
   GS_ASSIGN_OR_RETURN(v1::LoadSceneRequest load, BuildLoadSceneRequest(options.scene));
   GS_ASSIGN_OR_RETURN(FrameWriter writer,
                       FrameWriter::Create(options.out_dir, options.view.encoding.format()));
-  Connection connection(connection_options);
   ProgressLine progress;
   progress.Wait(absl::StrCat("loading scene ", options.scene.scene));
-  GS_ASSIGN_OR_RETURN(std::unique_ptr<LoadedScene> scene,
-                      LoadedScene::Load(connection, load, options.scene.keep_scene));
+  // A draining server's refusal is tried again for --resume-for.
+  GS_ASSIGN_OR_RETURN(
+      ConnectedScene loaded,
+      ConnectAndLoad(connection_options, load, options.scene.keep_scene, options.resume_for_s));
+  Connection& connection = *loaded.connection;
+  const std::unique_ptr<LoadedScene>& scene = loaded.scene;
   progress.Done();
   std::cout << DescribeScene(options.scene.scene, scene->info()) << std::endl;
 

@@ -1,6 +1,9 @@
 #include "scene_loader.h"
 
+#include <algorithm>
+#include <chrono>
 #include <system_error>
+#include <thread>
 
 #include <absl/strings/ascii.h>
 #include <absl/strings/escaping.h>
@@ -142,6 +145,32 @@ absl::StatusOr<std::unique_ptr<LoadedScene>> LoadedScene::Load(Connection& conne
   }
   GS_RETURN_IF_ERROR(loaded);
   return std::unique_ptr<LoadedScene>(new LoadedScene(connection, std::move(response), keep));
+}
+
+absl::StatusOr<ConnectedScene> ConnectAndLoad(ConnectionOptions options,
+                                              const v1::LoadSceneRequest& request, bool keep,
+                                              double give_up_after_s) {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point give_up =
+      Clock::now() + std::chrono::milliseconds(int64_t(std::max(give_up_after_s, 0.0) * 1e3));
+  auto backoff = std::chrono::milliseconds(100);
+  for (;;) {
+    ConnectedScene out;
+    out.connection = std::make_unique<Connection>(options);
+    absl::StatusOr<std::unique_ptr<LoadedScene>> scene =
+        LoadedScene::Load(*out.connection, request, keep);
+    if (scene.ok()) {
+      out.scene = *std::move(scene);
+      return out;
+    }
+    const bool draining = absl::IsUnavailable(scene.status()) &&
+                          absl::StrContains(scene.status().message(), "draining");
+    if (!draining || Clock::now() + backoff > give_up) return scene.status();
+    Log(LogLevel::kWarning, absl::StrCat(DescribeStatus(scene.status()), "; trying again"));
+    options.own_connection = true;
+    std::this_thread::sleep_for(backoff);
+    backoff = std::min(backoff * 2, std::chrono::milliseconds(1000));
+  }
 }
 
 LoadedScene::~LoadedScene() {

@@ -62,6 +62,25 @@ class LoadedScene {
   bool keep_;
 };
 
+// A connection and the scene loaded through it (the scene is unloaded
+// first: it is declared last).
+struct ConnectedScene {
+  std::unique_ptr<Connection> connection;
+  std::unique_ptr<LoadedScene> scene;
+};
+
+// Connects to `options.server` and loads `request` there. A server that
+// answers that it drains (UNAVAILABLE, "draining": a balancer still routes
+// this connection to it) is asked again, on a connection of its own which
+// the balancer routes anew, with a backoff of 0.1-1 s, for up to
+// `give_up_after_s` (0: not again), as a moving session is; other errors
+// end it at once.
+// `render`'s give_up_after_s (it has no --resume-for; a stream's default).
+inline constexpr double kLoadRetryForS = 15.0;
+absl::StatusOr<ConnectedScene> ConnectAndLoad(ConnectionOptions options,
+                                              const v1::LoadSceneRequest& request, bool keep,
+                                              double give_up_after_s);
+
 // What a user should know before looking at the frames: the glTF
 // extensions the server ignored, and a scene with no light at all (no
 // KHR_lights_punctual light, no emissive surface, no environment: many

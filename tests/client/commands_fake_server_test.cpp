@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include <absl/strings/match.h>
 #include <grpcpp/grpcpp.h>
 #include <gtest/gtest.h>
 
@@ -25,16 +26,23 @@ namespace {
 namespace fs = std::filesystem;
 
 // What a test wants the fake to do wrong.
-enum class Fault { kNone, kRejectSecondUpdate, kEchoTooHigh, kIgnoreHalfClose };
+enum class Fault { kNone, kRejectSecondUpdate, kEchoTooHigh, kIgnoreHalfClose, kDrainingLoads };
 
 class FakeGistream final : public v1::Gistream::Service {
  public:
   Fault fault = Fault::kNone;
+  int draining_loads = 0;  // kDrainingLoads: how many loads are refused
 
   grpc::Status LoadScene(grpc::ServerContext*, const v1::LoadSceneRequest* request_ptr,
                          v1::LoadSceneResponse* response) override {
     std::lock_guard lock(mutex_);
     load_requests.push_back(*request_ptr);
+    // A server that drains, its balancer still routing this connection to
+    // it: the first `draining_loads` loads are refused as gistreamd does.
+    if (fault == Fault::kDrainingLoads && int(load_requests.size()) <= draining_loads) {
+      return grpc::Status(grpc::StatusCode::UNAVAILABLE,
+                          "the server is draining: load the scene elsewhere");
+    }
     response->set_scene_id("scene-1");
     auto* node = response->add_nodes();
     node->set_id(4);
@@ -204,6 +212,32 @@ TEST_F(CommandsTest, RenderWritesTheImageAndUnloads) {
   ASSERT_EQ(service_.load_requests.size(), 1u);
   EXPECT_EQ(service_.load_requests[0].name(), "cornell_box");
   EXPECT_EQ(service_.unloaded, std::vector<std::string>{"scene-1"});
+}
+
+TEST_F(CommandsTest, ALoadADrainingServerRefusesIsTriedAgain) {
+  // Two refusals, then a server that takes it (a fresh connection each
+  // time, which a balancer routes anew): render, stream and script load
+  // through ConnectAndLoad.
+  service_.fault = Fault::kDrainingLoads;
+  service_.draining_loads = 2;
+  RenderOptions options;
+  options.scene.scene = "cornell_box";
+  options.out = dir_ / "shot.jpg";
+  ASSERT_TRUE(RunRender(connection_, options).ok());
+  EXPECT_EQ(service_.load_requests.size(), 3u);
+  EXPECT_EQ(ReadAll(options.out), "IMAGE1");
+  // With no time to try again (stream --resume-for 0), the refusal is the
+  // answer, code and message kept.
+  service_.load_requests.clear();
+  StreamOptions stream;
+  stream.scene.scene = "cornell_box";
+  stream.frames = 1;
+  stream.out_dir = dir_ / "frames";
+  stream.resume_for_s = 0.0f;
+  const absl::Status status = RunStream(connection_, stream);
+  EXPECT_TRUE(absl::IsUnavailable(status)) << status;
+  EXPECT_TRUE(absl::StrContains(status.message(), "draining")) << status;
+  EXPECT_EQ(service_.load_requests.size(), 1u);
 }
 
 TEST_F(CommandsTest, ServerErrorKeepsCodeAndMessage) {
