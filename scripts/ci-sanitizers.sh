@@ -87,10 +87,12 @@ GL_SUITES=${GL_SUITES:-'EngineStagesTest.*:EngineSolverCache.*:EngineRestShared.
 # (GL, unit) as two gtest shards each (GTEST_TOTAL_SHARDS), so that the
 # lanes end together (each is mostly one thread; llvmpipe's rasterizer
 # threads are idle while the GL suites wait on the engine's clock). Their
-# times alone in CI (2026-12-05, before the shards): GL 340 s, unit 258 s,
-# reliability 195 s, service 132 s, client 9 s; in two lanes they ended
-# after 484 s. Each run writes its output to a log, printed whole when it
-# ends, with its own time; any failure fails the step.
+# times in CI (2026-12-05, before the shards and with coverage everywhere):
+# GL 340 s, unit 258 s, reliability 195 s, service 132 s, client 9 s, in two
+# lanes 484 s; after (f46bc04): GL 157 + 119 s, unit 36 + 88 s, reliability
+# 122 s, service 97 s, client 9 s, in two lanes 357 s. Each run writes its
+# output to a log, printed whole when it ends, with its own time; any
+# failure fails the step.
 mkdir -p "$BUILD_DIR/test-results"
 run_sanitized() {  # binary name[@shard/shards]
   local t=${1%@*} shard='' filter='*' start
