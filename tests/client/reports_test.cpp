@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "frame_report.h"
+#include "session_common.h"
 #include "solver_list.h"
 
 namespace gistream::client {
@@ -83,6 +84,29 @@ TEST(FrameReport, SummaryLineAndStages) {
             "  voxelize   | skipped | skipped\n"
             "  trace_vpls |    0.50 |    3.25\n"
             "  stats: vpls=256\n");
+}
+
+TEST(FrameReport, ConvergenceOfTheLastPicture) {
+  // A frame of a camera move: one sample of 16, the picture before the
+  // move reprojected, the GI still solving.
+  v1::Frame moving;
+  auto& stats = *moving.mutable_stats();
+  stats["refine_target"] = 16;
+  stats["refine_samples"] = 1;
+  stats["refine_reproject"] = 4;
+  stats["update_complete"] = 0;
+  stats["ms_since_camera_change"] = 0;
+  stats["ms_since_scene_change"] = 3200;
+  EXPECT_EQ(FormatConvergence(moving),
+            "last picture: refined 1/16 samples per pixel, last picture reprojected, GI still "
+            "solving; 0.0 s since the camera moved, 3.2 s since the scene changed");
+  // At rest: complete, nothing carried or reprojected; no refinement line
+  // for a session that does not refine (target 1).
+  v1::Frame still;
+  (*still.mutable_stats())["refine_target"] = 1;
+  (*still.mutable_stats())["update_complete"] = 1;
+  (*still.mutable_stats())["at_rest"] = 1;
+  EXPECT_EQ(FormatConvergence(still), "last picture: GI complete, at rest");
 }
 
 TEST(FrameReport, Bytes) {
