@@ -266,9 +266,14 @@ void DirectLighting::Advance(const GpuScene& gpu, const SceneState& state, doubl
   Commit(std::move(*pending_));
   ++sets_shown_;
   dropped_since_shown_ = false;
-  // The newest change's set, if one came while it was drawn, is next (into
-  // the maps just hidden: same layout).
+  // The newest change's set, if one came while it was drawn, is next, into
+  // the maps just hidden (sized anew: they may be of the set shown before,
+  // another layout).
   pending_ = std::move(queued_);
+  if (pending_) {
+    back_.Allocate(int(pending_->cube_views.size()), int(pending_->dir_views.size()),
+                   pending_->resolution);
+  }
 }
 
 size_t DirectLighting::DrawnMaps(const Pending& set) { return set.next_cube + set.next_dir; }

@@ -2,6 +2,8 @@
 // emission-strength or intensity change redraws none and scales the image
 // exactly; moving one light redraws its map alone; moving geometry redraws
 // every map. The image after an incremental update equals a fresh render.
+#include <set>
+
 #include <gtest/gtest.h>
 
 #include "support/frame_queue.h"
@@ -155,6 +157,48 @@ TEST(DirectIncremental, UnderAMoveEveryFrameTheShadowsStillFollow) {
   // 64 frames at one map each: two sets at least (the first may have had
   // maps drawn before the moves began, and sets may be dropped once each).
   EXPECT_GE(FrameStat(*frame, "shadow_sets_shown") - shown_before, 2.0);
+}
+
+TEST(DirectIncremental, AQueuedSetOfANewLayoutEndsConsistent) {
+  // The lamp off (no area sample, no cube), on again in slices (16 cubes
+  // into the second set) and, while that set is drawn, the block moved:
+  // the move's set waits behind it and is drawn into the maps the first
+  // one hid, which were sized for none. Once nothing is pending the
+  // picture is a fresh solver's of the final state.
+  const BundledCopy scene("cornell_box.gltf"), fresh("cornell_box.gltf");
+  SessionConfig config = testing::ExrStreamConfig(
+      scene.id(), "direct", {{"area_samples", "16"}, {"shadow_res", "64"}}, 32);
+  config.frame_budget_ms = 0.01;
+  config.encoding.send_unchanged = true;
+  auto sink = std::make_shared<testing::FrameQueue>();
+  auto opened = testing::SharedEngine().OpenSession(config, sink);
+  ASSERT_TRUE(opened.ok()) << opened.status();
+  ASSERT_NE(sink->Next(), nullptr);
+  const auto shows = [&](uint64_t seq, double pending) {
+    return sink->WaitFor([&](const EncodedFrame& f) {
+      return f.last_update_seq >= seq && FrameStat(f, "shadow_maps_pending") == pending;
+    });
+  };
+  ASSERT_TRUE(testing::SharedEngine().PushUpdate(opened->id, Emission(0.0f, 1)).ok());
+  ASSERT_NE(shows(1, 0.0), nullptr);
+  ASSERT_TRUE(testing::SharedEngine().PushUpdate(opened->id, Emission(10.0f, 2)).ok());
+  // More than half of its 16 maps drawn (one a frame), so that the move's
+  // set waits behind it rather than replacing it.
+  std::set<uint64_t> drawing;  // frames (WaitFor looks at every frame again each time)
+  ASSERT_NE(sink->WaitFor([&](const EncodedFrame& f) {
+    if (f.last_update_seq >= 2 && FrameStat(f, "shadow_maps_pending") == 1.0)
+      drawing.insert(f.frame_number);
+    return drawing.size() >= 10;
+  }),
+            nullptr);
+  const NodeTransformUpdate move = MoveTallBlock();
+  ASSERT_TRUE(testing::SharedEngine().PushUpdate(opened->id, {3, move}).ok());
+  std::shared_ptr<const EncodedFrame> done = shows(3, 0.0);
+  testing::SharedEngine().CloseSession(opened->id);
+  ASSERT_NE(done, nullptr);
+  const Rendered reference =
+      RenderDirect(fresh.id(), {Emission(0.0f, 1), Emission(10.0f, 2), {3, move}});
+  testing::ExpectSameImage(testing::DecodeExr(*done), reference.image);
 }
 
 TEST(DirectIncremental, MovingOnePunctualLightRedrawsItsMapAlone) {
