@@ -385,10 +385,13 @@ absl::StatusOr<nlohmann::json> ErrorOverTime(Connection& connection,
     if (f.image.empty()) continue;  // before the first picture
     GS_ASSIGN_OR_RETURN(const RgbaImage image, DecodeRgba(f.image));
     GS_ASSIGN_OR_RETURN(const ImageError e, CompareImages(image, references.at(f.seq)));
-    // Kept too, to look at what each row measured.
-    GS_RETURN_IF_ERROR(WriteFile(
-        options.out_dir / "frames" / absl::StrCat("step", step, "_frame", f.frame_number, ".exr"),
-        f.image));
+    // --keep-frames: to look at what each row measured (a float EXR each,
+    // 190 KiB at 128x128, so not by default).
+    if (options.keep_frames) {
+      GS_RETURN_IF_ERROR(WriteFile(
+          options.out_dir / "frames" / absl::StrCat("step", step, "_frame", f.frame_number, ".exr"),
+          f.image));
+    }
     absl::StrAppend(&csv, step, ",1,", f.frame_number, ",", f.seq, ",", FormatFixed(f.t_ms, 1), ",",
                     f.settle ? "settle" : "motion", ",", e.rel_mse, ",", f.update_complete, ",",
                     f.at_rest, ",", f.frames_since_scene_change, ",", f.refine_samples, "\n");

@@ -344,6 +344,7 @@ absl::StatusOr<BenchOptions> ParseBench(const ParsedFlags& flags) {
     GS_ASSIGN_OR_RETURN(int64_t spp, ParseInt("--reference-spp", *value, 0, 1 << 20));
     options.reference_spp = int(spp);
   }
+  options.keep_frames = flags.Has("keep-frames");
   if (auto value = flags.Get("out")) {
     if (value->empty()) return Usage("--out: empty directory name");
     options.out_dir = *value;
@@ -423,6 +424,7 @@ std::vector<FlagSpec> CommandFlags(Command command) {
                                  {"fps"},
                                  {"interfere"},
                                  {"reference-spp"},
+                                 {"keep-frames", false},
                                  {"resume-for"},
                                  {"out"}});
       break;

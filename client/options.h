@@ -117,6 +117,7 @@ struct BenchOptions {
   float resume_for_s = 15.0f;        // a session's move to reconnect (0: none)
   std::string interfere;             // a `render ...` command line run in a loop
   int reference_spp = 0;             // > 0: time to converge against a pathtrace reference
+  bool keep_frames = false;          // with reference_spp: write each measured frame
   std::filesystem::path out_dir = "out/bench";
 };
 

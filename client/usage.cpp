@@ -181,7 +181,7 @@ constexpr absl::string_view kBench =
                 [--workload orbit|light|object|mixed|animation|FILE.json]
                 [--node NAME_OR_ID] [--update-hz HZ] [--channels shared|per-session]
                 [--fps F|uncapped] [--interfere "render ..."] [--out DIR]
-                [--reference-spp N] [--resume-for SEC]
+                [--reference-spp N [--keep-frames]] [--resume-for SEC]
                 [--scene NAME_OR_FILE] [--solver NAME] [--param KEY=VALUE]...
                 [--size WxH] [--format jpeg|png|exr] [--quality Q]
 
@@ -232,8 +232,9 @@ fps_vs_sessions.png and latency_vs_sessions.png into DIR.
                        during the motion, the first frame after the stop
                        and the time to within 2x and 1.05x of a full solve;
                        each reference and the updates it applied in DIR/
-                       references/step<k>_seq<n>.exr and .json, each
-                       frame in DIR/frames/step<k>_frame<n>.exr. The first
+                       references/step<k>_seq<n>.exr and .json (with
+                       --keep-frames each frame too, in DIR/frames/
+                       step<k>_frame<n>.exr: a float EXR each). The first
                        session's updates wait for a complete picture (GI
                        done and the still view refined)
   --resume-for SEC     a session whose server drains or dies moves (as in

@@ -104,6 +104,16 @@ TEST(CommandLine, StreamDefaults) {
   EXPECT_EQ(stream.out_dir, "out");
 }
 
+TEST(CommandLine, BenchKeepsFramesOnlyWhenAsked) {
+  auto plain = Parse({"bench", "--format", "exr", "--reference-spp", "64"});
+  ASSERT_TRUE(plain.ok()) << plain.status();
+  EXPECT_EQ(std::get<BenchOptions>(plain->options).reference_spp, 64);
+  EXPECT_FALSE(std::get<BenchOptions>(plain->options).keep_frames);
+  auto kept = Parse({"bench", "--format", "exr", "--reference-spp", "64", "--keep-frames"});
+  ASSERT_TRUE(kept.ok()) << kept.status();
+  EXPECT_TRUE(std::get<BenchOptions>(kept->options).keep_frames);
+}
+
 TEST(CommandLine, ServerAfterTheCommandWins) {
   auto line =
       Parse({"--server", "a:1", "script", "timeline.json", "--server", "b:2", "--out", "frames"});
