@@ -454,15 +454,19 @@ absl::StatusOr<std::optional<Refinement::Sample>> EngineImpl::Draw(
   // `sample` at its sub-pixel jitter, or, once the samples are all in
   // (nullopt), shows their mean again and shades nothing.
   const SceneState& state = *scene.state;
+  const std::optional<Solver::ShownCount> shown = entry.solver->Shown();
   const std::optional<Refinement::Sample> sample = view.refinement.Next(
       {state.version(), view.camera_version, entry.solver.get(), view.camera.width,
-       view.camera.height, entry.solver->UpdateComplete()},
+       view.camera.height, entry.solver->UpdateComplete(),
+       shown ? std::optional(shown->changes) : std::nullopt, shown ? shown->steps : 0},
       draw.refine_target, session.config.refine_history.value_or(options_.refine_history),
       options_.refine_carry, session.config.refine_reproject.value_or(options_.refine_reproject));
   if (!sample) {
     // No change since the picture was complete, so the solver's plan is
-    // its changeless one, all of it shading, none of it run.
-    if (view.carry.empty()) view.plan.clear();
+    // its changeless one, all of it shading, none of it run; unless its
+    // update goes on (a solver that counts what it shows, Solver::Shown,
+    // runs its update's stages under a complete picture).
+    if (view.carry.empty() && entry.solver->UpdateComplete()) view.plan.clear();
     timer_.Skip("gbuffer");
     gl::StageTimer::Scope stage(timer_, "refine");
     passes_->ShowAccumulation(view.gbuffer, {view.refinement.samples()});

@@ -28,8 +28,13 @@ float Rotated(float u) {
 std::optional<Refinement::Sample> Refinement::Next(const Key& key, uint32_t target,
                                                    uint32_t history, bool carry,
                                                    uint32_t reproject) {
-  const bool same = key == key_ && key.solution_final;
   const bool same_view = samples_ > 0 && key.SameView(key_);
+  // Small steps of the solution shown go on with an incomplete picture
+  // (they add up to less than the solver's tolerance; a complete one is
+  // shaded again).
+  const bool same =
+      (key == key_ && key.Steady()) || (same_view && samples_ < target && key.StepsFrom(key_));
+  if (same) key_ = key;
   if (target <= 1 || !same_view || (!same && history == 0)) {
     // A camera move with a picture shown (same size and solver): that
     // picture, reprojected, is the history of the new view's first frames.

@@ -8,6 +8,11 @@
 // unrefined view shows. Once `target` samples are in, the picture is
 // complete and the engine shades nothing more.
 //
+// A solver whose update spreads over frames may count what it shows
+// (Solver::Shown, Key::shown_changes and shown_steps): the picture is then
+// refined while the update goes on, across the solver's small steps while
+// it is incomplete, and restarts on its changes and when the update ends.
+//
 // What a change invalidates decides what is kept:
 // - The view (size, solver instance): nothing. The samples restart at the
 //   pixel centre.
@@ -73,14 +78,30 @@ class Refinement {
     const void* solver = nullptr;  // the solver instance shading the view
     uint32_t width = 0, height = 0;
     // The solver's view-independent solution is final (UpdateComplete):
-    // while it is not, each frame may show a newer one and is not refined.
+    // while it is not, each frame may show a newer one and is not refined,
+    // unless the solver counts what it shows (Solver::Shown): then the
+    // picture is refined while its count of changes stays, and across its
+    // small steps (each within the solver's tolerance) until it is complete
+    // (a progressive update's every step restarted its pictures at one
+    // sample a pixel for seconds).
     bool solution_final = false;
+    std::optional<uint64_t> shown_changes;
+    uint64_t shown_steps = 0;
     bool operator==(const Key&) const = default;
     // The same camera, size and solver: the pixels show the same surfaces
     // but for what moved.
     bool SameView(const Key& o) const {
       return camera_version == o.camera_version && solver == o.solver && width == o.width &&
              height == o.height;
+    }
+    // Equal keys show the same picture: the solution is final, or what the
+    // solver shows is counted.
+    bool Steady() const { return solution_final || shown_changes.has_value(); }
+    // What `o` showed and this key shows differ by the solver's small steps
+    // alone.
+    bool StepsFrom(const Key& o) const {
+      return SameView(o) && scene_version == o.scene_version && shown_changes &&
+             shown_changes == o.shown_changes && solution_final == o.solution_final;
     }
   };
 

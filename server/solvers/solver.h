@@ -78,6 +78,17 @@ class Solver {
   // go; Shade then shows the last consistent solution). A frame requested
   // on its own skips Shade until it is.
   virtual bool UpdateComplete() const { return true; }
+  // What Shade shows, counted, also while an update is incomplete, so a
+  // still view refines meanwhile (render/refinement.h): `changes` changes
+  // whenever it changed by more than the solver's tolerance, `steps` on
+  // smaller steps toward the solution in between (each within the
+  // tolerance). nullopt (the default): not counted, every frame of an
+  // incomplete update may show a newer solution.
+  struct ShownCount {
+    uint64_t changes = 0;
+    uint64_t steps = 0;
+  };
+  virtual std::optional<ShownCount> Shown() const { return std::nullopt; }
   // Whether a background job of it still runs on the CPU pool: its
   // destructor would wait for it, so the engine keeps a solver it drops
   // until this is false (the render thread never waits for a job).

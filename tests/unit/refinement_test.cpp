@@ -43,7 +43,14 @@ TEST(RefinementJitter, StartsAtThePixelCentreAndStratifiesThePixel) {
 
 Refinement::Key Key(uint64_t scene_version = 1, uint64_t camera_version = 0) {
   static const int solver = 0;
-  return {scene_version, camera_version, &solver, 32, 32, /*solution_final=*/true};
+  return {scene_version,
+          camera_version,
+          &solver,
+          32,
+          32,
+          /*solution_final=*/true,
+          /*shown_changes=*/std::nullopt,
+          /*shown_steps=*/0};
 }
 
 // Adds samples until Next says the picture is complete; returns how many.
@@ -331,6 +338,67 @@ TEST(Refinement, AnUnfinishedSolutionBlendsFramesAndTargetOneNeverAccumulates) {
     EXPECT_EQ(a.samples(), 1u);
     EXPECT_EQ(b.samples(), 1u);
     EXPECT_EQ(b.HistoryWeight(1), 0.0f);
+  }
+}
+
+// A solver that counts what it shows (Solver::Shown) is refined while its
+// update is incomplete: its small steps go on with an incomplete picture, a
+// step after a complete one and a change of its count restart (at the
+// centre, carrying the complete picture's anti-aliasing over), and the end
+// of the update restarts too, so the picture at rest is its own.
+TEST(Refinement, AnUpdateThatCountsWhatItShowsIsRefinedAcrossItsSteps) {
+  constexpr uint32_t kTarget = 4;
+  auto step = [](uint64_t changes, uint64_t steps, bool final = false) {
+    Refinement::Key k = Key();
+    k.solution_final = final;
+    k.shown_changes = changes;
+    k.shown_steps = steps;
+    return k;
+  };
+  Refinement r;
+  ASSERT_TRUE(r.Next(step(1, 0), kTarget, 0));  // restarts: no picture yet
+  r.Added();
+  // The same count: the next samples of this picture.
+  auto s = r.Next(step(1, 0), kTarget, 0);
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->index, 1u);
+  r.Added();
+  // Steps: the picture goes on until it is complete.
+  s = r.Next(step(1, 1), kTarget, 0);
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->index, 2u);
+  r.Added();
+  s = r.Next(step(1, 2), kTarget, 0);
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->index, 3u);
+  r.Added();
+  EXPECT_FALSE(r.Next(step(1, 2), kTarget, 0)) << "complete, and nothing changed";
+  EXPECT_TRUE(r.CaptureCarry(kTarget));
+  // A step after a complete picture: shaded again, carrying it over.
+  s = r.Next(step(1, 3), kTarget, 0);
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->index, 0u);
+  EXPECT_EQ(s->jitter, 0u);
+  EXPECT_TRUE(s->carry);
+  r.Added();
+  // A change of the count restarts an incomplete picture.
+  s = r.Next(step(2, 3), kTarget, 0);
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->index, 0u);
+  r.Added();
+  ASSERT_EQ(r.Next(step(2, 4), kTarget, 0)->index, 1u);
+  r.Added();
+  // The update's end: restarted, whatever the count.
+  s = r.Next(step(2, 4, /*final=*/true), kTarget, 0);
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->index, 0u);
+  // A solver that does not count (nullopt) restarts every frame meanwhile.
+  Refinement u;
+  Refinement::Key unsolved = Key();
+  unsolved.solution_final = false;
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_EQ(u.Next(unsolved, kTarget, 0)->index, 0u);
+    u.Added();
   }
 }
 
