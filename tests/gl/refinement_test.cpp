@@ -495,6 +495,43 @@ TEST(Refinement, ACameraMoveReprojectsThePictureBeforeIt) {
   EXPECT_LT(e_with, 0.8 * e_without);
 }
 
+// sh_probes updates its probes over many frames after a move; its blends
+// toward the solution after the move's frame are small steps (Solver::
+// Shown), so the still view refines across them instead of restarting at
+// one sample a pixel every frame until the update is done (5 s on the
+// Cornell box at 128x128 on llvmpipe, every frame at one sample).
+TEST(Refinement, AProgressiveUpdateIsRefinedAcrossItsSmallSteps) {
+  const BundledCopy scene("cornell_box.gltf");
+  Engine& engine = SharedEngine();
+  SessionConfig c = Continuous(scene.id(), 8);
+  c.solver = "sh_probes";
+  c.params = {{"grid", "4"}, {"face_size", "8"}, {"area_samples", "4"}, {"shadow_res", "32"}};
+  auto sink = std::make_shared<FrameQueue>();
+  auto session = engine.OpenSession(c, sink);
+  ASSERT_TRUE(session.ok()) << session.status();
+  ASSERT_FALSE(UntilRest(*sink, 0).empty());
+  NodeTransformUpdate move;
+  move.node = 6;  // tall_block, inside the walls: the grid keeps its layout
+  move.translation = glm::vec3(-0.05f, 0.0f, 0.05f);
+  ASSERT_TRUE(engine.PushUpdate(session->id, {1, move}).ok());
+  const auto frames = UntilRest(*sink, 1);
+  ASSERT_FALSE(frames.empty());
+  int pending = 0, refined_while_pending = 0;
+  for (const auto& f : frames) {
+    if (AtRest(*f) || FrameStat(*f, "update_complete") == 1.0) continue;
+    ++pending;
+    if (FrameStat(*f, "refine_samples") > 1.0) ++refined_while_pending;
+  }
+  // One batch of probes a frame (the budget): the update takes frames.
+  EXPECT_GT(pending, 4);
+  EXPECT_GT(refined_while_pending, pending / 2)
+      << "of " << pending << " frames of the update, " << refined_while_pending
+      << " showed more than one sample a pixel";
+  EXPECT_TRUE(AtRest(*frames.back()));
+  EXPECT_EQ(FrameStat(*frames.back(), "refine_samples"), 8.0);
+  engine.CloseSession(session->id);
+}
+
 TEST(Refinement, SolversThatDoNotShadeTheGBufferAreNotRefinedByTheEngine) {
   const BundledCopy scene("cornell_box.gltf");
   RenderRequest r = Request(scene.id(), 16, 8);

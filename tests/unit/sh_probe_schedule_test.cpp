@@ -29,24 +29,34 @@ TEST(ProbeSchedule, AffectedProbesFirstThenNearerTheCamera) {
   ProbeSchedule s;
   s.Reset(8);
   EXPECT_FALSE(s.pending());
-  const std::vector<uint8_t> affected = {0, 0, 0, 0, 0, 1, 0, 1};
-  s.Prioritize(affected, Line(), glm::vec3(2.2f, 0.0f, 0.0f));
+  const std::vector<int32_t> seen = {0, 0, 0, 0, 0, 100, 0, 100};
+  s.Prioritize(seen, Line(), glm::vec3(2.2f, 0.0f, 0.0f));
   EXPECT_TRUE(s.pending());
-  // 7 and 5 saw the change: 5 is nearer the eye; then the rest by distance
-  // (ties by index).
+  // 7 and 5 saw as much of the change: 5 is nearer the eye; then the rest
+  // by distance (ties by index).
   EXPECT_EQ(SweepOrder(s), (std::vector<int>{5, 7, 2, 3, 1, 4, 0, 6}));
+}
+
+TEST(ProbeSchedule, ProbesThatSeeMoreOfTheChangeComeFirst) {
+  ProbeSchedule s;
+  s.Reset(8);
+  // 1 sees a sliver of the change, 6 most of its sphere, 3 a part: the
+  // projections that change most are redone first, whatever the distance.
+  const std::vector<int32_t> seen = {0, 1, 0, 5'000, 0, 0, ProbeSchedule::kWholeSphere, 0};
+  s.Prioritize(seen, Line(), glm::vec3(0.0f));
+  EXPECT_EQ(SweepOrder(s), (std::vector<int>{6, 3, 1, 0, 2, 4, 5, 7}));
 }
 
 TEST(ProbeSchedule, BatchesHoldAboutTheBatchUnitsOfWork) {
   ProbeSchedule s;
   s.Reset(40);
   std::vector<glm::vec3> positions(40, glm::vec3(0.0f));
-  std::vector<uint8_t> affected(40, 0);
+  std::vector<int32_t> seen(40, 0);
   for (int p = 0; p < 8; ++p) {
-    affected[size_t(p)] = 1;
+    seen[size_t(p)] = 1;
     s.NeedRaster(p);
   }
-  s.Prioritize(affected, positions, glm::vec3(0.0f));
+  s.Prioritize(seen, positions, glm::vec3(0.0f));
   const ProbeSchedule::Batch first = s.Peek();
   // A rasterized probe costs raster + direct + bounce units.
   const int per_raster =
@@ -64,7 +74,7 @@ TEST(ProbeSchedule, BatchesHoldAboutTheBatchUnitsOfWork) {
 TEST(ProbeSchedule, SweepsRepeatUntilOneChangesLessThanTheTolerance) {
   ProbeSchedule s;
   s.Reset(4);
-  s.Prioritize(std::vector<uint8_t>(4, 0), std::vector<glm::vec3>(4, glm::vec3(0.0f)),
+  s.Prioritize(std::vector<int32_t>(4, 0), std::vector<glm::vec3>(4, glm::vec3(0.0f)),
                glm::vec3(0.0f));
   auto sweep = [&](double change_per_probe) {
     while (true) {

@@ -18,11 +18,11 @@ void ProbeSchedule::Reset(int probes) {
   cap_reached_ = false;
 }
 
-void ProbeSchedule::Prioritize(const std::vector<uint8_t>& affected,
+void ProbeSchedule::Prioritize(const std::vector<int32_t>& seen,
                                const std::vector<glm::vec3>& positions, const glm::vec3& eye) {
   auto key = [&](int p) {
     const glm::vec3 d = positions[size_t(p)] - eye;
-    return std::tuple(affected[size_t(p)] ? 0 : 1, glm::dot(d, d), p);
+    return std::tuple(-int64_t(seen[size_t(p)]), glm::dot(d, d), p);
   };
   std::sort(order_.begin(), order_.end(), [&](int a, int b) { return key(a) < key(b); });
   next_ = 0;

@@ -3,8 +3,9 @@
 // update has converged. Bookkeeping only, no GL.
 //
 // A sweep visits every probe once, in priority order: the probes whose
-// cube maps see the change first, then the rest, each group nearer the
-// camera first. A probe's work in a sweep is a bounce (interpolate, render,
+// cube maps see the change first, those that see more of it (a larger
+// solid angle of their cube map) before those that see less, then the
+// rest; ties nearer the camera first. A probe's work in a sweep is a bounce (interpolate, render,
 // project: Gauss-Seidel over the grid, reading the newest coefficients of
 // every probe), preceded by re-rasterizing its cube map and recomputing its
 // texels' direct light when the change requires. Probes are grouped into
@@ -31,6 +32,8 @@ class ProbeSchedule {
   static constexpr int kDirectUnits = 4;
   static constexpr int kBounceUnits = 1;
   static constexpr int kBatchUnits = 64;
+  // A probe's whole sphere in Prioritize's unit (micro-steradians).
+  static constexpr int32_t kWholeSphere = 12'566'370;  // 4 pi 1e6, truncated as the shader does
 
   struct Batch {
     std::vector<int> probes;  // in sweep order
@@ -41,9 +44,11 @@ class ProbeSchedule {
 
   // `probes` probes in index order, nothing pending.
   void Reset(int probes);
-  // A change: the next sweep starts now, `affected` probes (non-zero
-  // entries) first, each group by distance from `eye` (ties by index).
-  void Prioritize(const std::vector<uint8_t>& affected, const std::vector<glm::vec3>& positions,
+  // A change: the next sweep starts now. `seen` is, per probe, how much of
+  // its cube map sees the change (a solid angle, any unit; 0: none): the
+  // probes that see more of it first, since their projections change most,
+  // then by distance from `eye`, then by index.
+  void Prioritize(const std::vector<int32_t>& seen, const std::vector<glm::vec3>& positions,
                   const glm::vec3& eye);
   void NeedRaster(int probe);  // and its direct light
   void NeedDirectAll();

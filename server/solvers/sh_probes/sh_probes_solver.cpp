@@ -328,6 +328,8 @@ void ShProbesSolver::EndSolveBounce(SolverContext& ctx) {
   full_.change = full_.total = 0.0;
   glCopyNamedBufferSubData(coefficients_.id(), shown_coefficients_.id(), 0, 0,
                            GLsizeiptr(sh::kMaxCoefficients) * layout_.probes() * 16);
+  ++shown_changes_;
+  unshown_change_ = 0.0;
   // With the tail on, the solve also ends once the tail-corrected sum is
   // known within the tolerance (TailResidual: the measured ratios' spread
   // through r / (1 - r)); in a bright interior the increments shrink too
@@ -371,6 +373,8 @@ void ShProbesSolver::FinishSolve(SolverContext& ctx) {
   }
   glCopyNamedBufferSubData(coefficients_.id(), shown_coefficients_.id(), 0, 0,
                            GLsizeiptr(sh::kMaxCoefficients) * layout_.probes() * 16);
+  ++shown_changes_;
+  unshown_change_ = 0.0;
 }
 
 absl::Status ShProbesSolver::Progress(SolverContext& ctx, ChangeMask changes) {
@@ -400,6 +404,7 @@ absl::Status ShProbesSolver::Progress(SolverContext& ctx, ChangeMask changes) {
     const auto batch_start = Clock::now();
     double total = 0.0;
     const double change = RunBatch(ctx, batch, &total);
+    if (total > 0.0) unshown_change_ += change / total;
     schedule_.Done(batch, change, total, settings_.tolerance, settings_.bounces);
     const double ms = std::chrono::duration<double, std::milli>(Clock::now() - batch_start).count();
     ms_per_unit_ = 0.7 * ms_per_unit_ + 0.3 * ms / std::max(batch.units, 1);
@@ -413,11 +418,7 @@ absl::Status ShProbesSolver::Progress(SolverContext& ctx, ChangeMask changes) {
   bounce_change_ = schedule_.last_sweep_change();  // a sweep's, not a bounce's
   tail_residual_ = std::numeric_limits<double>::infinity();
   cap_reached_ = schedule_.cap_reached();
-  if (ran) {
-    gl::StageTimer::Scope stage(ctx.timer, "sh_project");
-    // Converged: show the solution; until then it fades in (hysteresis).
-    Blend(schedule_.pending() ? float(settings_.hysteresis) : 0.0f);
-  }
+  if (ran) ShowProgress(ctx, geometry || lights);
   if (!schedule_.pending() && !lighting_.pending()) emission_.Solved(ctx.state);
   return absl::OkStatus();
 }
@@ -448,28 +449,30 @@ void ShProbesSolver::ScheduleChangedProbes(SolverContext& ctx, ChangeMask change
   // every probe; a moved node only the probes that see it.
   Bounds moved = moved_.Since(ctx.gpu, ctx.state);
   moved_.Solved(ctx.state);
-  std::vector<uint8_t> affected(size_t(layout_.probes()), 0);
+  // Per probe, the solid angle of its cube map that may see the change
+  // (micro-steradians; 0: unaffected).
+  std::vector<int32_t> seen(size_t(layout_.probes()), 0);
   if (changes & kChangeMaterials) {
-    std::fill(affected.begin(), affected.end(), uint8_t(1));
+    std::fill(seen.begin(), seen.end(), ProbeSchedule::kWholeSphere);
   } else if (!moved.empty()) {
     const glm::vec3 pad(1e-3f * glm::length(glm::vec3(layout_.dims) * layout_.spacing));
     moved.Extend(moved.min - pad);
     moved.Extend(moved.max + pad);
-    affected = SeesChange(moved);
+    seen = SeesChange(moved);
   }
   probes_affected_ = 0;
-  std::vector<glm::vec3> positions(affected.size());
+  std::vector<glm::vec3> positions(seen.size());
   for (int p = 0; p < layout_.probes(); ++p) {
     positions[size_t(p)] = layout_.position(layout_.cell(p));
-    if (affected[size_t(p)]) {
+    if (seen[size_t(p)] > 0) {
       schedule_.NeedRaster(p);
       ++probes_affected_;
     }
   }
-  schedule_.Prioritize(affected, positions, eye_);
+  schedule_.Prioritize(seen, positions, eye_);
 }
 
-std::vector<uint8_t> ShProbesSolver::SeesChange(const Bounds& moved) {
+std::vector<int32_t> ShProbesSolver::SeesChange(const Bounds& moved) {
   SetProbeGridUniforms(sees_, layout_, 0, false);
   glBindTextureUnit(kDistanceUnit, atlas_.distance());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kSeesBinding, sees_change_.id());
@@ -478,11 +481,9 @@ std::vector<uint8_t> ShProbesSolver::SeesChange(const Bounds& moved) {
   sees_.Use();
   glDispatchCompute(GLuint(layout_.probes()), 1, 1);
   glMemoryBarrier(kComputeBarrier);
-  std::vector<int32_t> sees(size_t(layout_.probes()));
-  glGetNamedBufferSubData(sees_change_.id(), 0, GLsizeiptr(sees.size() * 4), sees.data());
-  std::vector<uint8_t> affected(sees.size());
-  for (size_t p = 0; p < sees.size(); ++p) affected[p] = sees[p] != 0 ? 1 : 0;
-  return affected;
+  std::vector<int32_t> seen(size_t(layout_.probes()));
+  glGetNamedBufferSubData(sees_change_.id(), 0, GLsizeiptr(seen.size() * 4), seen.data());
+  return seen;
 }
 
 double ShProbesSolver::RunBatch(SolverContext& ctx, const ProbeSchedule::Batch& batch,
@@ -510,7 +511,27 @@ double ShProbesSolver::RunBatch(SolverContext& ctx, const ProbeSchedule::Batch& 
   return ProjectToSh(total, &batch.probes);
 }
 
-void ShProbesSolver::Blend(float hysteresis, float scale) {
+void ShProbesSolver::ShowProgress(SolverContext& ctx, bool changed) {
+  // Converged: show the solution. Until then it fades in (hysteresis) in
+  // each frame of a change, and after it while the solution is estimated to
+  // differ from what is shown by more than a quarter of the tolerance.
+  // A blend after the change that moves what is shown by at most half the
+  // tolerance is a step (Shown): the view refines across it (a blend every
+  // frame restarted its refinement, so the Cornell box's picture stayed at
+  // one sample a pixel for the 5 s of probe updates after a move, its light
+  // long right but its edges jagged).
+  const double tolerance = settings_.tolerance;
+  const bool converged = !schedule_.pending();
+  if (!converged && !changed && unshown_change_ <= 0.25 * tolerance) return;
+  gl::StageTimer::Scope stage(ctx.timer, "sh_project");
+  const float hysteresis = converged ? 0.0f : float(settings_.hysteresis);
+  const double moved = (1.0 - hysteresis) * unshown_change_;
+  Blend(hysteresis, 1.0f, !converged && !changed && moved <= 0.5 * tolerance);
+  unshown_change_ *= hysteresis;
+}
+
+void ShProbesSolver::Blend(float hysteresis, float scale, bool step) {
+  ++(step ? shown_steps_ : shown_changes_);
   const int count = sh::kMaxCoefficients * layout_.probes();
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kCoefficientBinding, coefficients_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kShownBinding, shown_coefficients_.id());

@@ -62,6 +62,14 @@ class ShProbesSolver final : public Solver {
   bool UpdateComplete() const override {
     return !full_.active && deferred_ == 0 && !schedule_.pending() && !lighting_.pending();
   }
+  // Counts the changes of Shade's inputs: the shown coefficients (a bounce
+  // of the first solve, a blend of a change, the converged solution) and
+  // the shadow maps (a set shown); the blends of a progressive update after
+  // the change are steps while each moves what is shown by at most half
+  // the tolerance.
+  std::optional<ShownCount> Shown() const override {
+    return ShownCount{shown_changes_ + lighting_.sets_shown(), shown_steps_};
+  }
   uint64_t gpu_bytes() const override { return atlas_.gpu_bytes() + lighting_.gpu_bytes(); }
 
  private:
@@ -89,16 +97,22 @@ class ShProbesSolver final : public Solver {
   absl::Status ProgressDirectLight(SolverContext& ctx, ChangeMask changes, bool geometry,
                                    bool lights);
   // Progress's geometry change: the probes that see it (all of them for a
-  // material change) are re-rasterized, nearest the eye first.
+  // material change) are re-rasterized, those that see most of it first.
   void ScheduleChangedProbes(SolverContext& ctx, ChangeMask changes);
-  // Which probes' cube maps see `moved` (sees_change.comp.glsl).
-  std::vector<uint8_t> SeesChange(const Bounds& moved);
+  // How much of each probe's cube map sees `moved`: the solid angle of the
+  // texels whose segments cross it, in micro-steradians (0: none;
+  // sees_change.comp.glsl).
+  std::vector<int32_t> SeesChange(const Bounds& moved);
   // One batch: rasterize, interpolate, render, project its probes; returns
   // its probes' L_00 change, *total the sum over all valid probes.
   double RunBatch(SolverContext& ctx, const ProbeSchedule::Batch& batch, double* total);
+  // After Progress's batches: blends what is shown toward the solution
+  // when the frame had a change, the update converged, or the solution
+  // moved away from what is shown (unshown_change_).
+  void ShowProgress(SolverContext& ctx, bool changed);
   // shown = mix(solution x scale, shown x scale, hysteresis); the solution
-  // is scaled too.
-  void Blend(float hysteresis, float scale = 1.0f);
+  // is scaled too. Counted as a change (Shown), or a step if `step`.
+  void Blend(float hysteresis, float scale = 1.0f, bool step = false);
 
   // `probes` null: every probe; else the listed ones (a batch). From the
   // proxies unless the `full_detail` parameter (ProbeRasterizer).
@@ -126,12 +140,18 @@ class ShProbesSolver final : public Solver {
   DirectLighting lighting_;
   EmissionScale emission_;  // the lights the probes were solved for
   float indirect_scale_ = 1.0f;
+  // Shown's counts for shown_coefficients_, and how far the solution is
+  // estimated to be from what is shown (relative L_00 change, summed over
+  // the batches since, times the hysteresis at each blend).
+  uint64_t shown_changes_ = 0;
+  uint64_t shown_steps_ = 0;
+  double unshown_change_ = 0.0;
   ProbeLayout layout_;
   ProbeAtlas atlas_;
   gl::Buffer coefficients_;           // 9 x probes vec4, coefficient-major: the solution
   gl::Buffer shown_coefficients_;     // what Shade reads (follows the solution, hysteresis)
   gl::Buffer batch_probes_;           // a batch's probe list (ints)
-  gl::Buffer sees_change_;            // per probe int, SeesChange's answer
+  gl::Buffer sees_change_;            // per probe int, SeesChange's answer (micro-sr)
   gl::Buffer previous_coefficients_;  // the previous bounce's, for the tail
   gl::Buffer probe_valid_;            // probes floats
   std::vector<float> dc_luminance_;   // L_00 luminance per probe, last bounce
