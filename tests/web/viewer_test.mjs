@@ -66,10 +66,26 @@ try {
   const box = await (await page.$("#view")).boundingBox();
   const cx = box.x + box.width / 2, cy = box.y + box.height / 2;
   const drawnBefore = await page.evaluate(() => window.viewer.drawn);
+  // The overlay's line as the frames of the drag come (the page refreshes
+  // it every 250 ms): the camera move reprojects the last picture.
+  await page.evaluate(() => {
+    window.overlaySeen = "";
+    new MutationObserver(() => {
+      const t = document.getElementById("overlay").textContent;
+      if (t.includes("reprojected")) window.overlaySeen = t;
+    }).observe(document.getElementById("overlay"), { childList: true, subtree: true });
+  });
   await page.mouse.move(cx, cy);
   await page.mouse.down();
   for (let i = 1; i <= 8; i++) await page.mouse.move(cx + 12 * i, cy + 3 * i);
   await page.mouse.up();
+  await waitFor(() => window.viewer.reprojected > 0, "a frame of the drag that reprojects");
+  // What the overlay said then, if a refresh fell in those frames (a
+  // screenshot of it beside the others).
+  const seen = await page.waitForFunction(() => window.overlaySeen, { timeout: 3000, polling: 50 })
+    .then(() => page.evaluate(() => window.overlaySeen)).catch(() => "");
+  console.log(`overlay during the drag: ${seen || "(no refresh during the reprojected frames)"}`);
+  if (seen) await page.screenshot({ path: path.join(outDir, `viewer_${format}_drag.png`) });
   await waitFor(() => window.viewer.seq > 0 && window.viewer.lastSeq >= window.viewer.seq,
                 "the echoed sequence number reaching the drag's");
   await waitFor(d => window.viewer.drawn > d, "a picture after the drag", drawnBefore);
