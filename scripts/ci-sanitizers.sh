@@ -83,16 +83,20 @@ SLOW_RELIABILITY='MemoryBudget.AntiradianceEstimateCoversWhatItBuilds'
 # (222 s with EngineSlicing, VideoFramesTest and EngineRest's
 # implicit_visibility case too, 2026-12-03: those stay in `make test`.)
 GL_SUITES=${GL_SUITES:-'EngineStagesTest.*:EngineSolverCache.*:EngineRestShared.*:Solvers/EngineRest.*/direct:FirstSolves.*:AllSolvers/StagePlan.*:DirectIncremental.*:DrawListTest.*:GlProgram.*:GlDebug.*:GlDriverQuirks.*:AvgBackgroundTrace.*:BackgroundRelink.*:GpuDeformTest.*:ShProbesFirstSolve.*:Refinement.*:Cancellation.*:EverySolver/CancelledRender.*/antiradiance:EverySolver/CancelledRender.*/implicit_visibility'}
-# The five binaries run JOBS at a time, longest first; the two longest
+# The five binaries run JOBS at a time, in the order below; the two longest
 # (GL, unit) as two gtest shards each (GTEST_TOTAL_SHARDS), so that the
 # lanes end together (each is mostly one thread; llvmpipe's rasterizer
 # threads are idle while the GL suites wait on the engine's clock). Their
 # times in CI (2026-12-05, before the shards and with coverage everywhere):
 # GL 340 s, unit 258 s, reliability 195 s, service 132 s, client 9 s, in two
 # lanes 484 s; after (f46bc04): GL 157 + 119 s, unit 36 + 88 s, reliability
-# 122 s, service 97 s, client 9 s, in two lanes 357 s. Each run writes its
-# output to a log, printed whole when it ends, with its own time; any
-# failure fails the step.
+# 122 s, service 97 s, client 9 s, in two lanes 357 s. The order hands the
+# shorter GL shard the service lane and the longer unit shard next, which
+# packs the two lanes closer: with 1716773's times (GL 202 + 171 s,
+# reliability 146, service 117, unit 50 + 102, client 9) the lanes end at
+# about 399 s instead of the longest-first order's 421 (436 measured).
+# Each run writes its output to a log, printed whole when it ends, with
+# its own time; any failure fails the step.
 mkdir -p "$BUILD_DIR/test-results"
 run_sanitized() {  # binary name[@shard/shards]
   local t=${1%@*} shard='' filter='*' start
@@ -146,8 +150,8 @@ for pattern in ${GL_SUITES//:/ }; do
   fi
 done
 echo "ci-sanitizers: unit, GL, service, reliability and client tests under ASan + UBSan, $JOBS at a time"
-run_lanes run_sanitized gl_engine_tests@0/2 gl_engine_tests@1/2 reliability_tests service_tests \
-  unit_tests@0/2 unit_tests@1/2 client_tests
+run_lanes run_sanitized gl_engine_tests@0/2 gl_engine_tests@1/2 service_tests reliability_tests \
+  unit_tests@1/2 unit_tests@0/2 client_tests
 step "tests under ASan + UBSan"
 # Where the sanitizer runs' time went (the 10 slowest cases).
 python3 scripts/test_times.py "$BUILD_DIR" 10 || true
