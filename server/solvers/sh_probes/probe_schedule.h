@@ -5,10 +5,11 @@
 // A sweep visits every probe once, in priority order: the probes whose
 // cube maps see the change first, those that see more of it (a larger
 // solid angle of their cube map) before those that see less, then the
-// rest; ties nearer the camera first. A probe's work in a sweep is a bounce (interpolate, render,
-// project: Gauss-Seidel over the grid, reading the newest coefficients of
-// every probe), preceded by re-rasterizing its cube map and recomputing its
-// texels' direct light when the change requires. Probes are grouped into
+// rest; ties nearer the camera first. A probe's work in a sweep is a
+// bounce (interpolate, render, project: Gauss-Seidel over the grid,
+// reading the newest coefficients of every probe), preceded by
+// re-rasterizing its cube map and recomputing its texels' direct light
+// when the change requires. Probes are grouped into
 // batches of about kBatchUnits of work; the batches depend on the change
 // and the order only, never on time, so the same change reaches the same
 // solution however many frames it is spread over. Sweeps repeat until one
