@@ -24,7 +24,7 @@
 #include "gistream/v1/gistream.grpc.pb.h"
 
 namespace gistream::client {
-namespace {
+namespace bench_fake_server_test {
 
 namespace fs = std::filesystem;
 
@@ -288,5 +288,5 @@ TEST_F(BenchTest, AWorkloadTheSceneCannotRunIsAnError) {
   EXPECT_EQ(fake.service.sessions_opened, 0);
 }
 
-}  // namespace
+}  // namespace bench_fake_server_test
 }  // namespace gistream::client

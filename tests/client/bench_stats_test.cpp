@@ -11,7 +11,7 @@
 #include "plot.h"
 
 namespace gistream::client {
-namespace {
+namespace bench_stats_test {
 
 using std::chrono::milliseconds;
 
@@ -266,5 +266,5 @@ TEST(Plot, LinearAxesPlaceValuesProportionally) {
   EXPECT_EQ(r.at(axes.X(10.0), axes.Y(0.5)), colour);
 }
 
-}  // namespace
+}  // namespace bench_stats_test
 }  // namespace gistream::client

@@ -9,7 +9,7 @@
 #include "timeline.h"
 
 namespace gistream::client {
-namespace {
+namespace client_script_test {
 
 // Float comparisons: values go through float trig and slerp.
 constexpr float kEps = 1e-5f;
@@ -364,5 +364,5 @@ TEST(Timeline, UnknownAndAmbiguousNamesFailBeforeStreaming) {
   EXPECT_EQ(bad_id.status().message(), "tracks[0].material: the scene has no material with id 4");
 }
 
-}  // namespace
+}  // namespace client_script_test
 }  // namespace gistream::client

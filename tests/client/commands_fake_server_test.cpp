@@ -21,7 +21,7 @@
 #include "gistream/v1/gistream.grpc.pb.h"
 
 namespace gistream::client {
-namespace {
+namespace commands_fake_server_test {
 
 namespace fs = std::filesystem;
 
@@ -349,5 +349,5 @@ TEST_F(CommandsTest, ScriptUnknownNodeFailsBeforeTheSession) {
   EXPECT_TRUE(service_.updates.empty());
 }
 
-}  // namespace
+}  // namespace commands_fake_server_test
 }  // namespace gistream::client

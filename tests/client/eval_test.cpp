@@ -10,7 +10,7 @@
 #include "plot.h"
 
 namespace gistream::client {
-namespace {
+namespace eval_test {
 
 RgbaImage Constant(int w, int h, float v) {
   RgbaImage img{w, h, std::vector<float>(size_t(w * h * 4), v)};
@@ -247,5 +247,5 @@ TEST(Plot, NoUsablePointsGiveABlankCanvas) {
   for (uint8_t v : r.rgba) ASSERT_EQ(v, 255);
 }
 
-}  // namespace
+}  // namespace eval_test
 }  // namespace gistream::client

@@ -10,7 +10,7 @@
 #include "frame_writer.h"
 
 namespace gistream::client {
-namespace {
+namespace frame_writer_test {
 
 std::string Slurp(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -55,5 +55,5 @@ TEST(FrameWriter, VideoFramesGoToOneStream) {
   EXPECT_EQ(Slurp(dir / "stream.h264"), "AU1AU2");
 }
 
-}  // namespace
+}  // namespace frame_writer_test
 }  // namespace gistream::client

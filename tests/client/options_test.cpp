@@ -9,7 +9,7 @@
 #include "options.h"
 
 namespace gistream::client {
-namespace {
+namespace options_test {
 
 absl::StatusOr<CommandLine> Parse(std::vector<std::string> args) {
   return ParseCommandLine(args, kDefaultServer);
@@ -188,11 +188,11 @@ TEST(CommandLine, UsageErrors) {
   EXPECT_EQ(UsageError({"status", "--timeout", "0"}), "--timeout: must be positive seconds");
 }
 
-}  // namespace
+}  // namespace options_test
 }  // namespace gistream::client
 
 namespace gistream::client {
-namespace {
+namespace options_test {
 
 TEST(CommandLine, TlsAndTokenOptions) {
   const std::string ca = GISTREAM_SOURCE_DIR "/scripts/dev_certs.sh";  // any readable file
@@ -211,11 +211,11 @@ TEST(CommandLine, TlsAndTokenOptions) {
   EXPECT_NE(UsageError({"status", "--cert", ca}).find("--cert and --key"), std::string::npos);
 }
 
-}  // namespace
+}  // namespace options_test
 }  // namespace gistream::client
 
 namespace gistream::client {
-namespace {
+namespace options_test {
 
 // gRPC's resource quota refuses a call unread with RST_STREAM code 11
 // (ENHANCE_YOUR_CALM) and those words alone: the client names the cause
@@ -243,5 +243,5 @@ TEST(TransportRefusal, IsExplainedNamingTheFlag) {
   EXPECT_FALSE(IsTransportRefusal(quota));
 }
 
-}  // namespace
+}  // namespace options_test
 }  // namespace gistream::client

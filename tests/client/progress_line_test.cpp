@@ -14,7 +14,7 @@
 #include "progress_line.h"
 
 namespace gistream::client {
-namespace {
+namespace progress_line_test {
 
 using std::chrono::duration;
 
@@ -84,5 +84,5 @@ TEST(ProgressLine, ShowsAfterTheDelayAndErasesWhenDone) {
   EXPECT_EQ(out.substr(out.size() - 4), "\r\033[K") << "the line ends erased";
 }
 
-}  // namespace
+}  // namespace progress_line_test
 }  // namespace gistream::client

@@ -9,7 +9,7 @@
 #include "solver_list.h"
 
 namespace gistream::client {
-namespace {
+namespace reports_test {
 
 TEST(SolverList, StagesAndParameterTable) {
   v1::ListSolversResponse response;
@@ -115,5 +115,5 @@ TEST(FrameReport, Bytes) {
   EXPECT_EQ(FormatBytes(3 * 1024 * 1024), "3.0 MiB");
 }
 
-}  // namespace
+}  // namespace reports_test
 }  // namespace gistream::client

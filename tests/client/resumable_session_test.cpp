@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 namespace gistream::client {
-namespace {
+namespace resumable_session_test {
 
 v1::Update Translate(uint32_t node, float x) {
   v1::Update update;
@@ -57,5 +57,5 @@ TEST(ResumableSession, OnlyAServerGoneAwayIsResumed) {
   EXPECT_FALSE(ResumableStatus(absl::PermissionDeniedError("tenant")));
 }
 
-}  // namespace
+}  // namespace resumable_session_test
 }  // namespace gistream::client

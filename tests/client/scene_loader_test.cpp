@@ -13,7 +13,7 @@
 #include "scene_loader.h"
 
 namespace gistream::client {
-namespace {
+namespace scene_loader_test {
 
 namespace fs = std::filesystem;
 
@@ -164,5 +164,5 @@ TEST(DescribeScene, SaysWhenTheSceneHasNoLight) {
   EXPECT_TRUE(SceneWarnings(sky).empty());
 }
 
-}  // namespace
+}  // namespace scene_loader_test
 }  // namespace gistream::client

@@ -8,7 +8,7 @@
 #include "stats_table.h"
 
 namespace gistream::client {
-namespace {
+namespace stats_table_test {
 
 using Clock = StatsCollector::Clock;
 
@@ -135,5 +135,5 @@ TEST(FormatStatsTable, Layout) {
             "solver stats (last frame): iterations=3 memory_mb=1.5\n");
 }
 
-}  // namespace
+}  // namespace stats_table_test
 }  // namespace gistream::client

@@ -15,7 +15,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace all_solvers_test {
 
 using testing::BundledCopy;
 using testing::FloatImage;
@@ -207,5 +207,5 @@ INSTANTIATE_TEST_SUITE_P(Registered, StochasticSolvers, ::testing::ValuesIn(Stoc
                            return param_info.param;
                          });
 
-}  // namespace
+}  // namespace all_solvers_test
 }  // namespace gistream

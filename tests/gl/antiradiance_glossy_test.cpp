@@ -10,7 +10,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace antiradiance_glossy_test {
 
 using testing::FloatImage;
 using testing::GltfBuilder;
@@ -64,5 +64,5 @@ TEST(AntiradianceGlossyDisplay, FloorReflectsTheLitWallTowardTheMirrorDirection)
   EXPECT_TRUE(testing::SharedEngine().UnloadScene(info->id).ok());
 }
 
-}  // namespace
+}  // namespace antiradiance_glossy_test
 }  // namespace gistream

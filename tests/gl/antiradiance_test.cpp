@@ -11,7 +11,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace antiradiance_test {
 
 using testing::BundledCopy;
 using testing::FloatImage;
@@ -144,5 +144,5 @@ TEST(Antiradiance, OddBinCountIsRejectedNamingTheParameter) {
   EXPECT_NE(frame.status().message().find("params.bins"), std::string::npos) << frame.status();
 }
 
-}  // namespace
+}  // namespace antiradiance_test
 }  // namespace gistream

@@ -30,7 +30,7 @@
 #include "util/cpu_pool.h"
 
 namespace gistream {
-namespace {
+namespace avg_background_trace_test {
 
 constexpr int kVpls = 256, kGrid = 32;
 // No still view's second set but in the test of it (StillViewsSecondSet).
@@ -270,11 +270,11 @@ TEST_F(AvgBackgroundTrace, AStillViewJoinsASecondSetAndAMoveCancelsIt) {
   ExpectFullTrace(/*joined=*/true);
 }
 
-}  // namespace
+}  // namespace avg_background_trace_test
 }  // namespace gistream
 
 namespace gistream {
-namespace {
+namespace avg_background_trace_test {
 
 using testing::FrameStat;
 
@@ -310,5 +310,5 @@ TEST(AvgBackgroundTraceStream, FramesSayWhatTheirGiReflectsAndSettleOnAFreshSolv
                                fresh_scene.id(), "avg", kParams, 24, {{1, move}})));
 }
 
-}  // namespace
+}  // namespace avg_background_trace_test
 }  // namespace gistream

@@ -13,7 +13,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace avg_glossy_blocks_test {
 
 using testing::FloatImage;
 using testing::GltfBuilder;
@@ -151,5 +151,5 @@ TEST(AvgGlossyBlocks, GlossyVplsShowNoInterleaveBlocksOnALambertianWall) {
   EXPECT_LT(r.second_difference, 0.004);
 }
 
-}  // namespace
+}  // namespace avg_glossy_blocks_test
 }  // namespace gistream

@@ -7,7 +7,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace avg_incremental_render_test {
 
 using testing::BundledCopy;
 using testing::FrameStat;
@@ -64,5 +64,5 @@ TEST(AvgIncrementalRender, AMovedBlockKeepsValidVplsAndEqualsAFullSolve) {
   testing::ExpectSameImage(incremental, fresh);
 }
 
-}  // namespace
+}  // namespace avg_incremental_render_test
 }  // namespace gistream

@@ -15,7 +15,7 @@
 #include "support/test_meshes.h"
 
 namespace gistream {
-namespace {
+namespace avg_proxy_maps_test {
 
 constexpr int kResolution = 64;  // avg's default shadow_res
 
@@ -173,5 +173,5 @@ TEST_F(AvgProxyMapsTest, FullDetailDrawsTheMapsOfBeforeProxies) {
   EXPECT_EQ(Maps(TestScene(false), false), before);
 }
 
-}  // namespace
+}  // namespace avg_proxy_maps_test
 }  // namespace gistream

@@ -14,7 +14,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace avg_test {
 
 using testing::BundledCopy;
 using testing::FloatImage;
@@ -183,5 +183,5 @@ TEST(AvgRender, CameraOnlyChangeSkipsViewIndependentStages) {
   EXPECT_EQ(moved.non_finite(), 0u);
 }
 
-}  // namespace
+}  // namespace avg_test
 }  // namespace gistream

@@ -9,7 +9,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace background_relink_test {
 
 using testing::BundledCopy;
 using testing::FloatImage;
@@ -130,5 +130,5 @@ TEST(BackgroundRelink, ARenderAfterAMoveIsComplete) {
   testing::ExpectSameImage(moved, fresh);
 }
 
-}  // namespace
+}  // namespace background_relink_test
 }  // namespace gistream

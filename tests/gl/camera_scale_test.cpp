@@ -16,7 +16,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace camera_scale_test {
 
 using testing::GltfBuilder;
 
@@ -126,5 +126,5 @@ TEST(CameraScalePathtrace, SameImageAtAnyScale) {
   }
 }
 
-}  // namespace
+}  // namespace camera_scale_test
 }  // namespace gistream

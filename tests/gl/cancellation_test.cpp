@@ -22,7 +22,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace cancellation_test {
 
 using Clock = std::chrono::steady_clock;
 using Params = std::map<std::string, std::string>;
@@ -154,5 +154,5 @@ TEST(Cancellation, ShutdownStopsTheFrameInProgressAndTheJobs) {
   std::printf("shut down in %.0f ms\n", MsSince(start));
 }
 
-}  // namespace
+}  // namespace cancellation_test
 }  // namespace gistream

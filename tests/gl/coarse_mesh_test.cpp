@@ -13,7 +13,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace coarse_mesh_test {
 
 class CoarseMesh : public testing::ReferenceFixture,
                    public ::testing::WithParamInterface<const char*> {};
@@ -36,5 +36,5 @@ TEST_P(CoarseMesh, CoarseCornellBoxIsAsAccurateAsTheTessellatedOne) {
 INSTANTIATE_TEST_SUITE_P(VertexBased, CoarseMesh,
                          ::testing::Values("implicit_visibility", "antiradiance"));
 
-}  // namespace
+}  // namespace coarse_mesh_test
 }  // namespace gistream

@@ -15,7 +15,7 @@
 #include "support/registered_solvers.h"
 
 namespace gistream {
-namespace {
+namespace convergence_test {
 
 using testing::BundledCopy;
 using testing::FrameStat;
@@ -96,5 +96,5 @@ TEST(Convergence, CoversEveryRegisteredSolver) {
             {"avg", "not iterative: Keller's split ends each VPL path (AvgStiffFurnace)"}});
 }
 
-}  // namespace
+}  // namespace convergence_test
 }  // namespace gistream

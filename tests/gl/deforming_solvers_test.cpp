@@ -18,7 +18,7 @@
 #include "support/registered_solvers.h"
 
 namespace gistream {
-namespace {
+namespace deforming_solvers_test {
 
 using testing::BundledCopy;
 using testing::FloatImage;
@@ -144,5 +144,5 @@ INSTANTIATE_TEST_SUITE_P(Registered, DeformingSolvers,
                            return param_info.param;
                          });
 
-}  // namespace
+}  // namespace deforming_solvers_test
 }  // namespace gistream

@@ -17,7 +17,7 @@
 #include "support/gltf_builder.h"
 
 namespace gistream {
-namespace {
+namespace depth_complexity_test {
 
 // The six faces of a cube of half-size h centred at the origin.
 void AddCube(testing::GltfBuilder& b, float h, int material) {
@@ -61,5 +61,5 @@ TEST(DepthComplexity, IsTwiceTheAreaOverTheBoundsSurface) {
   context->ReleaseCurrent();
 }
 
-}  // namespace
+}  // namespace depth_complexity_test
 }  // namespace gistream

@@ -9,7 +9,7 @@
 #include "support/registered_solvers.h"
 
 namespace gistream {
-namespace {
+namespace dimmer_test {
 
 using testing::BundledCopy;
 using testing::FloatImage;
@@ -105,5 +105,5 @@ TEST(Dimmer, CoversEveryRegisteredSolver) {
             {"pathtrace", "progressive: a light change restarts its accumulation"}});
 }
 
-}  // namespace
+}  // namespace dimmer_test
 }  // namespace gistream

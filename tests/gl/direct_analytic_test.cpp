@@ -10,7 +10,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace direct_analytic_test {
 
 using testing::CornerFormFactor;
 
@@ -138,5 +138,5 @@ TEST(DirectLimits, MoreShadowCubesThanTheGlHoldsIsAnErrorNotAnUnshadowedImage) {
       << frame.status();
 }
 
-}  // namespace
+}  // namespace direct_analytic_test
 }  // namespace gistream

@@ -6,7 +6,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace direct_cornell_test {
 
 using testing::FloatImage;
 
@@ -78,5 +78,5 @@ TEST_F(DirectCornellTest, FloorBesideTallBlockIsShadowed) {
   EXPECT_LT(shadowed.r, 0.5f * open.r);
 }
 
-}  // namespace
+}  // namespace direct_cornell_test
 }  // namespace gistream

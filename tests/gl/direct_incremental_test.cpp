@@ -10,7 +10,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace direct_incremental_test {
 
 using testing::BundledCopy;
 using testing::FloatImage;
@@ -221,5 +221,5 @@ TEST(DirectIncremental, MovingOnePunctualLightRedrawsItsMapAlone) {
   EXPECT_EQ(FrameStat(RenderDirect(scene.id(), {{3, sun}}).frame, "shadow_maps_redrawn"), 1.0);
 }
 
-}  // namespace
+}  // namespace direct_incremental_test
 }  // namespace gistream

@@ -32,7 +32,7 @@
 #include "support/registered_solvers.h"
 
 namespace gistream {
-namespace {
+namespace double_sided_emission_test {
 
 using testing::CornerFormFactor;
 using testing::GltfBuilder;
@@ -150,5 +150,5 @@ TEST(DoubleSidedEmissionGi, CoversEveryRegisteredSolver) {
         "(NearFieldEmitter)"}});
 }
 
-}  // namespace
+}  // namespace double_sided_emission_test
 }  // namespace gistream

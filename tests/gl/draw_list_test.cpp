@@ -24,7 +24,7 @@
 #include "support/test_meshes.h"
 
 namespace gistream {
-namespace {
+namespace draw_list_test {
 
 constexpr int kResolution = 128;
 constexpr int kSpheres = 5;
@@ -164,5 +164,5 @@ TEST_F(DrawListTest, ListCubeIsBitwiseThePerItemCube) {
   }
 }
 
-}  // namespace
+}  // namespace draw_list_test
 }  // namespace gistream

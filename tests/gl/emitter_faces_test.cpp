@@ -17,7 +17,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace emitter_faces_test {
 
 constexpr uint32_t kSize = 16;
 
@@ -55,5 +55,5 @@ INSTANTIATE_TEST_SUITE_P(EverySolver, EmitterFaces,
                          ::testing::ValuesIn(testing::RegisteredSolverNames()),
                          [](const auto& p) { return p.param; });
 
-}  // namespace
+}  // namespace emitter_faces_test
 }  // namespace gistream

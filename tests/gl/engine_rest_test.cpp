@@ -11,7 +11,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace engine_rest_test {
 
 using testing::BundledCopy;
 using testing::FrameQueue;
@@ -137,5 +137,5 @@ TEST(EngineRestShared, AKeyFrameRequestAtRestIsRendered) {
   SharedEngine().CloseSession(session->id);
 }
 
-}  // namespace
+}  // namespace engine_rest_test
 }  // namespace gistream

@@ -12,7 +12,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace engine_slicing_test {
 
 using testing::BundledCopy;
 using testing::FrameStat;
@@ -227,5 +227,5 @@ TEST(EngineSlicing, ACancelledRenderStopsAndTheNextOneRuns) {
   EXPECT_EQ(SharedEngine().stats().sessions, 0u);
 }
 
-}  // namespace
+}  // namespace engine_slicing_test
 }  // namespace gistream

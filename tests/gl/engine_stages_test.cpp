@@ -10,7 +10,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace engine_stages_test {
 
 const StageTiming* FindStage(const EncodedFrame& frame, const std::string& name) {
   for (const StageTiming& t : frame.timings) {
@@ -139,5 +139,5 @@ TEST(EngineSolverCache, IdleSolversBeyondTheCapAreDropped) {
   EXPECT_TRUE(testing::StageSkipped(again, "shadow_maps"));
 }
 
-}  // namespace
+}  // namespace engine_stages_test
 }  // namespace gistream

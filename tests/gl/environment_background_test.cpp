@@ -20,7 +20,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace environment_background_test {
 
 constexpr int kMapWidth = 32, kMapHeight = 16;
 constexpr int kSize = 16;
@@ -118,5 +118,5 @@ INSTANTIATE_TEST_SUITE_P(EverySolver, EnvironmentBackground,
                          ::testing::ValuesIn(testing::RegisteredSolverNames()),
                          [](const auto& p) { return p.param; });
 
-}  // namespace
+}  // namespace environment_background_test
 }  // namespace gistream

@@ -17,7 +17,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace environment_lights_test {
 
 constexpr float kAlbedo = 0.5f;
 
@@ -64,5 +64,5 @@ INSTANTIATE_TEST_SUITE_P(Rasterizing, EnvironmentLit,
                          ::testing::Values("direct", "avg", "sh_probes", "antiradiance"),
                          [](const auto& p) { return p.param; });
 
-}  // namespace
+}  // namespace environment_lights_test
 }  // namespace gistream

@@ -23,7 +23,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace first_solve_test {
 
 using testing::FrameStat;
 
@@ -162,5 +162,5 @@ TEST(FirstSolves, DroppingASolverWhoseJobRunsNeverStallsTheRenderThread) {
   EXPECT_EQ(engine.stats().retiring_solvers, 0u);
 }
 
-}  // namespace
+}  // namespace first_solve_test
 }  // namespace gistream

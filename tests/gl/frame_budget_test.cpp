@@ -10,7 +10,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace frame_budget_test {
 
 using testing::BundledCopy;
 using testing::FrameQueue;
@@ -55,5 +55,5 @@ TEST(FrameBudget, ASlowStreamAloneGetsHalfItsIntervalOthersKeepTheirs) {
   for (double b : Budgets(scene.id(), 0.5f, 0.0, 1)) EXPECT_EQ(b, 90.0);
 }
 
-}  // namespace
+}  // namespace frame_budget_test
 }  // namespace gistream

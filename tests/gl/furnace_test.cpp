@@ -22,7 +22,7 @@
 #include "support/registered_solvers.h"
 
 namespace gistream {
-namespace {
+namespace furnace_test {
 
 using testing::BundledCopy;
 using testing::FloatImage;
@@ -221,5 +221,5 @@ TEST(FurnaceAtDefaults, CoversEveryRegisteredSolver) {
              "at 64 spp is Furnace.*"}});
 }
 
-}  // namespace
+}  // namespace furnace_test
 }  // namespace gistream

@@ -12,7 +12,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace gbuffer_list_test {
 
 using testing::FloatImage;
 using testing::GltfBuilder;
@@ -89,5 +89,5 @@ TEST(GBufferList, ViewsOfTwoScenesInTurnEachShowTheirOwnScene) {
   EXPECT_TRUE(engine.UnloadScene(grid).ok());
 }
 
-}  // namespace
+}  // namespace gbuffer_list_test
 }  // namespace gistream

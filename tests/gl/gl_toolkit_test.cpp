@@ -12,7 +12,7 @@
 #include "support/gl_context.h"
 
 namespace gistream {
-namespace {
+namespace gl_toolkit_test {
 
 TEST(GlDebug, AnInvalidCallIsCountedAsAnError) {
   testing::AllowGlErrorsInThisTest();  // provoked on purpose
@@ -56,5 +56,5 @@ TEST(GlProgram, UnknownUniformHasNoLocation) {
   context->ReleaseCurrent();
 }
 
-}  // namespace
+}  // namespace gl_toolkit_test
 }  // namespace gistream

@@ -15,7 +15,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace glossy_direct_test {
 
 using testing::GltfBuilder;
 
@@ -220,5 +220,5 @@ INSTANTIATE_TEST_SUITE_P(
                    true}),
     [](const ::testing::TestParamInfo<GlossyCase>& p) { return p.param.name; });
 
-}  // namespace
+}  // namespace glossy_direct_test
 }  // namespace gistream

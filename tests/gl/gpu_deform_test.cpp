@@ -15,7 +15,7 @@
 #include "support/measurement.h"
 
 namespace gistream {
-namespace {
+namespace gpu_deform_test {
 
 using testing::DeformingTube;
 
@@ -97,5 +97,5 @@ TEST_F(GpuDeformTest, FollowsTheAnimationClockAfterUpload) {
   EXPECT_LT(posed.min.x, rest.min.x - 0.5f);
 }
 
-}  // namespace
+}  // namespace gpu_deform_test
 }  // namespace gistream

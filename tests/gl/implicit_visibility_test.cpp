@@ -13,7 +13,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace implicit_visibility_test {
 
 using testing::BundledCopy;
 using testing::FloatImage;
@@ -188,5 +188,5 @@ TEST(ImplicitVisibility, EnvironmentThroughEmptyBins) {
   EXPECT_TRUE(testing::SharedEngine().UnloadScene(info->id).ok());
 }
 
-}  // namespace
+}  // namespace implicit_visibility_test
 }  // namespace gistream

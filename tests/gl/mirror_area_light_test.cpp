@@ -22,7 +22,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace mirror_area_light_test {
 
 using testing::GltfBuilder;
 
@@ -102,5 +102,5 @@ TEST_F(MirrorAreaLight, DirectShowsTheLampNotItsSamples) {
   EXPECT_LT(w.cv, 0.15);
 }
 
-}  // namespace
+}  // namespace mirror_area_light_test
 }  // namespace gistream

@@ -29,7 +29,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace near_field_emitter_test {
 
 using testing::CornerFormFactor;
 using testing::GltfBuilder;
@@ -104,5 +104,5 @@ TEST_F(NearFieldEmitter, DirectMatchesTheFormFactorBesideALampACentimetreAway) {
   }
 }
 
-}  // namespace
+}  // namespace near_field_emitter_test
 }  // namespace gistream

@@ -30,7 +30,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace near_field_room_test {
 
 using testing::GltfBuilder;
 
@@ -108,5 +108,5 @@ TEST(NearFieldRoomGi, CoversEveryRegisteredSolver) {
        {"pathtrace", "the reference (its near field: NearFieldEmitter)"}});
 }
 
-}  // namespace
+}  // namespace near_field_room_test
 }  // namespace gistream

@@ -10,7 +10,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace pathtrace_refit_render_test {
 
 using testing::BundledCopy;
 using testing::FloatImage;
@@ -59,5 +59,5 @@ TEST(PathtraceRefitRender, SeekRefitsAndMatchesAFreshSolve) {
   EXPECT_LE(error, 1e-6);
 }
 
-}  // namespace
+}  // namespace pathtrace_refit_render_test
 }  // namespace gistream

@@ -14,7 +14,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace pathtrace_test {
 
 using testing::FloatImage;
 
@@ -351,5 +351,5 @@ TEST(Pathtrace, DeterministicForASeedAndProgressive) {
   EXPECT_EQ(Stat(restarted, "spp_total"), 2.0);
 }
 
-}  // namespace
+}  // namespace pathtrace_test
 }  // namespace gistream

@@ -24,7 +24,7 @@
 #include "support/test_meshes.h"
 
 namespace gistream {
-namespace {
+namespace proxy_elements_test {
 
 using testing::FloatImage;
 
@@ -250,5 +250,5 @@ TEST_P(ProxyElementsRender, DisplayFromProxiesHasNoBlackPixels) {
 INSTANTIATE_TEST_SUITE_P(VertexBased, ProxyElementsRender,
                          ::testing::Values("implicit_visibility", "antiradiance"));
 
-}  // namespace
+}  // namespace proxy_elements_test
 }  // namespace gistream

@@ -13,7 +13,7 @@
 #include "support/test_meshes.h"
 
 namespace gistream {
-namespace {
+namespace proxy_shadow_test {
 
 constexpr int kResolution = 256;
 
@@ -118,5 +118,5 @@ TEST_F(ProxyShadowTest, FullDetailAndCullingDrawTheMapOfBeforeProxies) {
   EXPECT_EQ(Cube(TestScene(false), false), before);
 }
 
-}  // namespace
+}  // namespace proxy_shadow_test
 }  // namespace gistream

@@ -9,7 +9,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace refinement_test {
 
 using testing::BundledCopy;
 using testing::FloatImage;
@@ -564,5 +564,5 @@ TEST(Refinement, TheSampleCountIsBounded) {
   EXPECT_NE(reprojecting.status().message().find("refine_reproject"), std::string::npos);
 }
 
-}  // namespace
+}  // namespace refinement_test
 }  // namespace gistream

@@ -8,7 +8,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace sh_probes_first_solve_test {
 
 using testing::BundledCopy;
 using testing::FrameStat;
@@ -51,5 +51,5 @@ TEST(ShProbesFirstSolve, ASplitFirstSolveConvergesToAnUnsplitOne) {
   testing::ExpectSameImage(split, whole);
 }
 
-}  // namespace
+}  // namespace sh_probes_first_solve_test
 }  // namespace gistream

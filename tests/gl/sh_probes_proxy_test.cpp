@@ -23,7 +23,7 @@
 #include "support/test_meshes.h"
 
 namespace gistream {
-namespace {
+namespace sh_probes_proxy_test {
 
 // The floor and sphere scene of proxy_shadow_test.cpp (the sphere has a
 // cluster tree: 9,216 triangles).
@@ -272,5 +272,5 @@ TEST_F(ShProbesProxyTest, DrawListCubesAreTheItemByItemCubes) {
   }
 }
 
-}  // namespace
+}  // namespace sh_probes_proxy_test
 }  // namespace gistream

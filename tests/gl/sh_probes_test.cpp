@@ -13,7 +13,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace sh_probes_test {
 
 using testing::BundledCopy;
 using testing::FloatImage;
@@ -226,5 +226,5 @@ TEST(ShProbes, GridOverBudgetIsResourceExhaustedNamingTheParameters) {
   EXPECT_NE(frame.status().message().find("params.grid"), std::string::npos) << frame.status();
 }
 
-}  // namespace
+}  // namespace sh_probes_test
 }  // namespace gistream

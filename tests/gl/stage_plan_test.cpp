@@ -13,7 +13,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace stage_plan_test {
 
 using testing::BundledCopy;
 
@@ -125,5 +125,5 @@ std::vector<std::string> RegisteredSolvers() {
 INSTANTIATE_TEST_SUITE_P(AllSolvers, StagePlan, ::testing::ValuesIn(RegisteredSolvers()),
                          [](const ::testing::TestParamInfo<std::string>& p) { return p.param; });
 
-}  // namespace
+}  // namespace stage_plan_test
 }  // namespace gistream

@@ -9,7 +9,7 @@
 #include "support/gl_context.h"
 
 namespace gistream {
-namespace {
+namespace subdivide_bound_test {
 
 TEST(SubdividedVertexBound, BoundsTheVerticesTheSubdivisionMakes) {
   const auto context = testing::CurrentGlContext();
@@ -42,5 +42,5 @@ TEST(SubdividedVertexBound, BoundsTheVerticesTheSubdivisionMakes) {
   context->ReleaseCurrent();
 }
 
-}  // namespace
+}  // namespace subdivide_bound_test
 }  // namespace gistream

@@ -24,7 +24,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace texture_transform_test {
 
 constexpr uint32_t kSize = 32;
 
@@ -109,5 +109,5 @@ INSTANTIATE_TEST_SUITE_P(EverySolver, TextureTransform,
                          ::testing::ValuesIn(testing::RegisteredSolverNames()),
                          [](const auto& p) { return p.param; });
 
-}  // namespace
+}  // namespace texture_transform_test
 }  // namespace gistream

@@ -18,7 +18,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace video_frames_test {
 
 using testing::BundledCopy;
 using testing::SharedEngine;
@@ -182,5 +182,5 @@ TEST_F(VideoFramesTest, AnEncoderTheServerLacksIsFailedPrecondition) {
   EXPECT_NE(session.status().message().find("encoding.format"), std::string::npos);
 }
 
-}  // namespace
+}  // namespace video_frames_test
 }  // namespace gistream

@@ -15,7 +15,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {
-namespace {
+namespace capacity_test {
 
 using namespace std::chrono_literals;
 
@@ -81,5 +81,5 @@ TEST(Capacity, ASessionPastTheRenderBusyLimitIsRefusedUntilTheOthersRest) {
   e.Shutdown();
 }
 
-}  // namespace
+}  // namespace capacity_test
 }  // namespace gistream::reliability

@@ -16,7 +16,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {
-namespace {
+namespace fair_share_test {
 
 using namespace std::chrono_literals;
 
@@ -102,5 +102,5 @@ TEST(FairShare, ATenantWithOneStreamGetsAboutWhatATenantWithFourGets) {
   e.Shutdown();
 }
 
-}  // namespace
+}  // namespace fair_share_test
 }  // namespace gistream::reliability

@@ -15,7 +15,7 @@
 #include "support/gl_context.h"
 
 namespace gistream {
-namespace {
+namespace finite_frames_test {
 
 TEST(FiniteFrames, ToneMapCountsNonFinitePixels) {
   const auto context = testing::CurrentGlContext();
@@ -61,5 +61,5 @@ TEST(FiniteFrames, ToneMapCountsNonFinitePixels) {
   context->ReleaseCurrent();
 }
 
-}  // namespace
+}  // namespace finite_frames_test
 }  // namespace gistream

@@ -13,7 +13,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {
-namespace {
+namespace gpu_allocation_test {
 
 TEST(GpuAllocation, OversizedGBufferIsResourceExhaustedAndTheEngineGoesOn) {
   // The operator allows frames wider than any GPU's largest texture
@@ -67,5 +67,5 @@ TEST(GpuAllocation, TextureLargerThanTheGpuAllowsIsResourceExhausted) {
   (*engine)->Shutdown();
 }
 
-}  // namespace
+}  // namespace gpu_allocation_test
 }  // namespace gistream::reliability

@@ -21,7 +21,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {
-namespace {
+namespace gpu_faults_test {
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
@@ -236,5 +236,5 @@ TEST(GpuFaults, OverTheWireTheSessionEndsUnavailableAndTheServerGoesOn) {
   }  // the server shuts the engine down: it must not hang
 }
 
-}  // namespace
+}  // namespace gpu_faults_test
 }  // namespace gistream::reliability

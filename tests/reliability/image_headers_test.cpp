@@ -12,7 +12,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {
-namespace {
+namespace image_headers_test {
 
 std::string ForgedHdr(int width, int height) {
   return absl::StrCat("#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y ", height, " +X ", width, "\n",
@@ -89,5 +89,5 @@ TEST(ImageHeaders, ExrAttributeClaimingMoreThanTheFileIsRefusedBeforeAllocating)
   EXPECT_EQ(image->width, 4);
 }
 
-}  // namespace
+}  // namespace image_headers_test
 }  // namespace gistream::reliability

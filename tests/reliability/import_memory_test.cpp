@@ -13,7 +13,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {
-namespace {
+namespace import_memory_test {
 
 using namespace std::chrono_literals;
 
@@ -50,5 +50,5 @@ TEST(ImportMemory, DecodedPixelsAreReservedBeforeDecoding) {
   e.Shutdown();
 }
 
-}  // namespace
+}  // namespace import_memory_test
 }  // namespace gistream::reliability

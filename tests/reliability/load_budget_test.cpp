@@ -13,7 +13,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {
-namespace {
+namespace load_budget_test {
 
 // QuadScene with its floor as 72 x 72 quads (10,368 triangles): large
 // enough for proxy levels and a cluster tree.
@@ -107,5 +107,5 @@ TEST(LoadBudget, StoppedLoadAnswersItsCodeNamingTheStageAndKeepsNothing) {
   e.Shutdown();
 }
 
-}  // namespace
+}  // namespace load_budget_test
 }  // namespace gistream::reliability

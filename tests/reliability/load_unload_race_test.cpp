@@ -18,7 +18,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {
-namespace {
+namespace load_unload_race_test {
 
 using std::chrono::seconds;
 
@@ -122,5 +122,5 @@ TEST(LoadUnloadRace, LoadRacingShutdownFinishes) {
             absl::StatusCode::kUnavailable);
 }
 
-}  // namespace
+}  // namespace load_unload_race_test
 }  // namespace gistream::reliability

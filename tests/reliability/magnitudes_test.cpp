@@ -11,7 +11,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {
-namespace {
+namespace magnitudes_test {
 
 using json = nlohmann::json;
 
@@ -149,5 +149,5 @@ TEST(Magnitudes, NegativeOrHugeEnvironmentRadianceIsRejected) {
   EXPECT_TRUE(E().UnloadScene(info->id).ok());
 }
 
-}  // namespace
+}  // namespace magnitudes_test
 }  // namespace gistream::reliability

@@ -24,7 +24,7 @@
 #include "util/memory_budget.h"
 
 namespace gistream::reliability {
-namespace {
+namespace memory_budget_test {
 
 using namespace std::chrono_literals;
 
@@ -298,5 +298,5 @@ TEST(MemoryBudget, GetServerStatusReportsTheBudget) {
   EXPECT_GT(status.memory_budget_used_bytes(), 0u);
 }
 
-}  // namespace
+}  // namespace memory_budget_test
 }  // namespace gistream::reliability

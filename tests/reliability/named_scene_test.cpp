@@ -12,7 +12,7 @@
 #include "reliability/reliability_fixture.h"
 
 namespace gistream::reliability {
-namespace {
+namespace named_scene_test {
 
 RenderRequest Png(const std::string& scene, std::vector<Update> updates = {}) {
   RenderRequest r = Request(scene, "direct", std::move(updates));
@@ -72,5 +72,5 @@ TEST(NamedScene, ConcurrentLoadsOfOneNameMakeOneScene) {
   EXPECT_FALSE(E().UnloadScene(loaded[0]->id).ok()) << "unloaded more often than loaded";
 }
 
-}  // namespace
+}  // namespace named_scene_test
 }  // namespace gistream::reliability

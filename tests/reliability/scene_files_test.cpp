@@ -13,7 +13,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {
-namespace {
+namespace scene_files_test {
 
 // Runs `load` on another thread; a load that blocks longer than a minute is
 // a failure, and writing to the FIFO then unblocks it so the binary exits.
@@ -48,5 +48,5 @@ TEST(SceneFiles, FifoSceneAndFifoBufferAreRefusedWithoutBlocking) {
   EXPECT_TRUE(E().UnloadScene(info->id).ok());
 }
 
-}  // namespace
+}  // namespace scene_files_test
 }  // namespace gistream::reliability

@@ -10,7 +10,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {
-namespace {
+namespace small_ones_test {
 
 TEST(SmallOnes, OddAntiradianceBinsAreRejectedWhenTheSessionOpens) {
   const QuadCopy scene;
@@ -106,5 +106,5 @@ TEST(SmallOnes, ZeroSizeIsRejected) {
                 "update.camera.width: 0 is out of range");
 }
 
-}  // namespace
+}  // namespace small_ones_test
 }  // namespace gistream::reliability

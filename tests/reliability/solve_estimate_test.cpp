@@ -18,7 +18,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {
-namespace {
+namespace solve_estimate_test {
 
 using namespace std::chrono_literals;
 
@@ -118,5 +118,5 @@ TEST(SolveEstimate, TheLimitAndTheSpeedAreTheServers) {
   }
 }
 
-}  // namespace
+}  // namespace solve_estimate_test
 }  // namespace gistream::reliability

@@ -8,7 +8,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {
-namespace {
+namespace strict_gltf_test {
 
 using json = nlohmann::json;
 
@@ -78,5 +78,5 @@ TEST(StrictGltf, WrongTypesAndRangesNameTheJsonPath) {
   ExpectRendersFinite(scene.id(), "direct");
 }
 
-}  // namespace
+}  // namespace strict_gltf_test
 }  // namespace gistream::reliability

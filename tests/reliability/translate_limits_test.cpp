@@ -8,7 +8,7 @@
 #include "service/translate.h"
 
 namespace gistream::reliability {
-namespace {
+namespace translate_limits_test {
 
 namespace pb = ::gistream::v1;
 using service::SessionConfigFromProto;
@@ -71,5 +71,5 @@ TEST(TranslateLimits, StatusMessagesSentToClientsAreBounded) {
             "scene_id: no scene 'x'");
 }
 
-}  // namespace
+}  // namespace translate_limits_test
 }  // namespace gistream::reliability

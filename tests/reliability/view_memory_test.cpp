@@ -18,7 +18,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream::reliability {
-namespace {
+namespace view_memory_test {
 
 using namespace std::chrono_literals;
 
@@ -147,5 +147,5 @@ TEST(ViewMemory, PathtraceViewsAreReservedAndRefusedOverTheBudget) {
   EXPECT_TRUE(refused.renders_after);
 }
 
-}  // namespace
+}  // namespace view_memory_test
 }  // namespace gistream::reliability

@@ -13,7 +13,7 @@
 #include "test_server.h"
 
 namespace gistream::testing {
-namespace {
+namespace auth_test {
 
 using namespace std::chrono_literals;
 using ::grpc::health::v1::HealthCheckRequest;
@@ -244,5 +244,5 @@ TEST_F(AuthTest, PlaintextOnlyOnLoopbackOrWhenAskedFor) {
   EXPECT_FALSE(service::IsLoopbackAddress(":50051"));
 }
 
-}  // namespace
+}  // namespace auth_test
 }  // namespace gistream::testing

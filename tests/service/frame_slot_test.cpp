@@ -8,7 +8,7 @@
 #include "service/frame_slot.h"
 
 namespace gistream::service {
-namespace {
+namespace frame_slot_test {
 
 std::shared_ptr<const EncodedFrame> Frame(ImageFormat format, bool key, bool image = true,
                                           uint64_t number = 0) {
@@ -98,5 +98,5 @@ TEST(FrameSlot, AVideoFrameDroppedFromAWindowTakesItsQueuedDeltas) {
   EXPECT_EQ(keyed.Take()->frame_number, 3u);
 }
 
-}  // namespace
+}  // namespace frame_slot_test
 }  // namespace gistream::service

@@ -17,7 +17,7 @@
 #include "test_server.h"
 
 namespace gistream::testing {
-namespace {
+namespace load_deadline_test {
 
 using namespace std::chrono_literals;
 
@@ -103,5 +103,5 @@ TEST(LoadDeadline, PassedClientDeadlineStopsTheLoad) {
   std::filesystem::remove_all(dir);
 }
 
-}  // namespace
+}  // namespace load_deadline_test
 }  // namespace gistream::testing

@@ -14,7 +14,7 @@
 #include "util/version.h"
 
 namespace gistream::testing {
-namespace {
+namespace metrics_test {
 
 using namespace std::chrono_literals;
 
@@ -305,5 +305,5 @@ TEST_F(MetricsTest, ServerStatusReportsVersionProcessAndSessions) {
   EXPECT_TRUE(stream->Finish().ok());
 }
 
-}  // namespace
+}  // namespace metrics_test
 }  // namespace gistream::testing

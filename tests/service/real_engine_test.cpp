@@ -12,7 +12,7 @@
 #include "test_server.h"
 
 namespace gistream::testing {
-namespace {
+namespace real_engine_test {
 
 using namespace std::chrono_literals;
 using ::grpc::health::v1::HealthCheckRequest;
@@ -208,5 +208,5 @@ TEST_F(RealEngineTest, InvalidConfigNamesTheField) {
   }
 }
 
-}  // namespace
+}  // namespace real_engine_test
 }  // namespace gistream::testing

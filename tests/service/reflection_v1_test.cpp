@@ -10,7 +10,7 @@
 #include "test_server.h"
 
 namespace gistream::testing {
-namespace {
+namespace reflection_v1_test {
 
 namespace rpb = ::grpc::reflection::v1;
 
@@ -66,5 +66,5 @@ TEST_F(ReflectionV1Test, ListsServicesAndDescribesSymbols) {
   EXPECT_EQ(responses[2].error_response().error_code(), int(grpc::StatusCode::NOT_FOUND));
 }
 
-}  // namespace
+}  // namespace reflection_v1_test
 }  // namespace gistream::testing

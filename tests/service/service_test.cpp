@@ -14,7 +14,7 @@
 #include "test_server.h"
 
 namespace gistream::testing {
-namespace {
+namespace service_test {
 
 using namespace std::chrono_literals;
 using ::grpc::health::v1::HealthCheckRequest;
@@ -785,5 +785,5 @@ TEST_F(ServiceTest, ShutdownTellsSessionsToMoveAndEndsWhenTheyLeave) {
   EXPECT_EQ(engine_.session_count(), 0u);
 }
 
-}  // namespace
+}  // namespace service_test
 }  // namespace gistream::testing

@@ -17,7 +17,7 @@
 #include "test_server.h"
 
 namespace gistream::testing {
-namespace {
+namespace tenancy_test {
 
 using namespace std::chrono_literals;
 
@@ -412,11 +412,11 @@ TEST(IdleTimeout, IdleSessionsAndScenesExpire) {
   EXPECT_EQ((*engine)->RequestFrames(session->id, 1).code(), absl::StatusCode::kNotFound);
 }
 
-}  // namespace
+}  // namespace tenancy_test
 }  // namespace gistream::testing
 
 namespace gistream::testing {
-namespace {
+namespace tenancy_test {
 
 TEST(IdleTimeout, AWatchedContinuousSessionStaysUntilItsFramesAreDropped) {
   EngineOptions options;
@@ -446,5 +446,5 @@ TEST(IdleTimeout, AWatchedContinuousSessionStaysUntilItsFramesAreDropped) {
   (*engine)->CloseSession(session->id);
 }
 
-}  // namespace
+}  // namespace tenancy_test
 }  // namespace gistream::testing

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 namespace gistream::service {
-namespace {
+namespace translate_test {
 
 TEST(Translate, StatusCodesKeepTheirMeaning) {
   // absl and gRPC share google.rpc.Code numbering; the switch must agree.
@@ -270,5 +270,5 @@ TEST(Translate, UpdateRejectedCarriesTheGrpcCode) {
   EXPECT_EQ(r.message(), "update.node_transform.node: no node 9");
 }
 
-}  // namespace
+}  // namespace translate_test
 }  // namespace gistream::service

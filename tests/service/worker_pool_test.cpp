@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 namespace gistream::service {
-namespace {
+namespace worker_pool_test {
 
 TEST(WorkerPool, RunsEveryAcceptedJob) {
   std::atomic<int> ran{0};
@@ -50,5 +50,5 @@ TEST(WorkerPool, StopRunsQueuedJobsThenRefuses) {
   pool.Stop();  // idempotent
 }
 
-}  // namespace
+}  // namespace worker_pool_test
 }  // namespace gistream::service

@@ -12,7 +12,7 @@
 #include "scene/state/animation.h"
 
 namespace gistream {
-namespace {
+namespace animation_test {
 
 using testing::AddQuadMesh;
 using testing::Import;
@@ -363,5 +363,5 @@ TEST(AnimationImport, FilesWithoutAnimationsHaveNone) {
   EXPECT_TRUE(scene->meshes[0].primitives[0].targets.empty());
 }
 
-}  // namespace
+}  // namespace animation_test
 }  // namespace gistream

@@ -19,7 +19,7 @@
 #include "solvers/brdf_albedo.h"
 
 namespace gistream::antiradiance {
-namespace {
+namespace antiradiance_glossy_test {
 
 constexpr float kPi = 3.14159265358979f;
 const glm::vec3 kX(1, 0, 0), kY(0, 1, 0), kZ(0, 0, 1);
@@ -306,11 +306,11 @@ TEST(AntiradianceGlossy, LambertianLeavesAreUnchanged) {
   }
 }
 
-}  // namespace
+}  // namespace antiradiance_glossy_test
 }  // namespace gistream::antiradiance
 
 namespace gistream::antiradiance {
-namespace {
+namespace antiradiance_glossy_test {
 
 // The link limit (LinkSet::set_max_links): linking a closed box of six
 // roots (36 root pairs) stops once the pairs linked hold more than the
@@ -340,5 +340,5 @@ TEST(AntiradianceLinks, LinkingStopsOnceTheLinksPassTheLimit) {
   EXPECT_EQ(roomy.size(), full);
 }
 
-}  // namespace
+}  // namespace antiradiance_glossy_test
 }  // namespace gistream::antiradiance

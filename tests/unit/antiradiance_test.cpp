@@ -22,7 +22,7 @@
 #include "solvers/antiradiance/transport.h"
 
 namespace gistream::antiradiance {
-namespace {
+namespace antiradiance_test {
 
 constexpr float kPi = 3.14159265358979f;
 
@@ -517,5 +517,5 @@ TEST(AntiradianceStability, SurfacesAlmostTouching) {
   }
 }
 
-}  // namespace
+}  // namespace antiradiance_test
 }  // namespace gistream::antiradiance

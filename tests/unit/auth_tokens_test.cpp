@@ -6,7 +6,7 @@
 #include "util/auth_tokens.h"
 
 namespace gistream {
-namespace {
+namespace auth_tokens_test {
 
 TEST(AuthTokens, ParsesTenantsAndQuotas) {
   absl::StatusOr<AuthTokens> tokens = AuthTokens::Parse(
@@ -53,5 +53,5 @@ TEST(AuthTokens, ErrorsNameTheLineNotTheToken) {
   }
 }
 
-}  // namespace
+}  // namespace auth_tokens_test
 }  // namespace gistream

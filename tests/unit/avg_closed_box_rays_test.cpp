@@ -24,7 +24,7 @@
 #include "solvers/avg/vpl_tracer.h"
 
 namespace gistream {
-namespace {
+namespace avg_closed_box_rays_test {
 
 std::unique_ptr<SceneState> GreyFurnace(float rho) {
   auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR "/scenes"), "furnace", {});
@@ -90,5 +90,5 @@ TEST(AvgClosedBoxRays, NoRayLeavesTheFurnaceAndBounceFluxIsPowerTimesRhoToTheK) 
   }
 }
 
-}  // namespace
+}  // namespace avg_closed_box_rays_test
 }  // namespace gistream

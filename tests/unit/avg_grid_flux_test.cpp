@@ -18,7 +18,7 @@
 #include "solvers/avg/vpl_tracer.h"
 
 namespace gistream {
-namespace {
+namespace avg_grid_flux_test {
 
 std::unique_ptr<SceneState> ScaledFurnace(float scale) {
   auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR "/scenes"), "furnace", {});
@@ -58,5 +58,5 @@ TEST(AvgGridFlux, FirstBounceFluxIsLightPowerTimesAlbedoAtEveryGridSizeAndScale)
   }
 }
 
-}  // namespace
+}  // namespace avg_grid_flux_test
 }  // namespace gistream

@@ -19,7 +19,7 @@
 #include "solvers/avg/vpl_tracer.h"
 
 namespace gistream {
-namespace {
+namespace avg_grid_test {
 
 using avg::VoxelGrid;
 
@@ -539,5 +539,5 @@ TEST(AvgVpls, ScrambledHaltonIsInUnitIntervalAndWellSpread) {
   }
 }
 
-}  // namespace
+}  // namespace avg_grid_test
 }  // namespace gistream

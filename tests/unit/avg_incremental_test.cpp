@@ -14,7 +14,7 @@
 #include "solvers/avg/vpl_tracer.h"
 
 namespace gistream {
-namespace {
+namespace avg_incremental_test {
 
 using avg::VoxelGrid;
 
@@ -204,5 +204,5 @@ TEST(AvgIncremental, DifferentLightsRetraceEverything) {
   ExpectSameVpls(again.vpls, avg::TraceVpls(grid, lights, settings).vpls);
 }
 
-}  // namespace
+}  // namespace avg_incremental_test
 }  // namespace gistream

@@ -23,7 +23,7 @@
 #include "solvers/avg/vpl_tracer.h"
 
 namespace gistream {
-namespace {
+namespace avg_stiff_furnace_test {
 
 std::unique_ptr<SceneState> Furnace() {
   auto scene = ImportSceneByName(std::string(GISTREAM_SOURCE_DIR "/scenes"), "furnace", {});
@@ -87,5 +87,5 @@ TEST(AvgStiffFurnace, TotalVplFluxIsExactForAnyPathCount) {
   }
 }
 
-}  // namespace
+}  // namespace avg_stiff_furnace_test
 }  // namespace gistream

@@ -17,7 +17,7 @@
 #include "support/measurement.h"
 
 namespace gistream {
-namespace {
+namespace brdf_albedo_test {
 
 // The table as the source file on disk spells it, read independently of
 // the embedded copy and of BrdfAlbedoTable::Parse.
@@ -124,5 +124,5 @@ TEST(BrdfAlbedo, GlossyWhiteSkyMatchesTheTableAndTheBrdf) {
   }
 }
 
-}  // namespace
+}  // namespace brdf_albedo_test
 }  // namespace gistream

@@ -7,7 +7,7 @@
 #include "scene/gltf/gltf_import.h"
 
 namespace gistream {
-namespace {
+namespace bundled_scenes_test {
 
 const std::string kSceneDir = std::string(GISTREAM_SOURCE_DIR "/scenes");
 
@@ -126,5 +126,5 @@ TEST(BundledScenes, UnknownAndPathLikeNamesAreRefused) {
             absl::StatusCode::kInvalidArgument);
 }
 
-}  // namespace
+}  // namespace bundled_scenes_test
 }  // namespace gistream

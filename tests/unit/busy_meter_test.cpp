@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 namespace gistream {
-namespace {
+namespace busy_meter_test {
 
 using namespace std::chrono_literals;
 using Clock = BusyMeter::Clock;
@@ -46,5 +46,5 @@ TEST(BusyMeter, AlwaysBusyIsOneNeverMore) {
   EXPECT_EQ(meter.Ratio(t0 + 2s), 1.0);
 }
 
-}  // namespace
+}  // namespace busy_meter_test
 }  // namespace gistream

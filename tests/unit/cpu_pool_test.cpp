@@ -23,7 +23,7 @@
 #include "util/parallel_for.h"
 
 namespace gistream {
-namespace {
+namespace cpu_pool_test {
 
 namespace fs = std::filesystem;
 
@@ -306,5 +306,5 @@ TEST(CpuPool, DefaultSizeIsWithinTheMachine) {
   EXPECT_LE(threads, std::max(1u, std::thread::hardware_concurrency()));
 }
 
-}  // namespace
+}  // namespace cpu_pool_test
 }  // namespace gistream

@@ -9,7 +9,7 @@
 #include "gltf_test_util.h"
 
 namespace gistream {
-namespace {
+namespace encode_test {
 
 std::span<const uint8_t> AsBytes(const std::string& s) {
   return {reinterpret_cast<const uint8_t*>(s.data()), s.size()};
@@ -125,5 +125,5 @@ TEST(Encode, DecodeRefusesUnknownData) {
                "image: corrupt png");
 }
 
-}  // namespace
+}  // namespace encode_test
 }  // namespace gistream

@@ -15,7 +15,7 @@
 #include "support/measurement.h"
 
 namespace gistream {
-namespace {
+namespace environment_lights_test {
 
 constexpr int kWidth = 64, kHeight = 32;
 constexpr double kPi = glm::pi<double>();
@@ -106,5 +106,5 @@ TEST(EnvironmentLights, NoneForABlackOrEmptyMap) {
   }
 }
 
-}  // namespace
+}  // namespace environment_lights_test
 }  // namespace gistream

@@ -6,7 +6,7 @@
 #include "unit/gltf_test_util.h"
 
 namespace gistream {
-namespace {
+namespace external_uri_test {
 
 using testing::TestGltf;
 
@@ -76,5 +76,5 @@ TEST(ResolveSceneUri, NamesTheField) {
       << r.status();
 }
 
-}  // namespace
+}  // namespace external_uri_test
 }  // namespace gistream

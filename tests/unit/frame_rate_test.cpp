@@ -6,7 +6,7 @@
 #include "engine/frame_rate.h"
 
 namespace gistream {
-namespace {
+namespace frame_rate_test {
 
 using namespace std::chrono_literals;
 using Clock = FrameRate::Clock;
@@ -29,5 +29,5 @@ TEST(FrameRate, UsesTheLastFiveSeconds) {
   EXPECT_EQ(rate.PerSecond(t0 + 20s), 0.0);                 // all fell out
 }
 
-}  // namespace
+}  // namespace frame_rate_test
 }  // namespace gistream

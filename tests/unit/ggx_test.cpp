@@ -18,7 +18,7 @@
 #include "solvers/shading/sampling.h"
 
 namespace gistream::shading {
-namespace {
+namespace ggx_test {
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -270,5 +270,5 @@ TEST(Ggx, NoSpecularLayerIsLambertAtAnyRoughness) {
   }
 }
 
-}  // namespace
+}  // namespace ggx_test
 }  // namespace gistream::shading

@@ -5,7 +5,7 @@
 #include "scene/gltf/gltf_import.h"
 
 namespace gistream {
-namespace {
+namespace gltf_bad_graph_test {
 
 using testing::AddQuadMesh;
 using testing::Import;
@@ -180,5 +180,5 @@ TEST(BadGraph, CameraValues) {
   EXPECT_ERROR(Import(g.ToGltf()), kInvalidArgument, "nodes[0].camera: 2 is out of range");
 }
 
-}  // namespace
+}  // namespace gltf_bad_graph_test
 }  // namespace gistream

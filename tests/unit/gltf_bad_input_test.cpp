@@ -8,7 +8,7 @@
 #include "scene/gltf/gltf_import.h"
 
 namespace gistream {
-namespace {
+namespace gltf_bad_input_test {
 
 using testing::AddQuadMesh;
 using testing::Bytes;
@@ -438,5 +438,5 @@ TEST(BadInput, TooManyImagePixelsPerScene) {
                "images[1]: decoded images exceed the limit of 300 pixels");
 }
 
-}  // namespace
+}  // namespace gltf_bad_input_test
 }  // namespace gistream

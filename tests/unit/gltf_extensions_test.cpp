@@ -6,7 +6,7 @@
 #include "gltf_test_util.h"
 
 namespace gistream::testing {
-namespace {
+namespace gltf_extensions_test {
 
 using nlohmann::json;
 
@@ -202,5 +202,5 @@ TEST(GltfExtensions, TextureSamplerIsRead) {
       << typed.status();
 }
 
-}  // namespace
+}  // namespace gltf_extensions_test
 }  // namespace gistream::testing

@@ -11,7 +11,7 @@
 #include "util/process_stats.h"
 
 namespace gistream {
-namespace {
+namespace heap_trim_test {
 
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 constexpr bool kSanitizerAllocator = true;
@@ -95,5 +95,5 @@ TEST(HeapTrimmer, FreedHeapGoesBackToTheSystem) {
       << "RSS " << before / kMiB << " -> " << after / kMiB << " MiB";
 }
 
-}  // namespace
+}  // namespace heap_trim_test
 }  // namespace gistream

@@ -15,7 +15,7 @@
 #include "solvers/hierarchy/refine_push.h"
 
 namespace gistream::hierarchy {
-namespace {
+namespace hierarchy_test {
 
 constexpr float kPi = 3.14159265358979f;
 
@@ -322,5 +322,5 @@ TEST(HierarchyElements, UpdateFollowsTransformsAndScalesAreas) {
   EXPECT_EQ(leaves, 25);
 }
 
-}  // namespace
+}  // namespace hierarchy_test
 }  // namespace gistream::hierarchy

@@ -13,7 +13,7 @@
 #include "gltf_test_util.h"
 
 namespace gistream {
-namespace {
+namespace image_decode_test {
 
 std::vector<uint8_t> Bytes(const std::string& s) { return {s.begin(), s.end()}; }
 
@@ -243,5 +243,5 @@ TEST(ImageDecode, JpegMetadataSegmentsNeverReachTheReader) {
                "images[0]: corrupt jpeg image");
 }
 
-}  // namespace
+}  // namespace image_decode_test
 }  // namespace gistream

@@ -8,7 +8,7 @@
 #include "util/log.h"
 
 namespace gistream {
-namespace {
+namespace log_test {
 
 using std::chrono::milliseconds;
 using std::chrono::system_clock;
@@ -66,5 +66,5 @@ TEST(LogFormat, ScopedContextIsTheThreadsDefault) {
   EXPECT_NE(out.find("Z info  outside\n"), std::string::npos) << out;
 }
 
-}  // namespace
+}  // namespace log_test
 }  // namespace gistream

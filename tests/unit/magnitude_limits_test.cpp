@@ -14,7 +14,7 @@
 #include "solvers/antiradiance/patches.h"
 
 namespace gistream {
-namespace {
+namespace magnitude_limits_test {
 
 TEST(MagnitudeLimits, QuaternionsNearUnitAreRenormalisedOthersRejected) {
   auto q = CheckUnitQuaternion("q", glm::quat(1.005f, 0, 0, 0));
@@ -114,5 +114,5 @@ TEST(MagnitudeLimits, AntiradianceLeafCountMatchesTheSplit) {
   EXPECT_EQ(antiradiance::CountLeaves(groups, 1e-6f), 2u * (uint64_t(1) << 24));
 }
 
-}  // namespace
+}  // namespace magnitude_limits_test
 }  // namespace gistream

@@ -29,7 +29,7 @@
 #include "util/parallel_for.h"
 
 namespace gistream {
-namespace {
+namespace pathtrace_furnace_test {
 
 struct FurnaceEstimate {
   double mean = 0.0;
@@ -112,5 +112,5 @@ TEST(PathtraceFurnaceCap, OptInCapIsBiasedLowByTheMissingBounces) {
   EXPECT_LT(e.mean, 0.7 / (1.0 - rho));
 }
 
-}  // namespace
+}  // namespace pathtrace_furnace_test
 }  // namespace gistream

@@ -32,7 +32,7 @@
 #include "util/parallel_for.h"
 
 namespace gistream {
-namespace {
+namespace pathtrace_glossy_furnace_test {
 
 constexpr double kPi = 3.14159265358979323846;
 const glm::vec3 kOrigin(0.1f, -0.2f, 0.05f);  // inside the 2 m cube
@@ -131,5 +131,5 @@ TEST(PathtraceGlossyFurnace, AllBouncesBoundedByTheAlbedo) {
   }
 }
 
-}  // namespace
+}  // namespace pathtrace_glossy_furnace_test
 }  // namespace gistream

@@ -18,7 +18,7 @@
 #include "support/measurement.h"
 
 namespace gistream {
-namespace {
+namespace pathtrace_refit_test {
 
 using pathtrace::RefitResult;
 using pathtrace::SceneBvh;
@@ -253,5 +253,5 @@ TEST(PathtraceRefit, ScatteredTrianglesDeclineTheRefitForQuality) {
   EXPECT_NEAR((*rebuilt)->refit_growth(), 1.0, 1e-9);
 }
 
-}  // namespace
+}  // namespace pathtrace_refit_test
 }  // namespace gistream

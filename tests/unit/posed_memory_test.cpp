@@ -12,7 +12,7 @@
 #include "support/deforming_scene.h"
 
 namespace gistream {
-namespace {
+namespace posed_memory_test {
 
 // What a copy of `mesh` holds (no proxies in these meshes).
 uint64_t CopyBytes(const Mesh& mesh) {
@@ -68,5 +68,5 @@ TEST(PosedMemory, EachDeformingNodeCountsACopyOfItsMesh) {
   EXPECT_EQ(state.deforming_nodes().size(), 1u);
 }
 
-}  // namespace
+}  // namespace posed_memory_test
 }  // namespace gistream

@@ -19,7 +19,7 @@
 #include "support/test_meshes.h"
 
 namespace gistream {
-namespace {
+namespace proxy_levels_test {
 
 // A UV sphere of radius 1 (rings x segments quads, poles included): curved
 // everywhere, so every simplified level has a real error.
@@ -287,5 +287,5 @@ TEST(ProxyClusters, SceneMemoryCountsTheClusters) {
   EXPECT_EQ(with.gpu - without.gpu, indices * 4);
 }
 
-}  // namespace
+}  // namespace proxy_levels_test
 }  // namespace gistream

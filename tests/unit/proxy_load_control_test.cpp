@@ -12,7 +12,7 @@
 #include "support/test_meshes.h"
 
 namespace gistream {
-namespace {
+namespace proxy_load_control_test {
 
 // A floor of 72 x 72 quads (10,368 triangles: tree-sized) and a sphere of
 // 24 x 48 quads (2,304: levels only), one mesh each.
@@ -125,5 +125,5 @@ TEST(ProxyLoadControl, StopEndsTheBuildNamingPrimitiveAndStage) {
   }
 }
 
-}  // namespace
+}  // namespace proxy_load_control_test
 }  // namespace gistream

@@ -11,7 +11,7 @@
 #include "support/test_meshes.h"
 
 namespace gistream::avg {
-namespace {
+namespace proxy_voxel_test {
 
 // A sphere of radius 0.3 (64 x 128 quads) over a 48 x 48 floor.
 std::shared_ptr<const Scene> TestScene(bool with_proxies) {
@@ -90,5 +90,5 @@ TEST(ProxyVoxels, FullDetailBuildsTheGridOfBeforeProxies) {
   }
 }
 
-}  // namespace
+}  // namespace proxy_voxel_test
 }  // namespace gistream::avg

@@ -13,7 +13,7 @@
 #include <gtest/gtest.h>
 
 namespace gistream {
-namespace {
+namespace refinement_test {
 
 TEST(RefinementJitter, StartsAtThePixelCentreAndStratifiesThePixel) {
   EXPECT_EQ(Refinement::Jitter(0), glm::vec2(0.0f));
@@ -430,5 +430,5 @@ TEST(Refinement, MovedPixelsIsTheScreenBoxOfWhatMoved) {
   EXPECT_EQ(edge.max.x, 64);
 }
 
-}  // namespace
+}  // namespace refinement_test
 }  // namespace gistream

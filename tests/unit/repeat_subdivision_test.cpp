@@ -8,7 +8,7 @@
 #include "solvers/hierarchy/subdivide.h"
 
 namespace gistream {
-namespace {
+namespace repeat_subdivision_test {
 
 // Two triangles of a 4 x 1 quad: its long edges split at max_edge 0.6.
 Primitive Quad(float stretch) {
@@ -55,5 +55,5 @@ TEST(RepeatSubdivision, AnotherPoseKeepsTheLayout) {
   EXPECT_GT(hierarchy::SubdivideLongEdges(posed, 0.6f).positions.size(), again.positions.size());
 }
 
-}  // namespace
+}  // namespace repeat_subdivision_test
 }  // namespace gistream

@@ -13,7 +13,7 @@
 #include "support/deforming_scene.h"
 
 namespace gistream {
-namespace {
+namespace scene_animation_test {
 
 using testing::DeformingTube;
 
@@ -172,5 +172,5 @@ TEST(SceneAnimation, BadMorphWeightsNameTheField) {
                  "update.morph_weights.weights[0]: 500 exceeds");
 }
 
-}  // namespace
+}  // namespace scene_animation_test
 }  // namespace gistream

@@ -10,7 +10,7 @@
 #include "scene/gltf/gltf_import.h"
 
 namespace gistream {
-namespace {
+namespace scene_import_test {
 
 using testing::AddQuadMesh;
 using testing::Import;
@@ -395,5 +395,5 @@ TEST(SceneImport, PerspectiveCamerasAndSkippedOrthographic) {
   EXPECT_EQ(CameraInstanceNodes(*scene), std::vector<int>{1});
 }
 
-}  // namespace
+}  // namespace scene_import_test
 }  // namespace gistream

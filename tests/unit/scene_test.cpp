@@ -8,7 +8,7 @@
 #include "scene/gltf/mesh_normals.h"
 
 namespace gistream {
-namespace {
+namespace scene_test {
 
 TEST(SceneGraph, LocalMatrixIsTranslateRotateScale) {
   Node n;
@@ -119,5 +119,5 @@ TEST(MeshNormals, SplitVerticesKeepTheirUvs) {
   }
 }
 
-}  // namespace
+}  // namespace scene_test
 }  // namespace gistream

@@ -8,7 +8,7 @@
 #include "scene/gltf/gltf_import.h"
 
 namespace gistream {
-namespace {
+namespace scene_uri_test {
 
 namespace fs = std::filesystem;
 using testing::AddQuadMesh;
@@ -165,5 +165,5 @@ TEST_F(SceneDir, ImportSceneByNameRespectsTheSizeLimit) {
                "name: 'quad.gltf' has");
 }
 
-}  // namespace
+}  // namespace scene_uri_test
 }  // namespace gistream

@@ -6,7 +6,7 @@
 #include <gtest/gtest.h>
 
 namespace gistream {
-namespace {
+namespace sh_probe_schedule_test {
 
 // Eight probes on a line at x = 0..7.
 std::vector<glm::vec3> Line() {
@@ -108,5 +108,5 @@ TEST(ProbeSchedule, NewDirectLightNeedsAnotherSweepAndTheCapStopsIt) {
   EXPECT_EQ(s.sweeps(), 3);
 }
 
-}  // namespace
+}  // namespace sh_probe_schedule_test
 }  // namespace gistream

@@ -10,7 +10,7 @@
 #include "scene/state/deform.h"
 
 namespace gistream {
-namespace {
+namespace skin_import_test {
 
 using testing::AddQuadMesh;
 using testing::Import;
@@ -327,5 +327,5 @@ TEST(Deform, MorphThenSkinAndNodeWeightsOverrideTheMesh) {
   ExpectVec(pos[0], {1, 1, 2}, "morphed then translated");
 }
 
-}  // namespace
+}  // namespace skin_import_test
 }  // namespace gistream

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 namespace gistream {
-namespace {
+namespace solver_params_test {
 
 SolverDescription Direct() {
   SolverDescription d;
@@ -90,5 +90,5 @@ TEST(SolverParams, BadDefaultIsReported) {
   EXPECT_NE(set.status().message().find("params.area_samples (default)"), std::string::npos);
 }
 
-}  // namespace
+}  // namespace solver_params_test
 }  // namespace gistream

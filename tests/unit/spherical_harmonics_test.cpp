@@ -8,7 +8,7 @@
 #include "solvers/sh_probes/spherical_harmonics.h"
 
 namespace gistream::sh {
-namespace {
+namespace spherical_harmonics_test {
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -83,5 +83,5 @@ TEST(SphericalHarmonics, LambertConvolutionOfALobe) {
   EXPECT_NEAR(Irradiance(c, {0, 0, 1}, 3).x, 2.0 * kPi / 3.0, 0.01 * 2.0 * kPi / 3.0);
 }
 
-}  // namespace
+}  // namespace spherical_harmonics_test
 }  // namespace gistream::sh

@@ -11,7 +11,7 @@
 #include <vector>
 
 namespace gistream {
-namespace {
+namespace surface_distance_test {
 
 // A wavy strip of n x n quads over [0, 1]^2 (height 0.05 sin).
 struct Surface {
@@ -109,5 +109,5 @@ TEST(SurfaceDistance, PassedDeadlineAnswersCap) {
       1.0f);
 }
 
-}  // namespace
+}  // namespace surface_distance_test
 }  // namespace gistream

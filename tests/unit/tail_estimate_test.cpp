@@ -9,7 +9,7 @@
 #include "solvers/tail_estimate.h"
 
 namespace gistream {
-namespace {
+namespace tail_estimate_test {
 
 std::vector<double> Geometric(double first, double r, int n) {
   std::vector<double> d;
@@ -143,5 +143,5 @@ TEST(TailEstimate, ResidualIsTheSpreadThroughTheTailFactor) {
   EXPECT_TRUE(std::isinf(TailResidual(d3, t3)));
 }
 
-}  // namespace
+}  // namespace tail_estimate_test
 }  // namespace gistream

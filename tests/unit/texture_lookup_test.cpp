@@ -9,7 +9,7 @@
 #include "scene/texture_lookup.h"
 
 namespace gistream {
-namespace {
+namespace texture_lookup_test {
 
 Image Ramp() {
   Image image;
@@ -91,5 +91,5 @@ TEST(TextureLookup, SrgbFloatAndBadInput) {
   EXPECT_EQ(SampleImage(Image{}, {0.5f, 0.5f}, nearest), glm::vec3(1.0f));
 }
 
-}  // namespace
+}  // namespace texture_lookup_test
 }  // namespace gistream

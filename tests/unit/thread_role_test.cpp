@@ -12,7 +12,7 @@
 #include <vector>
 
 namespace gistream {
-namespace {
+namespace thread_role_test {
 
 TEST(ThreadRole, AnyThreadMayAssertBeforeTheRoleIsBound) {
   ThreadRole role("test role");
@@ -61,5 +61,5 @@ TEST(Mutex, GuardsACounterAcrossThreads) {
   EXPECT_EQ(counter.value, 40000);
 }
 
-}  // namespace
+}  // namespace thread_role_test
 }  // namespace gistream

@@ -9,7 +9,7 @@
 #include "gltf_test_util.h"
 
 namespace gistream {
-namespace {
+namespace validate_update_test {
 
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
 const float kInf = std::numeric_limits<float>::infinity();
@@ -213,5 +213,5 @@ TEST(ValidateUpdate, Environment) {
   EXPECT_ERROR(Validate(u, scene), kInvalidArgument, "update.environment.rotation: nan");
 }
 
-}  // namespace
+}  // namespace validate_update_test
 }  // namespace gistream

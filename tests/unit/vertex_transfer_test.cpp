@@ -9,7 +9,7 @@
 #include "support/test_meshes.h"
 
 namespace gistream {
-namespace {
+namespace vertex_transfer_test {
 
 TEST(VertexTransfer, FullMeshVerticesLandOnTheProxyWithinItsError) {
   // A UV sphere (radius 0.3, 48 x 96 quads) and its coarsest level: every
@@ -65,5 +65,5 @@ TEST(VertexTransfer, ElementLevelIsTheCoarsestWithinATenthOfTheElementSize) {
   EXPECT_EQ(hierarchy::ElementLevel(small, 1.0f, false), -1);  // below kMinProxyTriangles
 }
 
-}  // namespace
+}  // namespace vertex_transfer_test
 }  // namespace gistream

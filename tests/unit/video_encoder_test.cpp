@@ -15,7 +15,7 @@
 #include "engine/frame_encoder.h"
 
 namespace gistream {
-namespace {
+namespace video_encoder_test {
 
 // A rendered-looking test picture: smooth shading, a hard red/green edge
 // (the Cornell box's walls: the worst case for 4:2:0 chroma) and a few
@@ -199,5 +199,5 @@ TEST(FrameEncoder, HoldsBackOnlyUnchangedFramesWithoutNews) {
   EXPECT_FALSE(encoder.HoldBack(changed, t0 + std::chrono::milliseconds(100)));
 }
 
-}  // namespace
+}  // namespace video_encoder_test
 }  // namespace gistream
