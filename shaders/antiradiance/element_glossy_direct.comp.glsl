@@ -13,6 +13,7 @@ struct GlossyElement {
   vec4 position;       // xyz centre
   vec4 normal;         // xyz unit normal, w roughness (raised to the bins')
   vec4 base_metallic;  // rgb base colour, a metallic
+  vec4 specular;       // rgb dielectric F0, a dielectric F90 (the material's, issue 29)
 };
 layout(std430, binding = AR_BINDING_GLOSSY_ELEMENTS) readonly buffer GlossyElements { GlossyElement glossy_elements[]; };
 layout(std430, binding = AR_BINDING_GLOSSY_DIRECT) writeonly buffer GlossyDirect { vec4 glossy_direct[]; };
@@ -24,7 +25,7 @@ void main() {
   vec3 v = bin_direction[id % uBins].xyz;
   vec3 l = vec3(0.0);
   if (dot(e.normal.xyz, v) > 0.0) {
-    SurfaceBrdf b = DefaultSpecularBrdf(e.base_metallic.rgb, e.base_metallic.a, e.normal.w);
+    SurfaceBrdf b = SurfaceBrdf(e.base_metallic.rgb, e.base_metallic.a, e.normal.w, e.specular);
     l = FiniteOrZero(DirectReflected(e.position.xyz, e.normal.xyz, v, b));
   }
   glossy_direct[id] = vec4(l, 0.0);

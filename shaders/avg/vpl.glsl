@@ -10,6 +10,7 @@ struct Vpl {
   vec4 flux;                 // rgb reflected power (W)
   vec4 incident_roughness;   // xyz unit direction its light came from, w: roughness
   vec4 base_color_metallic;  // the voxel's BRDF: rgb base colour, a: metallic
+  vec4 specular;             // its dielectric rgb F0, a F90 (the materials' mean)
 };
 
 layout(std430, binding = AVG_BINDING_VPLS) readonly buffer Vpls { Vpl vpls[]; };
@@ -32,10 +33,10 @@ vec3 VplLocal(Vpl v, vec3 d) {
 }
 
 // The BRDF it reflects its light through (Lambertian: metallic 0,
-// roughness 1).
+// roughness 1), with its voxel's dielectric F0 and F90 (issue 29).
 SurfaceBrdf VplBrdf(Vpl v) {
-  return DefaultSpecularBrdf(v.base_color_metallic.rgb, v.base_color_metallic.a,
-                             v.incident_roughness.w);
+  return SurfaceBrdf(v.base_color_metallic.rgb, v.base_color_metallic.a, v.incident_roughness.w,
+                     v.specular);
 }
 
 // Paraboloid map of a unit direction in the upper hemisphere to [-1, 1]^2

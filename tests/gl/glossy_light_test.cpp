@@ -27,7 +27,7 @@
 #include "support/render_helpers.h"
 
 namespace gistream {
-namespace {
+namespace glossy_light_test {
 
 using testing::FloatImage;
 
@@ -134,5 +134,67 @@ TEST(GlossyLightCoverage, CoversEveryRegisteredSolver) {
         "(issue 29, item 6, open)"}});
 }
 
-}  // namespace
+// The GI solvers' own elements re-emit with the material's dielectric F0
+// and F90 (KHR_materials_ior, KHR_materials_specular; issue 29, item 1),
+// not the default ior 1.5. glossy_box with the gold cube made a dark
+// dielectric (base colour 0.05, roughness 0.3) of ior 10: F0 = (9/11)^2 =
+// 0.67 where the default is 0.04, so nearly all the light the cube sends
+// into the room is its specular lobe. The whole picture's mean luminance
+// against pathtrace's (1024 spp).
+FloatImage HighIorCubeRender(const std::string& solver, std::map<std::string, std::string> params) {
+  std::ifstream in(GISTREAM_SOURCE_DIR "/scenes/glossy_box.gltf", std::ios::binary);
+  nlohmann::json doc = nlohmann::json::parse(in);
+  for (nlohmann::json& m : doc["materials"]) {
+    if (m["name"] != "gold") continue;
+    m["pbrMetallicRoughness"] = {{"baseColorFactor", {0.05, 0.05, 0.05, 1}},
+                                 {"metallicFactor", 0},
+                                 {"roughnessFactor", 0.3}};
+    m["extensions"] = {{"KHR_materials_ior", {{"ior", 10.0}}}};
+  }
+  doc["extensionsUsed"].push_back("KHR_materials_ior");
+  auto scene = testing::SharedEngine().LoadScene(testing::SceneFromBytes(doc.dump()));
+  EXPECT_TRUE(scene.ok()) << scene.status();
+  if (!scene.ok()) return {};
+  FloatImage image = RenderScene(scene->id, solver, std::move(params));
+  (void)testing::SharedEngine().UnloadScene(scene->id);
+  return image;
+}
+
+double MeanLuminance(const FloatImage& image) {
+  double sum = 0.0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) sum += Luminance(image.at(x, y));
+  }
+  return image.width > 0 ? sum / (double(image.width) * image.height) : 0.0;
+}
+
+// The 1024-spp reference, once per binary.
+const FloatImage& HighIorCubeReference() {
+  static const FloatImage* reference =
+      new FloatImage(HighIorCubeRender("pathtrace", {{"spp", "1024"}}));
+  return *reference;
+}
+
+class GlossyDielectricLight : public ::testing::TestWithParam<const char*> {};
+
+// Measured: antiradiance 1.02x (0.81x with the default F0 at its glossy
+// leaves' direct bins). Not yet here: sh_probes 0.72x (its probe texels
+// re-emit with the default F0), implicit_visibility 0.83x (its elements
+// reflect as Lambertian surfaces), avg 0.92x (its VPLs carry the voxel's
+// F0 and F90 since this test, 0.915x before: what it lacks is elsewhere),
+// direct 0.57x.
+TEST_P(GlossyDielectricLight, ReEmitsWithTheMaterialsFresnel) {
+  const std::string solver = GetParam();
+  const FloatImage& reference = HighIorCubeReference();
+  const FloatImage image = HighIorCubeRender(solver, {});
+  ASSERT_EQ(image.width, int(kSize));
+  EXPECT_EQ(image.non_finite(), 0u);
+  const double got = MeanLuminance(image), want = MeanLuminance(reference);
+  testing::RecordMeasurement("over_reference", got / want);
+  EXPECT_NEAR(got, want, 0.05 * want) << solver << ": " << got / want << "x";
+}
+
+INSTANTIATE_TEST_SUITE_P(Solvers, GlossyDielectricLight, ::testing::Values("antiradiance"));
+
+}  // namespace glossy_light_test
 }  // namespace gistream

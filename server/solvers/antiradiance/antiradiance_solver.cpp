@@ -414,8 +414,9 @@ std::vector<glm::vec3> AntiradianceSolver::GlossyDirectAtLeaves(
     input.push_back(glm::vec4(patches.position[size_t(i)], 0.0f));
     input.push_back(glm::vec4(patches.normal[size_t(i)], std::max(b.roughness, min_roughness)));
     input.push_back(glm::vec4(b.base_color, b.metallic));
+    input.push_back(glm::vec4(b.specular_f0, b.specular_f90));
   }
-  const int count = int(input.size() / 3);
+  const int count = int(input.size() / 4);
   const size_t cells = size_t(count) * size_t(bins_.count());
   if (count == 0) return {};
   const gl::Buffer elements = gl::StorageBuffer(input);

@@ -37,8 +37,8 @@ MemoryEstimate AvgSolver::EstimateMemory(const ParamSet& params, const SceneStat
   // on the GPU one 32-bit cell per voxel.
   estimate.items.push_back({"grid", absl::StrCat("visibility grid of ", grid, "^3 voxels"),
                             grid * grid * grid * sizeof(avg::Voxel), grid * grid * grid * 4});
-  // A VPL: about 100 bytes on the CPU (avg::Vpl), 80 on the GPU (GpuVpl).
-  estimate.items.push_back({"vpls", absl::StrCat(vpls, " VPLs"), vpls * 100, vpls * 80});
+  // A VPL: about 100 bytes on the CPU (avg::Vpl), 96 on the GPU (GpuVpl).
+  estimate.items.push_back({"vpls", absl::StrCat(vpls, " VPLs"), vpls * 100, vpls * 96});
   estimate.items.push_back(DirectLightingMemory(params, state, gpu, "area_samples",
                                                 "direct_shadow_res", /*environment_lights=*/true));
   return estimate;

@@ -210,6 +210,7 @@ void VoxelGrid::Add(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c,
         voxel.albedo_sum += albedo;
         voxel.base_color_sum += material.brdf.base_color;
         voxel.metallic_roughness_sum += glm::vec2(material.brdf.metallic, material.brdf.roughness);
+        voxel.specular_sum += glm::vec4(material.brdf.specular_f0, material.brdf.specular_f90);
         voxel.point_sum += ClosestPointOnTriangle(center, a, b, c);
         ++voxel.count;
         AddToSheets(voxel, normal, a, b, c, center, half);
@@ -298,8 +299,9 @@ shading::Brdf VoxelGrid::Brdf(const glm::ivec3& v) const {
   // 0, roughness 1) stays exactly Lambertian.
   const float inv = 1.0f / float(voxel.count);
   const glm::vec2 mr = voxel.metallic_roughness_sum / float(voxel.count);
+  const glm::vec4 specular = glm::clamp(voxel.specular_sum * inv, 0.0f, 1.0f);
   return {glm::clamp(voxel.base_color_sum * inv, 0.0f, 1.0f), std::clamp(mr.x, 0.0f, 1.0f),
-          std::clamp(mr.y, 0.0f, 1.0f)};
+          std::clamp(mr.y, 0.0f, 1.0f), glm::vec3(specular), specular.a};
 }
 
 glm::vec3 VoxelGrid::SurfacePoint(const glm::vec3& fallback, const glm::ivec3& v) const {

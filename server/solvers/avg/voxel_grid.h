@@ -30,9 +30,10 @@ struct Voxel {
   // Sums of the BRDF's parameters: a glossy VPL reflects through their mean.
   glm::vec3 base_color_sum{0.0f};
   glm::vec2 metallic_roughness_sum{0.0f};
-  glm::vec3 point_sum{0.0f};  // sum of the triangles' points closest to the voxel centre
-  uint32_t count = 0;         // triangles touching the voxel
-  uint32_t sheets = 0;        // 1 + its slot of VoxelGrid's sheet pool; 0: none yet
+  glm::vec4 specular_sum{0.0f};  // rgb dielectric F0, a F90 (KHR_materials_ior/_specular)
+  glm::vec3 point_sum{0.0f};     // sum of the triangles' points closest to the voxel centre
+  uint32_t count = 0;            // triangles touching the voxel
+  uint32_t sheets = 0;           // 1 + its slot of VoxelGrid's sheet pool; 0: none yet
 };
 
 // The triangles of one orientation inside a voxel, as a slab: every point

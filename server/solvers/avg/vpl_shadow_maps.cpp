@@ -19,8 +19,9 @@ struct GpuVpl {
   glm::vec4 flux;
   glm::vec4 incident_roughness;
   glm::vec4 base_color_metallic;
+  glm::vec4 specular;
 };
-GS_STD430_MIRROR(GpuVpl, 80);  // shaders/avg/vpl.glsl Vpl
+GS_STD430_MIRROR(GpuVpl, 96);  // shaders/avg/vpl.glsl Vpl
 
 }  // namespace
 
@@ -53,7 +54,8 @@ void VplShadowMaps::Upload(const std::vector<Vpl>& vpls, const Bounds& bounds) {
     data.push_back({glm::vec4(v.position, ShadowFar(bounds, v.position)),
                     glm::vec4(v.normal, float(i)), glm::vec4(v.flux, 0.0f),
                     glm::vec4(v.incident, v.brdf.roughness),
-                    glm::vec4(v.brdf.base_color, v.brdf.metallic)});
+                    glm::vec4(v.brdf.base_color, v.brdf.metallic),
+                    glm::vec4(v.brdf.specular_f0, v.brdf.specular_f90)});
   }
   count_ = int(data.size());
   any_glossy_ =
