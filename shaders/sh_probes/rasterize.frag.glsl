@@ -1,8 +1,9 @@
 #version 450 core
 // rasterize_cubemaps: the probes' cube-map G-buffer. Distance to the probe
 // (also the depth cube of Section 6), normal turned toward the probe with
-// w = 1 where the probe sees a back face, albedo, metallic and roughness
-// (render_cubemaps shades glossy surfaces towards the probe).
+// w = 1 where the probe sees a back face, albedo and the material's index,
+// metallic and roughness (render_cubemaps shades glossy surfaces towards
+// the probe).
 #include "common/material.glsl"
 #include "common/math.glsl"
 in vec3 gWorld;
@@ -21,6 +22,8 @@ void main() {
   if (back) n = -n;
   oDistance = max(length(gWorld - gProbe), 1e-30);
   oNormal = vec4(n, back ? 1.0 : 0.0);
-  oAlbedo = vec4(SurfaceAlbedo(m, gUv), 1.0);
+  // a: the material, for its dielectric F0 and F90 (texel.glsl; exact as
+  // a float below 2^24).
+  oAlbedo = vec4(SurfaceAlbedo(m, gUv), float(gMaterial));
   oMaterial = SurfaceMetallicRoughness(m, gUv);
 }

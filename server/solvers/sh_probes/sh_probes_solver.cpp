@@ -309,8 +309,8 @@ void ShProbesSolver::RunSolveBatch(SolverContext& ctx, std::vector<int>* batch) 
       }
       {
         gl::StageTimer::Scope stage(ctx.timer, "render_cubemaps");
-        RenderCubemaps(/*compute_direct=*/full_.bounce == 1, /*use_indirect=*/full_.bounce > 1,
-                       batch);
+        RenderCubemaps(ctx.gpu, /*compute_direct=*/full_.bounce == 1,
+                       /*use_indirect=*/full_.bounce > 1, batch);
       }
       gl::StageTimer::Scope stage(ctx.timer, "sh_project");
       full_.change += ProjectToSh(&full_.total, batch);
@@ -504,8 +504,8 @@ double ShProbesSolver::RunBatch(SolverContext& ctx, const ProbeSchedule::Batch& 
         rest.push_back(p);
       }
     }
-    if (!batch.direct.empty()) RenderCubemaps(true, true, &batch.direct);
-    if (!rest.empty()) RenderCubemaps(false, true, &rest);
+    if (!batch.direct.empty()) RenderCubemaps(ctx.gpu, true, true, &batch.direct);
+    if (!rest.empty()) RenderCubemaps(ctx.gpu, false, true, &rest);
   }
   gl::StageTimer::Scope stage(ctx.timer, "sh_project");
   return ProjectToSh(total, &batch.probes);
@@ -567,9 +567,10 @@ void ShProbesSolver::RasterizeCubemaps(const SolverContext& ctx, const std::vect
   rasterizer_.Draw(ctx.gpu, ctx.state, layout_, atlas_, probes, settings_.direct.full_detail);
 }
 
-void ShProbesSolver::RenderCubemaps(bool compute_direct, bool use_indirect,
+void ShProbesSolver::RenderCubemaps(const GpuScene& gpu, bool compute_direct, bool use_indirect,
                                     const std::vector<int>* probes) {
   BindProbeData(render_, coefficients_);
+  gpu.BindMaterials();  // a texel's dielectric F0 and F90 (texel.glsl ProbeTexelBrdf)
   lighting_.Bind(render_);
   SetBatch(render_, probes);
   render_.Set("uComputeDirect", compute_direct ? 1 : 0);

@@ -117,7 +117,7 @@ class ShProbesSolver final : public Solver {
   // `probes` null: every probe; else the listed ones (a batch). From the
   // proxies unless the `full_detail` parameter (ProbeRasterizer).
   void RasterizeCubemaps(const SolverContext& ctx, const std::vector<int>* probes = nullptr);
-  void RenderCubemaps(bool compute_direct, bool use_indirect,
+  void RenderCubemaps(const GpuScene& gpu, bool compute_direct, bool use_indirect,
                       const std::vector<int>* probes = nullptr);
   // Projects, then returns the change of this bounce: the sum over valid
   // probes (of the batch, when given) of |luminance of L_00 - its previous
