@@ -3,11 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <queue>
+#include <numbers>
 
 namespace gistream {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct Region {
   int x0, x1, y0, y1;  // texels [x0, x1) x [y0, y1)
@@ -44,9 +43,9 @@ class EnergyTable {
 bool Cut(const Region& r, const EnergyTable& table, int width, int height, Region& a, Region& b) {
   const int w = r.x1 - r.x0, h = r.y1 - r.y0;
   if (w <= 1 && h <= 1) return false;
-  const double mid_theta = kPi * (0.5 * (r.y0 + r.y1)) / height;
-  const double angular_w = w * (2.0 * kPi / width) * std::sin(mid_theta);
-  const double angular_h = h * (kPi / height);
+  const double mid_theta = std::numbers::pi * (0.5 * (r.y0 + r.y1)) / height;
+  const double angular_w = w * (2.0 * std::numbers::pi / width) * std::sin(mid_theta);
+  const double angular_h = h * (std::numbers::pi / height);
   const bool across_x = h <= 1 || (w > 1 && angular_w >= angular_h);
   a = b = r;
   const double half = 0.5 * r.energy;
@@ -83,9 +82,9 @@ Cells SumIntoCells(const Image& image, int sx, int sy) {
   c.irradiance.assign(n, glm::dvec3(0.0));
   c.centroid.assign(n, glm::dvec3(0.0));
   // d(omega) = (2 pi / W)(pi / H) sin(theta) per texel.
-  const double texel_angle = (2.0 * kPi / w) * (kPi / h);
+  const double texel_angle = (2.0 * std::numbers::pi / w) * (std::numbers::pi / h);
   for (int y = 0; y < h; ++y) {
-    const double theta = kPi * (y + 0.5) / h;
+    const double theta = std::numbers::pi * (y + 0.5) / h;
     const double omega = texel_angle * std::sin(theta);
     for (int x = 0; x < w; ++x) {
       const float* p = &image.pixelsf[(size_t(y) * size_t(w) + size_t(x)) * 4];
@@ -95,7 +94,7 @@ Cells SumIntoCells(const Image& image, int sx, int sy) {
         l = glm::dvec3(0.0);
       }
       const double e = (0.2126 * l.x + 0.7152 * l.y + 0.0722 * l.z) * omega;
-      const double phi = 2.0 * kPi * (x + 0.5) / w;
+      const double phi = 2.0 * std::numbers::pi * (x + 0.5) / w;
       const glm::dvec3 dir(std::sin(theta) * std::sin(phi), std::cos(theta),
                            -std::sin(theta) * std::cos(phi));
       const size_t cell = size_t(y / sy) * size_t(c.width) + size_t(x / sx);

@@ -8,13 +8,13 @@
 namespace gistream::service {
 namespace {
 
-namespace pb = grpc::reflection::v1;
+namespace reflection_pb = grpc::reflection::v1;
 using google::protobuf::DescriptorPool;
 using google::protobuf::FileDescriptor;
 
 // The file, then its dependencies depth first, each once.
 void AddFile(const FileDescriptor* file, std::set<std::string>& seen,
-             pb::FileDescriptorResponse& out) {
+             reflection_pb::FileDescriptorResponse& out) {
   if (file == nullptr || !seen.insert(file->name()).second) return;
   google::protobuf::FileDescriptorProto proto;
   file->CopyTo(&proto);
@@ -22,27 +22,28 @@ void AddFile(const FileDescriptor* file, std::set<std::string>& seen,
   for (int i = 0; i < file->dependency_count(); ++i) AddFile(file->dependency(i), seen, out);
 }
 
-void Error(pb::ServerReflectionResponse& response, grpc::StatusCode code, std::string message) {
+void Error(reflection_pb::ServerReflectionResponse& response, grpc::StatusCode code,
+           std::string message) {
   response.mutable_error_response()->set_error_code(int(code));
   response.mutable_error_response()->set_error_message(std::move(message));
 }
 
 }  // namespace
 
-pb::ServerReflectionResponse ReflectionV1::Answer(
-    const pb::ServerReflectionRequest& request) const {
-  pb::ServerReflectionResponse response;
+reflection_pb::ServerReflectionResponse ReflectionV1::Answer(
+    const reflection_pb::ServerReflectionRequest& request) const {
+  reflection_pb::ServerReflectionResponse response;
   response.set_valid_host(request.host());
   *response.mutable_original_request() = request;
   const DescriptorPool* pool = DescriptorPool::generated_pool();
   std::set<std::string> seen;
   switch (request.message_request_case()) {
-    case pb::ServerReflectionRequest::kListServices:
+    case reflection_pb::ServerReflectionRequest::kListServices:
       for (const std::string& name : services_) {
         response.mutable_list_services_response()->add_service()->set_name(name);
       }
       break;
-    case pb::ServerReflectionRequest::kFileByFilename: {
+    case reflection_pb::ServerReflectionRequest::kFileByFilename: {
       const FileDescriptor* file = pool->FindFileByName(request.file_by_filename());
       if (file == nullptr) {
         Error(response, grpc::StatusCode::NOT_FOUND, "file not found");
@@ -51,7 +52,7 @@ pb::ServerReflectionResponse ReflectionV1::Answer(
       }
       break;
     }
-    case pb::ServerReflectionRequest::kFileContainingSymbol: {
+    case reflection_pb::ServerReflectionRequest::kFileContainingSymbol: {
       const FileDescriptor* file = pool->FindFileContainingSymbol(request.file_containing_symbol());
       if (file == nullptr) {
         Error(response, grpc::StatusCode::NOT_FOUND, "symbol not found");
@@ -60,7 +61,7 @@ pb::ServerReflectionResponse ReflectionV1::Answer(
       }
       break;
     }
-    case pb::ServerReflectionRequest::kFileContainingExtension: {
+    case reflection_pb::ServerReflectionRequest::kFileContainingExtension: {
       const auto* type =
           pool->FindMessageTypeByName(request.file_containing_extension().containing_type());
       const auto* extension =
@@ -74,7 +75,7 @@ pb::ServerReflectionResponse ReflectionV1::Answer(
       }
       break;
     }
-    case pb::ServerReflectionRequest::kAllExtensionNumbersOfType: {
+    case reflection_pb::ServerReflectionRequest::kAllExtensionNumbersOfType: {
       const auto* type = pool->FindMessageTypeByName(request.all_extension_numbers_of_type());
       if (type == nullptr) {
         Error(response, grpc::StatusCode::NOT_FOUND, "type not found");
@@ -87,7 +88,7 @@ pb::ServerReflectionResponse ReflectionV1::Answer(
       for (const auto* e : extensions) numbers->add_extension_number(e->number());
       break;
     }
-    case pb::ServerReflectionRequest::MESSAGE_REQUEST_NOT_SET:
+    case reflection_pb::ServerReflectionRequest::MESSAGE_REQUEST_NOT_SET:
     default: Error(response, grpc::StatusCode::INVALID_ARGUMENT, "message_request: not set"); break;
   }
   return response;
@@ -95,8 +96,9 @@ pb::ServerReflectionResponse ReflectionV1::Answer(
 
 grpc::Status ReflectionV1::ServerReflectionInfo(
     grpc::ServerContext* /*context*/,
-    grpc::ServerReaderWriter<pb::ServerReflectionResponse, pb::ServerReflectionRequest>* stream) {
-  pb::ServerReflectionRequest request;
+    grpc::ServerReaderWriter<reflection_pb::ServerReflectionResponse,
+                             reflection_pb::ServerReflectionRequest>* stream) {
+  reflection_pb::ServerReflectionRequest request;
   while (stream->Read(&request)) {
     if (!stream->Write(Answer(request))) break;
   }

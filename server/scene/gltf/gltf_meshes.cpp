@@ -10,12 +10,10 @@
 namespace gistream::gltf {
 namespace {
 
-using tinygltf::Primitive;
-
 // Triangles are imported: lists as they are, strips and fans as the lists
 // they draw (TrianglesOf). Points and lines have no area, so they cannot
 // take part in light transport: skipped with a log line.
-absl::StatusOr<bool> IsTriangles(const Primitive& p, const std::string& field) {
+absl::StatusOr<bool> IsTriangles(const tinygltf::Primitive& p, const std::string& field) {
   switch (p.mode) {
     case -1:  // tinygltf: not given, which means TRIANGLES
     case TINYGLTF_MODE_TRIANGLES:
@@ -65,7 +63,7 @@ std::string PrimitiveField(size_t mesh, size_t primitive) {
   return absl::StrCat(Item("meshes", mesh), ".", Item("primitives", primitive));
 }
 
-absl::StatusOr<int> PositionAccessor(const tinygltf::Model& model, const Primitive& p,
+absl::StatusOr<int> PositionAccessor(const tinygltf::Model& model, const tinygltf::Primitive& p,
                                      const std::string& field) {
   const auto it = p.attributes.find("POSITION");
   if (it == p.attributes.end()) {
@@ -97,7 +95,8 @@ bool NormalizeAll(std::vector<glm::vec3>* normals) {
   return true;
 }
 
-absl::StatusOr<gistream::Primitive> ReadPrimitive(const tinygltf::Model& model, const Primitive& in,
+absl::StatusOr<gistream::Primitive> ReadPrimitive(const tinygltf::Model& model,
+                                                  const tinygltf::Primitive& in,
                                                   const std::string& field, size_t material_count) {
   gistream::Primitive out;
   if (in.material != -1) {
@@ -188,7 +187,7 @@ absl::Status CheckGeometryBudget(const tinygltf::Model& model, const NodeGraph& 
       return absl::ResourceExhaustedError(absl::StrCat("meshes[", m, "]: draw counts overflow"));
     }
     for (size_t p = 0; p < model.meshes[m].primitives.size(); ++p) {
-      const Primitive& prim = model.meshes[m].primitives[p];
+      const tinygltf::Primitive& prim = model.meshes[m].primitives[p];
       const std::string field = PrimitiveField(m, p);
       GS_ASSIGN_OR_RETURN(const bool triangles_drawn, IsTriangles(prim, field));
       if (!triangles_drawn) continue;
@@ -234,7 +233,7 @@ absl::StatusOr<std::vector<Mesh>> ImportMeshes(const tinygltf::Model& model,
   for (size_t m = 0; m < model.meshes.size(); ++m) {
     meshes[m].name = model.meshes[m].name;
     for (size_t p = 0; p < model.meshes[m].primitives.size(); ++p) {
-      const Primitive& prim = model.meshes[m].primitives[p];
+      const tinygltf::Primitive& prim = model.meshes[m].primitives[p];
       const std::string field = PrimitiveField(m, p);
       GS_ASSIGN_OR_RETURN(const bool triangles_drawn, IsTriangles(prim, field));
       if (!triangles_drawn) continue;

@@ -4,11 +4,10 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "util/constants.h"
 
 namespace gistream::antiradiance {
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 // Cube-map face and texel of a direction.
 void CubeCoords(const glm::vec3& d, int res, int* face, int* x, int* y) {

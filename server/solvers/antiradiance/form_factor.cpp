@@ -1,11 +1,10 @@
 #include "solvers/antiradiance/form_factor.h"
 
 #include <cmath>
+#include <numbers>
 
 namespace gistream::antiradiance {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Sutherland-Hodgman against the plane n . (p - x) = 0, keeping the front;
 // a quad gains at most one corner.
@@ -41,7 +40,7 @@ double PointToQuadsFormFactor(std::span<const CellQuad> quads, const glm::vec3& 
       if (!(len > 1e-30)) continue;  // a repeated corner or an edge through x
       s += std::atan2(len, glm::dot(a, b)) * glm::dot(nd, c) / len;
     }
-    total += std::abs(s) / (2.0 * kPi);
+    total += std::abs(s) / (2.0 * std::numbers::pi);
   }
   return total;
 }

@@ -8,11 +8,11 @@
 #include "absl/strings/str_cat.h"
 #include "solvers/brdf_albedo.h"
 #include "util/parallel_for.h"
+#include "util/constants.h"
 
 namespace gistream::antiradiance {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 constexpr int kSubSamples = 7;  // a bin's centre and six around it
 constexpr int kScalingIterations = 64;
 

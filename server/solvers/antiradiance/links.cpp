@@ -8,6 +8,7 @@
 
 #include "util/cancellation.h"
 #include "util/parallel_for.h"
+#include "util/constants.h"
 
 namespace gistream::antiradiance {
 namespace {
@@ -19,7 +20,6 @@ constexpr float kNearLink = 8.0f;
 // averaged over both nodes' sigma points (SigmaPoints); closer (leaves
 // without cells only), the disc kernel r^2 + a / pi keeps it finite.
 constexpr float kSigmaLink = 2.0f;
-constexpr float kPi = 3.14159265358979f;
 
 // A node's area as a few weighted points with its centroid and second
 // moment (the sigma points of its area distribution): c +- sqrt(n) L_k for

@@ -7,11 +7,10 @@
 #include "solvers/tail_estimate.h"
 #include "util/cancellation.h"
 #include "util/parallel_for.h"
+#include "util/constants.h"
 
 namespace gistream::antiradiance {
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 double Luminance(const glm::vec3& c) { return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b; }
 bool Finite(const glm::vec3& c) {

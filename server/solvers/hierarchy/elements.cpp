@@ -6,13 +6,10 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include "util/parallel_for.h"
+#include "util/constants.h"
 
 namespace gistream::hierarchy {
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
-// Normals closer than this (1 - cos) count as equal for the coplanar slab.
-constexpr float kParallel = 1e-6f;
 
 float Angle(const glm::vec3& a, const glm::vec3& b) {
   return std::acos(std::clamp(glm::dot(a, b), -1.0f, 1.0f));

@@ -17,6 +17,10 @@
 
 namespace gistream::hierarchy {
 
+// Normals closer than this (1 - cos) count as equal (a node's coplanar
+// slab; a link's planes).
+inline constexpr float kParallel = 1e-6f;
+
 // One mesh primitive's cached preprocessing (local space).
 struct ElementMesh {
   Surfels surfels;

@@ -7,12 +7,11 @@
 #include <cmath>
 
 #include "util/parallel_for.h"
+#include "util/constants.h"
 
 namespace gistream::hierarchy {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
-constexpr float kParallel = 1e-6f;
 // Discs narrower than this fraction of a bin's width go into one bin
 // (measured: same gathered energy, half the splats).
 constexpr float kSplatBelow = 0.4f;

@@ -5,11 +5,11 @@
 #include <cmath>
 
 #include "util/parallel_for.h"
+#include "util/constants.h"
 
 namespace gistream::hierarchy {
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 // A bin covered at least this much counts as fully covered.
 constexpr float kSnapCoverage = 0.5f;
 // Passes that fill bins from a neighbour whose element's disc their

@@ -5,13 +5,13 @@
 #include <limits>
 
 #include "scene/texture_lookup.h"
+#include "util/constants.h"
 
 namespace gistream::pathtrace {
 
 using namespace shading;  // the shared BRDF and sampling (solvers/shading/)
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
 }  // namespace

@@ -1,11 +1,10 @@
 #include "solvers/sh_probes/spherical_harmonics.h"
 
 #include <cmath>
+#include <numbers>
 
 namespace gistream::sh {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Face table: +X, -X, +Y, -Y, +Z, -Z, each with an up vector orthogonal to it.
 constexpr double kForward[6][3] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
@@ -65,9 +64,9 @@ Coefficients ProjectCube(const std::function<glm::dvec3(const glm::dvec3&)>& rad
 
 double LambertFactor(int band) {
   switch (band) {
-    case 0: return kPi;
-    case 1: return 2.0 * kPi / 3.0;
-    case 2: return kPi / 4.0;
+    case 0: return std::numbers::pi;
+    case 1: return 2.0 * std::numbers::pi / 3.0;
+    case 2: return std::numbers::pi / 4.0;
     default: return 0.0;  // odd bands above 1 vanish (Eq. 6); l > 2 is not stored
   }
 }

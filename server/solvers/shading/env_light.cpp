@@ -4,11 +4,10 @@
 #include <cmath>
 
 #include "solvers/shading/sampling.h"
+#include "util/constants.h"
 
 namespace gistream::shading {
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 // Index i with cdf[i] <= t < cdf[i + 1] among n bins (cdf has n + 1
 // entries), and t's fraction inside that bin.

@@ -4,11 +4,10 @@
 #include <cmath>
 
 #include "solvers/shading/sampling.h"
+#include "util/constants.h"
 
 namespace gistream::shading {
 namespace {
-
-constexpr float kPi = 3.14159265358979f;
 
 // The diffuse lobe's weight without the Fresnel factor: (1 - metallic) baseColor.
 glm::vec3 DiffuseColor(const Brdf& brdf) { return (1.0f - brdf.metallic) * brdf.base_color; }
