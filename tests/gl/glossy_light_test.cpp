@@ -113,6 +113,7 @@ TEST_P(GlossyLight, TheRoomMatchesTheReferenceAtTheDefaults) {
   ASSERT_EQ(image.width, int(kSize));
   EXPECT_EQ(image.non_finite(), 0u);
   const double got = Room(image), want = Room(*reference_);
+  ASSERT_GT(want, 0.0) << "no room pixels, or a black reference";
   testing::RecordMeasurement("room_over_reference", got / want);
   EXPECT_NEAR(got, want, 0.05 * want) << solver << ": " << got / want << "x";
   // The whole picture, cube included. avg: 0.106 when its VPLs reflected
@@ -179,10 +180,12 @@ class GlossyDielectricLight : public ::testing::TestWithParam<const char*> {};
 TEST_P(GlossyDielectricLight, ReEmitsWithTheMaterialsFresnel) {
   const std::string solver = GetParam();
   const FloatImage& reference = HighIorCubeReference();
+  ASSERT_EQ(reference.width, int(kSize));
   const FloatImage image = HighIorCubeRender(solver, {});
   ASSERT_EQ(image.width, int(kSize));
   EXPECT_EQ(image.non_finite(), 0u);
   const double got = Room(image), want = Room(reference);
+  ASSERT_GT(want, 0.0) << "no room pixels, or a black reference";
   testing::RecordMeasurement("over_reference", got / want);
   EXPECT_NEAR(got, want, 0.05 * want) << solver << ": " << got / want << "x";
 }
