@@ -24,6 +24,11 @@
 #define GS_BINDING_DEFORM_MORPH 6
 #define GS_BINDING_DEFORM_JOINTS 8
 #define GS_BINDING_DEFORM_WEIGHTS 9
+// render/glossy_bin_direct (its own compute pass, beside the direct
+// light's slots): glossy elements in, bin directions, radiance per bin out.
+#define GS_BINDING_GLOSSY_BIN_ELEMENTS 4
+#define GS_BINDING_GLOSSY_BIN_DIRECTIONS 5
+#define GS_BINDING_GLOSSY_BIN_RADIANCE 6
 
 // Uniform blocks.
 #define GS_UBO_VIEW 0  // render/gbuffer: the view's eye (render/shade_surface.glsl)

@@ -11,14 +11,13 @@
 #define AR_BINDING_ELEMENTS 6          // antiradiance/elements.glsl
 #define AR_BINDING_GRID 7              // cell starts, then leaf ids
 #define AR_BINDING_GLOSSY_RADIANCE 10  // slot x bin
-#define AR_BINDING_BIN_DIRECTIONS 11   // antiradiance/glossy.glsl (display and glossy direct)
+#define AR_BINDING_BIN_DIRECTIONS 11   // antiradiance/glossy.glsl
 
 // element_direct.comp.glsl: the leaves' direct irradiance (reads the
 // elements at AR_BINDING_ELEMENTS).
 #define AR_BINDING_ELEMENT_DIRECT 7
 
-// element_glossy_direct.comp.glsl: the glossy leaves' direct radiance per bin.
-#define AR_BINDING_GLOSSY_ELEMENTS 6
-#define AR_BINDING_GLOSSY_DIRECT 7
+// The glossy leaves' direct radiance per bin: the shared
+// render/glossy_bin_direct.comp.glsl (its slots in bindings.glsl).
 
 #endif

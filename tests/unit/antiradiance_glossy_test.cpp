@@ -11,7 +11,7 @@
 
 #include "support/measurement.h"
 
-#include "solvers/antiradiance/directional_bins.h"
+#include "solvers/hierarchy/directional_bins.h"
 #include "solvers/antiradiance/glossy_transfer.h"
 #include "solvers/antiradiance/links.h"
 #include "solvers/antiradiance/patches.h"
@@ -44,7 +44,7 @@ struct GlossyScene {
   GlossyScene(const std::vector<std::vector<SourceTriangle>>& groups, float max_edge, int m,
               const std::vector<shading::Brdf>& per_root) {
     patches = BuildPatches(groups, max_edge);
-    bins = *DirectionalBins::Create(m);
+    bins = *hierarchy::DirectionalBins::Create(m);
     brdf.assign(size_t(patches.size()), shading::Brdf());
     for (size_t r = 0; r < patches.roots.size(); ++r) {
       const int end = r + 1 < patches.roots.size() ? patches.roots[r + 1] : patches.size();
@@ -63,7 +63,7 @@ struct GlossyScene {
     return e;
   }
   Patches patches;
-  DirectionalBins bins;
+  hierarchy::DirectionalBins bins;
   std::vector<shading::Brdf> brdf;
   GlossyTransfer transfer;
   std::unique_ptr<Transport> transport;
@@ -82,7 +82,7 @@ TEST(AntiradianceGlossy, TransferReflectsTheDirectionalAlbedo) {
   // albedo(omega_o) pi / S(n) toward every bin (the rows), and each
   // incident bin sends out albedo(omega_j) of its flux (the columns), for
   // a rough and a shiny metal, a glossy dielectric and a coloured metal.
-  const DirectionalBins bins = *DirectionalBins::Create(128);
+  const hierarchy::DirectionalBins bins = *hierarchy::DirectionalBins::Create(128);
   Patches p = BuildPatches({Quad({0, 0, 0}, kX, -kZ, 1, 1)}, 2.0f);
   shading::Brdf gold = Material(1, 0.3f);
   gold.base_color = {1.0f, 0.78f, 0.34f};
@@ -318,7 +318,7 @@ namespace antiradiance_glossy_test {
 // the limit and the last pairs that ran (here: well under the full set).
 TEST(AntiradianceLinks, LinkingStopsOnceTheLinksPassTheLimit) {
   const Patches patches = BuildPatches(Box(), 0.25f);
-  const DirectionalBins bins = *DirectionalBins::Create(32);
+  const hierarchy::DirectionalBins bins = *hierarchy::DirectionalBins::Create(32);
   LinkSet all;
   all.Build(patches, bins);
   const uint64_t full = all.size();

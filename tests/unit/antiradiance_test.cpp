@@ -12,7 +12,7 @@
 
 #include "support/measurement.h"
 
-#include "solvers/antiradiance/directional_bins.h"
+#include "solvers/hierarchy/directional_bins.h"
 #include "solvers/antiradiance/form_factor.h"
 #include "solvers/antiradiance/links.h"
 #include "solvers/antiradiance/patches.h"
@@ -43,7 +43,7 @@ struct Solved {
          const std::function<bool(int)>& two_sided = {}) {
     patches = BuildPatches(groups, max_edge);
     if (two_sided) mirrored = AddBackFaces(patches, two_sided);
-    bins = *DirectionalBins::Create(m);
+    bins = *hierarchy::DirectionalBins::Create(m);
     transport = std::make_unique<Transport>(patches, bins, CreateLinks(patches, bins, nullptr));
   }
   // Leaves under root r.
@@ -71,12 +71,12 @@ struct Solved {
   }
   Patches patches;
   int mirrored = 0;
-  DirectionalBins bins;
+  hierarchy::DirectionalBins bins;
   std::unique_ptr<Transport> transport;
 };
 
 TEST(AntiradianceBins, AntipodalUniformAndLookup) {
-  const DirectionalBins b = *DirectionalBins::Create(128);
+  const hierarchy::DirectionalBins b = *hierarchy::DirectionalBins::Create(128);
   EXPECT_NEAR(b.omega_bin() * 128, 4 * kPi, 1e-4);
   for (int j = 0; j < b.count(); ++j) {
     EXPECT_NEAR(glm::length(b.direction(j) + b.direction(b.opposite(j))), 0.0f, 1e-6f);
@@ -89,8 +89,9 @@ TEST(AntiradianceBins, AntipodalUniformAndLookup) {
     for (auto* t = begin; t != end; ++t) s += t->weight;
     EXPECT_NEAR(s, 1.0, 1e-5) << l;
   }
-  EXPECT_FALSE(DirectionalBins::Create(7).ok());
-  EXPECT_NE(DirectionalBins::Create(7).status().message().find("params.bins"), std::string::npos);
+  EXPECT_FALSE(hierarchy::DirectionalBins::Create(7).ok());
+  EXPECT_NE(hierarchy::DirectionalBins::Create(7).status().message().find("params.bins"),
+            std::string::npos);
 }
 
 TEST(AntiradiancePatches, SharedHierarchyIsRelaidOutDepthFirst) {
@@ -367,7 +368,7 @@ TEST(AntiradianceEnergy, ClosedBoxGathersWhatItSends) {
   // factor and the bins' cosine correction (links.cpp) the mean was 2.9 %
   // low (edge leaves 12 to 20 % low), and every bounce lost that; the far
   // links' sigma-point kernel (links.cpp) took it from 0.99878 to 0.99926.
-  const DirectionalBins bins = *DirectionalBins::Create(128);
+  const hierarchy::DirectionalBins bins = *hierarchy::DirectionalBins::Create(128);
   const Patches p = VertexFurnace(16, 0.0f);
   ASSERT_EQ(p.Cell(p.Leaves()[0]).empty(), false);
   LinkStats stats;
@@ -399,7 +400,7 @@ TEST(AntiradianceEnergy, StiffFurnaceConvergesNearTheExactValue) {
   // value follows the hierarchy's non-uniform per-leaf errors more than
   // the uniform gather (0.9993 per pass); the 16 x 16 box reads -0.14 % at
   // 0.99 (server/solvers/antiradiance/README.md, Energy).
-  const DirectionalBins bins = *DirectionalBins::Create(128);
+  const hierarchy::DirectionalBins bins = *hierarchy::DirectionalBins::Create(128);
   for (float rho : {0.5f, 0.9f, 0.99f}) {
     const Patches p = VertexFurnace(8, rho);
     Transport t(p, bins, CreateLinks(p, bins, nullptr));

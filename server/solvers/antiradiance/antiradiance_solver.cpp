@@ -96,14 +96,12 @@ absl::StatusOr<std::unique_ptr<Solver>> AntiradianceSolver::Create(const ParamSe
   // The environment as directional lights (render/environment_lights.h):
   // the elements' direct light, so it bounces, and the display's.
   s.direct.environment_lights = true;
-  GS_ASSIGN_OR_RETURN(solver->bins_, antiradiance::DirectionalBins::Create(s.bins));
+  GS_ASSIGN_OR_RETURN(solver->bins_, hierarchy::DirectionalBins::Create(s.bins));
   GS_ASSIGN_OR_RETURN(solver->lighting_, DirectLighting::Create());
   GS_ASSIGN_OR_RETURN(
       solver->direct_program_,
       gl::Program::Build({{GL_COMPUTE_SHADER, "antiradiance/element_direct.comp.glsl"}}));
-  GS_ASSIGN_OR_RETURN(
-      solver->glossy_direct_program_,
-      gl::Program::Build({{GL_COMPUTE_SHADER, "antiradiance/element_glossy_direct.comp.glsl"}}));
+  GS_ASSIGN_OR_RETURN(solver->glossy_direct_, GlossyBinDirect::Create());
   {
     std::vector<glm::vec4> directions;
     for (int j = 0; j < solver->bins_.count(); ++j)
@@ -203,7 +201,7 @@ absl::Status AntiradianceSolver::StartSolve(const SolverContext& ctx, bool relin
     job->glossy_direct = GlossyDirectAtLeaves(
         *job->patches, job->brdf, antiradiance::GlossyTransfer::Slots(*job->patches, job->brdf));
   }
-  const antiradiance::DirectionalBins* bins = &bins_;
+  const hierarchy::DirectionalBins* bins = &bins_;
   antiradiance::TransportSettings settings = settings_.transport;
   // Issue 29, item 4: without the tail the cap stopped a rho = 0.99
   // furnace 71 % low (the tolerance a rho = 0.9 one 4 % low).
@@ -256,7 +254,7 @@ void AntiradianceSolver::SetLeafMaterials(const SolverContext& ctx, SolveJob& jo
   }
 }
 
-void AntiradianceSolver::RunSolveJob(const antiradiance::DirectionalBins& bins,
+void AntiradianceSolver::RunSolveJob(const hierarchy::DirectionalBins& bins,
                                      const antiradiance::TransportSettings& settings,
                                      const antiradiance::Transport* warm, SolveJob& j) {
   if (j.relink) {
@@ -403,33 +401,25 @@ std::vector<glm::vec3> AntiradianceSolver::DirectAtLeaves(const antiradiance::Pa
 std::vector<glm::vec3> AntiradianceSolver::GlossyDirectAtLeaves(
     const antiradiance::Patches& patches, const std::vector<shading::Brdf>& brdf,
     const std::vector<int>& slots) {
-  // The glossy leaves in slot order (GlossyElement in
-  // antiradiance/element_glossy_direct.comp.glsl), roughness raised to the
-  // bins' as the transfer matrices (glossy_transfer.h).
-  std::vector<glm::vec4> input;
-  const float min_roughness = antiradiance::GlossyTransfer::BinRoughness(bins_);
+  // The glossy leaves in slot order, roughness raised to the bins' as the
+  // transfer matrices (glossy_transfer.h).
+  std::vector<GlossyBinElement> input;
+  const float min_roughness = bins_.ResolvedRoughness();
   for (int i = 0; i < patches.size(); ++i) {
     if (slots[size_t(i)] < 0) continue;
     const shading::Brdf& b = brdf[size_t(i)];
-    input.push_back(glm::vec4(patches.position[size_t(i)], 0.0f));
-    input.push_back(glm::vec4(patches.normal[size_t(i)], std::max(b.roughness, min_roughness)));
-    input.push_back(glm::vec4(b.base_color, b.metallic));
-    input.push_back(glm::vec4(b.specular_f0, b.specular_f90));
+    input.push_back({glm::vec4(patches.position[size_t(i)], 0.0f),
+                     glm::vec4(patches.normal[size_t(i)], std::max(b.roughness, min_roughness)),
+                     glm::vec4(b.base_color, b.metallic),
+                     glm::vec4(b.specular_f0, b.specular_f90)});
   }
-  const int count = int(input.size() / 4);
+  const int count = int(input.size());
   const size_t cells = size_t(count) * size_t(bins_.count());
   if (count == 0) return {};
   const gl::Buffer elements = gl::StorageBuffer(input);
   const gl::Buffer output = gl::ZeroedBuffer(cells * sizeof(glm::vec4));
-  lighting_.Bind(glossy_direct_program_);
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AR_BINDING_GLOSSY_ELEMENTS, elements.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AR_BINDING_GLOSSY_DIRECT, output.id());
-  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, AR_BINDING_BIN_DIRECTIONS, bin_directions_.id());
-  glossy_direct_program_.Set("uCount", count);
-  glossy_direct_program_.Set("uBins", bins_.count());
-  glossy_direct_program_.Use();
-  glDispatchCompute(gl::GroupCount(cells, 64), 1, 1);
-  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);
+  glossy_direct_.Run(lighting_, elements.id(), count, bin_directions_.id(), bins_.count(),
+                     output.id());
   std::vector<glm::vec4> l(cells);
   glGetNamedBufferSubData(output.id(), 0, GLsizeiptr(cells * sizeof(glm::vec4)), l.data());
   std::vector<glm::vec3> out(cells);

@@ -19,10 +19,11 @@
 
 #include "gl/fullscreen_pass.h"
 #include "render/direct_lighting.h"
+#include "render/glossy_bin_direct.h"
 #include "solvers/background_job.h"
 #include "solvers/job_stage_times.h"
 #include "solvers/emission_scale.h"
-#include "solvers/antiradiance/directional_bins.h"
+#include "solvers/hierarchy/directional_bins.h"
 #include "solvers/antiradiance/glossy_transfer.h"
 #include "solvers/antiradiance/links.h"
 #include "solvers/antiradiance/patches.h"
@@ -107,7 +108,7 @@ class AntiradianceSolver final : public Solver {
   // transport).
   void FindMovedRoots(SolveJob& job) const;
   void SetLeafMaterials(const SolverContext& ctx, SolveJob& job) const;
-  static void RunSolveJob(const antiradiance::DirectionalBins& bins,
+  static void RunSolveJob(const hierarchy::DirectionalBins& bins,
                           const antiradiance::TransportSettings& settings,
                           const antiradiance::Transport* warm, SolveJob& job);
   // Shows a finished job's solution (its stage times go to this frame).
@@ -128,7 +129,7 @@ class AntiradianceSolver final : public Solver {
   AntiradianceSettings settings_;
 
   // Runtime data
-  antiradiance::DirectionalBins bins_;
+  hierarchy::DirectionalBins bins_;
   std::unique_ptr<antiradiance::Patches> patches_;  // the transport refers to it
   antiradiance::SurfelCache surfel_cache_;
   antiradiance::LinkSet link_set_;
@@ -148,7 +149,8 @@ class AntiradianceSolver final : public Solver {
   glm::vec3 grid_min_{0.0f};
   glm::ivec3 grid_dims_{1};
   float grid_cell_ = 1.0f;
-  gl::Program direct_program_, glossy_direct_program_, display_;
+  gl::Program direct_program_, display_;
+  GlossyBinDirect glossy_direct_;  // the glossy leaves' direct light per bin
   gl::FullscreenPass fullscreen_;
 
   // Stats of the last link / update

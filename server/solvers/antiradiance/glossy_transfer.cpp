@@ -27,10 +27,6 @@ using Key = std::array<float, 8>;  // base colour, metallic, roughness, normal
 
 }  // namespace
 
-float GlossyTransfer::BinRoughness(const DirectionalBins& bins) {
-  return std::sqrt(0.5f * bins.spacing());
-}
-
 std::vector<int> GlossyTransfer::Slots(const Patches& patches,
                                        const std::vector<shading::Brdf>& brdf) {
   std::vector<int> slot(size_t(patches.size()), -1);
@@ -42,7 +38,7 @@ std::vector<int> GlossyTransfer::Slots(const Patches& patches,
 }
 
 absl::StatusOr<GlossyTransfer> GlossyTransfer::Build(const Patches& patches,
-                                                     const DirectionalBins& bins,
+                                                     const hierarchy::DirectionalBins& bins,
                                                      const std::vector<shading::Brdf>& brdf,
                                                      uint64_t max_bytes) {
   GlossyTransfer g;
@@ -70,7 +66,7 @@ absl::StatusOr<GlossyTransfer> GlossyTransfer::Build(const Patches& patches,
         " MiB); use fewer bins"));
   }
   g.matrices_.resize(first_node.size());
-  const float min_roughness = BinRoughness(bins);
+  const float min_roughness = bins.ResolvedRoughness();
   ParallelFor(first_node.size(), 1, [&](size_t mi) {
     const int node = first_node[mi];
     g.matrices_[mi] =
@@ -79,7 +75,8 @@ absl::StatusOr<GlossyTransfer> GlossyTransfer::Build(const Patches& patches,
   return g;
 }
 
-GlossyTransfer::Matrix GlossyTransfer::BuildMatrix(const DirectionalBins& bins, const glm::vec3& n,
+GlossyTransfer::Matrix GlossyTransfer::BuildMatrix(const hierarchy::DirectionalBins& bins,
+                                                   const glm::vec3& n,
                                                    const shading::Brdf& material,
                                                    float min_roughness) {
   const float omega = bins.omega_bin();
@@ -131,7 +128,8 @@ GlossyTransfer::Matrix GlossyTransfer::BuildMatrix(const DirectionalBins& bins, 
 }
 
 std::vector<glm::vec3> GlossyTransfer::SubSampleDirections(
-    const DirectionalBins& bins, const glm::vec3& n, const std::vector<uint16_t>& hemisphere) {
+    const hierarchy::DirectionalBins& bins, const glm::vec3& n,
+    const std::vector<uint16_t>& hemisphere) {
   const float sub_radius = 0.5f * std::sqrt(bins.omega_bin() / kPi);  // half the bin's radius
   glm::vec3 tu, tv;
   Frame(n, &tu, &tv);

@@ -11,8 +11,8 @@
 // T's entries: the BRDF averaged over seven directions of a bin (its
 // centre and six at half its radius), at one end and then the other
 // (symmetric, as f is reciprocal), with the roughness raised to
-// BinRoughness (a lobe narrower than the bins would fall between them;
-// sharper materials are blurred to that lobe). The symmetric kernel K is
+// the bins' ResolvedRoughness (a lobe narrower than the bins would fall
+// between them; sharper materials are blurred to that lobe). The symmetric kernel K is
 // then scaled as D K D (Sinkhorn-Knopp) so that every row and column
 // reflects the true material's directional albedo (brdf_albedo.h):
 //   sum_j K'[o][j] <n|omega_j>_+ omega_bin = albedo(omega_o),
@@ -29,7 +29,7 @@
 #include <glm/glm.hpp>
 
 #include "absl/status/statusor.h"
-#include "solvers/antiradiance/directional_bins.h"
+#include "solvers/hierarchy/directional_bins.h"
 #include "solvers/antiradiance/patches.h"
 #include "solvers/shading/ggx.h"
 
@@ -42,14 +42,10 @@ class GlossyTransfer {
   static std::vector<int> Slots(const Patches& patches, const std::vector<shading::Brdf>& brdf);
   // The matrices of every glossy leaf; ResourceExhausted (naming
   // params.bins) beyond `max_bytes`.
-  static absl::StatusOr<GlossyTransfer> Build(const Patches& patches, const DirectionalBins& bins,
+  static absl::StatusOr<GlossyTransfer> Build(const Patches& patches,
+                                              const hierarchy::DirectionalBins& bins,
                                               const std::vector<shading::Brdf>& brdf,
                                               uint64_t max_bytes);
-  // The sharpest roughness the bins resolve: alpha = roughness^2 no smaller
-  // than half the bins' spacing sqrt(4 pi / m), so the reflected lobe (about
-  // 1.3 alpha wide at half maximum) spans more than a bin.
-  static float BinRoughness(const DirectionalBins& bins);
-
   int count() const { return int(matrix_of_slot_.size()); }
   int slot(int node) const { return slot_.empty() ? -1 : slot_[size_t(node)]; }
   int matrices() const { return int(matrices_.size()); }
@@ -65,11 +61,12 @@ class GlossyTransfer {
   };
   // Build's steps for one (material, normal): the hemisphere's bins and
   // the transfer matrix T (BlurredKernel's K scaled to the BRDF's albedo).
-  static Matrix BuildMatrix(const DirectionalBins& bins, const glm::vec3& n,
+  static Matrix BuildMatrix(const hierarchy::DirectionalBins& bins, const glm::vec3& n,
                             const shading::Brdf& material, float min_roughness);
   // kSubSamples directions per hemisphere bin (its centre first), in the
   // frame of `n`.
-  static std::vector<glm::vec3> SubSampleDirections(const DirectionalBins& bins, const glm::vec3& n,
+  static std::vector<glm::vec3> SubSampleDirections(const hierarchy::DirectionalBins& bins,
+                                                    const glm::vec3& n,
                                                     const std::vector<uint16_t>& hemisphere);
   // The blurred BRDF between the h bins, averaged over sub-samples and
   // symmetrized.

@@ -103,13 +103,13 @@ SigmaPoints Sigma(const Moments& m) {
 }
 
 // S(n) = omega sum_j <n|omega_j>_+, the bins' cosine integral (~pi).
-float CosineSum(const glm::vec3& n, const DirectionalBins& b) {
+float CosineSum(const glm::vec3& n, const hierarchy::DirectionalBins& b) {
   double s = 0.0;
   for (int j = 0; j < b.count(); ++j) s += std::max(0.0f, glm::dot(n, b.direction(j)));
   return float(s * b.omega_bin());
 }
 
-NodeGeometry Geometry(const Patches& p, const DirectionalBins& b) {
+NodeGeometry Geometry(const Patches& p, const hierarchy::DirectionalBins& b) {
   NodeGeometry g;
   g.flat.assign(size_t(p.size()), 1);
   g.cosine_sum.assign(size_t(p.size()), 0.0f);
@@ -152,7 +152,8 @@ NodeGeometry Geometry(const Patches& p, const DirectionalBins& b) {
 
 class Linker {
  public:
-  Linker(const Patches& p, const DirectionalBins& b, const NodeGeometry& g, std::vector<Link>& out)
+  Linker(const Patches& p, const hierarchy::DirectionalBins& b, const NodeGeometry& g,
+         std::vector<Link>& out)
       : p_(p),
         bins_(b),
         geometry_(g),
@@ -368,7 +369,7 @@ class Linker {
   }
 
   const Patches& p_;
-  const DirectionalBins& bins_;
+  const hierarchy::DirectionalBins& bins_;
   const NodeGeometry& geometry_;
   std::vector<Link>& out_;
   float bin_radius_;
@@ -376,7 +377,7 @@ class Linker {
 
 }  // namespace
 
-void LinkSet::LinkPairs(const Patches& patches, const DirectionalBins& bins,
+void LinkSet::LinkPairs(const Patches& patches, const hierarchy::DirectionalBins& bins,
                         const std::vector<size_t>& pairs) {
   const NodeGeometry geometry = Geometry(patches, bins);
   // The links of the pairs kept, then each linked pair's as it ends.
@@ -408,7 +409,7 @@ void LinkSet::LinkPairs(const Patches& patches, const DirectionalBins& bins,
   stats_.relinked_root_pairs = pairs.size();
 }
 
-void LinkSet::Build(const Patches& patches, const DirectionalBins& bins) {
+void LinkSet::Build(const Patches& patches, const hierarchy::DirectionalBins& bins) {
   roots_ = patches.roots.size();
   per_pair_.assign(roots_ * roots_, {});
   pair_node_pairs_.assign(per_pair_.size(), 0);
@@ -419,7 +420,7 @@ void LinkSet::Build(const Patches& patches, const DirectionalBins& bins) {
   LinkPairs(patches, bins, all);
 }
 
-void LinkSet::Relink(const Patches& patches, const DirectionalBins& bins,
+void LinkSet::Relink(const Patches& patches, const hierarchy::DirectionalBins& bins,
                      const std::vector<bool>& moved) {
   if (patches.roots.size() != roots_ || moved.size() != roots_) {
     Build(patches, bins);
@@ -452,7 +453,7 @@ std::vector<Link> LinkSet::Sorted() const {
   return links;
 }
 
-std::vector<Link> CreateLinks(const Patches& patches, const DirectionalBins& bins,
+std::vector<Link> CreateLinks(const Patches& patches, const hierarchy::DirectionalBins& bins,
                               LinkStats* stats) {
   LinkSet set;
   set.Build(patches, bins);

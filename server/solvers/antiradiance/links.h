@@ -13,7 +13,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "solvers/antiradiance/directional_bins.h"
+#include "solvers/hierarchy/directional_bins.h"
 #include "solvers/antiradiance/patches.h"
 
 namespace gistream::antiradiance {
@@ -23,7 +23,7 @@ struct Link {
   uint32_t receiver = 0;
   uint16_t sender_bin = 0;    // omega_l: direction receiver - sender
   uint16_t receiver_bin = 0;  // omega_j: direction sender - receiver (incident, "from")
-  uint16_t cone = 0;          // spreading level (DirectionalBins::Row)
+  uint16_t cone = 0;          // spreading level (hierarchy::DirectionalBins::Row)
   // Eq. 17: 1 / (|x_i - x_k|^2 omega_bin), times the true / bin cosines;
   // near leaves: from the sender cell's exact form factor (links.cpp).
   float form_factor = 0.0f;
@@ -38,7 +38,7 @@ struct LinkStats {
 };
 
 // Sorted by receiver. Multi-threaded over pairs of roots.
-std::vector<Link> CreateLinks(const Patches& patches, const DirectionalBins& bins,
+std::vector<Link> CreateLinks(const Patches& patches, const hierarchy::DirectionalBins& bins,
                               LinkStats* stats);
 
 // The links kept per pair of roots, so that moving objects relink only the
@@ -48,9 +48,10 @@ std::vector<Link> CreateLinks(const Patches& patches, const DirectionalBins& bin
 class LinkSet {
  public:
   // Links every pair.
-  void Build(const Patches& patches, const DirectionalBins& bins);
+  void Build(const Patches& patches, const hierarchy::DirectionalBins& bins);
   // Relinks the pairs whose receiver or sender root has moved[root index].
-  void Relink(const Patches& patches, const DirectionalBins& bins, const std::vector<bool>& moved);
+  void Relink(const Patches& patches, const hierarchy::DirectionalBins& bins,
+              const std::vector<bool>& moved);
   // All links, sorted by receiver then sender.
   std::vector<Link> Sorted() const;
   const LinkStats& stats() const { return stats_; }
@@ -65,7 +66,7 @@ class LinkSet {
   bool exceeded() const { return exceeded_; }
 
  private:
-  void LinkPairs(const Patches& patches, const DirectionalBins& bins,
+  void LinkPairs(const Patches& patches, const hierarchy::DirectionalBins& bins,
                  const std::vector<size_t>& pairs);
 
   size_t roots_ = 0;

@@ -28,7 +28,8 @@ std::vector<std::pair<int, int>> RootRanges(const Patches& p) {
 
 }  // namespace
 
-Transport::Transport(const Patches& patches, const DirectionalBins& bins, std::vector<Link> links)
+Transport::Transport(const Patches& patches, const hierarchy::DirectionalBins& bins,
+                     std::vector<Link> links)
     : patches_(patches), bins_(bins), links_(std::move(links)), m_(bins.count()) {
   leaves_ = patches_.Leaves();
   const size_t cells = size_t(patches_.size()) * size_t(m_);
@@ -151,7 +152,8 @@ void Transport::GlobalPass() {
       const glm::vec3 flux = l.form_factor * i_ex_[Index(int(l.sender), l.sender_bin)];
       glm::vec3* dst = &l_in_[Index(int(l.receiver), 0)];
       const auto [begin, end] = bins_.Row(l.cone, l.receiver_bin);
-      for (const DirectionalBins::Tap* t = begin; t != end; ++t) dst[t->bin] += t->weight * flux;
+      for (const hierarchy::DirectionalBins::Tap* t = begin; t != end; ++t)
+        dst[t->bin] += t->weight * flux;
     }
   });
 }

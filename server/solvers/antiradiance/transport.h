@@ -24,7 +24,7 @@
 
 #include <glm/glm.hpp>
 
-#include "solvers/antiradiance/directional_bins.h"
+#include "solvers/hierarchy/directional_bins.h"
 #include "solvers/antiradiance/glossy_transfer.h"
 #include "solvers/antiradiance/links.h"
 #include "solvers/antiradiance/patches.h"
@@ -65,7 +65,8 @@ using StageHook = std::function<void(const char* stage, bool begin)>;
 
 class Transport {
  public:
-  Transport(const Patches& patches, const DirectionalBins& bins, std::vector<Link> links);
+  Transport(const Patches& patches, const hierarchy::DirectionalBins& bins,
+            std::vector<Link> links);
 
   // Sources per node (leaves used): direct irradiance E_d (W/m^2, from the
   // shadow maps, Section 3.3, no antiradiance) and emitted radiance L_e
@@ -117,7 +118,7 @@ class Transport {
   void AddTail(double bound, TransportResult* result);
 
   const Patches& patches_;
-  const DirectionalBins& bins_;
+  const hierarchy::DirectionalBins& bins_;
   std::vector<Link> links_;
   std::vector<uint32_t> receiver_begin_;  // link ranges with one receiver
   int m_;

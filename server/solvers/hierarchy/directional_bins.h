@@ -1,4 +1,6 @@
-// Directional discretization of Dachsbacher et al. 2007, Section 3.1: m
+// Directional discretization of Dachsbacher et al. 2007, Section 3.1 (shared
+// with implicit_visibility's glossy elements, which store their outgoing
+// radiance per bin as Dong et al. 2007, Section 4.3, describe): m
 // bins Omega_j with main directions omega_j, each of solid angle
 // omega_bin = 4 pi / m, plus the precomputed spreading/filter tables of
 // Section 4.2 (one m-row table per cone size sigma).
@@ -16,7 +18,7 @@
 
 #include "absl/status/statusor.h"
 
-namespace gistream::antiradiance {
+namespace gistream::hierarchy {
 
 class DirectionalBins {
  public:
@@ -30,9 +32,20 @@ class DirectionalBins {
   // Angle between a bin and its nearest neighbour, sqrt(4 pi / m): the
   // Gaussian's standard deviation (Section 3.1).
   float spacing() const { return spacing_; }
+  // The sharpest GGX roughness the bins resolve: alpha = roughness^2 no
+  // smaller than half the spacing, so a reflected lobe (about 1.3 alpha
+  // wide at half maximum) spans more than a bin; a sharper material is
+  // blurred to it (antiradiance's glossy leaves, implicit_visibility's
+  // glossy elements).
+  float ResolvedRoughness() const;
   // The bin whose main direction is nearest to unit d (a cube-map lookup
   // table, nearest bin per texel centre).
   int Find(const glm::vec3& d) const;
+  // Find's table, for a GPU twin (implicit_visibility/glossy.glsl): the
+  // bin of texel (face, y, x) of a lut_res() x lut_res() cube map at
+  // lut()[(face * lut_res() + y) * lut_res() + x].
+  int lut_res() const { return lut_res_; }
+  const std::vector<uint16_t>& lut() const { return lut_; }
 
   // Spreading (Section 3.1, "spread and filter its energy to the bin's
   // neighbours"): cone level 0 is a single bin; level l > 0 covers a cone
@@ -63,4 +76,4 @@ class DirectionalBins {
   std::vector<Tap> taps_;
 };
 
-}  // namespace gistream::antiradiance
+}  // namespace gistream::hierarchy

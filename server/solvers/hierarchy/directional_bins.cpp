@@ -1,4 +1,4 @@
-#include "solvers/antiradiance/directional_bins.h"
+#include "solvers/hierarchy/directional_bins.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include "absl/strings/str_cat.h"
 #include "util/constants.h"
 
-namespace gistream::antiradiance {
+namespace gistream::hierarchy {
 namespace {
 
 // Cube-map face and texel of a direction.
@@ -41,6 +41,8 @@ glm::vec3 CubeDirection(int face, int x, int y, int res) {
 }
 
 }  // namespace
+
+float DirectionalBins::ResolvedRoughness() const { return std::sqrt(0.5f * spacing_); }
 
 absl::StatusOr<DirectionalBins> DirectionalBins::Create(int m) {
   if (m < 8 || m > 4096 || m % 2 != 0) {
@@ -136,4 +138,4 @@ std::pair<const DirectionalBins::Tap*, const DirectionalBins::Tap*> DirectionalB
   return {taps_.data() + row_[r], taps_.data() + row_[r + 1]};
 }
 
-}  // namespace gistream::antiradiance
+}  // namespace gistream::hierarchy
