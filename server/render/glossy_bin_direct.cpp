@@ -25,7 +25,7 @@ void GlossyBinDirect::Run(const DirectLighting& lighting, GLuint elements, int c
   program_.Set("uCount", count);
   program_.Set("uBins", bins);
   program_.Set("uSubSamples", bin_radius > 0.0f ? 7 : 1);
-  program_.Set("uSubRadius", 0.5f * bin_radius);
+  program_.Set("uBinRadius", bin_radius);
   program_.Use();
   glDispatchCompute(gl::GroupCount(size_t(count) * size_t(bins), 64), 1, 1);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);

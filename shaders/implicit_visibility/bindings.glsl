@@ -28,6 +28,19 @@
 #define IV_GATHER_RADIANCE_IN 6
 #define IV_GATHER_RADIANCE_OUT 7
 #define IV_GATHER_INDIRECT_E 8
+// ... and the glossy elements' outgoing radiance per bin (glossy.glsl).
+#define IV_GATHER_NODE_SLOTS 9
+#define IV_GATHER_GLOSSY_NODES 10
+#define IV_GATHER_GLOSSY_RADIANCE 11
+#define IV_GATHER_BIN_LUT 13
+
+// glossy_pull.comp.glsl: the glossy nodes' radiance per bin, area-averaged
+// up the tree (the direct light's, once per illumination).
+#define IV_GLOSSY_PULL_CHILDREN 1
+#define IV_GLOSSY_PULL_AREAS 2
+#define IV_GLOSSY_PULL_NODE_SLOTS 3
+#define IV_GLOSSY_PULL_SLOT_NODES 4
+#define IV_GLOSSY_PULL_RADIANCE 5
 
 // vertex_irradiance.vert.glsl and final.frag.glsl: display.
 #define IV_VERTEX_INDIRECT_E 1

@@ -4,9 +4,13 @@
 // summed over the bins), and turns it into outgoing radiance with its
 // albedo, L' = albedo / pi * (E_direct + E). Reads one radiance buffer,
 // writes the other (Jacobi), so the order of the leaves does not matter.
+// A glossy source adds the direct light it reflects toward the receiver
+// (glossy.glsl); a glossy leaf's own direct light leaves through its bins,
+// so its diffuse radiance is L' = albedo / pi * E.
 #include "implicit_visibility/bindings.glsl"
 #include "common/math.glsl"
 #include "implicit_visibility/leaves.glsl"
+#include "implicit_visibility/glossy.glsl"
 layout(local_size_x = 64) in;
 layout(std430, binding = IV_GATHER_LEAVES) readonly buffer Leaves { Leaf leaves[]; };
 layout(std430, binding = IV_GATHER_DIRECT_E) readonly buffer DirectE { vec4 e_direct[]; };
@@ -20,12 +24,16 @@ uniform int uLeafCount;
 void main() {
   int i = int(gl_GlobalInvocationID.x);
   if (i >= uLeafCount) return;
+  Leaf leaf = leaves[i];
   vec3 e = e_env[i].rgb;
   for (uint k = offsets[i]; k < offsets[i + 1]; ++k) {
     uvec2 link = links[k];
-    e += uintBitsToFloat(link.y) * radiance_in[link.x].rgb;
+    vec3 l = radiance_in[link.x].rgb;
+    if (uGlossyBins > 0) l += GlossyToward(int(link.x), leaf.position.xyz);
+    e += uintBitsToFloat(link.y) * l;
   }
   e = FiniteOrZero(e);
   e_indirect[i] = vec4(e, 0.0);
-  radiance_out[i] = vec4(FiniteOrZero(leaves[i].albedo.rgb * INV_PI * (e_direct[i].rgb + e)), 0.0);
+  vec3 source = leaf.normal.w >= 0.0 ? e : e_direct[i].rgb + e;
+  radiance_out[i] = vec4(FiniteOrZero(leaf.albedo.rgb * INV_PI * source), 0.0);
 }

@@ -2,7 +2,9 @@
 // illumination, first step: the direct irradiance at every leaf from the
 // shadow-mapped lights (the same DirectIrradiance as `direct`), plus the
 // environment through the leaf's open bins (Section 4.4); the leaves'
-// first outgoing radiance L = albedo / pi * E (the first bounce's source).
+// first outgoing radiance L = albedo / pi * E (the first bounce's source;
+// a glossy leaf's direct light leaves through its bins, glossy.glsl, so
+// only the environment's here).
 #include "implicit_visibility/bindings.glsl"
 #include "render/direct_light.glsl"
 #include "implicit_visibility/leaves.glsl"
@@ -18,5 +20,6 @@ void main() {
   Leaf l = leaves[i];
   vec3 e = FiniteOrZero(DirectIrradiance(l.position.xyz, l.normal.xyz));
   e_direct[i] = vec4(e, 0.0);
-  radiance[i] = vec4(FiniteOrZero(l.albedo.rgb * INV_PI * (e + e_env[i].rgb)), 0.0);
+  vec3 diffuse = l.normal.w >= 0.0 ? vec3(0.0) : e;
+  radiance[i] = vec4(FiniteOrZero(l.albedo.rgb * INV_PI * (diffuse + e_env[i].rgb)), 0.0);
 }

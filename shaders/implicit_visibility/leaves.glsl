@@ -2,6 +2,6 @@
 // mirrors of server/solvers/implicit_visibility/illumination.cpp).
 struct Leaf {
   vec4 position;  // xyz world (the disc's centre)
-  vec4 normal;    // xyz unit
-  vec4 albedo;    // rgb linear diffuse albedo
+  vec4 normal;    // xyz unit, w the glossy slot (-1: a diffuse leaf; glossy.glsl)
+  vec4 albedo;    // rgb linear diffuse albedo (a glossy leaf's white-sky albedo)
 };

@@ -227,13 +227,21 @@ float AreaSampleSolidAngle(int i, vec3 p) {
 // MirrorAreaLight.DirectShowsTheLampNotItsSamples measured omega / (4 pi)
 // (ripples of 26 % between samples), / (2 pi) (12 %) and / pi (5 %, 10 %
 // darker: the GGX tails reach past the emitter).
+// The BRDF toward the view that DirectReflected applies to each light: an
+// includer may define DIRECT_VIEW_BRDF (same arguments as BrdfEval) before
+// including this file; render/glossy_bin_direct.comp.glsl averages it over
+// a bin's directions, so the lights and shadows are looked up once.
+#ifndef DIRECT_VIEW_BRDF
+#define DIRECT_VIEW_BRDF BrdfEval
+#endif
+
 vec3 BrdfEvalSource(SurfaceBrdf b, vec3 n, vec3 v, vec3 l, float omega) {
-  if (BrdfLambertian(b)) return BrdfEval(b, n, v, l);
+  if (BrdfLambertian(b)) return DIRECT_VIEW_BRDF(b, n, v, l);
   float alpha = BrdfAlpha(b);
   float widened = min(alpha * alpha + omega * (0.5 * INV_PI), 1.0);
   SurfaceBrdf w = b;
   w.roughness = sqrt(sqrt(widened));  // BrdfAlpha squares the perceptual roughness
-  return BrdfEval(w, n, v, l);
+  return DIRECT_VIEW_BRDF(w, n, v, l);
 }
 
 // Radiance that BRDF b reflects towards v (unit, from p to the eye) of the
@@ -252,7 +260,7 @@ vec3 DirectReflected(vec3 p, vec3 n, vec3 v, SurfaceBrdf b) {
     vec3 wi;
     vec3 ei = PunctualIrradiance(i, p, n, wi);
     if (ei == vec3(0.0)) continue;
-    l += BrdfEval(b, n, v, wi) * ei * PunctualVisibility(i, p, n, wi);
+    l += DIRECT_VIEW_BRDF(b, n, v, wi) * ei * PunctualVisibility(i, p, n, wi);
   }
   if (uPolygonCount == 0) {
     for (int i = 0; i < uAreaSampleCount; ++i) {
@@ -281,7 +289,7 @@ vec3 DirectReflected(vec3 p, vec3 n, vec3 v, SurfaceBrdf b) {
     }
     // No sample in view: the BRDF towards the polygon's first vertex, unshadowed.
     vec3 brdf = total > 0.0 ? weighted / total
-                            : BrdfEval(b, n, v, normalize(polygons[k].vertices[0].xyz - p));
+                            : DIRECT_VIEW_BRDF(b, n, v, normalize(polygons[k].vertices[0].xyz - p));
     l += polygons[k].radiance_count.rgb * f * brdf;
   }
   return l;

@@ -164,6 +164,16 @@ TEST(ImplicitVisibility, TooManyBinsAreRejectedNamingTheParameter) {
       << frame.status();
 }
 
+TEST(ImplicitVisibility, OddGlossyBinsAreRejectedNamingTheParameter) {
+  // The directional bins are antipodal pairs (hierarchy/directional_bins.h).
+  const BundledCopy scene("glossy_box.gltf");
+  auto frame = testing::SharedEngine().Render(Request(scene.id(), {{"glossy_bins", "33"}}, 8));
+  ASSERT_FALSE(frame.ok());
+  EXPECT_EQ(frame.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(frame.status().message().find("params.glossy_bins"), std::string::npos)
+      << frame.status();
+}
+
 TEST(ImplicitVisibility, EnvironmentThroughEmptyBins) {
   // Section 4.4: a plane under a uniform environment (radiance 1,
   // intensity 2) gathers it through its empty bins: E = 2 pi, so

@@ -5,7 +5,10 @@
 #include <cstring>
 #include <limits>
 
+#include "absl/strings/str_cat.h"
+
 #include "gl/buffers.h"
+#include "util/constants.h"
 #include "solvers/tail_estimate.h"
 #include "gl/compute.h"
 #include "implicit_visibility/bindings.glsl"  // shaders/: the slots its passes declare
@@ -17,14 +20,38 @@ constexpr GLbitfield kBarrier = GL_SHADER_STORAGE_BARRIER_BIT | GL_BUFFER_UPDATE
 
 // std430 mirror of shaders/implicit_visibility/leaves.glsl.
 struct GpuLeaf {
-  glm::vec4 position, normal, albedo;
+  glm::vec4 position, normal, albedo;  // normal.w: the glossy slot, -1 diffuse
 };
 GS_STD430_MIRROR(GpuLeaf, 48);
 
+// std430 mirror of GlossyNode in shaders/implicit_visibility/glossy.glsl.
+struct GpuGlossyNode {
+  glm::vec4 position, normal;
+};
+GS_STD430_MIRROR(GpuGlossyNode, 32);
+
 }  // namespace
 
-absl::StatusOr<Illumination> Illumination::Create() {
+absl::StatusOr<Illumination> Illumination::Create(int glossy_bins) {
   Illumination il;
+  if (glossy_bins > 0) {
+    auto bins = hierarchy::DirectionalBins::Create(glossy_bins);
+    if (!bins.ok()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("params.glossy_bins: ", glossy_bins, " must be even, 8..4096"));
+    }
+    il.bins_ = *std::move(bins);
+    GS_ASSIGN_OR_RETURN(il.glossy_direct_, GlossyBinDirect::Create());
+    std::vector<glm::vec4> directions;
+    for (int j = 0; j < il.bins_->count(); ++j)
+      directions.push_back(glm::vec4(il.bins_->direction(j), 0.0f));
+    il.bin_directions_ = gl::StorageBuffer(directions);
+    il.bin_lut_ =
+        gl::StorageBuffer(std::vector<uint32_t>(il.bins_->lut().begin(), il.bins_->lut().end()));
+  }
+  GS_ASSIGN_OR_RETURN(
+      il.glossy_pull_,
+      gl::Program::Build({{GL_COMPUTE_SHADER, "implicit_visibility/glossy_pull.comp.glsl"}}));
   GS_ASSIGN_OR_RETURN(
       il.direct_,
       gl::Program::Build({{GL_COMPUTE_SHADER, "implicit_visibility/leaf_direct.comp.glsl"}}));
@@ -36,14 +63,21 @@ absl::StatusOr<Illumination> Illumination::Create() {
   return il;
 }
 
+uint64_t Illumination::GlossySlotBytes(int glossy_bins) {
+  return uint64_t(std::max(0, glossy_bins)) * sizeof(glm::vec4) + sizeof(GpuGlossyNode) +
+         sizeof(GlossyBinElement) + 2 * sizeof(int);
+}
+
 void Illumination::UploadElements(const hierarchy::Elements& e,
-                                  const std::vector<glm::vec3>& albedo) {
+                                  const std::vector<glm::vec3>& albedo,
+                                  const std::vector<shading::Brdf>& brdf) {
   leaf_count_ = e.leaf_count();
   node_count_ = e.node_count();
   level_begin_ = e.level_begin();
+  const std::vector<int> node_slot = UploadGlossy(e, brdf);
   std::vector<GpuLeaf> leaves(static_cast<size_t>(leaf_count_));
   for (size_t i = 0; i < leaves.size(); ++i) {
-    leaves[i] = {glm::vec4(e.position[i], 0.0f), glm::vec4(e.normal[i], 0.0f),
+    leaves[i] = {glm::vec4(e.position[i], 0.0f), glm::vec4(e.normal[i], float(node_slot[i])),
                  glm::vec4(i < albedo.size() ? albedo[i] : glm::vec3(0.0f), 0.0f)};
   }
   std::vector<glm::ivec4> children(static_cast<size_t>(node_count_));
@@ -61,7 +95,7 @@ void Illumination::UploadElements(const hierarchy::Elements& e,
     for (gl::Buffer& r : radiance_) r = gl::ZeroedBuffer(size_t(node_count_) * sizeof(glm::vec4));
   }
   element_bytes_ = leaves.size() * sizeof(GpuLeaf) + children.size() * 20 + 3 * leaf_vec4 +
-                   2 * size_t(node_count_) * sizeof(glm::vec4);
+                   2 * size_t(node_count_) * sizeof(glm::vec4) + glossy_bytes_;
   gpu_bytes_ = element_bytes_ + link_bytes_;
 }
 
@@ -83,6 +117,89 @@ void Illumination::UploadEnvironment(const std::vector<glm::vec3>& e_env) {
   for (size_t i = 0; i < std::min(data.size(), e_env.size()); ++i)
     data[i] = glm::vec4(e_env[i], 0.0f);
   glNamedBufferSubData(e_env_.id(), 0, GLsizeiptr(data.size() * sizeof(glm::vec4)), data.data());
+}
+
+std::vector<int> Illumination::UploadGlossy(const hierarchy::Elements& e,
+                                            const std::vector<shading::Brdf>& brdf) {
+  // Slots: the glossy leaves in leaf order, then every internal node with
+  // a glossy child in node order (by height, so each level's slots are
+  // contiguous for the pull-up).
+  std::vector<int> node_slot(size_t(node_count_), -1);
+  slot_node_.clear();
+  std::vector<GlossyBinElement> elements;
+  const float min_roughness = bins_ ? bins_->ResolvedRoughness() : 1.0f;
+  for (int i = 0; bins_ && i < leaf_count_; ++i) {
+    if (size_t(i) >= brdf.size() || brdf[size_t(i)].Lambertian()) continue;
+    const shading::Brdf& b = brdf[size_t(i)];
+    node_slot[size_t(i)] = int(slot_node_.size());
+    slot_node_.push_back(i);
+    elements.push_back({glm::vec4(e.position[size_t(i)], 0.0f),
+                        glm::vec4(e.normal[size_t(i)], std::max(b.roughness, min_roughness)),
+                        glm::vec4(b.base_color, b.metallic),
+                        glm::vec4(b.specular_f0, b.specular_f90)});
+  }
+  glossy_leaves_ = int(slot_node_.size());
+  glossy_level_begin_.assign(1, glossy_leaves_);
+  for (size_t h = 1; h < level_begin_.size(); ++h) {
+    for (int node = level_begin_[h - 1]; glossy_leaves_ > 0 && node < level_begin_[h]; ++node) {
+      bool glossy = false;
+      for (int c : e.children[size_t(node)])
+        glossy = glossy || (c >= 0 && node_slot[size_t(c)] >= 0);
+      if (!glossy) continue;
+      node_slot[size_t(node)] = int(slot_node_.size());
+      slot_node_.push_back(node);
+    }
+    glossy_level_begin_.push_back(int(slot_node_.size()));
+  }
+  std::vector<GpuGlossyNode> nodes;
+  for (int node : slot_node_) {
+    nodes.push_back(
+        {glm::vec4(e.position[size_t(node)], 0.0f), glm::vec4(e.normal[size_t(node)], 0.0f)});
+  }
+  const size_t slots = slot_node_.size(), m = bins_ ? size_t(bins_->count()) : 0;
+  node_slots_ = gl::StorageBuffer(node_slot.empty() ? std::vector<int>{-1} : node_slot);
+  slot_nodes_ = gl::StorageBuffer(slot_node_.empty() ? std::vector<int>{-1} : slot_node_);
+  glossy_nodes_ = gl::StorageBuffer(nodes.empty() ? std::vector<GpuGlossyNode>(1) : nodes);
+  glossy_elements_ =
+      gl::StorageBuffer(elements.empty() ? std::vector<GlossyBinElement>(1) : elements);
+  glossy_radiance_ = gl::ZeroedBuffer(std::max<size_t>(1, slots * m) * sizeof(glm::vec4));
+  glossy_bytes_ = slots * GlossySlotBytes(int(m)) + size_t(node_count_) * sizeof(int);
+  return node_slot;
+}
+
+void Illumination::GlossyDirect(const DirectLighting& lighting) {
+  if (glossy_leaves_ == 0) return;
+  const int m = bins_->count();
+  // Each bin holds its mean radiance (the links look a bin up anywhere in
+  // it): seven directions over the bin's disc of solid angle omega_bin.
+  const float bin_radius = std::sqrt(bins_->omega_bin() / kPi);
+  glossy_direct_->Run(lighting, glossy_elements_.id(), glossy_leaves_, bin_directions_.id(), m,
+                      glossy_radiance_.id(), bin_radius);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GLOSSY_PULL_CHILDREN, children_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GLOSSY_PULL_AREAS, areas_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GLOSSY_PULL_NODE_SLOTS, node_slots_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GLOSSY_PULL_SLOT_NODES, slot_nodes_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GLOSSY_PULL_RADIANCE, glossy_radiance_.id());
+  glossy_pull_.Set("uGlossyBins", m);
+  glossy_pull_.Use();
+  for (size_t h = 1; h < glossy_level_begin_.size(); ++h) {
+    const int begin = glossy_level_begin_[h - 1], end = glossy_level_begin_[h];
+    if (end <= begin) continue;
+    glossy_pull_.Set("uBegin", begin);
+    glossy_pull_.Set("uEnd", end);
+    glDispatchCompute(gl::GroupCount(size_t(end - begin) * size_t(m), 64), 1, 1);
+    glMemoryBarrier(kBarrier);
+  }
+}
+
+void Illumination::BindGlossy() {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_NODE_SLOTS, node_slots_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_GLOSSY_NODES, glossy_nodes_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_GLOSSY_RADIANCE, glossy_radiance_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_BIN_LUT,
+                   bin_lut_ ? bin_lut_.id() : node_slots_.id());
+  gather_.Set("uGlossyBins", glossy_leaves_ > 0 ? bins_->count() : 0);
+  gather_.Set("uLutRes", bins_ ? bins_->lut_res() : 1);
 }
 
 void Illumination::Pull(GLuint radiance) {
@@ -131,6 +248,7 @@ void Illumination::Gather(int in) {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_RADIANCE_IN, radiance_[in].id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_RADIANCE_OUT, radiance_[1 - in].id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_INDIRECT_E, e_indirect_.id());
+  BindGlossy();
   gather_.Set("uLeafCount", leaf_count_);
   gather_.Use();
   glDispatchCompute(gl::GroupCount(size_t(leaf_count_), 64), 1, 1);
@@ -153,6 +271,7 @@ Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_b
   glDispatchCompute(gl::GroupCount(size_t(leaf_count_), 64), 1, 1);
   glMemoryBarrier(kBarrier);
   Pull(radiance_[0].id());
+  GlossyDirect(lighting);
 
   const float zero = 0.0f;
   glClearNamedBufferData(e_indirect_.id(), GL_R32F, GL_RED, GL_FLOAT, &zero);

@@ -2,28 +2,43 @@
 // leaves, pushed-down links and the node tree as shader storage buffers;
 // direct light at the leaves from the shared shadow maps, then per bounce
 // a gather at the leaves and a pull-up by height level, in GL compute.
+// Glossy elements (Section 4.3, "we augment our bin structure and store
+// the outgoing radiance per direction in it"): every non-Lambertian leaf,
+// and every node above one, has a slot of directional bins
+// (hierarchy/directional_bins.h) holding the direct light it reflects
+// toward each bin, with its BRDF (shaders/implicit_visibility/glossy.glsl);
+// a link adds its source's bin toward the receiver. Light that reaches a
+// glossy leaf through links leaves it diffusely, with its white-sky albedo
+// (the paper's GPU version keeps indirect interreflection diffuse).
 #pragma once
 
+#include <optional>
 #include <stop_token>
-
 #include <vector>
 
 #include "gl/handle.h"
 #include "gl/program.h"
 #include "render/direct_lighting.h"
+#include "render/glossy_bin_direct.h"
+#include "solvers/hierarchy/directional_bins.h"
 #include "solvers/hierarchy/elements.h"
 #include "solvers/hierarchy/links.h"
 #include "solvers/hierarchy/refine_push.h"
+#include "solvers/shading/ggx.h"
 
 namespace gistream {
 
 class Illumination {
  public:
-  static absl::StatusOr<Illumination> Create();
+  // glossy_bins: the directional bins of the glossy elements (even,
+  // 8..4096); 0: every leaf reflects diffusely with its white-sky albedo.
+  static absl::StatusOr<Illumination> Create(int glossy_bins);
 
-  // Uploads the tree (children, areas) and the leaves' discs; after
-  // update_elements.
-  void UploadElements(const hierarchy::Elements& elements, const std::vector<glm::vec3>& albedo);
+  // Uploads the tree (children, areas), the leaves' discs and the glossy
+  // slots (a leaf is glossy when `brdf`, per leaf, is not Lambertian);
+  // after update_elements or a material change.
+  void UploadElements(const hierarchy::Elements& elements, const std::vector<glm::vec3>& albedo,
+                      const std::vector<shading::Brdf>& brdf);
   // Uploads the leaves' links; after refine_push.
   void UploadLinks(const hierarchy::LeafLinks& links);
   // Environment irradiance through each leaf's open bins (zero: none).
@@ -56,23 +71,44 @@ class Illumination {
 
   GLuint indirect() const { return e_indirect_.id(); }
   uint64_t gpu_bytes() const { return gpu_bytes_; }
+  int glossy_leaves() const { return glossy_leaves_; }
+  int glossy_slots() const { return int(slot_node_.size()); }
+  // Bytes of directional bins per glossy slot, for the memory estimate.
+  static uint64_t GlossySlotBytes(int glossy_bins);
 
  private:
   // One bounce: every leaf gathers over its links from radiance_[in] into
   // radiance_[1 - in] and e_indirect_.
   void Gather(int in);
   void Pull(GLuint radiance);
+  // The glossy slots' bins: the direct light the glossy leaves reflect,
+  // then pulled up to the nodes above them.
+  void GlossyDirect(const DirectLighting& lighting);
+  // Slots of the glossy leaves and of the nodes above them; their buffers.
+  std::vector<int> UploadGlossy(const hierarchy::Elements& e,
+                                const std::vector<shading::Brdf>& brdf);
+  void BindGlossy();
   std::vector<glm::vec4> ReadIndirect() const;
   // e_indirect = current + f (current - previous), per leaf (RGB).
   void ApplyTail(const std::vector<glm::vec4>& current, const std::vector<glm::vec4>& previous,
                  double f);
 
-  gl::Program direct_, gather_, pull_;
+  gl::Program direct_, gather_, pull_, glossy_pull_;
   gl::Buffer leaves_, children_, areas_, e_direct_, e_env_, offsets_, links_, e_indirect_;
   gl::Buffer radiance_[2];
   std::vector<int> level_begin_;
   int leaf_count_ = 0, node_count_ = 0;
   uint64_t element_bytes_ = 0, link_bytes_ = 0, gpu_bytes_ = 0;
+
+  // Glossy elements (null bins_: none).
+  std::optional<hierarchy::DirectionalBins> bins_;
+  std::optional<GlossyBinDirect> glossy_direct_;
+  gl::Buffer bin_directions_, bin_lut_;
+  gl::Buffer node_slots_, slot_nodes_, glossy_nodes_, glossy_elements_, glossy_radiance_;
+  std::vector<int> slot_node_;           // per slot: its node (leaves' slots first)
+  std::vector<int> glossy_level_begin_;  // internal slots of height h: [begin[h-1], begin[h])
+  int glossy_leaves_ = 0;
+  uint64_t glossy_bytes_ = 0;
 };
 
 }  // namespace gistream

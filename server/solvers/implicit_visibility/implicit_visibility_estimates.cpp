@@ -6,6 +6,20 @@
 #include "solvers/implicit_visibility/implicit_visibility_solver.h"
 
 namespace gistream {
+namespace {
+
+// Whether any material can make a leaf glossy (not Lambertian).
+bool HasGlossyMaterial(const SceneState& state) {
+  for (const Material& m : state.materials()) {
+    if (m.metallic_factor != 0.0f || m.roughness_factor != 1.0f ||
+        m.metallic_roughness_texture >= 0) {
+      return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
 
 MemoryEstimate ImplicitVisibilitySolver::EstimateMemory(const ParamSet& params,
                                                         const SceneState& state,
@@ -26,6 +40,14 @@ MemoryEstimate ImplicitVisibilitySolver::EstimateMemory(const ParamSet& params,
   // Links (~16 per element, 16 bytes each) and the element buffers.
   estimate.items.push_back({"", absl::StrCat("links and elements of ", nodes, " elements"),
                             nodes * (16 * 16 + 96), nodes * (16 * 16 + 96)});
+  // Glossy elements' directional bins (illumination.h): at most every
+  // element a slot.
+  if (params.GetBool("glossy") && HasGlossyMaterial(state)) {
+    const uint64_t bytes = nodes * Illumination::GlossySlotBytes(params.GetInt("glossy_bins"));
+    estimate.items.push_back({"glossy_bins",
+                              absl::StrCat("directional bins of up to ", nodes, " glossy elements"),
+                              0, bytes});
+  }
   estimate.items.push_back(DirectLightingMemory(params, state, gpu));
   return estimate;
 }

@@ -31,6 +31,12 @@ SolverDescription ImplicitVisibilitySolver::Describe() {
       {"tail_estimate", ParamType::kBool, "true", 0, 0, {},
        "Add the geometric tail of the bounces not run (from the measured bounce ratios, at most "
        "the largest albedo), so a bright interior converges at the defaults"},
+      {"glossy", ParamType::kBool, "true", 0, 0, {},
+       "Glossy elements send their direct light through directional bins with the BRDF (Section "
+       "4.3); false: every element reflects diffusely with its BRDF's white-sky albedo"},
+      {"glossy_bins", ParamType::kInt, "128", 32, 512, {},
+       "Directional bins of each glossy element (even): sharper lobes are blurred to what they "
+       "resolve"},
       {"linking", ParamType::kEnum, "hierarchical", 0, 0, {"hierarchical", "brute_force"},
        "hierarchical (Section 4.2) or every pair of leaves (Section 3.1, for comparison)"},
   };
@@ -50,12 +56,13 @@ absl::StatusOr<std::unique_ptr<Solver>> ImplicitVisibilitySolver::Create(const P
   s.bounces = params.GetInt("bounces");
   s.tolerance = params.GetFloat("tolerance");
   s.tail_estimate = params.GetBool("tail_estimate");
+  s.glossy_bins = params.GetBool("glossy") ? params.GetInt("glossy_bins") : 0;
   s.linking = params.GetString("linking") == "brute_force" ? hierarchy::Linking::kBruteForce
                                                            : hierarchy::Linking::kHierarchical;
   s.direct = DirectLightingFromParams(params);
   auto solver = std::unique_ptr<ImplicitVisibilitySolver>(new ImplicitVisibilitySolver(s));
   GS_ASSIGN_OR_RETURN(solver->lighting_, DirectLighting::Create());
-  GS_ASSIGN_OR_RETURN(solver->illumination_, Illumination::Create());
+  GS_ASSIGN_OR_RETURN(solver->illumination_, Illumination::Create(s.glossy_bins));
   GS_ASSIGN_OR_RETURN(solver->display_, Display::Create());
   return solver;
 }
@@ -225,7 +232,7 @@ absl::Status ImplicitVisibilitySolver::UpdateElements(SolverContext& ctx, Change
     if (!changed.first && (changes & kChangeDeformation)) scene_.UpdatePose(ctx.state);
     scene_.UpdateGeometry(ctx.state);
     if (changed.materials) scene_.UpdateAlbedo(ctx.state);
-    illumination_.UploadElements(scene_.elements(), scene_.albedo());
+    illumination_.UploadElements(scene_.elements(), scene_.albedo(), scene_.brdf());
     display_.UploadVertices(scene_.vertex_world());
   }
   // The links are built by a background job on the CPU pool, the first
@@ -328,7 +335,7 @@ absl::Status ImplicitVisibilitySolver::Gather(SolverContext& ctx, ChangeMask cha
   gl::StageTimer::Scope stage(ctx.timer, "illumination");
   if ((changed.materials && !changed.geometry) || illumination_stale_) {
     scene_.UpdateAlbedo(ctx.state);
-    illumination_.UploadElements(scene_.elements(), scene_.albedo());
+    illumination_.UploadElements(scene_.elements(), scene_.albedo(), scene_.brdf());
   }
   if (environment_stale_) UpdateEnvironment(ctx.state);
   environment_stale_ = false;
@@ -385,6 +392,8 @@ SolverStats ImplicitVisibilitySolver::Stats() const {
       {"empty_bins", double(refine_stats_.empty_bins)},
       {"blocked_bins", double(refine_stats_.blocked_bins)},
       {"bin_bytes", double(table_.bytes())},
+      {"glossy_leaves", double(illumination_.glossy_leaves())},
+      {"glossy_slots", double(illumination_.glossy_slots())},
       {"link_gpu_bytes", double(illumination_.gpu_bytes())},
       {"bounces_run", double(result_.bounces)},
       {"residual", result_.residual},

@@ -43,6 +43,7 @@ struct ImplicitVisibilitySettings {
   int bounces = 32;           // most indirect bounces (safety cap)
   double tolerance = 0.01;    // stop when a bounce's residual is below this
   bool tail_estimate = true;  // add the bounces not run (solvers/tail_estimate.h)
+  int glossy_bins = 128;      // directional bins per glossy element (0: none, illumination.h)
   hierarchy::Linking linking = hierarchy::Linking::kHierarchical;
   DirectLightingSettings direct;
 };

@@ -193,6 +193,7 @@ void SceneElements::UpdateGeometry(const SceneState& state) {
 void SceneElements::UpdateAlbedo(const SceneState& state) {
   const Scene& scene = state.scene();
   albedo_.assign(size_t(elements_.leaf_count()), glm::vec3(1.0f));
+  brdf_.assign(size_t(elements_.leaf_count()), shading::Brdf());
   for (size_t i = 0; i < sources_.size(); ++i) {
     const Primitive& p = *sources_[i].elements;
     const Material* m = p.material >= 0 ? &state.materials()[size_t(p.material)] : nullptr;
@@ -219,11 +220,19 @@ void SceneElements::UpdateAlbedo(const SceneState& state) {
                                         m->metallic_roughness_sampler, TextureFilter::kNearest);
         mr *= glm::vec2(t.b, t.g);
       }
-      // The links are diffuse, so a glossy leaf passes on what its BRDF
-      // reflects of light from all directions (the white-sky albedo, as
-      // avg's voxels), not its base colour; Lambertian leaves keep the
-      // base colour bitwise.
+      // Light reaching a glossy leaf through links leaves it diffusely, so
+      // it passes on what its BRDF reflects of light from all directions
+      // (the white-sky albedo, as avg's voxels), not its base colour;
+      // Lambertian leaves keep the base colour bitwise. Its direct light
+      // leaves through its directional bins with the BRDF (illumination.h).
       mr = glm::clamp(mr, 0.0f, 1.0f);
+      if (m) {
+        brdf_[offset + v] = {.base_color = a,
+                             .metallic = mr.x,
+                             .roughness = mr.y,
+                             .specular_f0 = m->specular_f0,
+                             .specular_f90 = m->specular_f90};
+      }
       albedo_[offset + v] = m ? BrdfWhiteSkyAlbedo(a, mr.x, mr.y, m->specular_f0, m->specular_f90)
                               : BrdfWhiteSkyAlbedo(a, mr.x, mr.y);
     }

@@ -20,6 +20,7 @@
 #include "scene/gpu/gpu_scene.h"
 #include "solvers/hierarchy/elements.h"
 #include "solvers/hierarchy/subdivide.h"
+#include "solvers/shading/ggx.h"
 
 namespace gistream {
 
@@ -46,6 +47,10 @@ class SceneElements {
 
   const hierarchy::Elements& elements() const { return elements_; }
   const std::vector<glm::vec3>& albedo() const { return albedo_; }
+  // Per-leaf BRDF (base colour as albedo() before the white-sky albedo,
+  // metallic-roughness, F0/F90), from UpdateAlbedo; Lambertian for a leaf
+  // without a material.
+  const std::vector<shading::Brdf>& brdf() const { return brdf_; }
   // Leaves made from a proxy level (0 with full detail or no proxies).
   int proxy_leaves() const { return proxy_leaves_; }
 
@@ -95,6 +100,7 @@ class SceneElements {
   std::vector<glm::vec3> vertex_weights_;  // per display vertex
   std::vector<uint32_t> triangles_;        // display vertex ids, 3 per triangle
   std::vector<glm::vec3> albedo_;          // per leaf
+  std::vector<shading::Brdf> brdf_;        // per leaf
   int proxy_leaves_ = 0;
 };
 
