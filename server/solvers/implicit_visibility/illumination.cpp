@@ -30,6 +30,18 @@ struct GpuGlossyNode {
 };
 GS_STD430_MIRROR(GpuGlossyNode, 32);
 
+// Whether a leaf's light leaves through directional bins: a glossy BRDF
+// below kDiffuseRoughness. At roughness 1 the lobe is as wide as the
+// hemisphere and the bins resolve it worse than the white-sky albedo does
+// (glossy_box with a gold cube of roughness 1, the cube's light in the
+// room against pathtrace: 1.04x through bins, 1.01x diffuse; at 0.85:
+// 1.07x and 0.88x), and glTF's default material (a metal of roughness 1)
+// would cost every leaf a slot.
+constexpr float kDiffuseRoughness = 0.9f;
+bool Directional(const shading::Brdf& b) {
+  return !b.Lambertian() && b.roughness < kDiffuseRoughness;
+}
+
 }  // namespace
 
 absl::StatusOr<Illumination> Illumination::Create(int glossy_bins) {
@@ -129,7 +141,7 @@ std::vector<int> Illumination::UploadGlossy(const hierarchy::Elements& e,
   std::vector<GlossyBinElement> elements;
   const float min_roughness = bins_ ? bins_->ResolvedRoughness() : 1.0f;
   for (int i = 0; bins_ && i < leaf_count_; ++i) {
-    if (size_t(i) >= brdf.size() || brdf[size_t(i)].Lambertian()) continue;
+    if (size_t(i) >= brdf.size() || !Directional(brdf[size_t(i)])) continue;
     const shading::Brdf& b = brdf[size_t(i)];
     node_slot[size_t(i)] = int(slot_node_.size());
     slot_node_.push_back(i);

@@ -3,8 +3,9 @@
 // direct light at the leaves from the shared shadow maps, then per bounce
 // a gather at the leaves and a pull-up by height level, in GL compute.
 // Glossy elements (Section 4.3, "we augment our bin structure and store
-// the outgoing radiance per direction in it"): every non-Lambertian leaf,
-// and every node above one, has a slot of directional bins
+// the outgoing radiance per direction in it"): every glossy leaf (a
+// non-Lambertian BRDF of roughness below 0.9), and every node above one,
+// has a slot of directional bins
 // (hierarchy/directional_bins.h) holding the direct light it reflects
 // toward each bin, with its BRDF (shaders/implicit_visibility/glossy.glsl);
 // a link adds its source's bin toward the receiver. Light that reaches a
@@ -35,7 +36,7 @@ class Illumination {
   static absl::StatusOr<Illumination> Create(int glossy_bins);
 
   // Uploads the tree (children, areas), the leaves' discs and the glossy
-  // slots (a leaf is glossy when `brdf`, per leaf, is not Lambertian);
+  // slots (from `brdf`, per leaf);
   // after update_elements or a material change.
   void UploadElements(const hierarchy::Elements& elements, const std::vector<glm::vec3>& albedo,
                       const std::vector<shading::Brdf>& brdf);

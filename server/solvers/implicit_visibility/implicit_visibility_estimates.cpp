@@ -8,13 +8,11 @@
 namespace gistream {
 namespace {
 
-// Whether any material can make a leaf glossy (not Lambertian).
+// Whether any material can make a leaf glossy (illumination.h: roughness
+// below 0.9; a texture may lower it).
 bool HasGlossyMaterial(const SceneState& state) {
   for (const Material& m : state.materials()) {
-    if (m.metallic_factor != 0.0f || m.roughness_factor != 1.0f ||
-        m.metallic_roughness_texture >= 0) {
-      return true;
-    }
+    if (m.roughness_factor < 0.9f || m.metallic_roughness_texture >= 0) return true;
   }
   return false;
 }
