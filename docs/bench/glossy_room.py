@@ -10,6 +10,7 @@ reference's, the room's mean luminance over the reference's, and the same
 contribution in 4 x 4 image blocks.
 
     python3 docs/bench/glossy_room.py [--size 64] [--spp 4096] [--solvers a,b] [--out DIR]
+                                      [--param KEY=VALUE]...  (every solver but pathtrace)
 
 Needs build/gistreamd, build/gistream and oiiotool (images are read as
 FITS, so no numpy is needed)."""
@@ -53,6 +54,8 @@ def main():
     ap.add_argument("--spp", type=int, default=4096)
     ap.add_argument("--solvers", default="sh_probes,avg,implicit_visibility,antiradiance")
     ap.add_argument("--out", default="out/glossy_room")
+    ap.add_argument("--param", action="append", default=[],
+                    help="KEY=VALUE for every solver but pathtrace (repeatable)")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     doc = json.load(open(args.scene))
@@ -80,7 +83,7 @@ def main():
         for v in variants:
             images[("pathtrace", v)] = render(v, "pathtrace", ["spp=%d" % args.spp])
             for s in solvers:
-                images[(s, v)] = render(v, s, [])
+                images[(s, v)] = render(v, s, args.param)
     n = args.size
     room = [[lum(images[("pathtrace", "black")][y][x]) > 0 for x in range(n)] for y in range(n)]
 

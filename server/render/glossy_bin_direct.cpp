@@ -16,7 +16,7 @@ absl::StatusOr<GlossyBinDirect> GlossyBinDirect::Create() {
 }
 
 void GlossyBinDirect::Run(const DirectLighting& lighting, GLuint elements, int count,
-                          GLuint directions, int bins, GLuint radiance, float bin_radius) {
+                          GLuint directions, int bins, GLuint radiance, float bin_omega) {
   if (count <= 0 || bins <= 0) return;
   lighting.Bind(program_);
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GS_BINDING_GLOSSY_BIN_ELEMENTS, elements);
@@ -24,8 +24,7 @@ void GlossyBinDirect::Run(const DirectLighting& lighting, GLuint elements, int c
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, GS_BINDING_GLOSSY_BIN_RADIANCE, radiance);
   program_.Set("uCount", count);
   program_.Set("uBins", bins);
-  program_.Set("uSubSamples", bin_radius > 0.0f ? 7 : 1);
-  program_.Set("uBinRadius", bin_radius);
+  program_.Set("uBinOmega", bin_omega);
   program_.Use();
   glDispatchCompute(gl::GroupCount(size_t(count) * size_t(bins), 64), 1, 1);
   glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_SHADER_STORAGE_BARRIER_BIT);

@@ -30,11 +30,11 @@ class GlossyBinDirect {
   // Writes count x bins vec4 radiances, element-major, into `radiance`
   // (at least that large) from `elements` (count GlossyBinElement) and
   // `directions` (bins vec4 unit directions), lit by `lighting` as it
-  // stands (its shadow maps bound). bin_radius > 0: each bin's value is
-  // the mean over its centre and six directions at half that radius
-  // (radians); 0: its centre's.
+  // stands (its shadow maps bound). bin_omega > 0: each lobe is widened
+  // by that solid angle (sr), so a bin holds the lobe's mean over it; 0:
+  // the BRDF at the bin's centre.
   void Run(const DirectLighting& lighting, GLuint elements, int count, GLuint directions, int bins,
-           GLuint radiance, float bin_radius = 0.0f);
+           GLuint radiance, float bin_omega = 0.0f);
 
  private:
   gl::Program program_;

@@ -34,6 +34,6 @@ void main() {
   }
   e = FiniteOrZero(e);
   e_indirect[i] = vec4(e, 0.0);
-  vec3 source = leaf.normal.w >= 0.0 ? e : e_direct[i].rgb + e;
+  vec3 source = uGlossyBins > 0 && leaf.normal.w >= 0.0 ? e : e_direct[i].rgb + e;
   radiance_out[i] = vec4(FiniteOrZero(leaf.albedo.rgb * INV_PI * source), 0.0);
 }

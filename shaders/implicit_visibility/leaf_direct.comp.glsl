@@ -14,12 +14,13 @@ layout(std430, binding = IV_LEAF_DIRECT_E) writeonly buffer DirectE { vec4 e_dir
 layout(std430, binding = IV_LEAF_ENV_E) readonly buffer EnvE { vec4 e_env[]; };
 layout(std430, binding = IV_LEAF_RADIANCE) writeonly buffer Radiance { vec4 radiance[]; };
 uniform int uLeafCount;
+uniform int uGlossy;  // the glossy leaves' bins hold their direct light (else: diffuse)
 void main() {
   int i = int(gl_GlobalInvocationID.x);
   if (i >= uLeafCount) return;
   Leaf l = leaves[i];
   vec3 e = FiniteOrZero(DirectIrradiance(l.position.xyz, l.normal.xyz));
   e_direct[i] = vec4(e, 0.0);
-  vec3 diffuse = l.normal.w >= 0.0 ? vec3(0.0) : e;
+  vec3 diffuse = uGlossy != 0 && l.normal.w >= 0.0 ? vec3(0.0) : e;
   radiance[i] = vec4(FiniteOrZero(l.albedo.rgb * INV_PI * (diffuse + e_env[i].rgb)), 0.0);
 }

@@ -3,11 +3,11 @@
 // elements (render/glossy_bin_direct.h): DirectReflected toward each bin's
 // main direction with the element's BRDF, its roughness raised to what the
 // bins resolve by the caller, so a direct highlight lands in the bins as
-// the indirect one does. uSubSamples 7 averages the BRDF over the bin
-// (BinBrdf; a lobe about as wide as a bin, point-sampled at the centres,
-// put 0.94-1.06x of its light into the room as the bins' count varied);
-// 1 takes the centre alone. One invocation per (element, bin); the
-// elements are glossy (a Lambertian one would ignore v). antiradiance's
+// the indirect one does. uBinOmega > 0 widens the lobe by the bin's solid
+// angle (BinBrdf; a lobe about as wide as a bin, point-sampled at the
+// centres, put 0.84-1.15x of its light into the room as the bins' count
+// varied); 0 takes the BRDF at the centre. One invocation per (element,
+// bin); the elements are glossy (a Lambertian one would ignore v). antiradiance's
 // glossy leaves (Dachsbacher et al. 2007, Section 3.1's local pass with a
 // general BRDF) and
 // implicit_visibility's glossy elements (Dong et al. 2007, Section 4.3:
@@ -15,24 +15,18 @@
 #include "bindings.glsl"
 #include "common/brdf.glsl"
 layout(local_size_x = 64) in;
-uniform int uSubSamples;  // 1 (the centre) or 7 (over the bin's disc)
-uniform float uBinRadius;  // radians: the radius of a disc of the bin's solid angle
-// The BRDF averaged over the bin around v (its centre): the centre and six
-// directions at 0.756 of the bin's radius (the middle, by area, of the
-// ring they stand for: sqrt(4/7)); directions below the horizon add zero.
-// DirectReflected applies it to each light (DIRECT_VIEW_BRDF), so the
-// lights and shadow maps are looked up once per bin.
+uniform float uBinOmega;  // sr: the solid angle a bin stands for (0: its centre alone)
+// The BRDF toward a bin, widened to the bin's solid angle as
+// BrdfEvalSource widens it to an area sample's (alpha^2 + omega / (2 pi),
+// D stays normalized): the bin holds its lobe's mean over its directions,
+// not the value at its centre. DirectReflected applies it to each light
+// (DIRECT_VIEW_BRDF).
 vec3 BinBrdf(SurfaceBrdf b, vec3 n, vec3 v, vec3 l) {
-  if (uSubSamples <= 1) return BrdfEval(b, n, v, l);
-  vec3 du = normalize(cross(abs(v.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0), v));
-  vec3 dv = cross(v, du);
-  vec3 f = vec3(0.0);
-  for (int q = 0; q < uSubSamples; ++q) {
-    float phi = 2.0 * PI * float(q - 1) / float(uSubSamples - 1);
-    vec3 w = q == 0 ? v : normalize(v + 0.756 * uBinRadius * (cos(phi) * du + sin(phi) * dv));
-    if (dot(n, w) > 0.0) f += BrdfEval(b, n, w, l);
-  }
-  return f / float(uSubSamples);
+  if (!(uBinOmega > 0.0) || BrdfLambertian(b)) return BrdfEval(b, n, v, l);
+  float alpha = BrdfAlpha(b);
+  SurfaceBrdf w = b;
+  w.roughness = sqrt(sqrt(min(alpha * alpha + uBinOmega * (0.5 * INV_PI), 1.0)));
+  return BrdfEval(w, n, v, l);
 }
 #define DIRECT_VIEW_BRDF BinBrdf
 #include "render/direct_light.glsl"
@@ -52,8 +46,6 @@ void main() {
   if (id >= uCount * uBins) return;
   GlossyBinElement e = elements[id / uBins];
   vec3 v = bin_direction[id % uBins].xyz;
-  // A bin centred below the horizon keeps what its directions above it
-  // reflect (BinBrdf; with the centre alone, zero).
   SurfaceBrdf b = SurfaceBrdf(e.base_metallic.rgb, e.base_metallic.a, e.normal.w, e.specular);
   vec3 l = FiniteOrZero(DirectReflected(e.position.xyz, e.normal.xyz, v, b));
   radiance[id] = vec4(l, 0.0);

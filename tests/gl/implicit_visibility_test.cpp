@@ -4,7 +4,10 @@
 // reference on the Cornell box and the indirect-only room, and which
 // stages each kind of change runs.
 #include <cmath>
+#include <fstream>
+
 #include <absl/strings/str_cat.h>
+#include <nlohmann/json.hpp>
 
 #include <gtest/gtest.h>
 
@@ -172,6 +175,35 @@ TEST(ImplicitVisibility, OddGlossyBinsAreRejectedNamingTheParameter) {
   EXPECT_EQ(frame.status().code(), absl::StatusCode::kInvalidArgument);
   EXPECT_NE(frame.status().message().find("params.glossy_bins"), std::string::npos)
       << frame.status();
+}
+
+// The glossy elements' direct pass evaluates every light for every (leaf,
+// bin): past its bound (10^7) the glossy leaves reflect diffusely for that
+// illumination, exactly as with glossy=false, and say so (glossy_capped).
+// The Cornell box with every material glossy (roughness 0.5): 64 area
+// samples x 128 bins x its ~3,600 leaves is past it; 8 x 32 is not.
+TEST(ImplicitVisibility, TooMuchGlossyDirectWorkFallsBackToDiffuse) {
+  std::ifstream in(GISTREAM_SOURCE_DIR "/scenes/cornell_box.gltf", std::ios::binary);
+  nlohmann::json doc = nlohmann::json::parse(in);
+  for (nlohmann::json& m : doc["materials"]) m["pbrMetallicRoughness"]["roughnessFactor"] = 0.5;
+  const testing::TestScene scene(testing::SceneFromBytes(doc.dump()));
+  ASSERT_FALSE(scene.id().empty());
+  auto render = [&](std::map<std::string, std::string> params, EncodedFrame* frame) {
+    return RenderRequestExr(Request(scene.id(), std::move(params), 16), frame);
+  };
+  EncodedFrame capped, diffuse, glossy;
+  const FloatImage a = render({}, &capped);
+  const FloatImage b = render({{"glossy", "false"}}, &diffuse);
+  EXPECT_GT(FrameStat(capped, "glossy_leaves"), 3000.0);
+  EXPECT_EQ(FrameStat(capped, "glossy_capped"), 1.0);
+  EXPECT_EQ(FrameStat(diffuse, "glossy_capped"), 0.0);
+  ASSERT_FALSE(a.rgba.empty());
+  EXPECT_EQ(a.rgba, b.rgba) << "capped: the diffuse picture";
+  const FloatImage c = render({{"area_samples", "8"}, {"glossy_bins", "32"}}, &glossy);
+  const FloatImage d = render({{"area_samples", "8"}, {"glossy", "false"}}, nullptr);
+  EXPECT_EQ(FrameStat(glossy, "glossy_capped"), 0.0);
+  ASSERT_FALSE(c.rgba.empty());
+  EXPECT_NE(c.rgba, d.rgba) << "within the bound the glossy bins carry the light";
 }
 
 TEST(ImplicitVisibility, EnvironmentThroughEmptyBins) {

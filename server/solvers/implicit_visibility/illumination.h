@@ -50,12 +50,13 @@ class Illumination {
     // sum |dE| / sum |E| of the last bounce (luminance), or the tail's
     // TailResidual when that ended the solve (tail_stopped).
     double residual = 0.0;
-    bool tail_stopped = false;  // ended once the tail-corrected sum was known
-    bool monotone = true;       // no leaf's indirect luminance fell between bounces
-    bool cap_reached = false;   // stopped by max_bounces with residual >= tolerance
-    bool cancelled = false;     // stopped by `stop` (the frame's cancellation)
-    bool tail_applied = false;  // the bounces not run were added (solvers/tail_estimate.h)
-    double tail_ratio = 0.0;    // their ratio r (0: no tail)
+    bool tail_stopped = false;   // ended once the tail-corrected sum was known
+    bool monotone = true;        // no leaf's indirect luminance fell between bounces
+    bool cap_reached = false;    // stopped by max_bounces with residual >= tolerance
+    bool cancelled = false;      // stopped by `stop` (the frame's cancellation)
+    bool tail_applied = false;   // the bounces not run were added (solvers/tail_estimate.h)
+    double tail_ratio = 0.0;     // their ratio r (0: no tail)
+    bool glossy_capped = false;  // glossy leaves reflected diffusely: too many x lights
   };
   // Direct light at the leaves, then gathers with pull-ups until a
   // bounce's residual is below `tolerance` (from the second bounce on; 0:
@@ -78,13 +79,19 @@ class Illumination {
   static uint64_t GlossySlotBytes(int glossy_bins);
 
  private:
+  // The first bounce's source: the glossy leaves' bins (GlossyDirect),
+  // then every leaf's direct and environment light and its radiance,
+  // pulled up. False when the glossy leaves reflect diffusely this time
+  // for their cost (Result::glossy_capped).
+  bool DirectAtLeaves(const DirectLighting& lighting);
   // One bounce: every leaf gathers over its links from radiance_[in] into
   // radiance_[1 - in] and e_indirect_.
   void Gather(int in);
   void Pull(GLuint radiance);
   // The glossy slots' bins: the direct light the glossy leaves reflect,
-  // then pulled up to the nodes above them.
-  void GlossyDirect(const DirectLighting& lighting);
+  // then pulled up to the nodes above them. False when there are none or
+  // the pass would cost too much (the leaves then reflect diffusely).
+  bool GlossyDirect(const DirectLighting& lighting);
   // Slots of the glossy leaves and of the nodes above them; their buffers.
   std::vector<int> UploadGlossy(const hierarchy::Elements& e,
                                 const std::vector<shading::Brdf>& brdf);
@@ -109,6 +116,7 @@ class Illumination {
   std::vector<int> slot_node_;           // per slot: its node (leaves' slots first)
   std::vector<int> glossy_level_begin_;  // internal slots of height h: [begin[h-1], begin[h])
   int glossy_leaves_ = 0;
+  bool glossy_on_ = false;  // this illumination's glossy bins are filled
   uint64_t glossy_bytes_ = 0;
 };
 

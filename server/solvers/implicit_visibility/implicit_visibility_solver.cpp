@@ -394,6 +394,7 @@ SolverStats ImplicitVisibilitySolver::Stats() const {
       {"bin_bytes", double(table_.bytes())},
       {"glossy_leaves", double(illumination_.glossy_leaves())},
       {"glossy_slots", double(illumination_.glossy_slots())},
+      {"glossy_capped", result_.glossy_capped ? 1.0 : 0.0},
       {"link_gpu_bytes", double(illumination_.gpu_bytes())},
       {"bounces_run", double(result_.bounces)},
       {"residual", result_.residual},
