@@ -181,7 +181,8 @@ TEST(ImplicitVisibility, OddGlossyBinsAreRejectedNamingTheParameter) {
 // bin): past its bound (10^7) the glossy leaves reflect diffusely for that
 // illumination, exactly as with glossy=false, and say so (glossy_capped).
 // The Cornell box with every material glossy (roughness 0.5): 64 area
-// samples x 128 bins x its ~3,600 leaves is past it; 8 x 32 is not.
+// samples x 128 bins x its ~3,600 leaves is past it. (Within the bound the
+// bins change the picture: GlossyLight, GlossyDielectricLight.)
 TEST(ImplicitVisibility, TooMuchGlossyDirectWorkFallsBackToDiffuse) {
   std::ifstream in(GISTREAM_SOURCE_DIR "/scenes/cornell_box.gltf", std::ios::binary);
   nlohmann::json doc = nlohmann::json::parse(in);
@@ -191,7 +192,7 @@ TEST(ImplicitVisibility, TooMuchGlossyDirectWorkFallsBackToDiffuse) {
   auto render = [&](std::map<std::string, std::string> params, EncodedFrame* frame) {
     return RenderRequestExr(Request(scene.id(), std::move(params), 16), frame);
   };
-  EncodedFrame capped, diffuse, glossy;
+  EncodedFrame capped, diffuse;
   const FloatImage a = render({}, &capped);
   const FloatImage b = render({{"glossy", "false"}}, &diffuse);
   EXPECT_GT(FrameStat(capped, "glossy_leaves"), 3000.0);
@@ -199,11 +200,6 @@ TEST(ImplicitVisibility, TooMuchGlossyDirectWorkFallsBackToDiffuse) {
   EXPECT_EQ(FrameStat(diffuse, "glossy_capped"), 0.0);
   ASSERT_FALSE(a.rgba.empty());
   EXPECT_EQ(a.rgba, b.rgba) << "capped: the diffuse picture";
-  const FloatImage c = render({{"area_samples", "8"}, {"glossy_bins", "32"}}, &glossy);
-  const FloatImage d = render({{"area_samples", "8"}, {"glossy", "false"}}, nullptr);
-  EXPECT_EQ(FrameStat(glossy, "glossy_capped"), 0.0);
-  ASSERT_FALSE(c.rgba.empty());
-  EXPECT_NE(c.rgba, d.rgba) << "within the bound the glossy bins carry the light";
 }
 
 TEST(ImplicitVisibility, EnvironmentThroughEmptyBins) {
