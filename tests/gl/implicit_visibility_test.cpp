@@ -11,6 +11,12 @@
 
 #include <gtest/gtest.h>
 
+#include "gl/buffers.h"
+#include "gl/handle.h"
+#include "gl/shader_library.h"
+#include "implicit_visibility/bindings.glsl"  // shaders/: the gather's bin table slot
+#include "solvers/hierarchy/directional_bins.h"
+#include "support/gl_context.h"
 #include "support/gltf_builder.h"
 #include "support/measurement.h"
 #include "support/render_helpers.h"
@@ -200,6 +206,76 @@ TEST(ImplicitVisibility, TooMuchGlossyDirectWorkFallsBackToDiffuse) {
   EXPECT_EQ(FrameStat(diffuse, "glossy_capped"), 0.0);
   ASSERT_FALSE(a.rgba.empty());
   EXPECT_EQ(a.rgba, b.rgba) << "capped: the diffuse picture";
+}
+
+// The gather finds a glossy source's bin toward the receiver on the GPU
+// (GlossyBin in shaders/implicit_visibility/glossy.glsl, through the bins'
+// cube-map table): the same bin as DirectionalBins::Find for every
+// direction, the cube's faces, edges and corners included.
+TEST(ImplicitVisibility, GlossyBinOnTheGpuIsFind) {
+  const auto context = testing::CurrentGlContext();
+  ASSERT_TRUE(context);
+  const hierarchy::DirectionalBins bins = *hierarchy::DirectionalBins::Create(128);
+  std::vector<glm::vec4> dirs;
+  for (int i = 0; i < 4000; ++i) {  // a spherical Fibonacci spiral, then the axes' corners
+    const float z = 1.0f - (2.0f * float(i) + 1.0f) / 4000.0f, r = std::sqrt(1.0f - z * z);
+    const float phi = 2.399963f * float(i);
+    dirs.push_back(glm::vec4(r * std::cos(phi), r * std::sin(phi), z, 0.0f));
+  }
+  for (float x : {-1.0f, 0.0f, 1.0f}) {
+    for (float y : {-1.0f, 0.0f, 1.0f}) {
+      for (float z : {-1.0f, 0.0f, 1.0f}) {
+        if (x != 0.0f || y != 0.0f || z != 0.0f)
+          dirs.push_back(glm::vec4(glm::normalize(glm::vec3(x, y, z)), 0.0f));
+      }
+    }
+  }
+  // glossy.glsl is an include file: its one include (only #defines) first.
+  auto bindings = gl::EmbeddedShaderSource("implicit_visibility/bindings.glsl");
+  auto glossy = gl::EmbeddedShaderSource("implicit_visibility/glossy.glsl");
+  ASSERT_TRUE(bindings.ok() && glossy.ok());
+  std::string library(*glossy);
+  const std::string include = "#include \"implicit_visibility/bindings.glsl\"";
+  ASSERT_NE(library.find(include), std::string::npos);
+  library.replace(library.find(include), include.size(), std::string(*bindings));
+  const std::string source = "#version 450 core\n" + library + R"(
+layout(local_size_x = 64) in;
+layout(std430, binding = 1) readonly buffer Dirs { vec4 dirs[]; };
+layout(std430, binding = 2) writeonly buffer Found { int found[]; };
+uniform int uCount;
+void main() {
+  int i = int(gl_GlobalInvocationID.x);
+  if (i < uCount) found[i] = GlossyBin(dirs[i].xyz);
+})";
+  const gl::ShaderObject shader = gl::ShaderObject::Create(GLenum(GL_COMPUTE_SHADER));
+  const char* text = source.c_str();
+  glShaderSource(shader.id(), 1, &text, nullptr);
+  glCompileShader(shader.id());
+  GLint ok = 0;
+  glGetShaderiv(shader.id(), GL_COMPILE_STATUS, &ok);
+  ASSERT_EQ(ok, GL_TRUE) << "compiling GlossyBin failed";
+  const gl::ProgramObject program = gl::ProgramObject::Create();
+  glAttachShader(program.id(), shader.id());
+  glLinkProgram(program.id());
+  glGetProgramiv(program.id(), GL_LINK_STATUS, &ok);
+  ASSERT_EQ(ok, GL_TRUE);
+  const gl::Buffer in = gl::StorageBuffer(dirs);
+  const gl::Buffer out = gl::ZeroedBuffer(dirs.size() * sizeof(int));
+  const gl::Buffer lut =
+      gl::StorageBuffer(std::vector<uint32_t>(bins.lut().begin(), bins.lut().end()));
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, in.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 2, out.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_BIN_LUT, lut.id());
+  glProgramUniform1i(program.id(), glGetUniformLocation(program.id(), "uCount"), int(dirs.size()));
+  glProgramUniform1i(program.id(), glGetUniformLocation(program.id(), "uLutRes"), bins.lut_res());
+  glUseProgram(program.id());
+  glDispatchCompute(GLuint((dirs.size() + 63) / 64), 1, 1);
+  glMemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+  std::vector<int> found(dirs.size(), -1);
+  glGetNamedBufferSubData(out.id(), 0, GLsizeiptr(found.size() * sizeof(int)), found.data());
+  int differ = 0;
+  for (size_t i = 0; i < dirs.size(); ++i) differ += found[i] != bins.Find(glm::vec3(dirs[i]));
+  EXPECT_EQ(differ, 0) << "of " << dirs.size() << " directions";
 }
 
 TEST(ImplicitVisibility, EnvironmentThroughEmptyBins) {
