@@ -54,8 +54,8 @@ absl::StatusOr<Illumination> Illumination::Create(int glossy_bins) {
   if (glossy_bins > 0) {
     auto bins = hierarchy::DirectionalBins::Create(glossy_bins);
     if (!bins.ok()) {
-      return absl::InvalidArgumentError(
-          absl::StrCat("params.glossy_bins: ", glossy_bins, " must be even, 8..4096"));
+      return absl::InvalidArgumentError(absl::StrCat(
+          "params.glossy_bins: ", glossy_bins, " must be even (the bins are antipodal pairs)"));
     }
     il.bins_ = *std::move(bins);
     GS_ASSIGN_OR_RETURN(il.glossy_direct_, GlossyBinDirect::Create());
