@@ -208,6 +208,30 @@ TEST(ImplicitVisibility, TooMuchGlossyDirectWorkFallsBackToDiffuse) {
   EXPECT_EQ(a.rgba, b.rgba) << "capped: the diffuse picture";
 }
 
+// Glossy leaves x bins past the bound with a single light: the direct pass
+// could never run, so no slot is kept (their bins would be most of the
+// solver's memory). A glossy floor of 151 x 151 vertices (22,801 leaves) at
+// 512 bins: 11.7 M with its one point light.
+TEST(ImplicitVisibility, GlossyLeavesPastTheBoundWithOneLightGetNoSlots) {
+  testing::GltfBuilder b;
+  const int gloss = b.AddMaterial("gloss", {0.8f, 0.8f, 0.8f});
+  b.SetMetallicRoughness(gloss, 0.0f, 0.5f);
+  b.AddQuad("floor", {0, 0, 0}, {1, 0, 0}, {0, 0, -1}, gloss, 150);
+  b.AddPointLight("lamp", {0, 1, 0}, {1, 1, 1}, 10.0f);
+  b.AddCamera("camera", {0, 1.5f, 1.5f}, {0, -0.7071f, -0.7071f}, {0, 0.7071f, -0.7071f}, 0.8f);
+  const testing::TestScene scene(testing::SceneFromBytes(b.ToJson()));
+  ASSERT_FALSE(scene.id().empty());
+  EncodedFrame frame;
+  const FloatImage image = RenderRequestExr(
+      Request(scene.id(), {{"glossy_bins", "512"}, {"bins_per_face", "2"}, {"full_detail", "true"}},
+              16),
+      &frame);
+  ASSERT_FALSE(image.rgba.empty());
+  EXPECT_GE(FrameStat(frame, "glossy_leaves"), 22801.0);
+  EXPECT_EQ(FrameStat(frame, "glossy_slots"), 0.0);
+  EXPECT_EQ(FrameStat(frame, "glossy_capped"), 1.0);
+}
+
 // The gather finds a glossy source's bin toward the receiver on the GPU
 // (GlossyBin in shaders/implicit_visibility/glossy.glsl, through the bins'
 // cube-map table): the same bin as DirectionalBins::Find for every

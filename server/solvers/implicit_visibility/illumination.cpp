@@ -38,11 +38,6 @@ GS_STD430_MIRROR(GpuGlossyNode, 32);
 // would cost every leaf a slot.
 constexpr float kDiffuseRoughness = 0.9f;
 
-// The most (glossy leaf, bin, light) evaluations of the direct pass: about
-// 1 s on llvmpipe (ClearCoatTest's 20,430 glossy leaves x 128 bins x 64
-// area samples took 14 s, the whole illumination otherwise 0.4 s, and it
-// runs on the render thread); glossy_box needs 37,632.
-constexpr double kMaxGlossyWork = 1e7;
 bool Directional(const shading::Brdf& b) {
   return !b.Lambertian() && b.roughness < kDiffuseRoughness;
 }
@@ -145,8 +140,17 @@ std::vector<int> Illumination::UploadGlossy(const hierarchy::Elements& e,
   slot_node_.clear();
   std::vector<GlossyBinElement> elements;
   const float min_roughness = bins_ ? bins_->ResolvedRoughness() : 1.0f;
-  for (int i = 0; bins_ && i < leaf_count_; ++i) {
-    if (size_t(i) >= brdf.size() || !Directional(brdf[size_t(i)])) continue;
+  // Past kMaxGlossyWork with one light the direct pass never runs: no
+  // slots are kept (their bins would be most of the solver's memory).
+  const auto directional = [&](int i) {
+    return size_t(i) < brdf.size() && Directional(brdf[size_t(i)]);
+  };
+  double directional_leaves = 0.0;
+  for (int i = 0; bins_ && i < leaf_count_; ++i) directional_leaves += directional(i) ? 1.0 : 0.0;
+  glossy_found_ = int(directional_leaves);
+  glossy_over_cap_ = bins_ && directional_leaves * bins_->count() > kMaxGlossyWork;
+  for (int i = 0; bins_ && !glossy_over_cap_ && i < leaf_count_; ++i) {
+    if (!directional(i)) continue;
     const shading::Brdf& b = brdf[size_t(i)];
     node_slot[size_t(i)] = int(slot_node_.size());
     slot_node_.push_back(i);
@@ -179,7 +183,12 @@ std::vector<int> Illumination::UploadGlossy(const hierarchy::Elements& e,
   glossy_nodes_ = gl::StorageBuffer(nodes.empty() ? std::vector<GpuGlossyNode>(1) : nodes);
   glossy_elements_ =
       gl::StorageBuffer(elements.empty() ? std::vector<GlossyBinElement>(1) : elements);
-  glossy_radiance_ = gl::ZeroedBuffer(std::max<size_t>(1, slots * m) * sizeof(glm::vec4));
+  // Kept across geometry changes of the same slots: every use refills it.
+  const size_t radiance_bytes = std::max<size_t>(1, slots * m) * sizeof(glm::vec4);
+  if (!glossy_radiance_ || glossy_radiance_bytes_ != radiance_bytes) {
+    glossy_radiance_ = gl::ZeroedBuffer(radiance_bytes);
+    glossy_radiance_bytes_ = radiance_bytes;
+  }
   glossy_bytes_ = slots * GlossySlotBytes(int(m)) + size_t(node_count_) * sizeof(int);
   return node_slot;
 }
@@ -294,7 +303,7 @@ bool Illumination::DirectAtLeaves(const DirectLighting& lighting) {
   glDispatchCompute(gl::GroupCount(size_t(leaf_count_), 64), 1, 1);
   glMemoryBarrier(kBarrier);
   Pull(radiance_[0].id());
-  return glossy_leaves_ == 0 || glossy_on_;
+  return !glossy_over_cap_ && (glossy_leaves_ == 0 || glossy_on_);
 }
 
 Illumination::Result Illumination::Run(const DirectLighting& lighting, int max_bounces,

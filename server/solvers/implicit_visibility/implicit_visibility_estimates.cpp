@@ -39,11 +39,15 @@ MemoryEstimate ImplicitVisibilitySolver::EstimateMemory(const ParamSet& params,
   estimate.items.push_back({"", absl::StrCat("links and elements of ", nodes, " elements"),
                             nodes * (16 * 16 + 96), nodes * (16 * 16 + 96)});
   // Glossy elements' directional bins (illumination.h): at most every
-  // element a slot.
+  // element a slot, and no more leaves than kMaxGlossyWork / bins (twice
+  // as many slots with the nodes above them).
   if (params.GetBool("glossy") && HasGlossyMaterial(state)) {
-    const uint64_t bytes = nodes * Illumination::GlossySlotBytes(params.GetInt("glossy_bins"));
+    const int glossy_bins = std::max(1, params.GetInt("glossy_bins"));
+    const uint64_t slots =
+        std::min<uint64_t>(nodes, 2 * uint64_t(Illumination::kMaxGlossyWork / double(glossy_bins)));
+    const uint64_t bytes = slots * Illumination::GlossySlotBytes(glossy_bins);
     estimate.items.push_back({"glossy_bins",
-                              absl::StrCat("directional bins of up to ", nodes, " glossy elements"),
+                              absl::StrCat("directional bins of up to ", slots, " glossy elements"),
                               0, bytes});
   }
   estimate.items.push_back(DirectLightingMemory(params, state, gpu));
