@@ -4,7 +4,9 @@
 #   build-sanitize/  AddressSanitizer + UndefinedBehaviorSanitizer, libFuzzer
 #                    coverage on the libraries the fuzz targets reach
 #                    (GISTREAM_SANITIZE=ON GISTREAM_FUZZ=ON)
-#   build-tsan/      ThreadSanitizer (GISTREAM_TSAN=ON), `thread_tests` only
+#   build-tsan/      ThreadSanitizer (GISTREAM_TSAN=ON), `thread_tests` and
+#                    `thread_engine_tests` only, the solvers `direct` and
+#                    `implicit_visibility` only (GISTREAM_SOLVERS)
 # Steps, each timed:
 #   1. unit, client, service and reliability tests under ASan + UBSan, and
 #      the GL suites that drive the engine and every solver through a frame
@@ -12,9 +14,12 @@
 #      the long numeric and reference suites run in `make test` only), the
 #      five binaries JOBS at a time. Any report fails the run; LeakSanitizer ignores Mesa's and
 #      the driver's own allocations (tests/fuzz/lsan.supp).
-#   2. thread_tests under ThreadSanitizer: the session reactor's frame slot,
-#      the service's worker pool and the CPU pool (tests/CMakeLists.txt
-#      says why the gRPC-driven tests and the real engine are not there).
+#   2. ThreadSanitizer: thread_tests (the session reactor's frame slot, the
+#      service's worker pool, the CPU pool), then thread_engine_tests (the
+#      real engine on EGL with client threads, background jobs, loads and
+#      unloads at once; $TSAN_ENGINE_SUITES) beside step 3: the fuzzers run
+#      for a fixed time, so sharing the cores with them costs no wall time
+#      (tests/CMakeLists.txt says why the gRPC-driven tests are not there).
 #   3. each fuzz target (JOBS at a time) for FUZZ_SECONDS (default 30) from its seed corpus
 #      (tests/fuzz/corpus/<target>/, read-only; new inputs go to
 #      build-sanitize/fuzz/corpus/<target>/, crashes to
@@ -157,13 +162,23 @@ step "tests under ASan + UBSan"
 python3 scripts/test_times.py "$BUILD_DIR" 10 || true
 
 # ---------------------------------------------------------------- TSan
-configure "$TSAN_BUILD_DIR" -DGISTREAM_TSAN=ON
-cmake --build "$TSAN_BUILD_DIR" -j "$JOBS" --target thread_tests
+configure "$TSAN_BUILD_DIR" -DGISTREAM_TSAN=ON "-DGISTREAM_SOLVERS=direct;implicit_visibility"
+cmake --build "$TSAN_BUILD_DIR" -j "$JOBS" --target thread_tests thread_engine_tests
 step "TSan build"
+export TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/tsan.supp}
 echo "ci-sanitizers: thread_tests under ThreadSanitizer"
-TSAN_OPTIONS=${TSAN_OPTIONS:-halt_on_error=1:second_deadlock_stack=1:suppressions=$PWD/tests/tsan.supp} \
-  "$TSAN_BUILD_DIR/tests/thread_tests" --gtest_brief=1
+"$TSAN_BUILD_DIR/tests/thread_tests" --gtest_brief=1
 step "thread_tests under TSan"
+# The engine under TSan (about 70 s alone, 2026-12-06): the suites whose
+# threads meet (clients, the render thread, the CPU pool's background
+# relinks, loads racing unloads); EngineRest's per-solver cases wait out
+# seconds of keep-alives and add nothing ConcurrentClients does not.
+TSAN_ENGINE_SUITES=${TSAN_ENGINE_SUITES:-'ConcurrentClients.*:EngineStagesTest.*:EngineSolverCache.*:EngineRestShared.*:BackgroundRelink.LinksAre*:BackgroundRelink.ARender*:LoadUnloadRace.*'}
+tsan_engine_log=$TSAN_BUILD_DIR/thread_engine_tests.log
+tsan_engine_start=$(date +%s)
+"$TSAN_BUILD_DIR/tests/thread_engine_tests" --gtest_brief=1 --gtest_filter="$TSAN_ENGINE_SUITES" \
+  >"$tsan_engine_log" 2>&1 &
+tsan_engine_pid=$!
 
 # ---------------------------------------------------------------- fuzzing
 mkdir -p "$BUILD_DIR/fuzz/artifacts"
@@ -182,7 +197,18 @@ run_fuzzer() {  # target name
   [ $rc -eq 0 ] || echo "ci-sanitizers: ${f}_fuzzer failed" >&2
   return $rc
 }
-# Each fuzzer is one thread: JOBS run at once.
-run_lanes run_fuzzer gltf_import image_decode update script
+# Each fuzzer is one thread: JOBS run at once (beside the TSan engine run).
+fuzz_rc=0
+run_lanes run_fuzzer gltf_import image_decode update script || fuzz_rc=$?
 step "fuzzing"
+tsan_engine_rc=0
+wait "$tsan_engine_pid" || tsan_engine_rc=$?
+echo "ci-sanitizers: thread_engine_tests under ThreadSanitizer (exit $tsan_engine_rc," \
+  "$(($(date +%s) - tsan_engine_start)) s from its start):"
+cat "$tsan_engine_log"
+step "thread_engine_tests under TSan (after fuzzing)"
 echo "ci-sanitizers: total $(($(date +%s) - total_start)) s"
+if [ $fuzz_rc -ne 0 ] || [ $tsan_engine_rc -ne 0 ]; then
+  echo "ci-sanitizers: fuzzing exit $fuzz_rc, thread_engine_tests exit $tsan_engine_rc" >&2
+  exit 1
+fi
