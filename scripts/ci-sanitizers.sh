@@ -17,9 +17,11 @@
 #   2. ThreadSanitizer: thread_tests (the session reactor's frame slot, the
 #      service's worker pool, the CPU pool), then thread_engine_tests (the
 #      real engine on EGL with client threads, background jobs, loads and
-#      unloads at once; $TSAN_ENGINE_SUITES) beside step 3: the fuzzers run
-#      for a fixed time, so sharing the cores with them costs no wall time
-#      (tests/CMakeLists.txt says why the gRPC-driven tests are not there).
+#      unloads at once; $TSAN_ENGINE_SUITES) beside step 3, in one of its
+#      JOBS lanes (run_lanes counts it among the shell's jobs): on 2 cores
+#      the four 30-s fuzzers then run one at a time beside it, and both end
+#      after about 130 s (tests/CMakeLists.txt says why the gRPC-driven
+#      tests are not there).
 #   3. each fuzz target (JOBS at a time) for FUZZ_SECONDS (default 30) from its seed corpus
 #      (tests/fuzz/corpus/<target>/, read-only; new inputs go to
 #      build-sanitize/fuzz/corpus/<target>/, crashes to
@@ -197,7 +199,7 @@ run_fuzzer() {  # target name
   [ $rc -eq 0 ] || echo "ci-sanitizers: ${f}_fuzzer failed" >&2
   return $rc
 }
-# Each fuzzer is one thread: JOBS run at once (beside the TSan engine run).
+# Each fuzzer is one thread: JOBS run at once, the TSan engine run one of them.
 fuzz_rc=0
 run_lanes run_fuzzer gltf_import image_decode update script || fuzz_rc=$?
 step "fuzzing"
