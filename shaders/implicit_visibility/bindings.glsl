@@ -33,6 +33,9 @@
 #define IV_GATHER_GLOSSY_NODES 10
 #define IV_GATHER_GLOSSY_RADIANCE 11
 #define IV_GATHER_BIN_LUT 13
+// ... and each link's receiver bin (two per uint) and the bins' directions.
+#define IV_GATHER_LINK_BINS 14
+#define IV_GATHER_RECEIVER_BINS 15
 
 // glossy_pull.comp.glsl: the glossy nodes' radiance per bin, area-averaged
 // up the tree (the direct light's, once per illumination).

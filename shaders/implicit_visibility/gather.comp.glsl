@@ -29,7 +29,7 @@ void main() {
   for (uint k = offsets[i]; k < offsets[i + 1]; ++k) {
     uvec2 link = links[k];
     vec3 l = radiance_in[link.x].rgb;
-    if (uGlossyBins > 0) l += GlossyToward(int(link.x), leaf.position.xyz);
+    if (uGlossyBins > 0) l += GlossyToward(int(link.x), k);
     e += uintBitsToFloat(link.y) * l;
   }
   e = FiniteOrZero(e);

@@ -14,6 +14,8 @@ layout(std430, binding = IV_GATHER_NODE_SLOTS) readonly buffer NodeSlots { int n
 layout(std430, binding = IV_GATHER_GLOSSY_NODES) readonly buffer GlossyNodes { GlossyNode glossy_nodes[]; };
 layout(std430, binding = IV_GATHER_GLOSSY_RADIANCE) readonly buffer GlossyRadiance { vec4 glossy_radiance[]; };
 layout(std430, binding = IV_GATHER_BIN_LUT) readonly buffer BinLut { uint bin_lut[]; };
+layout(std430, binding = IV_GATHER_LINK_BINS) readonly buffer LinkBins { uint link_bins[]; };
+layout(std430, binding = IV_GATHER_RECEIVER_BINS) readonly buffer ReceiverBins { vec4 receiver_bins[]; };
 uniform int uGlossyBins;  // 0: no glossy elements
 uniform int uLutRes;
 
@@ -35,19 +37,21 @@ int GlossyBin(vec3 d) {
   return int(bin_lut[(face * uLutRes + y) * uLutRes + x]);
 }
 
-// The glossy radiance node `node` sends toward point p (zero for a node
-// without a slot). A direction within a few degrees of the node's horizon
-// is lifted above it: the bins below the horizon hold nothing, and a
-// receiver seen at grazing angles would otherwise get no glossy light.
+// The glossy radiance node `node` sends toward the receiver of link k:
+// along the receiver's bin that link fills, reversed (the direction from
+// the part of the source that bin sees; a near source spread over several
+// of the receiver's bins is looked up toward each part, not from its
+// centre alone). Zero for a node without a slot. A direction within a few
+// degrees of the node's horizon is lifted above it: the bins below the
+// horizon hold nothing, and a receiver seen at grazing angles would
+// otherwise get no glossy light.
 const float kGlossyHorizon = 0.1;
-vec3 GlossyToward(int node, vec3 p) {
+vec3 GlossyToward(int node, uint k) {
   int s = node_slot[node];
   if (s < 0) return vec3(0.0);
   GlossyNode g = glossy_nodes[s];
-  vec3 d = p - g.position.xyz;
-  float len = length(d);
-  if (!(len > 0.0)) return vec3(0.0);
-  d /= len;
+  uint bin = (link_bins[k >> 1] >> (16u * (k & 1u))) & 0xffffu;
+  vec3 d = -receiver_bins[bin].xyz;
   float c = dot(d, g.normal.xyz);
   if (c < kGlossyHorizon) d = normalize(d + (kGlossyHorizon - c) * g.normal.xyz);
   return glossy_radiance[s * uGlossyBins + GlossyBin(d)].rgb;

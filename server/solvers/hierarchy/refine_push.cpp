@@ -47,6 +47,7 @@ std::vector<std::array<int, 4>> BinNeighbours(const CubeBins& bins) {
 struct Row {
   std::vector<uint32_t> source;
   std::vector<float> weight;
+  std::vector<uint16_t> bin;
   std::vector<uint16_t> env_bin;
   std::vector<float> env_weight;
   uint64_t blocked = 0, empty = 0;
@@ -171,12 +172,14 @@ class LeafBins {
         if (behind >= 0 && Faces(behind)) {
           row.source.push_back(uint32_t(behind));
           row.weight.push_back(quadrature * cover * (1.0f - front_share));
+          row.bin.push_back(uint16_t(b));
         }
         if (Faces(src)) {
           const float w = quadrature * cover * front_share;
           if (w > 0.0f) {
             row.source.push_back(uint32_t(src));
             row.weight.push_back(w);
+            row.bin.push_back(uint16_t(b));
           }
         } else {
           ++row.blocked;
@@ -271,6 +274,7 @@ LeafLinks Flatten(const std::vector<Row>& rows, bool environment, RefineStats* s
   }
   out.source.resize(out.offset.back());
   out.weight.resize(out.offset.back());
+  out.bin.resize(out.offset.back());
   if (environment) {
     out.env_bin.resize(out.env_offset.back());
     out.env_weight.resize(out.env_offset.back());
@@ -278,6 +282,7 @@ LeafLinks Flatten(const std::vector<Row>& rows, bool environment, RefineStats* s
   ParallelFor(leaves, 64, [&](size_t i) {
     std::copy(rows[i].source.begin(), rows[i].source.end(), out.source.begin() + out.offset[i]);
     std::copy(rows[i].weight.begin(), rows[i].weight.end(), out.weight.begin() + out.offset[i]);
+    std::copy(rows[i].bin.begin(), rows[i].bin.end(), out.bin.begin() + out.offset[i]);
     if (environment) {
       std::copy(rows[i].env_bin.begin(), rows[i].env_bin.end(),
                 out.env_bin.begin() + out.env_offset[i]);

@@ -19,6 +19,7 @@ struct LeafLinks {
   std::vector<uint32_t> offset;  // leaf_count + 1
   std::vector<uint32_t> source;  // node ids
   std::vector<float> weight;     // sr: normalized cosine x covered solid angle
+  std::vector<uint16_t> bin;     // the receiver's bin the link fills (CubeBins)
   // Open (uncovered) solid angle per bin, for the environment (Section 4.4):
   // leaf i sees the environment in env_bin[k] with weight env_weight[k],
   // k in [env_offset[i], env_offset[i+1]). Empty unless requested.

@@ -111,7 +111,7 @@ void Illumination::UploadElements(const hierarchy::Elements& e,
   gpu_bytes_ = element_bytes_ + link_bytes_;
 }
 
-void Illumination::UploadLinks(const hierarchy::LeafLinks& links) {
+void Illumination::UploadLinks(const hierarchy::LeafLinks& links, const hierarchy::CubeBins& bins) {
   std::vector<glm::uvec2> packed(links.source.size());
   for (size_t k = 0; k < packed.size(); ++k) {
     uint32_t bits;
@@ -120,7 +120,15 @@ void Illumination::UploadLinks(const hierarchy::LeafLinks& links) {
   }
   offsets_ = gl::StorageBuffer(links.offset);
   links_ = gl::StorageBuffer(packed);
-  link_bytes_ = packed.size() * sizeof(glm::uvec2) + links.offset.size() * sizeof(uint32_t);
+  std::vector<uint32_t> link_bins((links.bin.size() + 1) / 2 + 1, 0u);
+  for (size_t k = 0; k < links.bin.size(); ++k)
+    link_bins[k / 2] |= uint32_t(links.bin[k]) << (16 * (k % 2));
+  link_bins_ = gl::StorageBuffer(link_bins);
+  std::vector<glm::vec4> directions(size_t(bins.count()));
+  for (int b = 0; b < bins.count(); ++b) directions[size_t(b)] = glm::vec4(bins.Direction(b), 0.0f);
+  receiver_bins_ = gl::StorageBuffer(directions);
+  link_bytes_ = packed.size() * sizeof(glm::uvec2) + links.offset.size() * sizeof(uint32_t) +
+                link_bins.size() * sizeof(uint32_t);
   gpu_bytes_ = element_bytes_ + link_bytes_;
 }
 
@@ -230,6 +238,8 @@ void Illumination::BindGlossy() {
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_GLOSSY_RADIANCE, glossy_radiance_.id());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_BIN_LUT,
                    bin_lut_ ? bin_lut_.id() : node_slots_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_LINK_BINS, link_bins_.id());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, IV_GATHER_RECEIVER_BINS, receiver_bins_.id());
   gather_.Set("uGlossyBins", glossy_on_ ? bins_->count() : 0);
   gather_.Set("uLutRes", bins_ ? bins_->lut_res() : 1);
 }

@@ -21,6 +21,7 @@
 #include "gl/program.h"
 #include "render/direct_lighting.h"
 #include "render/glossy_bin_direct.h"
+#include "solvers/hierarchy/cube_bins.h"
 #include "solvers/hierarchy/directional_bins.h"
 #include "solvers/hierarchy/elements.h"
 #include "solvers/hierarchy/links.h"
@@ -40,8 +41,10 @@ class Illumination {
   // after update_elements or a material change.
   void UploadElements(const hierarchy::Elements& elements, const std::vector<glm::vec3>& albedo,
                       const std::vector<shading::Brdf>& brdf);
-  // Uploads the leaves' links; after refine_push.
-  void UploadLinks(const hierarchy::LeafLinks& links);
+  // Uploads the leaves' links and the directions of `bins`, the receivers'
+  // bins they fill (a glossy source is looked up toward the receiver along
+  // its link's bin); after refine_push.
+  void UploadLinks(const hierarchy::LeafLinks& links, const hierarchy::CubeBins& bins);
   // Environment irradiance through each leaf's open bins (zero: none).
   void UploadEnvironment(const std::vector<glm::vec3>& e_env);
 
@@ -121,9 +124,10 @@ class Illumination {
   std::optional<GlossyBinDirect> glossy_direct_;
   gl::Buffer bin_directions_, bin_lut_;
   gl::Buffer node_slots_, slot_nodes_, glossy_nodes_, glossy_elements_, glossy_radiance_;
-  std::vector<int> slot_node_;           // per slot: its node (leaves' slots first)
-  std::vector<int> glossy_level_begin_;  // internal slots of height h: [begin[h-1], begin[h])
-  int glossy_leaves_ = 0;                // with slots
+  gl::Buffer link_bins_, receiver_bins_;  // per link its bin, two per uint; bin directions
+  std::vector<int> slot_node_;            // per slot: its node (leaves' slots first)
+  std::vector<int> glossy_level_begin_;   // internal slots of height h: [begin[h-1], begin[h])
+  int glossy_leaves_ = 0;                 // with slots
   int glossy_found_ = 0;
   bool glossy_over_cap_ = false;  // glossy leaves x bins alone pass the cap: no slots
   bool glossy_on_ = false;        // this illumination's glossy bins are filled

@@ -149,7 +149,7 @@ bool ImplicitVisibilitySolver::FinishRelink(SolverContext& ctx) {
   links_version_ = job->version;
   // The job's CPU time is reported in the frame that takes its links.
   job->times.RecordInto(ctx.timer);
-  illumination_.UploadLinks(leaf_links_);
+  illumination_.UploadLinks(leaf_links_, bins_);
   if (relink_.again()) {
     // The same element layout passed the bin-memory check already.
     StartRelink(ctx).IgnoreError();
