@@ -30,17 +30,30 @@ glm::vec3 MidNormal(const glm::vec3& a, const glm::vec3& b) {
 }  // namespace
 
 Primitive SubdivideLongEdges(const Primitive& primitive, float max_edge, Midpoints* midpoints) {
+  if (!(max_edge > 0.0f) || !std::isfinite(max_edge)) {
+    if (midpoints) midpoints->clear();
+    return primitive;
+  }
+  const float limit2 = max_edge * max_edge;
+  return SubdivideEdges(
+      primitive,
+      [limit2](const glm::vec3& a, const glm::vec3& b) {
+        const glm::vec3 d = a - b;
+        return glm::dot(d, d) > limit2;
+      },
+      midpoints);
+}
+
+Primitive SubdivideEdges(const Primitive& primitive, const EdgeTest& edge_too_long,
+                         Midpoints* midpoints) {
   if (midpoints) midpoints->clear();
   Primitive out = primitive;
-  if (!(max_edge > 0.0f) || !std::isfinite(max_edge)) return out;
-  const float limit2 = max_edge * max_edge;
   const bool has_normals = out.normals.size() == out.positions.size();
   const bool has_uvs = out.uvs.size() == out.positions.size();
   for (int pass = 0; pass < kMaxPasses; ++pass) {
     const size_t n = out.positions.size();
     auto too_long = [&](uint32_t a, uint32_t b) {
-      const glm::vec3 d = out.positions[a] - out.positions[b];
-      return glm::dot(d, d) > limit2;
+      return edge_too_long(out.positions[a], out.positions[b]);
     };
     // One midpoint per long edge, shared by the triangles on both sides.
     std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoint;

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -33,6 +34,13 @@ using Midpoints = std::vector<std::array<uint32_t, 2>>;
 // When `midpoints` is given, the added vertices' parents go there.
 Primitive SubdivideLongEdges(const Primitive& primitive, float max_edge,
                              Midpoints* midpoints = nullptr);
+
+// The same with the test of an edge given: `too_long(a, b)` (positions in
+// the primitive's space) says whether edge (a, b) is split. A test that
+// depends on the edge alone keeps the mesh free of T-junctions.
+using EdgeTest = std::function<bool(const glm::vec3&, const glm::vec3&)>;
+Primitive SubdivideEdges(const Primitive& primitive, const EdgeTest& too_long,
+                         Midpoints* midpoints = nullptr);
 
 // The same subdivision repeated on another pose of the same mesh (a
 // deformed `primitive`: same vertices and indices, other positions and
