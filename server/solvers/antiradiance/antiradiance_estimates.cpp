@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "solvers/antiradiance/antiradiance_solver.h"
+#include "solvers/antiradiance/near_field.h"
 #include "solvers/antiradiance/scene_patches.h"
 #include "solvers/hierarchy/subdivide.h"
 
@@ -23,7 +24,9 @@ Leaves CountLeaves(const ParamSet& params, const SceneState& state, const GpuSce
     // after long edges are split (hierarchy/subdivide.h), twice on a
     // doubleSided material (its back faces, antiradiance/patches.h).
     leaves = hierarchy::SubdividedVertexBound(state, gpu, params.GetBool("full_detail"),
-                                              /*double_sided_twice=*/true);
+                                              /*double_sided_twice=*/true) +
+             // Refined near double-sided emitters (antiradiance/near_field.h).
+             antiradiance::NearFieldVertexBound(state, gpu, params.GetBool("full_detail"));
     driver = "bins";
   } else {
     // Counted, not split: a tiny patch_size makes up to 4^12 leaves per

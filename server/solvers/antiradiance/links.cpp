@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <span>
+#include <tuple>
 
 #include "util/cancellation.h"
 #include "util/parallel_for.h"
@@ -20,6 +21,9 @@ constexpr float kNearLink = 8.0f;
 // averaged over both nodes' sigma points (SigmaPoints); closer (leaves
 // without cells only), the disc kernel r^2 + a / pi keeps it finite.
 constexpr float kSigmaLink = 2.0f;
+// A near sender's cell quads are cut at most this many times per side
+// (AddNearLinks).
+constexpr int kMaxNearSplit = 16;
 
 // A node's area as a few weighted points with its centroid and second
 // moment (the sigma points of its area distribution): c +- sqrt(n) L_k for
@@ -217,6 +221,10 @@ class Linker {
   // solid angle: w the unit direction from receiver to sender, r their
   // distance, ts the sender's half-angle.
   void AddLink(int recv, int send, const glm::vec3& w, float r, float ts) {
+    if (NearLeaves(recv, send, r) && ts > bin_radius_) {
+      AddNearLinks(recv, send, ts);
+      return;
+    }
     Link l;
     l.sender = uint32_t(send);
     l.receiver = uint32_t(recv);
@@ -269,26 +277,120 @@ class Linker {
     return ends.gathered > 1e-6f;
   }
 
+  // Leaves close enough for the exact form factor of the sender's cell.
+  bool NearLeaves(int recv, int send, float r) const {
+    return p_.is_leaf(recv) && p_.is_leaf(send) && !p_.Cell(send).empty() &&
+           r < kNearLink * (p_.radius[size_t(send)] + p_.radius[size_t(recv)]);
+  }
+
+  // A near sender wider than a bin, seen from the receiver (a ceiling leaf
+  // a centimetre above a lamp spans most of its hemisphere): one link per
+  // piece of its cell, each with its own bins toward that piece and its
+  // exact form factor, so the light it sends and the antiradiance that
+  // cancels it leave over the directions the sender covers, not along its
+  // centre's bin alone (the pieces' form factors sum to the cell's). Each
+  // cell quad is cut n x n, n from the sender's angular size in bins; links
+  // that land in the same bins merge.
+  void AddNearLinks(int recv, int send, float ts) {
+    const int n = std::clamp(int(std::ceil(ts / bin_radius_)), 1, kMaxNearSplit);
+    const glm::vec3 x = p_.position[size_t(recv)];
+    const size_t first = out_.size();
+    for (const CellQuad& q : p_.Cell(send)) {
+      for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) {
+          const CellQuad piece = SubQuad(q, n, i, j);
+          const glm::vec3 c = 0.25f * (piece[0] + piece[1] + piece[2] + piece[3]);
+          const float r = glm::length(c - x);
+          if (!(r > 0.0f)) continue;
+          float piece_radius = 0.0f;
+          for (const glm::vec3& v : piece)
+            piece_radius = std::max(piece_radius, glm::length(v - c));
+          AddPieceLink(recv, send, (c - x) / r,
+                       piece_radius >= r ? 1.5707963f : std::asin(piece_radius / r),
+                       std::span<const CellQuad>(&piece, 1));
+        }
+      }
+    }
+    MergeSameBins(first);
+  }
+
+  // One piece's link: AddLink's exact branch with the piece's form factor.
+  void AddPieceLink(int recv, int send, const glm::vec3& w, float ts,
+                    std::span<const CellQuad> piece) {
+    Link l;
+    l.sender = uint32_t(send);
+    l.receiver = uint32_t(recv);
+    l.sender_bin = uint16_t(bins_.Find(-w));
+    l.receiver_bin = uint16_t(bins_.Find(w));
+    l.cone = uint16_t(bins_.ConeLevel(ts));
+    LinkEnds ends;
+    if (!OrientSender(send, w, l, ends) || !OrientReceiver(recv, w, l, ends)) return;
+    const double f =
+        PointToQuadsFormFactor(piece, p_.position[size_t(recv)], p_.normal[size_t(recv)]);
+    const double k = ExactFactor(recv, send, w, f, ends);
+    if (!(k > 0.0) || !std::isfinite(k)) return;
+    l.form_factor = float(k);
+    out_.push_back(l);
+  }
+
+  // Links out_[first...] with the same bins and cone carry the same ends'
+  // cosines: one link with their summed factors. Counted once each.
+  void MergeSameBins(size_t first) {
+    auto begin = out_.begin() + std::ptrdiff_t(first);
+    const auto key = [](const Link& l) { return std::tuple(l.sender_bin, l.receiver_bin, l.cone); };
+    std::sort(begin, out_.end(), [&](const Link& a, const Link& b) { return key(a) < key(b); });
+    size_t kept = first;
+    for (size_t k = first; k < out_.size(); ++k) {
+      if (kept > first && key(out_[kept - 1]) == key(out_[k])) {
+        out_[kept - 1].form_factor += out_[k].form_factor;
+      } else {
+        out_[kept++] = out_[k];
+      }
+    }
+    out_.resize(kept);
+    if (kept > first) {
+      ++exact_;
+      if (std::any_of(out_.begin() + std::ptrdiff_t(first), out_.end(),
+                      [](const Link& l) { return l.cone > 0; }))
+        ++spread_;
+    }
+  }
+
+  // Corner quad (i, j) of quad q cut n x n (bilinear; a planar convex quad
+  // gives planar convex pieces).
+  static CellQuad SubQuad(const CellQuad& q, int n, int i, int j) {
+    const auto at = [&](int a, int b) {
+      const float u = float(a) / float(n), v = float(b) / float(n);
+      return (1 - u) * (1 - v) * q[0] + u * (1 - v) * q[1] + u * v * q[2] + (1 - u) * v * q[3];
+    };
+    return {at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)};
+  }
+
+  // The exact branch's factor for form factor f of (part of) the sender's
+  // cell: the receiver gathers E = pi L f. The global pass gives
+  // E = (pi / S_r) omega_bin gathered F I_ex with I_ex = a |c_bin| B / S_s
+  // (radiance, L = B / pi) or a |c_bin| L (antiradiance).
+  double ExactFactor(int recv, int send, const glm::vec3& w, double f, const LinkEnds& ends) const {
+    const bool radiance = glm::dot(p_.normal[size_t(send)], -w) > 0.0f;
+    double k =
+        f * geometry_.cosine_sum[size_t(recv)] /
+        (double(bins_.omega_bin()) * ends.gathered * p_.area[size_t(send)] * ends.sender_bin_cos);
+    if (radiance) k *= geometry_.cosine_sum[size_t(send)] / kPi;
+    return k;
+  }
+
   // The link's transfer factor; *exact when it is a near pair's exact
   // form factor.
   double LinkFormFactor(int recv, int send, const glm::vec3& w, float r, const LinkEnds& ends,
                         bool* exact) const {
     const float rs = p_.radius[size_t(send)], rr = p_.radius[size_t(recv)];
     const std::span<const CellQuad> cell = p_.Cell(send);
-    if (p_.is_leaf(recv) && p_.is_leaf(send) && !cell.empty() && r < kNearLink * (rs + rr)) {
-      // Near leaves: the exact form factor F_pt of the sender's cell, so the
-      // receiver gathers E = pi L F_pt. The global pass gives
-      // E = (pi / S_r) omega_bin gathered F I_ex with I_ex = a |c_bin| B / S_s
-      // (radiance, L = B / pi) or a |c_bin| L (antiradiance).
-      const glm::vec3& nr = p_.normal[size_t(recv)];
-      const double f = PointToQuadsFormFactor(cell, p_.position[size_t(recv)], nr);
-      const bool radiance = glm::dot(p_.normal[size_t(send)], -w) > 0.0f;
-      double k =
-          f * geometry_.cosine_sum[size_t(recv)] /
-          (double(bins_.omega_bin()) * ends.gathered * p_.area[size_t(send)] * ends.sender_bin_cos);
-      if (radiance) k *= geometry_.cosine_sum[size_t(send)] / kPi;
+    if (NearLeaves(recv, send, r)) {
+      // Near leaves: the exact form factor F_pt of the sender's cell.
+      const double f =
+          PointToQuadsFormFactor(cell, p_.position[size_t(recv)], p_.normal[size_t(recv)]);
       *exact = true;
-      return k;
+      return ExactFactor(recv, send, w, f, ends);
     }
     double k;
     if (r > kSigmaLink * (rs + rr)) {

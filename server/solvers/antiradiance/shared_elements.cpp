@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <memory>
 #include <utility>
 
+#include "solvers/antiradiance/near_field.h"
 #include "solvers/antiradiance/scene_patches.h"
 #include "solvers/hierarchy/element_source.h"
 #include "solvers/hierarchy/element_tree.h"
@@ -78,33 +80,64 @@ std::vector<std::vector<CellQuad>> VertexCells(const Primitive& primitive) {
   return cells;
 }
 
+// Long edges subdivided to the scene-sized limit `max_edge`
+// (hierarchy/subdivide.h), of proxy level `level` when >= 0 (the coarsest
+// within a tenth of it, hierarchy/element_source.h), and near a
+// double-sided emitter to its distance (near_field.h); then surfels, their
+// hierarchy and cells.
+SurfelMesh BuildSurfelMesh(const Primitive& full, int level, float max_edge,
+                           const NearFieldLimit& near) {
+  Primitive proxy;
+  if (level >= 0) proxy = hierarchy::ProxyLevelMesh(full, level);
+  const Primitive& source = level < 0 ? full : proxy;
+  const float limit2 = max_edge > 0.0f && std::isfinite(max_edge)
+                           ? max_edge * max_edge
+                           : std::numeric_limits<float>::infinity();
+  const Primitive subdivided =
+      hierarchy::SubdivideEdges(source, [&near, limit2](const glm::vec3& a, const glm::vec3& b) {
+        const glm::vec3 e = a - b;
+        return glm::dot(e, e) > limit2 || (!near.empty() && near.TooLong(a, b));
+      });
+  auto mesh = std::make_shared<hierarchy::ElementMesh>();
+  mesh->surfels = hierarchy::CreateSurfels(subdivided);
+  mesh->tree = hierarchy::CreateHierarchy(mesh->surfels);
+  SurfelMesh out;
+  out.cells = VertexCells(subdivided);
+  out.elements = std::move(mesh);
+  return out;
+}
+
 Patches SurfelPatches(const SceneState& state, const GpuScene& gpu, SurfelCache& meshes,
                       bool full_detail) {
   std::vector<hierarchy::ElementInstance> instances;
   std::vector<glm::mat4> world;
   std::vector<int> materials;
   std::vector<const std::vector<std::vector<CellQuad>>*> cells_of_instance;
+  // Each cache key's instances, for the near-field test (near_field.h).
+  const auto key_of = [&state](const DrawItem& d) {
+    return std::pair(state.Deforms(size_t(d.node)) ? -1 - d.node : d.mesh, d.primitive);
+  };
+  std::map<std::pair<int, int>, std::vector<glm::mat4>> placements;
+  for (const DrawItem& d : gpu.draws())
+    placements[key_of(d)].push_back(state.world()[size_t(d.node)]);
+  const std::vector<NearSheet> sheets = DoubleSidedEmitters(state, gpu);
+  const Bounds bounds = gpu.WorldBounds(state);
+  const float world_max_edge =
+      bounds.empty() ? 0.0f : hierarchy::kMaxElementEdge * glm::length(bounds.extent());
   for (const DrawItem& d : gpu.draws()) {
     // A deforming instance's surfels follow its posed mesh: its own entry,
     // rebuilt every time.
     const bool deforms = state.Deforms(size_t(d.node));
-    SurfelMesh& cached = meshes[{deforms ? -1 - d.node : d.mesh, d.primitive}];
-    if (!cached.elements || deforms) {
-      auto mesh = std::make_shared<hierarchy::ElementMesh>();
-      // Long edges subdivided to the scene-sized limit (hierarchy/subdivide.h),
-      // of the coarsest proxy level within a tenth of it when there is one
-      // (hierarchy/element_source.h; deforming primitives have none).
-      const Primitive& full = state.NodeMesh(size_t(d.node)).primitives[size_t(d.primitive)];
+    SurfelMesh& cached = meshes[key_of(d)];
+    const Primitive& full = state.NodeMesh(size_t(d.node)).primitives[size_t(d.primitive)];
+    const NearFieldLimit near(sheets, d.mesh, d.primitive, full.bounds, placements[key_of(d)],
+                              world_max_edge);
+    std::vector<float> near_key = near.Key();
+    if (!cached.elements || deforms || cached.near_key != near_key) {
       const float max_edge = hierarchy::LocalMaxEdge(state, gpu, d.mesh, d.primitive);
       const int level = hierarchy::ElementLevel(full, max_edge, full_detail || deforms);
-      const Primitive subdivided =
-          level < 0
-              ? hierarchy::SubdivideLongEdges(full, max_edge)
-              : hierarchy::SubdivideLongEdges(hierarchy::ProxyLevelMesh(full, level), max_edge);
-      mesh->surfels = hierarchy::CreateSurfels(subdivided);
-      mesh->tree = hierarchy::CreateHierarchy(mesh->surfels);
-      cached.cells = VertexCells(subdivided);
-      cached.elements = std::move(mesh);
+      cached = BuildSurfelMesh(full, level, max_edge, near);
+      cached.near_key = std::move(near_key);
     }
     instances.push_back({cached.elements, 0, {}});
     cells_of_instance.push_back(&cached.cells);

@@ -30,9 +30,13 @@ std::vector<std::vector<CellQuad>> VertexCells(const Primitive& primitive);
 
 // Per-mesh preprocessing kept between calls (meshes never change, only
 // their placement): the shared hierarchy and the surfels' cells.
+// A primitive near a double-sided emitter is refined around it
+// (near_field.h), which depends on where both are: `near_key` holds what
+// its refinement was made for (empty: none).
 struct SurfelMesh {
   std::shared_ptr<hierarchy::ElementMesh> elements;
   std::vector<std::vector<CellQuad>> cells;  // local space, per vertex
+  std::vector<float> near_key;
 };
 using SurfelCache = std::map<std::pair<int, int>, SurfelMesh>;
 
