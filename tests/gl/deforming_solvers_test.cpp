@@ -105,21 +105,29 @@ TEST_P(DeformingSolvers, StillFrameIsFiniteAndNearTheReference) {
   }
 }
 
+// The update path is the same at any size of the solver's data: sh_probes
+// with 4^3 probes instead of 8^3 (its default solves took 40 s of the
+// suite's 100 s on llvmpipe, three per case).
+std::map<std::string, std::string> SeekParams(const std::string& solver) {
+  std::map<std::string, std::string> params = Table().at(solver).params;
+  if (solver == "sh_probes") params["grid"] = "4";
+  return params;
+}
+
 TEST_P(DeformingSolvers, SeekedSolveEqualsAFreshSolveOfThePose) {
-  const Declared& declared = Table().at(GetParam());
+  const std::map<std::string, std::string> params = SeekParams(GetParam());
   for (const Case& c : kCases) {
     SCOPED_TRACE(c.file);
     const BundledCopy updated(c.file);
     const FloatImage rest =
-        RenderRequestExr(SolverRequest(updated.id(), GetParam(), declared.params, kSize));
+        RenderRequestExr(SolverRequest(updated.id(), GetParam(), params, kSize));
     EncodedFrame frame;
-    const FloatImage seeked =
-        RenderRequestExr(SolverRequest(updated.id(), GetParam(), declared.params, kSize,
-                                       {testing::SeekAnimation(1, c.pose)}),
-                         &frame);
+    const FloatImage seeked = RenderRequestExr(
+        SolverRequest(updated.id(), GetParam(), params, kSize, {testing::SeekAnimation(1, c.pose)}),
+        &frame);
     const BundledCopy fresh(c.file);
-    const FloatImage direct = RenderRequestExr(SolverRequest(
-        fresh.id(), GetParam(), declared.params, kSize, {testing::SeekAnimation(1, c.pose)}));
+    const FloatImage direct = RenderRequestExr(
+        SolverRequest(fresh.id(), GetParam(), params, kSize, {testing::SeekAnimation(1, c.pose)}));
     // The frame after the seek posed the mesh on the GPU.
     const StageTiming* deform = testing::FrameStage(frame, "deform");
     ASSERT_NE(deform, nullptr);
