@@ -17,15 +17,15 @@ layout(std430, binding = AR_BINDING_GRID) readonly buffer Grid { uint grid[]; };
 uniform vec3 uGridMin;
 uniform ivec3 uGridDims;
 uniform float uGridCell;
+uniform float uGridReach;  // the largest splat's radius
 in vec2 vUv;
 out vec4 oRadiance;
 
-// The grid cells around p's (the 3 x 3 x 3 block, clipped to the grid):
-// every splat that can reach p lies in one of them.
+// The grid cells within the largest splat's reach of p (clipped to the
+// grid): every splat that can reach p has its centre in one of them.
 void CellBlock(vec3 p, out ivec3 lo, out ivec3 hi) {
-  ivec3 c = clamp(ivec3(floor((p - uGridMin) / uGridCell)), ivec3(0), uGridDims - 1);
-  lo = max(c - 1, ivec3(0));
-  hi = min(c + 1, uGridDims - 1);
+  lo = clamp(ivec3(floor((p - uGridReach - uGridMin) / uGridCell)), ivec3(0), uGridDims - 1);
+  hi = clamp(ivec3(floor((p + uGridReach - uGridMin) / uGridCell)), ivec3(0), uGridDims - 1);
 }
 
 // A leaf's splat weight at p (normal n): a smooth fall-off over its

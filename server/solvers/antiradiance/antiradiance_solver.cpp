@@ -320,22 +320,23 @@ absl::Status AntiradianceSolver::TakeSolve(SolverContext& ctx, SolveJob& job) {
 void AntiradianceSolver::BuildDisplay() {
   const antiradiance::Patches& patches = *patches_;
   // Display data: the leaves as splats (radius 1.5 x the leaf's bounding
-  // radius, so neighbours overlap) in a uniform grid whose cell is at
-  // least the largest splat (a pixel looks at its cell and the 26 around).
+  // radius, so neighbours overlap) in a uniform grid (below).
   std::vector<ElementGpu> elements(leaves_.size());
   Bounds box;
   float largest = 0.0f;
   leaf_area_ = 0.0;
   for (size_t k = 0; k < leaves_.size(); ++k) {
     const size_t i = size_t(leaves_[k]);
-    // Unless full_detail (the splats of before proxies): at least the
-    // leaf's whole cell (5 % beyond its farthest corner, so every point of
-    // it has weight), as a leaf made from a proxy's sliver
-    // (hierarchy/element_source.h) reaches beyond 1.5 disc radii.
+    // Unless full_detail (the splats of before proxies): twice the
+    // distance to its cell's farthest corner, as a leaf made from a proxy's
+    // sliver (hierarchy/element_source.h) reaches beyond 1.5 disc radii,
+    // and a splat that barely covers its cell makes each pixel's light
+    // nearly its nearest leaf's (neighbours that differ show as tiles;
+    // README, Display).
     float r = 1.5f * patches.radius[i];
     if (!settings_.direct.full_detail) {
       for (const antiradiance::CellQuad& q : patches.Cell(int(i)))
-        for (const glm::vec3& c : q) r = std::max(r, 1.05f * glm::length(c - patches.position[i]));
+        for (const glm::vec3& c : q) r = std::max(r, 2.0f * glm::length(c - patches.position[i]));
     }
     elements[k].position_radius = glm::vec4(patches.position[i], r);
     // w: the glossy slot, -1 for a Lambertian leaf (antiradiance/elements.glsl).
@@ -348,7 +349,12 @@ void AntiradianceSolver::BuildDisplay() {
   if (box.empty()) box.Extend(glm::vec3(0.0f));
   const glm::vec3 extent = box.extent();
   const float widest = std::max({extent.x, extent.y, extent.z});
-  grid_cell_ = std::max({largest, widest / float(kMaxGridDim - 1), 1e-6f});
+  // Cells of half the largest splat: a pixel scans the cells within that
+  // splat's reach of it (4-5 per axis), 2.5 splats wide instead of the 3
+  // of a 3 x 3 x 3 block of splat-sized cells (the leaves a pixel reads
+  // lie on surfaces: about 0.7 as many).
+  grid_cell_ = std::max({0.5f * largest, widest / float(kMaxGridDim - 1), 1e-6f});
+  grid_reach_ = largest;
   grid_min_ = box.min;
   grid_dims_ = glm::clamp(glm::ivec3(glm::floor(extent / grid_cell_)) + 1, glm::ivec3(1),
                           glm::ivec3(kMaxGridDim));
@@ -533,6 +539,7 @@ absl::Status AntiradianceSolver::Shade(SolverContext& ctx, const ViewCamera& /*c
   display_.Set("uGridMin", grid_min_);
   display_.Set("uGridDims", grid_dims_);
   display_.Set("uGridCell", grid_cell_);
+  display_.Set("uGridReach", grid_reach_);
   display_.Set("uIndirectScale", indirect_scale_);
   fullscreen_.Draw(display_);
   return absl::OkStatus();

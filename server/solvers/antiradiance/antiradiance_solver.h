@@ -149,6 +149,7 @@ class AntiradianceSolver final : public Solver {
   glm::vec3 grid_min_{0.0f};
   glm::ivec3 grid_dims_{1};
   float grid_cell_ = 1.0f;
+  float grid_reach_ = 1.0f;  // the largest splat's radius
   gl::Program direct_program_, display_;
   GlossyBinDirect glossy_direct_;  // the glossy leaves' direct light per bin
   gl::FullscreenPass fullscreen_;
