@@ -226,13 +226,8 @@ class Linker {
       return;
     }
     Link l;
-    l.sender = uint32_t(send);
-    l.receiver = uint32_t(recv);
-    l.sender_bin = uint16_t(bins_.Find(-w));
-    l.receiver_bin = uint16_t(bins_.Find(w));
-    l.cone = uint16_t(bins_.ConeLevel(ts));
     LinkEnds ends;
-    if (!OrientSender(send, w, l, ends) || !OrientReceiver(recv, w, l, ends)) return;
+    if (!Oriented(recv, send, w, ts, l, ends)) return;
     if (l.cone > 0) ++spread_;
     bool exact = false;
     const double k = LinkFormFactor(recv, send, w, r, ends, &exact);
@@ -240,6 +235,18 @@ class Linker {
     l.form_factor = float(k);
     if (exact) ++exact_;
     out_.push_back(l);
+  }
+
+  // A link from `send` to `recv` along w (receiver to sender) with the
+  // bins toward each other and the cone of half-angle ts, oriented on both
+  // ends; false: no link.
+  bool Oriented(int recv, int send, const glm::vec3& w, float ts, Link& l, LinkEnds& ends) const {
+    l.sender = uint32_t(send);
+    l.receiver = uint32_t(recv);
+    l.sender_bin = uint16_t(bins_.Find(-w));
+    l.receiver_bin = uint16_t(bins_.Find(w));
+    l.cone = uint16_t(bins_.ConeLevel(ts));
+    return OrientSender(send, w, l, ends) && OrientReceiver(recv, w, l, ends);
   }
 
   // The bins' main directions stand for the true ones: their cosines
@@ -318,13 +325,8 @@ class Linker {
   void AddPieceLink(int recv, int send, const glm::vec3& w, float ts,
                     std::span<const CellQuad> piece) {
     Link l;
-    l.sender = uint32_t(send);
-    l.receiver = uint32_t(recv);
-    l.sender_bin = uint16_t(bins_.Find(-w));
-    l.receiver_bin = uint16_t(bins_.Find(w));
-    l.cone = uint16_t(bins_.ConeLevel(ts));
     LinkEnds ends;
-    if (!OrientSender(send, w, l, ends) || !OrientReceiver(recv, w, l, ends)) return;
+    if (!Oriented(recv, send, w, ts, l, ends)) return;
     const double f =
         PointToQuadsFormFactor(piece, p_.position[size_t(recv)], p_.normal[size_t(recv)]);
     const double k = ExactFactor(recv, send, w, f, ends);
