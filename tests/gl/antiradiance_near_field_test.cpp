@@ -8,6 +8,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "scene/gltf/gltf_import.h"
 #include "scene/gpu/gpu_scene.h"
@@ -30,8 +31,9 @@ struct Built {
 
 // A 1 m ceiling of 8 x 8 quads (material 0) facing down, a 30 cm lamp of
 // 2 x 2 quads (material 1) kGap under its centre, and a floor 1 m below
-// so the scene's size is a room's.
-Built Build(bool double_sided, float emission) {
+// so the scene's size is a room's; `second_ceiling`: the ceiling's mesh
+// drawn again 3 m aside, far from the lamp (one refined mesh serves both).
+Built Build(bool double_sided, float emission, bool second_ceiling = false) {
   testing::GltfBuilder b;
   const int grey = b.AddMaterial("grey", {0.7f, 0.7f, 0.7f});
   const int lamp = b.AddMaterial("lamp", {0.78f, 0.78f, 0.78f}, {emission, emission, emission});
@@ -39,7 +41,16 @@ Built Build(bool double_sided, float emission) {
   b.AddQuad("ceiling", {0, 0.5f, 0}, {0.5f, 0, 0}, {0, 0, 0.5f}, grey, 8);
   b.AddQuad("floor", {0, -0.5f, 0}, {0, 0, 0.5f}, {0.5f, 0, 0}, grey, 8);
   b.AddQuad("lamp", {0, 0.5f - kGap, 0}, {0.15f, 0, 0}, {0, 0, 0.15f}, lamp, 2);
-  const std::string json = b.ToJson();
+  std::string json = b.ToJson();
+  if (second_ceiling) {
+    nlohmann::json doc = nlohmann::json::parse(json);
+    nlohmann::json node = doc["nodes"][0];  // the ceiling's
+    node.erase("name");
+    node["translation"] = {3.0, 0.0, 0.0};
+    doc["nodes"].push_back(node);
+    doc["scenes"][0]["nodes"].push_back(doc["nodes"].size() - 1);
+    json = doc.dump();
+  }
   auto scene = ImportGltf(
       std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(json.data()), json.size()), {});
   EXPECT_TRUE(scene.ok()) << scene.status();
@@ -105,6 +116,11 @@ TEST_F(AntiradianceNearField, TheMemoryEstimateCoversTheRefinedLeaves) {
   EXPECT_GT(lit.near_bound, 0u);
   EXPECT_GE(lit.bound, leaves);
   EXPECT_LE(lit.bound, 8 * leaves);
+  // An instance far from the lamp draws the same refined mesh, and is
+  // counted with it (its own box alone would not count the refinement).
+  const Built two = Build(true, 1.0f, /*second_ceiling=*/true);
+  EXPECT_GE(two.bound, two.patches.Leaves().size());
+  EXPECT_GE(two.near_bound, 2 * lit.near_bound);
 }
 
 }  // namespace antiradiance_near_field_test

@@ -39,26 +39,38 @@ std::vector<NearSheet> DoubleSidedEmitters(const SceneState& state, const GpuSce
 // The near-field edge test of one (mesh, primitive) drawn with the world
 // transforms `world`: the sheets (of other primitives) within reach of
 // its instances' boxes, i.e. whose limit there is below the scene-sized
-// edge `world_max_edge`. Empty (no test) when none is.
+// edge `world_max_edge`, and the instances that have one. Empty (no test)
+// when none has.
 class NearFieldLimit {
  public:
   NearFieldLimit() = default;
   NearFieldLimit(const std::vector<NearSheet>& sheets, int mesh, int primitive,
-                 const Bounds& local_bounds, std::vector<glm::mat4> world, float world_max_edge);
+                 const Bounds& local_bounds, const std::vector<glm::mat4>& world,
+                 float world_max_edge);
 
   bool empty() const { return sheets_.empty(); }
   // Whether edge (a, b), in the primitive's space, is longer under any
-  // instance than the limit at its midpoint.
+  // near instance than the limit at its midpoint.
   bool TooLong(const glm::vec3& a, const glm::vec3& b) const;
-  // The inputs the test depends on (the sheets' boxes, the transforms),
-  // for a cache of subdivided meshes; empty when the test is.
+  // For triangle (a, b, c), in the primitive's space: the largest ratio,
+  // over the near instances, of its longest edge to the limit at its
+  // box's distance from the sheets (how many times its edges may be
+  // halved, as a power of two at or above it; memory estimates).
+  double SplitRatio(const glm::vec3& a, const glm::vec3& b, const glm::vec3& c) const;
+  // The inputs the test depends on (the sheets' boxes, the near
+  // instances' transforms), for a cache of subdivided meshes; empty when
+  // the test is.
   std::vector<float> Key() const;
 
  private:
   std::vector<Bounds> sheets_;
-  std::vector<glm::mat4> world_;
-  float floor_ = 0.0f;
+  std::vector<glm::mat4> world_;  // the instances with a sheet in reach
+  float world_max_edge_ = 0.0f;
 };
+
+// The scene-sized element edge in world units (hierarchy::kMaxElementEdge
+// x the scene's diagonal; 0 for an empty or non-finite scene).
+float WorldMaxEdge(const SceneState& state, const GpuScene& gpu);
 
 // The world-space edge limit at distance `d` from a sheet.
 float NearFieldEdgeAt(float d, float world_max_edge);

@@ -117,21 +117,26 @@ Patches SurfelPatches(const SceneState& state, const GpuScene& gpu, SurfelCache&
   const auto key_of = [&state](const DrawItem& d) {
     return std::pair(state.Deforms(size_t(d.node)) ? -1 - d.node : d.mesh, d.primitive);
   };
-  std::map<std::pair<int, int>, std::vector<glm::mat4>> placements;
-  for (const DrawItem& d : gpu.draws())
-    placements[key_of(d)].push_back(state.world()[size_t(d.node)]);
   const std::vector<NearSheet> sheets = DoubleSidedEmitters(state, gpu);
-  const Bounds bounds = gpu.WorldBounds(state);
-  const float world_max_edge =
-      bounds.empty() ? 0.0f : hierarchy::kMaxElementEdge * glm::length(bounds.extent());
+  std::map<std::pair<int, int>, std::vector<glm::mat4>> placements;
+  if (!sheets.empty()) {
+    for (const DrawItem& d : gpu.draws())
+      placements[key_of(d)].push_back(state.world()[size_t(d.node)]);
+  }
+  const float world_max_edge = WorldMaxEdge(state, gpu);
+  std::map<std::pair<int, int>, NearFieldLimit> limits;  // once per key
   for (const DrawItem& d : gpu.draws()) {
     // A deforming instance's surfels follow its posed mesh: its own entry,
     // rebuilt every time.
     const bool deforms = state.Deforms(size_t(d.node));
     SurfelMesh& cached = meshes[key_of(d)];
     const Primitive& full = state.NodeMesh(size_t(d.node)).primitives[size_t(d.primitive)];
-    const NearFieldLimit near(sheets, d.mesh, d.primitive, full.bounds, placements[key_of(d)],
-                              world_max_edge);
+    auto [it, fresh] = limits.try_emplace(key_of(d));
+    if (fresh && !sheets.empty()) {
+      it->second = NearFieldLimit(sheets, d.mesh, d.primitive, full.bounds, placements[key_of(d)],
+                                  world_max_edge);
+    }
+    const NearFieldLimit& near = it->second;
     std::vector<float> near_key = near.Key();
     if (!cached.elements || deforms || cached.near_key != near_key) {
       const float max_edge = hierarchy::LocalMaxEdge(state, gpu, d.mesh, d.primitive);
